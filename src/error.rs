@@ -1,0 +1,60 @@
+//! The one error type of arbor.
+
+/// Everything that can go wrong in arbor.
+///
+/// Every variant says what was wrong and where; the same text reaches C hosts through
+/// `arbor_last_error_message`. New variants may be added, so match with a wildcard arm.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter is out of its documented range (NaN, infinite, negative, unknown value).
+    #[error("invalid argument `{field}`: {reason}")]
+    InvalidArgument {
+        /// The parameter or struct field at fault, e.g. `"r1"` or `"radial_segments"`.
+        field: &'static str,
+        /// What was found and what was expected.
+        reason: String,
+    },
+    /// The output would pass a size limit; nothing was allocated for it.
+    #[error(
+        "limit exceeded: {what} would reach {requested}{}, the limit `{limit_name}` is {limit}",
+        step.map(|s| format!(" at step {s}")).unwrap_or_default()
+    )]
+    LimitExceeded {
+        /// The limit that was crossed, e.g. `"max_branches"`.
+        limit_name: &'static str,
+        /// What was being counted, e.g. `"branches"`.
+        what: &'static str,
+        /// The limit's value.
+        limit: u64,
+        /// How many were needed when the limit was crossed (a lower bound; saturates).
+        requested: u64,
+        /// The rewriting step at which the limit was crossed, where one applies.
+        step: Option<u32>,
+    },
+    /// A caller-provided buffer is too small; nothing was written.
+    #[error("buffer too small: `{buffer}` holds {capacity} elements, {required} are needed")]
+    BufferTooSmall {
+        /// Which buffer, e.g. `"vertices"`.
+        buffer: &'static str,
+        /// How many elements are needed.
+        required: usize,
+        /// How many elements the buffer holds.
+        capacity: usize,
+    },
+    /// Reading or writing a file or stream failed.
+    #[error("I/O error: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// `Result` with arbor's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    pub(crate) fn invalid(field: &'static str, reason: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            field,
+            reason: reason.into(),
+        }
+    }
+}

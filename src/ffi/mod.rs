@@ -1,0 +1,483 @@
+//! The C ABI: the only module with `unsafe` code.
+//!
+//! `include/arbor.h` is generated from this module by cbindgen (see `cbindgen.toml`) and
+//! committed; a test regenerates it and fails on any difference. Each export is a thin
+//! shell: argument checks, a panic guard, conversion, then a call into the Rust API.
+//!
+//! Rust users do not need this module; it is public so that its documentation and the
+//! layouts it fixes can be read here too.
+
+mod guard;
+
+use crate::honda::{self, HondaParams};
+use crate::mesh::{self, MeshOptions, Topology, Vertex};
+use crate::skeleton::{Branch, Skeleton};
+use bytemuck::{Pod, Zeroable};
+use guard::{FfiError, arg_ref, guard, guard_value, out_ref, out_slice, with_last_error};
+use std::ffi::{CStr, c_char};
+
+/// Major version of the library this header belongs to.
+pub const ARBOR_VERSION_MAJOR: u32 = 0;
+/// Minor version of the library this header belongs to.
+pub const ARBOR_VERSION_MINOR: u32 = 1;
+/// Patch version of the library this header belongs to.
+pub const ARBOR_VERSION_PATCH: u32 = 0;
+/// ABI version of this header: MAJOR * 10000 + MINOR * 100 + PATCH. It only grows; a host
+/// built against ABI version N runs with a library whose `arbor_abi_version()` >= N.
+pub const ARBOR_ABI_VERSION: u32 = 100;
+/// Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
+/// GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
+pub const ARBOR_RESTART_INDEX: u32 = 0xFFFF_FFFF;
+/// `ArborBranch.parent` of a root branch.
+pub const ARBOR_NO_PARENT: u32 = 0xFFFF_FFFF;
+
+/// Result of every fallible function. The numbers are fixed forever and never reused.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborStatus {
+    /// Success; out-parameters were written.
+    Ok = 0,
+    /// A required pointer argument was NULL.
+    NullArgument = 1,
+    /// An argument is out of range: NaN, infinity, negative size, unknown enum value or
+    /// preset name, misaligned pointer.
+    InvalidArgument = 2,
+    /// Grammar text could not be parsed (the message has line, column and what was
+    /// expected).
+    ParseError = 3,
+    /// The output would pass a limit (branches, modules, vertices); nothing was built.
+    LimitExceeded = 4,
+    /// A caller buffer is smaller than the size query said; nothing was written.
+    BufferTooSmall = 5,
+    /// A file could not be read or written.
+    IoError = 6,
+    /// An internal error (a Rust panic) was caught; please report it with the message.
+    Panic = 7,
+}
+
+/// How indices string triangles together; passed as `uint32_t` in ArborMeshOptions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborTopology {
+    /// Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)).
+    TriangleList = 0,
+    /// One strip per branch, strips separated by ARBOR_RESTART_INDEX; draw with
+    /// GL_TRIANGLE_STRIP and glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX).
+    TriangleStripRestart = 1,
+    /// One strip for the whole mesh, branches joined by degenerate triangles.
+    TriangleStripDegenerate = 2,
+}
+
+/// A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda(),
+/// free with arbor_tree_free(). A `const ArborTree *` may be read from several threads at
+/// once.
+pub struct ArborTree {
+    skeleton: Skeleton,
+}
+
+/// Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
+/// Lengths in model units, widths are diameters, angles in degrees.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArborHondaParams {
+    /// s0: trunk length (100 in the paper); finite, > 0.
+    pub trunk_length: f32,
+    /// w0: trunk width, a diameter; finite, > 0.
+    pub trunk_width: f32,
+    /// Length ratio of the first child; finite, > 0.
+    pub r1: f32,
+    /// Length ratio of the second child; finite, > 0.
+    pub r2: f32,
+    /// Branching angle of the first child (turtle `+`), degrees; finite.
+    pub alpha1: f32,
+    /// Branching angle of the second child (turtle `+`), degrees; finite.
+    pub alpha2: f32,
+    /// Divergence angle of the first child (turtle `/`), degrees; finite.
+    pub phi1: f32,
+    /// Divergence angle of the second child (turtle `/`), degrees; finite.
+    pub phi2: f32,
+    /// Width share of the first child, 0 <= q <= 1.
+    pub q: f32,
+    /// Width exponent, finite, >= 0: children widths are w*q^e and w*(1-q)^e.
+    pub e: f32,
+    /// An apex grows only while its length s >= min_length; finite, >= 0.
+    pub min_length: f32,
+    /// Derivation length n (the axiom is step 0), at most 1024.
+    pub steps: u32,
+}
+
+impl From<ArborHondaParams> for HondaParams {
+    fn from(p: ArborHondaParams) -> Self {
+        HondaParams {
+            trunk_length: p.trunk_length,
+            trunk_width: p.trunk_width,
+            r1: p.r1,
+            r2: p.r2,
+            alpha1: p.alpha1,
+            alpha2: p.alpha2,
+            phi1: p.phi1,
+            phi2: p.phi2,
+            q: p.q,
+            e: p.e,
+            min_length: p.min_length,
+            steps: p.steps,
+        }
+    }
+}
+
+impl From<HondaParams> for ArborHondaParams {
+    fn from(p: HondaParams) -> Self {
+        ArborHondaParams {
+            trunk_length: p.trunk_length,
+            trunk_width: p.trunk_width,
+            r1: p.r1,
+            r2: p.r2,
+            alpha1: p.alpha1,
+            alpha2: p.alpha2,
+            phi1: p.phi1,
+            phi2: p.phi2,
+            q: p.q,
+            e: p.e,
+            min_length: p.min_length,
+            steps: p.steps,
+        }
+    }
+}
+
+/// One internode (one turtle F), 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborBranch {
+    /// Start point (x, y, z), Y up; equal to the parent's `end`.
+    pub start: [f32; 3],
+    /// End point (x, y, z).
+    pub end: [f32; 3],
+    /// Radius at `start` (half the turtle width).
+    pub start_radius: f32,
+    /// Radius at `end`.
+    pub end_radius: f32,
+    /// Index of the branch it grows from (always smaller than its own index);
+    /// ARBOR_NO_PARENT for a root.
+    pub parent: u32,
+    /// The rewriting step that produced it; axiom modules are 0, so the 1996 trunk has 1.
+    pub depth: u32,
+    /// Branching order: 0 on the trunk axis, +1 per lateral branch.
+    pub order: u32,
+    /// Reserved, 0.
+    pub flags: u32,
+}
+
+/// One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborVertex {
+    /// Position in model units.
+    pub position: [f32; 3],
+    /// Unit outward normal.
+    pub normal: [f32; 3],
+    /// u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
+    pub uv: [f32; 2],
+}
+
+/// Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
+/// what you need: fields may be added at the end in later versions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArborMeshOptions {
+    /// Sides of each truncated cone, 3..=64. Default 8.
+    pub radial_segments: u32,
+    /// An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
+    pub topology: u32,
+}
+
+const _: () = {
+    assert!(std::mem::size_of::<ArborBranch>() == std::mem::size_of::<Branch>());
+    assert!(std::mem::align_of::<ArborBranch>() == std::mem::align_of::<Branch>());
+    assert!(std::mem::size_of::<ArborVertex>() == std::mem::size_of::<Vertex>());
+    assert!(std::mem::align_of::<ArborVertex>() == std::mem::align_of::<Vertex>());
+    assert!(std::mem::size_of::<ArborHondaParams>() == std::mem::size_of::<HondaParams>());
+};
+
+impl TryFrom<&ArborMeshOptions> for MeshOptions {
+    type Error = crate::Error;
+    fn try_from(o: &ArborMeshOptions) -> crate::Result<Self> {
+        let topology = Topology::from_u32(o.topology).ok_or_else(|| {
+            crate::Error::invalid(
+                "topology",
+                format!(
+                    "{}; expected 0 (TRIANGLE_LIST), 1 (TRIANGLE_STRIP_RESTART) \
+                     or 2 (TRIANGLE_STRIP_DEGENERATE)",
+                    o.topology
+                ),
+            )
+        })?;
+        Ok(MeshOptions {
+            radial_segments: o.radial_segments,
+            topology,
+        })
+    }
+}
+
+impl From<MeshOptions> for ArborMeshOptions {
+    fn from(o: MeshOptions) -> Self {
+        ArborMeshOptions {
+            radial_segments: o.radial_segments,
+            topology: o.topology as u32,
+        }
+    }
+}
+
+const VERSION: &CStr =
+    match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+        Ok(v) => v,
+        Err(_) => panic!("the package version has no NUL"),
+    };
+
+/// A static, NUL-terminated description of `status` ("ok", "null argument", ...);
+/// "unknown status" for a number that is not an ArborStatus. Never NULL; do not free.
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_status_str(status: u32) -> *const c_char {
+    let s: &'static CStr = match status {
+        0 => c"ok",
+        1 => c"null argument",
+        2 => c"invalid argument",
+        3 => c"parse error",
+        4 => c"limit exceeded",
+        5 => c"buffer too small",
+        6 => c"I/O error",
+        7 => c"internal error (panic)",
+        _ => c"unknown status",
+    };
+    s.as_ptr()
+}
+
+/// Copies the calling thread's last error message into `buf` (NUL-terminated, cut to
+/// `capacity - 1` bytes) and returns the message's full length in bytes, without the NUL.
+/// Every status-returning function replaces the message; success leaves it empty.
+/// `buf` may be NULL when `capacity` is 0, to ask for the length.
+///
+/// # Safety
+/// `buf` is NULL or valid for writes of `capacity` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_last_error_message(buf: *mut c_char, capacity: usize) -> usize {
+    guard_value(0, || {
+        with_last_error(|message| {
+            if capacity > 0 && !buf.is_null() {
+                let mut n = message.len().min(capacity - 1);
+                while !message.is_char_boundary(n) {
+                    n -= 1;
+                }
+                // SAFETY: the caller promises `buf` holds `capacity` writable bytes, and
+                // n + 1 <= capacity; the message is a separate Rust allocation.
+                unsafe {
+                    std::ptr::copy_nonoverlapping(message.as_ptr(), buf.cast::<u8>(), n);
+                    buf.add(n).write(0);
+                }
+            }
+            message.len()
+        })
+    })
+}
+
+/// The library version, e.g. "0.1.0": static, NUL-terminated; do not free.
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_version() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+/// The library's ABI version (see ARBOR_ABI_VERSION).
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_abi_version() -> u32 {
+    ARBOR_ABI_VERSION
+}
+
+/// Writes the parameters of the paper's tree `name` ('a'..'i', upper case accepted) to
+/// `*out`. Unknown name: ARBOR_STATUS_INVALID_ARGUMENT; `out` NULL:
+/// ARBOR_STATUS_NULL_ARGUMENT.
+///
+/// # Safety
+/// `out` is NULL or valid for writes of one ArborHondaParams.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut ArborHondaParams) -> ArborStatus {
+    guard(|| {
+        let params = char::from_u32(name)
+            .and_then(HondaParams::preset)
+            .ok_or_else(|| {
+                FfiError::invalid(format!(
+                    "invalid argument `name`: unknown preset {name:#x}; expected 'a'..'i'"
+                ))
+            })?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        *unsafe { out_ref(out, "out") }? = params.into();
+        Ok(())
+    })
+}
+
+/// Grows the 1996 model with `params` and writes a new tree to `*out` (free it with
+/// arbor_tree_free). Every field is validated (ARBOR_STATUS_INVALID_ARGUMENT names the
+/// field); a model that would make more than 16,777,216 branches returns
+/// ARBOR_STATUS_LIMIT_EXCEEDED at once. `*out` is written only on success.
+///
+/// # Safety
+/// `params` is NULL or points to an ArborHondaParams; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_honda(
+    params: *const ArborHondaParams,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `params` is NULL or readable.
+        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let skeleton = honda::build(&params)?;
+        *out = Box::into_raw(Box::new(ArborTree { skeleton }));
+        Ok(())
+    })
+}
+
+/// Frees a tree. NULL does nothing. The tree must not be used afterwards.
+///
+/// # Safety
+/// `tree` is NULL or a tree from this library not yet freed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_free(tree: *mut ArborTree) {
+    if tree.is_null() {
+        return;
+    }
+    guard_value((), || {
+        // SAFETY: the caller promises `tree` came from Box::into_raw in this library and is
+        // freed once.
+        drop(unsafe { Box::from_raw(tree) });
+    })
+}
+
+/// Number of branches of `tree`; 0 for NULL.
+///
+/// # Safety
+/// `tree` is NULL or a live tree.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_branch_count(tree: *const ArborTree) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.len())
+    })
+}
+
+/// Copies all branches of `tree` into `out`, parents before children. `capacity` is the
+/// number of ArborBranch elements `out` holds; less than arbor_tree_branch_count() gives
+/// ARBOR_STATUS_BUFFER_TOO_SMALL and writes nothing.
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` branches.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_branches(
+    tree: *const ArborTree,
+    out: *mut ArborBranch,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let src = tree.skeleton.branches();
+        // SAFETY: the caller promises `out` holds `capacity` writable branches.
+        let dst = unsafe { out_slice(out.cast::<Branch>(), capacity, src.len(), "out") }?;
+        for (d, s) in dst.iter_mut().zip(src) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}
+
+/// The default mesh options: 8 radial segments, ARBOR_TOPOLOGY_TRIANGLE_LIST.
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_mesh_options_default() -> ArborMeshOptions {
+    MeshOptions::default().into()
+}
+
+/// The options behind `options`, or the defaults for NULL.
+///
+/// # Safety
+/// `options` is NULL or points to a readable ArborMeshOptions.
+unsafe fn mesh_options(options: *const ArborMeshOptions) -> Result<MeshOptions, FfiError> {
+    if options.is_null() {
+        return Ok(MeshOptions::default());
+    }
+    // SAFETY: the caller promises `options` is readable; NULL was handled above.
+    Ok(MeshOptions::try_from(unsafe {
+        arg_ref(options, "options")
+    }?)?)
+}
+
+/// Writes the exact number of vertices and indices arbor_mesh_write() needs for `tree`
+/// with `options` (NULL: the defaults). Both out-pointers are required and written only
+/// on success. More than 2^32 - 1 vertices: ARBOR_STATUS_LIMIT_EXCEEDED.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; the counts are NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_size(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { mesh_options(options) }?;
+        // SAFETY: the caller promises both are NULL or writable.
+        let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_ref(index_count, "index_count") }?;
+        let size = mesh::mesh_size(&tree.skeleton, &options)?;
+        *vc = size.vertices;
+        *ic = size.indices;
+        Ok(())
+    })
+}
+
+/// Writes the mesh of `tree` into caller memory (a malloc'd array or a mapped GPU buffer):
+/// `vertex_capacity` ArborVertex elements and `index_capacity` uint32_t indices. Capacities
+/// below arbor_mesh_size()'s counts give ARBOR_STATUS_BUFFER_TOO_SMALL and nothing is
+/// written; larger buffers are fine and only their first elements are written. A buffer
+/// may be NULL only when its count is 0.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
+/// NULL or valid for writes of their capacities and do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_write(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    vertices: *mut ArborVertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { mesh_options(options) }?;
+        let size = mesh::mesh_size(&tree.skeleton, &options)?;
+        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices
+        // (ArborVertex and Vertex share one layout, asserted above).
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_capacity,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        mesh::write_mesh_uninit(&tree.skeleton, &options, v, i)?;
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests;

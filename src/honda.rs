@@ -1,0 +1,323 @@
+//! The branching model of Prusinkiewicz, Hammel, Hanan & Měch (1996), after Honda, with the
+//! paper's nine trees a–i as presets.
+//!
+//! ```text
+//! ω : A(100, w0)
+//! p1: A(s,w) : s >= min -> !(w) F(s) [ +(α1) /(φ1) A(s*r1, w*q^e) ] [ +(α2) /(φ2) A(s*r2, w*(1-q)^e) ]
+//! ```
+//!
+//! [`build`] grows the skeleton directly, without a module string, with an explicit stack
+//! (no recursion), in the order the turtle would read the derived string: each branch, then
+//! the whole first child's subtree, then the second's. It uses the cpfg turtle of
+//! [`crate::turtle`], so the result equals the grammar's, branch by branch.
+//!
+//! **Axis rule.** Of the two children, the one whose branching angle has the smaller
+//! magnitude continues its parent's axis (same `order`); the other starts a lateral axis
+//! (`order + 1`). On a tie (tree a: ±35°) the first child continues the axis.
+
+use crate::error::{Error, Result};
+use crate::skeleton::{Branch, NO_PARENT, Skeleton};
+use crate::turtle::{Frame, cos_sin_deg};
+
+/// Default limit on the number of branches a model may produce (2^24 = 16,777,216).
+pub const DEFAULT_MAX_BRANCHES: usize = 1 << 24;
+
+/// Largest accepted derivation length.
+pub const MAX_STEPS: u32 = 1024;
+
+/// The names of the presets, in the paper's order.
+pub const PRESET_NAMES: [char; 9] = ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'];
+
+/// Parameters of the model; the same fields and layout as the C type `ArborHondaParams`.
+///
+/// Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
+/// diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HondaParams {
+    /// s0: length of the trunk (100 in the paper). Finite, > 0.
+    pub trunk_length: f32,
+    /// w0: width (diameter) of the trunk. Finite, > 0.
+    pub trunk_width: f32,
+    /// r1: length ratio of the first child. Finite, > 0.
+    pub r1: f32,
+    /// r2: length ratio of the second child. Finite, > 0.
+    pub r2: f32,
+    /// α1: branching angle of the first child (`+`). Finite.
+    pub alpha1: f32,
+    /// α2: branching angle of the second child (`+`). Finite.
+    pub alpha2: f32,
+    /// φ1: divergence angle of the first child (`/`). Finite.
+    pub phi1: f32,
+    /// φ2: divergence angle of the second child (`/`). Finite.
+    pub phi2: f32,
+    /// q: share of the width that goes to the first child, in [0, 1].
+    pub q: f32,
+    /// e: width exponent, finite, >= 0. Children widths are w·q^e and w·(1−q)^e.
+    pub e: f32,
+    /// min: an apex grows only while its length s >= min. Finite, >= 0.
+    pub min_length: f32,
+    /// n: derivation length (rewriting steps; the axiom is step 0), at most [`MAX_STEPS`].
+    pub steps: u32,
+}
+
+impl HondaParams {
+    /// One of the paper's trees `'a'`..=`'i'` (upper case accepted too); `None` otherwise.
+    pub fn preset(name: char) -> Option<Self> {
+        #[rustfmt::skip]
+        let (r1, r2, alpha1, alpha2, phi1, phi2, trunk_width, q, e, min_length, steps) =
+            match name.to_ascii_lowercase() {
+                'a' => (0.75, 0.77, 35.0, -35.0, 0.0, 0.0, 30.0, 0.50, 0.40, 0.0, 10),
+                'b' => (0.65, 0.71, 27.0, -68.0, 0.0, 0.0, 20.0, 0.53, 0.50, 1.7, 12),
+                'c' => (0.50, 0.85, 25.0, -15.0, 180.0, 0.0, 20.0, 0.45, 0.50, 0.5, 9),
+                'd' => (0.60, 0.85, 25.0, -15.0, 180.0, 180.0, 20.0, 0.45, 0.50, 0.0, 10),
+                'e' => (0.58, 0.83, 30.0, 15.0, 0.0, 180.0, 20.0, 0.40, 0.50, 1.0, 11),
+                'f' => (0.92, 0.37, 0.0, 60.0, 180.0, 0.0, 2.0, 0.50, 0.00, 0.5, 15),
+                'g' => (0.80, 0.80, 30.0, -30.0, 137.0, 137.0, 30.0, 0.50, 0.50, 0.0, 10),
+                'h' => (0.95, 0.75, 5.0, -30.0, -90.0, 90.0, 40.0, 0.60, 0.45, 25.0, 12),
+                'i' => (0.55, 0.95, -5.0, 30.0, 137.0, 137.0, 5.0, 0.40, 0.00, 5.0, 12),
+                _ => return None,
+            };
+        Some(HondaParams {
+            trunk_length: 100.0,
+            trunk_width,
+            r1,
+            r2,
+            alpha1,
+            alpha2,
+            phi1,
+            phi2,
+            q,
+            e,
+            min_length,
+            steps,
+        })
+    }
+
+    /// Checks every field; the error names the first field out of range.
+    pub fn validate(&self) -> Result<()> {
+        let positive = [
+            ("trunk_length", self.trunk_length),
+            ("trunk_width", self.trunk_width),
+            ("r1", self.r1),
+            ("r2", self.r2),
+        ];
+        for (field, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite number > 0"),
+                ));
+            }
+        }
+        let angles = [
+            ("alpha1", self.alpha1),
+            ("alpha2", self.alpha2),
+            ("phi1", self.phi1),
+            ("phi2", self.phi2),
+        ];
+        for (field, v) in angles {
+            if !v.is_finite() {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite angle in degrees"),
+                ));
+            }
+        }
+        if !(self.q.is_finite() && (0.0..=1.0).contains(&self.q)) {
+            return Err(Error::invalid(
+                "q",
+                format!("{}; expected 0 <= q <= 1", self.q),
+            ));
+        }
+        for (field, v) in [("e", self.e), ("min_length", self.min_length)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite number >= 0"),
+                ));
+            }
+        }
+        if self.steps > MAX_STEPS {
+            return Err(Error::invalid(
+                "steps",
+                format!("{}; expected at most {MAX_STEPS}", self.steps),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The exact number of branches the model makes (saturating at `u64::MAX`), counted
+    /// without building: O(steps²) time, O(steps) memory.
+    ///
+    /// An apex with `k1` first-child and `k2` second-child choices on its path has length
+    /// s0·r1^k1·r2^k2, so whether it grows depends only on `(k1, k2)`, and the number of
+    /// growing paths to each `(k1, k2)` is the sum over its two predecessors.
+    pub fn branch_count(&self) -> u64 {
+        self.count_until(u64::MAX).0
+    }
+
+    /// Counts branches step by step; stops at the first step whose running total passes
+    /// `limit` and returns `(total, Some(step))`, else `(total, None)`.
+    fn count_until(&self, limit: u64) -> (u64, Option<u32>) {
+        let (r1, r2, min) = (self.r1 as f64, self.r2 as f64, self.min_length as f64);
+        // For generation g (= step - 1), index k1 in 0..=g: (paths alive, length).
+        let mut cur: Vec<(u64, f64)> = vec![(1, self.trunk_length as f64)];
+        let mut next: Vec<(u64, f64)> = Vec::new();
+        let mut total: u64 = 0;
+        for step in 1..=self.steps {
+            let mut grown: u64 = 0;
+            for c in cur.iter_mut() {
+                if !(c.1 >= min) {
+                    c.0 = 0;
+                }
+                grown = grown.saturating_add(c.0);
+            }
+            total = total.saturating_add(grown);
+            if total > limit {
+                return (total, Some(step));
+            }
+            if grown == 0 {
+                break;
+            }
+            // Children of generation g: k1 from 0..=g+1; (k1) comes from (k1-1) via r1 and
+            // from (k1) via r2.
+            next.clear();
+            for k1 in 0..=cur.len() {
+                let from_r2 = cur.get(k1).map_or(0, |c| c.0);
+                let from_r1 = if k1 > 0 { cur[k1 - 1].0 } else { 0 };
+                let len = if k1 < cur.len() {
+                    cur[k1].1 * r2
+                } else {
+                    cur[k1 - 1].1 * r1
+                };
+                next.push((from_r1.saturating_add(from_r2), len));
+            }
+            std::mem::swap(&mut cur, &mut next);
+        }
+        (total, None)
+    }
+}
+
+/// Grows the model's skeleton with the default branch limit [`DEFAULT_MAX_BRANCHES`].
+pub fn build(params: &HondaParams) -> Result<Skeleton> {
+    build_with_limit(params, DEFAULT_MAX_BRANCHES)
+}
+
+/// Grows the model's skeleton; a model that would make more than `max_branches` branches
+/// returns [`Error::LimitExceeded`] at once, before building anything.
+pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Skeleton> {
+    params.validate()?;
+    let limit = max_branches as u64;
+    let (count, over) = params.count_until(limit);
+    if let Some(step) = over {
+        return Err(Error::LimitExceeded {
+            limit_name: "max_branches",
+            what: "branches",
+            limit,
+            requested: count,
+            step: Some(step),
+        });
+    }
+
+    struct Apex {
+        frame: Frame,
+        length: f64,
+        width: f64,
+        parent: u32,
+        order: u32,
+        step: u32,
+    }
+
+    let p = params;
+    let min = p.min_length as f64;
+    let q = p.q as f64;
+    let e = p.e as f64;
+    let children = [
+        (
+            cos_sin_deg(p.alpha1 as f64),
+            cos_sin_deg(p.phi1 as f64),
+            p.r1 as f64,
+            q.powf(e),
+        ),
+        (
+            cos_sin_deg(p.alpha2 as f64),
+            cos_sin_deg(p.phi2 as f64),
+            p.r2 as f64,
+            (1.0 - q).powf(e),
+        ),
+    ];
+    // The child with the smaller branching angle continues the axis; the first on a tie.
+    let lateral: [u32; 2] = if p.alpha2.abs() < p.alpha1.abs() {
+        [1, 0]
+    } else {
+        [0, 1]
+    };
+
+    let mut branches: Vec<Branch> = Vec::with_capacity(count as usize);
+    let mut stack = Vec::with_capacity(p.steps as usize + 1);
+    stack.push(Apex {
+        frame: Frame::default(),
+        length: p.trunk_length as f64,
+        width: p.trunk_width as f64,
+        parent: NO_PARENT,
+        order: 0,
+        step: 1,
+    });
+    while let Some(apex) = stack.pop() {
+        if apex.step > p.steps || !(apex.length >= min) {
+            continue;
+        }
+        if branches.len() >= max_branches {
+            // Unreachable unless rounding made the count disagree with the walk.
+            return Err(Error::LimitExceeded {
+                limit_name: "max_branches",
+                what: "branches",
+                limit,
+                requested: branches.len() as u64 + 1,
+                step: Some(apex.step),
+            });
+        }
+        let index = branches.len() as u32;
+        let mut frame = apex.frame;
+        let start = frame.position;
+        let end = frame.forward(apex.length);
+        let radius = (apex.width * 0.5) as f32;
+        branches.push(Branch {
+            start: start.as_vec3().to_array(),
+            end: end.as_vec3().to_array(),
+            start_radius: radius,
+            end_radius: radius,
+            parent: apex.parent,
+            depth: apex.step,
+            order: apex.order,
+            flags: 0,
+        });
+        if apex.step == p.steps {
+            continue;
+        }
+        // Second child pushed first so that the first child's subtree is walked first.
+        for i in [1, 0] {
+            let (turn, roll, ratio, width_factor) = children[i];
+            let mut child = frame;
+            child.turn(turn);
+            child.roll(roll);
+            stack.push(Apex {
+                frame: child,
+                length: apex.length * ratio,
+                width: apex.width * width_factor,
+                parent: index,
+                order: apex.order + lateral[i],
+                step: apex.step + 1,
+            });
+        }
+    }
+
+    let skeleton = Skeleton::new(branches).map_err(|_| {
+        Error::invalid(
+            "trunk_length",
+            "the tree's coordinates overflow f32; reduce trunk_length, r1 or r2",
+        )
+    })?;
+    Ok(skeleton)
+}
