@@ -168,7 +168,7 @@ impl HondaParams {
         for step in 1..=self.steps {
             let mut grown: u64 = 0;
             for c in cur.iter_mut() {
-                if !(c.1 >= min) {
+                if c.1 < min {
                     c.0 = 0;
                 }
                 grown = grown.saturating_add(c.0);
@@ -265,7 +265,7 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
         step: 1,
     });
     while let Some(apex) = stack.pop() {
-        if apex.step > p.steps || !(apex.length >= min) {
+        if apex.step > p.steps || apex.length < min {
             continue;
         }
         if branches.len() >= max_branches {

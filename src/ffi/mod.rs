@@ -27,9 +27,9 @@ pub const ARBOR_VERSION_PATCH: u32 = 0;
 pub const ARBOR_ABI_VERSION: u32 = 100;
 /// Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
 /// GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
-pub const ARBOR_RESTART_INDEX: u32 = 0xFFFF_FFFF;
+pub const ARBOR_RESTART_INDEX: u32 = u32::MAX;
 /// `ArborBranch.parent` of a root branch.
-pub const ARBOR_NO_PARENT: u32 = 0xFFFF_FFFF;
+pub const ARBOR_NO_PARENT: u32 = u32::MAX;
 
 /// Result of every fallible function. The numbers are fixed forever and never reused.
 #[repr(C)]

@@ -1,4 +1,4 @@
-//! Meshes: every branch of a [`Skeleton`] as a truncated cone, in GPU-ready buffers.
+//! Meshes: every branch of a [`Skeleton`](crate::Skeleton) as a truncated cone, in GPU-ready buffers.
 //!
 //! Size first ([`mesh_size`], exact counts), then write into caller slices
 //! ([`write_mesh`]), so a host can fill a mapped GPU buffer directly; or [`tubes`] for owned

@@ -85,8 +85,10 @@ pub fn tubes(skeleton: &Skeleton, options: &MeshOptions) -> Result<Mesh> {
 /// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
 /// rarely point).
 fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
-    if n.y < -0.999_999_999 {
-        return (DVec3::X, DVec3::Z);
+    if n.y < -0.999_999 {
+        // Near the pole: project X onto the plane of the ring instead.
+        let p = (DVec3::X - n * n.x).normalize();
+        return (p, n.cross(p));
     }
     let a = 1.0 / (1.0 + n.y);
     let b = -n.z * n.x * a;

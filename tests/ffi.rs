@@ -1,0 +1,114 @@
+//! Builds the C programs in `ffi-tests/` against `include/arbor.h` and the static library
+//! cargo built for this test run, and runs them: under valgrind when it is installed
+//! (required when `CI` is set; `ARBOR_FFI_VALGRIND=0` turns it off).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `target/<profile>/`, where cargo put `libarbor.a` for this test binary.
+fn lib_dir() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().unwrap().parent().unwrap().to_path_buf()
+}
+
+fn out_dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ffi-tests");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(cmd: &mut Command) -> String {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{cmd:?} failed:\n{text}");
+    text
+}
+
+const WARNINGS: [&str; 4] = ["-Wall", "-Wextra", "-Werror", "-pedantic"];
+
+/// Compiles `source` (C or C++ by its extension) and links it with the static library.
+fn build(source: &str, std: &str) -> PathBuf {
+    let src = root().join("ffi-tests").join(source);
+    let exe = out_dir().join(source.replace('.', "_"));
+    let compiler = if source.ends_with(".cpp") {
+        "c++"
+    } else {
+        "cc"
+    };
+    run(Command::new(compiler)
+        .arg(format!("-std={std}"))
+        .args(WARNINGS)
+        .arg("-g")
+        .arg("-I")
+        .arg(root().join("include"))
+        .arg(&src)
+        .arg(lib_dir().join("libarbor.a"))
+        .args(["-lpthread", "-ldl", "-lm"])
+        .arg("-o")
+        .arg(&exe));
+    exe
+}
+
+fn valgrind() -> Option<PathBuf> {
+    if std::env::var("ARBOR_FFI_VALGRIND").as_deref() == Ok("0") {
+        return None;
+    }
+    let found = std::env::var_os("PATH").and_then(|paths| {
+        std::env::split_paths(&paths)
+            .map(|p| p.join("valgrind"))
+            .find(|p| p.is_file())
+    });
+    if found.is_none() && std::env::var_os("CI").is_some() {
+        panic!("CI is set but valgrind is not installed");
+    }
+    found
+}
+
+fn run_test_program(exe: &Path) {
+    let text = match valgrind() {
+        Some(vg) => run(Command::new(vg)
+            .args([
+                "--error-exitcode=99",
+                "--leak-check=full",
+                "--show-leak-kinds=definite,indirect,possible",
+                "--errors-for-leak-kinds=definite,indirect,possible",
+                "--quiet",
+            ])
+            .arg(exe)),
+        None => run(&mut Command::new(exe)),
+    };
+    assert!(text.contains(" 0 failed"), "{text}");
+    println!("{text}");
+}
+
+#[test]
+fn c_generate_then_upload_all_presets() {
+    run_test_program(&build("generate_upload.c", "c11"));
+}
+
+#[test]
+fn c_bad_input_and_every_buffer_capacity() {
+    run_test_program(&build("errors.c", "c11"));
+}
+
+#[test]
+fn header_compiles_as_cpp17() {
+    run_test_program(&build("header_cpp.cpp", "c++17"));
+}
+
+#[test]
+fn header_compiles_as_strict_c99() {
+    let exe = build("header_c99.c", "c99");
+    // It only has to compile and link; it exits with the default topology number (0).
+    run(&mut Command::new(exe));
+}
