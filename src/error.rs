@@ -42,6 +42,25 @@ pub enum Error {
         /// How many elements the buffer holds.
         capacity: usize,
     },
+    /// Grammar text could not be read.
+    #[error("parse error at line {line}, column {column}: {message}")]
+    Parse {
+        /// 1-based line.
+        line: u32,
+        /// 1-based column, in characters.
+        column: u32,
+        /// What was found and what was expected, or the unsupported construct.
+        message: String,
+    },
+    /// Evaluating the grammar gave an unusable value (NaN or infinity), e.g. from
+    /// `log(-1)` or a division by zero.
+    #[error("evaluation error at step {step}: {message}")]
+    Eval {
+        /// The rewriting step (0 for the axiom, or the step whose string the turtle read).
+        step: u32,
+        /// Which module and value.
+        message: String,
+    },
     /// Reading or writing a file or stream failed.
     #[error("I/O error: {0}")]
     Io(#[from] std::io::Error),

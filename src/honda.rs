@@ -13,10 +13,11 @@
 //!
 //! **Axis rule.** Of the two children, the one whose branching angle has the smaller
 //! magnitude continues its parent's axis (same `order`); the other starts a lateral axis
-//! (`order + 1`). On a tie (tree a: ±35°) the first child continues the axis.
+//! (`order + 1`). On a tie (tree a: ±35°) the first child continues the axis. This is
+//! [`assign_axis_orders`], the rule the turtle uses for every grammar.
 
 use crate::error::{Error, Result};
-use crate::skeleton::{Branch, NO_PARENT, Skeleton};
+use crate::skeleton::{Branch, NO_PARENT, Skeleton, assign_axis_orders};
 use crate::turtle::{Frame, cos_sin_deg};
 
 /// Default limit on the number of branches a model may produce (2^24 = 16,777,216).
@@ -225,7 +226,8 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
         length: f64,
         width: f64,
         parent: u32,
-        order: u32,
+        /// Heading of the parent branch.
+        parent_heading: glam::DVec3,
         step: u32,
     }
 
@@ -247,21 +249,16 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
             (1.0 - q).powf(e),
         ),
     ];
-    // The child with the smaller branching angle continues the axis; the first on a tie.
-    let lateral: [u32; 2] = if p.alpha2.abs() < p.alpha1.abs() {
-        [1, 0]
-    } else {
-        [0, 1]
-    };
 
     let mut branches: Vec<Branch> = Vec::with_capacity(count as usize);
+    let mut cos_to_parent: Vec<f64> = Vec::with_capacity(count as usize);
     let mut stack = Vec::with_capacity(p.steps as usize + 1);
     stack.push(Apex {
         frame: Frame::default(),
         length: p.trunk_length as f64,
         width: p.trunk_width as f64,
         parent: NO_PARENT,
-        order: 0,
+        parent_heading: glam::DVec3::Y,
         step: 1,
     });
     while let Some(apex) = stack.pop() {
@@ -290,9 +287,10 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
             end_radius: radius,
             parent: apex.parent,
             depth: apex.step,
-            order: apex.order,
+            order: 0,
             flags: 0,
         });
+        cos_to_parent.push(frame.heading.dot(apex.parent_heading));
         if apex.step == p.steps {
             continue;
         }
@@ -307,12 +305,13 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
                 length: apex.length * ratio,
                 width: apex.width * width_factor,
                 parent: index,
-                order: apex.order + lateral[i],
+                parent_heading: frame.heading,
                 step: apex.step + 1,
             });
         }
     }
 
+    assign_axis_orders(&mut branches, &cos_to_parent);
     let skeleton = Skeleton::new(branches).map_err(|_| {
         Error::invalid(
             "trunk_length",

@@ -43,6 +43,7 @@ pub mod export;
 #[allow(unsafe_code)]
 pub mod ffi;
 pub mod honda;
+pub mod lsystem;
 pub mod mesh;
 pub mod skeleton;
 pub mod turtle;

@@ -59,7 +59,37 @@ impl Branch {
     }
 }
 
-/// A tree as a flat array of branches, parents before children.
+/// A place where the turtle met `~`: where a leaf (or another organ) goes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LeafSite {
+    /// Where the turtle stood.
+    pub position: [f32; 3],
+    /// The turtle's heading H there (unit).
+    pub heading: [f32; 3],
+    /// The turtle's up vector U there (unit).
+    pub up: [f32; 3],
+    /// The branch the site sits on (the last one drawn on the turtle's axis), or
+    /// [`NO_PARENT`].
+    pub branch: u32,
+    /// The rewriting step that produced the `~`.
+    pub depth: u32,
+}
+
+/// A polygon the turtle traced between `{` and `}` (a leaf blade, a petal).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Polygon {
+    /// Index of the first point in [`Skeleton::polygon_points`].
+    pub first: u32,
+    /// Number of points (at least 3).
+    pub count: u32,
+    /// The branch the polygon sits on, or [`NO_PARENT`].
+    pub branch: u32,
+    /// The rewriting step that produced the `{`.
+    pub depth: u32,
+}
+
+/// A tree as a flat array of branches, parents before children, with the leaf sites and
+/// polygons the turtle recorded.
 ///
 /// Invariants (checked by [`Skeleton::new`], kept by every generator): every coordinate and
 /// radius is finite, radii are non-negative, and `parent` is [`NO_PARENT`] or the index of an
@@ -67,6 +97,9 @@ impl Branch {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Skeleton {
     branches: Vec<Branch>,
+    leaves: Vec<LeafSite>,
+    polygons: Vec<Polygon>,
+    polygon_points: Vec<[f32; 3]>,
 }
 
 impl Skeleton {
@@ -102,7 +135,70 @@ impl Skeleton {
                 ));
             }
         }
-        Ok(Skeleton { branches })
+        Ok(Skeleton {
+            branches,
+            ..Default::default()
+        })
+    }
+
+    /// A skeleton with leaf sites and polygons; checked like [`Skeleton::new`], and every
+    /// point must be finite and every polygon's range inside `polygon_points`.
+    pub fn with_organs(
+        branches: Vec<Branch>,
+        leaves: Vec<LeafSite>,
+        polygons: Vec<Polygon>,
+        polygon_points: Vec<[f32; 3]>,
+    ) -> Result<Self> {
+        let mut s = Skeleton::new(branches)?;
+        let finite = |p: &[f32; 3]| p.iter().all(|v| v.is_finite());
+        if let Some(i) = leaves
+            .iter()
+            .position(|l| !(finite(&l.position) && finite(&l.heading) && finite(&l.up)))
+        {
+            return Err(Error::invalid(
+                "leaves",
+                format!("leaf site {i} has a non-finite position or direction"),
+            ));
+        }
+        if let Some(i) = polygon_points.iter().position(|p| !finite(p)) {
+            return Err(Error::invalid(
+                "polygon_points",
+                format!("point {i} is not finite"),
+            ));
+        }
+        if let Some(i) = polygons
+            .iter()
+            .position(|p| p.first as usize + p.count as usize > polygon_points.len())
+        {
+            return Err(Error::invalid(
+                "polygons",
+                format!("polygon {i} reaches past the points"),
+            ));
+        }
+        s.leaves = leaves;
+        s.polygons = polygons;
+        s.polygon_points = polygon_points;
+        Ok(s)
+    }
+
+    /// Leaf sites recorded by `~`.
+    pub fn leaves(&self) -> &[LeafSite] {
+        &self.leaves
+    }
+
+    /// Polygons recorded by `{ . }`.
+    pub fn polygons(&self) -> &[Polygon] {
+        &self.polygons
+    }
+
+    /// The points of all polygons.
+    pub fn polygon_points(&self) -> &[[f32; 3]] {
+        &self.polygon_points
+    }
+
+    /// The points of one polygon.
+    pub fn polygon(&self, p: &Polygon) -> &[[f32; 3]] {
+        &self.polygon_points[p.first as usize..(p.first + p.count) as usize]
     }
 
     /// The branches, parents before children.
@@ -140,6 +236,39 @@ impl Skeleton {
             hi = hi.max(b.start()).max(b.end());
         }
         Some((lo, hi))
+    }
+}
+
+/// Sets every branch's `order` from `cos_to_parent[i]`, the cosine of the angle between
+/// branch `i`'s heading and its parent's (any value for roots): of a branch's children,
+/// the one that deviates least continues its axis (same order); the others start lateral
+/// axes (order + 1). Ties (within 1e-9) go to the first child. Roots have order 0.
+///
+/// For the 1996 model this is "the child with the smaller branching angle continues the
+/// axis"; for a grammar, `F F` continues an axis and `[+F]` leaves it. Generators pass the
+/// cosines of their exact (`f64`) headings, so ties such as ±35° are not broken by the
+/// rounding of stored `f32` coordinates.
+pub fn assign_axis_orders(branches: &mut [Branch], cos_to_parent: &[f64]) {
+    assert_eq!(branches.len(), cos_to_parent.len());
+    // The continuing child of each branch: (index, cosine).
+    let mut best: Vec<(u32, f64)> = vec![(NO_PARENT, f64::NEG_INFINITY); branches.len()];
+    for (i, b) in branches.iter().enumerate() {
+        if b.parent == NO_PARENT {
+            continue;
+        }
+        let cos = cos_to_parent[i];
+        let slot = &mut best[b.parent as usize];
+        if slot.0 == NO_PARENT || cos > slot.1 + 1e-9 {
+            *slot = (i as u32, cos);
+        }
+    }
+    for i in 0..branches.len() {
+        let p = branches[i].parent;
+        branches[i].order = if p == NO_PARENT {
+            0
+        } else {
+            branches[p as usize].order + u32::from(best[p as usize].0 != i as u32)
+        };
     }
 }
 

@@ -4,6 +4,11 @@
 //! Angles are in degrees; the frame is kept in `f64` so that long chains of rotations stay
 //! accurate before the skeleton stores `f32`.
 
+use crate::error::{Error, Result};
+use crate::lsystem::derive::{Ctx, Expander};
+use crate::lsystem::grammar::{POP, PUSH};
+use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
+use crate::skeleton::{Branch, LeafSite, NO_PARENT, Polygon, Skeleton, assign_axis_orders};
 use glam::DVec3;
 
 /// Position and orientation of the turtle.
@@ -73,6 +78,370 @@ impl Frame {
         self.position += self.heading * length;
         self.position
     }
+}
+
+impl Frame {
+    /// `|`: turn around (H and L negated).
+    #[inline]
+    pub fn turn_around(&mut self) {
+        self.heading = -self.heading;
+        self.left = -self.left;
+    }
+
+    /// `$` / `@v`: roll about H so that L is horizontal: L = (Y × H)/|Y × H|, U = L × H.
+    /// Nothing changes while H is vertical.
+    pub fn roll_horizontal(&mut self) {
+        let l = DVec3::Y.cross(self.heading);
+        let len = l.length();
+        if len > 1e-12 {
+            self.left = l / len;
+            self.up = self.left.cross(self.heading);
+        }
+    }
+
+    /// Rotates the whole frame about the unit `axis` by `angle` radians.
+    fn rotate(&mut self, axis: DVec3, angle: f64) {
+        let q = glam::DQuat::from_axis_angle(axis, angle);
+        self.heading = (q * self.heading).normalize();
+        self.left = (q * self.left).normalize();
+        self.up = (q * self.up).normalize();
+    }
+
+    /// Tropism: bends H toward `t` by `e·|H × t|` radians (at most 1), as cpfg does.
+    pub fn bend(&mut self, t: DVec3, e: f64) {
+        let axis = self.heading.cross(t);
+        let len = axis.length();
+        if len > 1e-12 && e != 0.0 {
+            self.rotate(axis / len, (e * len).clamp(-1.0, 1.0));
+        }
+    }
+
+    /// `@R(hx,hy,hz[,ux,uy,uz])`: sets the heading (and the up vector); L = H × U.
+    fn set_heading(&mut self, h: DVec3, up: Option<DVec3>) {
+        let Some(h) = h.try_normalize() else { return };
+        let u = up.unwrap_or(self.up);
+        let u = (u - h * u.dot(h))
+            .try_normalize()
+            .or_else(|| h.any_orthonormal_vector().try_normalize())
+            .unwrap_or(DVec3::NEG_Z);
+        self.heading = h;
+        self.up = u;
+        self.left = h.cross(u);
+    }
+}
+
+/// What a symbol means to the turtle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Op {
+    Ignore,
+    Draw,
+    Move,
+    Turn(f64),
+    Pitch(f64),
+    Roll(f64),
+    TurnAround,
+    RollHorizontal,
+    MoveTo,
+    SetHeading,
+    Width(f64),
+    Push,
+    Pop,
+    Cut,
+    PolygonStart,
+    PolygonVertex,
+    PolygonEnd,
+    Leaf,
+}
+
+fn op_of(name: &str) -> Op {
+    match name {
+        "F" | "G" => Op::Draw,
+        "f" | "g" => Op::Move,
+        "+" => Op::Turn(1.0),
+        "-" => Op::Turn(-1.0),
+        "&" => Op::Pitch(1.0),
+        "^" => Op::Pitch(-1.0),
+        "/" => Op::Roll(1.0),
+        "\\" => Op::Roll(-1.0),
+        "|" => Op::TurnAround,
+        "$" | "@v" => Op::RollHorizontal,
+        "@M" => Op::MoveTo,
+        "@R" => Op::SetHeading,
+        "!" => Op::Width(-1.0),
+        "#" => Op::Width(1.0),
+        "[" => Op::Push,
+        "]" => Op::Pop,
+        "%" => Op::Cut,
+        "{" => Op::PolygonStart,
+        "." => Op::PolygonVertex,
+        "}" => Op::PolygonEnd,
+        "~" => Op::Leaf,
+        _ => Op::Ignore,
+    }
+}
+
+#[derive(Clone, Copy)]
+struct State {
+    frame: Frame,
+    width: f64,
+    /// The last branch drawn on this axis, or NO_PARENT after a move without drawing.
+    parent: u32,
+    /// The heading that branch was drawn with.
+    parent_heading: DVec3,
+}
+
+struct Turtle {
+    ops: Vec<Op>,
+    angle: f64,
+    width_increment: f64,
+    step_size: f64,
+    tropism: Option<(DVec3, f64)>,
+    max_branches: usize,
+    state: State,
+    stack: Vec<State>,
+    /// While > 0, modules are skipped by `%` up to the end of the branch.
+    cutting: Option<usize>,
+    polygons: Vec<(Vec<[f32; 3]>, u32, u32)>,
+    branches: Vec<Branch>,
+    cos_to_parent: Vec<f64>,
+    leaves: Vec<LeafSite>,
+    closed: Vec<Polygon>,
+    points: Vec<[f32; 3]>,
+}
+
+fn v3(v: DVec3) -> [f32; 3] {
+    v.as_vec3().to_array()
+}
+
+impl Turtle {
+    fn polygon_point(&mut self) {
+        let p = v3(self.state.frame.position);
+        if let Some((points, _, _)) = self.polygons.last_mut() {
+            if points.last() != Some(&p) {
+                points.push(p);
+            }
+        }
+    }
+
+    fn module(&mut self, sym: u16, params: &[f64], birth: u32, step: u32) -> Result<()> {
+        let op = self.ops[sym as usize];
+        if let Some(depth) = self.cutting.as_mut() {
+            match op {
+                Op::Push => *depth += 1,
+                Op::Pop if *depth == 0 => self.cutting = None,
+                Op::Pop => *depth -= 1,
+                _ => {}
+            }
+            if self.cutting.is_some() {
+                return Ok(());
+            }
+        }
+        let arg = |k: usize| params.get(k).copied();
+        let angle = |s: f64| arg(0).unwrap_or(self.angle) * s;
+        match op {
+            Op::Ignore => {}
+            Op::Draw | Op::Move => {
+                let length = arg(0).unwrap_or(self.step_size);
+                if let Some((t, e)) = self.tropism {
+                    if op == Op::Draw {
+                        self.state.frame.bend(t, e);
+                    }
+                }
+                let start = self.state.frame.position;
+                let end = self.state.frame.forward(length);
+                if !end.is_finite() || end.abs().max_element() > f32::MAX as f64 {
+                    return Err(Error::Eval {
+                        step,
+                        message: format!(
+                            "the turtle left the f32 range (at {end}); shorten the steps"
+                        ),
+                    });
+                }
+                if !self.polygons.is_empty() {
+                    self.polygon_point();
+                } else if op == Op::Draw {
+                    if self.branches.len() >= self.max_branches {
+                        return Err(Error::LimitExceeded {
+                            limit_name: "max_branches",
+                            what: "branches",
+                            limit: self.max_branches as u64,
+                            requested: self.branches.len() as u64 + 1,
+                            step: Some(step),
+                        });
+                    }
+                    let radius = (self.state.width.max(0.0) * 0.5) as f32;
+                    self.branches.push(Branch {
+                        start: v3(start),
+                        end: v3(end),
+                        start_radius: radius,
+                        end_radius: radius,
+                        parent: self.state.parent,
+                        depth: birth,
+                        order: 0,
+                        flags: 0,
+                    });
+                    let heading = self.state.frame.heading;
+                    self.cos_to_parent
+                        .push(heading.dot(self.state.parent_heading));
+                    self.state.parent = (self.branches.len() - 1) as u32;
+                    self.state.parent_heading = heading;
+                } else {
+                    self.state.parent = NO_PARENT;
+                }
+            }
+            Op::Turn(s) => self.state.frame.turn(cos_sin_deg(angle(s))),
+            Op::Pitch(s) => self.state.frame.pitch(cos_sin_deg(angle(s))),
+            Op::Roll(s) => self.state.frame.roll(cos_sin_deg(angle(s))),
+            Op::TurnAround => self.state.frame.turn_around(),
+            Op::RollHorizontal => self.state.frame.roll_horizontal(),
+            Op::MoveTo => {
+                let p = self.state.frame.position;
+                self.state.frame.position = DVec3::new(
+                    arg(0).unwrap_or(p.x),
+                    arg(1).unwrap_or(p.y),
+                    arg(2).unwrap_or(p.z),
+                );
+                self.state.parent = NO_PARENT;
+                if !self.polygons.is_empty() {
+                    self.polygon_point();
+                }
+            }
+            Op::SetHeading => {
+                if params.len() >= 3 {
+                    let h = DVec3::new(params[0], params[1], params[2]);
+                    let up =
+                        (params.len() >= 6).then(|| DVec3::new(params[3], params[4], params[5]));
+                    self.state.frame.set_heading(h, up);
+                }
+            }
+            Op::Width(s) => {
+                self.state.width = match arg(0) {
+                    Some(w) => w,
+                    None => (self.state.width + s * self.width_increment).max(0.0),
+                }
+            }
+            Op::Push => self.stack.push(self.state),
+            Op::Pop => {
+                if let Some(s) = self.stack.pop() {
+                    self.state = s;
+                }
+            }
+            Op::Cut => self.cutting = Some(0),
+            Op::PolygonStart => {
+                self.polygons.push((Vec::new(), self.state.parent, birth));
+                self.polygon_point();
+            }
+            Op::PolygonVertex => self.polygon_point(),
+            Op::PolygonEnd => {
+                if let Some((points, branch, depth)) = self.polygons.pop() {
+                    if points.len() >= 3 {
+                        self.closed.push(Polygon {
+                            first: self.points.len() as u32,
+                            count: points.len() as u32,
+                            branch,
+                            depth,
+                        });
+                        self.points.extend_from_slice(&points);
+                    }
+                }
+            }
+            Op::Leaf => self.leaves.push(LeafSite {
+                position: v3(self.state.frame.position),
+                heading: v3(self.state.frame.heading),
+                up: v3(self.state.frame.up),
+                branch: self.state.parent,
+                depth: birth,
+            }),
+        }
+        Ok(())
+    }
+}
+
+/// Reads `string` with the turtle into a skeleton: each `F`/`G` a branch whose parent is
+/// the last branch drawn on the same axis (none after a move without drawing), whose depth
+/// is the step that produced the module, and whose order follows
+/// [`assign_axis_orders`]. Interpretation rules expand modules for the turtle only.
+pub(crate) fn interpret(
+    ls: &LSystem,
+    string: &ModuleString,
+    options: &LsystemOptions,
+) -> Result<Skeleton> {
+    let view = ls.view;
+    let initial_width = options.initial_width.unwrap_or(view.initial_width);
+    for (field, v) in [
+        ("angle_increment", options.angle_increment),
+        ("initial_width", options.initial_width),
+        ("width_increment", options.width_increment),
+    ] {
+        if let Some(v) = v {
+            if !v.is_finite() || (field != "angle_increment" && v < 0.0) {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite number >= 0"),
+                ));
+            }
+        }
+    }
+    let mut t = Turtle {
+        ops: ls.symbols.names.iter().map(|n| op_of(n)).collect(),
+        angle: options.angle_increment.unwrap_or(view.angle_increment),
+        width_increment: options.width_increment.unwrap_or(view.width_increment),
+        step_size: view.step_size,
+        tropism: view.tropism,
+        max_branches: options.max_branches,
+        state: State {
+            frame: Frame::default(),
+            width: initial_width,
+            parent: NO_PARENT,
+            parent_heading: DVec3::Y,
+        },
+        stack: Vec::new(),
+        cutting: None,
+        polygons: Vec::new(),
+        branches: Vec::new(),
+        cos_to_parent: Vec::new(),
+        leaves: Vec::new(),
+        closed: Vec::new(),
+        points: Vec::new(),
+    };
+    debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
+    debug_assert_eq!(t.ops[POP as usize], Op::Pop);
+    let table = &ls.homomorphism;
+    if table.is_empty() {
+        for i in 0..string.len() {
+            let birth = string.birth(i);
+            t.module(string.symbol(i), string.params(i), birth, birth)?;
+        }
+    } else {
+        let mut ctx = Ctx::new(ls, options);
+        let mut expander = Expander::default();
+        let mut read = 0usize;
+        for i in 0..string.len() {
+            let birth = string.birth(i);
+            ctx.step = birth;
+            expander.expand(
+                &mut ctx,
+                table,
+                string.symbol(i),
+                string.params(i),
+                |ctx, sym, params, _| {
+                    read += 1;
+                    if read > ctx.max_modules {
+                        return Err(Error::LimitExceeded {
+                            limit_name: "max_modules",
+                            what: "modules read by the turtle after interpretation rules",
+                            limit: ctx.max_modules as u64,
+                            requested: read as u64,
+                            step: None,
+                        });
+                    }
+                    t.module(sym, params, birth, birth)
+                },
+            )?;
+        }
+    }
+    assign_axis_orders(&mut t.branches, &t.cos_to_parent);
+    Skeleton::with_organs(t.branches, t.leaves, t.closed, t.points)
 }
 
 #[cfg(test)]

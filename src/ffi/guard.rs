@@ -36,6 +36,8 @@ impl From<Error> for FfiError {
             Error::InvalidArgument { .. } => ArborStatus::InvalidArgument,
             Error::LimitExceeded { .. } => ArborStatus::LimitExceeded,
             Error::BufferTooSmall { .. } => ArborStatus::BufferTooSmall,
+            Error::Parse { .. } => ArborStatus::ParseError,
+            Error::Eval { .. } => ArborStatus::InvalidArgument,
             Error::Io(_) => ArborStatus::IoError,
         };
         FfiError {

@@ -1,0 +1,520 @@
+//! Parallel rewriting over flat module strings, double-buffered.
+
+use super::grammar::{CUT, ModuleList, POP, PUSH, Production, ProductionTable};
+use super::rng::Rng;
+use super::{LSystem, LsystemOptions, ModuleString};
+use crate::error::{Error, Result};
+
+/// Everything a step needs besides the strings.
+pub(crate) struct Ctx<'a> {
+    pub(crate) ls: &'a LSystem,
+    pub(crate) rng: Rng,
+    pub(crate) max_modules: usize,
+    pub(crate) max_params: usize,
+    pub(crate) step: u32,
+    /// Bound parameter values of the production being tried.
+    args: Vec<f64>,
+    /// Stochastic candidates: (production index, offset of its args in `cand_args`,
+    /// weight).
+    cands: Vec<(u32, usize, f64)>,
+    cand_args: Vec<f64>,
+}
+
+impl<'a> Ctx<'a> {
+    pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
+        Ctx {
+            ls,
+            rng: Rng::new(ls.seed.unwrap_or(options.seed)),
+            max_modules: options.max_modules,
+            max_params: options.max_params.min(u32::MAX as usize),
+            step: 0,
+            args: Vec::new(),
+            cands: Vec::new(),
+            cand_args: Vec::new(),
+        }
+    }
+
+    fn limit(&self, name: &'static str, what: &'static str, limit: usize, need: usize) -> Error {
+        Error::LimitExceeded {
+            limit_name: name,
+            what,
+            limit: limit as u64,
+            requested: need as u64,
+            step: Some(self.step),
+        }
+    }
+
+    /// Checks that `out` can take `modules` more modules and `params` more values.
+    #[inline]
+    pub(crate) fn room(&self, out: &ModuleString, modules: usize, params: usize) -> Result<()> {
+        if out.len() + modules > self.max_modules {
+            return Err(self.limit(
+                "max_modules",
+                "modules",
+                self.max_modules,
+                out.len() + modules,
+            ));
+        }
+        if out.params.len() + params > self.max_params {
+            return Err(self.limit(
+                "max_params",
+                "parameter values",
+                self.max_params,
+                out.params.len() + params,
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Evaluates `list` with bound `args` and appends it to `out` with birth `birth`.
+fn emit(
+    ctx: &mut Ctx<'_>,
+    list: &ModuleList,
+    args: &[f64],
+    birth: u16,
+    out: &mut ModuleString,
+) -> Result<()> {
+    ctx.room(out, list.modules.len(), list.exprs.len())?;
+    for m in &list.modules {
+        out.syms.push(m.sym);
+        out.births.push(birth);
+        for e in list.params(m) {
+            let v = e.eval(args, &mut ctx.rng);
+            if !v.is_finite() {
+                return Err(non_finite(ctx, m.sym, v));
+            }
+            out.params.push(v);
+        }
+        out.offsets.push(out.params.len() as u32);
+    }
+    Ok(())
+}
+
+fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64) -> Error {
+    Error::Eval {
+        step: ctx.step,
+        message: format!(
+            "a parameter of module `{}` evaluated to {v}; expected a finite number \
+             (look for a division by zero, log or sqrt of a negative number, or overflow)",
+            ctx.ls.symbol_name(sym)
+        ),
+    }
+}
+
+pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
+    let steps = options.steps.unwrap_or(ls.derivation_length);
+    if steps > u16::MAX as u32 {
+        return Err(Error::invalid(
+            "steps",
+            format!("{steps}; expected at most {}", u16::MAX),
+        ));
+    }
+    let mut ctx = Ctx::new(ls, options);
+    let mut cur = ModuleString::new();
+    let mut next = ModuleString::new();
+    emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
+    post_process(&mut ctx, &mut cur, &mut next)?;
+    let mut partner: Vec<u32> = Vec::new();
+    for step in 1..=steps {
+        ctx.step = step;
+        next.clear();
+        if ls.has_context {
+            brackets(&cur, &mut partner);
+        }
+        rewrite(&mut ctx, &cur, &partner, &mut next)?;
+        std::mem::swap(&mut cur, &mut next);
+        post_process(&mut ctx, &mut cur, &mut next)?;
+    }
+    Ok(cur)
+}
+
+/// Cut and decomposition after a step (or after the axiom).
+fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleString) -> Result<()> {
+    if ctx.ls.has_cut {
+        spare.clear();
+        cut(cur, spare);
+        std::mem::swap(cur, spare);
+    }
+    if !ctx.ls.decomposition.is_empty() {
+        spare.clear();
+        let table = &ctx.ls.decomposition;
+        let mut expander = Expander::default();
+        for i in 0..cur.len() {
+            let birth = cur.births[i];
+            expander.expand(
+                ctx,
+                table,
+                cur.symbol(i),
+                cur.params(i),
+                |ctx, sym, params, new| {
+                    ctx.room(spare, 1, params.len())?;
+                    spare.push(sym, if new { ctx.step as u16 } else { birth }, params);
+                    Ok(())
+                },
+            )?;
+        }
+        std::mem::swap(cur, spare);
+    }
+    Ok(())
+}
+
+/// Removes every `%` and the rest of its branch (up to, not including, the `]` that
+/// closes it).
+fn cut(src: &ModuleString, dst: &mut ModuleString) {
+    let mut i = 0;
+    while i < src.len() {
+        if src.syms[i] == CUT {
+            let mut depth = 0usize;
+            i += 1;
+            while i < src.len() {
+                match src.syms[i] {
+                    PUSH => depth += 1,
+                    POP if depth == 0 => break,
+                    POP => depth -= 1,
+                    _ => {}
+                }
+                i += 1;
+            }
+            continue;
+        }
+        dst.push(src.syms[i], src.births[i], src.params(i));
+        i += 1;
+    }
+}
+
+/// For each bracket, the index of its partner (`u32::MAX` for none).
+pub(crate) fn brackets(s: &ModuleString, partner: &mut Vec<u32>) {
+    partner.clear();
+    partner.resize(s.len(), u32::MAX);
+    let mut stack: Vec<u32> = Vec::new();
+    for (i, &sym) in s.syms.iter().enumerate() {
+        if sym == PUSH {
+            stack.push(i as u32);
+        } else if sym == POP {
+            if let Some(open) = stack.pop() {
+                partner[open as usize] = i as u32;
+                partner[i] = open;
+            }
+        }
+    }
+}
+
+fn rewrite(
+    ctx: &mut Ctx<'_>,
+    cur: &ModuleString,
+    partner: &[u32],
+    next: &mut ModuleString,
+) -> Result<()> {
+    let table = &ctx.ls.productions;
+    let birth = ctx.step as u16;
+    for i in 0..cur.len() {
+        let sym = cur.syms[i];
+        if table.candidates(sym).is_empty() {
+            let params = cur.params(i);
+            ctx.room(next, 1, params.len())?;
+            next.push(sym, cur.births[i], params);
+            continue;
+        }
+        match select(ctx, table, cur, partner, i) {
+            Some(p) => {
+                let prod = &table.productions[p as usize];
+                let args = std::mem::take(&mut ctx.args);
+                let r = emit(ctx, &prod.successor, &args, birth, next);
+                ctx.args = args;
+                r?;
+            }
+            None => {
+                let params = cur.params(i);
+                ctx.room(next, 1, params.len())?;
+                next.push(sym, cur.births[i], params);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Binds the predecessor's parameters; `false` when the arity differs.
+#[inline]
+fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f64]) -> bool {
+    if p.pred.arity as usize != params.len() {
+        return false;
+    }
+    args.clear();
+    args.resize(p.slots, 0.0);
+    let s = p.pred.slot as usize;
+    args[s..s + params.len()].copy_from_slice(params);
+    true
+}
+
+/// The production that applies to module `i` of `s`, with its bound parameters left in
+/// `ctx.args`; `None` when none applies.
+fn select(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    s: &ModuleString,
+    partner: &[u32],
+    i: usize,
+) -> Option<u32> {
+    let ls = ctx.ls;
+    select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
+        (p.left.is_empty() || match_left(ls, s, partner, i, p, args))
+            && (p.right.is_empty() || match_right(ls, s, partner, i, p, args))
+    })
+}
+
+/// Chooses among the productions of `sym` whose arity, context (`context`) and condition
+/// hold. The first that holds decides: a deterministic one applies at once; if it has a
+/// probability, one of all the applicable stochastic productions is drawn by weight.
+fn select_with(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    sym: u16,
+    params: &[f64],
+    mut context: impl FnMut(&Production, &mut [f64]) -> bool,
+) -> Option<u32> {
+    ctx.cands.clear();
+    ctx.cand_args.clear();
+    let mut total = 0.0;
+    for &pi in table.candidates(sym) {
+        let p = &table.productions[pi as usize];
+        let mut args = std::mem::take(&mut ctx.args);
+        let ok = bind_pred(&mut args, p, params)
+            && context(p, &mut args)
+            && p.condition
+                .as_ref()
+                .is_none_or(|c| c.eval(&args, &mut ctx.rng) != 0.0);
+        if ok {
+            match &p.probability {
+                None if ctx.cands.is_empty() => {
+                    ctx.args = args;
+                    return Some(pi);
+                }
+                None => {}
+                Some(w) => {
+                    let w = w.eval(&args, &mut ctx.rng);
+                    if w.is_finite() && w > 0.0 {
+                        ctx.cands.push((pi, ctx.cand_args.len(), w));
+                        ctx.cand_args.extend_from_slice(&args);
+                        total += w;
+                    }
+                }
+            }
+        }
+        ctx.args = args;
+    }
+    if ctx.cands.is_empty() {
+        return None;
+    }
+    let mut r = ctx.rng.next_f64() * total;
+    let mut chosen = ctx.cands[ctx.cands.len() - 1];
+    for &c in &ctx.cands {
+        if r < c.2 {
+            chosen = c;
+            break;
+        }
+        r -= c.2;
+    }
+    let slots = table.productions[chosen.0 as usize].slots;
+    ctx.args.clear();
+    ctx.args
+        .extend_from_slice(&ctx.cand_args[chosen.1..chosen.1 + slots]);
+    Some(chosen.0)
+}
+
+fn bind(args: &mut [f64], slot: u16, params: &[f64]) {
+    let s = slot as usize;
+    args[s..s + params.len()].copy_from_slice(params);
+}
+
+/// Bracket-aware left context: walking back, a completed branch `[...]` is skipped whole
+/// and a `[` leads to the module the branch grows from.
+fn match_left(
+    ls: &LSystem,
+    s: &ModuleString,
+    partner: &[u32],
+    i: usize,
+    p: &Production,
+    args: &mut [f64],
+) -> bool {
+    let mut j = i;
+    for pat in p.left.iter().rev() {
+        loop {
+            if j == 0 {
+                return false;
+            }
+            j -= 1;
+            let sym = s.syms[j];
+            if sym == POP {
+                let open = partner[j];
+                if open == u32::MAX {
+                    return false;
+                }
+                j = open as usize;
+                continue;
+            }
+            if sym == PUSH || ls.skip[sym as usize] {
+                continue;
+            }
+            break;
+        }
+        let params = s.params(j);
+        if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+            return false;
+        }
+        bind(args, pat.slot, params);
+    }
+    true
+}
+
+/// Bracket-aware right context: a branch in the string is skipped unless the context
+/// itself has a `[` there; a `]` in the context skips to the end of the current branch.
+fn match_right(
+    ls: &LSystem,
+    s: &ModuleString,
+    partner: &[u32],
+    i: usize,
+    p: &Production,
+    args: &mut [f64],
+) -> bool {
+    let n = s.len();
+    let mut j = i + 1;
+    for pat in &p.right {
+        if pat.sym == PUSH {
+            while j < n && ls.skip[s.syms[j] as usize] {
+                j += 1;
+            }
+            if j >= n || s.syms[j] != PUSH {
+                return false;
+            }
+            j += 1;
+            continue;
+        }
+        if pat.sym == POP {
+            let mut depth = 0usize;
+            loop {
+                if j >= n {
+                    return false;
+                }
+                match s.syms[j] {
+                    PUSH => depth += 1,
+                    POP if depth == 0 => break,
+                    POP => depth -= 1,
+                    _ => {}
+                }
+                j += 1;
+            }
+            j += 1;
+            continue;
+        }
+        loop {
+            if j >= n {
+                return false;
+            }
+            let sym = s.syms[j];
+            if sym == PUSH {
+                let close = partner[j];
+                if close == u32::MAX {
+                    return false;
+                }
+                j = close as usize + 1;
+                continue;
+            }
+            if sym == POP {
+                return false;
+            }
+            if ls.skip[sym as usize] {
+                j += 1;
+                continue;
+            }
+            break;
+        }
+        let params = s.params(j);
+        if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+            return false;
+        }
+        bind(args, pat.slot, params);
+        j += 1;
+    }
+    true
+}
+
+/// Recursive application of context-free rules (interpretation and decomposition) with
+/// an explicit stack, at most `max_depth` levels deep.
+#[derive(Default)]
+pub(crate) struct Expander {
+    /// Pending modules: (symbol, depth, number of parameters on `arena`).
+    stack: Vec<(u16, u32, u32)>,
+    arena: Vec<f64>,
+    produced: Vec<(u16, u32, u32)>,
+    produced_params: Vec<f64>,
+}
+
+impl Expander {
+    /// Expands one module and hands every resulting module to `sink` in order.
+    pub(crate) fn expand<F>(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        table: &ProductionTable,
+        sym: u16,
+        params: &[f64],
+        mut sink: F,
+    ) -> Result<()>
+    where
+        F: FnMut(&mut Ctx<'_>, u16, &[f64], bool) -> Result<()>,
+    {
+        if table.candidates(sym).is_empty() {
+            return sink(ctx, sym, params, false);
+        }
+        self.stack.clear();
+        self.arena.clear();
+        self.stack.push((sym, 0, params.len() as u32));
+        self.arena.extend_from_slice(params);
+        while let Some((sym, depth, n)) = self.stack.pop() {
+            let base = self.arena.len() - n as usize;
+            let chosen = if depth < table.max_depth && !table.candidates(sym).is_empty() {
+                select_with(ctx, table, sym, &self.arena[base..], |_, _| true)
+            } else {
+                None
+            };
+            let Some(pi) = chosen else {
+                sink(ctx, sym, &self.arena[base..], depth > 0)?;
+                self.arena.truncate(base);
+                continue;
+            };
+            self.arena.truncate(base);
+            let succ = &table.productions[pi as usize].successor;
+            self.produced.clear();
+            self.produced_params.clear();
+            let args = std::mem::take(&mut ctx.args);
+            for m in &succ.modules {
+                let first = self.produced_params.len() as u32;
+                for e in succ.params(m) {
+                    let v = e.eval(&args, &mut ctx.rng);
+                    if !v.is_finite() {
+                        ctx.args = args;
+                        return Err(non_finite(ctx, m.sym, v));
+                    }
+                    self.produced_params.push(v);
+                }
+                self.produced.push((m.sym, first, m.count));
+            }
+            ctx.args = args;
+            if self.stack.len() + self.produced.len() > ctx.max_modules {
+                return Err(ctx.limit(
+                    "max_modules",
+                    "pending modules of interpretation or decomposition rules",
+                    ctx.max_modules,
+                    self.stack.len() + self.produced.len(),
+                ));
+            }
+            for &(s, first, count) in self.produced.iter().rev() {
+                let f = first as usize;
+                self.arena
+                    .extend_from_slice(&self.produced_params[f..f + count as usize]);
+                self.stack.push((s, depth + 1, count));
+            }
+        }
+        Ok(())
+    }
+}

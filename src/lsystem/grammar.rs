@@ -1,0 +1,151 @@
+//! The compiled form of a grammar: interned symbols, productions with compiled
+//! expressions, and the settings the turtle reads.
+
+use super::expr::Expr;
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Symbol id of `[`; fixed so the hot loops can test for brackets cheaply.
+pub(crate) const PUSH: u16 = 0;
+/// Symbol id of `]`.
+pub(crate) const POP: u16 = 1;
+/// Symbol id of `%` (cut).
+pub(crate) const CUT: u16 = 2;
+
+/// Interned module names.
+#[derive(Clone, Debug)]
+pub(crate) struct Symbols {
+    pub(crate) names: Vec<String>,
+    map: HashMap<String, u16>,
+}
+
+impl Symbols {
+    pub(crate) fn new() -> Self {
+        let mut s = Symbols {
+            names: Vec::new(),
+            map: HashMap::new(),
+        };
+        for name in ["[", "]", "%"] {
+            s.intern(name);
+        }
+        s
+    }
+
+    /// The id of `name`, interning it; `None` past 65,536 distinct symbols.
+    pub(crate) fn intern(&mut self, name: &str) -> Option<u16> {
+        if let Some(&id) = self.map.get(name) {
+            return Some(id);
+        }
+        let id = u16::try_from(self.names.len()).ok()?;
+        self.names.push(name.to_string());
+        self.map.insert(name.to_string(), id);
+        Some(id)
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.names.len()
+    }
+}
+
+/// A module of a predecessor or context: symbol, number of formal parameters, and the
+/// slot of its first parameter among the production's bound values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Pattern {
+    pub(crate) sym: u16,
+    pub(crate) arity: u16,
+    pub(crate) slot: u16,
+}
+
+/// A module of a successor: its symbol and the range of its parameter expressions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SuccModule {
+    pub(crate) sym: u16,
+    pub(crate) first: u32,
+    pub(crate) count: u32,
+}
+
+/// A module list with its parameter expressions (a successor or the axiom).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct ModuleList {
+    pub(crate) modules: Vec<SuccModule>,
+    pub(crate) exprs: Vec<Expr>,
+}
+
+impl ModuleList {
+    pub(crate) fn params(&self, m: &SuccModule) -> &[Expr] {
+        &self.exprs[m.first as usize..(m.first + m.count) as usize]
+    }
+}
+
+/// One production `lc < pred > rc : condition --> successor : probability`.
+#[derive(Clone, Debug)]
+pub(crate) struct Production {
+    pub(crate) pred: Pattern,
+    /// Left context in text order.
+    pub(crate) left: Vec<Pattern>,
+    /// Right context in text order; may contain `[` and `]`.
+    pub(crate) right: Vec<Pattern>,
+    pub(crate) condition: Option<Expr>,
+    pub(crate) successor: ModuleList,
+    /// Weight for stochastic choice; `None` for a deterministic production.
+    pub(crate) probability: Option<Expr>,
+    /// Number of bound parameters (left, predecessor, right, in text order).
+    pub(crate) slots: usize,
+}
+
+/// A table of productions found by the predecessor's symbol.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ProductionTable {
+    pub(crate) productions: Vec<Production>,
+    /// For each symbol id, the indices of its productions in file order.
+    pub(crate) by_symbol: Vec<Vec<u32>>,
+    /// Interpretation and decomposition: how many times rules may re-apply.
+    pub(crate) max_depth: u32,
+}
+
+impl ProductionTable {
+    pub(crate) fn index(&mut self, symbols: usize) {
+        self.by_symbol = vec![Vec::new(); symbols];
+        for (i, p) in self.productions.iter().enumerate() {
+            self.by_symbol[p.pred.sym as usize].push(i as u32);
+        }
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        self.productions.is_empty()
+    }
+
+    #[inline]
+    pub(crate) fn candidates(&self, sym: u16) -> &[u32] {
+        &self.by_symbol[sym as usize]
+    }
+}
+
+/// Settings cpfg keeps in its view file, written as directives in the grammar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSettings {
+    /// `angle increment:` degrees turned by `+ - & ^ / \` without a parameter. Default 45.
+    pub angle_increment: f64,
+    /// `initial line width:` the turtle's starting width (a diameter). Default 1.
+    pub initial_width: f64,
+    /// `line width increment:` what `!` and `#` without a parameter subtract and add.
+    /// Default 1.
+    pub width_increment: f64,
+    /// `tropism: T: x y z E: e`: the tropism vector T and elasticity e; before each `F`
+    /// the heading bends toward T by e·|H × T| radians (at most 1). Default none.
+    pub tropism: Option<(DVec3, f64)>,
+    /// Length of `F`, `G`, `f`, `g` without a parameter. Default 1.
+    pub step_size: f64,
+}
+
+impl Default for ViewSettings {
+    fn default() -> Self {
+        ViewSettings {
+            angle_increment: 45.0,
+            initial_width: 1.0,
+            width_increment: 1.0,
+            tropism: None,
+            step_size: 1.0,
+        }
+    }
+}

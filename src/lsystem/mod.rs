@@ -1,0 +1,269 @@
+//! Parametric L-systems in the language of cpfg: parse → derive → interpret.
+//!
+//! ```
+//! use arbor::lsystem::{LSystem, LsystemOptions};
+//!
+//! let grammar = LSystem::parse(
+//!     "Lsystem: 1\n derivation length: 3\n Axiom: F\n F --> F[+F]F[-F]F\n endlsystem",
+//! )?;
+//! let options = LsystemOptions::default();
+//! let string = grammar.derive(&options)?;
+//! // 5^3 = 125 F's and 6 other modules for each F rewritten: 6 · (1 + 5 + 25) = 186.
+//! assert_eq!(string.len(), 125 + 186);
+//! let skeleton = grammar.interpret(&string, &options)?;
+//! assert_eq!(skeleton.len(), 125); // 5^3 F's
+//! # Ok::<(), arbor::Error>(())
+//! ```
+
+pub(crate) mod derive;
+mod expr;
+pub(crate) mod grammar;
+mod parse;
+mod rng;
+mod syntax;
+
+pub use grammar::ViewSettings;
+pub use parse::MAX_SOURCE_BYTES;
+pub use rng::Rng;
+
+use crate::error::Result;
+use crate::skeleton::Skeleton;
+use grammar::{ModuleList, ProductionTable, Symbols};
+
+/// Default limit on the modules of a derived string (2^24 = 16,777,216).
+pub const DEFAULT_MAX_MODULES: usize = 1 << 24;
+/// Default limit on the parameters of a derived string (2^25 = 33,554,432).
+pub const DEFAULT_MAX_PARAMS: usize = 1 << 25;
+
+/// Options of [`LSystem::derive`] and [`LSystem::interpret`]. `Default` gives the
+/// documented defaults; the settings given here override the grammar's directives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LsystemOptions {
+    /// Rewriting steps; `None`: the grammar's `derivation length:` (0 if it has none).
+    pub steps: Option<u32>,
+    /// Seed of stochastic productions, `ran` and `nran`, used when the grammar has no
+    /// `seed:`. Default 0.
+    pub seed: u64,
+    /// Derivation stops with `LimitExceeded` before a string would pass this many modules;
+    /// the same limit bounds the modules the turtle reads after interpretation rules.
+    /// Default [`DEFAULT_MAX_MODULES`].
+    pub max_modules: usize,
+    /// Derivation stops with `LimitExceeded` before a string would hold more parameter
+    /// values than this (at most 2^32 − 1). Default [`DEFAULT_MAX_PARAMS`].
+    pub max_params: usize,
+    /// Interpretation stops with `LimitExceeded` past this many branches. Default
+    /// [`crate::honda::DEFAULT_MAX_BRANCHES`].
+    pub max_branches: usize,
+    /// Overrides `angle increment:` (degrees).
+    pub angle_increment: Option<f64>,
+    /// Overrides `initial line width:`.
+    pub initial_width: Option<f64>,
+    /// Overrides `line width increment:`.
+    pub width_increment: Option<f64>,
+}
+
+impl Default for LsystemOptions {
+    fn default() -> Self {
+        LsystemOptions {
+            steps: None,
+            seed: 0,
+            max_modules: DEFAULT_MAX_MODULES,
+            max_params: DEFAULT_MAX_PARAMS,
+            max_branches: crate::honda::DEFAULT_MAX_BRANCHES,
+            angle_increment: None,
+            initial_width: None,
+            width_increment: None,
+        }
+    }
+}
+
+/// A parsed and compiled grammar.
+#[derive(Clone, Debug)]
+pub struct LSystem {
+    pub(crate) symbols: Symbols,
+    pub(crate) axiom: ModuleList,
+    pub(crate) derivation_length: u32,
+    pub(crate) seed: Option<u64>,
+    pub(crate) productions: ProductionTable,
+    pub(crate) homomorphism: ProductionTable,
+    pub(crate) decomposition: ProductionTable,
+    /// Per symbol: skipped when matching context (`ignore:` / `consider:`).
+    pub(crate) skip: Vec<bool>,
+    pub(crate) view: ViewSettings,
+    pub(crate) has_context: bool,
+    pub(crate) has_cut: bool,
+}
+
+impl LSystem {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        symbols: Symbols,
+        axiom: ModuleList,
+        derivation_length: u32,
+        seed: Option<u64>,
+        productions: ProductionTable,
+        homomorphism: ProductionTable,
+        decomposition: ProductionTable,
+        skip: Vec<bool>,
+        view: ViewSettings,
+    ) -> Self {
+        let has_context = productions
+            .productions
+            .iter()
+            .any(|p| !p.left.is_empty() || !p.right.is_empty());
+        let cut = grammar::CUT;
+        let has_cut = axiom.modules.iter().any(|m| m.sym == cut)
+            || [&productions, &decomposition].iter().any(|t| {
+                t.productions
+                    .iter()
+                    .any(|p| p.successor.modules.iter().any(|m| m.sym == cut))
+            });
+        LSystem {
+            symbols,
+            axiom,
+            derivation_length,
+            seed,
+            productions,
+            homomorphism,
+            decomposition,
+            skip,
+            view,
+            has_context,
+            has_cut,
+        }
+    }
+
+    /// Parses grammar text in the cpfg language (see `GRAMMAR.md`). Errors are
+    /// [`crate::Error::Parse`] with line, column and what was expected.
+    pub fn parse(source: &str) -> Result<Self> {
+        parse::parse(source)
+    }
+
+    /// The grammar's `derivation length:` (0 when it has none).
+    pub fn derivation_length(&self) -> u32 {
+        self.derivation_length
+    }
+
+    /// The grammar's `seed:`, if it has one.
+    pub fn seed(&self) -> Option<u64> {
+        self.seed
+    }
+
+    /// The turtle settings the grammar's directives gave.
+    pub fn view(&self) -> &ViewSettings {
+        &self.view
+    }
+
+    /// The name of symbol `id` of a [`ModuleString`] derived from this grammar.
+    pub fn symbol_name(&self, id: u16) -> &str {
+        &self.symbols.names[id as usize]
+    }
+
+    /// Rewrites the axiom `steps` times in parallel. The same grammar, seed and options
+    /// give the same string on every run.
+    pub fn derive(&self, options: &LsystemOptions) -> Result<ModuleString> {
+        derive::derive(self, options)
+    }
+
+    /// Reads `string` with the 3-D turtle (applying interpretation rules) into a skeleton.
+    pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
+        crate::turtle::interpret(self, string, options)
+    }
+
+    /// [`derive`](Self::derive), then [`interpret`](Self::interpret).
+    pub fn skeleton(&self, options: &LsystemOptions) -> Result<Skeleton> {
+        let string = self.derive(options)?;
+        self.interpret(&string, options)
+    }
+
+    /// `string` as text, e.g. `F(1)[+(25)A(0.5,2)]`: numbers printed shortest, modules
+    /// without separators.
+    pub fn format(&self, string: &ModuleString) -> String {
+        let mut out = String::new();
+        for i in 0..string.len() {
+            out.push_str(self.symbol_name(string.symbol(i)));
+            let params = string.params(i);
+            if !params.is_empty() {
+                out.push('(');
+                for (k, v) in params.iter().enumerate() {
+                    if k > 0 {
+                        out.push(',');
+                    }
+                    out.push_str(&v.to_string());
+                }
+                out.push(')');
+            }
+        }
+        out
+    }
+}
+
+/// A derived string: flat arrays of symbols, birth steps and parameters.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModuleString {
+    pub(crate) syms: Vec<u16>,
+    pub(crate) births: Vec<u16>,
+    /// `offsets[i]..offsets[i + 1]` are module i's parameters; `offsets[0] = 0`.
+    pub(crate) offsets: Vec<u32>,
+    pub(crate) params: Vec<f64>,
+}
+
+impl ModuleString {
+    pub(crate) fn new() -> Self {
+        ModuleString {
+            offsets: vec![0],
+            ..Default::default()
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.syms.clear();
+        self.births.clear();
+        self.offsets.clear();
+        self.offsets.push(0);
+        self.params.clear();
+    }
+
+    /// Number of modules.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.syms.len()
+    }
+
+    /// Whether there are no modules.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.syms.is_empty()
+    }
+
+    /// Symbol id of module `i` (see [`LSystem::symbol_name`]).
+    #[inline]
+    pub fn symbol(&self, i: usize) -> u16 {
+        self.syms[i]
+    }
+
+    /// Parameters of module `i`.
+    #[inline]
+    pub fn params(&self, i: usize) -> &[f64] {
+        &self.params[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+
+    /// The rewriting step that produced module `i` (axiom modules: 0).
+    #[inline]
+    pub fn birth(&self, i: usize) -> u32 {
+        self.births[i] as u32
+    }
+
+    /// Total number of parameter values.
+    pub fn param_count(&self) -> usize {
+        self.params.len()
+    }
+
+    #[inline]
+    pub(crate) fn push(&mut self, sym: u16, birth: u16, params: &[f64]) {
+        self.syms.push(sym);
+        self.births.push(birth);
+        self.params.extend_from_slice(params);
+        self.offsets.push(self.params.len() as u32);
+    }
+}

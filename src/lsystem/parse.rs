@@ -1,0 +1,776 @@
+//! Reading grammar text in the cpfg language into an [`LSystem`].
+
+use super::LSystem;
+use super::expr::{self, Scope};
+use super::grammar::{
+    ModuleList, POP, PUSH, Pattern, Production, ProductionTable, SuccModule, Symbols, ViewSettings,
+};
+use super::syntax::{Cursor, PErr, PResult, line_col};
+use crate::error::{Error, Result};
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Longest accepted grammar text (16 MiB).
+pub const MAX_SOURCE_BYTES: usize = 16 << 20;
+
+/// Replaces comments by spaces (newlines kept) so that byte offsets stay those of the
+/// source.
+fn strip_comments(src: &str) -> PResult<String> {
+    let bytes = src.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    let blank = |out: &mut Vec<u8>, b: u8| out.push(if b == b'\n' { b'\n' } else { b' ' });
+    while i < bytes.len() {
+        if bytes[i] == b'/' && bytes.get(i + 1) == Some(&b'*') {
+            let start = i;
+            let Some(len) = src[i + 2..].find("*/") else {
+                return Err(PErr {
+                    pos: start,
+                    found: String::new(),
+                    expected: "unterminated comment: `/*` has no closing `*/`".into(),
+                });
+            };
+            let stop = i + 2 + len + 2;
+            for &b in &bytes[i..stop] {
+                blank(&mut out, b);
+            }
+            i = stop;
+        } else if bytes[i] == b'/' && bytes.get(i + 1) == Some(&b'/') {
+            while i < bytes.len() && bytes[i] != b'\n' {
+                blank(&mut out, bytes[i]);
+                i += 1;
+            }
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    // Whole characters were replaced (a comment starts and ends on ASCII), so it stays
+    // UTF-8.
+    Ok(String::from_utf8(out).expect("comments are replaced whole"))
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Section {
+    Productions,
+    Homomorphism,
+    Decomposition,
+}
+
+struct Parser<'a> {
+    text: &'a str,
+    symbols: Symbols,
+    defines: HashMap<String, f64>,
+    axiom: Option<ModuleList>,
+    derivation_length: u32,
+    seed: Option<u64>,
+    productions: ProductionTable,
+    homomorphism: ProductionTable,
+    decomposition: ProductionTable,
+    ignore: Option<Vec<u16>>,
+    consider: Option<Vec<u16>>,
+    view: ViewSettings,
+    section: Section,
+    lsystem_seen: bool,
+    ended: bool,
+}
+
+/// Parses grammar text; errors carry line, column, what was found and what was expected.
+pub fn parse(source: &str) -> Result<LSystem> {
+    if source.len() > MAX_SOURCE_BYTES {
+        return Err(Error::Parse {
+            line: 1,
+            column: 1,
+            message: format!(
+                "the grammar is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
+                source.len()
+            ),
+        });
+    }
+    let to_error = |e: PErr| {
+        let (line, column) = line_col(source, e.pos);
+        let message = if e.found.is_empty() {
+            e.expected
+        } else {
+            format!("found {}, expected {}", e.found, e.expected)
+        };
+        Error::Parse {
+            line,
+            column,
+            message,
+        }
+    };
+    let clean = strip_comments(source).map_err(to_error)?;
+    let mut p = Parser {
+        text: &clean,
+        symbols: Symbols::new(),
+        defines: HashMap::new(),
+        axiom: None,
+        derivation_length: 0,
+        seed: None,
+        productions: ProductionTable::default(),
+        homomorphism: ProductionTable {
+            max_depth: 1,
+            ..Default::default()
+        },
+        decomposition: ProductionTable {
+            max_depth: 1,
+            ..Default::default()
+        },
+        ignore: None,
+        consider: None,
+        view: ViewSettings::default(),
+        section: Section::Productions,
+        lsystem_seen: false,
+        ended: false,
+    };
+    p.run().map_err(to_error)?;
+    let Parser {
+        symbols,
+        axiom,
+        derivation_length,
+        seed,
+        mut productions,
+        mut homomorphism,
+        mut decomposition,
+        ignore,
+        consider,
+        view,
+        ..
+    } = p;
+    let Some(axiom) = axiom else {
+        let (line, column) = line_col(source, source.len());
+        return Err(Error::Parse {
+            line,
+            column,
+            message: "found end of text, expected an `Axiom:` line".into(),
+        });
+    };
+    let n = symbols.len();
+    productions.index(n);
+    homomorphism.index(n);
+    decomposition.index(n);
+    // Context matching skips ignored symbols: those listed by `ignore:`, or all but those
+    // listed by `consider:`. Brackets are never skipped.
+    let mut skip = vec![false; n];
+    if let Some(list) = &ignore {
+        for &s in list {
+            skip[s as usize] = true;
+        }
+    }
+    if let Some(list) = &consider {
+        skip.iter_mut().for_each(|s| *s = true);
+        for &s in list {
+            skip[s as usize] = false;
+        }
+    }
+    skip[PUSH as usize] = false;
+    skip[POP as usize] = false;
+    Ok(LSystem::new(
+        symbols,
+        axiom,
+        derivation_length,
+        seed,
+        productions,
+        homomorphism,
+        decomposition,
+        skip,
+        view,
+    ))
+}
+
+fn keyword<'t>(line: &'t str, key: &str) -> Option<&'t str> {
+    let head = line.get(..key.len())?;
+    head.eq_ignore_ascii_case(key).then(|| &line[key.len()..])
+}
+
+impl<'a> Parser<'a> {
+    fn run(&mut self) -> PResult<()> {
+        let text = self.text;
+        let mut start = 0;
+        while start < text.len() {
+            let mut end = text[start..].find('\n').map_or(text.len(), |i| start + i);
+            // A production whose parentheses are still open continues on the next line.
+            while paren_depth(&text[start..end]) > 0 && end < text.len() {
+                end = text[end + 1..]
+                    .find('\n')
+                    .map_or(text.len(), |i| end + 1 + i);
+            }
+            self.line(start, end)?;
+            start = end + 1;
+        }
+        Ok(())
+    }
+
+    fn err(&self, pos: usize, expected: &str) -> PErr {
+        Cursor::range(self.text, pos, self.text.len()).error_at(pos, expected)
+    }
+
+    fn msg(&self, pos: usize, message: &str) -> PErr {
+        Cursor::new(self.text).message_at(pos, message)
+    }
+
+    fn line(&mut self, start: usize, end: usize) -> PResult<()> {
+        let raw = &self.text[start..end];
+        let lead = raw.len() - raw.trim_start().len();
+        let line = raw.trim();
+        let at = start + lead;
+        if line.is_empty() {
+            return Ok(());
+        }
+        let rest_at = |rest: &str| at + (line.len() - rest.len());
+        if self.ended {
+            if keyword(line, "lsystem:").is_some() {
+                return Err(self.msg(at, "sub-L-systems (a second `Lsystem:`) are not supported"));
+            }
+            return Err(self.err(at, "nothing after `endlsystem`"));
+        }
+        if let Some(rest) = keyword(line, "#define") {
+            return self.define(rest_at(rest), end);
+        }
+        if line.starts_with('#')
+            && keyword(line, "#ignore:").is_none()
+            && keyword(line, "#consider:").is_none()
+        {
+            let what = line.split_whitespace().next().unwrap_or("#");
+            return Err(self.msg(
+                at,
+                &format!("the preprocessor directive `{what}` is not supported (only #define)"),
+            ));
+        }
+        for (key, what) in [
+            ("starteach:", "StartEach/EndEach blocks"),
+            ("endeach:", "StartEach/EndEach blocks"),
+            ("start:", "Start/End blocks"),
+            ("end:", "Start/End blocks"),
+            ("define:", "arrays (`define:` blocks)"),
+            ("ring", "ring L-systems"),
+        ] {
+            if keyword(line, key).is_some() {
+                return Err(self.msg(at, &format!("{what} are not supported")));
+            }
+        }
+        if let Some(rest) = keyword(line, "lsystem:") {
+            if self.lsystem_seen {
+                return Err(self.msg(at, "sub-L-systems (a second `Lsystem:`) are not supported"));
+            }
+            self.lsystem_seen = true;
+            let _ = rest;
+            return Ok(());
+        }
+        if keyword(line, "endlsystem").is_some() {
+            self.ended = true;
+            return Ok(());
+        }
+        if let Some(rest) = keyword(line, "derivation length:") {
+            let v = self.const_expr(rest_at(rest), end, "a derivation length")?;
+            if !(v.is_finite() && v >= 0.0 && v <= u16::MAX as f64 && v.fract() == 0.0) {
+                return Err(self.err(rest_at(rest), "a whole number of steps from 0 to 65535"));
+            }
+            self.derivation_length = v as u32;
+            return Ok(());
+        }
+        if let Some(rest) = keyword(line, "seed:") {
+            let v = self.const_expr(rest_at(rest), end, "a seed")?;
+            if !(v.is_finite() && v >= 0.0 && v.fract() == 0.0) {
+                return Err(self.err(rest_at(rest), "a whole, non-negative seed"));
+            }
+            self.seed = Some(v as u64);
+            return Ok(());
+        }
+        if let Some(rest) = keyword(line, "axiom:") {
+            if self.axiom.is_some() {
+                return Err(self.err(at, "one `Axiom:` line only"));
+            }
+            let mut cur = Cursor::range(self.text, rest_at(rest), end);
+            let list = self.module_list(&mut cur, &[], false)?;
+            cur.skip_ws();
+            if !cur.at_end() {
+                return Err(cur.error("a module"));
+            }
+            self.axiom = Some(list);
+            return Ok(());
+        }
+        for (key, is_ignore) in [
+            ("ignore:", true),
+            ("#ignore:", true),
+            ("consider:", false),
+            ("#consider:", false),
+        ] {
+            if let Some(rest) = keyword(line, key) {
+                if self.ignore.is_some() || self.consider.is_some() {
+                    return Err(self.err(at, "one `ignore:` or `consider:` line, not both"));
+                }
+                let mut cur = Cursor::range(self.text, rest_at(rest), end);
+                let mut list = Vec::new();
+                loop {
+                    cur.skip_ws();
+                    if cur.at_end() {
+                        break;
+                    }
+                    let sym = self.symbol(&mut cur)?;
+                    list.push(sym);
+                }
+                if is_ignore {
+                    self.ignore = Some(list);
+                } else {
+                    self.consider = Some(list);
+                }
+                return Ok(());
+            }
+        }
+        if keyword(line, "homomorphism").is_some() || keyword(line, "interpretation:").is_some() {
+            self.section = Section::Homomorphism;
+            return Ok(());
+        }
+        if keyword(line, "decomposition").is_some() {
+            self.section = Section::Decomposition;
+            return Ok(());
+        }
+        if let Some(rest) = keyword(line, "maximum depth:") {
+            let v = self.const_expr(rest_at(rest), end, "a maximum depth")?;
+            if !(v.is_finite() && (0.0..=1000.0).contains(&v) && v.fract() == 0.0) {
+                return Err(self.err(rest_at(rest), "a whole maximum depth from 0 to 1000"));
+            }
+            match self.section {
+                Section::Homomorphism => self.homomorphism.max_depth = v as u32,
+                Section::Decomposition => self.decomposition.max_depth = v as u32,
+                Section::Productions => {
+                    return Err(self.err(
+                        at,
+                        "`maximum depth:` after `homomorphism` or `decomposition`",
+                    ));
+                }
+            }
+            return Ok(());
+        }
+        for (key, field) in [
+            ("angle increment:", 0),
+            ("initial line width:", 1),
+            ("line width increment:", 2),
+            ("step size:", 3),
+        ] {
+            if let Some(rest) = keyword(line, key) {
+                let v = self.const_expr(rest_at(rest), end, "a number")?;
+                if !v.is_finite() || (field != 0 && v < 0.0) {
+                    return Err(self.err(rest_at(rest), "a finite, non-negative number"));
+                }
+                match field {
+                    0 => self.view.angle_increment = v,
+                    1 => self.view.initial_width = v,
+                    2 => self.view.width_increment = v,
+                    _ => self.view.step_size = v,
+                }
+                return Ok(());
+            }
+        }
+        if let Some(rest) = keyword(line, "tropism:") {
+            return self.tropism(rest_at(rest), end);
+        }
+        self.production(at, end)
+    }
+
+    fn const_expr(&self, pos: usize, end: usize, what: &str) -> PResult<f64> {
+        let mut cur = Cursor::range(self.text, pos, end);
+        cur.skip_ws();
+        if cur.at_end() {
+            return Err(cur.error(what));
+        }
+        let scope = Scope {
+            params: &[],
+            defines: &self.defines,
+        };
+        let e = expr::compile(&mut cur, &scope)?;
+        cur.skip_ws();
+        if !cur.at_end() {
+            return Err(cur.error("the end of the line after the value"));
+        }
+        e.as_const()
+            .ok_or_else(|| self.err(pos, &format!("{what} that is constant (no ran/nran)")))
+    }
+
+    fn define(&mut self, pos: usize, end: usize) -> PResult<()> {
+        let mut cur = Cursor::range(self.text, pos, end);
+        cur.skip_ws();
+        let name_at = cur.pos();
+        let Some(name) = cur.identifier() else {
+            return Err(cur.error("a name after #define"));
+        };
+        if name.len() > 256 {
+            return Err(self.err(name_at, "a name of at most 256 characters"));
+        }
+        let v = self.const_expr(cur.pos(), end, "a value for the #define")?;
+        self.defines.insert(name.to_string(), v);
+        Ok(())
+    }
+
+    fn tropism(&mut self, pos: usize, end: usize) -> PResult<()> {
+        let mut cur = Cursor::range(self.text, pos, end);
+        let scope_defines = self.defines.clone();
+        let scope = Scope {
+            params: &[],
+            defines: &scope_defines,
+        };
+        let number = |cur: &mut Cursor<'_>| -> PResult<f64> {
+            cur.skip_ws();
+            cur.eat(",");
+            cur.skip_ws();
+            let at = cur.pos();
+            let e = expr::compile(cur, &scope)?;
+            e.as_const()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| cur.error_at(at, "a finite constant"))
+        };
+        cur.skip_ws();
+        if !(cur.eat("T:") || cur.eat("t:")) {
+            return Err(cur.error("`T:` and the tropism vector (tropism: T: x y z E: e)"));
+        }
+        let t = DVec3::new(number(&mut cur)?, number(&mut cur)?, number(&mut cur)?);
+        cur.skip_ws();
+        cur.eat(",");
+        cur.skip_ws();
+        if !(cur.eat("E:") || cur.eat("e:")) {
+            return Err(cur.error("`E:` and the elasticity (tropism: T: x y z E: e)"));
+        }
+        let e = number(&mut cur)?;
+        cur.skip_ws();
+        if !cur.at_end() {
+            return Err(cur.error("the end of the tropism line"));
+        }
+        self.view.tropism = Some((t, e));
+        Ok(())
+    }
+
+    /// A symbol: one character, or `@` and a letter (`@M`, `@R`, `@v`, ...).
+    fn symbol(&mut self, cur: &mut Cursor<'_>) -> PResult<u16> {
+        let at = cur.pos();
+        let Some(c) = cur.bump() else {
+            return Err(cur.error("a module"));
+        };
+        let name_end;
+        match c {
+            '(' | ')' | ':' => {
+                return Err(cur.error_at(at, "a module (a letter or a turtle symbol)"));
+            }
+            '@' => match cur.peek() {
+                Some(l) if l.is_ascii_alphabetic() => {
+                    cur.bump();
+                    name_end = cur.pos();
+                }
+                _ => return Err(cur.error("a letter after `@` (such as @M, @R or @v)")),
+            },
+            c if c.is_whitespace() || c.is_control() => {
+                return Err(cur.error_at(at, "a module (a letter or a turtle symbol)"));
+            }
+            _ => name_end = cur.pos(),
+        }
+        let name = &self.text[at..name_end];
+        self.symbols
+            .intern(name)
+            .ok_or_else(|| self.msg(at, "too many distinct symbols (at most 65536)"))
+    }
+
+    /// A successor or axiom: modules with parameter expressions, until the end of the
+    /// range or a top-level `:`. Brackets must balance.
+    fn module_list(
+        &mut self,
+        cur: &mut Cursor<'_>,
+        params: &[(String, u16)],
+        stop_at_colon: bool,
+    ) -> PResult<ModuleList> {
+        let mut list = ModuleList::default();
+        let mut open: Vec<usize> = Vec::new();
+        cur.skip_ws();
+        if cur.rest().trim() == "*" {
+            cur.eat("*");
+            return Ok(list);
+        }
+        loop {
+            cur.skip_ws();
+            if cur.at_end() || (stop_at_colon && cur.peek_str(":")) {
+                break;
+            }
+            let at = cur.pos();
+            let sym = self.symbol(cur)?;
+            if sym == PUSH {
+                open.push(at);
+            } else if sym == POP && open.pop().is_none() {
+                return Err(self.msg(at, "unbalanced brackets: this `]` closes no `[`"));
+            }
+            let first = list.exprs.len() as u32;
+            cur.skip_ws();
+            if cur.eat("(") {
+                let scope = Scope {
+                    params,
+                    defines: &self.defines,
+                };
+                loop {
+                    cur.skip_ws();
+                    list.exprs.push(expr::compile(cur, &scope)?);
+                    cur.skip_ws();
+                    if cur.eat(",") {
+                        continue;
+                    }
+                    if cur.eat(")") {
+                        break;
+                    }
+                    return Err(cur.error("`,` or `)` after a module parameter"));
+                }
+                if list.exprs.len() - first as usize > u16::MAX as usize {
+                    return Err(self.err(at, "at most 65535 parameters on a module"));
+                }
+            }
+            list.modules.push(SuccModule {
+                sym,
+                first,
+                count: list.exprs.len() as u32 - first,
+            });
+        }
+        if let Some(&at) = open.last() {
+            return Err(self.msg(at, "unbalanced brackets: this `[` is never closed"));
+        }
+        Ok(list)
+    }
+
+    /// Modules with formal parameter names (a predecessor or a context).
+    fn patterns(
+        &mut self,
+        cur: &mut Cursor<'_>,
+        names: &mut Vec<(String, u16)>,
+        allow_brackets: bool,
+    ) -> PResult<Vec<Pattern>> {
+        let mut out = Vec::new();
+        cur.skip_ws();
+        if cur.rest().trim() == "*" {
+            cur.eat("*");
+            return Ok(out);
+        }
+        loop {
+            cur.skip_ws();
+            if cur.at_end() {
+                return Ok(out);
+            }
+            let at = cur.pos();
+            let sym = self.symbol(cur)?;
+            if (sym == PUSH || sym == POP) && !allow_brackets {
+                return Err(self.msg(at, "brackets are supported in a right context only"));
+            }
+            let slot = names.len() as u16;
+            let mut arity = 0u16;
+            cur.skip_ws();
+            if cur.eat("(") {
+                loop {
+                    cur.skip_ws();
+                    let name_at = cur.pos();
+                    let Some(name) = cur.identifier() else {
+                        return Err(cur.error("a parameter name"));
+                    };
+                    if names.iter().any(|(n, _)| n == name) {
+                        return Err(self.err(
+                            name_at,
+                            "a parameter name not used before in this production",
+                        ));
+                    }
+                    if names.len() >= 1024 {
+                        return Err(self.err(name_at, "at most 1024 parameters in a production"));
+                    }
+                    names.push((name.to_string(), names.len() as u16));
+                    arity += 1;
+                    cur.skip_ws();
+                    if cur.eat(",") {
+                        continue;
+                    }
+                    if cur.eat(")") {
+                        break;
+                    }
+                    return Err(cur.error("`,` or `)` after a parameter name"));
+                }
+            }
+            out.push(Pattern { sym, arity, slot });
+        }
+    }
+
+    fn production(&mut self, start: usize, end: usize) -> PResult<()> {
+        let text = &self.text[start..end];
+        let Some((arrow, arrow_len)) = find_arrow(text) else {
+            return Err(self.err(
+                start,
+                "a production with `-->` or a directive such as `Axiom:` or `derivation length:`",
+            ));
+        };
+        let (arrow, after) = (start + arrow, start + arrow + arrow_len);
+        // Left side: [lc <] pred [> rc] [: condition]
+        let left = &self.text[start..arrow];
+        let colon = top_level(left, b':').map(|i| start + i);
+        let pred_end = colon.unwrap_or(arrow);
+        let pred_text = &self.text[start..pred_end];
+        let lt = top_level(pred_text, b'<').map(|i| start + i);
+        let gt = top_level_last(pred_text, b'>').map(|i| start + i);
+        let (lc_range, pred_range, rc_range) = match (lt, gt) {
+            (Some(l), Some(g)) if g > l => ((start, l), (l + 1, g), (g + 1, pred_end)),
+            (Some(l), None) => ((start, l), (l + 1, pred_end), (pred_end, pred_end)),
+            (None, Some(g)) => ((start, start), (start, g), (g + 1, pred_end)),
+            (None, None) => ((start, start), (start, pred_end), (pred_end, pred_end)),
+            (Some(_), Some(g)) => return Err(self.err(g, "`<` before `>` in the context")),
+        };
+        let mut names = Vec::new();
+        let left_ctx = self.patterns(
+            &mut Cursor::range(self.text, lc_range.0, lc_range.1),
+            &mut names,
+            false,
+        )?;
+        let pred = self.patterns(
+            &mut Cursor::range(self.text, pred_range.0, pred_range.1),
+            &mut names,
+            false,
+        )?;
+        let right_ctx = self.patterns(
+            &mut Cursor::range(self.text, rc_range.0, rc_range.1),
+            &mut names,
+            true,
+        )?;
+        let pred = match pred.as_slice() {
+            [p] => *p,
+            [] => return Err(self.err(pred_range.0, "a predecessor module before `-->`")),
+            [_, second, ..] => {
+                let _ = second;
+                return Err(self.err(
+                    pred_range.0,
+                    "a single predecessor module (use `<` and `>` for context)",
+                ));
+            }
+        };
+        let scope_names = names.clone();
+        let condition = match colon {
+            Some(c) => {
+                let mut cur = Cursor::range(self.text, c + 1, arrow);
+                cur.skip_ws();
+                if cur.peek_str("{") {
+                    return Err(
+                        self.msg(cur.pos(), "production statements `{ }` are not supported")
+                    );
+                }
+                if cur.rest().trim() == "*" {
+                    None
+                } else {
+                    let scope = Scope {
+                        params: &scope_names,
+                        defines: &self.defines,
+                    };
+                    let e = expr::compile(&mut cur, &scope)?;
+                    cur.skip_ws();
+                    if cur.peek_str("{") {
+                        return Err(
+                            self.msg(cur.pos(), "production statements `{ }` are not supported")
+                        );
+                    }
+                    if !cur.at_end() {
+                        return Err(cur.error("`-->` after the condition"));
+                    }
+                    Some(e)
+                }
+            }
+            None => None,
+        };
+        let mut cur = Cursor::range(self.text, after, end);
+        let successor = self.module_list(&mut cur, &scope_names, true)?;
+        let probability = if cur.eat(":") {
+            let scope = Scope {
+                params: &scope_names,
+                defines: &self.defines,
+            };
+            let at = cur.pos();
+            let e = expr::compile(&mut cur, &scope)?;
+            cur.skip_ws();
+            if !cur.at_end() {
+                return Err(cur.error("the end of the production after its probability"));
+            }
+            if let Some(v) = e.as_const() {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(self.err(at, "a finite probability >= 0"));
+                }
+            }
+            Some(e)
+        } else {
+            None
+        };
+        if self.section != Section::Productions && (!left_ctx.is_empty() || !right_ctx.is_empty()) {
+            return Err(self.msg(
+                start,
+                "context in homomorphism or decomposition rules is not supported",
+            ));
+        }
+        let production = Production {
+            pred,
+            left: left_ctx,
+            right: right_ctx,
+            condition,
+            successor,
+            probability,
+            slots: names.len(),
+        };
+        match self.section {
+            Section::Productions => self.productions.productions.push(production),
+            Section::Homomorphism => self.homomorphism.productions.push(production),
+            Section::Decomposition => self.decomposition.productions.push(production),
+        }
+        Ok(())
+    }
+}
+
+fn paren_depth(s: &str) -> i64 {
+    s.bytes().fold(0i64, |d, b| match b {
+        b'(' => d + 1,
+        b')' => d - 1,
+        _ => d,
+    })
+}
+
+/// The first `-->` or `->` outside parentheses: (offset, length).
+fn find_arrow(s: &str) -> Option<(usize, usize)> {
+    let b = s.as_bytes();
+    let mut depth = 0i64;
+    for i in 0..b.len() {
+        match b[i] {
+            b'(' => depth += 1,
+            b')' => depth -= 1,
+            b'-' if depth == 0 => {
+                if b[i..].starts_with(b"-->") {
+                    return Some((i, 3));
+                }
+                if b[i..].starts_with(b"->") {
+                    return Some((i, 2));
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+fn top_level(s: &str, target: u8) -> Option<usize> {
+    let mut depth = 0i64;
+    for (i, &b) in s.as_bytes().iter().enumerate() {
+        match b {
+            b'(' => depth += 1,
+            b')' => depth -= 1,
+            _ if b == target && depth == 0 => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
+fn top_level_last(s: &str, target: u8) -> Option<usize> {
+    let mut depth = 0i64;
+    let mut found = None;
+    for (i, &b) in s.as_bytes().iter().enumerate() {
+        match b {
+            b'(' => depth += 1,
+            b')' => depth -= 1,
+            _ if b == target && depth == 0 => found = Some(i),
+            _ => {}
+        }
+    }
+    found
+}
