@@ -210,7 +210,8 @@ mod tests {
 
     #[test]
     fn positions_and_descriptions() {
-        assert_eq!(line_col("ab\ncdé f", 7), (2, 5));
+        assert_eq!(line_col("ab\ncdé f", 7), (2, 4));
+        assert_eq!(line_col("ab\ncdé f", 8), (2, 5));
         assert_eq!(describe("  foo(1)"), "`foo`");
         assert_eq!(describe(")"), "`)`");
         assert_eq!(describe("\nx"), "end of line");
