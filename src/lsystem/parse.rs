@@ -283,7 +283,7 @@ impl<'a> Parser<'a> {
                 return Err(self.err(at, "one `Axiom:` line only"));
             }
             let mut cur = Cursor::range(self.text, rest_at(rest), end);
-            let list = self.module_list(&mut cur, &[], false)?;
+            let list = self.module_list(&mut cur, &[], false, true)?;
             cur.skip_ws();
             if !cur.at_end() {
                 return Err(cur.error("a module"));
@@ -406,20 +406,28 @@ impl<'a> Parser<'a> {
 
     fn tropism(&mut self, pos: usize, end: usize) -> PResult<()> {
         let mut cur = Cursor::range(self.text, pos, end);
-        let scope_defines = self.defines.clone();
-        let scope = Scope {
-            params: &[],
-            defines: &scope_defines,
-        };
+        // Components are separated by spaces or commas, so each is a signed number or a
+        // #define name, not a full expression (`0 -1 0` is three numbers).
+        let defines = &self.defines;
         let number = |cur: &mut Cursor<'_>| -> PResult<f64> {
             cur.skip_ws();
             cur.eat(",");
             cur.skip_ws();
             let at = cur.pos();
-            let e = expr::compile(cur, &scope)?;
-            e.as_const()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| cur.error_at(at, "a finite constant"))
+            let sign = if cur.eat("-") {
+                -1.0
+            } else {
+                cur.eat("+");
+                1.0
+            };
+            let v = match cur.number()? {
+                Some(v) => v,
+                None => match cur.identifier().and_then(|n| defines.get(n)) {
+                    Some(&v) => v,
+                    None => return Err(cur.error_at(at, "a number or a #define name")),
+                },
+            };
+            Ok(sign * v)
         };
         cur.skip_ws();
         if !(cur.eat("T:") || cur.eat("t:")) {
@@ -477,6 +485,7 @@ impl<'a> Parser<'a> {
         cur: &mut Cursor<'_>,
         params: &[(String, u16)],
         stop_at_colon: bool,
+        balanced: bool,
     ) -> PResult<ModuleList> {
         let mut list = ModuleList::default();
         let mut open: Vec<usize> = Vec::new();
@@ -494,7 +503,7 @@ impl<'a> Parser<'a> {
             let sym = self.symbol(cur)?;
             if sym == PUSH {
                 open.push(at);
-            } else if sym == POP && open.pop().is_none() {
+            } else if sym == POP && open.pop().is_none() && balanced {
                 return Err(self.msg(at, "unbalanced brackets: this `]` closes no `[`"));
             }
             let first = list.exprs.len() as u32;
@@ -526,7 +535,7 @@ impl<'a> Parser<'a> {
                 count: list.exprs.len() as u32 - first,
             });
         }
-        if let Some(&at) = open.last() {
+        if let (Some(&at), true) = (open.last(), balanced) {
             return Err(self.msg(at, "unbalanced brackets: this `[` is never closed"));
         }
         Ok(list)
@@ -622,7 +631,7 @@ impl<'a> Parser<'a> {
         let pred = self.patterns(
             &mut Cursor::range(self.text, pred_range.0, pred_range.1),
             &mut names,
-            false,
+            self.section == Section::Homomorphism,
         )?;
         let right_ctx = self.patterns(
             &mut Cursor::range(self.text, rc_range.0, rc_range.1),
@@ -673,7 +682,10 @@ impl<'a> Parser<'a> {
             None => None,
         };
         let mut cur = Cursor::range(self.text, after, end);
-        let successor = self.module_list(&mut cur, &scope_names, true)?;
+        // Interpretation rules feed only the turtle, so they may open or close a branch
+        // (`[ --> [+`); strings that are derived further must stay balanced.
+        let interpretation = self.section == Section::Homomorphism;
+        let successor = self.module_list(&mut cur, &scope_names, true, !interpretation)?;
         let probability = if cur.eat(":") {
             let scope = Scope {
                 params: &scope_names,
