@@ -218,7 +218,8 @@ impl<'a> Parser<'a> {
         if line.is_empty() {
             return Ok(());
         }
-        let rest_at = |rest: &str| at + (line.len() - rest.len());
+        // Where the text after a keyword starts, past its leading blanks.
+        let rest_at = |rest: &str| at + (line.len() - rest.trim_start().len());
         if self.ended {
             if keyword(line, "lsystem:").is_some() {
                 return Err(self.msg(at, "sub-L-systems (a second `Lsystem:`) are not supported"));
@@ -691,6 +692,7 @@ impl<'a> Parser<'a> {
                 params: &scope_names,
                 defines: &self.defines,
             };
+            cur.skip_ws();
             let at = cur.pos();
             let e = expr::compile(&mut cur, &scope)?;
             cur.skip_ws();
