@@ -51,6 +51,21 @@
 #define ARBOR_NO_PARENT UINT32_MAX
 
 /**
+ * ArborLsystemOptions.override_flags bit: use `angle_increment` instead of the grammar's.
+ */
+#define ARBOR_OVERRIDE_ANGLE_INCREMENT 1
+
+/**
+ * ArborLsystemOptions.override_flags bit: use `initial_width` instead of the grammar's.
+ */
+#define ARBOR_OVERRIDE_INITIAL_WIDTH 2
+
+/**
+ * ArborLsystemOptions.override_flags bit: use `width_increment` instead of the grammar's.
+ */
+#define ARBOR_OVERRIDE_WIDTH_INCREMENT 4
+
+/**
  * Result of every fallible function. The numbers are fixed forever and never reused.
  */
 typedef enum ArborStatus {
@@ -110,9 +125,9 @@ typedef enum ArborTopology {
 } ArborTopology;
 
 /**
- * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda(),
- * free with arbor_tree_free(). A `const ArborTree *` may be read from several threads at
- * once.
+ * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda() or
+ * arbor_tree_from_lsystem(), free with arbor_tree_free(). A `const ArborTree *` may be
+ * read from several threads at once.
  */
 typedef struct ArborTree ArborTree;
 
@@ -170,6 +185,53 @@ typedef struct ArborHondaParams {
    */
   uint32_t steps;
 } ArborHondaParams;
+
+/**
+ * Options of arbor_tree_from_lsystem(). Get defaults from arbor_lsystem_options_default()
+ * and change what you need: fields may be added at the end in later versions.
+ */
+typedef struct ArborLsystemOptions {
+  /**
+   * Rewriting steps; < 0 (default -1): the grammar's own `derivation length:`.
+   */
+  int32_t steps;
+  /**
+   * Seed of stochastic productions, ran() and nran(), used when the grammar has no
+   * `seed:`. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this
+   * many modules (also bounds what the turtle reads after interpretation rules).
+   * Default 16,777,216.
+   */
+  uint64_t max_modules;
+  /**
+   * Same for the parameter values of a string. Default 33,554,432.
+   */
+  uint64_t max_params;
+  /**
+   * Same for the branches of the tree. Default 16,777,216.
+   */
+  uint64_t max_branches;
+  /**
+   * ARBOR_OVERRIDE_* bits saying which of the three settings below replace the
+   * grammar's directives. Default 0 (none).
+   */
+  uint32_t override_flags;
+  /**
+   * Degrees turned by + - & ^ / \ without a parameter (`angle increment:`).
+   */
+  float angle_increment;
+  /**
+   * The turtle's starting width (`initial line width:`), a diameter.
+   */
+  float initial_width;
+  /**
+   * What ! and # without a parameter subtract and add (`line width increment:`).
+   */
+  float width_increment;
+} ArborLsystemOptions;
 
 /**
  * One internode (one turtle F), 48 bytes.
@@ -297,6 +359,31 @@ enum ArborStatus arbor_honda_preset(uint32_t name, struct ArborHondaParams *out)
  */
 enum ArborStatus arbor_tree_from_honda(const struct ArborHondaParams *params,
                                        struct ArborTree **out);
+
+/**
+ * The default L-system options (see ArborLsystemOptions for each default).
+ */
+struct ArborLsystemOptions arbor_lsystem_options_default(void);
+
+/**
+ * Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,
+ * then interpret with the turtle. `source` holds `source_len` bytes of UTF-8 (no NUL
+ * needed; at most 16 MiB); `options` may be NULL for the defaults. Writes a new tree to
+ * `*out` on success (free it with arbor_tree_free).
+ *
+ * Statuses: ARBOR_STATUS_PARSE_ERROR (the message has line, column, what was found and
+ * what was expected; also for bytes that are not UTF-8), ARBOR_STATUS_LIMIT_EXCEEDED
+ * (the message names the limit and the step), ARBOR_STATUS_INVALID_ARGUMENT (options out
+ * of range, or a parameter that evaluated to NaN or infinity), ARBOR_STATUS_NULL_ARGUMENT.
+ *
+ * # Safety
+ * `source` is NULL (only with `source_len` 0) or readable for `source_len` bytes;
+ * `options` is NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_lsystem(const char *source,
+                                         size_t source_len,
+                                         const struct ArborLsystemOptions *options,
+                                         struct ArborTree **out);
 
 /**
  * Frees a tree. NULL does nothing. The tree must not be used afterwards.

@@ -102,6 +102,11 @@ fn c_bad_input_and_every_buffer_capacity() {
 }
 
 #[test]
+fn c_trees_from_grammar_text() {
+    run_test_program(&build("lsystem.c", "c11"));
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     run_test_program(&build("header_cpp.cpp", "c++17"));
 }

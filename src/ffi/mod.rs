@@ -10,6 +10,7 @@
 mod guard;
 
 use crate::honda::{self, HondaParams};
+use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
 use crate::mesh::{self, MeshOptions, Topology, Vertex};
 use crate::skeleton::{Branch, Skeleton};
 use bytemuck::{Pod, Zeroable};
@@ -68,9 +69,9 @@ pub enum ArborTopology {
     TriangleStripDegenerate = 2,
 }
 
-/// A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda(),
-/// free with arbor_tree_free(). A `const ArborTree *` may be read from several threads at
-/// once.
+/// A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda() or
+/// arbor_tree_from_lsystem(), free with arbor_tree_free(). A `const ArborTree *` may be
+/// read from several threads at once.
 pub struct ArborTree {
     skeleton: Skeleton,
 }
@@ -177,6 +178,71 @@ pub struct ArborVertex {
     pub normal: [f32; 3],
     /// u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
     pub uv: [f32; 2],
+}
+
+/// ArborLsystemOptions.override_flags bit: use `angle_increment` instead of the grammar's.
+pub const ARBOR_OVERRIDE_ANGLE_INCREMENT: u32 = 1;
+/// ArborLsystemOptions.override_flags bit: use `initial_width` instead of the grammar's.
+pub const ARBOR_OVERRIDE_INITIAL_WIDTH: u32 = 2;
+/// ArborLsystemOptions.override_flags bit: use `width_increment` instead of the grammar's.
+pub const ARBOR_OVERRIDE_WIDTH_INCREMENT: u32 = 4;
+
+/// Options of arbor_tree_from_lsystem(). Get defaults from arbor_lsystem_options_default()
+/// and change what you need: fields may be added at the end in later versions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborLsystemOptions {
+    /// Rewriting steps; < 0 (default -1): the grammar's own `derivation length:`.
+    pub steps: i32,
+    /// Seed of stochastic productions, ran() and nran(), used when the grammar has no
+    /// `seed:`. Default 0.
+    pub seed: u64,
+    /// Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this
+    /// many modules (also bounds what the turtle reads after interpretation rules).
+    /// Default 16,777,216.
+    pub max_modules: u64,
+    /// Same for the parameter values of a string. Default 33,554,432.
+    pub max_params: u64,
+    /// Same for the branches of the tree. Default 16,777,216.
+    pub max_branches: u64,
+    /// ARBOR_OVERRIDE_* bits saying which of the three settings below replace the
+    /// grammar's directives. Default 0 (none).
+    pub override_flags: u32,
+    /// Degrees turned by + - & ^ / \ without a parameter (`angle increment:`).
+    pub angle_increment: f32,
+    /// The turtle's starting width (`initial line width:`), a diameter.
+    pub initial_width: f32,
+    /// What ! and # without a parameter subtract and add (`line width increment:`).
+    pub width_increment: f32,
+}
+
+impl ArborLsystemOptions {
+    fn to_rust(self) -> crate::Result<LsystemOptions> {
+        let known = ARBOR_OVERRIDE_ANGLE_INCREMENT
+            | ARBOR_OVERRIDE_INITIAL_WIDTH
+            | ARBOR_OVERRIDE_WIDTH_INCREMENT;
+        if self.override_flags & !known != 0 {
+            return Err(crate::Error::invalid(
+                "override_flags",
+                format!(
+                    "{:#x} has unknown bits; expected a combination of ARBOR_OVERRIDE_*",
+                    self.override_flags
+                ),
+            ));
+        }
+        let flag = |bit: u32, v: f32| (self.override_flags & bit != 0).then_some(v as f64);
+        let size = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
+        Ok(LsystemOptions {
+            steps: u32::try_from(self.steps).ok(),
+            seed: self.seed,
+            max_modules: size(self.max_modules),
+            max_params: size(self.max_params),
+            max_branches: size(self.max_branches),
+            angle_increment: flag(ARBOR_OVERRIDE_ANGLE_INCREMENT, self.angle_increment),
+            initial_width: flag(ARBOR_OVERRIDE_INITIAL_WIDTH, self.initial_width),
+            width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
+        })
+    }
 }
 
 /// Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
@@ -331,6 +397,93 @@ pub unsafe extern "C" fn arbor_tree_from_honda(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let skeleton = honda::build(&params)?;
+        *out = Box::into_raw(Box::new(ArborTree { skeleton }));
+        Ok(())
+    })
+}
+
+/// The default L-system options (see ArborLsystemOptions for each default).
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_lsystem_options_default() -> ArborLsystemOptions {
+    let d = LsystemOptions::default();
+    let view = crate::lsystem::ViewSettings::default();
+    ArborLsystemOptions {
+        steps: -1,
+        seed: d.seed,
+        max_modules: d.max_modules as u64,
+        max_params: d.max_params as u64,
+        max_branches: d.max_branches as u64,
+        override_flags: 0,
+        angle_increment: view.angle_increment as f32,
+        initial_width: view.initial_width as f32,
+        width_increment: view.width_increment as f32,
+    }
+}
+
+/// Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,
+/// then interpret with the turtle. `source` holds `source_len` bytes of UTF-8 (no NUL
+/// needed; at most 16 MiB); `options` may be NULL for the defaults. Writes a new tree to
+/// `*out` on success (free it with arbor_tree_free).
+///
+/// Statuses: ARBOR_STATUS_PARSE_ERROR (the message has line, column, what was found and
+/// what was expected; also for bytes that are not UTF-8), ARBOR_STATUS_LIMIT_EXCEEDED
+/// (the message names the limit and the step), ARBOR_STATUS_INVALID_ARGUMENT (options out
+/// of range, or a parameter that evaluated to NaN or infinity), ARBOR_STATUS_NULL_ARGUMENT.
+///
+/// # Safety
+/// `source` is NULL (only with `source_len` 0) or readable for `source_len` bytes;
+/// `options` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_lsystem(
+    source: *const c_char,
+    source_len: usize,
+    options: *const ArborLsystemOptions,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let options = if options.is_null() {
+            LsystemOptions::default()
+        } else {
+            // SAFETY: the caller promises `options` is readable.
+            unsafe { arg_ref(options, "options") }?.to_rust()?
+        };
+        if source_len > MAX_SOURCE_BYTES {
+            return Err(crate::Error::invalid(
+                "source_len",
+                format!("{source_len} bytes; expected at most {MAX_SOURCE_BYTES}"),
+            )
+            .into());
+        }
+        let bytes: &[u8] = if source_len == 0 {
+            &[]
+        } else if source.is_null() {
+            return Err(FfiError::null("source"));
+        } else {
+            // SAFETY: the caller promises `source_len` readable bytes at `source`, and
+            // source_len <= 16 MiB fits isize.
+            unsafe { std::slice::from_raw_parts(source.cast::<u8>(), source_len) }
+        };
+        let text = std::str::from_utf8(bytes).map_err(|e| {
+            let valid = &bytes[..e.valid_up_to()];
+            let line = valid.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
+            let line_start = valid.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            // The valid prefix is UTF-8 by definition.
+            let column = String::from_utf8_lossy(&valid[line_start..])
+                .chars()
+                .count() as u32
+                + 1;
+            crate::Error::Parse {
+                line,
+                column,
+                message: format!(
+                    "found the byte {:#04x}, expected UTF-8 text",
+                    bytes[e.valid_up_to()]
+                ),
+            }
+        })?;
+        let skeleton = LSystem::parse(text)?.skeleton(&options)?;
         *out = Box::into_raw(Box::new(ArborTree { skeleton }));
         Ok(())
     })

@@ -1,0 +1,126 @@
+/* Trees from grammar text through the C ABI: growth, options, parse errors with their
+ * position, bytes that are not UTF-8, limits and NULLs. */
+#include "arbor.h"
+#include "check.h"
+
+#include <string.h>
+
+static const char *honda_g =
+    "/* tree g of the 1996 paper */\n"
+    "#define r1 0.80\n#define r2 0.80\n#define a1 30\n#define a2 -30\n"
+    "#define p1 137\n#define p2 137\n#define w0 30\n#define q 0.50\n#define e 0.50\n"
+    "#define min 0.0\n"
+    "Lsystem: 1\n"
+    "derivation length: 10\n"
+    "Axiom: A(100,w0)\n"
+    "A(s,w) : s >= min --> !(w)F(s)[+(a1)/(p1)A(s*r1,w*q^e)][+(a2)/(p2)A(s*r2,w*(1-q)^e)]\n"
+    "endlsystem\n";
+
+static void message_contains(const char *needle) {
+  char m[512];
+  arbor_last_error_message(m, sizeof m);
+  CHECK(strstr(m, needle) != NULL, "message '%s' lacks '%s'", m, needle);
+}
+
+static void grows_like_the_direct_model(void) {
+  ArborTree *from_text = NULL, *direct = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(honda_g, strlen(honda_g), NULL, &from_text),
+               ARBOR_STATUS_OK);
+  ArborHondaParams p;
+  arbor_honda_preset('g', &p);
+  CHECK_STATUS(arbor_tree_from_honda(&p, &direct), ARBOR_STATUS_OK);
+  size_t n = arbor_tree_branch_count(from_text);
+  CHECK(n == 1023 && n == arbor_tree_branch_count(direct), "%zu branches", n);
+  ArborBranch *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+  CHECK_STATUS(arbor_tree_copy_branches(from_text, a, n), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_tree_copy_branches(direct, b, n), ARBOR_STATUS_OK);
+  for (size_t i = 0; i < n; i++) {
+    float d = 0;
+    for (int k = 0; k < 3; k++) {
+      float x = a[i].end[k] - b[i].end[k];
+      d += x * x;
+    }
+    if (!(d < 1e-4f) || a[i].parent != b[i].parent || a[i].order != b[i].order) {
+      CHECK(0, "branch %zu differs", i);
+      break;
+    }
+  }
+  /* The mesh path works the same for grammar trees. */
+  size_t nv, ni;
+  CHECK_STATUS(arbor_mesh_size(from_text, NULL, &nv, &ni), ARBOR_STATUS_OK);
+  CHECK(nv == n * 18, "%zu vertices", nv);
+  free(a);
+  free(b);
+  arbor_tree_free(from_text);
+  arbor_tree_free(direct);
+}
+
+static void options_apply(void) {
+  const char *g = "Axiom: F\nF --> F[+F]F\nderivation length: 3\n";
+  ArborLsystemOptions o = arbor_lsystem_options_default();
+  CHECK(o.steps < 0 && o.override_flags == 0 && o.max_modules > 0, "defaults");
+  ArborTree *t = NULL;
+  o.steps = 2; /* 3^2 F's instead of 3^3 */
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_OK);
+  CHECK(arbor_tree_branch_count(t) == 9, "%zu", arbor_tree_branch_count(t));
+  arbor_tree_free(t);
+  t = NULL;
+  o.override_flags = ARBOR_OVERRIDE_INITIAL_WIDTH;
+  o.initial_width = 6.0f;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_OK);
+  ArborBranch b[9];
+  CHECK_STATUS(arbor_tree_copy_branches(t, b, 9), ARBOR_STATUS_OK);
+  CHECK(b[0].start_radius == 3.0f, "radius %f", b[0].start_radius);
+  arbor_tree_free(t);
+  t = NULL;
+  o.override_flags = 64;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("override_flags");
+  o = arbor_lsystem_options_default();
+  o.steps = 40;
+  o.max_modules = 1000;
+  const char *bomb = "Axiom: F\nF --> FF\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(bomb, strlen(bomb), &o, &t), ARBOR_STATUS_LIMIT_EXCEEDED);
+  message_contains("max_modules");
+  message_contains("step 10");
+  CHECK(t == NULL, "out written on failure");
+}
+
+static void parse_errors(void) {
+  ArborTree *t = NULL;
+  const char *bad = "Axiom: F\nF(x) --> F(y)\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(bad, strlen(bad), NULL, &t), ARBOR_STATUS_PARSE_ERROR);
+  message_contains("line 2, column 12");
+  message_contains("found `y`");
+  const char *unsupported = "Axiom: F\nStart: { x = 1; }\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(unsupported, strlen(unsupported), NULL, &t),
+               ARBOR_STATUS_PARSE_ERROR);
+  message_contains("Start/End blocks are not supported");
+  const char not_utf8[] = "Axiom: F\nF --> G\xff\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(not_utf8, sizeof not_utf8 - 1, NULL, &t),
+               ARBOR_STATUS_PARSE_ERROR);
+  message_contains("line 2, column 8");
+  message_contains("0xff");
+  /* Only source_len bytes are read: a prefix of a valid text is a text of its own. */
+  const char *g = "Axiom: F\nF --> FF\nderivation length: 2\nthis line is cut off";
+  size_t len = strlen(g) - strlen("this line is cut off");
+  CHECK_STATUS(arbor_tree_from_lsystem(g, len, NULL, &t), ARBOR_STATUS_OK);
+  CHECK(arbor_tree_branch_count(t) == 4, "%zu", arbor_tree_branch_count(t));
+  arbor_tree_free(t);
+  t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(NULL, 0, NULL, &t), ARBOR_STATUS_PARSE_ERROR);
+  message_contains("Axiom");
+  CHECK_STATUS(arbor_tree_from_lsystem(NULL, 5, NULL, &t), ARBOR_STATUS_NULL_ARGUMENT);
+  CHECK_STATUS(arbor_tree_from_lsystem(g, len, NULL, NULL), ARBOR_STATUS_NULL_ARGUMENT);
+  CHECK_STATUS(arbor_tree_from_lsystem(g, (size_t)1 << 40, NULL, &t),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("source_len");
+  CHECK(t == NULL, "out written on failure");
+}
+
+int main(void) {
+  grows_like_the_direct_model();
+  options_apply();
+  parse_errors();
+  return check_report("lsystem");
+}
