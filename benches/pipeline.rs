@@ -1,5 +1,6 @@
 //! Criterion benchmarks, one group per pipeline stage.
 
+use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::{honda, mesh};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -53,5 +54,74 @@ fn bench_mesh(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_honda, bench_mesh);
+fn grammar(name: &str) -> LSystem {
+    let path = format!("{}/examples/grammars/{name}.l", env!("CARGO_MANIFEST_DIR"));
+    LSystem::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// (label, grammar, steps): ABOP Fig. 1.24a at n = 7 and 8 (bracketed, no parameters) and
+/// the 1996 tree g at n = 18 (parametric, about 3 million modules).
+fn derivation_cases() -> Vec<(&'static str, LSystem, u32)> {
+    vec![
+        ("fig_1_24a_n7", grammar("abop_1_24a"), 7),
+        ("fig_1_24a_n8", grammar("abop_1_24a"), 8),
+        ("honda_g_n18", grammar("honda_g"), 18),
+    ]
+}
+
+fn bench_parse(c: &mut Criterion) {
+    let mut group = c.benchmark_group("parse");
+    for name in ["honda_g", "context_1_31a", "parametric_tropism"] {
+        let path = format!("{}/examples/grammars/{name}.l", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(path).unwrap();
+        group.throughput(Throughput::Bytes(text.len() as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(name), &text, |b, t| {
+            b.iter(|| LSystem::parse(black_box(t)).unwrap())
+        });
+    }
+    group.finish();
+}
+
+fn bench_derive(c: &mut Criterion) {
+    let mut group = c.benchmark_group("derive");
+    group.sample_size(10);
+    for (label, ls, steps) in derivation_cases() {
+        let options = LsystemOptions {
+            steps: Some(steps),
+            ..Default::default()
+        };
+        let n = ls.derive(&options).unwrap().len();
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(label), |b| {
+            b.iter(|| ls.derive(black_box(&options)).unwrap())
+        });
+    }
+    group.finish();
+}
+
+fn bench_interpret(c: &mut Criterion) {
+    let mut group = c.benchmark_group("interpret");
+    group.sample_size(10);
+    for (label, ls, steps) in derivation_cases() {
+        let options = LsystemOptions {
+            steps: Some(steps),
+            ..Default::default()
+        };
+        let string = ls.derive(&options).unwrap();
+        group.throughput(Throughput::Elements(string.len() as u64));
+        group.bench_function(BenchmarkId::from_parameter(label), |b| {
+            b.iter(|| ls.interpret(black_box(&string), &options).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_honda,
+    bench_mesh,
+    bench_parse,
+    bench_derive,
+    bench_interpret
+);
 criterion_main!(benches);
