@@ -181,6 +181,31 @@ impl Skeleton {
         Ok(s)
     }
 
+    /// For generators that keep the invariants by construction (checked in debug builds).
+    pub(crate) fn from_trusted(
+        branches: Vec<Branch>,
+        leaves: Vec<LeafSite>,
+        polygons: Vec<Polygon>,
+        polygon_points: Vec<[f32; 3]>,
+    ) -> Self {
+        let s = Skeleton {
+            branches,
+            leaves,
+            polygons,
+            polygon_points,
+        };
+        debug_assert!(
+            Skeleton::with_organs(
+                s.branches.clone(),
+                s.leaves.clone(),
+                s.polygons.clone(),
+                s.polygon_points.clone()
+            )
+            .is_ok()
+        );
+        s
+    }
+
     /// Leaf sites recorded by `~`.
     pub fn leaves(&self) -> &[LeafSite] {
         &self.leaves

@@ -197,6 +197,8 @@ struct Turtle {
     step_size: f64,
     tropism: Option<(DVec3, f64)>,
     max_branches: usize,
+    /// Cosine and sine of recently used angles (grammars reuse a few angles).
+    trig: [(u64, (f64, f64)); 8],
     state: State,
     stack: Vec<State>,
     /// While > 0, modules are skipped by `%` up to the end of the branch.
@@ -214,6 +216,16 @@ fn v3(v: DVec3) -> [f32; 3] {
 }
 
 impl Turtle {
+    #[inline]
+    fn cos_sin(&mut self, degrees: f64) -> (f64, f64) {
+        let bits = degrees.to_bits();
+        let slot = &mut self.trig[(bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 61) as usize];
+        if slot.0 != bits {
+            *slot = (bits, cos_sin_deg(degrees));
+        }
+        slot.1
+    }
+
     fn polygon_point(&mut self) {
         let p = v3(self.state.frame.position);
         if let Some((points, _, _)) = self.polygons.last_mut() {
@@ -223,7 +235,7 @@ impl Turtle {
         }
     }
 
-    fn module(&mut self, sym: u16, params: &[f64], birth: u32, step: u32) -> Result<()> {
+    fn module(&mut self, sym: u16, params: &[f32], birth: u32, step: u32) -> Result<()> {
         let op = self.ops[sym as usize];
         if let Some(depth) = self.cutting.as_mut() {
             match op {
@@ -236,8 +248,8 @@ impl Turtle {
                 return Ok(());
             }
         }
-        let arg = |k: usize| params.get(k).copied();
-        let angle = |s: f64| arg(0).unwrap_or(self.angle) * s;
+        let arg = |k: usize| params.get(k).map(|&v| v as f64);
+        let angle = arg(0).unwrap_or(self.angle);
         match op {
             Op::Ignore => {}
             Op::Draw | Op::Move => {
@@ -269,7 +281,7 @@ impl Turtle {
                             step: Some(step),
                         });
                     }
-                    let radius = (self.state.width.max(0.0) * 0.5) as f32;
+                    let radius = (self.state.width.clamp(0.0, f32::MAX as f64) * 0.5) as f32;
                     self.branches.push(Branch {
                         start: v3(start),
                         end: v3(end),
@@ -289,9 +301,18 @@ impl Turtle {
                     self.state.parent = NO_PARENT;
                 }
             }
-            Op::Turn(s) => self.state.frame.turn(cos_sin_deg(angle(s))),
-            Op::Pitch(s) => self.state.frame.pitch(cos_sin_deg(angle(s))),
-            Op::Roll(s) => self.state.frame.roll(cos_sin_deg(angle(s))),
+            Op::Turn(s) => {
+                let cs = self.cos_sin(angle * s);
+                self.state.frame.turn(cs)
+            }
+            Op::Pitch(s) => {
+                let cs = self.cos_sin(angle * s);
+                self.state.frame.pitch(cs)
+            }
+            Op::Roll(s) => {
+                let cs = self.cos_sin(angle * s);
+                self.state.frame.roll(cs)
+            }
             Op::TurnAround => self.state.frame.turn_around(),
             Op::RollHorizontal => self.state.frame.roll_horizontal(),
             Op::MoveTo => {
@@ -308,9 +329,9 @@ impl Turtle {
             }
             Op::SetHeading => {
                 if params.len() >= 3 {
-                    let h = DVec3::new(params[0], params[1], params[2]);
-                    let up =
-                        (params.len() >= 6).then(|| DVec3::new(params[3], params[4], params[5]));
+                    let v = |k: usize| params[k] as f64;
+                    let h = DVec3::new(v(0), v(1), v(2));
+                    let up = (params.len() >= 6).then(|| DVec3::new(v(3), v(4), v(5)));
                     self.state.frame.set_heading(h, up);
                 }
             }
@@ -389,6 +410,8 @@ pub(crate) fn interpret(
         step_size: view.step_size,
         tropism: view.tropism,
         max_branches: options.max_branches,
+        // NaN bits never equal an angle's, so every slot starts empty.
+        trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
         state: State {
             frame: Frame::default(),
             width: initial_width,
@@ -407,6 +430,15 @@ pub(crate) fn interpret(
     debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
     debug_assert_eq!(t.ops[POP as usize], Op::Pop);
     let table = &ls.homomorphism;
+    // Without interpretation rules every F and G is one branch: size the arrays once.
+    let draws = string
+        .syms
+        .iter()
+        .filter(|&&s| t.ops[s as usize] == Op::Draw)
+        .count()
+        .min(options.max_branches);
+    t.branches.reserve(draws);
+    t.cos_to_parent.reserve(draws);
     if table.is_empty() {
         for i in 0..string.len() {
             let birth = string.birth(i);
@@ -441,7 +473,10 @@ pub(crate) fn interpret(
         }
     }
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);
-    Skeleton::with_organs(t.branches, t.leaves, t.closed, t.points)
+    // Every point was checked to be finite and within the f32 range as it was made.
+    Ok(Skeleton::from_trusted(
+        t.branches, t.leaves, t.closed, t.points,
+    ))
 }
 
 #[cfg(test)]

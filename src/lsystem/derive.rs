@@ -67,7 +67,9 @@ impl<'a> Ctx<'a> {
     }
 }
 
-/// Evaluates `list` with bound `args` and appends it to `out` with birth `birth`.
+/// Evaluates `list` with bound `args` and appends it to `out` with birth `birth`: the
+/// symbols, births and offsets in bulk, then the parameter values in text order.
+#[inline]
 fn emit(
     ctx: &mut Ctx<'_>,
     list: &ModuleList,
@@ -75,18 +77,30 @@ fn emit(
     birth: u16,
     out: &mut ModuleString,
 ) -> Result<()> {
-    ctx.room(out, list.modules.len(), list.exprs.len())?;
-    for m in &list.modules {
-        out.syms.push(m.sym);
-        out.births.push(birth);
-        for e in list.params(m) {
-            let v = e.eval(args, &mut ctx.rng);
-            if !v.is_finite() {
-                return Err(non_finite(ctx, m.sym, v));
-            }
-            out.params.push(v);
+    let n = list.syms.len();
+    ctx.room(out, n, list.exprs.len())?;
+    out.syms.extend_from_slice(&list.syms);
+    out.births.extend(std::iter::repeat_n(birth, n));
+    let base = out.params.len();
+    out.offsets
+        .extend(list.param_ends.iter().map(|&e| base as u32 + e));
+    out.params.resize(base + list.exprs.len(), 0.0);
+    let mut bad = None;
+    for (k, (slot, e)) in out.params[base..].iter_mut().zip(&list.exprs).enumerate() {
+        let v = e.eval(args, &mut ctx.rng);
+        let stored = v as f32;
+        if !stored.is_finite() && bad.is_none() {
+            bad = Some((k, v));
         }
-        out.offsets.push(out.params.len() as u32);
+        *slot = stored;
+    }
+    if let Some((k, v)) = bad {
+        let m = list
+            .modules
+            .iter()
+            .find(|m| (m.first + m.count) as usize > k)
+            .expect("every parameter belongs to a module");
+        return Err(non_finite(ctx, m.sym, v));
     }
     Ok(())
 }
@@ -95,8 +109,9 @@ fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64) -> Error {
     Error::Eval {
         step: ctx.step,
         message: format!(
-            "a parameter of module `{}` evaluated to {v}; expected a finite number \
-             (look for a division by zero, log or sqrt of a negative number, or overflow)",
+            "a parameter of module `{}` evaluated to {v}; expected a finite number within \
+             the f32 range (look for a division by zero, log or sqrt of a negative number, \
+             or overflow)",
             ctx.ls.symbol_name(sym)
         ),
     }
@@ -116,13 +131,26 @@ pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleStr
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
     post_process(&mut ctx, &mut cur, &mut next)?;
     let mut partner: Vec<u32> = Vec::new();
+    // Growth of the last step (modules, parameters), to size the next buffer once instead
+    // of letting it double (and copy) its way up.
+    let mut growth = (1.0f64, 1.0f64);
     for step in 1..=steps {
         ctx.step = step;
         next.clear();
+        let want = |len: usize, g: f64, limit: usize| ((len as f64 * g * 1.02) as usize).min(limit);
+        next.reserve(
+            want(cur.len(), growth.0, ctx.max_modules),
+            want(cur.params.len(), growth.1, ctx.max_params),
+        );
+        let before = (cur.len().max(1) as f64, cur.params.len().max(1) as f64);
         if ls.has_context {
             brackets(&cur, &mut partner);
         }
         rewrite(&mut ctx, &cur, &partner, &mut next)?;
+        growth = (
+            next.len() as f64 / before.0,
+            next.params.len() as f64 / before.1,
+        );
         std::mem::swap(&mut cur, &mut next);
         post_process(&mut ctx, &mut cur, &mut next)?;
     }
@@ -208,12 +236,19 @@ fn rewrite(
 ) -> Result<()> {
     let table = &ctx.ls.productions;
     let birth = ctx.step as u16;
-    for i in 0..cur.len() {
+    let n = cur.len();
+    let has_rules = &table.has_rules[..];
+    let mut i = 0;
+    while i < n {
         let sym = cur.syms[i];
-        if table.candidates(sym).is_empty() {
-            let params = cur.params(i);
-            ctx.room(next, 1, params.len())?;
-            next.push(sym, cur.births[i], params);
+        if !has_rules[sym as usize] {
+            // Copy the whole run of modules without productions at once.
+            let j = cur.syms[i + 1..]
+                .iter()
+                .position(|&s| has_rules[s as usize])
+                .map_or(n, |k| i + 1 + k);
+            copy_run(ctx, cur, i, j, next)?;
+            i = j;
             continue;
         }
         match select(ctx, table, cur, partner, i) {
@@ -224,26 +259,45 @@ fn rewrite(
                 ctx.args = args;
                 r?;
             }
-            None => {
-                let params = cur.params(i);
-                ctx.room(next, 1, params.len())?;
-                next.push(sym, cur.births[i], params);
-            }
+            None => copy_run(ctx, cur, i, i + 1, next)?,
         }
+        i += 1;
     }
+    Ok(())
+}
+
+/// Appends modules `i..j` of `cur` to `next` unchanged.
+fn copy_run(
+    ctx: &Ctx<'_>,
+    cur: &ModuleString,
+    i: usize,
+    j: usize,
+    next: &mut ModuleString,
+) -> Result<()> {
+    let (p0, p1) = (cur.offsets[i] as usize, cur.offsets[j] as usize);
+    ctx.room(next, j - i, p1 - p0)?;
+    next.syms.extend_from_slice(&cur.syms[i..j]);
+    next.births.extend_from_slice(&cur.births[i..j]);
+    let base = next.params.len() as u32;
+    next.params.extend_from_slice(&cur.params[p0..p1]);
+    let shift = base.wrapping_sub(p0 as u32);
+    next.offsets.extend(
+        cur.offsets[i + 1..=j]
+            .iter()
+            .map(|&o| o.wrapping_add(shift)),
+    );
     Ok(())
 }
 
 /// Binds the predecessor's parameters; `false` when the arity differs.
 #[inline]
-fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f64]) -> bool {
+fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f32]) -> bool {
     if p.pred.arity as usize != params.len() {
         return false;
     }
     args.clear();
     args.resize(p.slots, 0.0);
-    let s = p.pred.slot as usize;
-    args[s..s + params.len()].copy_from_slice(params);
+    bind(args, p.pred.slot, params);
     true
 }
 
@@ -270,7 +324,7 @@ fn select_with(
     ctx: &mut Ctx<'_>,
     table: &ProductionTable,
     sym: u16,
-    params: &[f64],
+    params: &[f32],
     mut context: impl FnMut(&Production, &mut [f64]) -> bool,
 ) -> Option<u32> {
     ctx.cands.clear();
@@ -322,9 +376,12 @@ fn select_with(
     Some(chosen.0)
 }
 
-fn bind(args: &mut [f64], slot: u16, params: &[f64]) {
+#[inline]
+fn bind(args: &mut [f64], slot: u16, params: &[f32]) {
     let s = slot as usize;
-    args[s..s + params.len()].copy_from_slice(params);
+    for (a, &v) in args[s..s + params.len()].iter_mut().zip(params) {
+        *a = v as f64;
+    }
 }
 
 /// Bracket-aware left context: walking back, a completed branch `[...]` is skipped whole
@@ -445,9 +502,9 @@ fn match_right(
 pub(crate) struct Expander {
     /// Pending modules: (symbol, depth, number of parameters on `arena`).
     stack: Vec<(u16, u32, u32)>,
-    arena: Vec<f64>,
+    arena: Vec<f32>,
     produced: Vec<(u16, u32, u32)>,
-    produced_params: Vec<f64>,
+    produced_params: Vec<f32>,
 }
 
 impl Expander {
@@ -457,11 +514,11 @@ impl Expander {
         ctx: &mut Ctx<'_>,
         table: &ProductionTable,
         sym: u16,
-        params: &[f64],
+        params: &[f32],
         mut sink: F,
     ) -> Result<()>
     where
-        F: FnMut(&mut Ctx<'_>, u16, &[f64], bool) -> Result<()>,
+        F: FnMut(&mut Ctx<'_>, u16, &[f32], bool) -> Result<()>,
     {
         if table.candidates(sym).is_empty() {
             return sink(ctx, sym, params, false);
@@ -491,11 +548,11 @@ impl Expander {
                 let first = self.produced_params.len() as u32;
                 for e in succ.params(m) {
                     let v = e.eval(&args, &mut ctx.rng);
-                    if !v.is_finite() {
+                    if !(v as f32).is_finite() {
                         ctx.args = args;
                         return Err(non_finite(ctx, m.sym, v));
                     }
-                    self.produced_params.push(v);
+                    self.produced_params.push(v as f32);
                 }
                 self.produced.push((m.sym, first, m.count));
             }

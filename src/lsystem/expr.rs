@@ -113,6 +113,27 @@ impl Func2 {
     }
 }
 
+fn is_binary(op: Op) -> bool {
+    matches!(
+        op,
+        Op::Add
+            | Op::Sub
+            | Op::Mul
+            | Op::Div
+            | Op::Rem
+            | Op::Pow
+            | Op::Lt
+            | Op::Le
+            | Op::Gt
+            | Op::Ge
+            | Op::Eq
+            | Op::Ne
+            | Op::And
+            | Op::Or
+    )
+}
+
+#[inline]
 fn binary(op: Op, x: f64, y: f64) -> f64 {
     match op {
         Op::Add => x + y,
@@ -133,22 +154,43 @@ fn binary(op: Op, x: f64, y: f64) -> f64 {
     }
 }
 
-/// A compiled expression.
+/// An operand of [`Expr::Binary`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Operand {
+    Const(f64),
+    Param(u16),
+}
+
+impl Operand {
+    #[inline(always)]
+    fn get(self, args: &[f64]) -> f64 {
+        match self {
+            Operand::Const(c) => c,
+            Operand::Param(i) => args[i as usize],
+        }
+    }
+}
+
+/// A compiled expression. The common shapes (`s * r`, `s >= min`, a parameter, a
+/// constant) are evaluated directly; anything else runs as bytecode on a small stack.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Expr {
     Const(f64),
     Param(u16),
-    Code(Box<[Op]>),
+    Binary(Op, Operand, Operand),
+    /// Bytecode and the deepest stack it needs.
+    Code(Box<[Op]>, usize),
 }
 
 impl Expr {
     /// Evaluates with the production's bound parameters `args`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn eval(&self, args: &[f64], rng: &mut Rng) -> f64 {
         match self {
             Expr::Const(c) => *c,
             Expr::Param(i) => args[*i as usize],
-            Expr::Code(ops) => run(ops, args, rng),
+            Expr::Binary(op, a, b) => binary(*op, a.get(args), b.get(args)),
+            Expr::Code(ops, depth) => run_code(ops, *depth, args, rng),
         }
     }
 
@@ -161,8 +203,19 @@ impl Expr {
     }
 }
 
-fn run(ops: &[Op], args: &[f64], rng: &mut Rng) -> f64 {
-    let mut stack = [0.0f64; MAX_STACK];
+/// Stack size evaluated without a heap allocation.
+const SMALL_STACK: usize = 16;
+
+#[inline(never)]
+fn run_code(ops: &[Op], depth: usize, args: &[f64], rng: &mut Rng) -> f64 {
+    if depth <= SMALL_STACK {
+        run(ops, args, rng, &mut [0.0; SMALL_STACK])
+    } else {
+        run(ops, args, rng, &mut vec![0.0; depth])
+    }
+}
+
+fn run(ops: &[Op], args: &[f64], rng: &mut Rng, stack: &mut [f64]) -> f64 {
     let mut sp = 0usize;
     let mut pc = 0usize;
     while pc < ops.len() {
@@ -245,10 +298,18 @@ pub(crate) fn compile(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<Expr> 
             .cur
             .error_at(start, "a simpler expression (it is too deep)"));
     }
+    let operand = |op: &Op| match *op {
+        Op::Const(v) => Some(Operand::Const(v)),
+        Op::Param(i) => Some(Operand::Param(i)),
+        _ => None,
+    };
     Ok(match c.ops.as_slice() {
         [Op::Const(v)] => Expr::Const(*v),
         [Op::Param(i)] => Expr::Param(*i),
-        _ => Expr::Code(c.ops.into_boxed_slice()),
+        [a, b, op] if is_binary(*op) && operand(a).is_some() && operand(b).is_some() => {
+            Expr::Binary(*op, operand(a).unwrap(), operand(b).unwrap())
+        }
+        _ => Expr::Code(c.ops.into_boxed_slice(), c.max_depth),
     })
 }
 
@@ -633,7 +694,15 @@ mod tests {
         let e = compile(&mut Cursor::new("s * (1 - r)"), &scope).unwrap();
         assert_eq!(
             e,
-            Expr::Code(vec![Op::Param(0), Op::Const(0.5), Op::Mul].into())
+            Expr::Binary(Op::Mul, Operand::Param(0), Operand::Const(0.5))
+        );
+        let e = compile(&mut Cursor::new("s * s + 1"), &scope).unwrap();
+        assert_eq!(
+            e,
+            Expr::Code(
+                vec![Op::Param(0), Op::Param(0), Op::Mul, Op::Const(1.0), Op::Add].into(),
+                2
+            )
         );
     }
 

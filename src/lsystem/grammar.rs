@@ -69,9 +69,19 @@ pub(crate) struct SuccModule {
 pub(crate) struct ModuleList {
     pub(crate) modules: Vec<SuccModule>,
     pub(crate) exprs: Vec<Expr>,
+    /// The symbols alone, to append in one copy.
+    pub(crate) syms: Vec<u16>,
+    /// For each module, the number of parameter values up to and including it.
+    pub(crate) param_ends: Vec<u32>,
 }
 
 impl ModuleList {
+    /// Fills `syms` and `param_ends` from `modules`.
+    pub(crate) fn finish(&mut self) {
+        self.syms = self.modules.iter().map(|m| m.sym).collect();
+        self.param_ends = self.modules.iter().map(|m| m.first + m.count).collect();
+    }
+
     pub(crate) fn params(&self, m: &SuccModule) -> &[Expr] {
         &self.exprs[m.first as usize..(m.first + m.count) as usize]
     }
@@ -99,6 +109,8 @@ pub(crate) struct ProductionTable {
     pub(crate) productions: Vec<Production>,
     /// For each symbol id, the indices of its productions in file order.
     pub(crate) by_symbol: Vec<Vec<u32>>,
+    /// For each symbol id, whether it has any production.
+    pub(crate) has_rules: Vec<bool>,
     /// Interpretation and decomposition: how many times rules may re-apply.
     pub(crate) max_depth: u32,
 }
@@ -109,6 +121,7 @@ impl ProductionTable {
         for (i, p) in self.productions.iter().enumerate() {
             self.by_symbol[p.pred.sym as usize].push(i as u32);
         }
+        self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
     }
 
     pub(crate) fn is_empty(&self) -> bool {

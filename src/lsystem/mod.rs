@@ -199,13 +199,15 @@ impl LSystem {
 }
 
 /// A derived string: flat arrays of symbols, birth steps and parameters.
+///
+/// Parameters are stored as `f32`, as cpfg stores them; expressions evaluate in `f64`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModuleString {
     pub(crate) syms: Vec<u16>,
     pub(crate) births: Vec<u16>,
     /// `offsets[i]..offsets[i + 1]` are module i's parameters; `offsets[0] = 0`.
     pub(crate) offsets: Vec<u32>,
-    pub(crate) params: Vec<f64>,
+    pub(crate) params: Vec<f32>,
 }
 
 impl ModuleString {
@@ -214,6 +216,17 @@ impl ModuleString {
             offsets: vec![0],
             ..Default::default()
         }
+    }
+
+    /// Makes room for `modules` modules and `params` values in total.
+    pub(crate) fn reserve(&mut self, modules: usize, params: usize) {
+        self.syms.reserve(modules.saturating_sub(self.syms.len()));
+        self.births
+            .reserve(modules.saturating_sub(self.births.len()));
+        self.offsets
+            .reserve((modules + 1).saturating_sub(self.offsets.len()));
+        self.params
+            .reserve(params.saturating_sub(self.params.len()));
     }
 
     pub(crate) fn clear(&mut self) {
@@ -244,7 +257,7 @@ impl ModuleString {
 
     /// Parameters of module `i`.
     #[inline]
-    pub fn params(&self, i: usize) -> &[f64] {
+    pub fn params(&self, i: usize) -> &[f32] {
         &self.params[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
@@ -260,7 +273,7 @@ impl ModuleString {
     }
 
     #[inline]
-    pub(crate) fn push(&mut self, sym: u16, birth: u16, params: &[f64]) {
+    pub(crate) fn push(&mut self, sym: u16, birth: u16, params: &[f32]) {
         self.syms.push(sym);
         self.births.push(birth);
         self.params.extend_from_slice(params);

@@ -493,6 +493,7 @@ impl<'a> Parser<'a> {
         cur.skip_ws();
         if cur.rest().trim() == "*" {
             cur.eat("*");
+            list.finish();
             return Ok(list);
         }
         loop {
@@ -539,6 +540,7 @@ impl<'a> Parser<'a> {
         if let (Some(&at), true) = (open.last(), balanced) {
             return Err(self.msg(at, "unbalanced brackets: this `[` is never closed"));
         }
+        list.finish();
         Ok(list)
     }
 
