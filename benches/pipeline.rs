@@ -28,6 +28,7 @@ fn bench_mesh(c: &mut Criterion) {
         let options = mesh::MeshOptions {
             radial_segments: 8,
             topology,
+            ..Default::default()
         };
         let size = mesh::mesh_size(&skeleton, &options).unwrap();
         let bytes = size.vertices * std::mem::size_of::<mesh::Vertex>() + size.indices * 4;

@@ -41,7 +41,11 @@ static void upload_one(char name, size_t expected) {
     o.topology = topology;
     size_t nv = 0, ni = 0;
     CHECK_STATUS(arbor_mesh_size(tree, &o, &nv, &ni), ARBOR_STATUS_OK);
-    CHECK(nv == nb * 2 * (o.radial_segments + 1), "tree %c: %zu vertices", name, nv);
+    /* Mitred joints: one ring per branch plus one where each axis starts. */
+    size_t axes = 0;
+    for (size_t i = 0; i < nb; i++)
+      axes += branches[i].parent == ARBOR_NO_PARENT || branches[branches[i].parent].order != branches[i].order;
+    CHECK(nv == (nb + axes) * (o.radial_segments + 1), "tree %c: %zu vertices", name, nv);
     /* What glMapBufferRange would hand back: uninitialised memory of exactly that size. */
     ArborVertex *vertices = malloc(nv * sizeof *vertices);
     uint32_t *indices = malloc(ni * sizeof *indices);

@@ -48,7 +48,7 @@ static void grows_like_the_direct_model(void) {
   /* The mesh path works the same for grammar trees. */
   size_t nv, ni;
   CHECK_STATUS(arbor_mesh_size(from_text, NULL, &nv, &ni), ARBOR_STATUS_OK);
-  CHECK(nv == n * 18, "%zu vertices", nv);
+  CHECK(nv > n * 9 && ni == n * 48, "%zu vertices, %zu indices", nv, ni);
   free(a);
   free(b);
   arbor_tree_free(from_text);

@@ -125,6 +125,67 @@ typedef enum ArborTopology {
 } ArborTopology;
 
 /**
+ * Joints between a branch and the one it continues; ArborMeshOptions.joints.
+ */
+typedef enum ArborJoints {
+  /**
+   * Every branch has its own two rings.
+   */
+  ARBOR_JOINTS_SEPARATE = 0,
+  /**
+   * A continuing branch shares its parent's end ring, in the bisecting plane
+   * (watertight axes). The default.
+   */
+  ARBOR_JOINTS_MITRED = 1,
+} ArborJoints;
+
+/**
+ * How the last branch of an axis ends; ArborMeshOptions.tip.
+ */
+typedef enum ArborTip {
+  /**
+   * Open tube (default).
+   */
+  ARBOR_TIP_OPEN = 0,
+  /**
+   * A flat disc.
+   */
+  ARBOR_TIP_CAP = 1,
+  /**
+   * A cone closing to a point one radius beyond the end.
+   */
+  ARBOR_TIP_POINT = 2,
+} ArborTip;
+
+/**
+ * Front-face winding seen from outside; ArborMeshOptions.winding.
+ */
+typedef enum ArborWinding {
+  /**
+   * Counter-clockwise (OpenGL; the default).
+   */
+  ARBOR_WINDING_COUNTER_CLOCKWISE = 0,
+  /**
+   * Clockwise (Unity, Direct3D).
+   */
+  ARBOR_WINDING_CLOCKWISE = 1,
+} ArborWinding;
+
+/**
+ * Up axis of the output; ArborMeshOptions.up_axis.
+ */
+typedef enum ArborUpAxis {
+  /**
+   * Y up (default).
+   */
+  ARBOR_UP_AXIS_Y = 0,
+  /**
+   * Z up (Unreal): (x, y, z) becomes (x, -z, y), a rotation that keeps the winding.
+   */
+  ARBOR_UP_AXIS_Z = 1,
+} ArborUpAxis;
+
+/**
  * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda() or
  * arbor_tree_from_lsystem(), free with arbor_tree_free(). A `const ArborTree *` may be
  * read from several threads at once.
@@ -274,17 +335,60 @@ typedef struct ArborBranch {
 
 /**
  * Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
- * what you need: fields may be added at the end in later versions.
+ * what you need: fields may be added at the end in later versions. Enum-like fields are
+ * validated (unknown values give ARBOR_STATUS_INVALID_ARGUMENT naming the field).
  */
 typedef struct ArborMeshOptions {
   /**
-   * Sides of each truncated cone, 3..=64. Default 8.
+   * Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
    */
   uint32_t radial_segments;
   /**
    * An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
    */
   uint32_t topology;
+  /**
+   * 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
+   * clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
+   * tree's largest).
+   */
+  uint32_t min_radial_segments;
+  /**
+   * Branches whose larger radius is below this are dropped with their subtree. Default 0.
+   */
+  float cull_radius;
+  /**
+   * An ArborJoints value. Default ARBOR_JOINTS_MITRED.
+   */
+  uint32_t joints;
+  /**
+   * 1: a branch's end radius becomes its continuation's start radius. Default 0.
+   */
+  uint32_t smooth_taper;
+  /**
+   * 1: a disc closes the base of each root. Default 0.
+   */
+  uint32_t base_cap;
+  /**
+   * An ArborTip value. Default ARBOR_TIP_OPEN.
+   */
+  uint32_t tip;
+  /**
+   * v = arc length from the root / texture_scale; finite, > 0. Default 1.
+   */
+  float texture_scale;
+  /**
+   * An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
+   */
+  uint32_t winding;
+  /**
+   * An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
+   */
+  uint32_t up_axis;
+  /**
+   * Uniform scale of positions; finite, > 0. Default 1.
+   */
+  float scale;
 } ArborMeshOptions;
 
 /**
@@ -304,6 +408,28 @@ typedef struct ArborVertex {
    */
   float uv[2];
 } ArborVertex;
+
+/**
+ * The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
+ */
+typedef struct ArborBranchRange {
+  /**
+   * First vertex the branch owns.
+   */
+  uint32_t first_vertex;
+  /**
+   * Number of vertices it owns (0 for a culled branch).
+   */
+  uint32_t vertex_count;
+  /**
+   * First index it owns (restart or join indices before its strips included).
+   */
+  uint32_t first_index;
+  /**
+   * Number of indices it owns.
+   */
+  uint32_t index_count;
+} ArborBranchRange;
 
 
 
@@ -414,7 +540,7 @@ enum ArborStatus arbor_tree_copy_branches(const struct ArborTree *tree,
                                           size_t capacity);
 
 /**
- * The default mesh options: 8 radial segments, ARBOR_TOPOLOGY_TRIANGLE_LIST.
+ * The default mesh options (see ArborMeshOptions for each default).
  */
 struct ArborMeshOptions arbor_mesh_options_default(void);
 
@@ -448,6 +574,21 @@ enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
                                   size_t vertex_capacity,
                                   uint32_t *indices,
                                   size_t index_capacity);
+
+/**
+ * Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
+ * arbor_mesh_write() writes with `options` (NULL: the defaults): `capacity` elements,
+ * at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL. The ranges are
+ * consecutive and tile both buffers; a culled branch has empty ranges.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `capacity` elements.
+ */
+enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
+                                          const struct ArborMeshOptions *options,
+                                          struct ArborBranchRange *out,
+                                          size_t capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1,8 +1,13 @@
-//! Mesh invariants on every preset and every topology.
+//! Mesh invariants on every preset and shipped grammar, every topology and the option
+//! combinations, plus the properties of each option.
 
 use arbor::Error;
 use arbor::honda::{self, HondaParams, PRESET_NAMES};
-use arbor::mesh::{self, Mesh, MeshOptions, RESTART_INDEX, Topology, Triangles, Vertex};
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::mesh::{
+    self, Joints, Mesh, MeshOptions, RESTART_INDEX, Tip, Topology, Triangles, UpAxis, Vertex,
+    Winding,
+};
 use arbor::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 
@@ -10,18 +15,30 @@ fn tree(name: char) -> Skeleton {
     honda::build(&HondaParams::preset(name).unwrap()).unwrap()
 }
 
-fn options(radial_segments: u32, topology: Topology) -> MeshOptions {
-    MeshOptions {
-        radial_segments,
-        topology,
+fn all_skeletons() -> Vec<(String, Skeleton)> {
+    let mut out: Vec<(String, Skeleton)> = PRESET_NAMES
+        .iter()
+        .map(|&n| (format!("preset {n}"), tree(n)))
+        .collect();
+    let dir = format!("{}/examples/grammars", env!("CARGO_MANIFEST_DIR"));
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "l"))
+        .collect();
+    paths.sort();
+    for path in paths {
+        let ls = LSystem::parse(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+        out.push((path.file_stem().unwrap().to_string_lossy().into_owned(), s));
     }
+    out
 }
 
 fn pos(v: &Vertex) -> Vec3 {
     Vec3::from_array(v.position)
 }
 
-/// Rotates a triangle so its smallest index comes first (same winding).
 fn canonical([a, b, c]: [u32; 3]) -> [u32; 3] {
     if a <= b && a <= c {
         [a, b, c]
@@ -32,109 +49,557 @@ fn canonical([a, b, c]: [u32; 3]) -> [u32; 3] {
     }
 }
 
-fn check_invariants(name: char, s: &Skeleton, segments: u32) {
-    let list = mesh::tubes(s, &options(segments, Topology::TriangleList)).unwrap();
-    let ring = segments as usize + 1;
-    assert_eq!(list.vertices.len(), s.len() * 2 * ring);
-    assert_eq!(list.indices.len(), s.len() * 6 * segments as usize);
-    let nv = list.vertices.len() as u32;
+/// The option combinations every skeleton is meshed with (topology set per run).
+fn combos() -> Vec<(&'static str, MeshOptions)> {
+    let d = MeshOptions::default();
+    vec![
+        ("default", d),
+        (
+            "separate joints, 3 sides",
+            MeshOptions {
+                joints: Joints::Separate,
+                radial_segments: 3,
+                ..d
+            },
+        ),
+        (
+            "taper and caps",
+            MeshOptions {
+                smooth_taper: true,
+                base_cap: true,
+                tip: Tip::Cap,
+                radial_segments: 5,
+                texture_scale: 7.5,
+                ..d
+            },
+        ),
+        (
+            "points, clockwise, Z up, scaled",
+            MeshOptions {
+                tip: Tip::Point,
+                winding: Winding::Clockwise,
+                up_axis: UpAxis::Z,
+                scale: 2.5,
+                radial_segments: 6,
+                ..d
+            },
+        ),
+        (
+            "LOD and cull",
+            MeshOptions {
+                radial_segments: 12,
+                min_radial_segments: 3,
+                cull_radius: 0.3,
+                base_cap: true,
+                tip: Tip::Point,
+                ..d
+            },
+        ),
+    ]
+}
 
-    for (i, v) in list.vertices.iter().enumerate() {
-        let finite = v.position.iter().chain(&v.normal).chain(&v.uv);
-        assert!(finite.clone().all(|x| x.is_finite()), "{name}: vertex {i}");
-        let n = Vec3::from_array(v.normal);
-        assert!((n.length() - 1.0).abs() < 1e-5, "{name}: normal {i} {n}");
-        assert!((0.0..=1.0).contains(&v.uv[0]) && (0.0..=1.0).contains(&v.uv[1]));
+/// The inverse of the output conventions, to check geometry in the skeleton's frame.
+fn to_model(o: &MeshOptions, v: [f32; 3], is_position: bool) -> Vec3 {
+    let v = Vec3::from_array(v);
+    let v = match o.up_axis {
+        UpAxis::Y => v,
+        UpAxis::Z => Vec3::new(v.x, v.z, -v.y),
+    };
+    if is_position { v / o.scale } else { v }
+}
+
+fn check(name: &str, s: &Skeleton, label: &str, o: MeshOptions) {
+    let list_options = MeshOptions {
+        topology: Topology::TriangleList,
+        ..o
+    };
+    let list = mesh::tubes(s, &list_options).unwrap();
+    let nv = list.vertices.len() as u32;
+    let what = format!("{name} / {label}");
+
+    // Ranges tile both buffers exactly, in branch order.
+    assert_eq!(list.ranges.len(), s.len(), "{what}");
+    let (mut v, mut i) = (0u32, 0u32);
+    for r in &list.ranges {
+        assert_eq!((r.first_vertex, r.first_index), (v, i), "{what}");
+        v += r.vertex_count;
+        i += r.index_count;
+    }
+    assert_eq!(
+        (v as usize, i as usize),
+        (list.vertices.len(), list.indices.len()),
+        "{what}"
+    );
+
+    for (k, vert) in list.vertices.iter().enumerate() {
+        let all = vert.position.iter().chain(&vert.normal).chain(&vert.uv);
+        assert!(all.clone().all(|x| x.is_finite()), "{what}: vertex {k}");
+        let n = Vec3::from_array(vert.normal);
+        assert!((n.length() - 1.0).abs() < 1e-4, "{what}: normal {k} {n}");
+    }
+    // Normals point away from the axis of the branch that owns the vertex.
+    for (b, r) in s.branches().iter().zip(&list.ranges) {
+        let (a0, a1) = (b.start(), b.end());
+        let axis = (a1 - a0).try_normalize().unwrap_or(Vec3::Y);
+        for k in r.first_vertex..r.first_vertex + r.vertex_count {
+            let vert = &list.vertices[k as usize];
+            let p = to_model(&o, vert.position, true);
+            let n = to_model(&o, vert.normal, false);
+            let rel = p - a0;
+            let radial = rel - axis * rel.dot(axis);
+            assert!(
+                n.dot(radial) >= -1e-3 * radial.length().max(1.0),
+                "{what}: vertex {k} normal points into its branch"
+            );
+        }
     }
 
-    // Triangle list: indices in range, no degenerate triangle, faces agree with normals.
-    let list_tris: Vec<[u32; 3]> = list.triangles().collect();
-    assert_eq!(list_tris.len() * 3, list.indices.len());
-    for (k, &[a, b, c]) in list_tris.iter().enumerate() {
+    let tris: Vec<[u32; 3]> = list.triangles().collect();
+    let clockwise = o.winding == Winding::Clockwise;
+    for (k, &[a, b, c]) in tris.iter().enumerate() {
         assert!(
             a < nv && b < nv && c < nv,
-            "{name}: triangle {k} out of range"
+            "{what}: triangle {k} out of range"
         );
         assert!(
             a != b && b != c && a != c,
-            "{name}: triangle {k} degenerate"
+            "{what}: triangle {k} degenerate"
         );
         let (pa, pb, pc) = (
-            pos(&list.vertices[a as usize]),
-            pos(&list.vertices[b as usize]),
-            pos(&list.vertices[c as usize]),
+            to_model(&o, list.vertices[a as usize].position, true),
+            to_model(&o, list.vertices[b as usize].position, true),
+            to_model(&o, list.vertices[c as usize].position, true),
         );
         let face = (pb - pa).cross(pc - pa);
-        assert!(face.length() > 0.0, "{name}: triangle {k} has no area");
+        assert!(face.length() > 0.0, "{what}: triangle {k} has no area");
         let avg: Vec3 = [a, b, c]
             .iter()
-            .map(|&i| Vec3::from_array(list.vertices[i as usize].normal))
+            .map(|&i| to_model(&o, list.vertices[i as usize].normal, false))
             .sum();
         let agree = face.normalize().dot(avg.normalize());
-        assert!(agree > 0.7, "{name}: triangle {k} faces away ({agree})");
+        let agree = if clockwise { -agree } else { agree };
+        assert!(
+            agree > 0.1,
+            "{what}: triangle {k} winds the wrong way ({agree})"
+        );
     }
 
-    // Both strip layouts: same vertices, and they decode to the list's triangles.
-    let expected: Vec<[u32; 3]> = list_tris.iter().copied().map(canonical).collect();
+    let expected: Vec<[u32; 3]> = tris.iter().copied().map(canonical).collect();
     for topology in [
         Topology::TriangleStripRestart,
         Topology::TriangleStripDegenerate,
     ] {
-        let strip = mesh::tubes(s, &options(segments, topology)).unwrap();
-        assert_eq!(strip.vertices, list.vertices, "{name} {topology:?}");
+        let strip = mesh::tubes(s, &MeshOptions { topology, ..o }).unwrap();
+        assert_eq!(strip.vertices, list.vertices, "{what} {topology:?}");
         for &i in &strip.indices {
             let restart = topology == Topology::TriangleStripRestart && i == RESTART_INDEX;
-            assert!(i < nv || restart, "{name} {topology:?}: index {i}");
+            assert!(i < nv || restart, "{what} {topology:?}: index {i}");
         }
         let got: Vec<[u32; 3]> = strip.triangles().map(canonical).collect();
-        assert_eq!(got, expected, "{name} {topology:?}");
-        let restarts = strip
-            .indices
-            .iter()
-            .filter(|&&i| i == RESTART_INDEX)
-            .count();
-        match topology {
-            Topology::TriangleStripRestart => assert_eq!(restarts, s.len() - 1),
-            _ => assert_eq!(restarts, 0),
-        }
-        let size = mesh::mesh_size(s, &options(segments, topology)).unwrap();
+        assert_eq!(got, expected, "{what} {topology:?}");
+        let size = mesh::mesh_size(s, &MeshOptions { topology, ..o }).unwrap();
         assert_eq!(size.indices, strip.indices.len());
+        let total: u32 = strip.ranges.iter().map(|r| r.index_count).sum();
+        assert_eq!(total as usize, strip.indices.len(), "{what} {topology:?}");
     }
 }
 
 #[test]
-fn invariants_hold_on_every_preset_and_topology() {
-    for name in PRESET_NAMES {
-        let s = tree(name);
-        for segments in [3, 8] {
-            check_invariants(name, &s, segments);
+fn invariants_on_every_preset_grammar_and_option_combination() {
+    for (name, s) in all_skeletons() {
+        for (label, o) in combos() {
+            check(&name, &s, label, o);
         }
     }
-    check_invariants('c', &tree('c'), 64);
-    check_invariants('d', &tree('d'), 17);
 }
 
-fn single(start_radius: f32, end_radius: f32, dir: Vec3) -> Skeleton {
-    Skeleton::new(vec![Branch {
-        start: [1.0, 2.0, 3.0],
-        end: (Vec3::new(1.0, 2.0, 3.0) + dir).to_array(),
-        start_radius,
-        end_radius,
-        parent: NO_PARENT,
+/// Counts edges used by exactly one triangle, with vertices at the same position welded
+/// (the seam vertex is duplicated for its uv, at a bit-identical position).
+fn boundary_edges(m: &Mesh) -> usize {
+    let mut weld = std::collections::HashMap::new();
+    let id: Vec<u32> = m
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| *weld.entry(v.position.map(f32::to_bits)).or_insert(i as u32))
+        .collect();
+    let mut count = std::collections::HashMap::new();
+    for t in m.triangles() {
+        let [a, b, c] = t.map(|i| id[i as usize]);
+        for (x, y) in [(a, b), (b, c), (c, a)] {
+            *count.entry((x.min(y), x.max(y))).or_insert(0) += 1;
+        }
+    }
+    count.values().filter(|&&n| n == 1).count()
+}
+
+fn chain(k: usize) -> Skeleton {
+    let ls = LSystem::parse(&format!(
+        "angle increment: 30\nAxiom: !(1){}",
+        "F+F&F-F^"
+            .repeat(k)
+            .chars()
+            .take(2 * k - 1)
+            .collect::<String>()
+    ))
+    .unwrap();
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert_eq!(s.len(), k);
+    s
+}
+
+#[test]
+fn mitred_axes_are_watertight() {
+    for k in [1, 2, 5, 9] {
+        let s = chain(k);
+        for segments in [3, 8, 13] {
+            let o = MeshOptions {
+                radial_segments: segments,
+                ..Default::default()
+            };
+            let m = mesh::tubes(&s, &o).unwrap();
+            assert_eq!(boundary_edges(&m), 2 * segments as usize, "k = {k}");
+            assert_eq!(m.vertices.len(), (k + 1) * (segments as usize + 1));
+            let separate = mesh::tubes(
+                &s,
+                &MeshOptions {
+                    joints: Joints::Separate,
+                    ..o
+                },
+            )
+            .unwrap();
+            assert_eq!(boundary_edges(&separate), 2 * segments as usize * k);
+        }
+    }
+}
+
+fn axis_starts(s: &Skeleton) -> usize {
+    let b = s.branches();
+    b.iter()
+        .filter(|x| x.parent == NO_PARENT || b[x.parent as usize].order != x.order)
+        .count()
+}
+
+#[test]
+fn counts_follow_the_formula() {
+    for name in PRESET_NAMES {
+        let s = tree(name);
+        let n = s.len();
+        let axes = axis_starts(&s);
+        for segments in [3usize, 8] {
+            let ring = segments + 1;
+            let o = |topology, tip, base_cap| MeshOptions {
+                radial_segments: segments as u32,
+                topology,
+                tip,
+                base_cap,
+                ..Default::default()
+            };
+            let size = mesh::mesh_size(&s, &o(Topology::TriangleList, Tip::Open, false)).unwrap();
+            assert_eq!(size.vertices, (n + axes) * ring, "{name}");
+            assert_eq!(size.indices, n * 6 * segments);
+            let restart =
+                mesh::mesh_size(&s, &o(Topology::TriangleStripRestart, Tip::Open, false)).unwrap();
+            assert_eq!(restart.indices, n * 2 * ring + (n - 1));
+            let degenerate =
+                mesh::mesh_size(&s, &o(Topology::TriangleStripDegenerate, Tip::Open, false))
+                    .unwrap();
+            assert_eq!(degenerate.indices, n * 2 * ring + 2 * (n - 1));
+            // Every axis has one tip; the one root gets the base cap.
+            let capped = mesh::mesh_size(&s, &o(Topology::TriangleList, Tip::Cap, true)).unwrap();
+            assert_eq!(capped.vertices, size.vertices + (axes + 1) * segments);
+            assert_eq!(
+                capped.indices,
+                size.indices + (axes + 1) * 3 * (segments - 2)
+            );
+            let pointed =
+                mesh::mesh_size(&s, &o(Topology::TriangleList, Tip::Point, false)).unwrap();
+            assert_eq!(pointed.vertices, size.vertices + axes * segments);
+            assert_eq!(pointed.indices, size.indices + axes * 3 * segments);
+            // What is written is what was counted.
+            let m = mesh::tubes(&s, &o(Topology::TriangleList, Tip::Point, true)).unwrap();
+            let sz = mesh::mesh_size(&s, &o(Topology::TriangleList, Tip::Point, true)).unwrap();
+            assert_eq!(
+                (m.vertices.len(), m.indices.len()),
+                (sz.vertices, sz.indices)
+            );
+        }
+    }
+}
+
+/// Unit direction from a ring's center to its seam vertex.
+fn seam(m: &Mesh, first_vertex: u32, center: Vec3) -> Vec3 {
+    (pos(&m.vertices[first_vertex as usize]) - center).normalize()
+}
+
+#[test]
+fn seams_do_not_twist_along_an_axis() {
+    for name in PRESET_NAMES {
+        let s = tree(name);
+        let segments = 8u32;
+        let o = MeshOptions {
+            joints: Joints::Separate,
+            radial_segments: segments,
+            ..Default::default()
+        };
+        let m = mesh::tubes(&s, &o).unwrap();
+        let b = s.branches();
+        for (i, child) in b.iter().enumerate() {
+            if child.parent == NO_PARENT {
+                continue;
+            }
+            let p = child.parent as usize;
+            let parent = &b[p];
+            let bend = (parent.end() - parent.start())
+                .normalize()
+                .angle_between((child.end() - child.start()).normalize());
+            let sink = parent.end_radius;
+            let dir = (child.end() - child.start()).normalize();
+            let child_seam = seam(&m, m.ranges[i].first_vertex, child.start() - dir * sink);
+            let parent_seam = seam(&m, m.ranges[p].first_vertex + segments + 1, parent.end());
+            let twist = parent_seam.angle_between(child_seam);
+            assert!(
+                twist <= bend + 1e-3,
+                "tree {name} branch {i}: seam turns {twist} for a bend of {bend}"
+            );
+        }
+    }
+}
+
+#[test]
+fn v_is_arc_length_from_the_root() {
+    let s = tree('h');
+    let o = MeshOptions {
+        texture_scale: 4.0,
         ..Default::default()
-    }])
-    .unwrap()
+    };
+    let m = mesh::tubes(&s, &o).unwrap();
+    let b = s.branches();
+    let mut arc = vec![0.0f32; b.len()];
+    for (i, x) in b.iter().enumerate() {
+        let before = if x.parent == NO_PARENT {
+            0.0
+        } else {
+            arc[x.parent as usize]
+        };
+        arc[i] = before + x.length();
+        // The end ring is the last ring the branch owns.
+        let r = m.ranges[i];
+        let end_ring = r.first_vertex + r.vertex_count - 9;
+        for k in end_ring..end_ring + 9 {
+            let v = m.vertices[k as usize].uv[1];
+            assert!(
+                (v - arc[i] / 4.0).abs() < 1e-3 * arc[i].max(1.0),
+                "branch {i}: {v}"
+            );
+        }
+    }
+}
+
+#[test]
+fn smooth_taper_takes_the_radius_of_the_continuation() {
+    let s = tree('a');
+    let o = MeshOptions {
+        smooth_taper: true,
+        joints: Joints::Separate,
+        ..Default::default()
+    };
+    let m = mesh::tubes(&s, &o).unwrap();
+    let b = s.branches();
+    for (i, x) in b.iter().enumerate() {
+        let cont = b
+            .iter()
+            .position(|c| c.parent == i as u32 && c.order == x.order);
+        let want = cont.map_or(x.end_radius, |c| b[c].start_radius);
+        let first_end = m.ranges[i].first_vertex + 9;
+        let r = (pos(&m.vertices[first_end as usize]) - x.end()).length();
+        assert!(
+            (r - want).abs() < 1e-3 * want.max(1.0),
+            "branch {i}: {r} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn lod_levels_shrink_and_cull_whole_subtrees() {
+    let s = tree('b');
+    let levels: Vec<MeshOptions> = [(16u32, 0.0f32), (8, 0.5), (4, 1.5)]
+        .iter()
+        .map(|&(segments, cull)| MeshOptions {
+            radial_segments: segments,
+            min_radial_segments: 3,
+            cull_radius: cull,
+            ..Default::default()
+        })
+        .collect();
+    let lods = mesh::mesh_lods(&s, &levels).unwrap();
+    assert_eq!(lods.len(), 3);
+    for w in lods.windows(2) {
+        assert!(w[1].vertex_count < w[0].vertex_count);
+        assert!(w[1].triangle_count < w[0].triangle_count);
+    }
+    let b = s.branches();
+    let last = &lods[2].mesh;
+    for (i, x) in b.iter().enumerate() {
+        let kept = last.ranges[i].vertex_count > 0;
+        let thick = x.start_radius.max(x.end_radius) >= 1.5;
+        let parent_kept = x.parent == NO_PARENT || last.ranges[x.parent as usize].vertex_count > 0;
+        assert_eq!(kept, thick && parent_kept, "branch {i}");
+    }
+    // The trunk keeps the most sides; the thinnest kept branches the fewest.
+    let trunk = lods[0].mesh.ranges[0].vertex_count;
+    assert_eq!(trunk, 2 * 17);
+    assert!(
+        lods[0]
+            .mesh
+            .ranges
+            .iter()
+            .any(|r| r.vertex_count > 0 && r.vertex_count <= 2 * 4)
+    );
+}
+
+#[test]
+fn host_conventions_transform_the_same_mesh() {
+    let s = tree('g');
+    let base = mesh::tubes(&s, &MeshOptions::default()).unwrap();
+    let cw = mesh::tubes(
+        &s,
+        &MeshOptions {
+            winding: Winding::Clockwise,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(cw.vertices, base.vertices);
+    let flipped: Vec<[u32; 3]> = base.triangles().map(|[a, b, c]| [a, c, b]).collect();
+    assert_eq!(cw.triangles().collect::<Vec<_>>(), flipped);
+    let z = mesh::tubes(
+        &s,
+        &MeshOptions {
+            up_axis: UpAxis::Z,
+            scale: 0.01,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    for (a, b) in base.vertices.iter().zip(&z.vertices) {
+        let [x, y, zz] = a.position;
+        let want = [x * 0.01, -zz * 0.01, y * 0.01];
+        for k in 0..3 {
+            assert!((b.position[k] - want[k]).abs() < 1e-4);
+        }
+        assert_eq!(b.normal, [a.normal[0], -a.normal[2], a.normal[1]]);
+        assert_eq!(b.uv, a.uv);
+    }
+    assert_eq!(z.indices, base.indices);
+}
+
+#[test]
+fn lateral_rings_are_sunk_into_the_parent() {
+    let s = tree('e');
+    let m = mesh::tubes(&s, &MeshOptions::default()).unwrap();
+    let b = s.branches();
+    for (i, x) in b.iter().enumerate().skip(1) {
+        let parent = &b[x.parent as usize];
+        if parent.order == x.order {
+            continue;
+        }
+        // The lateral's start ring center lies inside the parent's tube.
+        let dir = (x.end() - x.start()).normalize();
+        let center = x.start() - dir * parent.end_radius;
+        let ring: Vec3 = (0..8)
+            .map(|k| pos(&m.vertices[(m.ranges[i].first_vertex + k) as usize]))
+            .sum::<Vec3>()
+            / 8.0;
+        assert!(
+            (ring - center).length() < 1e-3 * parent.end_radius.max(1.0),
+            "branch {i}"
+        );
+        let pa = parent.start();
+        let pd = (parent.end() - pa).normalize();
+        let rel = center - pa;
+        let dist = (rel - pd * rel.dot(pd)).length();
+        assert!(dist <= parent.end_radius + 1e-3, "branch {i}");
+    }
+}
+
+#[test]
+fn too_small_buffers_are_refused_and_left_untouched() {
+    let s = tree('c');
+    for topology in Topology::ALL {
+        let o = MeshOptions {
+            radial_segments: 5,
+            topology,
+            tip: Tip::Point,
+            ..Default::default()
+        };
+        let size = mesh::mesh_size(&s, &o).unwrap();
+        let sentinel = Vertex {
+            position: [7.0; 3],
+            ..Default::default()
+        };
+        for (dv, di) in [(1, 0), (0, 1), (size.vertices, 0), (0, size.indices)] {
+            let mut v = vec![sentinel; size.vertices - dv];
+            let mut i = vec![0xABu32; size.indices - di];
+            let e = mesh::write_mesh(&s, &o, &mut v, &mut i).unwrap_err();
+            assert!(matches!(e, Error::BufferTooSmall { .. }), "{e}");
+            assert!(v.iter().all(|x| *x == sentinel));
+            assert!(i.iter().all(|&x| x == 0xAB));
+        }
+        let mut v = vec![sentinel; size.vertices + 3];
+        let mut i = vec![0xABu32; size.indices + 3];
+        assert_eq!(mesh::write_mesh(&s, &o, &mut v, &mut i).unwrap(), size);
+        assert!(v[size.vertices..].iter().all(|x| *x == sentinel));
+        assert!(i[size.indices..].iter().all(|&x| x == 0xAB));
+        let owned = mesh::tubes(&s, &o).unwrap();
+        assert_eq!(&v[..size.vertices], &owned.vertices[..]);
+        assert_eq!(&i[..size.indices], &owned.indices[..]);
+    }
+}
+
+#[test]
+fn meshes_over_65536_vertices_index_with_32_bits() {
+    let s = tree('f');
+    let o = MeshOptions {
+        radial_segments: 16,
+        ..Default::default()
+    };
+    let m = mesh::tubes(&s, &o).unwrap();
+    assert!(m.vertices.len() > 65_536);
+    let max = *m.indices.iter().max().unwrap();
+    assert_eq!(max as usize, m.vertices.len() - 1);
+    let last: Vec<[u32; 3]> = Triangles::new(&m.indices, m.topology).collect();
+    assert!(last.last().unwrap().iter().all(|&i| i >= 65_536));
+}
+
+#[test]
+fn empty_skeleton_gives_empty_buffers() {
+    for topology in Topology::ALL {
+        let o = MeshOptions {
+            topology,
+            ..Default::default()
+        };
+        let m = mesh::tubes(&Skeleton::default(), &o).unwrap();
+        assert!(m.vertices.is_empty() && m.indices.is_empty());
+    }
 }
 
 #[test]
 fn cone_normals_tilt_toward_the_narrow_end() {
-    let s = single(2.0, 1.0, Vec3::new(0.0, 10.0, 0.0));
+    let s = Skeleton::new(vec![Branch {
+        start: [1.0, 2.0, 3.0],
+        end: [1.0, 12.0, 3.0],
+        start_radius: 2.0,
+        end_radius: 1.0,
+        parent: NO_PARENT,
+        ..Default::default()
+    }])
+    .unwrap();
     let m = mesh::tubes(&s, &MeshOptions::default()).unwrap();
     let expected_tilt = 1.0 / 101f32.sqrt();
     for v in &m.vertices {
         assert!((v.normal[1] - expected_tilt).abs() < 1e-6, "{:?}", v.normal);
     }
-    // Rings sit at the right radius around the axis.
     for (k, v) in m.vertices.iter().enumerate() {
         let p = pos(v) - Vec3::new(1.0, 2.0, 3.0);
         let r = (p.x * p.x + p.z * p.z).sqrt();
@@ -144,81 +609,15 @@ fn cone_normals_tilt_toward_the_narrow_end() {
 }
 
 #[test]
-fn uv_seam_is_duplicated_and_v_runs_along_the_branch() {
-    for dir in [Vec3::Y, Vec3::NEG_Y, Vec3::new(3.0, -1.0, 2.0), Vec3::Z] {
-        let s = single(1.0, 1.0, dir);
-        let segments = 6usize;
-        let m = mesh::tubes(&s, &options(segments as u32, Topology::TriangleList)).unwrap();
-        let (bottom, top) = m.vertices.split_at(segments + 1);
-        for ring in [bottom, top] {
-            assert_eq!(ring[0].position, ring[segments].position, "{dir}");
-            assert_eq!(ring[0].uv[0], 0.0);
-            assert_eq!(ring[segments].uv[0], 1.0);
-        }
-        assert!(bottom.iter().all(|v| v.uv[1] == 0.0));
-        assert!(top.iter().all(|v| v.uv[1] == 1.0));
-        // Normals are perpendicular to a cylinder's axis.
-        for v in &m.vertices {
-            assert!(Vec3::from_array(v.normal).dot(dir.normalize()).abs() < 1e-5);
-        }
-    }
-}
-
-#[test]
-fn too_small_buffers_are_refused_and_left_untouched() {
-    let s = tree('c');
-    for topology in Topology::ALL {
-        let o = options(5, topology);
-        let size = mesh::mesh_size(&s, &o).unwrap();
-        let sentinel = Vertex {
-            position: [7.0; 3],
-            ..Default::default()
-        };
-        for (dv, di) in [(1, 0), (0, 1), (size.vertices, 0), (0, size.indices)] {
-            let mut v = vec![sentinel; size.vertices - dv.min(size.vertices)];
-            let mut i = vec![0xABu32; size.indices - di.min(size.indices)];
-            if dv == 0 && di == 0 {
-                continue;
-            }
-            let e = mesh::write_mesh(&s, &o, &mut v, &mut i).unwrap_err();
-            assert!(matches!(e, Error::BufferTooSmall { .. }), "{e}");
-            assert!(v.iter().all(|x| *x == sentinel));
-            assert!(i.iter().all(|&x| x == 0xAB));
-        }
-        // A larger buffer is fine; only the prefix is written.
-        let mut v = vec![sentinel; size.vertices + 3];
-        let mut i = vec![0xABu32; size.indices + 3];
-        assert_eq!(mesh::write_mesh(&s, &o, &mut v, &mut i).unwrap(), size);
-        assert!(v[size.vertices..].iter().all(|x| *x == sentinel));
-        assert!(i[size.indices..].iter().all(|&x| x == 0xAB));
-    }
-}
-
-#[test]
-fn meshes_over_65536_vertices_index_with_32_bits() {
-    let s = tree('f');
-    let m: Mesh = mesh::tubes(&s, &MeshOptions::default()).unwrap();
-    assert!(m.vertices.len() > 65_536);
-    let max = *m.indices.iter().max().unwrap();
-    assert_eq!(max as usize, m.vertices.len() - 1);
-    // The last branch's triangles reach the last vertices, not wrapped ones.
-    let last: Vec<[u32; 3]> = Triangles::new(&m.indices, m.topology).collect();
-    assert!(last.last().unwrap().iter().all(|&i| i >= 65_536));
-}
-
-#[test]
-fn empty_skeleton_gives_empty_buffers() {
-    for topology in Topology::ALL {
-        let m = mesh::tubes(&Skeleton::default(), &options(8, topology)).unwrap();
-        assert!(m.vertices.is_empty() && m.indices.is_empty());
-    }
-}
-
-#[test]
 fn output_is_deterministic() {
     let s = tree('h');
-    let a = mesh::tubes(&s, &MeshOptions::default()).unwrap();
-    let b = mesh::tubes(&s, &MeshOptions::default()).unwrap();
+    let o = MeshOptions {
+        tip: Tip::Point,
+        base_cap: true,
+        ..Default::default()
+    };
+    let a = mesh::tubes(&s, &o).unwrap();
+    let b = mesh::tubes(&s, &o).unwrap();
     assert_eq!(
         bytemuck::cast_slice::<Vertex, u8>(&a.vertices),
         bytemuck::cast_slice::<Vertex, u8>(&b.vertices)

@@ -11,7 +11,7 @@ mod guard;
 
 use crate::honda::{self, HondaParams};
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
-use crate::mesh::{self, MeshOptions, Topology, Vertex};
+use crate::mesh::{self, BranchRange, MeshOptions, Topology, Vertex};
 use crate::skeleton::{Branch, Skeleton};
 use bytemuck::{Pod, Zeroable};
 use guard::{FfiError, arg_ref, guard, guard_value, out_ref, out_slice, with_last_error};
@@ -245,15 +245,95 @@ impl ArborLsystemOptions {
     }
 }
 
-/// Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
-/// what you need: fields may be added at the end in later versions.
+/// Joints between a branch and the one it continues; ArborMeshOptions.joints.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborJoints {
+    /// Every branch has its own two rings.
+    Separate = 0,
+    /// A continuing branch shares its parent's end ring, in the bisecting plane
+    /// (watertight axes). The default.
+    Mitred = 1,
+}
+
+/// How the last branch of an axis ends; ArborMeshOptions.tip.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborTip {
+    /// Open tube (default).
+    Open = 0,
+    /// A flat disc.
+    Cap = 1,
+    /// A cone closing to a point one radius beyond the end.
+    Point = 2,
+}
+
+/// Front-face winding seen from outside; ArborMeshOptions.winding.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborWinding {
+    /// Counter-clockwise (OpenGL; the default).
+    CounterClockwise = 0,
+    /// Clockwise (Unity, Direct3D).
+    Clockwise = 1,
+}
+
+/// Up axis of the output; ArborMeshOptions.up_axis.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborUpAxis {
+    /// Y up (default).
+    Y = 0,
+    /// Z up (Unreal): (x, y, z) becomes (x, -z, y), a rotation that keeps the winding.
+    Z = 1,
+}
+
+/// Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
+/// what you need: fields may be added at the end in later versions. Enum-like fields are
+/// validated (unknown values give ARBOR_STATUS_INVALID_ARGUMENT naming the field).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArborMeshOptions {
-    /// Sides of each truncated cone, 3..=64. Default 8.
+    /// Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
     pub radial_segments: u32,
     /// An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
     pub topology: u32,
+    /// 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
+    /// clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
+    /// tree's largest).
+    pub min_radial_segments: u32,
+    /// Branches whose larger radius is below this are dropped with their subtree. Default 0.
+    pub cull_radius: f32,
+    /// An ArborJoints value. Default ARBOR_JOINTS_MITRED.
+    pub joints: u32,
+    /// 1: a branch's end radius becomes its continuation's start radius. Default 0.
+    pub smooth_taper: u32,
+    /// 1: a disc closes the base of each root. Default 0.
+    pub base_cap: u32,
+    /// An ArborTip value. Default ARBOR_TIP_OPEN.
+    pub tip: u32,
+    /// v = arc length from the root / texture_scale; finite, > 0. Default 1.
+    pub texture_scale: f32,
+    /// An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
+    pub winding: u32,
+    /// An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
+    pub up_axis: u32,
+    /// Uniform scale of positions; finite, > 0. Default 1.
+    pub scale: f32,
+}
+
+/// The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ArborBranchRange {
+    /// First vertex the branch owns.
+    pub first_vertex: u32,
+    /// Number of vertices it owns (0 for a culled branch).
+    pub vertex_count: u32,
+    /// First index it owns (restart or join indices before its strips included).
+    pub first_index: u32,
+    /// Number of indices it owns.
+    pub index_count: u32,
 }
 
 const _: () = {
@@ -262,24 +342,68 @@ const _: () = {
     assert!(std::mem::size_of::<ArborVertex>() == std::mem::size_of::<Vertex>());
     assert!(std::mem::align_of::<ArborVertex>() == std::mem::align_of::<Vertex>());
     assert!(std::mem::size_of::<ArborHondaParams>() == std::mem::size_of::<HondaParams>());
+    assert!(std::mem::size_of::<ArborBranchRange>() == std::mem::size_of::<BranchRange>());
 };
+
+fn enum_field<T: Copy>(field: &'static str, value: u32, all: &[(T, &str)]) -> crate::Result<T> {
+    all.get(value as usize).map(|&(v, _)| v).ok_or_else(|| {
+        let names: Vec<String> = all
+            .iter()
+            .enumerate()
+            .map(|(i, (_, n))| format!("{i} ({n})"))
+            .collect();
+        crate::Error::invalid(field, format!("{value}; expected {}", names.join(", ")))
+    })
+}
 
 impl TryFrom<&ArborMeshOptions> for MeshOptions {
     type Error = crate::Error;
     fn try_from(o: &ArborMeshOptions) -> crate::Result<Self> {
-        let topology = Topology::from_u32(o.topology).ok_or_else(|| {
-            crate::Error::invalid(
-                "topology",
-                format!(
-                    "{}; expected 0 (TRIANGLE_LIST), 1 (TRIANGLE_STRIP_RESTART) \
-                     or 2 (TRIANGLE_STRIP_DEGENERATE)",
-                    o.topology
-                ),
-            )
-        })?;
+        use crate::mesh::{Joints, Tip, UpAxis, Winding};
+        let boolean = [(false, "false"), (true, "true")];
         Ok(MeshOptions {
             radial_segments: o.radial_segments,
-            topology,
+            topology: enum_field(
+                "topology",
+                o.topology,
+                &[
+                    (Topology::TriangleList, "TRIANGLE_LIST"),
+                    (Topology::TriangleStripRestart, "TRIANGLE_STRIP_RESTART"),
+                    (
+                        Topology::TriangleStripDegenerate,
+                        "TRIANGLE_STRIP_DEGENERATE",
+                    ),
+                ],
+            )?,
+            min_radial_segments: o.min_radial_segments,
+            cull_radius: o.cull_radius,
+            joints: enum_field(
+                "joints",
+                o.joints,
+                &[(Joints::Separate, "SEPARATE"), (Joints::Mitred, "MITRED")],
+            )?,
+            smooth_taper: enum_field("smooth_taper", o.smooth_taper, &boolean)?,
+            base_cap: enum_field("base_cap", o.base_cap, &boolean)?,
+            tip: enum_field(
+                "tip",
+                o.tip,
+                &[
+                    (Tip::Open, "OPEN"),
+                    (Tip::Cap, "CAP"),
+                    (Tip::Point, "POINT"),
+                ],
+            )?,
+            texture_scale: o.texture_scale,
+            winding: enum_field(
+                "winding",
+                o.winding,
+                &[
+                    (Winding::CounterClockwise, "COUNTER_CLOCKWISE"),
+                    (Winding::Clockwise, "CLOCKWISE"),
+                ],
+            )?,
+            up_axis: enum_field("up_axis", o.up_axis, &[(UpAxis::Y, "Y"), (UpAxis::Z, "Z")])?,
+            scale: o.scale,
         })
     }
 }
@@ -289,6 +413,16 @@ impl From<MeshOptions> for ArborMeshOptions {
         ArborMeshOptions {
             radial_segments: o.radial_segments,
             topology: o.topology as u32,
+            min_radial_segments: o.min_radial_segments,
+            cull_radius: o.cull_radius,
+            joints: o.joints as u32,
+            smooth_taper: o.smooth_taper as u32,
+            base_cap: o.base_cap as u32,
+            tip: o.tip as u32,
+            texture_scale: o.texture_scale,
+            winding: o.winding as u32,
+            up_axis: o.up_axis as u32,
+            scale: o.scale,
         }
     }
 }
@@ -542,7 +676,7 @@ pub unsafe extern "C" fn arbor_tree_copy_branches(
     })
 }
 
-/// The default mesh options: 8 radial segments, ARBOR_TOPOLOGY_TRIANGLE_LIST.
+/// The default mesh options (see ArborMeshOptions for each default).
 #[unsafe(no_mangle)]
 pub extern "C" fn arbor_mesh_options_default() -> ArborMeshOptions {
     MeshOptions::default().into()
@@ -628,6 +762,37 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
         mesh::write_mesh_uninit(&tree.skeleton, &options, v, i)?;
+        Ok(())
+    })
+}
+
+/// Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
+/// arbor_mesh_write() writes with `options` (NULL: the defaults): `capacity` elements,
+/// at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL. The ranges are
+/// consecutive and tile both buffers; a culled branch has empty ranges.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_branch_ranges(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut ArborBranchRange,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { mesh_options(options) }?;
+        let n = tree.skeleton.len();
+        // SAFETY: the caller promises `out` holds `capacity` writable elements.
+        let dst = unsafe { out_slice(out.cast::<BranchRange>(), capacity, n, "out") }?;
+        let ranges = mesh::branch_ranges(&tree.skeleton, &options)?;
+        for (d, r) in dst.iter_mut().zip(ranges) {
+            d.write(r);
+        }
         Ok(())
     })
 }

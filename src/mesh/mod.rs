@@ -4,17 +4,28 @@
 //! ([`write_mesh`]), so a host can fill a mapped GPU buffer directly; or [`tubes`] for owned
 //! `Vec`s allocated once at their exact size.
 //!
-//! Each branch gets two rings of `radial_segments + 1` vertices (the seam vertex is
-//! duplicated so `u` runs 0..=1 around the circumference), first the ring at `start`, then
-//! the ring at `end`. `v` runs from 0 at `start` to 1 at `end`. Normals are those of the
-//! cone: outward, tilted toward the narrow end when the branch tapers. Front faces are
-//! counter-clockwise seen from outside.
+//! Each branch is a truncated cone between two rings of `segments + 1` vertices (the seam
+//! vertex is duplicated so `u` runs 0..=1 around the circumference). With mitred joints
+//! (the default) a branch that continues its parent's axis shares the parent's end ring,
+//! placed in the plane that bisects the bend, so an axis is one watertight tube; a lateral
+//! branch starts with its own ring sunk into its parent. Rings are oriented by parallel
+//! transport along the tree, so seams do not twist. `v` is the arc length from the root
+//! divided by [`MeshOptions::texture_scale`]. Normals are those of the cone, outward.
+//! Front faces are counter-clockwise seen from outside unless [`Winding::Clockwise`].
+//!
+//! Per branch, vertices are written in this order: its own start ring (if it does not
+//! share its parent's), its end ring, a base cap (roots, if asked), then its tip (a cap or
+//! a point, for the last branch of an axis, if asked); indices follow the same order.
 
+mod strips;
 mod topology;
 mod tubes;
 
 pub use topology::Triangles;
-pub use tubes::{mesh_size, tubes, write_mesh, write_mesh_uninit};
+pub use tubes::{
+    BranchRange, LodLevel, branch_ranges, mesh_lods, mesh_size, tubes, write_mesh,
+    write_mesh_uninit,
+};
 
 use bytemuck::{Pod, Zeroable};
 
@@ -37,7 +48,8 @@ pub struct Vertex {
     pub position: [f32; 3],
     /// Unit outward normal.
     pub normal: [f32; 3],
-    /// `u` around the circumference (0..=1, seam duplicated), `v` along the branch (0..=1).
+    /// `u` around the circumference (0..=1, seam duplicated), `v` along the branch (arc
+    /// length from the root / texture scale).
     pub uv: [f32; 2],
 }
 
@@ -77,13 +89,84 @@ impl Topology {
     }
 }
 
+/// How a branch meets the branch it continues.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Joints {
+    /// Every branch has its own two rings (cracks show at bends).
+    Separate = 0,
+    /// A continuing branch shares its parent's end ring, placed in the bisecting plane.
+    #[default]
+    Mitred = 1,
+}
+
+/// How the last branch of an axis ends.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Tip {
+    /// Open tube.
+    #[default]
+    Open = 0,
+    /// A flat disc.
+    Cap = 1,
+    /// A cone closing to a point one radius beyond the end.
+    Point = 2,
+}
+
+/// Which way front faces wind, seen from outside.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Winding {
+    /// Counter-clockwise (OpenGL, glTF).
+    #[default]
+    CounterClockwise = 0,
+    /// Clockwise (Unity, Direct3D defaults).
+    Clockwise = 1,
+}
+
+/// Which axis points up in the output.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum UpAxis {
+    /// Y up, as arbor computes (OpenGL, Unity).
+    #[default]
+    Y = 0,
+    /// Z up (Unreal, Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which
+    /// keeps handedness and winding.
+    Z = 1,
+}
+
 /// Options of the tube mesher. Plain data; `Default` gives the documented defaults.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshOptions {
-    /// Sides of each truncated cone, 3..=64. Default 8.
+    /// Sides of each truncated cone, 3..=64 (the most, when LOD is on). Default 8.
     pub radial_segments: u32,
     /// Index buffer layout. Default [`Topology::TriangleList`].
     pub topology: Topology,
+    /// LOD by radius: 0 (default) gives every branch `radial_segments`; otherwise a branch
+    /// gets ⌈radial_segments · r / r_max⌉ sides clamped to `min_radial_segments..=
+    /// radial_segments`, where r is its larger radius and r_max the tree's largest.
+    pub min_radial_segments: u32,
+    /// Branches whose larger radius is below this are dropped with their whole subtree.
+    /// Default 0 (none).
+    pub cull_radius: f32,
+    /// Joints between a branch and the branch it continues. Default [`Joints::Mitred`].
+    pub joints: Joints,
+    /// A branch's end radius becomes the start radius of the branch that continues it, so
+    /// widths fall smoothly instead of in steps. Default false.
+    pub smooth_taper: bool,
+    /// A flat disc closing the base of each root. Default false.
+    pub base_cap: bool,
+    /// How axes end. Default [`Tip::Open`].
+    pub tip: Tip,
+    /// `v` = arc length from the root / texture_scale (model units). Finite, > 0. Default 1.
+    pub texture_scale: f32,
+    /// Front-face winding. Default [`Winding::CounterClockwise`].
+    pub winding: Winding,
+    /// Up axis of the output. Default [`UpAxis::Y`].
+    pub up_axis: UpAxis,
+    /// Uniform scale applied to positions. Finite, > 0. Default 1.
+    pub scale: f32,
 }
 
 impl Default for MeshOptions {
@@ -91,6 +174,16 @@ impl Default for MeshOptions {
         MeshOptions {
             radial_segments: 8,
             topology: Topology::TriangleList,
+            min_radial_segments: 0,
+            cull_radius: 0.0,
+            joints: Joints::Mitred,
+            smooth_taper: false,
+            base_cap: false,
+            tip: Tip::Open,
+            texture_scale: 1.0,
+            winding: Winding::CounterClockwise,
+            up_axis: UpAxis::Y,
+            scale: 1.0,
         }
     }
 }
@@ -113,6 +206,9 @@ pub struct Mesh {
     pub indices: Vec<u32>,
     /// How `indices` strings triangles together.
     pub topology: Topology,
+    /// For each branch of the skeleton (or leaf, for a leaf mesh), the vertices and indices
+    /// it owns; they tile both buffers in order. Empty where not recorded.
+    pub ranges: Vec<BranchRange>,
 }
 
 impl Mesh {

@@ -1,0 +1,182 @@
+//! Every surface is made of triangle strips; this module turns strips into the index
+//! layout of each topology and winding, and counts exactly what that takes.
+
+use super::{RESTART_INDEX, Topology};
+
+/// A place the writers can store a value into: an initialised element or an uninitialised
+/// slot (a mapped GPU buffer).
+pub(crate) trait Slot<T> {
+    fn put(&mut self, value: T);
+}
+
+impl<T> Slot<T> for T {
+    #[inline(always)]
+    fn put(&mut self, value: T) {
+        *self = value;
+    }
+}
+
+impl<T> Slot<T> for std::mem::MaybeUninit<T> {
+    #[inline(always)]
+    fn put(&mut self, value: T) {
+        self.write(value);
+    }
+}
+
+/// Topology and winding: how a strip becomes indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct StripRules {
+    pub(crate) topology: Topology,
+    /// Clockwise front faces: each strip is written with its first index doubled (one
+    /// degenerate triangle shifts the parity), a list with each triangle's last two swapped.
+    pub(crate) clockwise: bool,
+}
+
+impl StripRules {
+    /// Indices a strip of `len` (≥ 3) indices takes; `first`: it opens the buffer.
+    #[inline]
+    pub(crate) fn count(self, len: usize, first: bool) -> usize {
+        let cw = self.clockwise as usize;
+        match self.topology {
+            Topology::TriangleList => 3 * (len - 2),
+            Topology::TriangleStripRestart => len + cw + usize::from(!first),
+            Topology::TriangleStripDegenerate => {
+                let l = len + cw;
+                l + (l & 1) + if first { 0 } else { 2 }
+            }
+        }
+    }
+}
+
+/// Writes strips into an index buffer from a start position.
+pub(crate) struct StripWriter<'a, I: Slot<u32>> {
+    pub(crate) out: &'a mut [I],
+    pub(crate) pos: usize,
+    pub(crate) rules: StripRules,
+    /// Whether the next strip opens the buffer.
+    pub(crate) first: bool,
+    /// The last index written (for degenerate joins).
+    pub(crate) last: u32,
+}
+
+impl<I: Slot<u32>> StripWriter<'_, I> {
+    #[inline(always)]
+    fn push(&mut self, v: u32) {
+        self.out[self.pos].put(v);
+        self.pos += 1;
+        self.last = v;
+    }
+
+    /// Writes one strip (front faces counter-clockwise in OpenGL's strip order).
+    pub(crate) fn strip(&mut self, s: &[u32]) {
+        debug_assert!(s.len() >= 3);
+        let first = std::mem::replace(&mut self.first, false);
+        match self.rules.topology {
+            Topology::TriangleList => {
+                for k in 0..s.len() - 2 {
+                    let (a, b, c) = if k % 2 == 0 {
+                        (s[k], s[k + 1], s[k + 2])
+                    } else {
+                        (s[k + 1], s[k], s[k + 2])
+                    };
+                    if self.rules.clockwise {
+                        self.push(a);
+                        self.push(c);
+                        self.push(b);
+                    } else {
+                        self.push(a);
+                        self.push(b);
+                        self.push(c);
+                    }
+                }
+            }
+            Topology::TriangleStripRestart => {
+                if !first {
+                    self.push(RESTART_INDEX);
+                }
+                if self.rules.clockwise {
+                    self.push(s[0]);
+                }
+                for &v in s {
+                    self.push(v);
+                }
+            }
+            Topology::TriangleStripDegenerate => {
+                if !first {
+                    let last = self.last;
+                    self.push(last);
+                    self.push(s[0]);
+                }
+                if self.rules.clockwise {
+                    self.push(s[0]);
+                }
+                for &v in s {
+                    self.push(v);
+                }
+                if (s.len() + self.rules.clockwise as usize) % 2 == 1 {
+                    let last = self.last;
+                    self.push(last);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Triangles;
+
+    fn emit(topology: Topology, clockwise: bool, strips: &[&[u32]]) -> Vec<u32> {
+        let rules = StripRules {
+            topology,
+            clockwise,
+        };
+        let total: usize = strips
+            .iter()
+            .enumerate()
+            .map(|(i, s)| rules.count(s.len(), i == 0))
+            .sum();
+        let mut out = vec![0u32; total];
+        let mut w = StripWriter {
+            out: &mut out,
+            pos: 0,
+            rules,
+            first: true,
+            last: 0,
+        };
+        for s in strips {
+            w.strip(s);
+        }
+        assert_eq!(w.pos, total, "count matches what is written");
+        out
+    }
+
+    #[test]
+    fn every_topology_and_winding_gives_the_same_triangles() {
+        let strips: [&[u32]; 3] = [&[0, 1, 2, 3, 4], &[5, 6, 7], &[8, 9, 10, 11]];
+        let want: Vec<[u32; 3]> = Triangles::new(
+            &emit(Topology::TriangleList, false, &strips),
+            Topology::TriangleList,
+        )
+        .collect();
+        assert_eq!(want.len(), 3 + 1 + 2);
+        for topology in Topology::ALL {
+            let got: Vec<[u32; 3]> =
+                Triangles::new(&emit(topology, false, &strips), topology).collect();
+            assert_eq!(got, want, "{topology:?}");
+            let cw: Vec<[u32; 3]> =
+                Triangles::new(&emit(topology, true, &strips), topology).collect();
+            let flipped: Vec<[u32; 3]> = want.iter().map(|&[a, b, c]| [a, c, b]).collect();
+            let canon = |t: &[u32; 3]| {
+                let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+                [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+            };
+            assert_eq!(
+                cw.iter().map(canon).collect::<Vec<_>>(),
+                flipped.iter().map(canon).collect::<Vec<_>>(),
+                "{topology:?} clockwise"
+            );
+        }
+    }
+}
