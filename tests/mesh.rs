@@ -485,8 +485,8 @@ fn host_conventions_transform_the_same_mesh() {
     for (a, b) in base.vertices.iter().zip(&z.vertices) {
         let [x, y, zz] = a.position;
         let want = [x * 0.01, -zz * 0.01, y * 0.01];
-        for k in 0..3 {
-            assert!((b.position[k] - want[k]).abs() < 1e-4);
+        for (got, want) in b.position.iter().zip(want) {
+            assert!((got - want).abs() < 1e-4);
         }
         assert_eq!(b.normal, [a.normal[0], -a.normal[2], a.normal[1]]);
         assert_eq!(b.uv, a.uv);
