@@ -17,10 +17,15 @@
 //! share its parent's), its end ring, a base cap (roots, if asked), then its tip (a cap or
 //! a point, for the last branch of an axis, if asked); indices follow the same order.
 
+mod leaves;
 mod strips;
 mod topology;
 mod tubes;
 
+pub use leaves::{
+    LeafInstance, LeafOptions, LeafPrefab, leaf_instances, leaf_mesh, leaf_mesh_size,
+    write_leaf_mesh,
+};
 pub use topology::Triangles;
 pub use tubes::{
     BranchRange, LodLevel, branch_ranges, mesh_lods, mesh_size, tubes, write_mesh,

@@ -263,7 +263,7 @@ pub fn mesh_lods(skeleton: &Skeleton, levels: &[MeshOptions]) -> Result<Vec<LodL
 /// An orthonormal pair `(p, q)` with `p × q = n` for a unit `n`, continuous everywhere but
 /// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
 /// rarely point). Only roots need it; every other ring's frame is transported.
-fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
     if n.y < -0.999_999 {
         let p = (DVec3::X - n * n.x).normalize();
         return (p, n.cross(p));

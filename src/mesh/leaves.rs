@@ -1,0 +1,511 @@
+//! Leaves: where they go (the turtle's `~` sites, the tips of outer branches), as instance
+//! data for instanced drawing or baked into a leaf mesh (quads, a prefab from an OBJ file,
+//! and the turtle's `{ . }` polygons triangulated).
+
+use super::strips::{Slot, StripRules, StripWriter};
+use super::tubes::ring_basis;
+use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
+use crate::error::{Error, Result};
+use crate::lsystem::Rng;
+use crate::skeleton::Skeleton;
+use glam::{Mat3, Quat, Vec3};
+use std::mem::MaybeUninit;
+use std::path::Path;
+
+/// One leaf for instanced drawing: 32 bytes, the layout of the C type `ArborLeafInstance`.
+///
+/// The leaf's own space has +Y along the blade (stem to tip), +Z its face normal and +X
+/// across; `rotation` (a unit quaternion x, y, z, w) turns that space into the tree's, then
+/// `scale` and `position` apply. The output conventions of the mesh options (up axis,
+/// uniform scale) are applied too.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LeafInstance {
+    /// Where the leaf's stem attaches.
+    pub position: [f32; 3],
+    /// Unit quaternion (x, y, z, w) from leaf space to model space.
+    pub rotation: [f32; 4],
+    /// Uniform scale of the leaf shape.
+    pub scale: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<LeafInstance>() == 32);
+
+/// A leaf shape for baked leaf meshes: triangles in leaf space (+Y along the blade, +Z the
+/// face), for example a cluster of grass blades loaded from an OBJ file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LeafPrefab {
+    /// Vertices in leaf space.
+    pub vertices: Vec<Vertex>,
+    /// Triangles, counter-clockwise seen from the front.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl LeafPrefab {
+    /// The default leaf: a quad 0.5 wide and 1 long, its stem at the origin.
+    pub fn quad() -> Self {
+        let v = |x: f32, y: f32, u: f32, w: f32| Vertex {
+            position: [x, y, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            uv: [u, w],
+        };
+        LeafPrefab {
+            vertices: vec![
+                v(-0.25, 0.0, 0.0, 0.0),
+                v(0.25, 0.0, 1.0, 0.0),
+                v(0.25, 1.0, 1.0, 1.0),
+                v(-0.25, 1.0, 0.0, 1.0),
+            ],
+            triangles: vec![[0, 1, 3], [3, 1, 2]],
+        }
+    }
+
+    /// Loads every model of an OBJ file (triangulated; normals computed flat-per-vertex
+    /// where the file has none; uv (0, 0) where it has none).
+    pub fn from_obj(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let (models, _) = tobj::load_obj(path, &tobj::GPU_LOAD_OPTIONS).map_err(|e| {
+            Error::Io(std::io::Error::other(format!(
+                "cannot load leaf prefab {}: {e}",
+                path.display()
+            )))
+        })?;
+        let mut prefab = LeafPrefab::default();
+        for model in models {
+            let m = &model.mesh;
+            let base = prefab.vertices.len() as u32;
+            let n = m.positions.len() / 3;
+            for i in 0..n {
+                let p = [
+                    m.positions[3 * i],
+                    m.positions[3 * i + 1],
+                    m.positions[3 * i + 2],
+                ];
+                let normal = if m.normals.len() >= 3 * n {
+                    [m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]]
+                } else {
+                    [0.0, 0.0, 1.0]
+                };
+                let uv = if m.texcoords.len() >= 2 * n {
+                    [m.texcoords[2 * i], m.texcoords[2 * i + 1]]
+                } else {
+                    [0.0, 0.0]
+                };
+                prefab.vertices.push(Vertex {
+                    position: p,
+                    normal,
+                    uv,
+                });
+            }
+            for t in m.indices.chunks_exact(3) {
+                prefab
+                    .triangles
+                    .push([base + t[0], base + t[1], base + t[2]]);
+            }
+        }
+        prefab.validate(&path.display().to_string())?;
+        Ok(prefab)
+    }
+
+    fn validate(&self, what: &str) -> Result<()> {
+        let n = self.vertices.len() as u32;
+        if self.triangles.is_empty() {
+            return Err(Error::invalid("prefab", format!("{what} has no triangles")));
+        }
+        if let Some(t) = self.triangles.iter().find(|t| t.iter().any(|&i| i >= n)) {
+            return Err(Error::invalid(
+                "prefab",
+                format!("{what}: triangle {t:?} indexes past {n} vertices"),
+            ));
+        }
+        let finite = self.vertices.iter().all(|v| {
+            v.position
+                .iter()
+                .chain(&v.normal)
+                .chain(&v.uv)
+                .all(|x| x.is_finite())
+        });
+        if !finite {
+            return Err(Error::invalid(
+                "prefab",
+                format!("{what} has a non-finite value"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Where leaves go and how they vary. `Default` gives the documented defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeafOptions {
+    /// A leaf at every `~` site the turtle recorded. Default true.
+    pub sites: bool,
+    /// The turtle's `{ . }` polygons in the baked leaf mesh. Default true.
+    pub polygons: bool,
+    /// Leaves at the tips of terminal branches (those no branch grows from). Default false.
+    pub tips: bool,
+    /// Only tips of branches at least this deep (the rewriting step that made them) get
+    /// leaves, so leaves sit on the outer levels. Default 0.
+    pub min_depth: u32,
+    /// Expected leaves per tip: the whole part always, the fraction by chance. Finite,
+    /// 0..=64. Default 1.
+    pub density: f32,
+    /// Leaf size in model units (the prefab is scaled by it). Finite, > 0. Default 1.
+    pub size: f32,
+    /// Each leaf's size varies by up to ± this fraction. 0..1. Default 0.2.
+    pub size_jitter: f32,
+    /// Each leaf turns about its stem by up to ± this many degrees. Finite. Default 180.
+    pub rotation_jitter: f32,
+    /// How far tip leaves lean out from the branch, degrees. Finite. Default 30.
+    pub tilt: f32,
+    /// Seed of the variation. Default 0.
+    pub seed: u64,
+    /// The baked shape; `None` is [`LeafPrefab::quad`].
+    pub prefab: Option<LeafPrefab>,
+}
+
+impl Default for LeafOptions {
+    fn default() -> Self {
+        LeafOptions {
+            sites: true,
+            polygons: true,
+            tips: false,
+            min_depth: 0,
+            density: 1.0,
+            size: 1.0,
+            size_jitter: 0.2,
+            rotation_jitter: 180.0,
+            tilt: 30.0,
+            seed: 0,
+            prefab: None,
+        }
+    }
+}
+
+impl LeafOptions {
+    fn validate(&self) -> Result<()> {
+        if !(self.density.is_finite() && (0.0..=64.0).contains(&self.density)) {
+            return Err(Error::invalid(
+                "density",
+                format!("{}; expected 0..=64 leaves per tip", self.density),
+            ));
+        }
+        if !(self.size.is_finite() && self.size > 0.0) {
+            return Err(Error::invalid(
+                "size",
+                format!("{}; expected a finite number > 0", self.size),
+            ));
+        }
+        if !(self.size_jitter.is_finite() && (0.0..1.0).contains(&self.size_jitter)) {
+            return Err(Error::invalid(
+                "size_jitter",
+                format!("{}; expected 0 <= size_jitter < 1", self.size_jitter),
+            ));
+        }
+        for (field, v) in [
+            ("rotation_jitter", self.rotation_jitter),
+            ("tilt", self.tilt),
+        ] {
+            if !v.is_finite() {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite angle"),
+                ));
+            }
+        }
+        if let Some(p) = &self.prefab {
+            p.validate("the prefab")?;
+        }
+        Ok(())
+    }
+}
+
+/// Leaves in model space, before output conventions.
+fn place(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<LeafInstance>> {
+    o.validate()?;
+    let mut rng = Rng::new(o.seed);
+    let mut out = Vec::new();
+    let mut leaf = |rng: &mut Rng, position: Vec3, heading: Vec3, up: Vec3, lean: f32| {
+        let heading = heading.try_normalize().unwrap_or(Vec3::Y);
+        let up = (up - heading * up.dot(heading))
+            .try_normalize()
+            .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
+        // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
+        let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
+        let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
+        let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
+        let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
+            * frame
+            * Quat::from_rotation_x(lean.to_radians()))
+        .normalize();
+        out.push(LeafInstance {
+            position: position.to_array(),
+            rotation: rotation.to_array(),
+            scale: o.size * grow,
+        });
+    };
+    if o.sites {
+        for site in skeleton.leaves() {
+            let (p, h, u) = (site.position, site.heading, site.up);
+            leaf(&mut rng, Vec3::from(p), Vec3::from(h), Vec3::from(u), 0.0);
+        }
+    }
+    if o.tips {
+        let branches = skeleton.branches();
+        let mut has_child = vec![false; branches.len()];
+        for b in branches {
+            if !b.is_root() {
+                has_child[b.parent as usize] = true;
+            }
+        }
+        let whole = o.density.floor() as u32;
+        let frac = o.density - whole as f32;
+        for (b, &inner) in branches.iter().zip(&has_child) {
+            if inner || b.depth < o.min_depth {
+                continue;
+            }
+            let count = whole + u32::from((rng.next_f64() as f32) < frac);
+            let heading = b.end() - b.start();
+            let up = ring_basis(heading.as_dvec3().normalize_or(glam::DVec3::Y))
+                .0
+                .as_vec3();
+            for _ in 0..count {
+                leaf(&mut rng, b.end(), heading, up, -o.tilt);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The leaf instances of `skeleton` (sites first, then tips in branch order), with the
+/// output conventions of `mesh` (up axis and uniform scale) applied.
+pub fn leaf_instances(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<LeafInstance>> {
+    let mut out = place(skeleton, leaves)?;
+    if mesh.up_axis == UpAxis::Z || mesh.scale != 1.0 {
+        let turn = if mesh.up_axis == UpAxis::Z {
+            Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)
+        } else {
+            Quat::IDENTITY
+        };
+        for l in &mut out {
+            l.position = (turn * (Vec3::from(l.position) * mesh.scale)).to_array();
+            l.rotation = (turn * Quat::from_array(l.rotation)).normalize().to_array();
+            l.scale *= mesh.scale;
+        }
+    }
+    Ok(out)
+}
+
+/// What the baked leaf mesh holds.
+struct LeafPlan {
+    instances: Vec<LeafInstance>,
+    prefab: LeafPrefab,
+    /// Polygons to triangulate: (first point, count).
+    polygons: Vec<(usize, usize)>,
+    size: MeshSize,
+    rules: StripRules,
+}
+
+fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
+    // The conventions are applied to the baked vertices, so place in model space.
+    let instances = place(skeleton, leaves)?;
+    let prefab = leaves.prefab.clone().unwrap_or_else(LeafPrefab::quad);
+    let polygons: Vec<(usize, usize)> = if leaves.polygons {
+        skeleton
+            .polygons()
+            .iter()
+            .map(|p| (p.first as usize, p.count as usize))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let rules = StripRules {
+        topology: mesh.topology,
+        clockwise: mesh.winding == Winding::Clockwise,
+    };
+    let mut first = true;
+    let mut indices = 0u64;
+    for _ in 0..instances.len() * prefab.triangles.len() {
+        indices += rules.count(3, first) as u64;
+        first = false;
+    }
+    for &(_, n) in &polygons {
+        indices += rules.count(n, first) as u64;
+        first = false;
+    }
+    let vertices = (instances.len() * prefab.vertices.len()
+        + polygons.iter().map(|p| p.1).sum::<usize>()) as u64;
+    if vertices > RESTART_INDEX as u64 || indices > u32::MAX as u64 {
+        return Err(Error::LimitExceeded {
+            limit_name: "u32 index range",
+            what: "leaf vertices",
+            limit: RESTART_INDEX as u64,
+            requested: vertices.max(indices),
+            step: None,
+        });
+    }
+    Ok(LeafPlan {
+        instances,
+        prefab,
+        polygons,
+        size: MeshSize {
+            vertices: vertices as usize,
+            indices: indices as usize,
+        },
+        rules,
+    })
+}
+
+/// Exact counts of the baked leaf mesh ([`write_leaf_mesh`]).
+pub fn leaf_mesh_size(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<MeshSize> {
+    Ok(leaf_plan(skeleton, leaves, mesh)?.size)
+}
+
+/// The baked leaf mesh as owned buffers.
+pub fn leaf_mesh(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<Mesh> {
+    let plan = leaf_plan(skeleton, leaves, mesh)?;
+    let mut vertices = bytemuck::zeroed_vec::<Vertex>(plan.size.vertices);
+    let mut indices = bytemuck::zeroed_vec::<u32>(plan.size.indices);
+    write_leaves(skeleton, mesh, &plan, &mut vertices, &mut indices);
+    Ok(Mesh {
+        vertices,
+        indices,
+        topology: mesh.topology,
+        ranges: Vec::new(),
+    })
+}
+
+/// Writes the baked leaf mesh (every leaf a copy of the prefab, then every polygon) into
+/// caller memory, with the topology and conventions of `mesh`. Too-small slices give
+/// [`Error::BufferTooSmall`] and nothing is written.
+pub fn write_leaf_mesh(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+    vertices: &mut [MaybeUninit<Vertex>],
+    indices: &mut [MaybeUninit<u32>],
+) -> Result<MeshSize> {
+    let plan = leaf_plan(skeleton, leaves, mesh)?;
+    let size = plan.size;
+    if vertices.len() < size.vertices {
+        return Err(Error::BufferTooSmall {
+            buffer: "vertices",
+            required: size.vertices,
+            capacity: vertices.len(),
+        });
+    }
+    if indices.len() < size.indices {
+        return Err(Error::BufferTooSmall {
+            buffer: "indices",
+            required: size.indices,
+            capacity: indices.len(),
+        });
+    }
+    write_leaves(
+        skeleton,
+        mesh,
+        &plan,
+        &mut vertices[..size.vertices],
+        &mut indices[..size.indices],
+    );
+    Ok(size)
+}
+
+fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    plan: &LeafPlan,
+    vertices: &mut [V],
+    indices: &mut [I],
+) {
+    let z_up = mesh.up_axis == UpAxis::Z;
+    let dir = |v: Vec3| if z_up { [v.x, -v.z, v.y] } else { v.to_array() };
+    let pos = |v: Vec3| dir(v * mesh.scale);
+    let mut vi = 0usize;
+    let mut w = StripWriter {
+        out: indices,
+        pos: 0,
+        rules: plan.rules,
+        first: true,
+        last: 0,
+    };
+    for l in &plan.instances {
+        let q = Quat::from_array(l.rotation);
+        let at = Vec3::from(l.position);
+        let base = vi as u32;
+        for v in &plan.prefab.vertices {
+            vertices[vi].put(Vertex {
+                position: pos(at + q * (Vec3::from(v.position) * l.scale)),
+                normal: dir((q * Vec3::from(v.normal)).normalize_or_zero()),
+                uv: v.uv,
+            });
+            vi += 1;
+        }
+        for t in &plan.prefab.triangles {
+            w.strip(&[base + t[0], base + t[1], base + t[2]]);
+        }
+    }
+    let points = skeleton.polygon_points();
+    let mut strip = Vec::new();
+    for &(first, n) in &plan.polygons {
+        let pts: Vec<Vec3> = points[first..first + n]
+            .iter()
+            .map(|&p| Vec3::from(p))
+            .collect();
+        // Newell's normal: the side from which the points turn counter-clockwise.
+        let mut normal = Vec3::ZERO;
+        for k in 0..n {
+            let (a, b) = (pts[k], pts[(k + 1) % n]);
+            normal += Vec3::new(
+                (a.y - b.y) * (a.z + b.z),
+                (a.z - b.z) * (a.x + b.x),
+                (a.x - b.x) * (a.y + b.y),
+            );
+        }
+        let normal = normal.try_normalize().unwrap_or(Vec3::Z);
+        let (e1, e2) = {
+            let e1 = (pts[1] - pts[0]).try_normalize().unwrap_or(Vec3::X);
+            (e1, normal.cross(e1))
+        };
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+        for p in &pts {
+            let uv = glam::Vec2::new((*p - pts[0]).dot(e1), (*p - pts[0]).dot(e2));
+            lo = lo.min(uv);
+            hi = hi.max(uv);
+        }
+        let span = (hi - lo).max(glam::Vec2::splat(f32::MIN_POSITIVE));
+        let base = vi as u32;
+        for p in &pts {
+            let uv = (glam::Vec2::new((*p - pts[0]).dot(e1), (*p - pts[0]).dot(e2)) - lo) / span;
+            vertices[vi].put(Vertex {
+                position: pos(*p),
+                normal: dir(normal),
+                uv: uv.to_array(),
+            });
+            vi += 1;
+        }
+        // A convex polygon as a zig-zag strip.
+        strip.clear();
+        strip.push(base);
+        let (mut a, mut b) = (1usize, n - 1);
+        while a <= b {
+            strip.push(base + a as u32);
+            a += 1;
+            if a <= b {
+                strip.push(base + b as u32);
+                b -= 1;
+            }
+        }
+        w.strip(&strip);
+    }
+    debug_assert_eq!(vi, vertices.len());
+    debug_assert_eq!(w.pos, w.out.len());
+}

@@ -1,0 +1,266 @@
+//! Leaf placement, instance data and the baked leaf mesh.
+
+use arbor::honda::{self, HondaParams};
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::mesh::{
+    self, LeafInstance, LeafOptions, LeafPrefab, MeshOptions, Topology, UpAxis, Vertex, Winding,
+};
+use arbor::skeleton::Skeleton;
+use glam::{Quat, Vec3};
+
+fn tree(name: char) -> Skeleton {
+    honda::build(&HondaParams::preset(name).unwrap()).unwrap()
+}
+
+fn grammar(text: &str) -> Skeleton {
+    LSystem::parse(text)
+        .unwrap()
+        .skeleton(&LsystemOptions::default())
+        .unwrap()
+}
+
+fn terminal_branches(s: &Skeleton, min_depth: u32) -> usize {
+    let b = s.branches();
+    let mut inner = vec![false; b.len()];
+    for x in b {
+        if !x.is_root() {
+            inner[x.parent as usize] = true;
+        }
+    }
+    b.iter()
+        .zip(&inner)
+        .filter(|(x, i)| !**i && x.depth >= min_depth)
+        .count()
+}
+
+fn tips(density: f32, min_depth: u32, seed: u64) -> LeafOptions {
+    LeafOptions {
+        tips: true,
+        density,
+        min_depth,
+        seed,
+        size: 5.0,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn tip_leaves_sit_on_the_outer_levels() {
+    let s = tree('a');
+    let m = MeshOptions::default();
+    for (density, depth) in [(1.0, 0), (3.0, 0), (2.0, 10), (1.0, 11)] {
+        let l = mesh::leaf_instances(&s, &tips(density, depth, 1), &m).unwrap();
+        assert_eq!(l.len(), terminal_branches(&s, depth) * density as usize);
+    }
+    // A fractional density gives each tip the whole part and the fraction by chance.
+    let n = terminal_branches(&s, 0);
+    let l = mesh::leaf_instances(&s, &tips(1.5, 0, 7), &m).unwrap();
+    assert!(
+        l.len() > n + n / 3 && l.len() < n + 2 * n / 3,
+        "{} for {n} tips",
+        l.len()
+    );
+    // Every tip leaf stands at the end of a terminal branch.
+    let ends: Vec<[f32; 3]> = s.branches().iter().map(|b| b.end).collect();
+    for leaf in &l {
+        assert!(ends.contains(&leaf.position));
+    }
+}
+
+#[test]
+fn leaves_are_seeded_and_vary_within_their_ranges() {
+    let s = tree('g');
+    let m = MeshOptions::default();
+    let a = mesh::leaf_instances(&s, &tips(2.0, 0, 3), &m).unwrap();
+    let b = mesh::leaf_instances(&s, &tips(2.0, 0, 3), &m).unwrap();
+    let c = mesh::leaf_instances(&s, &tips(2.0, 0, 4), &m).unwrap();
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+    for leaf in &a {
+        let q = Quat::from_array(leaf.rotation);
+        assert!((q.length() - 1.0).abs() < 1e-5);
+        assert!(leaf.scale >= 5.0 * 0.8 - 1e-4 && leaf.scale <= 5.0 * 1.2 + 1e-4);
+    }
+    let scales: std::collections::HashSet<u32> = a.iter().map(|l| l.scale.to_bits()).collect();
+    assert!(scales.len() > a.len() / 2, "sizes vary");
+}
+
+#[test]
+fn site_leaves_follow_the_turtle() {
+    let s = grammar("angle increment: 90\nAxiom: F[+F~]F~");
+    assert_eq!(s.leaves().len(), 2);
+    let o = LeafOptions {
+        rotation_jitter: 0.0,
+        size_jitter: 0.0,
+        ..Default::default()
+    };
+    let l = mesh::leaf_instances(&s, &o, &MeshOptions::default()).unwrap();
+    assert_eq!(l.len(), 2);
+    for (leaf, site) in l.iter().zip(s.leaves()) {
+        assert_eq!(leaf.position, site.position);
+        let q = Quat::from_array(leaf.rotation);
+        let along = q * Vec3::Y;
+        let face = q * Vec3::Z;
+        assert!(along.abs_diff_eq(Vec3::from(site.heading), 1e-5), "{along}");
+        assert!(face.abs_diff_eq(Vec3::from(site.up), 1e-5), "{face}");
+        assert_eq!(leaf.scale, 1.0);
+    }
+}
+
+fn decoded(m: &arbor::Mesh) -> Vec<[u32; 3]> {
+    m.triangles()
+        .map(|[a, b, c]| {
+            let k = [a, b, c];
+            let i = (0..3).min_by_key(|&i| k[i]).unwrap();
+            [k[i], k[(i + 1) % 3], k[(i + 2) % 3]]
+        })
+        .collect()
+}
+
+#[test]
+fn baked_leaves_match_the_instances_in_every_topology() {
+    let s = grammar("angle increment: 60\nAxiom: F[+F~][-F~]F[{.+f.+f.+f.}]~");
+    let o = LeafOptions {
+        tips: true,
+        ..Default::default()
+    };
+    for up_axis in [UpAxis::Y, UpAxis::Z] {
+        let m = MeshOptions {
+            up_axis,
+            scale: 2.0,
+            ..Default::default()
+        };
+        let instances = mesh::leaf_instances(&s, &o, &m).unwrap();
+        let leaves = mesh::leaf_mesh(&s, &o, &m).unwrap();
+        let polygon_points: usize = s.polygons().iter().map(|p| p.count as usize).sum();
+        assert_eq!(leaves.vertices.len(), instances.len() * 4 + polygon_points);
+        let polygon_tris: usize = s.polygons().iter().map(|p| p.count as usize - 2).sum();
+        assert_eq!(
+            leaves.triangles().count(),
+            instances.len() * 2 + polygon_tris
+        );
+        // Each baked quad is its instance's transform of the unit quad.
+        let quad = LeafPrefab::quad();
+        for (k, leaf) in instances.iter().enumerate() {
+            let q = Quat::from_array(leaf.rotation);
+            for (j, v) in quad.vertices.iter().enumerate() {
+                let want = Vec3::from(leaf.position) + q * (Vec3::from(v.position) * leaf.scale);
+                let got = Vec3::from(leaves.vertices[4 * k + j].position);
+                assert!(
+                    got.abs_diff_eq(want, 1e-4),
+                    "leaf {k} corner {j}: {got} vs {want}"
+                );
+            }
+        }
+        let list = decoded(&leaves);
+        for topology in [
+            Topology::TriangleStripRestart,
+            Topology::TriangleStripDegenerate,
+        ] {
+            let strips = mesh::leaf_mesh(&s, &o, &MeshOptions { topology, ..m }).unwrap();
+            assert_eq!(strips.vertices, leaves.vertices);
+            assert_eq!(decoded(&strips), list, "{topology:?}");
+            let size = mesh::leaf_mesh_size(&s, &o, &MeshOptions { topology, ..m }).unwrap();
+            assert_eq!(size.indices, strips.indices.len());
+        }
+        let cw = mesh::leaf_mesh(
+            &s,
+            &o,
+            &MeshOptions {
+                winding: Winding::Clockwise,
+                ..m
+            },
+        )
+        .unwrap();
+        let flipped: Vec<[u32; 3]> = leaves.triangles().map(|[a, b, c]| [a, c, b]).collect();
+        assert_eq!(cw.triangles().collect::<Vec<_>>(), flipped);
+        for v in &leaves.vertices {
+            assert!((Vec3::from(v.normal).length() - 1.0).abs() < 1e-4);
+        }
+        // Faces agree with their normals.
+        for [a, b, c] in leaves.triangles() {
+            let p = |i: u32| Vec3::from(leaves.vertices[i as usize].position);
+            let face = (p(b) - p(a)).cross(p(c) - p(a)).normalize();
+            assert!(face.dot(Vec3::from(leaves.vertices[a as usize].normal)) > 0.9);
+        }
+    }
+}
+
+#[test]
+fn a_prefab_from_an_obj_file_is_baked_per_leaf() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let path = dir.join("blades.obj");
+    // Three blades of grass around the stem.
+    std::fs::write(
+        &path,
+        "v -0.05 0 0\nv 0.05 0 0\nv 0 1 0\nv 0 0 -0.05\nv 0 0 0.05\nv 0.2 0.9 0\n\
+         v -0.05 0 0.02\nv 0.05 0 -0.02\nv -0.2 0.8 0.1\nvt 0 0\nvt 1 0\nvt 0.5 1\n\
+         f 1/1 2/2 3/3\nf 4/1 5/2 6/3\nf 7/1 8/2 9/3\n",
+    )
+    .unwrap();
+    let prefab = LeafPrefab::from_obj(&path).unwrap();
+    assert_eq!(prefab.triangles.len(), 3);
+    let s = tree('c');
+    let o = LeafOptions {
+        tips: true,
+        prefab: Some(prefab.clone()),
+        ..Default::default()
+    };
+    let m = MeshOptions::default();
+    let n = mesh::leaf_instances(&s, &o, &m).unwrap().len();
+    let baked = mesh::leaf_mesh(&s, &o, &m).unwrap();
+    assert_eq!(baked.vertices.len(), n * prefab.vertices.len());
+    assert_eq!(baked.triangles().count(), n * 3);
+    assert!(LeafPrefab::from_obj(dir.join("missing.obj")).is_err());
+}
+
+#[test]
+fn bad_leaf_options_name_their_field() {
+    let s = tree('a');
+    let m = MeshOptions::default();
+    for (field, o) in [
+        (
+            "density",
+            LeafOptions {
+                density: -1.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "density",
+            LeafOptions {
+                density: f32::NAN,
+                ..Default::default()
+            },
+        ),
+        (
+            "size",
+            LeafOptions {
+                size: 0.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "size_jitter",
+            LeafOptions {
+                size_jitter: 1.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "rotation_jitter",
+            LeafOptions {
+                rotation_jitter: f32::INFINITY,
+                ..Default::default()
+            },
+        ),
+    ] {
+        match mesh::leaf_instances(&s, &o, &m) {
+            Err(arbor::Error::InvalidArgument { field: f, .. }) => assert_eq!(f, field),
+            other => panic!("{field}: {other:?}"),
+        }
+    }
+    let sizes = std::mem::size_of::<LeafInstance>();
+    assert_eq!(sizes, 32);
+    let _ = Vertex::default();
+}
