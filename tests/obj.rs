@@ -64,3 +64,43 @@ fn obj_header_counts_triangles_of_strips() {
     let header = format!("{} vertices, 4080 triangles", m.vertices.len());
     assert!(text.lines().next().unwrap().contains(&header));
 }
+
+#[test]
+fn bark_and_leaves_read_back_as_two_groups() {
+    use arbor::export::save_obj_parts;
+    use arbor::mesh::LeafOptions;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("obj");
+    std::fs::create_dir_all(&dir).unwrap();
+    let skeleton = honda::build(&HondaParams::preset('g').unwrap()).unwrap();
+    for topology in Topology::ALL {
+        let options = MeshOptions {
+            topology,
+            tip: arbor::mesh::Tip::Point,
+            ..Default::default()
+        };
+        let bark = mesh::tubes(&skeleton, &options).unwrap();
+        let leaf_options = LeafOptions {
+            tips: true,
+            size: 6.0,
+            ..Default::default()
+        };
+        let leaves = mesh::leaf_mesh(&skeleton, &leaf_options, &options).unwrap();
+        let path = dir.join(format!("tree_g_{topology:?}.obj"));
+        save_obj_parts(&[("bark", &bark), ("leaves", &leaves)], &path).unwrap();
+        let (models, _) = tobj::load_obj(&path, &tobj::GPU_LOAD_OPTIONS).unwrap();
+        assert_eq!(models.len(), 2);
+        for (model, (name, m)) in models.iter().zip([("bark", &bark), ("leaves", &leaves)]) {
+            assert_eq!(model.name, name);
+            let obj = &model.mesh;
+            let triangles: Vec<[u32; 3]> = m.triangles().collect();
+            assert_eq!(obj.indices.len(), triangles.len() * 3, "{name}");
+            // Every corner of every triangle: the same vertex, the same order.
+            for (&i, &want) in obj.indices.iter().zip(triangles.iter().flatten()) {
+                let (i, v) = (i as usize, &m.vertices[want as usize]);
+                assert_eq!(&obj.positions[3 * i..3 * i + 3], v.position);
+                assert_eq!(&obj.normals[3 * i..3 * i + 3], v.normal);
+                assert_eq!(&obj.texcoords[2 * i..2 * i + 2], v.uv);
+            }
+        }
+    }
+}

@@ -2,4 +2,4 @@
 
 mod obj;
 
-pub use obj::{save_obj, write_obj};
+pub use obj::{save_obj, save_obj_parts, write_obj, write_obj_parts};

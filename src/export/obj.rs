@@ -1,39 +1,53 @@
-//! Wavefront OBJ: positions, texture coordinates, normals and triangles.
+//! Wavefront OBJ: positions, texture coordinates, normals and triangles, one group per part.
 
 use crate::error::Result;
 use crate::mesh::Mesh;
 use std::io::Write;
 use std::path::Path;
 
-/// Writes `mesh` as Wavefront OBJ text: one `v`, `vt` and `vn` line per vertex (in that
-/// order, so a vertex's three indices are equal) and one `f` line per triangle, whatever
-/// the mesh's topology (strips are decoded, degenerate joins skipped). Counter-clockwise
-/// winding is kept. The writer is buffered internally; pass an unbuffered `File` freely.
+/// Writes `mesh` as Wavefront OBJ text (one part named `arbor`); see [`write_obj_parts`].
 pub fn write_obj<W: Write>(mesh: &Mesh, out: W) -> Result<()> {
+    write_obj_parts(&[("arbor", mesh)], out)
+}
+
+/// Writes several meshes (for example `("bark", &bark)` and `("leaves", &leaves)`) as one
+/// OBJ file, each part under its own `g name` line: one `v`, `vt` and `vn` line per vertex
+/// (in that order, so a vertex's three indices are equal, counted across parts as OBJ
+/// requires) and one `f` line per triangle, whatever the topology (strips are decoded,
+/// degenerate joins skipped, winding kept). The writer is buffered internally.
+pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> {
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
-    let triangles = mesh.triangles().count();
+    let vertices: usize = parts.iter().map(|(_, m)| m.vertices.len()).sum();
+    let triangles: usize = parts.iter().map(|(_, m)| m.triangles().count()).sum();
     writeln!(
         w,
-        "# arbor {}: {} vertices, {} triangles",
+        "# arbor {}: {vertices} vertices, {triangles} triangles",
         env!("CARGO_PKG_VERSION"),
-        mesh.vertices.len(),
-        triangles
     )?;
-    for v in &mesh.vertices {
-        let [x, y, z] = v.position;
-        writeln!(w, "v {x} {y} {z}")?;
-    }
-    for v in &mesh.vertices {
-        let [s, t] = v.uv;
-        writeln!(w, "vt {s} {t}")?;
-    }
-    for v in &mesh.vertices {
-        let [x, y, z] = v.normal;
-        writeln!(w, "vn {x} {y} {z}")?;
-    }
-    for [a, b, c] in mesh.triangles() {
-        let (a, b, c) = (a + 1, b + 1, c + 1);
-        writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?;
+    let mut base = 1u64;
+    for (name, mesh) in parts {
+        let name: String = name
+            .chars()
+            .map(|c| if c.is_whitespace() { '_' } else { c })
+            .collect();
+        writeln!(w, "g {name}")?;
+        for v in &mesh.vertices {
+            let [x, y, z] = v.position;
+            writeln!(w, "v {x} {y} {z}")?;
+        }
+        for v in &mesh.vertices {
+            let [s, t] = v.uv;
+            writeln!(w, "vt {s} {t}")?;
+        }
+        for v in &mesh.vertices {
+            let [x, y, z] = v.normal;
+            writeln!(w, "vn {x} {y} {z}")?;
+        }
+        for [a, b, c] in mesh.triangles() {
+            let (a, b, c) = (a as u64 + base, b as u64 + base, c as u64 + base);
+            writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?;
+        }
+        base += mesh.vertices.len() as u64;
     }
     w.flush()?;
     Ok(())
@@ -42,4 +56,9 @@ pub fn write_obj<W: Write>(mesh: &Mesh, out: W) -> Result<()> {
 /// Writes `mesh` as OBJ to the file at `path`, creating or truncating it.
 pub fn save_obj(mesh: &Mesh, path: impl AsRef<Path>) -> Result<()> {
     write_obj(mesh, std::fs::File::create(path)?)
+}
+
+/// Writes several named meshes as one OBJ file at `path` (see [`write_obj_parts`]).
+pub fn save_obj_parts(parts: &[(&str, &Mesh)], path: impl AsRef<Path>) -> Result<()> {
+    write_obj_parts(parts, std::fs::File::create(path)?)
 }
