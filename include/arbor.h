@@ -431,6 +431,79 @@ typedef struct ArborBranchRange {
   uint32_t index_count;
 } ArborBranchRange;
 
+/**
+ * Where leaves go and how they vary (see arbor_leaf_options_default() for the defaults).
+ * Fields may be added at the end in later versions.
+ */
+typedef struct ArborLeafOptions {
+  /**
+   * 1: a leaf at every `~` site of the grammar. Default 1.
+   */
+  uint32_t sites;
+  /**
+   * 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
+   */
+  uint32_t polygons;
+  /**
+   * 1: leaves at the tips of terminal branches. Default 0.
+   */
+  uint32_t tips;
+  /**
+   * Only tips of branches at least this deep get leaves. Default 0.
+   */
+  uint32_t min_depth;
+  /**
+   * Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
+   */
+  float density;
+  /**
+   * Leaf size in model units; > 0. Default 1.
+   */
+  float size;
+  /**
+   * Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+   */
+  float size_jitter;
+  /**
+   * Each leaf turns about its stem by up to +- this many degrees. Default 180.
+   */
+  float rotation_jitter;
+  /**
+   * Tip leaves lean out from the branch by this many degrees. Default 30.
+   */
+  float tilt;
+  /**
+   * Seed of the variation. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
+   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
+   * leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+   */
+  const char *prefab_obj_path;
+} ArborLeafOptions;
+
+/**
+ * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
+ * space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
+ * moved to `position`.
+ */
+typedef struct ArborLeafInstance {
+  /**
+   * Where the stem attaches.
+   */
+  float position[3];
+  /**
+   * Unit quaternion (x, y, z, w).
+   */
+  float rotation[4];
+  /**
+   * Uniform scale.
+   */
+  float scale;
+} ArborLeafInstance;
+
 
 
 #ifdef __cplusplus
@@ -589,6 +662,115 @@ enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
                                           const struct ArborMeshOptions *options,
                                           struct ArborBranchRange *out,
                                           size_t capacity);
+
+/**
+ * The default leaf options (see ArborLeafOptions for each default).
+ */
+struct ArborLeafOptions arbor_leaf_options_default(void);
+
+/**
+ * Writes the number of leaf instances of `tree` with `leaf_options` (NULL: defaults) to
+ * `*count`; `mesh_options` (NULL: defaults) supplies the up axis and scale.
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `count` is NULL or writable.
+ */
+enum ArborStatus arbor_leaf_instance_count(const struct ArborTree *tree,
+                                           const struct ArborLeafOptions *leaf_options,
+                                           const struct ArborMeshOptions *mesh_options,
+                                           size_t *count);
+
+/**
+ * Writes the leaf instances of `tree` into `out` (`capacity` elements, at least
+ * arbor_leaf_instance_count()'s, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written).
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `out` is NULL or valid for
+ * writes of `capacity` instances.
+ */
+enum ArborStatus arbor_leaf_instances_write(const struct ArborTree *tree,
+                                            const struct ArborLeafOptions *leaf_options,
+                                            const struct ArborMeshOptions *mesh_options,
+                                            struct ArborLeafInstance *out,
+                                            size_t capacity);
+
+/**
+ * Exact vertex and index counts of the baked leaf mesh (every leaf a copy of the leaf
+ * shape, then the grammar's polygons), in the topology and conventions of
+ * `mesh_options` (NULL: defaults).
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; the counts NULL or writable.
+ */
+enum ArborStatus arbor_leaf_mesh_size(const struct ArborTree *tree,
+                                      const struct ArborLeafOptions *leaf_options,
+                                      const struct ArborMeshOptions *mesh_options,
+                                      size_t *vertex_count,
+                                      size_t *index_count);
+
+/**
+ * Writes the baked leaf mesh into caller memory; the same buffer rules as
+ * arbor_mesh_write().
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `vertices` and `indices` are
+ * NULL or valid for writes of their capacities and do not overlap.
+ */
+enum ArborStatus arbor_leaf_mesh_write(const struct ArborTree *tree,
+                                       const struct ArborLeafOptions *leaf_options,
+                                       const struct ArborMeshOptions *mesh_options,
+                                       struct ArborVertex *vertices,
+                                       size_t vertex_capacity,
+                                       uint32_t *indices,
+                                       size_t index_capacity);
+
+/**
+ * Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
+ * baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
+ * creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+ * NUL-terminated.
+ */
+enum ArborStatus arbor_export_obj(const struct ArborTree *tree,
+                                  const struct ArborMeshOptions *mesh_options,
+                                  const struct ArborLeafOptions *leaf_options,
+                                  const char *path);
+
+/**
+ * Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
+ * options (for example growing cull_radius, fewer radial_segments); the counts of level
+ * k go to `vertex_counts[k]` and `index_counts[k]`.
+ *
+ * # Safety
+ * `tree` is NULL or live; `levels` is NULL (only with `level_count` 0) or readable for
+ * `level_count` options; the count arrays are NULL or writable for `level_count` elements.
+ */
+enum ArborStatus arbor_mesh_lod_size(const struct ArborTree *tree,
+                                     const struct ArborMeshOptions *levels,
+                                     size_t level_count,
+                                     size_t *vertex_counts,
+                                     size_t *index_counts);
+
+/**
+ * Writes several levels of detail in one call: level k into `vertices[k]` (capacity
+ * `vertex_capacities[k]`) and `indices[k]` (capacity `index_capacities[k]`). Every
+ * capacity is checked before anything is written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `levels`, `vertices`, `vertex_capacities`, `indices` and
+ * `index_capacities` are NULL (only with `level_count` 0) or readable for `level_count`
+ * elements; each buffer pointer is NULL or valid for writes of its capacity, and no two
+ * buffers overlap.
+ */
+enum ArborStatus arbor_mesh_lod_write(const struct ArborTree *tree,
+                                      const struct ArborMeshOptions *levels,
+                                      size_t level_count,
+                                      struct ArborVertex *const *vertices,
+                                      const size_t *vertex_capacities,
+                                      uint32_t *const *indices,
+                                      const size_t *index_capacities);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -84,8 +84,9 @@ fn run_test_program(exe: &Path) {
                 "--errors-for-leak-kinds=definite,indirect,possible",
                 "--quiet",
             ])
-            .arg(exe)),
-        None => run(&mut Command::new(exe)),
+            .arg(exe)
+            .arg(out_dir())),
+        None => run(Command::new(exe).arg(out_dir())),
     };
     assert!(text.contains(" 0 failed"), "{text}");
     println!("{text}");
@@ -104,6 +105,11 @@ fn c_bad_input_and_every_buffer_capacity() {
 #[test]
 fn c_trees_from_grammar_text() {
     run_test_program(&build("lsystem.c", "c11"));
+}
+
+#[test]
+fn c_mesh_options_ranges_lods_leaves_and_obj() {
+    run_test_program(&build("mesh_leaves.c", "c11"));
 }
 
 #[test]

@@ -22,6 +22,12 @@ impl FfiError {
         }
     }
 
+    /// Prefixes the message with the level of detail it concerns.
+    pub(crate) fn at_level(mut self, k: usize) -> Self {
+        self.message = format!("level {k}: {}", self.message);
+        self
+    }
+
     pub(crate) fn invalid(message: String) -> Self {
         FfiError {
             status: ArborStatus::InvalidArgument,
@@ -157,6 +163,35 @@ pub(crate) unsafe fn out_slice<'a, T>(
     // elements behind it are writable and unaliased. The slots are `MaybeUninit`, so the
     // memory need not be initialised, and arbor only writes them.
     Ok(unsafe { std::slice::from_raw_parts_mut(p.cast::<MaybeUninit<T>>(), needed) })
+}
+
+/// A slice of `len` elements the caller passes in; NULL only when `len` is 0.
+///
+/// # Safety
+/// `p` is NULL or valid for reads of `len` initialised elements, not written for `'a`.
+pub(crate) unsafe fn in_slice<'a, T>(
+    p: *const T,
+    len: usize,
+    name: &str,
+) -> Result<&'a [T], FfiError> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(FfiError::null(name));
+    }
+    check_aligned(p, name)?;
+    if len
+        .checked_mul(std::mem::size_of::<T>())
+        .is_none_or(|b| b > isize::MAX as usize)
+    {
+        return Err(FfiError::invalid(format!(
+            "argument `{name}`: {len} elements do not fit in memory"
+        )));
+    }
+    // SAFETY: non-null, aligned, within isize::MAX bytes, and the caller promises `len`
+    // readable initialised elements.
+    Ok(unsafe { std::slice::from_raw_parts(p, len) })
 }
 
 fn check_aligned<T>(p: *const T, name: &str) -> Result<(), FfiError> {

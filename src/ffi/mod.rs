@@ -11,10 +11,12 @@ mod guard;
 
 use crate::honda::{self, HondaParams};
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
-use crate::mesh::{self, BranchRange, MeshOptions, Topology, Vertex};
+use crate::mesh::{
+    self, BranchRange, LeafInstance, LeafOptions, LeafPrefab, MeshOptions, Topology, Vertex,
+};
 use crate::skeleton::{Branch, Skeleton};
 use bytemuck::{Pod, Zeroable};
-use guard::{FfiError, arg_ref, guard, guard_value, out_ref, out_slice, with_last_error};
+use guard::{FfiError, arg_ref, guard, guard_value, in_slice, out_ref, out_slice, with_last_error};
 use std::ffi::{CStr, c_char};
 
 /// Major version of the library this header belongs to.
@@ -343,6 +345,7 @@ const _: () = {
     assert!(std::mem::align_of::<ArborVertex>() == std::mem::align_of::<Vertex>());
     assert!(std::mem::size_of::<ArborHondaParams>() == std::mem::size_of::<HondaParams>());
     assert!(std::mem::size_of::<ArborBranchRange>() == std::mem::size_of::<BranchRange>());
+    assert!(std::mem::size_of::<ArborLeafInstance>() == std::mem::size_of::<LeafInstance>());
 };
 
 fn enum_field<T: Copy>(field: &'static str, value: u32, all: &[(T, &str)]) -> crate::Result<T> {
@@ -686,7 +689,7 @@ pub extern "C" fn arbor_mesh_options_default() -> ArborMeshOptions {
 ///
 /// # Safety
 /// `options` is NULL or points to a readable ArborMeshOptions.
-unsafe fn mesh_options(options: *const ArborMeshOptions) -> Result<MeshOptions, FfiError> {
+unsafe fn read_mesh_options(options: *const ArborMeshOptions) -> Result<MeshOptions, FfiError> {
     if options.is_null() {
         return Ok(MeshOptions::default());
     }
@@ -713,7 +716,7 @@ pub unsafe extern "C" fn arbor_mesh_size(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { mesh_options(options) }?;
+        let options = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises both are NULL or writable.
         let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
         // SAFETY: as above.
@@ -747,7 +750,7 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { mesh_options(options) }?;
+        let options = unsafe { read_mesh_options(options) }?;
         let size = mesh::mesh_size(&tree.skeleton, &options)?;
         // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices
         // (ArborVertex and Vertex share one layout, asserted above).
@@ -785,13 +788,401 @@ pub unsafe extern "C" fn arbor_mesh_branch_ranges(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { mesh_options(options) }?;
+        let options = unsafe { read_mesh_options(options) }?;
         let n = tree.skeleton.len();
         // SAFETY: the caller promises `out` holds `capacity` writable elements.
         let dst = unsafe { out_slice(out.cast::<BranchRange>(), capacity, n, "out") }?;
         let ranges = mesh::branch_ranges(&tree.skeleton, &options)?;
         for (d, r) in dst.iter_mut().zip(ranges) {
             d.write(r);
+        }
+        Ok(())
+    })
+}
+
+/// Where leaves go and how they vary (see arbor_leaf_options_default() for the defaults).
+/// Fields may be added at the end in later versions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborLeafOptions {
+    /// 1: a leaf at every `~` site of the grammar. Default 1.
+    pub sites: u32,
+    /// 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
+    pub polygons: u32,
+    /// 1: leaves at the tips of terminal branches. Default 0.
+    pub tips: u32,
+    /// Only tips of branches at least this deep get leaves. Default 0.
+    pub min_depth: u32,
+    /// Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
+    pub density: f32,
+    /// Leaf size in model units; > 0. Default 1.
+    pub size: f32,
+    /// Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+    pub size_jitter: f32,
+    /// Each leaf turns about its stem by up to +- this many degrees. Default 180.
+    pub rotation_jitter: f32,
+    /// Tip leaves lean out from the branch by this many degrees. Default 30.
+    pub tilt: f32,
+    /// Seed of the variation. Default 0.
+    pub seed: u64,
+    /// NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
+    /// (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
+    /// leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+    pub prefab_obj_path: *const c_char,
+}
+
+/// One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
+/// space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
+/// moved to `position`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborLeafInstance {
+    /// Where the stem attaches.
+    pub position: [f32; 3],
+    /// Unit quaternion (x, y, z, w).
+    pub rotation: [f32; 4],
+    /// Uniform scale.
+    pub scale: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<ArborLeafInstance>() == 32);
+
+/// The default leaf options (see ArborLeafOptions for each default).
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_leaf_options_default() -> ArborLeafOptions {
+    let d = LeafOptions::default();
+    ArborLeafOptions {
+        sites: d.sites as u32,
+        polygons: d.polygons as u32,
+        tips: d.tips as u32,
+        min_depth: d.min_depth,
+        density: d.density,
+        size: d.size,
+        size_jitter: d.size_jitter,
+        rotation_jitter: d.rotation_jitter,
+        tilt: d.tilt,
+        seed: d.seed,
+        prefab_obj_path: std::ptr::null(),
+    }
+}
+
+/// The leaf options behind `options` (NULL: the defaults); `load_prefab` reads the OBJ.
+///
+/// # Safety
+/// `options` is NULL or readable, and its `prefab_obj_path` NULL or NUL-terminated.
+unsafe fn read_leaf_options(
+    options: *const ArborLeafOptions,
+    load_prefab: bool,
+) -> Result<LeafOptions, FfiError> {
+    if options.is_null() {
+        return Ok(LeafOptions::default());
+    }
+    // SAFETY: the caller promises `options` is readable; NULL was handled above.
+    let o = unsafe { arg_ref(options, "leaf_options") }?;
+    let boolean = [(false, "false"), (true, "true")];
+    let prefab = if load_prefab && !o.prefab_obj_path.is_null() {
+        // SAFETY: the caller promises a non-NULL path is NUL-terminated.
+        let path = unsafe { CStr::from_ptr(o.prefab_obj_path) };
+        let path = path
+            .to_str()
+            .map_err(|_| crate::Error::invalid("prefab_obj_path", "the path is not UTF-8"))?;
+        Some(LeafPrefab::from_obj(path)?)
+    } else {
+        None
+    };
+    Ok(LeafOptions {
+        sites: enum_field("sites", o.sites, &boolean)?,
+        polygons: enum_field("polygons", o.polygons, &boolean)?,
+        tips: enum_field("tips", o.tips, &boolean)?,
+        min_depth: o.min_depth,
+        density: o.density,
+        size: o.size,
+        size_jitter: o.size_jitter,
+        rotation_jitter: o.rotation_jitter,
+        tilt: o.tilt,
+        seed: o.seed,
+        prefab,
+    })
+}
+
+/// Writes the number of leaf instances of `tree` with `leaf_options` (NULL: defaults) to
+/// `*count`; `mesh_options` (NULL: defaults) supplies the up axis and scale.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_instance_count(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises `count` is NULL or writable.
+        let count = unsafe { out_ref(count, "count") }?;
+        *count = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?.len();
+        Ok(())
+    })
+}
+
+/// Writes the leaf instances of `tree` into `out` (`capacity` elements, at least
+/// arbor_leaf_instance_count()'s, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` instances.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_instances_write(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut ArborLeafInstance,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        let leaves = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?;
+        // SAFETY: the caller promises `out` holds `capacity` writable instances.
+        let dst = unsafe { out_slice(out.cast::<LeafInstance>(), capacity, leaves.len(), "out") }?;
+        for (d, l) in dst.iter_mut().zip(leaves) {
+            d.write(l);
+        }
+        Ok(())
+    })
+}
+
+/// Exact vertex and index counts of the baked leaf mesh (every leaf a copy of the leaf
+/// shape, then the grammar's polygons), in the topology and conventions of
+/// `mesh_options` (NULL: defaults).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; the counts NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_size(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises both are NULL or writable.
+        let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_ref(index_count, "index_count") }?;
+        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        *vc = size.vertices;
+        *ic = size.indices;
+        Ok(())
+    })
+}
+
+/// Writes the baked leaf mesh into caller memory; the same buffer rules as
+/// arbor_mesh_write().
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `vertices` and `indices` are
+/// NULL or valid for writes of their capacities and do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_write(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    vertices: *mut ArborVertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_capacity,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        mesh::write_leaf_mesh(&tree.skeleton, &lo, &mo, v, i)?;
+        Ok(())
+    })
+}
+
+/// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
+/// baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
+/// creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+/// NUL-terminated.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_export_obj(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    leaf_options: *const ArborLeafOptions,
+    path: *const c_char,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        if path.is_null() {
+            return Err(FfiError::null("path"));
+        }
+        // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
+        let path = unsafe { CStr::from_ptr(path) }
+            .to_str()
+            .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+        let bark = mesh::tubes(&tree.skeleton, &mo)?;
+        let result = if leaf_options.is_null() {
+            crate::export::save_obj_parts(&[("bark", &bark)], path)
+        } else {
+            // SAFETY: the caller promises `leaf_options` is readable.
+            let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+            let leaves = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+            crate::export::save_obj_parts(&[("bark", &bark), ("leaves", &leaves)], path)
+        };
+        result.map_err(|e| match e {
+            crate::Error::Io(io) => crate::Error::Io(std::io::Error::new(
+                io.kind(),
+                format!("cannot write {path}: {io}"),
+            )),
+            other => other,
+        })?;
+        Ok(())
+    })
+}
+
+/// Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
+/// options (for example growing cull_radius, fewer radial_segments); the counts of level
+/// k go to `vertex_counts[k]` and `index_counts[k]`.
+///
+/// # Safety
+/// `tree` is NULL or live; `levels` is NULL (only with `level_count` 0) or readable for
+/// `level_count` options; the count arrays are NULL or writable for `level_count` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_lod_size(
+    tree: *const ArborTree,
+    levels: *const ArborMeshOptions,
+    level_count: usize,
+    vertex_counts: *mut usize,
+    index_counts: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `levels` is readable for `level_count` options.
+        let levels = unsafe { in_slice(levels, level_count, "levels") }?;
+        let sizes = levels
+            .iter()
+            .map(|l| Ok(mesh::mesh_size(&tree.skeleton, &MeshOptions::try_from(l)?)?))
+            .collect::<Result<Vec<_>, FfiError>>()?;
+        // SAFETY: the caller promises both arrays hold `level_count` writable elements.
+        let vc = unsafe { out_slice(vertex_counts, level_count, level_count, "vertex_counts") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_slice(index_counts, level_count, level_count, "index_counts") }?;
+        for ((v, i), s) in vc.iter_mut().zip(ic.iter_mut()).zip(sizes) {
+            v.write(s.vertices);
+            i.write(s.indices);
+        }
+        Ok(())
+    })
+}
+
+/// Writes several levels of detail in one call: level k into `vertices[k]` (capacity
+/// `vertex_capacities[k]`) and `indices[k]` (capacity `index_capacities[k]`). Every
+/// capacity is checked before anything is written.
+///
+/// # Safety
+/// `tree` is NULL or live; `levels`, `vertices`, `vertex_capacities`, `indices` and
+/// `index_capacities` are NULL (only with `level_count` 0) or readable for `level_count`
+/// elements; each buffer pointer is NULL or valid for writes of its capacity, and no two
+/// buffers overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_lod_write(
+    tree: *const ArborTree,
+    levels: *const ArborMeshOptions,
+    level_count: usize,
+    vertices: *const *mut ArborVertex,
+    vertex_capacities: *const usize,
+    indices: *const *mut u32,
+    index_capacities: *const usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises each array is readable for `level_count` elements.
+        let (levels, vs, vcaps, is, icaps) = unsafe {
+            (
+                in_slice(levels, level_count, "levels")?,
+                in_slice(vertices, level_count, "vertices")?,
+                in_slice(vertex_capacities, level_count, "vertex_capacities")?,
+                in_slice(indices, level_count, "indices")?,
+                in_slice(index_capacities, level_count, "index_capacities")?,
+            )
+        };
+        let mut plans = Vec::with_capacity(level_count);
+        for (k, l) in levels.iter().enumerate() {
+            let o = MeshOptions::try_from(l)?;
+            let size = mesh::mesh_size(&tree.skeleton, &o)?;
+            if vcaps[k] < size.vertices || icaps[k] < size.indices {
+                return Err(FfiError::from(crate::Error::BufferTooSmall {
+                    buffer: if vcaps[k] < size.vertices {
+                        "vertices"
+                    } else {
+                        "indices"
+                    },
+                    required: if vcaps[k] < size.vertices {
+                        size.vertices
+                    } else {
+                        size.indices
+                    },
+                    capacity: if vcaps[k] < size.vertices {
+                        vcaps[k]
+                    } else {
+                        icaps[k]
+                    },
+                })
+                .at_level(k));
+            }
+            plans.push((o, size));
+        }
+        for (k, (o, size)) in plans.into_iter().enumerate() {
+            // SAFETY: the caller promises the level's buffers hold their capacities.
+            let v =
+                unsafe { out_slice(vs[k].cast::<Vertex>(), vcaps[k], size.vertices, "vertices") }
+                    .map_err(|e| e.at_level(k))?;
+            // SAFETY: as above.
+            let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
+                .map_err(|e| e.at_level(k))?;
+            mesh::write_mesh_uninit(&tree.skeleton, &o, v, i)?;
         }
         Ok(())
     })
