@@ -117,8 +117,46 @@ fn bench_interpret(c: &mut Criterion) {
     group.finish();
 }
 
+/// Mesh writing for a tree of 1,048,575 internodes (the 1996 tree a, n = 20), 8 sides,
+/// beside a plain memory fill of the same bytes.
+fn bench_mesh_large(c: &mut Criterion) {
+    let mut params = honda::HondaParams::preset('a').unwrap();
+    params.steps = 20;
+    let skeleton = honda::build(&params).unwrap();
+    let mut group = c.benchmark_group("mesh_write_1m");
+    group.sample_size(10);
+    for topology in [
+        mesh::Topology::TriangleList,
+        mesh::Topology::TriangleStripRestart,
+    ] {
+        let options = mesh::MeshOptions {
+            topology,
+            ..Default::default()
+        };
+        let size = mesh::mesh_size(&skeleton, &options).unwrap();
+        let bytes = size.vertices * std::mem::size_of::<mesh::Vertex>() + size.indices * 4;
+        let mut vertices = vec![mesh::Vertex::default(); size.vertices];
+        let mut indices = vec![0u32; size.indices];
+        group.throughput(Throughput::Bytes(bytes as u64));
+        group.bench_function(BenchmarkId::new("arbor", format!("{topology:?}")), |b| {
+            b.iter(|| {
+                mesh::write_mesh(black_box(&skeleton), &options, &mut vertices, &mut indices)
+                    .unwrap()
+            })
+        });
+        group.bench_function(BenchmarkId::new("fill", format!("{topology:?}")), |b| {
+            b.iter(|| {
+                vertices.fill(black_box(mesh::Vertex::default()));
+                indices.fill(black_box(1));
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
+    bench_mesh_large,
     bench_honda,
     bench_mesh,
     bench_parse,

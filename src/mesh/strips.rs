@@ -67,6 +67,62 @@ impl<I: Slot<u32>> StripWriter<'_, I> {
         self.last = v;
     }
 
+    /// Writes the strip of a tube between two rings of `ring` vertices, `top_j, bottom_j`
+    /// for j in 0..ring: the same indices as [`strip`](Self::strip), without building it.
+    #[inline]
+    pub(crate) fn tube(&mut self, top: u32, bottom: u32, ring: u32) {
+        let first = std::mem::replace(&mut self.first, false);
+        let cw = self.rules.clockwise;
+        match self.rules.topology {
+            Topology::TriangleList => {
+                let n = 6 * (ring as usize - 1);
+                let out = &mut self.out[self.pos..self.pos + n];
+                for (j, tri) in (0..ring - 1).zip(out.chunks_exact_mut(6)) {
+                    let (t0, b0, t1, b1) = (top + j, bottom + j, top + j + 1, bottom + j + 1);
+                    let v = if cw {
+                        [t0, t1, b0, t1, b1, b0]
+                    } else {
+                        [t0, b0, t1, t1, b0, b1]
+                    };
+                    for (slot, x) in tri.iter_mut().zip(v) {
+                        slot.put(x);
+                    }
+                }
+                self.pos += n;
+                self.last = if cw {
+                    bottom + ring - 2
+                } else {
+                    bottom + ring - 1
+                };
+            }
+            topology => {
+                if !first {
+                    if topology == Topology::TriangleStripRestart {
+                        self.push(RESTART_INDEX);
+                    } else {
+                        let last = self.last;
+                        self.push(last);
+                        self.push(top);
+                    }
+                }
+                if cw {
+                    self.push(top);
+                }
+                let out = &mut self.out[self.pos..self.pos + 2 * ring as usize];
+                for (j, pair) in (0..ring).zip(out.chunks_exact_mut(2)) {
+                    pair[0].put(top + j);
+                    pair[1].put(bottom + j);
+                }
+                self.pos += 2 * ring as usize;
+                self.last = bottom + ring - 1;
+                if cw && topology == Topology::TriangleStripDegenerate {
+                    let last = self.last;
+                    self.push(last);
+                }
+            }
+        }
+    }
+
     /// Writes one strip (front faces counter-clockwise in OpenGL's strip order).
     pub(crate) fn strip(&mut self, s: &[u32]) {
         debug_assert!(s.len() >= 3);

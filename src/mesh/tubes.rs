@@ -54,7 +54,6 @@ struct Plan {
     flags: Vec<u8>,
     /// The kept branch that continues each branch's axis, or NO_PARENT.
     cont: Vec<u32>,
-    ranges: Vec<BranchRange>,
     size: MeshSize,
     rules: StripRules,
 }
@@ -139,10 +138,11 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             }
         } else {
             let p = b.parent as usize;
+            let (a, c) = (branches[p].end() - branches[p].start(), b.end() - b.start());
             if o.joints == Joints::Mitred
                 && cont[p] == i as u32
                 && segs[p] == segs[i]
-                && direction(&branches[p]).dot(direction(b)) > MITRE_MIN_COS
+                && a.dot(c) > MITRE_MIN_COS * (a.length_squared() * c.length_squared()).sqrt()
             {
                 flags[i] |= SHARES_START;
                 flags[p] |= MITRE_END;
@@ -152,67 +152,89 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             flags[i] |= TIP;
         }
     }
-    let rules = StripRules {
-        topology: o.topology,
-        clockwise: o.winding == Winding::Clockwise,
-    };
-    let mut ranges = Vec::with_capacity(n);
-    let (mut nv, mut ni): (u64, u64) = (0, 0);
-    let mut first = true;
-    for i in 0..n {
-        let s = segs[i] as usize;
-        let f = flags[i];
-        let (mut v, mut idx) = (0usize, 0usize);
-        if s > 0 {
-            let ring = s + 1;
-            v += ring + if f & SHARES_START != 0 { 0 } else { ring };
-            idx += rules.count(2 * ring, first);
-            first = false;
-            if f & BASE_CAP != 0 {
-                v += s;
-                idx += rules.count(s, false);
-            }
-            if f & TIP != 0 {
-                v += s;
-                idx += match o.tip {
-                    Tip::Cap => rules.count(s, false),
-                    _ => s * rules.count(3, false),
-                };
-            }
-        }
-        ranges.push(BranchRange {
-            first_vertex: nv as u32,
-            vertex_count: v as u32,
-            first_index: ni as u32,
-            index_count: idx as u32,
-        });
-        nv += v as u64;
-        ni += idx as u64;
-        if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
-            return Err(Error::LimitExceeded {
-                limit_name: "u32 index range",
-                what: if nv > RESTART_INDEX as u64 {
-                    "vertices"
-                } else {
-                    "indices"
-                },
-                limit: RESTART_INDEX as u64,
-                requested: nv.max(ni),
-                step: None,
-            });
-        }
-    }
-    Ok(Plan {
+    let mut plan = Plan {
         segs,
         flags,
         cont,
-        ranges,
-        size: MeshSize {
-            vertices: nv as usize,
-            indices: ni as usize,
+        size: MeshSize::default(),
+        rules: StripRules {
+            topology: o.topology,
+            clockwise: o.winding == Winding::Clockwise,
         },
-        rules,
-    })
+    };
+    let (mut nv, mut ni): (u64, u64) = (0, 0);
+    let mut first = true;
+    for i in 0..n {
+        let (v, idx) = plan.counts(i, o.tip, &mut first);
+        nv += v as u64;
+        ni += idx as u64;
+    }
+    if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
+        return Err(Error::LimitExceeded {
+            limit_name: "u32 index range",
+            what: if nv > RESTART_INDEX as u64 {
+                "vertices"
+            } else {
+                "indices"
+            },
+            limit: RESTART_INDEX as u64,
+            requested: nv.max(ni),
+            step: None,
+        });
+    }
+    plan.size = MeshSize {
+        vertices: nv as usize,
+        indices: ni as usize,
+    };
+    Ok(plan)
+}
+
+impl Plan {
+    /// Vertices and indices branch `i` owns; `first`: no strip has been written yet.
+    #[inline]
+    fn counts(&self, i: usize, tip: Tip, first: &mut bool) -> (usize, usize) {
+        let s = self.segs[i] as usize;
+        if s == 0 {
+            return (0, 0);
+        }
+        let f = self.flags[i];
+        let rules = self.rules;
+        let ring = s + 1;
+        let mut v = ring + if f & SHARES_START != 0 { 0 } else { ring };
+        let mut idx = rules.count(2 * ring, *first);
+        *first = false;
+        if f & BASE_CAP != 0 {
+            v += s;
+            idx += rules.count(s, false);
+        }
+        if f & TIP != 0 {
+            v += s;
+            idx += match tip {
+                Tip::Cap => rules.count(s, false),
+                _ => s * rules.count(3, false),
+            };
+        }
+        (v, idx)
+    }
+
+    fn ranges(&self, tip: Tip) -> Vec<BranchRange> {
+        let mut first = true;
+        let (mut nv, mut ni) = (0u32, 0u32);
+        (0..self.segs.len())
+            .map(|i| {
+                let (v, idx) = self.counts(i, tip, &mut first);
+                let r = BranchRange {
+                    first_vertex: nv,
+                    vertex_count: v as u32,
+                    first_index: ni,
+                    index_count: idx as u32,
+                };
+                nv += v as u32;
+                ni += idx as u32;
+                r
+            })
+            .collect()
+    }
 }
 
 /// The exact vertex and index counts [`write_mesh`] needs for `skeleton`.
@@ -226,7 +248,7 @@ pub fn mesh_size(skeleton: &Skeleton, options: &MeshOptions) -> Result<MeshSize>
 
 /// For each branch, the vertices and indices it owns in the mesh of `options`.
 pub fn branch_ranges(skeleton: &Skeleton, options: &MeshOptions) -> Result<Vec<BranchRange>> {
-    Ok(plan(skeleton, options)?.ranges)
+    Ok(plan(skeleton, options)?.ranges(options.tip))
 }
 
 /// An owned mesh of `skeleton`, its buffers allocated once at their exact size, with the
@@ -240,7 +262,7 @@ pub fn tubes(skeleton: &Skeleton, options: &MeshOptions) -> Result<Mesh> {
         vertices,
         indices,
         topology: options.topology,
-        ranges: plan.ranges,
+        ranges: plan.ranges(options.tip),
     })
 }
 
@@ -275,9 +297,17 @@ pub(crate) fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
     (p, q)
 }
 
-/// `p` carried from a ring around `from` to a ring around `to` by the smallest rotation.
+/// `p` carried from a ring around `from` to a ring around `to` by the smallest rotation
+/// (Rodrigues' formula with k = from × to: R p = p c + k × p + k (k · p) / (1 + c)).
+#[inline]
 fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
-    let moved = Quat::from_rotation_arc(from, to) * p;
+    let c = from.dot(to);
+    let moved = if c > -0.9999 {
+        let k = from.cross(to);
+        p * c + k.cross(p) + k * (k.dot(p) / (1.0 + c))
+    } else {
+        Quat::from_rotation_arc(from, to) * p
+    };
     (moved - to * moved.dot(to))
         .try_normalize()
         .unwrap_or_else(|| ring_basis(to.as_dvec3()).0.as_vec3())
@@ -372,20 +402,6 @@ impl Out {
     }
 }
 
-/// Writes vertices one after another from a position.
-struct VertexCursor<'a, V: Slot<Vertex>> {
-    out: &'a mut [V],
-    pos: usize,
-}
-
-impl<V: Slot<Vertex>> VertexCursor<'_, V> {
-    #[inline(always)]
-    fn put(&mut self, v: Vertex) {
-        self.out[self.pos].put(v);
-        self.pos += 1;
-    }
-}
-
 /// Zig-zag order of a convex polygon's `n` corners: a strip that covers it.
 fn zigzag(n: usize, mut corner: impl FnMut(usize) -> u32, out: &mut Vec<u32>) {
     out.clear();
@@ -414,9 +430,13 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         scale: o.scale,
         z_up: o.up_axis == UpAxis::Z,
     };
+    // The output conventions are linear: apply them to each branch's centers and frame
+    // vectors once, so the per-vertex loops are two multiply-adds.
+    let rot = |v: Vec3| Vec3::from_array(out.dir(v));
     let inv_ts = 1.0 / o.texture_scale;
     let mut tables: Vec<Vec<(f32, f32, f32)>> = vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
-    // Per branch: ring frame vector p (at its end) and v at its end.
+    // Per branch: its direction, ring frame vector p, v at its end, and first end-ring vertex.
+    let mut dir = vec![Vec3::ZERO; n];
     let mut frame_p = vec![Vec3::ZERO; n];
     let mut v_end = vec![0.0f32; n];
     let mut end_ring = vec![0u32; n];
@@ -428,8 +448,14 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         last: 0,
     };
     let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
+    let mut next_vertex = 0usize;
+    #[cfg(debug_assertions)]
+    let mut counted_first = true;
 
     for i in 0..n {
+        let b = &branches[i];
+        let d = direction(b);
+        dir[i] = d;
         let s = plan.segs[i] as usize;
         if s == 0 {
             continue;
@@ -440,9 +466,12 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         let table = &tables[s];
         let ring = s + 1;
         let f = plan.flags[i];
-        let b = &branches[i];
-        let range = plan.ranges[i];
-        let d = direction(b);
+        let first_vertex = next_vertex;
+        #[cfg(debug_assertions)]
+        let (own_vertices, own_indices, index_start) = {
+            let (v, idx) = plan.counts(i, o.tip, &mut counted_first);
+            (v, idx, writer.pos)
+        };
         let start = b.start();
         let end = b.end();
         let len = (end - start).length();
@@ -451,7 +480,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
             ring_basis(d.as_dvec3()).0.as_vec3()
         } else {
             let parent = b.parent as usize;
-            transport(frame_p[parent], direction(&branches[parent]), d)
+            transport(frame_p[parent], dir[parent], d)
         };
         frame_p[i] = p;
         let q = d.cross(p);
@@ -472,15 +501,15 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         } else {
             (1.0, 0.0)
         };
-        let tilt = d * na;
+        // Output-space frame.
+        let (po, qo, d_o) = (rot(p), rot(q), rot(d));
+        let tilt = d_o * na;
+        let (r0s, r1s) = (r0 * o.scale, r1 * o.scale);
+        let mut pos = first_vertex;
 
-        let mut vc = VertexCursor {
-            out: &mut *vertices,
-            pos: range.first_vertex as usize,
-        };
         // Start ring, unless shared with the parent.
-        let (start_ring, start_center, start_v) = if f & SHARES_START != 0 {
-            (end_ring[b.parent as usize], start, v0)
+        let (start_ring, start_center) = if f & SHARES_START != 0 {
+            (end_ring[b.parent as usize], start)
         } else {
             let sink = if root {
                 0.0
@@ -488,95 +517,96 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
                 branches[b.parent as usize].end_radius
             };
             let c0 = start - d * sink;
+            let co = Vec3::from_array(out.pos(c0));
             let v = v0 - sink * inv_ts;
-            for &(c, sn, u) in table {
-                let radial = p * c + q * sn;
-                vc.put(Vertex {
-                    position: out.pos(c0 + radial * r0),
-                    normal: out.dir(radial * nc + tilt),
+            for (slot, &(c, sn, u)) in vertices[pos..pos + ring].iter_mut().zip(table) {
+                let radial = po * c + qo * sn;
+                slot.put(Vertex {
+                    position: (co + radial * r0s).to_array(),
+                    normal: (radial * nc + tilt).to_array(),
                     uv: [u, v],
                 });
             }
-            (range.first_vertex, c0, v)
+            pos += ring;
+            (first_vertex as u32, c0)
         };
         // End ring: in the bisecting plane when the next branch of the axis shares it.
-        let my_end_ring = vc.pos as u32;
+        let my_end_ring = pos as u32;
         end_ring[i] = my_end_ring;
+        let eo = Vec3::from_array(out.pos(end));
+        let ring_out = &mut vertices[pos..pos + ring];
         if f & MITRE_END != 0 {
-            let dc = direction(&branches[plan.cont[i] as usize]);
-            let m = (d + dc).normalize();
-            let dm = d.dot(m);
-            for &(c, sn, u) in table {
-                let radial = p * c + q * sn;
-                let offset = radial * r1;
-                let offset = offset - d * (offset.dot(m) / dm);
-                let normal = (radial - m * radial.dot(m)).normalize();
-                vc.put(Vertex {
-                    position: out.pos(end + offset),
-                    normal: out.dir(normal),
+            let m = rot((d + direction(&branches[plan.cont[i] as usize])).normalize());
+            // Each point of the circle slides along d onto the bisecting plane.
+            let slide = d_o * (r1s / d_o.dot(m));
+            for (slot, &(c, sn, u)) in ring_out.iter_mut().zip(table) {
+                let radial = po * c + qo * sn;
+                let along = radial.dot(m);
+                let normal = (radial - m * along).normalize();
+                slot.put(Vertex {
+                    position: (eo + radial * r1s - slide * along).to_array(),
+                    normal: normal.to_array(),
                     uv: [u, v1],
                 });
             }
         } else {
-            for &(c, sn, u) in table {
-                let radial = p * c + q * sn;
-                vc.put(Vertex {
-                    position: out.pos(end + radial * r1),
-                    normal: out.dir(radial * nc + tilt),
+            for (slot, &(c, sn, u)) in ring_out.iter_mut().zip(table) {
+                let radial = po * c + qo * sn;
+                slot.put(Vertex {
+                    position: (eo + radial * r1s).to_array(),
+                    normal: (radial * nc + tilt).to_array(),
                     uv: [u, v1],
                 });
             }
         }
+        pos += ring;
         // Base cap: a disc facing −d at the start ring.
-        let base_first = vc.pos as u32;
+        let base_first = pos as u32;
         if f & BASE_CAP != 0 {
-            for &(c, sn, _) in &table[..s] {
-                let radial = p * c + q * sn;
-                vc.put(Vertex {
-                    position: out.pos(start_center + radial * r0),
-                    normal: out.dir(-d),
+            let co = Vec3::from_array(out.pos(start_center));
+            for (slot, &(c, sn, _)) in vertices[pos..pos + s].iter_mut().zip(table) {
+                let radial = po * c + qo * sn;
+                slot.put(Vertex {
+                    position: (co + radial * r0s).to_array(),
+                    normal: (-d_o).to_array(),
                     uv: [0.5 + 0.5 * c, 0.5 - 0.5 * sn],
                 });
             }
+            pos += s;
         }
         // Tip: a disc facing +d, or apexes of a cone one radius beyond the end.
-        let tip_first = vc.pos as u32;
+        let tip_first = pos as u32;
         if f & TIP != 0 {
             match o.tip {
                 Tip::Cap => {
-                    for &(c, sn, _) in &table[..s] {
-                        let radial = p * c + q * sn;
-                        vc.put(Vertex {
-                            position: out.pos(end + radial * r1),
-                            normal: out.dir(d),
+                    for (slot, &(c, sn, _)) in vertices[pos..pos + s].iter_mut().zip(table) {
+                        let radial = po * c + qo * sn;
+                        slot.put(Vertex {
+                            position: (eo + radial * r1s).to_array(),
+                            normal: d_o.to_array(),
                             uv: [0.5 + 0.5 * c, 0.5 + 0.5 * sn],
                         });
                     }
                 }
                 _ => {
-                    let apex = end + d * r1;
-                    for j in 0..s {
+                    let apex = Vec3::from_array(out.pos(end + d * r1));
+                    for (j, slot) in vertices[pos..pos + s].iter_mut().enumerate() {
                         let (c0, s0, u0) = table[j];
                         let (c1, s1, u1) = table[j + 1];
-                        let radial = (p * (c0 + c1) + q * (s0 + s1)).normalize_or_zero();
-                        vc.put(Vertex {
-                            position: out.pos(apex),
-                            normal: out.dir((radial + d).normalize()),
+                        let radial = (po * (c0 + c1) + qo * (s0 + s1)).normalize_or_zero();
+                        slot.put(Vertex {
+                            position: apex.to_array(),
+                            normal: (radial + d_o).normalize().to_array(),
                             uv: [0.5 * (u0 + u1), v1 + r1 * inv_ts],
                         });
                     }
                 }
             }
+            pos += s;
         }
-        let _ = start_v;
 
         // Indices: the tube, then the caps.
-        strip.clear();
-        for j in 0..ring as u32 {
-            strip.push(my_end_ring + j);
-            strip.push(start_ring + j);
-        }
-        writer.strip(&strip);
+        writer.tube(my_end_ring, start_ring, ring as u32);
         if f & BASE_CAP != 0 {
             zigzag(s, |k| base_first + ((s - k) % s) as u32, &mut strip);
             writer.strip(&strip);
@@ -591,13 +621,14 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
                 }
             }
         }
-        debug_assert_eq!(vc.pos as u32, range.first_vertex + range.vertex_count);
-        debug_assert_eq!(
-            writer.pos as u32,
-            range.first_index + range.index_count,
-            "branch {i}"
-        );
+        next_vertex = pos;
+        #[cfg(debug_assertions)]
+        {
+            assert_eq!(pos, first_vertex + own_vertices, "branch {i}");
+            assert_eq!(writer.pos, index_start + own_indices, "branch {i}");
+        }
     }
+    debug_assert_eq!(next_vertex, vertices.len());
     debug_assert_eq!(writer.pos, writer.out.len());
 }
 
