@@ -51,7 +51,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     println!(
         "{:<4} {:>8} {:>17} {:>17} {:>17} {:>6} {:>8} {:>8}  file",
-        "tree", "branches", "LOD0 verts/tris", "LOD1 verts/tris", "LOD2 verts/tris", "leaves", "grow ms", "mesh ms"
+        "tree",
+        "branches",
+        "LOD0 verts/tris",
+        "LOD1 verts/tris",
+        "LOD2 verts/tris",
+        "leaves",
+        "grow ms",
+        "mesh ms"
     );
     for name in PRESET_NAMES {
         let params = HondaParams::preset(name).expect("every preset name is known");
