@@ -186,6 +186,13 @@ typedef enum ArborUpAxis {
 } ArborUpAxis;
 
 /**
+ * A mesh arbor owns (see arbor_mesh_create()): for hosts that prefer to read buffers in
+ * place and copy them where they like. Opaque; free with arbor_mesh_free(). A
+ * `const ArborMesh *` may be read from several threads at once.
+ */
+typedef struct ArborMesh ArborMesh;
+
+/**
  * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda() or
  * arbor_tree_from_lsystem(), free with arbor_tree_free(). A `const ArborTree *` may be
  * read from several threads at once.
@@ -504,6 +511,32 @@ typedef struct ArborLeafInstance {
   float scale;
 } ArborLeafInstance;
 
+/**
+ * A place where the turtle met `~` in a grammar (44 bytes).
+ */
+typedef struct ArborLeafSite {
+  /**
+   * Where the turtle stood.
+   */
+  float position[3];
+  /**
+   * Its heading (unit).
+   */
+  float heading[3];
+  /**
+   * Its up vector (unit).
+   */
+  float up[3];
+  /**
+   * The branch the site sits on, or ARBOR_NO_PARENT.
+   */
+  uint32_t branch;
+  /**
+   * The rewriting step that produced the `~`.
+   */
+  uint32_t depth;
+} ArborLeafSite;
+
 
 
 #ifdef __cplusplus
@@ -771,6 +804,84 @@ enum ArborStatus arbor_mesh_lod_write(const struct ArborTree *tree,
                                       const size_t *vertex_capacities,
                                       uint32_t *const *indices,
                                       const size_t *index_capacities);
+
+/**
+ * Builds the bark mesh of `tree` with `options` (NULL: the defaults) into a new mesh
+ * object written to `*out` (free it with arbor_mesh_free()); read it with
+ * arbor_mesh_vertices() and arbor_mesh_indices(). `*out` is written only on success.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_mesh_create(const struct ArborTree *tree,
+                                   const struct ArborMeshOptions *options,
+                                   struct ArborMesh **out);
+
+/**
+ * Like arbor_mesh_create() for the baked leaf mesh (see arbor_leaf_mesh_write()).
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
+                                        const struct ArborLeafOptions *leaf_options,
+                                        const struct ArborMeshOptions *mesh_options,
+                                        struct ArborMesh **out);
+
+/**
+ * The vertices of `mesh`, valid until arbor_mesh_free(); their number goes to `*count`
+ * (if `count` is not NULL). NULL mesh: returns NULL and a count of 0.
+ *
+ * # Safety
+ * `mesh` is NULL or live; `count` is NULL or writable.
+ */
+const struct ArborVertex *arbor_mesh_vertices(const struct ArborMesh *mesh, size_t *count);
+
+/**
+ * The indices of `mesh` (laid out as arbor_mesh_topology() says), valid until
+ * arbor_mesh_free(); their number goes to `*count` (if `count` is not NULL). NULL mesh:
+ * returns NULL and a count of 0.
+ *
+ * # Safety
+ * `mesh` is NULL or live; `count` is NULL or writable.
+ */
+const uint32_t *arbor_mesh_indices(const struct ArborMesh *mesh, size_t *count);
+
+/**
+ * The ArborTopology of `mesh`'s indices (ARBOR_TOPOLOGY_TRIANGLE_LIST for NULL).
+ *
+ * # Safety
+ * `mesh` is NULL or live.
+ */
+uint32_t arbor_mesh_topology(const struct ArborMesh *mesh);
+
+/**
+ * Frees a mesh. NULL does nothing. Pointers from arbor_mesh_vertices() and
+ * arbor_mesh_indices() become invalid.
+ *
+ * # Safety
+ * `mesh` is NULL or a mesh from this library not yet freed.
+ */
+void arbor_mesh_free(struct ArborMesh *mesh);
+
+/**
+ * Number of `~` leaf sites of `tree`; 0 for NULL.
+ *
+ * # Safety
+ * `tree` is NULL or live.
+ */
+size_t arbor_tree_leaf_site_count(const struct ArborTree *tree);
+
+/**
+ * Copies the leaf sites of `tree` into `out` (`capacity` elements, at least
+ * arbor_tree_leaf_site_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL).
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` sites.
+ */
+enum ArborStatus arbor_tree_copy_leaf_sites(const struct ArborTree *tree,
+                                            struct ArborLeafSite *out,
+                                            size_t capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -59,8 +59,10 @@ impl Branch {
     }
 }
 
-/// A place where the turtle met `~`: where a leaf (or another organ) goes.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// A place where the turtle met `~`: where a leaf (or another organ) goes. 44 bytes,
+/// `#[repr(C)]`, the layout of the C type `ArborLeafSite`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct LeafSite {
     /// Where the turtle stood.
     pub position: [f32; 3],

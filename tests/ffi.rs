@@ -1,6 +1,8 @@
 //! Builds the C programs in `ffi-tests/` against `include/arbor.h` and the static library
-//! cargo built for this test run, and runs them: under valgrind when it is installed
-//! (required when `CI` is set; `ARBOR_FFI_VALGRIND=0` turns it off).
+//! cargo built for this test run, and runs each twice: built with gcc under valgrind, and
+//! built with clang under AddressSanitizer + UndefinedBehaviorSanitizer. Both tools are
+//! required when `CI` is set; elsewhere a missing one is skipped with a note
+//! (`ARBOR_FFI_VALGRIND=0` turns valgrind off).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -36,27 +38,73 @@ fn run(cmd: &mut Command) -> String {
 
 const WARNINGS: [&str; 4] = ["-Wall", "-Wextra", "-Werror", "-pedantic"];
 
-/// Compiles `source` (C or C++ by its extension) and links it with the static library.
-fn build(source: &str, std: &str) -> PathBuf {
+/// Compiles `source` (C or C++ by its extension) and links it with the static library;
+/// `sanitize`: with clang, AddressSanitizer and UndefinedBehaviorSanitizer.
+fn build_with(source: &str, std: &str, sanitize: bool) -> PathBuf {
     let src = root().join("ffi-tests").join(source);
-    let exe = out_dir().join(source.replace('.', "_"));
-    let compiler = if source.ends_with(".cpp") {
-        "c++"
-    } else {
-        "cc"
+    let suffix = if sanitize { "_asan" } else { "" };
+    let exe = out_dir().join(format!("{}{suffix}", source.replace('.', "_")));
+    let cpp = source.ends_with(".cpp");
+    let compiler = match (cpp, sanitize) {
+        (false, false) => "cc",
+        (true, false) => "c++",
+        (false, true) => "clang",
+        (true, true) => "clang++",
     };
-    run(Command::new(compiler)
-        .arg(format!("-std={std}"))
+    let mut cmd = Command::new(compiler);
+    cmd.arg(format!("-std={std}"))
         .args(WARNINGS)
         .arg("-g")
         .arg("-I")
-        .arg(root().join("include"))
+        .arg(root().join("include"));
+    if sanitize {
+        cmd.args([
+            "-fsanitize=address,undefined",
+            "-fno-sanitize-recover=all",
+            "-fno-omit-frame-pointer",
+        ]);
+    }
+    run(cmd
         .arg(&src)
         .arg(lib_dir().join("libarbor.a"))
         .args(["-lpthread", "-ldl", "-lm"])
         .arg("-o")
         .arg(&exe));
     exe
+}
+
+fn build(source: &str, std: &str) -> PathBuf {
+    build_with(source, std, false)
+}
+
+fn have(tool: &str) -> bool {
+    let found = Command::new(tool).arg("--version").output().is_ok();
+    if !found {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set but {tool} is not installed"
+        );
+        eprintln!("note: {tool} not installed; sanitizer runs skipped");
+    }
+    found
+}
+
+/// Builds and runs `source` under valgrind (gcc build) and under ASan + UBSan (clang).
+fn check_program(source: &str, std: &str) {
+    run_test_program(&build(source, std));
+    let clang = if source.ends_with(".cpp") {
+        "clang++"
+    } else {
+        "clang"
+    };
+    if have(clang) {
+        let exe = build_with(source, std, true);
+        let text = run(Command::new(&exe)
+            .arg(out_dir())
+            .env("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
+            .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1"));
+        assert!(text.contains(" 0 failed"), "{text}");
+    }
 }
 
 fn valgrind() -> Option<PathBuf> {
@@ -94,27 +142,32 @@ fn run_test_program(exe: &Path) {
 
 #[test]
 fn c_generate_then_upload_all_presets() {
-    run_test_program(&build("generate_upload.c", "c11"));
+    check_program("generate_upload.c", "c11");
 }
 
 #[test]
 fn c_bad_input_and_every_buffer_capacity() {
-    run_test_program(&build("errors.c", "c11"));
+    check_program("errors.c", "c11");
 }
 
 #[test]
 fn c_trees_from_grammar_text() {
-    run_test_program(&build("lsystem.c", "c11"));
+    check_program("lsystem.c", "c11");
 }
 
 #[test]
 fn c_mesh_options_ranges_lods_leaves_and_obj() {
-    run_test_program(&build("mesh_leaves.c", "c11"));
+    check_program("mesh_leaves.c", "c11");
+}
+
+#[test]
+fn c_owned_meshes_threads_and_every_bad_field() {
+    check_program("handles_threads.c", "c11");
 }
 
 #[test]
 fn header_compiles_as_cpp17() {
-    run_test_program(&build("header_cpp.cpp", "c++17"));
+    check_program("header_cpp.cpp", "c++17");
 }
 
 #[test]

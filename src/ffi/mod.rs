@@ -1188,5 +1188,207 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
     })
 }
 
+/// A mesh arbor owns (see arbor_mesh_create()): for hosts that prefer to read buffers in
+/// place and copy them where they like. Opaque; free with arbor_mesh_free(). A
+/// `const ArborMesh *` may be read from several threads at once.
+pub struct ArborMesh {
+    mesh: crate::Mesh,
+}
+
+/// Builds the bark mesh of `tree` with `options` (NULL: the defaults) into a new mesh
+/// object written to `*out` (free it with arbor_mesh_free()); read it with
+/// arbor_mesh_vertices() and arbor_mesh_indices(). `*out` is written only on success.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_create(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let mesh = mesh::tubes(&tree.skeleton, &options)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}
+
+/// Like arbor_mesh_create() for the baked leaf mesh (see arbor_leaf_mesh_write()).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_create(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let mesh = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}
+
+/// The vertices of `mesh`, valid until arbor_mesh_free(); their number goes to `*count`
+/// (if `count` is not NULL). NULL mesh: returns NULL and a count of 0.
+///
+/// # Safety
+/// `mesh` is NULL or live; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_vertices(
+    mesh: *const ArborMesh,
+    count: *mut usize,
+) -> *const ArborVertex {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        let m = unsafe { arg_ref(mesh, "mesh") }.ok();
+        let v = m.map_or(&[][..], |m| &m.mesh.vertices[..]);
+        // SAFETY: the caller promises `count` is NULL or writable.
+        if let Ok(c) = unsafe { out_ref(count, "count") } {
+            *c = v.len();
+        }
+        if m.is_some() {
+            v.as_ptr().cast()
+        } else {
+            std::ptr::null()
+        }
+    })
+}
+
+/// The indices of `mesh` (laid out as arbor_mesh_topology() says), valid until
+/// arbor_mesh_free(); their number goes to `*count` (if `count` is not NULL). NULL mesh:
+/// returns NULL and a count of 0.
+///
+/// # Safety
+/// `mesh` is NULL or live; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_indices(
+    mesh: *const ArborMesh,
+    count: *mut usize,
+) -> *const u32 {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        let m = unsafe { arg_ref(mesh, "mesh") }.ok();
+        let i = m.map_or(&[][..], |m| &m.mesh.indices[..]);
+        // SAFETY: the caller promises `count` is NULL or writable.
+        if let Ok(c) = unsafe { out_ref(count, "count") } {
+            *c = i.len();
+        }
+        if m.is_some() {
+            i.as_ptr()
+        } else {
+            std::ptr::null()
+        }
+    })
+}
+
+/// The ArborTopology of `mesh`'s indices (ARBOR_TOPOLOGY_TRIANGLE_LIST for NULL).
+///
+/// # Safety
+/// `mesh` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_topology(mesh: *const ArborMesh) -> u32 {
+    guard_value(0, || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        unsafe { arg_ref(mesh, "mesh") }.map_or(0, |m| m.mesh.topology as u32)
+    })
+}
+
+/// Frees a mesh. NULL does nothing. Pointers from arbor_mesh_vertices() and
+/// arbor_mesh_indices() become invalid.
+///
+/// # Safety
+/// `mesh` is NULL or a mesh from this library not yet freed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
+    if mesh.is_null() {
+        return;
+    }
+    guard_value((), || {
+        // SAFETY: the caller promises `mesh` came from Box::into_raw here and is freed once.
+        drop(unsafe { Box::from_raw(mesh) });
+    })
+}
+
+/// A place where the turtle met `~` in a grammar (44 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborLeafSite {
+    /// Where the turtle stood.
+    pub position: [f32; 3],
+    /// Its heading (unit).
+    pub heading: [f32; 3],
+    /// Its up vector (unit).
+    pub up: [f32; 3],
+    /// The branch the site sits on, or ARBOR_NO_PARENT.
+    pub branch: u32,
+    /// The rewriting step that produced the `~`.
+    pub depth: u32,
+}
+
+const _: () = assert!(
+    std::mem::size_of::<ArborLeafSite>() == std::mem::size_of::<crate::skeleton::LeafSite>()
+);
+
+/// Number of `~` leaf sites of `tree`; 0 for NULL.
+///
+/// # Safety
+/// `tree` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_leaf_site_count(tree: *const ArborTree) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.leaves().len())
+    })
+}
+
+/// Copies the leaf sites of `tree` into `out` (`capacity` elements, at least
+/// arbor_tree_leaf_site_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL).
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` sites.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
+    tree: *const ArborTree,
+    out: *mut ArborLeafSite,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let src = tree.skeleton.leaves();
+        // SAFETY: the caller promises `out` holds `capacity` writable sites.
+        let dst = unsafe {
+            out_slice(
+                out.cast::<crate::skeleton::LeafSite>(),
+                capacity,
+                src.len(),
+                "out",
+            )
+        }?;
+        for (d, s) in dst.iter_mut().zip(src) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}
+
 #[cfg(test)]
 mod tests;
