@@ -166,6 +166,11 @@ fn c_owned_meshes_threads_and_every_bad_field() {
 }
 
 #[test]
+fn cpp_wrapper_raii_exceptions_and_unreal_fill() {
+    check_program("wrapper.cpp", "c++17");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

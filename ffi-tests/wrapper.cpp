@@ -1,0 +1,107 @@
+// The C++ wrapper: RAII, exceptions, spans, and an Unreal-style fill of
+// CreateMeshSection arrays (Z up, centimetres, clockwise) from the triangle list.
+#include "arbor.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+static int passed = 0, failed = 0;
+#define EXPECT(cond, ...)                                        \
+  do {                                                           \
+    if (cond) {                                                  \
+      passed++;                                                  \
+    } else {                                                     \
+      failed++;                                                  \
+      std::fprintf(stderr, "%s:%d: %s: ", __FILE__, __LINE__, #cond); \
+      std::fprintf(stderr, __VA_ARGS__);                         \
+      std::fprintf(stderr, "\n");                                \
+    }                                                            \
+  } while (0)
+
+// Stand-ins for Unreal's FVector / FVector2D / TArray, to show the fill.
+struct FVector { double X, Y, Z; };
+struct FVector2D { double X, Y; };
+
+int main(int argc, char **argv) {
+  const std::string dir = argc > 1 ? argv[1] : ".";
+  for (char name = 'a'; name <= 'i'; name++) {
+    arbor::Tree tree = arbor::Tree::honda(name);
+    EXPECT(tree.branch_count() == tree.branches().size(), "tree %c", name);
+    arbor::Mesh mesh = tree.mesh();
+    auto size = tree.mesh_size();
+    EXPECT(mesh.vertices().size() == size.first && mesh.indices().size() == size.second,
+           "tree %c owned mesh sizes", name);
+    // Caller-owned buffers through spans.
+    std::vector<ArborVertex> v(size.first);
+    std::vector<uint32_t> i(size.second);
+    tree.write_mesh(arbor::mesh_options(), v, i);
+    EXPECT(std::memcmp(v.data(), mesh.vertices().data(), v.size() * sizeof v[0]) == 0,
+           "tree %c vertices", name);
+    EXPECT(std::equal(i.begin(), i.end(), mesh.indices().begin()), "tree %c indices", name);
+  }
+
+  // Errors are exceptions with the status and message.
+  try {
+    arbor::Tree::honda('z');
+    EXPECT(false, "no exception for a bad preset");
+  } catch (const arbor::Error &e) {
+    EXPECT(e.status() == ARBOR_STATUS_INVALID_ARGUMENT, "status %d", (int)e.status());
+    EXPECT(std::string(e.what()).find("preset") != std::string::npos, "%s", e.what());
+  }
+  try {
+    arbor::Tree::lsystem("Axiom: F\nF --> F(y)\n");
+    EXPECT(false, "no exception for a parse error");
+  } catch (const arbor::Error &e) {
+    EXPECT(e.status() == ARBOR_STATUS_PARSE_ERROR, "status %d", (int)e.status());
+    EXPECT(std::string(e.what()).find("line 2") != std::string::npos, "%s", e.what());
+  }
+
+  // Moves transfer ownership; the moved-from object frees nothing.
+  arbor::Tree g = arbor::Tree::lsystem("angle increment: 30\nAxiom: F[+F~]F[-F~]F~\n");
+  arbor::Tree h = std::move(g);
+  EXPECT(h.branch_count() == 5 && g.get() == nullptr, "moved tree");
+  arbor::Mesh m1 = h.mesh();
+  arbor::Mesh m2 = std::move(m1);
+  EXPECT(m1.get() == nullptr && m2.vertices().size() > 0, "moved mesh");
+
+  // Leaves and OBJ.
+  ArborLeafOptions leaves = arbor::leaf_options();
+  EXPECT(h.leaf_instances(leaves).size() == 3, "three ~ sites");
+  EXPECT(h.leaf_mesh(leaves).vertices().size() == 12, "three quads");
+  h.export_obj(dir + "/wrapper.obj", arbor::mesh_options(), &leaves);
+  try {
+    h.export_obj("/nonexistent/dir/x.obj");
+    EXPECT(false, "no exception for an unwritable path");
+  } catch (const arbor::Error &e) {
+    EXPECT(e.status() == ARBOR_STATUS_IO_ERROR, "status %d", (int)e.status());
+  }
+
+  // Unreal: CreateMeshSection(0, Vertices, Triangles, Normals, UV0, ...) wants a triangle
+  // list, Z up, centimetres and clockwise front faces.
+  ArborMeshOptions ue = arbor::mesh_options();
+  ue.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
+  ue.up_axis = ARBOR_UP_AXIS_Z;
+  ue.winding = ARBOR_WINDING_CLOCKWISE;
+  ue.scale = 1.0f;  // the 1996 trees are 100 units tall: 1 unit = 1 cm
+  arbor::Tree tree = arbor::Tree::honda('g');
+  arbor::Mesh section = tree.mesh(ue);
+  std::vector<FVector> Vertices, Normals;
+  std::vector<FVector2D> UV0;
+  std::vector<int> Triangles;
+  for (const ArborVertex &vx : section.vertices()) {
+    Vertices.push_back({vx.position[0], vx.position[1], vx.position[2]});
+    Normals.push_back({vx.normal[0], vx.normal[1], vx.normal[2]});
+    UV0.push_back({vx.uv[0], vx.uv[1]});
+  }
+  for (uint32_t ix : section.indices()) Triangles.push_back(static_cast<int>(ix));
+  EXPECT(Triangles.size() % 3 == 0 && Vertices.size() == section.vertices().size(), "arrays");
+  double top = 0;
+  for (const FVector &p : Vertices) top = p.Z > top ? p.Z : top;
+  EXPECT(top > 100.0, "Z is up: the trunk alone reaches 100 (top %f)", top);
+
+  std::printf("wrapper: %d passed, %d failed\n", passed, failed);
+  return failed == 0 ? 0 : 1;
+}

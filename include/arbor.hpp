@@ -1,0 +1,210 @@
+/*
+ * arbor.hpp: a header-only C++17 wrapper over arbor.h (hand-written, not generated).
+ *
+ * - Trees and meshes are RAII objects that free themselves (move-only).
+ * - Errors are exceptions: every call whose C function fails throws arbor::Error, which
+ *   carries the ArborStatus and the library's message (what was wrong and where).
+ * - Buffers are exposed as arbor::Span (pointer + size) over memory arbor owns, or written
+ *   into spans the caller owns (a mapped GPU buffer, a TArray's data).
+ */
+#ifndef ARBOR_HPP
+#define ARBOR_HPP
+
+#include "arbor.h"
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace arbor {
+
+/// Thrown by every wrapper call whose C function fails.
+class Error : public std::runtime_error {
+ public:
+  Error(ArborStatus status, const std::string &message)
+      : std::runtime_error(message), status_(status) {}
+  /// The status the C function returned.
+  ArborStatus status() const noexcept { return status_; }
+
+ private:
+  ArborStatus status_;
+};
+
+namespace detail {
+inline std::string last_message() {
+  std::size_t n = arbor_last_error_message(nullptr, 0);
+  std::vector<char> buf(n + 1);
+  arbor_last_error_message(buf.data(), buf.size());
+  return std::string(buf.data(), n);
+}
+
+inline void check(ArborStatus s) {
+  if (s != ARBOR_STATUS_OK) throw Error(s, last_message());
+}
+}  // namespace detail
+
+/// A view of `size()` contiguous elements (std::span for C++17).
+template <class T>
+class Span {
+ public:
+  Span() noexcept = default;
+  Span(T *data, std::size_t size) noexcept : data_(data), size_(size) {}
+  template <class C>
+  Span(C &container) noexcept : data_(container.data()), size_(container.size()) {}
+  T *data() const noexcept { return data_; }
+  std::size_t size() const noexcept { return size_; }
+  bool empty() const noexcept { return size_ == 0; }
+  T &operator[](std::size_t i) const noexcept { return data_[i]; }
+  T *begin() const noexcept { return data_; }
+  T *end() const noexcept { return data_ + size_; }
+
+ private:
+  T *data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+/// A mesh arbor owns: vertices and indices readable in place.
+class Mesh {
+ public:
+  explicit Mesh(ArborMesh *mesh) noexcept : mesh_(mesh) {}
+  Mesh(Mesh &&other) noexcept : mesh_(std::exchange(other.mesh_, nullptr)) {}
+  Mesh &operator=(Mesh &&other) noexcept {
+    if (this != &other) {
+      arbor_mesh_free(mesh_);
+      mesh_ = std::exchange(other.mesh_, nullptr);
+    }
+    return *this;
+  }
+  Mesh(const Mesh &) = delete;
+  Mesh &operator=(const Mesh &) = delete;
+  ~Mesh() { arbor_mesh_free(mesh_); }
+
+  Span<const ArborVertex> vertices() const noexcept {
+    std::size_t n = 0;
+    const ArborVertex *v = arbor_mesh_vertices(mesh_, &n);
+    return {v, n};
+  }
+  Span<const uint32_t> indices() const noexcept {
+    std::size_t n = 0;
+    const uint32_t *i = arbor_mesh_indices(mesh_, &n);
+    return {i, n};
+  }
+  ArborTopology topology() const noexcept {
+    return static_cast<ArborTopology>(arbor_mesh_topology(mesh_));
+  }
+  const ArborMesh *get() const noexcept { return mesh_; }
+
+ private:
+  ArborMesh *mesh_;
+};
+
+/// Default options, to modify and pass on.
+inline ArborMeshOptions mesh_options() { return arbor_mesh_options_default(); }
+inline ArborLeafOptions leaf_options() { return arbor_leaf_options_default(); }
+inline ArborLsystemOptions lsystem_options() { return arbor_lsystem_options_default(); }
+
+/// A generated tree. Const member functions may run on several threads at once.
+class Tree {
+ public:
+  /// One of the 1996 paper's trees 'a'..'i'.
+  static Tree honda(char preset) {
+    ArborHondaParams p;
+    detail::check(arbor_honda_preset(static_cast<uint32_t>(preset), &p));
+    return honda(p);
+  }
+  static Tree honda(const ArborHondaParams &params) {
+    ArborTree *t = nullptr;
+    detail::check(arbor_tree_from_honda(&params, &t));
+    return Tree(t);
+  }
+  /// A tree from L-system text in the cpfg language.
+  static Tree lsystem(std::string_view source, const ArborLsystemOptions *options = nullptr) {
+    ArborTree *t = nullptr;
+    detail::check(arbor_tree_from_lsystem(source.data(), source.size(), options, &t));
+    return Tree(t);
+  }
+
+  Tree(Tree &&other) noexcept : tree_(std::exchange(other.tree_, nullptr)) {}
+  Tree &operator=(Tree &&other) noexcept {
+    if (this != &other) {
+      arbor_tree_free(tree_);
+      tree_ = std::exchange(other.tree_, nullptr);
+    }
+    return *this;
+  }
+  Tree(const Tree &) = delete;
+  Tree &operator=(const Tree &) = delete;
+  ~Tree() { arbor_tree_free(tree_); }
+
+  std::size_t branch_count() const noexcept { return arbor_tree_branch_count(tree_); }
+
+  std::vector<ArborBranch> branches() const {
+    std::vector<ArborBranch> out(branch_count());
+    detail::check(arbor_tree_copy_branches(tree_, out.data(), out.size()));
+    return out;
+  }
+
+  /// The bark mesh, owned by the returned object.
+  Mesh mesh(const ArborMeshOptions &options = mesh_options()) const {
+    ArborMesh *m = nullptr;
+    detail::check(arbor_mesh_create(tree_, &options, &m));
+    return Mesh(m);
+  }
+
+  /// Exact buffer sizes for write_mesh(): {vertices, indices}.
+  std::pair<std::size_t, std::size_t> mesh_size(
+      const ArborMeshOptions &options = mesh_options()) const {
+    std::size_t nv = 0, ni = 0;
+    detail::check(arbor_mesh_size(tree_, &options, &nv, &ni));
+    return {nv, ni};
+  }
+
+  /// Writes the bark mesh into caller memory (a mapped buffer, a TArray's data).
+  void write_mesh(const ArborMeshOptions &options, Span<ArborVertex> vertices,
+                  Span<uint32_t> indices) const {
+    detail::check(arbor_mesh_write(tree_, &options, vertices.data(), vertices.size(),
+                                   indices.data(), indices.size()));
+  }
+
+  std::vector<ArborBranchRange> branch_ranges(
+      const ArborMeshOptions &options = mesh_options()) const {
+    std::vector<ArborBranchRange> out(branch_count());
+    detail::check(arbor_mesh_branch_ranges(tree_, &options, out.data(), out.size()));
+    return out;
+  }
+
+  std::vector<ArborLeafInstance> leaf_instances(
+      const ArborLeafOptions &leaves, const ArborMeshOptions &options = mesh_options()) const {
+    std::size_t n = 0;
+    detail::check(arbor_leaf_instance_count(tree_, &leaves, &options, &n));
+    std::vector<ArborLeafInstance> out(n);
+    detail::check(arbor_leaf_instances_write(tree_, &leaves, &options, out.data(), n));
+    return out;
+  }
+
+  Mesh leaf_mesh(const ArborLeafOptions &leaves,
+                 const ArborMeshOptions &options = mesh_options()) const {
+    ArborMesh *m = nullptr;
+    detail::check(arbor_leaf_mesh_create(tree_, &leaves, &options, &m));
+    return Mesh(m);
+  }
+
+  /// Bark (and leaves, if given) as a Wavefront OBJ file.
+  void export_obj(const std::string &path, const ArborMeshOptions &options = mesh_options(),
+                  const ArborLeafOptions *leaves = nullptr) const {
+    detail::check(arbor_export_obj(tree_, &options, leaves, path.c_str()));
+  }
+
+  const ArborTree *get() const noexcept { return tree_; }
+
+ private:
+  explicit Tree(ArborTree *tree) noexcept : tree_(tree) {}
+  ArborTree *tree_;
+};
+
+}  // namespace arbor
+
+#endif /* ARBOR_HPP */
