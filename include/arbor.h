@@ -186,6 +186,48 @@ typedef enum ArborUpAxis {
 } ArborUpAxis;
 
 /**
+ * Identifies a struct of this header for arbor_struct_size().
+ */
+typedef enum ArborStructId {
+  /**
+   * ArborHondaParams.
+   */
+  ARBOR_STRUCT_ID_HONDA_PARAMS = 0,
+  /**
+   * ArborBranch.
+   */
+  ARBOR_STRUCT_ID_BRANCH = 1,
+  /**
+   * ArborVertex.
+   */
+  ARBOR_STRUCT_ID_VERTEX = 2,
+  /**
+   * ArborMeshOptions.
+   */
+  ARBOR_STRUCT_ID_MESH_OPTIONS = 3,
+  /**
+   * ArborLsystemOptions.
+   */
+  ARBOR_STRUCT_ID_LSYSTEM_OPTIONS = 4,
+  /**
+   * ArborLeafOptions.
+   */
+  ARBOR_STRUCT_ID_LEAF_OPTIONS = 5,
+  /**
+   * ArborLeafInstance.
+   */
+  ARBOR_STRUCT_ID_LEAF_INSTANCE = 6,
+  /**
+   * ArborBranchRange.
+   */
+  ARBOR_STRUCT_ID_BRANCH_RANGE = 7,
+  /**
+   * ArborLeafSite.
+   */
+  ARBOR_STRUCT_ID_LEAF_SITE = 8,
+} ArborStructId;
+
+/**
  * A mesh arbor owns (see arbor_mesh_create()): for hosts that prefer to read buffers in
  * place and copy them where they like. Opaque; free with arbor_mesh_free(). A
  * `const ArborMesh *` may be read from several threads at once.
@@ -882,6 +924,13 @@ size_t arbor_tree_leaf_site_count(const struct ArborTree *tree);
 enum ArborStatus arbor_tree_copy_leaf_sites(const struct ArborTree *tree,
                                             struct ArborLeafSite *out,
                                             size_t capacity);
+
+/**
+ * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
+ * binding in another language (C#, Python) can check its layouts at run time; 0 for an
+ * unknown id.
+ */
+size_t arbor_struct_size(uint32_t id);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1390,5 +1390,49 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
     })
 }
 
+/// Identifies a struct of this header for arbor_struct_size().
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborStructId {
+    /// ArborHondaParams.
+    HondaParams = 0,
+    /// ArborBranch.
+    Branch = 1,
+    /// ArborVertex.
+    Vertex = 2,
+    /// ArborMeshOptions.
+    MeshOptions = 3,
+    /// ArborLsystemOptions.
+    LsystemOptions = 4,
+    /// ArborLeafOptions.
+    LeafOptions = 5,
+    /// ArborLeafInstance.
+    LeafInstance = 6,
+    /// ArborBranchRange.
+    BranchRange = 7,
+    /// ArborLeafSite.
+    LeafSite = 8,
+}
+
+/// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
+/// binding in another language (C#, Python) can check its layouts at run time; 0 for an
+/// unknown id.
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_struct_size(id: u32) -> usize {
+    use std::mem::size_of;
+    match id {
+        0 => size_of::<ArborHondaParams>(),
+        1 => size_of::<ArborBranch>(),
+        2 => size_of::<ArborVertex>(),
+        3 => size_of::<ArborMeshOptions>(),
+        4 => size_of::<ArborLsystemOptions>(),
+        5 => size_of::<ArborLeafOptions>(),
+        6 => size_of::<ArborLeafInstance>(),
+        7 => size_of::<ArborBranchRange>(),
+        8 => size_of::<ArborLeafSite>(),
+        _ => 0,
+    }
+}
+
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,271 @@
+// arbor for Unity (and any .NET host): P/Invoke declarations over arbor.h, blittable
+// structs with the C layouts, and helpers that fill Unity meshes.
+//
+// Put the native library where Unity finds plugins (Assets/Plugins/<platform>/: libarbor.so,
+// arbor.dll, libarbor.dylib; on iOS link libarbor.a, reached through "__Internal").
+// Unity is left-handed with clockwise front faces: the helpers ask arbor for a clockwise
+// triangle list and mirror Z, so trees keep their handedness (g, h and i are not mirrored).
+using System;
+using System.Runtime.InteropServices;
+using System.Text;
+
+namespace Arbor
+{
+    public enum Status : int
+    {
+        Ok = 0, NullArgument = 1, InvalidArgument = 2, ParseError = 3,
+        LimitExceeded = 4, BufferTooSmall = 5, IoError = 6, Panic = 7,
+    }
+
+    public enum Topology : uint { TriangleList = 0, TriangleStripRestart = 1, TriangleStripDegenerate = 2 }
+    public enum Joints : uint { Separate = 0, Mitred = 1 }
+    public enum Tip : uint { Open = 0, Cap = 1, Point = 2 }
+    public enum Winding : uint { CounterClockwise = 0, Clockwise = 1 }
+    public enum UpAxis : uint { Y = 0, Z = 1 }
+    public enum StructId : uint
+    {
+        HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
+        LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct HondaParams
+    {
+        public float TrunkLength, TrunkWidth, R1, R2, Alpha1, Alpha2, Phi1, Phi2, Q, E, MinLength;
+        public uint Steps;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Branch
+    {
+        public float StartX, StartY, StartZ, EndX, EndY, EndZ, StartRadius, EndRadius;
+        public uint Parent, Depth, Order, Flags;
+    }
+
+    /// Position, normal, uv: 32 bytes, the layout of Unity's Position/Normal/TexCoord0
+    /// float32 stream.
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Vertex
+    {
+        public float PX, PY, PZ, NX, NY, NZ, U, V;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct MeshOptions
+    {
+        public uint RadialSegments, Topology, MinRadialSegments;
+        public float CullRadius;
+        public uint Joints, SmoothTaper, BaseCap, Tip;
+        public float TextureScale;
+        public uint Winding, UpAxis;
+        public float Scale;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct LsystemOptions
+    {
+        public int Steps;
+        public ulong Seed, MaxModules, MaxParams, MaxBranches;
+        public uint OverrideFlags;
+        public float AngleIncrement, InitialWidth, WidthIncrement;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct LeafOptions
+    {
+        public uint Sites, Polygons, Tips, MinDepth;
+        public float Density, Size, SizeJitter, RotationJitter, Tilt;
+        public ulong Seed;
+        public IntPtr PrefabObjPath;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct LeafInstance
+    {
+        public float PX, PY, PZ, QX, QY, QZ, QW, Scale;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct BranchRange
+    {
+        public uint FirstVertex, VertexCount, FirstIndex, IndexCount;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct LeafSite
+    {
+        public float PX, PY, PZ, HX, HY, HZ, UX, UY, UZ;
+        public uint Branch, Depth;
+    }
+
+    public static class Native
+    {
+#if UNITY_IOS && !UNITY_EDITOR
+        const string Lib = "__Internal";
+#else
+        const string Lib = "arbor";
+#endif
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr arbor_status_str(uint status);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_last_error_message(byte[] buf, UIntPtr capacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr arbor_version();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern uint arbor_abi_version();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_struct_size(uint id);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_honda_preset(uint name, out HondaParams outParams);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_honda(ref HondaParams p, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_lsystem(byte[] source, UIntPtr len, IntPtr options, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_tree_free(IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_tree_branch_count(IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_copy_branches(IntPtr tree, [Out] Branch[] output, UIntPtr capacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern MeshOptions arbor_mesh_options_default();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern LsystemOptions arbor_lsystem_options_default();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern LeafOptions arbor_leaf_options_default();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_size(IntPtr tree, ref MeshOptions options, out UIntPtr vertexCount, out UIntPtr indexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_write(IntPtr tree, ref MeshOptions options, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] int[] indices, UIntPtr indexCapacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_leaf_instance_count(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_leaf_instances_write(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, [Out] LeafInstance[] output, UIntPtr capacity);
+    }
+
+    public class ArborException : Exception
+    {
+        public readonly Status Status;
+        public ArborException(Status status, string message) : base(message) { Status = status; }
+
+        public static string LastMessage()
+        {
+            int n = (int)Native.arbor_last_error_message(null, UIntPtr.Zero);
+            var buf = new byte[n + 1];
+            Native.arbor_last_error_message(buf, (UIntPtr)buf.Length);
+            return Encoding.UTF8.GetString(buf, 0, n);
+        }
+
+        public static void Check(Status s)
+        {
+            if (s != Status.Ok) throw new ArborException(s, LastMessage());
+        }
+    }
+
+    /// A generated tree; Dispose (or using) frees it.
+    public sealed class Tree : IDisposable
+    {
+        IntPtr handle;
+        Tree(IntPtr h) { handle = h; }
+
+        public static Tree FromPreset(char name)
+        {
+            HondaParams p;
+            ArborException.Check(Native.arbor_honda_preset(name, out p));
+            return FromHonda(p);
+        }
+
+        public static Tree FromHonda(HondaParams p)
+        {
+            IntPtr t;
+            ArborException.Check(Native.arbor_tree_from_honda(ref p, out t));
+            return new Tree(t);
+        }
+
+        public static Tree FromLsystem(string source)
+        {
+            byte[] bytes = Encoding.UTF8.GetBytes(source);
+            IntPtr t;
+            ArborException.Check(Native.arbor_tree_from_lsystem(bytes, (UIntPtr)bytes.Length, IntPtr.Zero, out t));
+            return new Tree(t);
+        }
+
+        public int BranchCount { get { return (int)Native.arbor_tree_branch_count(handle); } }
+
+        public Branch[] Branches()
+        {
+            var b = new Branch[BranchCount];
+            ArborException.Check(Native.arbor_tree_copy_branches(handle, b, (UIntPtr)b.Length));
+            return b;
+        }
+
+        /// The mesh as arrays, with arbor's own conventions.
+        public void Mesh(MeshOptions options, out Vertex[] vertices, out int[] indices)
+        {
+            UIntPtr nv, ni;
+            ArborException.Check(Native.arbor_mesh_size(handle, ref options, out nv, out ni));
+            vertices = new Vertex[(int)nv];
+            indices = new int[(int)ni];
+            ArborException.Check(Native.arbor_mesh_write(handle, ref options, vertices, nv, indices, ni));
+        }
+
+        /// A triangle list for Unity: clockwise front faces and Z mirrored into Unity's
+        /// left-handed space. Feed the arrays to Mesh.SetVertexBufferData / SetIndexBufferData.
+        public void UnityMeshArrays(MeshOptions options, out Vertex[] vertices, out int[] indices)
+        {
+            options.Topology = (uint)Arbor.Topology.TriangleList;
+            options.Winding = (uint)Winding.Clockwise;
+            options.UpAxis = (uint)UpAxis.Y;
+            Mesh(options, out vertices, out indices);
+            for (int i = 0; i < vertices.Length; i++)
+            {
+                vertices[i].PZ = -vertices[i].PZ;
+                vertices[i].NZ = -vertices[i].NZ;
+            }
+        }
+
+        public LeafInstance[] Leaves(LeafOptions leaves, MeshOptions options)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_leaf_instance_count(handle, ref leaves, ref options, out n));
+            var l = new LeafInstance[(int)n];
+            ArborException.Check(Native.arbor_leaf_instances_write(handle, ref leaves, ref options, l, n));
+            return l;
+        }
+
+        public void Dispose()
+        {
+            if (handle != IntPtr.Zero)
+            {
+                Native.arbor_tree_free(handle);
+                handle = IntPtr.Zero;
+            }
+        }
+    }
+
+#if UNITY_5_3_OR_NEWER
+    public static class UnityMeshes
+    {
+        /// Fills `mesh` with the tree's bark in one upload (32-bit indices).
+        public static void Fill(UnityEngine.Mesh mesh, Tree tree, MeshOptions options)
+        {
+            Vertex[] v;
+            int[] i;
+            tree.UnityMeshArrays(options, out v, out i);
+            var layout = new[]
+            {
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Normal, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.TexCoord0, UnityEngine.Rendering.VertexAttributeFormat.Float32, 2),
+            };
+            mesh.SetVertexBufferParams(v.Length, layout);
+            mesh.SetVertexBufferData(v, 0, 0, v.Length);
+            mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
+            mesh.SetIndexBufferData(i, 0, 0, i.Length);
+            mesh.subMeshCount = 1;
+            mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
+            mesh.RecalculateBounds();
+        }
+    }
+#endif
+}

@@ -1,0 +1,96 @@
+// Runs the Unity binding under Mono against the built library: layouts, trees a-i, the
+// Unity mesh arrays, leaves and an error message.
+using System;
+using System.Runtime.InteropServices;
+using Arbor;
+
+static class ArborTest
+{
+    static int passed, failed;
+
+    static void Expect(bool ok, string what)
+    {
+        if (ok) passed++;
+        else { failed++; Console.Error.WriteLine("FAILED: " + what); }
+    }
+
+    static int Main()
+    {
+        Expect(Marshal.SizeOf(typeof(HondaParams)) == (int)Native.arbor_struct_size((uint)StructId.HondaParams), "HondaParams size");
+        Expect(Marshal.SizeOf(typeof(Branch)) == (int)Native.arbor_struct_size((uint)StructId.Branch), "Branch size");
+        Expect(Marshal.SizeOf(typeof(Vertex)) == (int)Native.arbor_struct_size((uint)StructId.Vertex), "Vertex size");
+        Expect(Marshal.SizeOf(typeof(MeshOptions)) == (int)Native.arbor_struct_size((uint)StructId.MeshOptions), "MeshOptions size");
+        Expect(Marshal.SizeOf(typeof(LsystemOptions)) == (int)Native.arbor_struct_size((uint)StructId.LsystemOptions), "LsystemOptions size");
+        Expect(Marshal.SizeOf(typeof(LeafOptions)) == (int)Native.arbor_struct_size((uint)StructId.LeafOptions), "LeafOptions size");
+        Expect(Marshal.SizeOf(typeof(LeafInstance)) == (int)Native.arbor_struct_size((uint)StructId.LeafInstance), "LeafInstance size");
+        Expect(Marshal.SizeOf(typeof(BranchRange)) == (int)Native.arbor_struct_size((uint)StructId.BranchRange), "BranchRange size");
+        Expect(Marshal.SizeOf(typeof(LeafSite)) == (int)Native.arbor_struct_size((uint)StructId.LeafSite), "LeafSite size");
+        Expect((int)Marshal.OffsetOf(typeof(Vertex), "NX") == 12 && (int)Marshal.OffsetOf(typeof(Vertex), "U") == 24, "Vertex offsets");
+        Expect((int)Marshal.OffsetOf(typeof(LsystemOptions), "Seed") == 8, "LsystemOptions.Seed offset");
+        Expect(Marshal.PtrToStringAnsi(Native.arbor_version()).Length >= 5, "version string");
+
+        var defaults = Native.arbor_mesh_options_default();
+        Expect(defaults.RadialSegments == 8 && defaults.Scale == 1.0f && defaults.Joints == (uint)Joints.Mitred, "mesh defaults");
+
+        int[] counts = { 1023, 2223, 510, 1023, 1990, 5027, 1023, 919, 1586 };
+        for (int k = 0; k < 9; k++)
+        {
+            char name = (char)('a' + k);
+            using (var tree = Tree.FromPreset(name))
+            {
+                Expect(tree.BranchCount == counts[k], "tree " + name + " count " + tree.BranchCount);
+                var b = tree.Branches();
+                Expect(b[0].EndY == 100.0f && b[0].Parent == uint.MaxValue, "tree " + name + " trunk");
+                Vertex[] v;
+                int[] i;
+                tree.UnityMeshArrays(defaults, out v, out i);
+                Expect(i.Length == counts[k] * 6 * 8, "tree " + name + " triangle list");
+                bool inRange = true;
+                foreach (int x in i) inRange &= x >= 0 && x < v.Length;
+                Expect(inRange, "tree " + name + " indices in range");
+                // Unity: a triangle is front-facing when it winds clockwise seen from the
+                // front, which makes Vector3.Cross(b - a, c - a) point out of that front
+                // (Unity's own face-normal formula). It must agree with the vertex normal.
+                int agree = 0;
+                for (int t = 0; t < i.Length; t += 3)
+                {
+                    Vertex a = v[i[t]], c1 = v[i[t + 1]], c2 = v[i[t + 2]];
+                    float e1x = c1.PX - a.PX, e1y = c1.PY - a.PY, e1z = c1.PZ - a.PZ;
+                    float e2x = c2.PX - a.PX, e2y = c2.PY - a.PY, e2z = c2.PZ - a.PZ;
+                    float nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
+                    if (nx * a.NX + ny * a.NY + nz * a.NZ > 0) agree++;
+                }
+                Expect(agree == i.Length / 3, "tree " + name + " winding: " + agree + " of " + i.Length / 3);
+            }
+        }
+
+        using (var tree = Tree.FromLsystem("angle increment: 45\nAxiom: F[+F~][-F~]F~\n"))
+        {
+            var leaves = Native.arbor_leaf_options_default();
+            Expect(tree.Leaves(leaves, defaults).Length == 3, "three leaf sites");
+        }
+
+        try
+        {
+            Tree.FromLsystem("Axiom: F\nF --> F(y)\n");
+            Expect(false, "no exception for a parse error");
+        }
+        catch (ArborException e)
+        {
+            Expect(e.Status == Status.ParseError, "parse error status " + e.Status);
+            Expect(e.Message.Contains("line 2, column 9"), "message: " + e.Message);
+        }
+        try
+        {
+            Tree.FromPreset('z');
+            Expect(false, "no exception for a bad preset");
+        }
+        catch (ArborException e)
+        {
+            Expect(e.Status == Status.InvalidArgument && e.Message.Contains("preset"), "bad preset: " + e.Message);
+        }
+
+        Console.WriteLine("unity binding: " + passed + " passed, " + failed + " failed");
+        return failed == 0 ? 0 : 1;
+    }
+}
