@@ -1,0 +1,743 @@
+/*
+ * arbor gallery: the nine trees of Prusinkiewicz, Hammel, Hanan & Mech (1996) in a 3 x 3
+ * grid, grown and meshed by arbor through include/arbor.h and uploaded straight into
+ * mapped OpenGL buffers.
+ *
+ *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
+ *           [--screenshot FILE.png|FILE.ppm --frames N]
+ *
+ * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
+ * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
+ * animation; W wireframe; S strips <-> triangle list; F forest; P screenshot; Esc quits.
+ */
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <GL/glcorearb.h>
+#include <png.h>
+
+#include "arbor.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- the few OpenGL functions used, loaded with glfwGetProcAddress ---- */
+#define GL_FUNCTIONS(X)                                                    \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                                 \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                                 \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                               \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                   \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                         \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                               \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                                 \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                   \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                 \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                       \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                     \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                     \
+  X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)                         \
+  X(PFNGLUNIFORM1IPROC, glUniform1i)                                       \
+  X(PFNGLUNIFORM3FPROC, glUniform3f)                                       \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                           \
+  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                     \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                           \
+  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                     \
+  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                               \
+  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                     \
+  X(PFNGLBUFFERDATAPROC, glBufferData)                                     \
+  X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                             \
+  X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                   \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                   \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)           \
+  X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                   \
+  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                 \
+  X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)               \
+  X(PFNGLENABLEPROC, glEnable)                                             \
+  X(PFNGLDISABLEPROC, glDisable)                                           \
+  X(PFNGLCLEARCOLORPROC, glClearColor)                                     \
+  X(PFNGLCLEARPROC, glClear)                                               \
+  X(PFNGLVIEWPORTPROC, glViewport)                                         \
+  X(PFNGLSCISSORPROC, glScissor)                                           \
+  X(PFNGLPOLYGONMODEPROC, glPolygonMode)                                   \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                                     \
+  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                   \
+  X(PFNGLREADBUFFERPROC, glReadBuffer)                                     \
+  X(PFNGLFINISHPROC, glFinish)                                             \
+  X(PFNGLGETSTRINGPROC, glGetString)
+
+#define DECLARE(type, name) static type p_##name;
+GL_FUNCTIONS(DECLARE)
+#undef DECLARE
+
+static int load_gl(void) {
+#define LOAD(type, name)                                               \
+  p_##name = (type)glfwGetProcAddress(#name);                          \
+  if (!p_##name) {                                                     \
+    fprintf(stderr, "gallery: OpenGL function %s is missing\n", #name); \
+    return 0;                                                          \
+  }
+  GL_FUNCTIONS(LOAD)
+#undef LOAD
+  return 1;
+}
+
+/* ---- small matrix helpers (column-major, as OpenGL) ---- */
+typedef struct { float m[16]; } Mat4;
+
+static Mat4 mat_mul(Mat4 a, Mat4 b) {
+  Mat4 r;
+  for (int c = 0; c < 4; c++)
+    for (int row = 0; row < 4; row++) {
+      float s = 0;
+      for (int k = 0; k < 4; k++) s += a.m[k * 4 + row] * b.m[c * 4 + k];
+      r.m[c * 4 + row] = s;
+    }
+  return r;
+}
+
+static Mat4 perspective(float fovy, float aspect, float near, float far) {
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  float f = 1.0f / tanf(fovy / 2);
+  r.m[0] = f / aspect;
+  r.m[5] = f;
+  r.m[10] = (far + near) / (near - far);
+  r.m[11] = -1;
+  r.m[14] = 2 * far * near / (near - far);
+  return r;
+}
+
+static Mat4 look_at(const float eye[3], const float at[3]) {
+  float f[3] = {at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]};
+  float fl = sqrtf(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  for (int i = 0; i < 3; i++) f[i] /= fl;
+  float up[3] = {0, 1, 0};
+  float s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2], f[0] * up[1] - f[1] * up[0]};
+  float sl = sqrtf(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  for (int i = 0; i < 3; i++) s[i] /= sl;
+  float u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  r.m[0] = s[0]; r.m[4] = s[1]; r.m[8] = s[2];
+  r.m[1] = u[0]; r.m[5] = u[1]; r.m[9] = u[2];
+  r.m[2] = -f[0]; r.m[6] = -f[1]; r.m[10] = -f[2];
+  r.m[12] = -(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
+  r.m[13] = -(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
+  r.m[14] = f[0] * eye[0] + f[1] * eye[1] + f[2] * eye[2];
+  r.m[15] = 1;
+  return r;
+}
+
+static Mat4 model_matrix(float x, float z, float yaw, float scale) {
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  float c = cosf(yaw) * scale, s = sinf(yaw) * scale;
+  r.m[0] = c; r.m[2] = -s;
+  r.m[5] = scale;
+  r.m[8] = s; r.m[10] = c;
+  r.m[12] = x; r.m[14] = z; r.m[15] = 1;
+  return r;
+}
+
+/* ---- shaders ---- */
+static const char *vs_src =
+    "#version 330 core\n"
+    "layout(location = 0) in vec3 a_pos;\n"
+    "layout(location = 1) in vec3 a_normal;\n"
+    "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in vec3 i_pos;\n"
+    "layout(location = 4) in vec4 i_rot;\n"
+    "layout(location = 5) in float i_scale;\n"
+    "uniform mat4 u_view_proj;\n"
+    "uniform mat4 u_model;\n"
+    "uniform int u_mode;\n"
+    "out vec3 v_normal;\n"
+    "out vec2 v_uv;\n"
+    "vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }\n"
+    "void main() {\n"
+    "  vec3 p = a_pos; vec3 n = a_normal;\n"
+    "  if (u_mode == 2) { p = i_pos + rotate(i_rot, a_pos * i_scale); n = rotate(i_rot, a_normal); }\n"
+    "  vec4 world = u_model * vec4(p, 1.0);\n"
+    "  v_normal = mat3(u_model) * n;\n"
+    "  v_uv = a_uv;\n"
+    "  gl_Position = u_view_proj * world;\n"
+    "}\n";
+
+static const char *fs_src =
+    "#version 330 core\n"
+    "in vec3 v_normal;\n"
+    "in vec2 v_uv;\n"
+    "uniform int u_mode;\n"
+    "uniform vec3 u_light;\n"
+    "out vec4 color;\n"
+    "void main() {\n"
+    "  vec3 n = normalize(v_normal);\n"
+    "  if (u_mode == 2 && !gl_FrontFacing) n = -n;\n"
+    "  float diffuse = max(dot(n, u_light), 0.0);\n"
+    "  vec3 base;\n"
+    "  if (u_mode == 0) {\n"
+    "    float grain = 0.5 + 0.5 * sin(v_uv.x * 37.7 + sin(v_uv.y * 3.1) * 2.0);\n"
+    "    float rings = 0.5 + 0.5 * sin(v_uv.y * 1.7);\n"
+    "    base = mix(vec3(0.30, 0.19, 0.11), vec3(0.52, 0.36, 0.22), 0.6 * grain + 0.4 * rings);\n"
+    "  } else if (u_mode == 1) {\n"
+    "    base = vec3(0.36, 0.47, 0.28);\n"
+    "  } else {\n"
+    "    base = vec3(0.22, 0.52, 0.16);\n"
+    "  }\n"
+    "  color = vec4(base * (0.35 + 0.65 * diffuse), 1.0);\n"
+    "}\n";
+
+static GLuint compile(GLenum kind, const char *src) {
+  GLuint s = p_glCreateShader(kind);
+  p_glShaderSource(s, 1, &src, NULL);
+  p_glCompileShader(s);
+  GLint ok = 0;
+  p_glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    p_glGetShaderInfoLog(s, sizeof log, NULL, log);
+    fprintf(stderr, "gallery: shader: %s\n", log);
+    exit(1);
+  }
+  return s;
+}
+
+/* ---- trees ---- */
+typedef struct {
+  char name;
+  ArborHondaParams params;
+  GLuint vao, vbo, ebo;
+  size_t vertices, indices, triangles;
+  GLuint leaf_vao, leaf_instances_vbo;
+  size_t leaves;
+  float lo[3], hi[3];
+  double grow_ms, upload_ms;
+} Tree;
+
+typedef struct {
+  int width, height, single; /* single: -1 grid, else tree index */
+  int strips, leaves, wireframe, forest, growth, growth_step;
+  unsigned radial_segments;
+  float thickness, length;
+  int steps_delta;
+  float yaw, pitch, zoom;
+  double drag_x, drag_y;
+  int dragging, dirty, screenshot_requested;
+  double growth_clock;
+} State;
+
+static Tree trees[9];
+static State st;
+static GLuint program, ground_vao, ground_vbo, ground_ebo, leaf_quad_vao, leaf_quad_vbo, leaf_quad_ebo;
+static GLint u_view_proj, u_model, u_mode, u_light;
+
+static double now_ms(void) { return glfwGetTime() * 1e3; }
+
+static void fail(const char *what) {
+  char msg[512];
+  arbor_last_error_message(msg, sizeof msg);
+  fprintf(stderr, "gallery: %s: %s\n", what, msg);
+  exit(1);
+}
+
+static ArborMeshOptions mesh_options(void) {
+  ArborMeshOptions o = arbor_mesh_options_default();
+  o.radial_segments = st.radial_segments;
+  o.topology = st.strips ? ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART : ARBOR_TOPOLOGY_TRIANGLE_LIST;
+  o.smooth_taper = 1;
+  o.tip = ARBOR_TIP_POINT;
+  o.texture_scale = 6.0f;
+  return o;
+}
+
+static void setup_vertex_layout(void) {
+  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, position));
+  p_glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, normal));
+  p_glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, uv));
+  for (int k = 0; k < 3; k++) p_glEnableVertexAttribArray((GLuint)k);
+}
+
+/* Grows tree t with the current settings and uploads it: size, map, write, unmap. */
+static void build_tree(Tree *t) {
+  double t0 = now_ms();
+  ArborHondaParams p = t->params;
+  p.trunk_width *= st.thickness;
+  p.trunk_length *= st.length;
+  p.min_length *= st.length; /* scale min with the trunk, or the shape changes */
+  int steps = (int)p.steps + st.steps_delta;
+  if (st.growth) steps = st.growth_step;
+  p.steps = (uint32_t)(steps < 0 ? 0 : steps);
+  ArborTree *tree = NULL;
+  if (arbor_tree_from_honda(&p, &tree) != ARBOR_STATUS_OK) fail("arbor_tree_from_honda");
+  double t1 = now_ms();
+
+  /* Frame the grown tree, so the growth animation does not zoom. */
+  ArborTree *framed = tree;
+  if (st.growth) {
+    ArborHondaParams full = p;
+    int full_steps = (int)t->params.steps + st.steps_delta;
+    full.steps = (uint32_t)(full_steps < 0 ? 0 : full_steps);
+    if (arbor_tree_from_honda(&full, &framed) != ARBOR_STATUS_OK) fail("arbor_tree_from_honda");
+  }
+  size_t nb = arbor_tree_branch_count(framed);
+  ArborBranch *b = malloc((nb ? nb : 1) * sizeof *b);
+  arbor_tree_copy_branches(framed, b, nb);
+  if (framed != tree) arbor_tree_free(framed);
+  for (int k = 0; k < 3; k++) {
+    t->lo[k] = 1e30f;
+    t->hi[k] = -1e30f;
+  }
+  for (size_t i = 0; i < nb; i++)
+    for (int k = 0; k < 3; k++) {
+      float a = b[i].start[k], e = b[i].end[k];
+      t->lo[k] = fminf(t->lo[k], fminf(a, e));
+      t->hi[k] = fmaxf(t->hi[k], fmaxf(a, e));
+    }
+  if (nb == 0)
+    for (int k = 0; k < 3; k++) t->lo[k] = t->hi[k] = 0;
+  free(b);
+
+  ArborMeshOptions o = mesh_options();
+  size_t nv = 0, ni = 0;
+  if (arbor_mesh_size(tree, &o, &nv, &ni) != ARBOR_STATUS_OK) fail("arbor_mesh_size");
+  if (!t->vao) {
+    p_glGenVertexArrays(1, &t->vao);
+    p_glGenBuffers(1, &t->vbo);
+    p_glGenBuffers(1, &t->ebo);
+  }
+  p_glBindVertexArray(t->vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t->ebo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), NULL, GL_STATIC_DRAW);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof(uint32_t)), NULL, GL_STATIC_DRAW);
+  if (nv > 0 && ni > 0) {
+    /* arbor writes straight into the GPU buffers. */
+    GLbitfield access = GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT;
+    void *vmem = p_glMapBufferRange(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(nv * sizeof(ArborVertex)), access);
+    void *imem = p_glMapBufferRange(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(ni * sizeof(uint32_t)), access);
+    if (!vmem || !imem) {
+      fprintf(stderr, "gallery: glMapBufferRange failed\n");
+      exit(1);
+    }
+    if (arbor_mesh_write(tree, &o, vmem, nv, imem, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
+    p_glUnmapBuffer(GL_ELEMENT_ARRAY_BUFFER);
+    p_glUnmapBuffer(GL_ARRAY_BUFFER);
+  }
+  setup_vertex_layout();
+  t->vertices = nv;
+  t->indices = ni;
+  t->triangles = st.strips ? 0 : ni / 3;
+  if (st.strips) {
+    ArborMeshOptions list = o;
+    list.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
+    size_t lv, li;
+    arbor_mesh_size(tree, &list, &lv, &li);
+    t->triangles = li / 3;
+  }
+
+  /* Leaf instances for glDrawElementsInstanced. */
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  lo.tips = 1;
+  lo.min_depth = p.steps > 3 ? p.steps - 2 : 0;
+  lo.density = 2.0f;
+  lo.size = 9.0f * st.length;
+  size_t nl = 0;
+  if (arbor_leaf_instance_count(tree, &lo, &o, &nl) != ARBOR_STATUS_OK) fail("leaves");
+  ArborLeafInstance *leaves = malloc((nl ? nl : 1) * sizeof *leaves);
+  if (arbor_leaf_instances_write(tree, &lo, &o, leaves, nl) != ARBOR_STATUS_OK) fail("leaves");
+  if (!t->leaf_vao) {
+    p_glGenVertexArrays(1, &t->leaf_vao);
+    p_glGenBuffers(1, &t->leaf_instances_vbo);
+  }
+  p_glBindVertexArray(t->leaf_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
+  setup_vertex_layout();
+  p_glBindBuffer(GL_ARRAY_BUFFER, t->leaf_instances_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nl * sizeof *leaves), leaves, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, position));
+  p_glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, rotation));
+  p_glVertexAttribPointer(5, 1, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, scale));
+  for (GLuint k = 3; k < 6; k++) {
+    p_glEnableVertexAttribArray(k);
+    p_glVertexAttribDivisor(k, 1);
+  }
+  t->leaves = nl;
+  free(leaves);
+  p_glBindVertexArray(0);
+  arbor_tree_free(tree);
+  double t2 = now_ms();
+  t->grow_ms = t1 - t0;
+  t->upload_ms = t2 - t1;
+}
+
+static void build_all(int verbose) {
+  for (int i = 0; i < 9; i++) build_tree(&trees[i]);
+  if (verbose) {
+    printf("tree  steps  vertices  triangles  leaves  grow ms  mesh+upload ms\n");
+    for (int i = 0; i < 9; i++)
+      printf("%c     %5u  %8zu  %9zu  %6zu  %7.2f  %14.2f\n", trees[i].name,
+             trees[i].params.steps + (unsigned)st.steps_delta, trees[i].vertices,
+             trees[i].triangles, trees[i].leaves, trees[i].grow_ms, trees[i].upload_ms);
+  }
+}
+
+static void make_static_geometry(void) {
+  /* Ground: a large square at y = 0. */
+  ArborVertex g[4];
+  memset(g, 0, sizeof g);
+  float s = 5000;
+  float corners[4][2] = {{-s, -s}, {s, -s}, {s, s}, {-s, s}};
+  for (int k = 0; k < 4; k++) {
+    g[k].position[0] = corners[k][0];
+    g[k].position[2] = corners[k][1];
+    g[k].normal[1] = 1;
+  }
+  uint32_t gi[6] = {0, 2, 1, 0, 3, 2};
+  p_glGenVertexArrays(1, &ground_vao);
+  p_glGenBuffers(1, &ground_vbo);
+  p_glGenBuffers(1, &ground_ebo);
+  p_glBindVertexArray(ground_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, ground_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, sizeof g, g, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ground_ebo);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof gi, gi, GL_STATIC_DRAW);
+  setup_vertex_layout();
+  /* Leaf quad: the leaf space of ArborLeafInstance (+Y along the blade, +Z its face). */
+  ArborVertex q[4];
+  memset(q, 0, sizeof q);
+  float qc[4][2] = {{-0.25f, 0}, {0.25f, 0}, {0.25f, 1}, {-0.25f, 1}};
+  for (int k = 0; k < 4; k++) {
+    q[k].position[0] = qc[k][0];
+    q[k].position[1] = qc[k][1];
+    q[k].normal[2] = 1;
+  }
+  uint32_t qi[6] = {0, 1, 2, 0, 2, 3};
+  p_glGenVertexArrays(1, &leaf_quad_vao);
+  p_glGenBuffers(1, &leaf_quad_vbo);
+  p_glGenBuffers(1, &leaf_quad_ebo);
+  p_glBindVertexArray(leaf_quad_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, sizeof q, q, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof qi, qi, GL_STATIC_DRAW);
+  setup_vertex_layout();
+  p_glBindVertexArray(0);
+}
+
+static void draw_tree(const Tree *t, Mat4 model) {
+  p_glUniformMatrix4fv(u_model, 1, GL_FALSE, model.m);
+  p_glUniform1i(u_mode, 0);
+  p_glBindVertexArray(t->vao);
+  GLenum mode = st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES;
+  if (t->indices) p_glDrawElements(mode, (GLsizei)t->indices, GL_UNSIGNED_INT, 0);
+  if (st.leaves && t->leaves) {
+    p_glUniform1i(u_mode, 2);
+    p_glBindVertexArray(t->leaf_vao);
+    p_glDisable(GL_CULL_FACE);
+    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0, (GLsizei)t->leaves);
+    p_glEnable(GL_CULL_FACE);
+  }
+}
+
+/* Renders one view of tree index i (or the forest) into the viewport x, y, w, h. */
+static void draw_view(int i, int x, int y, int w, int h) {
+  p_glViewport(x, y, w, h);
+  p_glScissor(x, y, w, h);
+  p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const Tree *t = &trees[i];
+  /* Frame the tree about its trunk axis x = z = 0, so symmetric trees stay centred. */
+  float rx = fmaxf(fabsf(t->lo[0]), fabsf(t->hi[0]));
+  float rz = fmaxf(fabsf(t->lo[2]), fabsf(t->hi[2]));
+  float height = t->hi[1] > 1 ? t->hi[1] : 1;
+  float radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.08f;
+  if (st.forest) radius *= 3.2f;
+  float fov = 0.6f;
+  float dist = radius / sinf(fov / 2) * st.zoom;
+  float at[3] = {0, height * 0.5f, 0};
+  float eye[3] = {at[0] + dist * cosf(st.pitch) * sinf(st.yaw), at[1] + dist * sinf(st.pitch),
+                  at[2] + dist * cosf(st.pitch) * cosf(st.yaw)};
+  Mat4 vp = mat_mul(perspective(fov, (float)w / (float)h, dist * 0.05f, dist * 4 + radius * 4),
+                    look_at(eye, at));
+  p_glUniformMatrix4fv(u_view_proj, 1, GL_FALSE, vp.m);
+  Mat4 identity = model_matrix(0, 0, 0, 1);
+  p_glUniformMatrix4fv(u_model, 1, GL_FALSE, identity.m);
+  p_glUniform1i(u_mode, 1);
+  p_glBindVertexArray(ground_vao);
+  p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0);
+  if (!st.forest) {
+    draw_tree(t, identity);
+    return;
+  }
+  /* Forest: 25 instances of the nine trees with seeded positions, turns and sizes. */
+  unsigned seed = 12345u;
+  for (int k = 0; k < 25; k++) {
+    seed = seed * 1103515245u + 12345u;
+    float jx = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
+    seed = seed * 1103515245u + 12345u;
+    float jz = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
+    seed = seed * 1103515245u + 12345u;
+    float yaw = (float)((seed >> 16) & 1023) / 1023.0f * 6.2832f;
+    float scale = 0.7f + 0.6f * (float)((seed >> 8) & 255) / 255.0f;
+    float spacing = radius * 0.45f;
+    Mat4 m = model_matrix(((float)(k % 5) - 2 + jx * 0.6f) * spacing,
+                          ((float)(k / 5) - 2 + jz * 0.6f) * spacing, yaw, scale * 0.55f);
+    draw_tree(&trees[(k * 7 + (int)(seed % 9)) % 9], m);
+  }
+}
+
+static void render(void) {
+  p_glDisable(GL_SCISSOR_TEST);
+  p_glClearColor(0.78f, 0.86f, 0.95f, 1);
+  p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  p_glEnable(GL_SCISSOR_TEST);
+  p_glPolygonMode(GL_FRONT_AND_BACK, st.wireframe ? GL_LINE : GL_FILL);
+  p_glUseProgram(program);
+  float l[3] = {0.45f, 0.75f, 0.5f};
+  float ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+  p_glUniform3f(u_light, l[0] / ll, l[1] / ll, l[2] / ll);
+  if (st.single >= 0 || st.forest) {
+    draw_view(st.single >= 0 ? st.single : 0, 0, 0, st.width, st.height);
+  } else {
+    int cw = st.width / 3, ch = st.height / 3;
+    for (int i = 0; i < 9; i++) {
+      int col = i % 3, row = i / 3;
+      draw_view(i, col * cw, (2 - row) * ch, cw, ch);
+    }
+  }
+  p_glDisable(GL_SCISSOR_TEST);
+}
+
+static int save_image(const char *path) {
+  int w = st.width, h = st.height;
+  unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+  p_glFinish();
+  p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  p_glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+  FILE *f = fopen(path, "wb");
+  if (!f) {
+    fprintf(stderr, "gallery: cannot write %s\n", path);
+    free(rgb);
+    return 0;
+  }
+  size_t len = strlen(path);
+  if (len > 4 && strcmp(path + len - 4, ".ppm") == 0) {
+    fprintf(f, "P6\n%d %d\n255\n", w, h);
+    for (int y = h - 1; y >= 0; y--) fwrite(rgb + (size_t)y * (size_t)w * 3, 1, (size_t)w * 3, f);
+  } else {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    if (setjmp(png_jmpbuf(png))) {
+      fprintf(stderr, "gallery: libpng failed on %s\n", path);
+      fclose(f);
+      free(rgb);
+      return 0;
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = h - 1; y >= 0; y--) png_write_row(png, rgb + (size_t)y * (size_t)w * 3);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+  }
+  fclose(f);
+  free(rgb);
+  printf("gallery: wrote %s (%dx%d)\n", path, w, h);
+  return 1;
+}
+
+static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
+  (void)scancode;
+  if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+  int shift = (mods & GLFW_MOD_SHIFT) != 0;
+  if (k == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(win, 1);
+  else if (k >= GLFW_KEY_1 && k <= GLFW_KEY_9) { st.single = k - GLFW_KEY_1; st.forest = 0; }
+  else if (k == GLFW_KEY_0) { st.single = -1; st.forest = 0; }
+  else if (k == GLFW_KEY_EQUAL || k == GLFW_KEY_KP_ADD) { st.steps_delta++; st.dirty = 1; }
+  else if (k == GLFW_KEY_MINUS || k == GLFW_KEY_KP_SUBTRACT) { st.steps_delta--; st.dirty = 1; }
+  else if (k == GLFW_KEY_LEFT_BRACKET && st.radial_segments > 3) { st.radial_segments--; st.dirty = 1; }
+  else if (k == GLFW_KEY_RIGHT_BRACKET && st.radial_segments < 64) { st.radial_segments++; st.dirty = 1; }
+  else if (k == GLFW_KEY_T) { st.thickness *= shift ? 1 / 1.15f : 1.15f; st.dirty = 1; }
+  else if (k == GLFW_KEY_L) { st.length *= shift ? 1 / 1.1f : 1.1f; st.dirty = 1; }
+  else if (k == GLFW_KEY_V) st.leaves = !st.leaves;
+  else if (k == GLFW_KEY_W) st.wireframe = !st.wireframe;
+  else if (k == GLFW_KEY_S) { st.strips = !st.strips; st.dirty = 1; }
+  else if (k == GLFW_KEY_F) st.forest = !st.forest;
+  else if (k == GLFW_KEY_P) st.screenshot_requested = 1;
+  else if (k == GLFW_KEY_G) {
+    st.growth = !st.growth;
+    st.growth_step = 0;
+    st.growth_clock = glfwGetTime();
+    st.dirty = 1;
+  }
+}
+
+static void mouse_button(GLFWwindow *win, int button, int action, int mods) {
+  (void)mods;
+  if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    st.dragging = action == GLFW_PRESS;
+    glfwGetCursorPos(win, &st.drag_x, &st.drag_y);
+  }
+}
+
+static void cursor(GLFWwindow *win, double x, double y) {
+  (void)win;
+  if (!st.dragging) return;
+  st.yaw -= (float)(x - st.drag_x) * 0.01f;
+  st.pitch += (float)(y - st.drag_y) * 0.01f;
+  if (st.pitch > 1.4f) st.pitch = 1.4f;
+  if (st.pitch < -0.2f) st.pitch = -0.2f;
+  st.drag_x = x;
+  st.drag_y = y;
+}
+
+static void scroll(GLFWwindow *win, double dx, double dy) {
+  (void)win;
+  (void)dx;
+  st.zoom *= dy > 0 ? 0.9f : 1.1f;
+}
+
+static void resize(GLFWwindow *win, int w, int h) {
+  (void)win;
+  st.width = w;
+  st.height = h;
+}
+
+int main(int argc, char **argv) {
+  const char *shot = NULL;
+  int frames = 3, headless = 0, depth = -1;
+  st.width = 1080;
+  st.height = 1080;
+  st.single = -1;
+  st.strips = 1;
+  st.radial_segments = 8;
+  st.thickness = 1;
+  st.length = 1;
+  st.zoom = 1;
+  st.pitch = 0.12f;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) { shot = argv[++i]; headless = 1; }
+    else if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
+    else if (!strcmp(argv[i], "--tree") && i + 1 < argc) st.single = argv[++i][0] - 'a';
+    else if (!strcmp(argv[i], "--size") && i + 1 < argc) sscanf(argv[++i], "%dx%d", &st.width, &st.height);
+    else if (!strcmp(argv[i], "--list")) st.strips = 0;
+    else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
+    else if (!strcmp(argv[i], "--forest")) st.forest = 1;
+    else if (!strcmp(argv[i], "--depth") && i + 1 < argc) depth = atoi(argv[++i]);
+    else {
+      fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
+                      "[--screenshot FILE.png|FILE.ppm --frames N]\n");
+      return 2;
+    }
+  }
+  if (st.single < -1 || st.single > 8 || st.width < 64 || st.height < 64 || frames < 1) {
+    fprintf(stderr, "gallery: bad --tree, --size or --frames\n");
+    return 2;
+  }
+  if (!glfwInit()) {
+    fprintf(stderr, "gallery: glfwInit failed (no display? run under xvfb-run -a)\n");
+    return 1;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, headless ? 0 : 4);
+  if (headless) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  GLFWwindow *win = glfwCreateWindow(st.width, st.height, "arbor gallery", NULL, NULL);
+  if (!win) {
+    fprintf(stderr, "gallery: cannot create an OpenGL 3.3 core window\n");
+    glfwTerminate();
+    return 1;
+  }
+  glfwMakeContextCurrent(win);
+  if (!load_gl()) return 1;
+  glfwGetFramebufferSize(win, &st.width, &st.height);
+  printf("gallery: arbor %s, OpenGL %s\n", arbor_version(), (const char *)p_glGetString(GL_VERSION));
+
+  GLuint vs = compile(GL_VERTEX_SHADER, vs_src), fs = compile(GL_FRAGMENT_SHADER, fs_src);
+  program = p_glCreateProgram();
+  p_glAttachShader(program, vs);
+  p_glAttachShader(program, fs);
+  p_glLinkProgram(program);
+  GLint linked = 0;
+  p_glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[2048];
+    p_glGetProgramInfoLog(program, sizeof log, NULL, log);
+    fprintf(stderr, "gallery: link: %s\n", log);
+    return 1;
+  }
+  u_view_proj = p_glGetUniformLocation(program, "u_view_proj");
+  u_model = p_glGetUniformLocation(program, "u_model");
+  u_mode = p_glGetUniformLocation(program, "u_mode");
+  u_light = p_glGetUniformLocation(program, "u_light");
+  p_glEnable(GL_DEPTH_TEST);
+  p_glEnable(GL_CULL_FACE);
+  p_glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  make_static_geometry();
+
+  for (int i = 0; i < 9; i++) {
+    trees[i].name = (char)('a' + i);
+    if (arbor_honda_preset((uint32_t)trees[i].name, &trees[i].params) != ARBOR_STATUS_OK) fail("preset");
+  }
+  if (depth >= 0) {
+    st.growth = 1;
+    st.growth_step = depth;
+  }
+  build_all(1);
+  if (!headless)
+    printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
+           "(Shift: smaller), V leaves, G growth, W wireframe, S strips/list, F forest, P screenshot\n");
+
+  glfwSetKeyCallback(win, key);
+  glfwSetMouseButtonCallback(win, mouse_button);
+  glfwSetCursorPosCallback(win, cursor);
+  glfwSetScrollCallback(win, scroll);
+  glfwSetFramebufferSizeCallback(win, resize);
+
+  int frame = 0;
+  while (!glfwWindowShouldClose(win)) {
+    if (st.growth && depth < 0) {
+      int step = (int)((glfwGetTime() - st.growth_clock) * 2.0);
+      if (step != st.growth_step && step <= 16) {
+        st.growth_step = step;
+        st.dirty = 1;
+      }
+    }
+    if (st.dirty) {
+      build_all(!st.growth);
+      st.dirty = 0;
+    }
+    render();
+    frame++;
+    if (headless && frame >= frames) {
+      int ok = save_image(shot);
+      glfwDestroyWindow(win);
+      glfwTerminate();
+      return ok ? 0 : 1;
+    }
+    if (st.screenshot_requested) {
+      save_image("arbor_gallery.png");
+      st.screenshot_requested = 0;
+    }
+    glfwSwapBuffers(win);
+    glfwPollEvents();
+    char title[160];
+    size_t verts = 0, tris = 0;
+    double ms = 0;
+    for (int i = 0; i < 9; i++) {
+      verts += trees[i].vertices;
+      tris += trees[i].triangles;
+      ms += trees[i].grow_ms + trees[i].upload_ms;
+    }
+    snprintf(title, sizeof title, "arbor gallery: %zu vertices, %zu triangles, %.1f ms to grow and upload (%s)",
+             verts, tris, ms, st.strips ? "strips" : "list");
+    glfwSetWindowTitle(win, title);
+  }
+  glfwDestroyWindow(win);
+  glfwTerminate();
+  return 0;
+}
