@@ -154,8 +154,108 @@ fn bench_mesh_large(c: &mut Criterion) {
     group.finish();
 }
 
+/// Leaves of tree g with n = 14 (2 per tip): instances and the baked quad mesh.
+fn bench_leaves(c: &mut Criterion) {
+    let mut params = honda::HondaParams::preset('g').unwrap();
+    params.steps = 14;
+    let skeleton = honda::build(&params).unwrap();
+    let leaves = mesh::LeafOptions {
+        tips: true,
+        density: 2.0,
+        ..Default::default()
+    };
+    let options = mesh::MeshOptions::default();
+    let n = mesh::leaf_instances(&skeleton, &leaves, &options)
+        .unwrap()
+        .len();
+    let mut group = c.benchmark_group("leaves");
+    group.throughput(Throughput::Elements(n as u64));
+    group.bench_function("instances", |b| {
+        b.iter(|| mesh::leaf_instances(black_box(&skeleton), &leaves, &options).unwrap())
+    });
+    group.bench_function("baked_quads", |b| {
+        b.iter(|| mesh::leaf_mesh(black_box(&skeleton), &leaves, &options).unwrap())
+    });
+    group.finish();
+}
+
+/// OBJ text for tree f (5,027 branches, 8 sides), written to memory.
+fn bench_obj(c: &mut Criterion) {
+    let skeleton = honda::build(&honda::HondaParams::preset('f').unwrap()).unwrap();
+    let m = mesh::tubes(&skeleton, &mesh::MeshOptions::default()).unwrap();
+    let mut out = Vec::new();
+    arbor::export::write_obj(&m, &mut out).unwrap();
+    let mut group = c.benchmark_group("obj_export");
+    group.throughput(Throughput::Bytes(out.len() as u64));
+    group.bench_function("tree_f", |b| {
+        b.iter(|| {
+            out.clear();
+            arbor::export::write_obj(black_box(&m), &mut out).unwrap();
+        })
+    });
+    group.finish();
+}
+
+/// The whole path: grammar text to vertex and index buffers (tree g, n = 14).
+fn bench_whole_path(c: &mut Criterion) {
+    let path = format!("{}/examples/grammars/honda_g.l", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let options = LsystemOptions {
+        steps: Some(14),
+        ..Default::default()
+    };
+    let mesh_options = mesh::MeshOptions::default();
+    let probe = LSystem::parse(&text).unwrap().skeleton(&options).unwrap();
+    let mut group = c.benchmark_group("text_to_buffers");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(probe.len() as u64));
+    group.bench_function("honda_g_n14", |b| {
+        b.iter(|| {
+            let ls = LSystem::parse(black_box(&text)).unwrap();
+            let skeleton = ls.skeleton(&options).unwrap();
+            mesh::tubes(&skeleton, &mesh_options).unwrap()
+        })
+    });
+    group.finish();
+}
+
+/// A forest of 36 trees (the nine presets four times, n + 2 steps): one after another,
+/// and at once (on all cores with `--features parallel`).
+fn bench_forest(c: &mut Criterion) {
+    let items: Vec<arbor::forest::Item<'_>> = (0..36u64)
+        .map(|k| {
+            let mut p = honda::HondaParams::preset((b'a' + (k % 9) as u8) as char).unwrap();
+            p.steps += 2;
+            arbor::forest::Item {
+                source: arbor::forest::Source::Honda(p),
+                seed: k,
+            }
+        })
+        .collect();
+    let options = mesh::MeshOptions::default();
+    let mut group = c.benchmark_group("forest");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(items.len() as u64));
+    group.bench_function("serial", |b| {
+        b.iter(|| arbor::forest::build_serial(black_box(&items), &options).unwrap())
+    });
+    let label = if cfg!(feature = "parallel") {
+        "parallel"
+    } else {
+        "build_without_parallel_feature"
+    };
+    group.bench_function(label, |b| {
+        b.iter(|| arbor::forest::build(black_box(&items), &options).unwrap())
+    });
+    group.finish();
+}
+
 criterion_group!(
     benches,
+    bench_forest,
+    bench_leaves,
+    bench_obj,
+    bench_whole_path,
     bench_mesh_large,
     bench_honda,
     bench_mesh,

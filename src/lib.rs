@@ -42,6 +42,7 @@ pub mod error;
 pub mod export;
 #[allow(unsafe_code)]
 pub mod ffi;
+pub mod forest;
 pub mod honda;
 pub mod lsystem;
 pub mod mesh;

@@ -1,0 +1,80 @@
+//! Peak heap memory along the scale sweep, with a counting global allocator
+//! (`peak_alloc`): for the 1996 tree a with n = 10 … 22, the peak bytes alive while going
+//! from parameters (direct builder) or from grammar text to the mesh buffers, against the
+//! bytes of those final buffers. Goal: peak ≤ 1.5 × output.
+//!
+//! `cargo bench --bench memory`
+
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::{honda, mesh};
+use peak_alloc::PeakAlloc;
+
+#[global_allocator]
+static ALLOC: PeakAlloc = PeakAlloc;
+
+fn main() {
+    // Run by `cargo test --benches` too: then only the two smallest sizes.
+    let quick = std::env::args().any(|a| a == "--test" || a == "--quick");
+    let path = format!("{}/examples/grammars/honda_a.l", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let options = mesh::MeshOptions {
+        radial_segments: 6,
+        ..Default::default()
+    };
+    println!(
+        "{:>10} {:>14} {:>14} {:>7} {:>14} {:>7}",
+        "internodes", "output bytes", "direct peak", "ratio", "grammar peak", "ratio"
+    );
+    let steps: &[u32] = if quick {
+        &[10, 13]
+    } else {
+        &[10, 13, 16, 19, 22]
+    };
+    let mut worst: f64 = 0.0;
+    for &n in steps {
+        // Direct: parameters → skeleton → mesh buffers.
+        let base = ALLOC.current_usage();
+        ALLOC.reset_peak_usage();
+        let mut params = honda::HondaParams::preset('a').unwrap();
+        params.steps = n;
+        let skeleton = honda::build(&params).unwrap();
+        let m = mesh::tubes(&skeleton, &options).unwrap();
+        drop(skeleton);
+        let output = m.vertices.len() * std::mem::size_of::<mesh::Vertex>()
+            + m.indices.len() * 4
+            + m.ranges.len() * std::mem::size_of::<mesh::BranchRange>();
+        let direct = ALLOC.peak_usage() - base;
+        drop(m);
+
+        // Grammar: text → parse → derive → interpret → mesh buffers.
+        let base = ALLOC.current_usage();
+        ALLOC.reset_peak_usage();
+        let lo = LsystemOptions {
+            steps: Some(n),
+            max_modules: usize::MAX,
+            max_params: usize::MAX,
+            ..Default::default()
+        };
+        let skeleton = LSystem::parse(&text).unwrap().skeleton(&lo).unwrap();
+        let m = mesh::tubes(&skeleton, &options).unwrap();
+        drop(skeleton);
+        let grammar = ALLOC.peak_usage() - base;
+        drop(m);
+
+        let (rd, rg) = (
+            direct as f64 / output as f64,
+            grammar as f64 / output as f64,
+        );
+        worst = worst.max(rd).max(rg);
+        println!(
+            "{:>10} {:>14} {:>14} {:>7.2} {:>14} {:>7.2}",
+            (1u64 << n) - 1,
+            output,
+            direct,
+            rd,
+            grammar,
+            rg
+        );
+    }
+    println!("worst peak / output: {worst:.2} (goal <= 1.5)");
+}

@@ -1,0 +1,31 @@
+#!/usr/bin/env sh
+# Peers side by side, on this machine and in this run: builds a scratch crate under
+# target/peers/ that depends on arbor (this checkout) and on the L-system crates symbios
+# and dcc-lsystem from crates.io, and prints a table of modules per second (median of 7
+# runs) with arbor's ratio to each peer. Nothing of the peers is committed.
+#
+#   benches/peers/run.sh
+set -eu
+root=$(cd "$(dirname "$0")/../.." && pwd)
+work="$root/target/peers/rust"
+mkdir -p "$work/src"
+cat > "$work/Cargo.toml" <<TOML
+[package]
+name = "arbor-peers"
+version = "0.0.0"
+edition = "2021"
+publish = false
+
+[dependencies]
+arbor = { path = "$root" }
+symbios = "=1.5.1"
+dcc-lsystem = "=0.6.3"
+
+[profile.release]
+debug = false
+
+[workspace]
+TOML
+cp "$root/benches/peers/main.rs" "$work/src/main.rs"
+cd "$work"
+cargo run --release --quiet
