@@ -71,7 +71,33 @@ fn row(name: &str, arbor: (f64, usize), peers: &[(&str, (f64, usize))]) {
     println!();
 }
 
+/// arbor's bark triangles per second from parameters (build + mesh, 8 sides, list).
+fn mesh_rows() {
+    for (name, steps) in [('a', 10u32), ('a', 14), ('f', 15)] {
+        let mut p = arbor::honda::HondaParams::preset(name).unwrap();
+        p.steps = steps;
+        let o = arbor::mesh::MeshOptions::default();
+        let mut tris = 0;
+        let mut verts = 0;
+        let (t, _) = time(|| {
+            let s = arbor::honda::build(&p).unwrap();
+            let m = arbor::mesh::tubes(&s, &o).unwrap();
+            tris = m.indices.len() / 3;
+            verts = m.vertices.len();
+            tris
+        });
+        println!(
+            "| arbor tree {name}, n = {steps} | {tris} | {verts} (u32 indices) | {:.2} |",
+            tris as f64 / t / 1e6
+        );
+    }
+}
+
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("mesh") {
+        mesh_rows();
+        return;
+    }
     let fig = "Axiom: F\nF --> F[+F]F[-F]F\n";
     let honda_g = "#define r 0.8\n#define w 0.7071\n\
                    Axiom: A(100,30)\n\

@@ -29,3 +29,16 @@ TOML
 cp "$root/benches/peers/main.rs" "$work/src/main.rs"
 cd "$work"
 cargo run --release --quiet
+
+# Mesh generators in JavaScript, if Node and npm are installed.
+if command -v npm >/dev/null 2>&1; then
+  node_dir="$root/target/peers/node"
+  mkdir -p "$node_dir"
+  cp "$root/benches/peers/ez-tree.mjs" "$node_dir/"
+  (cd "$node_dir" && npm install --silent --no-audit --no-fund @dgreenheck/ez-tree@1.1.0 three@0.170.0 >/dev/null)
+  echo
+  echo "| mesh generator | bark triangles | vertices | M triangles/s |"
+  echo "|---|---|---|---|"
+  (cd "$node_dir" && node ez-tree.mjs)
+  (cd "$work" && cargo run --release --quiet -- mesh)
+fi
