@@ -91,8 +91,12 @@ fn check_options(o: &MeshOptions) -> Result<()> {
 }
 
 #[inline]
+/// Unit direction of a branch, computed in f64 so that lengths near the f32 limit do not
+/// overflow; +Y for a zero-length branch.
 fn direction(b: &Branch) -> Vec3 {
-    (b.end() - b.start()).try_normalize().unwrap_or(Vec3::Y)
+    (b.end().as_dvec3() - b.start().as_dvec3())
+        .try_normalize()
+        .map_or(Vec3::Y, |d| d.as_vec3())
 }
 
 fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
@@ -138,11 +142,10 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             }
         } else {
             let p = b.parent as usize;
-            let (a, c) = (branches[p].end() - branches[p].start(), b.end() - b.start());
             if o.joints == Joints::Mitred
                 && cont[p] == i as u32
                 && segs[p] == segs[i]
-                && a.dot(c) > MITRE_MIN_COS * (a.length_squared() * c.length_squared()).sqrt()
+                && direction(&branches[p]).dot(direction(b)) > MITRE_MIN_COS
             {
                 flags[i] |= SHARES_START;
                 flags[p] |= MITRE_END;
@@ -474,7 +477,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         };
         let start = b.start();
         let end = b.end();
-        let len = (end - start).length();
+        let len_f64 = (end.as_dvec3() - start.as_dvec3()).length();
         let root = b.parent == NO_PARENT;
         let p = if root {
             ring_basis(d.as_dvec3()).0.as_vec3()
@@ -491,13 +494,15 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
             b.end_radius
         };
         let v0 = if root { 0.0 } else { v_end[b.parent as usize] };
-        let v1 = v0 + len * inv_ts;
+        // Clamped so that absurd lengths cannot push uv past the f32 range.
+        let v1 =
+            (v0 as f64 + len_f64 * inv_ts as f64).clamp(-(f32::MAX as f64), f32::MAX as f64) as f32;
         v_end[i] = v1;
         // Cone normal: radial·h + axis·(r0 − r1), normalised.
-        let dr = r0 - r1;
-        let slant = (len * len + dr * dr).sqrt();
+        let dr = (r0 - r1) as f64;
+        let slant = (len_f64 * len_f64 + dr * dr).sqrt();
         let (nc, na) = if slant > 0.0 {
-            (len / slant, dr / slant)
+            ((len_f64 / slant) as f32, (dr / slant) as f32)
         } else {
             (1.0, 0.0)
         };

@@ -1,0 +1,272 @@
+//! Property tests over hostile input: random grammars built from the language's pieces,
+//! random mutations of the shipped grammars, and random bytes. Whatever comes in, arbor
+//! answers `Ok` or an error (a parse error has a position), never panics, stays within
+//! its limits, and puts no NaN in any buffer. `ARBOR_FUZZ_CASES=N` runs N cases per
+//! property (default 256); regressions found are kept in `tests/fuzz.proptest-regressions`.
+
+use arbor::Error;
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::mesh::{self, MeshOptions, Tip, Topology};
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+
+/// How many inputs reached the mesher (printed by `report`, to show the generators reach
+/// deep into the pipeline rather than stopping at parse errors).
+static MESHED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+fn cases() -> u32 {
+    std::env::var("ARBOR_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(256)
+}
+
+/// Grows, interprets and meshes `text` with small limits; checks every property.
+fn check(text: &str) -> Result<(), TestCaseError> {
+    let ls = match LSystem::parse(text) {
+        Ok(ls) => ls,
+        Err(Error::Parse { line, column, .. }) => {
+            prop_assert!(line >= 1 && column >= 1);
+            return Ok(());
+        }
+        Err(e) => return Err(TestCaseError::fail(format!("parse gave {e}"))),
+    };
+    let options = LsystemOptions {
+        steps: Some(ls.derivation_length().min(6)),
+        max_modules: 20_000,
+        max_params: 40_000,
+        max_branches: 20_000,
+        ..Default::default()
+    };
+    let string = match ls.derive(&options) {
+        Ok(s) => s,
+        Err(Error::LimitExceeded { .. } | Error::Eval { .. } | Error::InvalidArgument { .. }) => {
+            return Ok(());
+        }
+        Err(e) => return Err(TestCaseError::fail(format!("derive gave {e}"))),
+    };
+    prop_assert!(string.len() <= 20_000);
+    let skeleton = match ls.interpret(&string, &options) {
+        Ok(s) => s,
+        Err(Error::LimitExceeded { .. } | Error::Eval { .. } | Error::InvalidArgument { .. }) => {
+            return Ok(());
+        }
+        Err(e) => return Err(TestCaseError::fail(format!("interpret gave {e}"))),
+    };
+    prop_assert!(skeleton.len() <= 20_000);
+    MESHED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    for topology in Topology::ALL {
+        let o = MeshOptions {
+            topology,
+            radial_segments: 4,
+            tip: Tip::Point,
+            base_cap: true,
+            smooth_taper: true,
+            ..Default::default()
+        };
+        let m = mesh::tubes(&skeleton, &o).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        for v in &m.vertices {
+            prop_assert!(
+                v.position
+                    .iter()
+                    .chain(&v.normal)
+                    .chain(&v.uv)
+                    .all(|x| x.is_finite())
+            );
+        }
+        let n = m.vertices.len() as u32;
+        prop_assert!(m.indices.iter().all(|&i| i < n || i == u32::MAX));
+    }
+    Ok(())
+}
+
+const SYMBOLS: &[&str] = &[
+    "F", "G", "f", "g", "+", "-", "&", "^", "/", "\\", "|", "$", "!", "#", "%", "~", "{", ".", "}",
+    "A", "B", "X", "@M", "@R", "@v",
+];
+
+fn expr() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        6 => (-1000.0f64..1000.0).prop_map(|v| format!("{v:.3}")),
+        3 => Just("x".to_string()),
+        3 => Just("y".to_string()),
+        1 => Just("1e308".to_string()),
+        1 => Just("0".to_string()),
+    ];
+    leaf.prop_recursive(4, 24, 3, |inner| {
+        prop_oneof![
+            (
+                inner.clone(),
+                prop::sample::select(vec!["+", "-", "*", "/", "^", "<", ">=", "&&", "%"]),
+                inner.clone()
+            )
+                .prop_map(|(a, op, b)| format!("({a} {op} {b})")),
+            (
+                prop::sample::select(vec![
+                    "sin", "cos", "fabs", "ran", "floor", "log", "sqrt", "exp"
+                ]),
+                inner.clone()
+            )
+                .prop_map(|(f, a)| format!("{f}({a})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("nran({a}, {b})")),
+            (inner.clone(), inner.clone(), inner)
+                .prop_map(|(c, a, b)| format!("({c} ? {a} : {b})")),
+        ]
+    })
+}
+
+fn module(params: bool) -> impl Strategy<Value = String> {
+    (
+        prop::sample::select(SYMBOLS),
+        prop::collection::vec(expr(), 0..3),
+    )
+        .prop_map(move |(s, args)| {
+            if params && !args.is_empty() {
+                format!("{s}({})", args.join(","))
+            } else {
+                s.to_string()
+            }
+        })
+}
+
+/// Modules, some wrapped in a branch, so brackets balance (unbalanced text is the
+/// mutation property's business).
+fn successor() -> impl Strategy<Value = String> {
+    prop::collection::vec((module(true), module(true), 0u8..4), 0..8).prop_map(|m| {
+        m.into_iter()
+            .map(|(a, b, k)| match k {
+                0 => format!("[{a}{b}]"),
+                1 => format!("[{a}]{b}"),
+                _ => format!("{a}{b}"),
+            })
+            .collect()
+    })
+}
+
+fn grammar() -> impl Strategy<Value = String> {
+    let production = (
+        prop::sample::select(vec!["A(x,y)", "X(x)", "F(x)", "B", "F"]),
+        prop::option::of(prop::sample::select(vec!["A < ", "F < ", "B(p) < "])),
+        prop::option::of(prop::sample::select(vec![" > B", " > [F]", " > X(q)"])),
+        prop::option::of(expr()),
+        successor(),
+        prop::option::of(0.0f64..5.0),
+    )
+        .prop_map(|(pred, lc, rc, cond, succ, prob)| {
+            let mut s = String::new();
+            s += lc.unwrap_or("");
+            s += pred;
+            s += rc.unwrap_or("");
+            if let Some(c) = cond {
+                s += &format!(" : {c}");
+            }
+            s += " --> ";
+            s += if succ.is_empty() { "*" } else { &succ };
+            if let Some(p) = prob {
+                s += &format!(" : {p:.2}");
+            }
+            s
+        });
+    (
+        successor(),
+        prop::collection::vec(production, 0..6),
+        0u32..8,
+        prop::option::of(prop::sample::select(vec![
+            "ignore: +-",
+            "consider: AB",
+            "tropism: T: 0 -1 0 E: 0.5",
+            "angle increment: 1e30",
+            "homomorphism\nmaximum depth: 50\nA --> F[+A][-A]",
+            "decomposition\nmaximum depth: 5\nB --> FB",
+        ])),
+    )
+        .prop_map(|(axiom, prods, n, extra)| {
+            // x and y are defines outside productions and parameters inside them.
+            let mut s = format!(
+                "#define x 1.5\n#define y -2\nderivation length: {n}\nAxiom: {}\n",
+                if axiom.is_empty() { "F" } else { &axiom }
+            );
+            for p in prods {
+                s += &p;
+                s += "\n";
+            }
+            if let Some(e) = extra {
+                s += e;
+                s += "\n";
+            }
+            s
+        })
+}
+
+fn shipped() -> Vec<String> {
+    let dir = format!("{}/examples/grammars", env!("CARGO_MANIFEST_DIR"));
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "l"))
+        .collect();
+    v.sort();
+    v.into_iter()
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_grammars_never_panic(text in grammar()) {
+        check(&text)?;
+    }
+
+    #[test]
+    fn mutated_shipped_grammars_never_panic(
+        which in 0usize..31,
+        edits in prop::collection::vec((0usize..4000, 0u8..4, any::<char>()), 1..6),
+    ) {
+        let all = shipped();
+        let mut chars: Vec<char> = all[which % all.len()].chars().collect();
+        for (at, kind, c) in edits {
+            let at = at % (chars.len() + 1);
+            match kind {
+                0 => chars.insert(at, c),
+                1 if at < chars.len() => { chars.remove(at); }
+                2 if at < chars.len() => chars[at] = c,
+                _ => {
+                    // A character the grammar gives meaning to.
+                    let special = ['[', ']', '(', ')', ':', '-', '>', '<', '\n', '{', '*'];
+                    chars.insert(at, special[c as usize % special.len()]);
+                }
+            }
+        }
+        check(&chars.into_iter().collect::<String>())?;
+    }
+
+    #[test]
+    fn random_text_never_panics(text in "\\PC{0,200}") {
+        check(&text)?;
+    }
+}
+
+#[test]
+fn random_grammars_reach_the_mesher() {
+    // The grammar generator is useful only if many of its grammars parse and grow.
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let (mut meshed, total) = (0, 200);
+    for _ in 0..total {
+        let text = grammar().new_tree(&mut runner).unwrap().current();
+        let before = MESHED.load(std::sync::atomic::Ordering::Relaxed);
+        if std::env::var_os("ARBOR_FUZZ_VERBOSE").is_some() {
+            if let Err(e) = LSystem::parse(&text) {
+                println!("{e}");
+            }
+        }
+        check(&text).unwrap();
+        meshed += (MESHED.load(std::sync::atomic::Ordering::Relaxed) > before) as usize;
+    }
+    println!("{meshed} of {total} random grammars were meshed");
+    assert!(
+        meshed * 4 >= total,
+        "only {meshed} of {total} random grammars got to the mesher"
+    );
+}

@@ -1,0 +1,95 @@
+//! Golden hashes of the vertex and index buffers of trees a–i and of every shipped
+//! grammar: the output must stay byte-identical across runs, thread counts and the
+//! `parallel` feature. An intended change of output regenerates `tests/golden/hashes.txt`
+//! (`ARBOR_BLESS_GOLDEN=1 cargo test --test golden`) in the same commit, with the reason
+//! in the commit message.
+
+use arbor::honda::{self, HondaParams, PRESET_NAMES};
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::mesh::{self, MeshOptions, Tip, Topology};
+use arbor::skeleton::Skeleton;
+
+/// FNV-1a, 64 bits.
+fn fnv(bytes: &[u8], mut h: u64) -> u64 {
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x100_0000_01b3);
+    }
+    h
+}
+
+fn hash(s: &Skeleton) -> String {
+    let options = [
+        MeshOptions::default(),
+        MeshOptions {
+            topology: Topology::TriangleStripRestart,
+            tip: Tip::Point,
+            smooth_taper: true,
+            base_cap: true,
+            radial_segments: 5,
+            ..Default::default()
+        },
+    ];
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for o in &options {
+        let m = mesh::tubes(s, o).unwrap();
+        h = fnv(bytemuck::cast_slice(&m.vertices), h);
+        h = fnv(bytemuck::cast_slice(&m.indices), h);
+    }
+    h = fnv(bytemuck::cast_slice(s.branches()), h);
+    format!("{h:016x}")
+}
+
+fn all() -> Vec<(String, Skeleton)> {
+    let mut out: Vec<(String, Skeleton)> = PRESET_NAMES
+        .iter()
+        .map(|&n| {
+            (
+                format!("preset_{n}"),
+                honda::build(&HondaParams::preset(n).unwrap()).unwrap(),
+            )
+        })
+        .collect();
+    let dir = format!("{}/examples/grammars", env!("CARGO_MANIFEST_DIR"));
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "l"))
+        .collect();
+    paths.sort();
+    for p in paths {
+        let ls = LSystem::parse(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+        out.push((p.file_stem().unwrap().to_string_lossy().into_owned(), s));
+    }
+    out
+}
+
+#[test]
+fn buffers_match_their_golden_hashes() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/hashes.txt");
+    let lines: Vec<String> = all()
+        .iter()
+        .map(|(name, s)| format!("{name} {}", hash(s)))
+        .collect();
+    let text = lines.join("\n") + "\n";
+    if std::env::var_os("ARBOR_BLESS_GOLDEN").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let golden = std::fs::read_to_string(&path).unwrap_or_default();
+    for (got, want) in text.lines().zip(golden.lines()) {
+        assert_eq!(got, want, "output changed; if intended, bless and say why");
+    }
+    assert_eq!(text.lines().count(), golden.lines().count());
+}
+
+#[test]
+fn hashes_are_the_same_on_other_threads() {
+    let here: Vec<String> = all().iter().map(|(_, s)| hash(s)).collect();
+    let threads: Vec<_> = (0..2)
+        .map(|_| std::thread::spawn(|| all().iter().map(|(_, s)| hash(s)).collect::<Vec<_>>()))
+        .collect();
+    for t in threads {
+        assert_eq!(t.join().unwrap(), here);
+    }
+}
