@@ -270,3 +270,28 @@ fn random_grammars_reach_the_mesher() {
         "only {meshed} of {total} random grammars got to the mesher"
     );
 }
+
+#[test]
+fn numerical_edge_cases_give_finite_buffers() {
+    for text in [
+        "Axiom: $F$+$F",                           // $ with the heading parallel to up
+        "Axiom: F(0)F(0)[+F(0)]F",                 // zero-length internodes
+        "Axiom: !(0)F!(0)F[+!(0)F]",               // zero radius
+        "tropism: T: 0 1 0 E: 1\nAxiom: FFF[+FF]", // tropism parallel to the heading
+        "tropism: T: 0 -1 0 E: 50\nAxiom: FFFF",   // tropism against the heading, huge e
+        "Axiom: @R(0,0,0)F@R(0,-1,0)F",            // degenerate and downward headings
+        "Axiom: |F|F[&(180)F]",                    // turning back on itself
+        "Axiom: @M(1e30,0,0)F(1e30)",              // far away and long
+        "Axiom: F(1e-30)F(1e-30)",                 // tiny
+        "Axiom: !(1e30)F",                         // huge width
+        "Axiom: +(1e30)F-(1e30)F/(1e30)F",         // huge angles
+    ] {
+        check(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        // And each really reaches the mesher or names why not.
+        let ls = LSystem::parse(text).unwrap();
+        let s = ls.skeleton(&LsystemOptions::default());
+        if let Ok(s) = s {
+            mesh::tubes(&s, &MeshOptions::default()).unwrap_or_else(|e| panic!("{text}: {e}"));
+        }
+    }
+}

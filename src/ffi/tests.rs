@@ -1,7 +1,8 @@
 //! Rust-side checks of the C ABI shell; the C programs in `ffi-tests/` test it from C.
 
-use super::guard::{guard, guard_value};
+use super::guard::{FfiError, guard, guard_value};
 use super::*;
+use crate::lsystem::{LSystem, LsystemOptions};
 use std::ffi::CStr;
 
 fn last_error() -> String {
@@ -107,4 +108,122 @@ fn options_round_trip_and_unknown_topology_is_rejected() {
         }
     ));
     assert!(err.to_string().contains("expected 0"), "{err}");
+}
+
+/// Runs `arbor_tree_from_lsystem` on raw bytes and returns the status and message.
+fn grow_c(bytes: &[u8], options: Option<&ArborLsystemOptions>) -> (ArborStatus, String) {
+    let mut tree: *mut ArborTree = std::ptr::null_mut();
+    let opts = options.map_or(std::ptr::null(), |o| o as *const _);
+    // SAFETY: `bytes` is a live slice of `bytes.len()` bytes, `opts` is NULL or points to a
+    // live struct, and `tree` is a local out-pointer.
+    let status =
+        unsafe { arbor_tree_from_lsystem(bytes.as_ptr().cast(), bytes.len(), opts, &mut tree) };
+    let message = last_error();
+    // SAFETY: the tree was made by this library (or is NULL) and is freed once.
+    unsafe { arbor_tree_free(tree) };
+    (status, message)
+}
+
+#[test]
+fn errors_read_the_same_through_rust_and_c() {
+    let cases: [&str; 6] = [
+        "Axiom: F(",
+        "Axiom: F\nF(x) --> F(y)",
+        "Start: { }\nAxiom: F",
+        "derivation length: 1\nAxiom: A(0)\nA(x) --> F(log(x))",
+        "derivation length: 30\nAxiom: F\nF --> FF",
+        "",
+    ];
+    let small = LsystemOptions {
+        max_modules: 1000,
+        ..Default::default()
+    };
+    let mut c_small = arbor_lsystem_options_default();
+    c_small.max_modules = 1000;
+    for text in cases {
+        let rust = LSystem::parse(text).and_then(|ls| ls.skeleton(&small));
+        let rust = rust.expect_err(text);
+        let (status, message) = grow_c(text.as_bytes(), Some(&c_small));
+        assert_eq!(message, rust.to_string(), "{text:?}");
+        assert_eq!(status, FfiError::from(rust).status, "{text:?}");
+    }
+}
+
+mod fuzz {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: std::env::var("ARBOR_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256),
+            ..ProptestConfig::default()
+        })]
+
+        /// Random bytes (not always UTF-8) through the C entry point: a status, a message,
+        /// never a panic.
+        #[test]
+        fn c_grammar_entry_point_takes_any_bytes(
+            bytes in prop::collection::vec(any::<u8>(), 0..300),
+            steps in -3i32..8,
+            max_modules in 0u64..5000,
+            flags in 0u32..16,
+            angle in any::<f32>(),
+        ) {
+            let mut o = arbor_lsystem_options_default();
+            o.steps = steps;
+            o.max_modules = max_modules;
+            o.override_flags = flags;
+            o.angle_increment = angle;
+            let (status, message) = grow_c(&bytes, Some(&o));
+            prop_assert!(status != ArborStatus::Panic, "{message}");
+            prop_assert!(status == ArborStatus::Ok || !message.is_empty());
+        }
+
+        /// Random option structs (every field any value) through the mesh entry points.
+        #[test]
+        fn c_mesh_entry_points_take_any_options(
+            fields in prop::collection::vec(any::<u32>(), 12),
+            floats in prop::collection::vec(any::<f32>(), 3),
+        ) {
+            let o = ArborMeshOptions {
+                radial_segments: fields[0] % 80,
+                topology: fields[1] % 5,
+                min_radial_segments: fields[2] % 80,
+                cull_radius: floats[0],
+                joints: fields[4] % 4,
+                smooth_taper: fields[5] % 3,
+                base_cap: fields[6] % 3,
+                tip: fields[7] % 5,
+                texture_scale: floats[1],
+                winding: fields[9] % 3,
+                up_axis: fields[10] % 3,
+                scale: floats[2],
+            };
+            let mut p = ArborHondaParams::default();
+            // SAFETY: `p` is a local struct.
+            prop_assert_eq!(unsafe { arbor_honda_preset('c' as u32, &mut p) }, ArborStatus::Ok);
+            p.steps = 5;
+            let mut tree: *mut ArborTree = std::ptr::null_mut();
+            // SAFETY: local pointers.
+            prop_assert_eq!(unsafe { arbor_tree_from_honda(&p, &mut tree) }, ArborStatus::Ok);
+            let (mut nv, mut ni) = (0usize, 0usize);
+            // SAFETY: `tree` is live; the options and counts are locals.
+            let status = unsafe { arbor_mesh_size(tree, &o, &mut nv, &mut ni) };
+            prop_assert!(status == ArborStatus::Ok || status == ArborStatus::InvalidArgument);
+            if status == ArborStatus::Ok {
+                let mut v = vec![ArborVertex::default(); nv];
+                let mut i = vec![0u32; ni];
+                // SAFETY: the buffers hold exactly the sizes asked for.
+                let w = unsafe { arbor_mesh_write(tree, &o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
+                prop_assert_eq!(w, ArborStatus::Ok);
+                for x in &v {
+                    prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()));
+                }
+            } else {
+                prop_assert!(!last_error().is_empty());
+            }
+            // SAFETY: made above, freed once.
+            unsafe { arbor_tree_free(tree) };
+        }
+    }
 }

@@ -106,6 +106,25 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
     let max_seg = o.radial_segments;
     let radius = |b: &Branch| b.start_radius.max(b.end_radius);
     let r_max = branches.iter().map(radius).fold(0.0f32, f32::max);
+    // Scaled positions (caps and point tips reach one radius further) must stay finite.
+    let extent = branches
+        .iter()
+        .flat_map(|b| {
+            b.start
+                .iter()
+                .chain(&b.end)
+                .map(|v| v.abs() as f64 + 2.0 * radius(b) as f64)
+        })
+        .fold(0.0f64, f64::max);
+    if extent * o.scale as f64 > f32::MAX as f64 / 4.0 {
+        return Err(Error::invalid(
+            "scale",
+            format!(
+                "{}; the tree reaches {extent:e} units, so positions would leave the f32 range",
+                o.scale
+            ),
+        ));
+    }
     let mut segs = vec![0u8; n];
     for (i, b) in branches.iter().enumerate() {
         let r = radius(b);
@@ -405,6 +424,12 @@ impl Out {
     }
 }
 
+/// `x` as f32, clamped to the finite range.
+#[inline]
+fn to_f32(x: f64) -> f32 {
+    x.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
+}
+
 /// Zig-zag order of a convex polygon's `n` corners: a strip that covers it.
 fn zigzag(n: usize, mut corner: impl FnMut(usize) -> u32, out: &mut Vec<u32>) {
     out.clear();
@@ -436,7 +461,8 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
     // The output conventions are linear: apply them to each branch's centers and frame
     // vectors once, so the per-vertex loops are two multiply-adds.
     let rot = |v: Vec3| Vec3::from_array(out.dir(v));
-    let inv_ts = 1.0 / o.texture_scale;
+    // In f64: a tiny texture scale must not turn v infinite.
+    let inv_ts = 1.0 / o.texture_scale as f64;
     let mut tables: Vec<Vec<(f32, f32, f32)>> = vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
     // Per branch: its direction, ring frame vector p, v at its end, and first end-ring vertex.
     let mut dir = vec![Vec3::ZERO; n];
@@ -495,8 +521,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         };
         let v0 = if root { 0.0 } else { v_end[b.parent as usize] };
         // Clamped so that absurd lengths cannot push uv past the f32 range.
-        let v1 =
-            (v0 as f64 + len_f64 * inv_ts as f64).clamp(-(f32::MAX as f64), f32::MAX as f64) as f32;
+        let v1 = to_f32(v0 as f64 + len_f64 * inv_ts);
         v_end[i] = v1;
         // Cone normal: radial·h + axis·(r0 − r1), normalised.
         let dr = (r0 - r1) as f64;
@@ -523,7 +548,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
             };
             let c0 = start - d * sink;
             let co = Vec3::from_array(out.pos(c0));
-            let v = v0 - sink * inv_ts;
+            let v = to_f32(v0 as f64 - sink as f64 * inv_ts);
             for (slot, &(c, sn, u)) in vertices[pos..pos + ring].iter_mut().zip(table) {
                 let radial = po * c + qo * sn;
                 slot.put(Vertex {
@@ -602,7 +627,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
                         slot.put(Vertex {
                             position: apex.to_array(),
                             normal: (radial + d_o).normalize().to_array(),
-                            uv: [0.5 * (u0 + u1), v1 + r1 * inv_ts],
+                            uv: [0.5 * (u0 + u1), to_f32(v1 as f64 + r1 as f64 * inv_ts)],
                         });
                     }
                 }
