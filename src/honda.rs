@@ -200,6 +200,64 @@ impl HondaParams {
     }
 }
 
+/// Seeded per-branch variation of the model, so that trees grown from the same parameters
+/// differ the way real ones do. Every child's branching and divergence angles move by up
+/// to ± the angles given, its length and width by up to ± the fractions given (uniformly).
+/// Applied as the tree grows, so it stays connected. Seed 0 means no variation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Variation {
+    /// Seed of the variation; 0: none (the paper's tree exactly).
+    pub seed: u64,
+    /// Largest change of a branching angle (`+`), degrees. Default 4.
+    pub branching: f32,
+    /// Largest change of a divergence angle (`/`), degrees. Default 10.
+    pub divergence: f32,
+    /// Largest relative change of a length, 0..1. Default 0.06.
+    pub length: f32,
+    /// Largest relative change of a width, 0..1. Default 0.06.
+    pub width: f32,
+}
+
+impl Default for Variation {
+    fn default() -> Self {
+        Variation {
+            seed: 0,
+            branching: 4.0,
+            divergence: 10.0,
+            length: 0.06,
+            width: 0.06,
+        }
+    }
+}
+
+impl Variation {
+    fn validate(&self) -> Result<()> {
+        for (field, v) in [
+            ("branching", self.branching),
+            ("divergence", self.divergence),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite angle >= 0"),
+                ));
+            }
+        }
+        for (field, v) in [("length", self.length), ("width", self.width)] {
+            if !(v.is_finite() && (0.0..1.0).contains(&v)) {
+                return Err(Error::invalid(field, format!("{v}; expected 0 <= x < 1")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Grows the model with seeded [`Variation`] (and the default branch limit).
+pub fn build_varied(params: &HondaParams, variation: &Variation) -> Result<Skeleton> {
+    variation.validate()?;
+    grow(params, DEFAULT_MAX_BRANCHES, Some(variation))
+}
+
 /// Grows the model's skeleton with the default branch limit [`DEFAULT_MAX_BRANCHES`].
 pub fn build(params: &HondaParams) -> Result<Skeleton> {
     build_with_limit(params, DEFAULT_MAX_BRANCHES)
@@ -208,7 +266,18 @@ pub fn build(params: &HondaParams) -> Result<Skeleton> {
 /// Grows the model's skeleton; a model that would make more than `max_branches` branches
 /// returns [`Error::LimitExceeded`] at once, before building anything.
 pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Skeleton> {
+    grow(params, max_branches, None)
+}
+
+fn grow(
+    params: &HondaParams,
+    max_branches: usize,
+    variation: Option<&Variation>,
+) -> Result<Skeleton> {
     params.validate()?;
+    let mut rng = variation
+        .filter(|v| v.seed != 0)
+        .map(|v| (crate::lsystem::Rng::new(v.seed), *v));
     let limit = max_branches as u64;
     let (count, over) = params.count_until(limit);
     if let Some(step) = over {
@@ -296,7 +365,19 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
         }
         // Second child pushed first so that the first child's subtree is walked first.
         for i in [1, 0] {
-            let (turn, roll, ratio, width_factor) = children[i];
+            let (mut turn, mut roll, mut ratio, mut width_factor) = children[i];
+            if let Some((rng, v)) = rng.as_mut() {
+                let mut jitter = |amount: f32| (rng.next_f64() * 2.0 - 1.0) * amount as f64;
+                let (alpha, phi) = if i == 0 {
+                    (p.alpha1, p.phi1)
+                } else {
+                    (p.alpha2, p.phi2)
+                };
+                turn = cos_sin_deg(alpha as f64 + jitter(v.branching));
+                roll = cos_sin_deg(phi as f64 + jitter(v.divergence));
+                ratio *= 1.0 + jitter(v.length);
+                width_factor *= 1.0 + jitter(v.width);
+            }
             let mut child = frame;
             child.turn(turn);
             child.roll(roll);

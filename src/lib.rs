@@ -46,6 +46,7 @@ pub mod forest;
 pub mod honda;
 pub mod lsystem;
 pub mod mesh;
+pub mod prune;
 pub mod skeleton;
 pub mod turtle;
 
