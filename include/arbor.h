@@ -341,6 +341,10 @@ typedef struct ArborLsystemOptions {
    * What ! and # without a parameter subtract and add (`line width increment:`).
    */
   float width_increment;
+  /**
+   * Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
+   */
+  float turn_jitter;
 } ArborLsystemOptions;
 
 /**

@@ -199,6 +199,9 @@ struct Turtle {
     max_branches: usize,
     /// Cosine and sine of recently used angles (grammars reuse a few angles).
     trig: [(u64, (f64, f64)); 8],
+    /// Turn jitter in degrees and its generator.
+    jitter: f64,
+    rng: crate::lsystem::Rng,
     state: State,
     stack: Vec<State>,
     /// While > 0, modules are skipped by `%` up to the end of the branch.
@@ -249,7 +252,10 @@ impl Turtle {
             }
         }
         let arg = |k: usize| params.get(k).map(|&v| v as f64);
-        let angle = arg(0).unwrap_or(self.angle);
+        let mut angle = arg(0).unwrap_or(self.angle);
+        if self.jitter > 0.0 && matches!(op, Op::Turn(_) | Op::Pitch(_) | Op::Roll(_)) {
+            angle += (self.rng.next_f64() * 2.0 - 1.0) * self.jitter;
+        }
         match op {
             Op::Ignore => {}
             Op::Draw | Op::Move => {
@@ -389,6 +395,12 @@ pub(crate) fn interpret(
 ) -> Result<Skeleton> {
     let view = ls.view;
     let initial_width = options.initial_width.unwrap_or(view.initial_width);
+    if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
+        return Err(Error::invalid(
+            "turn_jitter",
+            format!("{}; expected a finite angle >= 0", options.turn_jitter),
+        ));
+    }
     for (field, v) in [
         ("angle_increment", options.angle_increment),
         ("initial_width", options.initial_width),
@@ -412,6 +424,9 @@ pub(crate) fn interpret(
         max_branches: options.max_branches,
         // NaN bits never equal an angle's, so every slot starts empty.
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
+        jitter: options.turn_jitter,
+        // A stream of its own, so jitter does not change what derivation draws.
+        rng: crate::lsystem::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x5EED_7A11_0F_7EE5),
         state: State {
             frame: Frame::default(),
             width: initial_width,

@@ -605,3 +605,43 @@ fn non_finite_values_are_an_error_with_the_module() {
     assert!(matches!(e, arbor::Error::Eval { step: 1, .. }), "{e}");
     assert!(e.to_string().contains("`F`"), "{e}");
 }
+
+#[test]
+fn turn_jitter_varies_turns_within_its_bound() {
+    let ls = LSystem::parse("angle increment: 30\nAxiom: F+F+F+F-F&F^F").unwrap();
+    let run = |seed, turn_jitter| {
+        ls.skeleton(&LsystemOptions {
+            seed,
+            turn_jitter,
+            ..Default::default()
+        })
+        .unwrap()
+    };
+    assert_eq!(
+        run(1, 0.0),
+        run(2, 0.0),
+        "no jitter: the seed does not matter"
+    );
+    assert_eq!(run(1, 5.0), run(1, 5.0), "same seed, same plant");
+    assert_ne!(run(1, 5.0), run(2, 5.0), "another seed, another plant");
+    let s = run(3, 5.0);
+    let b = s.branches();
+    let mut moved = false;
+    for w in b.windows(2) {
+        let a = (w[0].end() - w[0].start())
+            .normalize()
+            .angle_between((w[1].end() - w[1].start()).normalize())
+            .to_degrees();
+        assert!(
+            (25.0 - 1e-3..=35.0 + 1e-3).contains(&a),
+            "turn of {a} degrees"
+        );
+        moved |= (a - 30.0).abs() > 0.01;
+    }
+    assert!(moved, "the turns really vary");
+    let bad = LsystemOptions {
+        turn_jitter: -1.0,
+        ..Default::default()
+    };
+    assert!(ls.skeleton(&bad).is_err());
+}

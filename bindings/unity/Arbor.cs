@@ -67,7 +67,7 @@ namespace Arbor
         public int Steps;
         public ulong Seed, MaxModules, MaxParams, MaxBranches;
         public uint OverrideFlags;
-        public float AngleIncrement, InitialWidth, WidthIncrement;
+        public float AngleIncrement, InitialWidth, WidthIncrement, TurnJitter;
     }
 
     [StructLayout(LayoutKind.Sequential)]

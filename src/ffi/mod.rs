@@ -216,6 +216,8 @@ pub struct ArborLsystemOptions {
     pub initial_width: f32,
     /// What ! and # without a parameter subtract and add (`line width increment:`).
     pub width_increment: f32,
+    /// Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
+    pub turn_jitter: f32,
 }
 
 impl ArborLsystemOptions {
@@ -243,6 +245,7 @@ impl ArborLsystemOptions {
             angle_increment: flag(ARBOR_OVERRIDE_ANGLE_INCREMENT, self.angle_increment),
             initial_width: flag(ARBOR_OVERRIDE_INITIAL_WIDTH, self.initial_width),
             width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
+            turn_jitter: self.turn_jitter as f64,
         })
     }
 }
@@ -554,6 +557,7 @@ pub extern "C" fn arbor_lsystem_options_default() -> ArborLsystemOptions {
         angle_increment: view.angle_increment as f32,
         initial_width: view.initial_width as f32,
         width_increment: view.width_increment as f32,
+        turn_jitter: d.turn_jitter as f32,
     }
 }
 

@@ -60,6 +60,10 @@ pub struct LsystemOptions {
     pub initial_width: Option<f64>,
     /// Overrides `line width increment:`.
     pub width_increment: Option<f64>,
+    /// Each turn of `+ - & ^ / \` is off by a random amount up to ± this many degrees,
+    /// the way hand-made stochastic tree grammars vary their plants (seeded by the
+    /// grammar's `seed:` or `seed`). Default 0.
+    pub turn_jitter: f64,
 }
 
 impl Default for LsystemOptions {
@@ -73,6 +77,7 @@ impl Default for LsystemOptions {
             angle_increment: None,
             initial_width: None,
             width_increment: None,
+            turn_jitter: 0.0,
         }
     }
 }
