@@ -426,7 +426,7 @@ pub(crate) fn interpret(
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
         jitter: options.turn_jitter,
         // A stream of its own, so jitter does not change what derivation draws.
-        rng: crate::lsystem::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x5EED_7A11_0F_7EE5),
+        rng: crate::lsystem::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x005E_ED7A_110F_7EE5),
         state: State {
             frame: Frame::default(),
             width: initial_width,
