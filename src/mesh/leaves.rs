@@ -3,7 +3,7 @@
 //! and the turtle's `{ . }` polygons triangulated).
 
 use super::strips::{Slot, StripRules, StripWriter};
-use super::tubes::ring_basis;
+use super::tubes::{AnimationVertex, branch_phase, depth_span, ring_basis};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
 use crate::error::{Error, Result};
 use crate::lsystem::Rng;
@@ -220,34 +220,49 @@ impl LeafOptions {
     }
 }
 
-/// Leaves in model space, before output conventions.
+/// Leaves in model space, before output conventions, with the branch each sits on.
 fn place(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<LeafInstance>> {
+    Ok(place_on(skeleton, o)?.into_iter().map(|(l, _)| l).collect())
+}
+
+fn place_on(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<(LeafInstance, u32)>> {
     o.validate()?;
     let mut rng = Rng::new(o.seed);
     let mut out = Vec::new();
-    let mut leaf = |rng: &mut Rng, position: Vec3, heading: Vec3, up: Vec3, lean: f32| {
-        let heading = heading.try_normalize().unwrap_or(Vec3::Y);
-        let up = (up - heading * up.dot(heading))
-            .try_normalize()
-            .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
-        // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
-        let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
-        let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
-        let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
-        let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
-            * frame
-            * Quat::from_rotation_x(lean.to_radians()))
-        .normalize();
-        out.push(LeafInstance {
-            position: position.to_array(),
-            rotation: rotation.to_array(),
-            scale: o.size * grow,
-        });
-    };
+    let mut leaf =
+        |rng: &mut Rng, branch: u32, position: Vec3, heading: Vec3, up: Vec3, lean: f32| {
+            let heading = heading.try_normalize().unwrap_or(Vec3::Y);
+            let up = (up - heading * up.dot(heading))
+                .try_normalize()
+                .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
+            // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
+            let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
+            let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
+            let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
+            let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
+                * frame
+                * Quat::from_rotation_x(lean.to_radians()))
+            .normalize();
+            out.push((
+                LeafInstance {
+                    position: position.to_array(),
+                    rotation: rotation.to_array(),
+                    scale: o.size * grow,
+                },
+                branch,
+            ));
+        };
     if o.sites {
         for site in skeleton.leaves() {
             let (p, h, u) = (site.position, site.heading, site.up);
-            leaf(&mut rng, Vec3::from(p), Vec3::from(h), Vec3::from(u), 0.0);
+            leaf(
+                &mut rng,
+                site.branch,
+                Vec3::from(p),
+                Vec3::from(h),
+                Vec3::from(u),
+                0.0,
+            );
         }
     }
     if o.tips {
@@ -260,7 +275,7 @@ fn place(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<LeafInstance>> {
         }
         let whole = o.density.floor() as u32;
         let frac = o.density - whole as f32;
-        for (b, &inner) in branches.iter().zip(&has_child) {
+        for (i, (b, &inner)) in branches.iter().zip(&has_child).enumerate() {
             if inner || b.depth < o.min_depth {
                 continue;
             }
@@ -270,7 +285,7 @@ fn place(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<LeafInstance>> {
                 .0
                 .as_vec3();
             for _ in 0..count {
-                leaf(&mut rng, b.end(), heading, up, -o.tilt);
+                leaf(&mut rng, i as u32, b.end(), heading, up, -o.tilt);
             }
         }
     }
@@ -298,6 +313,28 @@ pub fn leaf_instances(
         }
     }
     Ok(out)
+}
+
+/// Animation data per leaf instance (same order as [`leaf_instances`]): the values of the
+/// tip of the branch each leaf sits on, so leaves grow and sway with their branch.
+pub fn leaf_animation(skeleton: &Skeleton, leaves: &LeafOptions) -> Result<Vec<AnimationVertex>> {
+    let (lo, span) = depth_span(skeleton);
+    let b = skeleton.branches();
+    Ok(place_on(skeleton, leaves)?
+        .into_iter()
+        .map(|(_, branch)| match b.get(branch as usize) {
+            Some(x) => AnimationVertex {
+                growth: ((x.depth - lo) as f32 + 1.0) / span as f32,
+                order: x.order as f32,
+                along: 1.0,
+                phase: branch_phase(branch),
+            },
+            None => AnimationVertex {
+                growth: 1.0,
+                ..Default::default()
+            },
+        })
+        .collect())
 }
 
 /// What the baked leaf mesh holds.

@@ -23,13 +23,13 @@ mod topology;
 mod tubes;
 
 pub use leaves::{
-    LeafInstance, LeafOptions, LeafPrefab, leaf_instances, leaf_mesh, leaf_mesh_size,
-    write_leaf_mesh,
+    LeafInstance, LeafOptions, LeafPrefab, leaf_animation, leaf_instances, leaf_mesh,
+    leaf_mesh_size, write_leaf_mesh,
 };
 pub use topology::Triangles;
 pub use tubes::{
-    BranchRange, LodLevel, branch_ranges, mesh_lods, mesh_size, tubes, write_mesh,
-    write_mesh_uninit,
+    AnimationVertex, BranchRange, LodLevel, animation, branch_ranges, mesh_lods, mesh_size, tubes,
+    write_mesh, write_mesh_uninit,
 };
 
 use bytemuck::{Pod, Zeroable};
