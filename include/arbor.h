@@ -225,6 +225,14 @@ typedef enum ArborStructId {
    * ArborLeafSite.
    */
   ARBOR_STRUCT_ID_LEAF_SITE = 8,
+  /**
+   * ArborAnimationVertex.
+   */
+  ARBOR_STRUCT_ID_ANIMATION_VERTEX = 9,
+  /**
+   * ArborForestTree.
+   */
+  ARBOR_STRUCT_ID_FOREST_TREE = 10,
 } ArborStructId;
 
 /**
@@ -583,6 +591,56 @@ typedef struct ArborLeafSite {
   uint32_t depth;
 } ArborLeafSite;
 
+/**
+ * Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
+ * options: for growth and wind shaders, as a second vertex stream.
+ */
+typedef struct ArborAnimationVertex {
+  /**
+   * When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
+   */
+  float growth;
+  /**
+   * Branching order of its branch (0 on the trunk axis).
+   */
+  float order;
+  /**
+   * 0 at its branch's base, 1 at the tip.
+   */
+  float along;
+  /**
+   * Per-branch phase in [0, 1).
+   */
+  float phase;
+} ArborAnimationVertex;
+
+/**
+ * One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
+ * placement (position of its root, turn about the up axis in degrees, uniform scale).
+ */
+typedef struct ArborForestTree {
+  /**
+   * The model's parameters.
+   */
+  struct ArborHondaParams params;
+  /**
+   * Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
+   */
+  uint64_t seed;
+  /**
+   * Where the root stands, in the output space of the mesh options.
+   */
+  float position[3];
+  /**
+   * Turn about the up axis, degrees.
+   */
+  float rotation;
+  /**
+   * Uniform scale, > 0.
+   */
+  float scale;
+} ArborForestTree;
+
 
 
 #ifdef __cplusplus
@@ -928,6 +986,58 @@ size_t arbor_tree_leaf_site_count(const struct ArborTree *tree);
 enum ArborStatus arbor_tree_copy_leaf_sites(const struct ArborTree *tree,
                                             struct ArborLeafSite *out,
                                             size_t capacity);
+
+/**
+ * Grows the 1996 model with seeded variation of every branch's angles (up to +-4 degrees
+ * branching, +-10 divergence), length and width (up to +-6%), so trees from the same
+ * parameters differ; `seed` 0 gives exactly arbor_tree_from_honda(). Same seed, same tree.
+ *
+ * # Safety
+ * `params` is NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_honda_varied(const struct ArborHondaParams *params,
+                                              uint64_t seed,
+                                              struct ArborTree **out);
+
+/**
+ * Makes a new tree from `tree` without its colliding branches: where two branches'
+ * volumes intersect and they do not meet at a joint, the deeper one goes with its
+ * subtree (a parent left with no children gets a closed tip). Writes the new tree to
+ * `*out` and, if `removed` is not NULL, how many branches went.
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or writable; `removed` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_prune_collisions(const struct ArborTree *tree,
+                                             struct ArborTree **out,
+                                             size_t *removed);
+
+/**
+ * Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
+ * defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `capacity` elements.
+ */
+enum ArborStatus arbor_mesh_animation_write(const struct ArborTree *tree,
+                                            const struct ArborMeshOptions *options,
+                                            struct ArborAnimationVertex *out,
+                                            size_t capacity);
+
+/**
+ * Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
+ * places them and merges them into one new mesh object written to `*out` (read it with
+ * arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).
+ *
+ * # Safety
+ * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+ * NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_forest_mesh_create(const struct ArborForestTree *trees,
+                                          size_t count,
+                                          const struct ArborMeshOptions *options,
+                                          struct ArborMesh **out);
 
 /**
  * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a

@@ -171,6 +171,11 @@ fn cpp_wrapper_raii_exceptions_and_unreal_fill() {
 }
 
 #[test]
+fn c_forests_variation_pruning_animation() {
+    check_program("forest.c", "c11");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -60,3 +60,72 @@ fn forest_equals_the_serial_build() {
     );
     assert!(e.is_err());
 }
+
+use arbor::forest::Placed;
+use arbor::mesh::Topology;
+
+fn canonical(t: [u32; 3]) -> [u32; 3] {
+    let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+}
+
+#[test]
+fn merged_and_instanced_forests_agree() {
+    let place = |name: char, seed: u64, x: f32, rotation: f32, scale: f32| Placed {
+        item: Item {
+            source: Source::Honda(HondaParams::preset(name).unwrap()),
+            seed,
+        },
+        position: [x, 0.0, -x],
+        rotation,
+        scale,
+    };
+    let placed = [
+        place('a', 1, 0.0, 0.0, 1.0),
+        place('g', 2, 300.0, 90.0, 0.5),
+        place('a', 1, -300.0, 45.0, 2.0),
+        place('c', 0, 100.0, 10.0, 1.0),
+    ];
+    let o = MeshOptions::default();
+    let merged = forest::merged(&placed, &o).unwrap();
+    let (meshes, instances) = forest::instanced(&placed, &o).unwrap();
+    assert_eq!(meshes.len(), 3, "trees a/1 placed twice share one mesh");
+    assert_eq!(
+        instances.iter().map(|i| i.0).collect::<Vec<_>>(),
+        vec![0, 1, 0, 2]
+    );
+    // The merged mesh is each instance's mesh moved by its transform.
+    let mut at = 0;
+    for (k, t) in &instances {
+        let m = &meshes[*k as usize];
+        let t = glam::Mat4::from_cols_array(t);
+        for v in &m.vertices {
+            let want = t.transform_point3(glam::Vec3::from(v.position));
+            let got = glam::Vec3::from(merged.vertices[at].position);
+            assert!(got.abs_diff_eq(want, 1e-3 * want.length().max(1.0)));
+            at += 1;
+        }
+    }
+    assert_eq!(at, merged.vertices.len());
+    let triangles: usize = instances
+        .iter()
+        .map(|(k, _)| meshes[*k as usize].triangles().count())
+        .sum();
+    assert_eq!(merged.triangles().count(), triangles);
+    // Every topology joins the trees into the same triangles.
+    let list: Vec<[u32; 3]> = merged.triangles().map(canonical).collect();
+    for topology in [
+        Topology::TriangleStripRestart,
+        Topology::TriangleStripDegenerate,
+    ] {
+        let m = forest::merged(&placed, &MeshOptions { topology, ..o }).unwrap();
+        assert_eq!(
+            m.triangles().map(canonical).collect::<Vec<_>>(),
+            list,
+            "{topology:?}"
+        );
+    }
+    let mut bad = placed;
+    bad[1].scale = 0.0;
+    assert!(forest::merged(&bad, &o).is_err());
+}

@@ -1394,6 +1394,169 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
     })
 }
 
+/// Grows the 1996 model with seeded variation of every branch's angles (up to +-4 degrees
+/// branching, +-10 divergence), length and width (up to +-6%), so trees from the same
+/// parameters differ; `seed` 0 gives exactly arbor_tree_from_honda(). Same seed, same tree.
+///
+/// # Safety
+/// `params` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_honda_varied(
+    params: *const ArborHondaParams,
+    seed: u64,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `params` is NULL or readable.
+        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let variation = honda::Variation {
+            seed,
+            ..Default::default()
+        };
+        let skeleton = honda::build_varied(&params, &variation)?;
+        *out = Box::into_raw(Box::new(ArborTree { skeleton }));
+        Ok(())
+    })
+}
+
+/// Makes a new tree from `tree` without its colliding branches: where two branches'
+/// volumes intersect and they do not meet at a joint, the deeper one goes with its
+/// subtree (a parent left with no children gets a closed tip). Writes the new tree to
+/// `*out` and, if `removed` is not NULL, how many branches went.
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or writable; `removed` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_prune_collisions(
+    tree: *const ArborTree,
+    out: *mut *mut ArborTree,
+    removed: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let pruned = crate::prune::prune_collisions(&tree.skeleton);
+        if !removed.is_null() {
+            // SAFETY: the caller promises a non-NULL `removed` is writable.
+            *unsafe { out_ref(removed, "removed") }? = pruned.removed;
+        }
+        *out = Box::into_raw(Box::new(ArborTree {
+            skeleton: pruned.skeleton,
+        }));
+        Ok(())
+    })
+}
+
+/// Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
+/// options: for growth and wind shaders, as a second vertex stream.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborAnimationVertex {
+    /// When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
+    pub growth: f32,
+    /// Branching order of its branch (0 on the trunk axis).
+    pub order: f32,
+    /// 0 at its branch's base, 1 at the tip.
+    pub along: f32,
+    /// Per-branch phase in [0, 1).
+    pub phase: f32,
+}
+
+/// Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
+/// defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_animation_write(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut ArborAnimationVertex,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let data = mesh::animation(&tree.skeleton, &options)?;
+        // SAFETY: the caller promises `out` holds `capacity` writable elements.
+        let dst = unsafe {
+            out_slice(
+                out.cast::<mesh::AnimationVertex>(),
+                capacity,
+                data.len(),
+                "out",
+            )
+        }?;
+        for (d, v) in dst.iter_mut().zip(data) {
+            d.write(v);
+        }
+        Ok(())
+    })
+}
+
+/// One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
+/// placement (position of its root, turn about the up axis in degrees, uniform scale).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArborForestTree {
+    /// The model's parameters.
+    pub params: ArborHondaParams,
+    /// Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
+    pub seed: u64,
+    /// Where the root stands, in the output space of the mesh options.
+    pub position: [f32; 3],
+    /// Turn about the up axis, degrees.
+    pub rotation: f32,
+    /// Uniform scale, > 0.
+    pub scale: f32,
+}
+
+/// Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
+/// places them and merges them into one new mesh object written to `*out` (read it with
+/// arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).
+///
+/// # Safety
+/// `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+/// NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_forest_mesh_create(
+    trees: *const ArborForestTree,
+    count: usize,
+    options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `trees` is readable for `count` elements.
+        let trees = unsafe { in_slice(trees, count, "trees") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let placed: Vec<crate::forest::Placed<'_>> = trees
+            .iter()
+            .map(|t| crate::forest::Placed {
+                item: crate::forest::Item {
+                    source: crate::forest::Source::Honda(t.params.into()),
+                    seed: t.seed,
+                },
+                position: t.position,
+                rotation: t.rotation,
+                scale: t.scale,
+            })
+            .collect();
+        let mesh = crate::forest::merged(&placed, &options)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}
+
 /// Identifies a struct of this header for arbor_struct_size().
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1416,6 +1579,10 @@ pub enum ArborStructId {
     BranchRange = 7,
     /// ArborLeafSite.
     LeafSite = 8,
+    /// ArborAnimationVertex.
+    AnimationVertex = 9,
+    /// ArborForestTree.
+    ForestTree = 10,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -1434,6 +1601,8 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         6 => size_of::<ArborLeafInstance>(),
         7 => size_of::<ArborBranchRange>(),
         8 => size_of::<ArborLeafSite>(),
+        9 => size_of::<ArborAnimationVertex>(),
+        10 => size_of::<ArborForestTree>(),
         _ => 0,
     }
 }

@@ -1,0 +1,99 @@
+/* Forests through the C ABI: seeded variation, pruning, the animation stream and a merged
+ * forest mesh. */
+#include "arbor.h"
+#include "check.h"
+
+#include <string.h>
+
+static ArborTree *varied(char name, uint64_t seed) {
+  ArborHondaParams p;
+  ArborTree *t = NULL;
+  arbor_honda_preset((uint32_t)name, &p);
+  CHECK_STATUS(arbor_tree_from_honda_varied(&p, seed, &t), ARBOR_STATUS_OK);
+  return t;
+}
+
+static int same_branches(ArborTree *a, ArborTree *b) {
+  size_t n = arbor_tree_branch_count(a);
+  if (n != arbor_tree_branch_count(b)) return 0;
+  ArborBranch *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y);
+  arbor_tree_copy_branches(a, x, n);
+  arbor_tree_copy_branches(b, y, n);
+  int same = memcmp(x, y, n * sizeof *x) == 0;
+  free(x);
+  free(y);
+  return same;
+}
+
+int main(void) {
+  ArborHondaParams p;
+  ArborTree *paper = NULL;
+  arbor_honda_preset('g', &p);
+  arbor_tree_from_honda(&p, &paper);
+  ArborTree *v0 = varied('g', 0), *v1 = varied('g', 1), *v1b = varied('g', 1), *v2 = varied('g', 2);
+  CHECK(same_branches(paper, v0), "seed 0 is the paper's tree");
+  CHECK(same_branches(v1, v1b), "same seed, same tree");
+  CHECK(!same_branches(v1, v2), "another seed, another tree");
+  CHECK_STATUS(arbor_tree_from_honda_varied(NULL, 1, &v0), ARBOR_STATUS_NULL_ARGUMENT);
+
+  /* Pruning tree a removes its overlapping twigs. */
+  ArborTree *a = NULL, *pruned = NULL;
+  arbor_honda_preset('a', &p);
+  arbor_tree_from_honda(&p, &a);
+  size_t removed = 0;
+  CHECK_STATUS(arbor_tree_prune_collisions(a, &pruned, &removed), ARBOR_STATUS_OK);
+  CHECK(removed > 0 && arbor_tree_branch_count(pruned) + removed == 1023, "removed %zu", removed);
+  CHECK_STATUS(arbor_tree_prune_collisions(a, NULL, NULL), ARBOR_STATUS_NULL_ARGUMENT);
+
+  /* Animation stream: one element per vertex, every capacity short of it refused. */
+  size_t nv = 0, ni = 0;
+  arbor_mesh_size(pruned, NULL, &nv, &ni);
+  for (size_t cap = nv - 2; cap <= nv; cap++) {
+    ArborAnimationVertex *an = malloc((cap + 1) * sizeof *an);
+    ArborStatus s = arbor_mesh_animation_write(pruned, NULL, an, cap);
+    CHECK(s == (cap == nv ? ARBOR_STATUS_OK : ARBOR_STATUS_BUFFER_TOO_SMALL), "cap %zu", cap);
+    if (s == ARBOR_STATUS_OK) {
+      int ok = 1;
+      for (size_t k = 0; k < nv; k++)
+        ok &= an[k].growth >= 0 && an[k].growth <= 1 && an[k].phase >= 0 && an[k].phase < 1;
+      CHECK(ok, "animation values in range");
+    }
+    free(an);
+  }
+
+  /* A forest of four trees in one mesh. */
+  ArborForestTree trees[4];
+  memset(trees, 0, sizeof trees);
+  size_t expected = 0;
+  for (int k = 0; k < 4; k++) {
+    arbor_honda_preset((uint32_t)"agce"[k], &trees[k].params);
+    trees[k].seed = (uint64_t)k;
+    trees[k].position[0] = 200.0f * (float)k;
+    trees[k].rotation = 30.0f * (float)k;
+    trees[k].scale = 1.0f;
+    ArborTree *one = varied("agce"[k], (uint64_t)k);
+    size_t v = 0, i = 0;
+    arbor_mesh_size(one, NULL, &v, &i);
+    expected += v;
+    arbor_tree_free(one);
+  }
+  ArborMesh *forest = NULL;
+  CHECK_STATUS(arbor_forest_mesh_create(trees, 4, NULL, &forest), ARBOR_STATUS_OK);
+  size_t fv = 0;
+  CHECK(arbor_mesh_vertices(forest, &fv) != NULL && fv == expected, "%zu vs %zu", fv, expected);
+  arbor_mesh_free(forest);
+  trees[2].scale = -1.0f;
+  forest = NULL;
+  CHECK_STATUS(arbor_forest_mesh_create(trees, 4, NULL, &forest), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(forest == NULL, "out written on failure");
+  CHECK_STATUS(arbor_forest_mesh_create(NULL, 2, NULL, &forest), ARBOR_STATUS_NULL_ARGUMENT);
+
+  arbor_tree_free(paper);
+  arbor_tree_free(v1);
+  arbor_tree_free(v1b);
+  arbor_tree_free(v2);
+  arbor_tree_free(a);
+  arbor_tree_free(pruned);
+  arbor_tree_free(v0);
+  return check_report("forest");
+}
