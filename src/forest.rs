@@ -97,7 +97,7 @@ pub fn transform(p: &Placed<'_>, options: &MeshOptions) -> [f32; 16] {
 fn check_placed(placed: &[Placed<'_>]) -> Result<()> {
     for (i, p) in placed.iter().enumerate() {
         let finite = p.position.iter().all(|v| v.is_finite()) && p.rotation.is_finite();
-        if !finite || !(p.scale.is_finite() && p.scale > 0.0) {
+        if !(finite && p.scale.is_finite() && p.scale > 0.0) {
             return Err(crate::Error::invalid(
                 "placement",
                 format!("tree {i}: position and rotation must be finite and scale > 0"),
@@ -181,12 +181,15 @@ pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
     Ok(out)
 }
 
+/// Per placement: the index of its mesh in [`instanced`]'s list and its transform.
+pub type Instance = (u32, [f32; 16]);
+
 /// One mesh per distinct tree (same source and seed) and, per placement, the index of
 /// its mesh and its transform ([`transform`]), for instanced drawing.
 pub fn instanced(
     placed: &[Placed<'_>],
     options: &MeshOptions,
-) -> Result<(Vec<Mesh>, Vec<(u32, [f32; 16])>)> {
+) -> Result<(Vec<Mesh>, Vec<Instance>)> {
     check_placed(placed)?;
     let mut distinct: Vec<Item<'_>> = Vec::new();
     let mut which = Vec::with_capacity(placed.len());
