@@ -191,6 +191,25 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
         "depth 5: {n_young:.4} vs full {n_full:.4}"
     );
 
+    // The forest (one merged mesh from arbor_forest_mesh_create) shows trees, and wind
+    // (arbor's animation stream in the vertex shader) moves branches.
+    let forest = render(&exe, "forest", &["--forest", "--size", "400x300"]);
+    let share = forest.share(0, 0, 400, 300);
+    assert!(share > 0.005, "the forest has {share:.4} tree pixels");
+    let windy = render(
+        &exe,
+        "tree_g_wind",
+        &["--tree", "g", "--size", "400x400", "--wind"],
+    );
+    let moved = strips
+        .rgb
+        .chunks_exact(3)
+        .zip(windy.rgb.chunks_exact(3))
+        .filter(|(p, q)| p != q)
+        .count();
+    println!("forest: {share:.4} tree pixels; wind moved {moved} pixels");
+    assert!(moved > 100, "wind moved only {moved} pixels");
+
     // The PNG writer makes a real PNG of the asked size.
     let png = Path::new(env!("CARGO_TARGET_TMPDIR")).join("grid.png");
     run(Command::new("xvfb-run")

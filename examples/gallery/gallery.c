@@ -8,7 +8,9 @@
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
- * animation; W wireframe; S strips <-> triangle list; F forest; P screenshot; Esc quits.
+ * animation (a moving threshold on arbor's per-vertex growth times); N wind (sway from
+ * arbor's per-vertex order, position along the branch and phase); W wireframe; S strips
+ * <-> triangle list; F forest (one merged mesh of 25 varied trees); P screenshot; Esc.
  */
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -39,6 +41,7 @@
   X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)                         \
   X(PFNGLUNIFORM1IPROC, glUniform1i)                                       \
   X(PFNGLUNIFORM3FPROC, glUniform3f)                                       \
+  X(PFNGLUNIFORM1FPROC, glUniform1f)                                       \
   X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                           \
   X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                     \
   X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                           \
@@ -149,7 +152,11 @@ static const char *vs_src =
     "layout(location = 3) in vec3 i_pos;\n"
     "layout(location = 4) in vec4 i_rot;\n"
     "layout(location = 5) in float i_scale;\n"
+    "layout(location = 6) in vec4 a_anim;\n" /* growth, order, along, phase (arbor) */
     "uniform mat4 u_view_proj;\n"
+    "uniform float u_time;\n"
+    "uniform float u_wind;\n"
+    "out float v_growth;\n"
     "uniform mat4 u_model;\n"
     "uniform int u_mode;\n"
     "out vec3 v_normal;\n"
@@ -158,6 +165,11 @@ static const char *vs_src =
     "void main() {\n"
     "  vec3 p = a_pos; vec3 n = a_normal;\n"
     "  if (u_mode == 2) { p = i_pos + rotate(i_rot, a_pos * i_scale); n = rotate(i_rot, a_normal); }\n"
+    "  if (u_mode == 0 && u_wind > 0.0) {\n"
+    "    float sway = sin(u_time * 1.7 + a_anim.w * 6.2832) * a_anim.z * (0.4 + 0.6 * a_anim.y);\n"
+    "    p += vec3(sway, 0.0, 0.5 * sway) * u_wind;\n"
+    "  }\n"
+    "  v_growth = u_mode == 0 ? a_anim.x : 0.0;\n"
     "  vec4 world = u_model * vec4(p, 1.0);\n"
     "  v_normal = mat3(u_model) * n;\n"
     "  v_uv = a_uv;\n"
@@ -168,10 +180,13 @@ static const char *fs_src =
     "#version 330 core\n"
     "in vec3 v_normal;\n"
     "in vec2 v_uv;\n"
+    "in float v_growth;\n"
     "uniform int u_mode;\n"
+    "uniform float u_growth;\n"
     "uniform vec3 u_light;\n"
     "out vec4 color;\n"
     "void main() {\n"
+    "  if (v_growth > u_growth) discard;\n"
     "  vec3 n = normalize(v_normal);\n"
     "  if (u_mode == 2 && !gl_FrontFacing) n = -n;\n"
     "  float diffuse = max(dot(n, u_light), 0.0);\n"
@@ -207,7 +222,7 @@ static GLuint compile(GLenum kind, const char *src) {
 typedef struct {
   char name;
   ArborHondaParams params;
-  GLuint vao, vbo, ebo;
+  GLuint vao, vbo, ebo, anim_vbo;
   size_t vertices, indices, triangles;
   GLuint leaf_vao, leaf_instances_vbo;
   size_t leaves;
@@ -223,14 +238,16 @@ typedef struct {
   int steps_delta;
   float yaw, pitch, zoom;
   double drag_x, drag_y;
-  int dragging, dirty, screenshot_requested;
+  int dragging, dirty, screenshot_requested, wind, threshold_growth;
   double growth_clock;
 } State;
 
 static Tree trees[9];
 static State st;
 static GLuint program, ground_vao, ground_vbo, ground_ebo, leaf_quad_vao, leaf_quad_vbo, leaf_quad_ebo;
-static GLint u_view_proj, u_model, u_mode, u_light;
+static GLint u_view_proj, u_model, u_mode, u_light, u_time, u_wind, u_growth;
+static GLuint forest_vao, forest_vbo, forest_ebo;
+static size_t forest_indices;
 
 static double now_ms(void) { return glfwGetTime() * 1e3; }
 
@@ -325,6 +342,15 @@ static void build_tree(Tree *t) {
     p_glUnmapBuffer(GL_ARRAY_BUFFER);
   }
   setup_vertex_layout();
+  /* The animation stream (growth, order, along, phase) as a second vertex buffer. */
+  if (!t->anim_vbo) p_glGenBuffers(1, &t->anim_vbo);
+  ArborAnimationVertex *anim = malloc((nv ? nv : 1) * sizeof *anim);
+  if (arbor_mesh_animation_write(tree, &o, anim, nv) != ARBOR_STATUS_OK) fail("arbor_mesh_animation_write");
+  p_glBindBuffer(GL_ARRAY_BUFFER, t->anim_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *anim), anim, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, sizeof *anim, (void *)0);
+  p_glEnableVertexAttribArray(6);
+  free(anim);
   t->vertices = nv;
   t->indices = ni;
   t->triangles = st.strips ? 0 : ni / 3;
@@ -370,6 +396,49 @@ static void build_tree(Tree *t) {
   double t2 = now_ms();
   t->grow_ms = t1 - t0;
   t->upload_ms = t2 - t1;
+}
+
+/* The forest: 25 trees of the nine models with seeded variation, placed on a jittered
+ * grid and merged into one mesh by arbor_forest_mesh_create. */
+static void build_forest(float spacing) {
+  ArborForestTree trees[25];
+  memset(trees, 0, sizeof trees);
+  unsigned seed = 12345u;
+  for (int k = 0; k < 25; k++) {
+    seed = seed * 1103515245u + 12345u;
+    float jx = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
+    seed = seed * 1103515245u + 12345u;
+    float jz = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
+    arbor_honda_preset((uint32_t)('a' + (k * 7 + 3) % 9), &trees[k].params);
+    trees[k].seed = (uint64_t)k + 1;
+    trees[k].position[0] = ((float)(k % 5) - 2 + jx * 0.6f) * spacing;
+    trees[k].position[2] = ((float)(k / 5) - 2 + jz * 0.6f) * spacing;
+    trees[k].rotation = (float)((seed >> 8) % 360);
+    trees[k].scale = 0.45f + 0.3f * (float)((seed >> 4) & 255) / 255.0f;
+  }
+  ArborMeshOptions o = mesh_options();
+  ArborMesh *m = NULL;
+  double t0 = now_ms();
+  if (arbor_forest_mesh_create(trees, 25, &o, &m) != ARBOR_STATUS_OK) fail("arbor_forest_mesh_create");
+  size_t nv = 0, ni = 0;
+  const ArborVertex *v = arbor_mesh_vertices(m, &nv);
+  const uint32_t *i = arbor_mesh_indices(m, &ni);
+  if (!forest_vao) {
+    p_glGenVertexArrays(1, &forest_vao);
+    p_glGenBuffers(1, &forest_vbo);
+    p_glGenBuffers(1, &forest_ebo);
+  }
+  p_glBindVertexArray(forest_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, forest_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *v), v, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, forest_ebo);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof *i), i, GL_STATIC_DRAW);
+  setup_vertex_layout();
+  p_glBindVertexArray(0);
+  forest_indices = ni;
+  printf("forest: 25 trees, %zu vertices, %zu indices, %.2f ms to grow, place and merge\n", nv, ni,
+         now_ms() - t0);
+  arbor_mesh_free(m);
 }
 
 static void build_all(int verbose) {
@@ -470,21 +539,12 @@ static void draw_view(int i, int x, int y, int w, int h) {
     draw_tree(t, identity);
     return;
   }
-  /* Forest: 25 instances of the nine trees with seeded positions, turns and sizes. */
-  unsigned seed = 12345u;
-  for (int k = 0; k < 25; k++) {
-    seed = seed * 1103515245u + 12345u;
-    float jx = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
-    seed = seed * 1103515245u + 12345u;
-    float jz = (float)((seed >> 16) & 1023) / 1023.0f - 0.5f;
-    seed = seed * 1103515245u + 12345u;
-    float yaw = (float)((seed >> 16) & 1023) / 1023.0f * 6.2832f;
-    float scale = 0.7f + 0.6f * (float)((seed >> 8) & 255) / 255.0f;
-    float spacing = radius * 0.45f;
-    Mat4 m = model_matrix(((float)(k % 5) - 2 + jx * 0.6f) * spacing,
-                          ((float)(k / 5) - 2 + jz * 0.6f) * spacing, yaw, scale * 0.55f);
-    draw_tree(&trees[(k * 7 + (int)(seed % 9)) % 9], m);
-  }
+  /* Forest: one merged mesh of 25 varied trees. */
+  if (!forest_vao) build_forest(radius * 0.45f / 0.55f);
+  p_glUniformMatrix4fv(u_model, 1, GL_FALSE, identity.m);
+  p_glUniform1i(u_mode, 0);
+  p_glBindVertexArray(forest_vao);
+  p_glDrawElements(st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES, (GLsizei)forest_indices, GL_UNSIGNED_INT, 0);
 }
 
 static void render(void) {
@@ -497,6 +557,14 @@ static void render(void) {
   float l[3] = {0.45f, 0.75f, 0.5f};
   float ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
   p_glUniform3f(u_light, l[0] / ll, l[1] / ll, l[2] / ll);
+  p_glUniform1f(u_time, (float)glfwGetTime());
+  p_glUniform1f(u_wind, st.wind ? 1.0f : 0.0f);
+  float growth = 1.0f;
+  if (st.threshold_growth) {
+    growth = (float)((glfwGetTime() - st.growth_clock) / 6.0);
+    if (growth > 1.0f) growth = 1.0f;
+  }
+  p_glUniform1f(u_growth, growth);
   if (st.single >= 0 || st.forest) {
     draw_view(st.single >= 0 ? st.single : 0, 0, 0, st.width, st.height);
   } else {
@@ -567,11 +635,11 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   else if (k == GLFW_KEY_F) st.forest = !st.forest;
   else if (k == GLFW_KEY_P) st.screenshot_requested = 1;
   else if (k == GLFW_KEY_G) {
-    st.growth = !st.growth;
-    st.growth_step = 0;
+    /* Growth from the animation stream: one upload, a moving threshold. */
+    st.threshold_growth = !st.threshold_growth;
     st.growth_clock = glfwGetTime();
-    st.dirty = 1;
   }
+  else if (k == GLFW_KEY_N) st.wind = !st.wind;
 }
 
 static void mouse_button(GLFWwindow *win, int button, int action, int mods) {
@@ -626,6 +694,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--depth") && i + 1 < argc) depth = atoi(argv[++i]);
+    else if (!strcmp(argv[i], "--wind")) st.wind = 1;
     else {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
                       "[--screenshot FILE.png|FILE.ppm --frames N]\n");
@@ -674,6 +743,9 @@ int main(int argc, char **argv) {
   u_model = p_glGetUniformLocation(program, "u_model");
   u_mode = p_glGetUniformLocation(program, "u_mode");
   u_light = p_glGetUniformLocation(program, "u_light");
+  u_time = p_glGetUniformLocation(program, "u_time");
+  u_wind = p_glGetUniformLocation(program, "u_wind");
+  u_growth = p_glGetUniformLocation(program, "u_growth");
   p_glEnable(GL_DEPTH_TEST);
   p_glEnable(GL_CULL_FACE);
   p_glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
@@ -690,7 +762,7 @@ int main(int argc, char **argv) {
   build_all(1);
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
-           "(Shift: smaller), V leaves, G growth, W wireframe, S strips/list, F forest, P screenshot\n");
+           "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, P screenshot\n");
 
   glfwSetKeyCallback(win, key);
   glfwSetMouseButtonCallback(win, mouse_button);
