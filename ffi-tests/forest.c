@@ -81,6 +81,27 @@ int main(void) {
   CHECK_STATUS(arbor_forest_mesh_create(trees, 4, NULL, &forest), ARBOR_STATUS_OK);
   size_t fv = 0;
   CHECK(arbor_mesh_vertices(forest, &fv) != NULL && fv == expected, "%zu vs %zu", fv, expected);
+  /* Size, then write into caller memory: the same mesh, in every topology. */
+  for (uint32_t topology = 0; topology < 3; topology++) {
+    ArborMeshOptions o = arbor_mesh_options_default();
+    o.topology = topology;
+    ArborMesh *owned = NULL;
+    CHECK_STATUS(arbor_forest_mesh_create(trees, 4, &o, &owned), ARBOR_STATUS_OK);
+    size_t ov = 0, oi = 0, sv = 0, si = 0;
+    const ArborVertex *vv = arbor_mesh_vertices(owned, &ov);
+    const uint32_t *ii = arbor_mesh_indices(owned, &oi);
+    CHECK_STATUS(arbor_forest_mesh_size(trees, 4, &o, &sv, &si), ARBOR_STATUS_OK);
+    CHECK(sv == ov && si == oi, "sizes %zu/%zu vs %zu/%zu", sv, si, ov, oi);
+    ArborVertex *w = malloc(sv * sizeof *w);
+    uint32_t *j = malloc(si * sizeof *j);
+    CHECK_STATUS(arbor_forest_mesh_write(trees, 4, &o, w, sv, j, si - 1), ARBOR_STATUS_BUFFER_TOO_SMALL);
+    CHECK_STATUS(arbor_forest_mesh_write(trees, 4, &o, w, sv, j, si), ARBOR_STATUS_OK);
+    CHECK(memcmp(w, vv, sv * sizeof *w) == 0 && memcmp(j, ii, si * sizeof *j) == 0,
+          "topology %u: written forest differs from the owned one", topology);
+    free(w);
+    free(j);
+    arbor_mesh_free(owned);
+  }
   arbor_mesh_free(forest);
   trees[2].scale = -1.0f;
   forest = NULL;

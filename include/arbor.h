@@ -1040,6 +1040,36 @@ enum ArborStatus arbor_forest_mesh_create(const struct ArborForestTree *trees,
                                           struct ArborMesh **out);
 
 /**
+ * Exact vertex and index counts of the merged forest mesh arbor_forest_mesh_write()
+ * writes (the trees are grown to count them; arbor_forest_mesh_create() grows them once).
+ *
+ * # Safety
+ * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+ * NULL or readable; the counts are NULL or writable.
+ */
+enum ArborStatus arbor_forest_mesh_size(const struct ArborForestTree *trees,
+                                        size_t count,
+                                        const struct ArborMeshOptions *options,
+                                        size_t *vertex_count,
+                                        size_t *index_count);
+
+/**
+ * Writes the merged forest mesh into caller memory; the buffer rules of
+ * arbor_mesh_write().
+ *
+ * # Safety
+ * As arbor_forest_mesh_size(), and `vertices` / `indices` are NULL or valid for writes
+ * of their capacities and do not overlap.
+ */
+enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
+                                         size_t count,
+                                         const struct ArborMeshOptions *options,
+                                         struct ArborVertex *vertices,
+                                         size_t vertex_capacity,
+                                         uint32_t *indices,
+                                         size_t index_capacity);
+
+/**
  * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
  * binding in another language (C#, Python) can check its layouts at run time; 0 for an
  * unknown id.

@@ -30,21 +30,24 @@ pub struct Item<'a> {
     pub seed: u64,
 }
 
-fn build_one(item: &Item<'_>, options: &MeshOptions) -> Result<Mesh> {
-    let skeleton = match item.source {
+fn grow(item: &Item<'_>) -> Result<crate::skeleton::Skeleton> {
+    match item.source {
         Source::Honda(p) => honda::build_varied(
             &p,
             &honda::Variation {
                 seed: item.seed,
                 ..Default::default()
             },
-        )?,
+        ),
         Source::Grammar(ls, o) => ls.skeleton(&LsystemOptions {
             seed: item.seed,
             ..o
-        })?,
-    };
-    mesh::tubes(&skeleton, options)
+        }),
+    }
+}
+
+fn build_one(item: &Item<'_>, options: &MeshOptions) -> Result<Mesh> {
+    mesh::tubes(&grow(item)?, options)
 }
 
 /// Grows and meshes every item one after another.
@@ -105,6 +108,29 @@ fn check_placed(placed: &[Placed<'_>]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Exact counts of [`merged`]'s mesh, from the trees' skeletons (no meshing).
+pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<crate::mesh::MeshSize> {
+    check_placed(placed)?;
+    let mut vertices = 0usize;
+    let mut indices = 0usize;
+    let mut non_empty = 0usize;
+    for p in placed {
+        let s = mesh::mesh_size(&grow(&p.item)?, options)?;
+        vertices += s.vertices;
+        indices += s.indices;
+        non_empty += usize::from(s.indices > 0);
+    }
+    let per_join = match options.topology {
+        crate::mesh::Topology::TriangleList => 0,
+        crate::mesh::Topology::TriangleStripRestart => 1,
+        crate::mesh::Topology::TriangleStripDegenerate => 2,
+    };
+    Ok(crate::mesh::MeshSize {
+        vertices,
+        indices: indices + non_empty.saturating_sub(1) * per_join,
+    })
 }
 
 /// Every placed tree in one mesh (one draw call): each tree's vertices are moved by its
