@@ -54,6 +54,8 @@ struct Plan {
     flags: Vec<u8>,
     /// The kept branch that continues each branch's axis, or NO_PARENT.
     cont: Vec<u32>,
+    /// Unit direction of every branch.
+    dir: Vec<Vec3>,
     size: MeshSize,
     rules: StripRules,
 }
@@ -139,6 +141,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         };
         segs[i] = s as u8;
     }
+    let dir: Vec<Vec3> = branches.iter().map(direction).collect();
     let mut cont = vec![NO_PARENT; n];
     for (i, b) in branches.iter().enumerate() {
         if segs[i] == 0 || b.parent == NO_PARENT {
@@ -164,7 +167,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             if o.joints == Joints::Mitred
                 && cont[p] == i as u32
                 && segs[p] == segs[i]
-                && direction(&branches[p]).dot(direction(b)) > MITRE_MIN_COS
+                && dir[p].dot(dir[i]) > MITRE_MIN_COS
             {
                 flags[i] |= SHARES_START;
                 flags[p] |= MITRE_END;
@@ -178,6 +181,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         segs,
         flags,
         cont,
+        dir,
         size: MeshSize::default(),
         rules: StripRules {
             topology: o.topology,
@@ -530,8 +534,8 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
     // In f64: a tiny texture scale must not turn v infinite.
     let inv_ts = 1.0 / o.texture_scale as f64;
     let mut tables: Vec<Vec<(f32, f32, f32)>> = vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
-    // Per branch: its direction, ring frame vector p, v at its end, and first end-ring vertex.
-    let mut dir = vec![Vec3::ZERO; n];
+    // Per branch: ring frame vector p, v at its end, and first end-ring vertex.
+    let dir = &plan.dir;
     let mut frame_p = vec![Vec3::ZERO; n];
     let mut v_end = vec![0.0f32; n];
     let mut end_ring = vec![0u32; n];
@@ -549,8 +553,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
 
     for i in 0..n {
         let b = &branches[i];
-        let d = direction(b);
-        dir[i] = d;
+        let d = dir[i];
         let s = plan.segs[i] as usize;
         if s == 0 {
             continue;
@@ -632,7 +635,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         let eo = Vec3::from_array(out.pos(end));
         let ring_out = &mut vertices[pos..pos + ring];
         if f & MITRE_END != 0 {
-            let m = rot((d + direction(&branches[plan.cont[i] as usize])).normalize());
+            let m = rot((d + dir[plan.cont[i] as usize]).normalize());
             // Each point of the circle slides along d onto the bisecting plane.
             let slide = d_o * (r1s / d_o.dot(m));
             for (slot, &(c, sn, u)) in ring_out.iter_mut().zip(table) {
