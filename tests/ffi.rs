@@ -4,6 +4,9 @@
 //! required when `CI` is set; elsewhere a missing one is skipped with a note
 //! (`ARBOR_FFI_VALGRIND=0` turns valgrind off).
 
+mod common;
+use common::{have, lib_dir, run};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -11,29 +14,10 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `target/<profile>/`, where cargo put `libarbor.a` for this test binary.
-fn lib_dir() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    exe.parent().unwrap().parent().unwrap().to_path_buf()
-}
-
 fn out_dir() -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ffi-tests");
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-fn run(cmd: &mut Command) -> String {
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(out.status.success(), "{cmd:?} failed:\n{text}");
-    text
 }
 
 const WARNINGS: [&str; 4] = ["-Wall", "-Wextra", "-Werror", "-pedantic"];
@@ -75,18 +59,6 @@ fn build_with(source: &str, std: &str, sanitize: bool) -> PathBuf {
 
 fn build(source: &str, std: &str) -> PathBuf {
     build_with(source, std, false)
-}
-
-fn have(tool: &str) -> bool {
-    let found = Command::new(tool).arg("--version").output().is_ok();
-    if !found {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but {tool} is not installed"
-        );
-        eprintln!("note: {tool} not installed; sanitizer runs skipped");
-    }
-    found
 }
 
 /// Builds and runs `source` under valgrind (gcc build) and under ASan + UBSan (clang).

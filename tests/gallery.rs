@@ -3,21 +3,11 @@
 //! are checked pixel by pixel. Requires GLFW, libpng and xvfb when `CI` is set; skipped
 //! with a note elsewhere if they are missing.
 
+mod common;
+use common::{lib_dir, run};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn run(cmd: &mut Command) -> String {
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(out.status.success(), "{cmd:?} failed:\n{text}");
-    text
-}
 
 fn available() -> bool {
     let ok = Command::new("pkg-config")
@@ -37,13 +27,7 @@ fn available() -> bool {
 
 fn build() -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let lib_dir = std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf();
+    let lib_dir = lib_dir();
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gallery");
     let flags = run(Command::new("pkg-config").args(["--cflags", "--libs", "glfw3", "libpng"]));
     run(Command::new("cc")

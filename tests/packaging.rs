@@ -3,33 +3,11 @@
 //! `arbor::arbor` and `arbor::arbor_static` targets. pkg-config and cmake are required when
 //! `CI` is set.
 
+mod common;
+use common::{have, lib_dir, run};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn run(cmd: &mut Command) -> String {
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(out.status.success(), "{cmd:?} failed:\n{text}");
-    text
-}
-
-fn have(tool: &str) -> bool {
-    let found = Command::new(tool).arg("--version").output().is_ok();
-    if !found {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but {tool} is missing"
-        );
-        eprintln!("note: {tool} not installed; skipped");
-    }
-    found
-}
 
 const APP: &str = r#"#include <arbor.h>
 #include <stdio.h>
@@ -47,13 +25,7 @@ int main(void) {
 
 fn setup() -> (PathBuf, PathBuf) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let lib_dir = std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf();
+    let lib_dir = lib_dir();
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("packaging");
     let _ = std::fs::remove_dir_all(&work);
     let prefix = work.join("prefix");

@@ -1156,26 +1156,8 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
         for (k, l) in levels.iter().enumerate() {
             let o = MeshOptions::try_from(l)?;
             let size = mesh::mesh_size(&tree.skeleton, &o)?;
-            if vcaps[k] < size.vertices || icaps[k] < size.indices {
-                return Err(FfiError::from(crate::Error::BufferTooSmall {
-                    buffer: if vcaps[k] < size.vertices {
-                        "vertices"
-                    } else {
-                        "indices"
-                    },
-                    required: if vcaps[k] < size.vertices {
-                        size.vertices
-                    } else {
-                        size.indices
-                    },
-                    capacity: if vcaps[k] < size.vertices {
-                        vcaps[k]
-                    } else {
-                        icaps[k]
-                    },
-                })
-                .at_level(k));
-            }
+            size.check_capacity(vcaps[k], icaps[k])
+                .map_err(|e| FfiError::from(e).at_level(k))?;
             plans.push((o, size));
         }
         for (k, (o, size)) in plans.into_iter().enumerate() {

@@ -432,20 +432,7 @@ pub fn write_leaf_mesh(
 ) -> Result<MeshSize> {
     let plan = leaf_plan(skeleton, leaves, mesh)?;
     let size = plan.size;
-    if vertices.len() < size.vertices {
-        return Err(Error::BufferTooSmall {
-            buffer: "vertices",
-            required: size.vertices,
-            capacity: vertices.len(),
-        });
-    }
-    if indices.len() < size.indices {
-        return Err(Error::BufferTooSmall {
-            buffer: "indices",
-            required: size.indices,
-            capacity: indices.len(),
-        });
-    }
+    size.check_capacity(vertices.len(), indices.len())?;
     write_leaves(
         skeleton,
         mesh,

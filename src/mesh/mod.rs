@@ -202,6 +202,26 @@ pub struct MeshSize {
     pub indices: usize,
 }
 
+impl MeshSize {
+    /// [`Error::BufferTooSmall`](crate::Error::BufferTooSmall) naming the first buffer
+    /// whose capacity is below this size.
+    pub fn check_capacity(&self, vertices: usize, indices: usize) -> crate::Result<()> {
+        for (buffer, required, capacity) in [
+            ("vertices", self.vertices, vertices),
+            ("indices", self.indices, indices),
+        ] {
+            if capacity < required {
+                return Err(crate::Error::BufferTooSmall {
+                    buffer,
+                    required,
+                    capacity,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// An owned mesh: vertex and index buffers and the topology of the indices.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

@@ -437,20 +437,7 @@ fn write_checked<V: Slot<Vertex>, I: Slot<u32>>(
 ) -> Result<MeshSize> {
     let plan = plan(skeleton, options)?;
     let size = plan.size;
-    if vertices.len() < size.vertices {
-        return Err(Error::BufferTooSmall {
-            buffer: "vertices",
-            required: size.vertices,
-            capacity: vertices.len(),
-        });
-    }
-    if indices.len() < size.indices {
-        return Err(Error::BufferTooSmall {
-            buffer: "indices",
-            required: size.indices,
-            capacity: indices.len(),
-        });
-    }
+    size.check_capacity(vertices.len(), indices.len())?;
     write(
         skeleton,
         options,
