@@ -50,6 +50,11 @@ fn all() -> Vec<(String, Skeleton)> {
             )
         })
         .collect();
+    // Big enough (16,383 branches) for the mesher to split the work across threads under
+    // the `parallel` feature, whose output must hash the same.
+    let mut big = HondaParams::preset('a').unwrap();
+    big.steps = 14;
+    out.push(("preset_a_n14".to_string(), honda::build(&big).unwrap()));
     let dir = format!("{}/examples/grammars", env!("CARGO_MANIFEST_DIR"));
     let mut paths: Vec<_> = std::fs::read_dir(dir)
         .unwrap()

@@ -429,7 +429,7 @@ pub fn write_mesh_uninit(
     write_checked(skeleton, options, vertices, indices)
 }
 
-fn write_checked<V: Slot<Vertex>, I: Slot<u32>>(
+fn write_checked<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
     skeleton: &Skeleton,
     options: &MeshOptions,
     vertices: &mut [V],
@@ -502,15 +502,156 @@ fn zigzag(n: usize, mut corner: impl FnMut(usize) -> u32, out: &mut Vec<u32>) {
     }
 }
 
-fn write<V: Slot<Vertex>, I: Slot<u32>>(
+/// Per-branch values the writer reads, computed in one pass from parents to children (ring
+/// frames and arc length flow down the tree); the writing itself can then run on chunks of
+/// branches independently.
+struct Layout {
+    first_vertex: Vec<u32>,
+    first_index: Vec<u32>,
+    /// Ring frame vector p of each branch.
+    frame_p: Vec<Vec3>,
+    /// v at each branch's end.
+    v_end: Vec<f32>,
+    /// First vertex of each branch's end ring.
+    end_ring: Vec<u32>,
+}
+
+fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
+    let branches = skeleton.branches();
+    let n = branches.len();
+    let inv_ts = 1.0 / o.texture_scale as f64;
+    let mut l = Layout {
+        first_vertex: vec![0; n],
+        first_index: vec![0; n],
+        frame_p: vec![Vec3::ZERO; n],
+        v_end: vec![0.0; n],
+        end_ring: vec![0; n],
+    };
+    let (mut nv, mut ni) = (0u32, 0u32);
+    let mut first = true;
+    for (i, b) in branches.iter().enumerate() {
+        l.first_vertex[i] = nv;
+        l.first_index[i] = ni;
+        let (v, idx) = plan.counts(i, o.tip, &mut first);
+        nv += v as u32;
+        ni += idx as u32;
+        let s = plan.segs[i] as usize;
+        if s == 0 {
+            continue;
+        }
+        let d = plan.dir[i];
+        let root = b.parent == NO_PARENT;
+        l.frame_p[i] = if root {
+            ring_basis(d.as_dvec3()).0.as_vec3()
+        } else {
+            let parent = b.parent as usize;
+            transport(l.frame_p[parent], plan.dir[parent], d)
+        };
+        let v0 = if root {
+            0.0
+        } else {
+            l.v_end[b.parent as usize]
+        };
+        let len = (b.end().as_dvec3() - b.start().as_dvec3()).length();
+        // Clamped so that absurd lengths cannot push uv past the f32 range.
+        l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
+        let own_start = if plan.flags[i] & SHARES_START != 0 {
+            0
+        } else {
+            s + 1
+        };
+        l.end_ring[i] = l.first_vertex[i] + own_start as u32;
+    }
+    l
+}
+
+fn write<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
     skeleton: &Skeleton,
     o: &MeshOptions,
     plan: &Plan,
     vertices: &mut [V],
     indices: &mut [I],
 ) {
+    let lay = layout(skeleton, o, plan);
+    let mut tables: Vec<Vec<(f32, f32, f32)>> = vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
+    for &s in &plan.segs {
+        if s > 0 && tables[s as usize].is_empty() {
+            tables[s as usize] = circle(s as usize);
+        }
+    }
+    let n = skeleton.len();
+    // Chunks of branches write disjoint parts of both buffers; a degenerate strip joins
+    // each strip to the previous one's last index, so it stays on one thread.
+    #[cfg(feature = "parallel")]
+    if n >= 8192 && plan.rules.topology != super::Topology::TriangleStripDegenerate {
+        use rayon::prelude::*;
+        let chunks = rayon::current_num_threads() * 4;
+        let per = n.div_ceil(chunks);
+        let mut parts = Vec::with_capacity(chunks);
+        let (mut v_rest, mut i_rest) = (vertices, indices);
+        let (mut v_at, mut i_at) = (0usize, 0usize);
+        let mut lo = 0;
+        while lo < n {
+            let hi = (lo + per).min(n);
+            let (v_to, i_to) = if hi < n {
+                (lay.first_vertex[hi] as usize, lay.first_index[hi] as usize)
+            } else {
+                (plan.size.vertices, plan.size.indices)
+            };
+            let (va, vb) = std::mem::take(&mut v_rest).split_at_mut(v_to - v_at);
+            let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_to - i_at);
+            parts.push((lo..hi, va, v_at, ia, i_at));
+            (v_rest, i_rest, v_at, i_at, lo) = (vb, ib, v_to, i_to, hi);
+        }
+        parts
+            .into_par_iter()
+            .for_each(|(range, v, v_base, i, i_base)| {
+                write_branches(
+                    skeleton,
+                    o,
+                    plan,
+                    &lay,
+                    &tables,
+                    range,
+                    v,
+                    v_base,
+                    i,
+                    i_base == 0,
+                );
+            });
+        return;
+    }
+    write_branches(
+        skeleton,
+        o,
+        plan,
+        &lay,
+        &tables,
+        0..n,
+        vertices,
+        0,
+        indices,
+        true,
+    );
+}
+
+/// Writes branches `range` into `vertices` (which starts at vertex `v_base` of the mesh)
+/// and `indices` (which starts at the first index of `range`); `first`: no strip of the
+/// mesh comes before.
+#[allow(clippy::too_many_arguments)]
+fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
+    skeleton: &Skeleton,
+    o: &MeshOptions,
+    plan: &Plan,
+    lay: &Layout,
+    tables: &[Vec<(f32, f32, f32)>],
+    range: std::ops::Range<usize>,
+    vertices: &mut [V],
+    v_base: usize,
+    indices: &mut [I],
+    first: bool,
+) {
     let branches = skeleton.branches();
-    let n = branches.len();
     let out = Out {
         scale: o.scale,
         z_up: o.up_axis == UpAxis::Z,
@@ -520,54 +661,38 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
     let rot = |v: Vec3| Vec3::from_array(out.dir(v));
     // In f64: a tiny texture scale must not turn v infinite.
     let inv_ts = 1.0 / o.texture_scale as f64;
-    let mut tables: Vec<Vec<(f32, f32, f32)>> = vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
-    // Per branch: ring frame vector p, v at its end, and first end-ring vertex.
     let dir = &plan.dir;
-    let mut frame_p = vec![Vec3::ZERO; n];
-    let mut v_end = vec![0.0f32; n];
-    let mut end_ring = vec![0u32; n];
     let mut writer = StripWriter {
         out: indices,
         pos: 0,
         rules: plan.rules,
-        first: true,
+        first,
         last: 0,
     };
     let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
-    let mut next_vertex = 0usize;
-    #[cfg(debug_assertions)]
-    let mut counted_first = true;
+    let index_base = range.start.min(branches.len().saturating_sub(1));
+    let index_base = lay.first_index.get(index_base).copied().unwrap_or(0) as usize;
 
-    for i in 0..n {
+    for i in range {
         let b = &branches[i];
         let d = dir[i];
         let s = plan.segs[i] as usize;
         if s == 0 {
             continue;
         }
-        if tables[s].is_empty() {
-            tables[s] = circle(s);
-        }
         let table = &tables[s];
         let ring = s + 1;
         let f = plan.flags[i];
-        let first_vertex = next_vertex;
-        #[cfg(debug_assertions)]
-        let (own_vertices, own_indices, index_start) = {
-            let (v, idx) = plan.counts(i, o.tip, &mut counted_first);
-            (v, idx, writer.pos)
-        };
+        let first_vertex = lay.first_vertex[i] as usize;
+        debug_assert_eq!(
+            writer.pos + index_base,
+            lay.first_index[i] as usize,
+            "branch {i}"
+        );
         let start = b.start();
         let end = b.end();
-        let len_f64 = (end.as_dvec3() - start.as_dvec3()).length();
         let root = b.parent == NO_PARENT;
-        let p = if root {
-            ring_basis(d.as_dvec3()).0.as_vec3()
-        } else {
-            let parent = b.parent as usize;
-            transport(frame_p[parent], dir[parent], d)
-        };
-        frame_p[i] = p;
+        let p = lay.frame_p[i];
         let q = d.cross(p);
         let r0 = b.start_radius;
         let r1 = if o.smooth_taper && plan.cont[i] != NO_PARENT {
@@ -575,10 +700,13 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         } else {
             b.end_radius
         };
-        let v0 = if root { 0.0 } else { v_end[b.parent as usize] };
-        // Clamped so that absurd lengths cannot push uv past the f32 range.
-        let v1 = to_f32(v0 as f64 + len_f64 * inv_ts);
-        v_end[i] = v1;
+        let v0 = if root {
+            0.0
+        } else {
+            lay.v_end[b.parent as usize]
+        };
+        let v1 = lay.v_end[i];
+        let len_f64 = (end.as_dvec3() - start.as_dvec3()).length();
         // Cone normal: radial·h + axis·(r0 − r1), normalised.
         let dr = (r0 - r1) as f64;
         let slant = (len_f64 * len_f64 + dr * dr).sqrt();
@@ -591,11 +719,11 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         let (po, qo, d_o) = (rot(p), rot(q), rot(d));
         let tilt = d_o * na;
         let (r0s, r1s) = (r0 * o.scale, r1 * o.scale);
-        let mut pos = first_vertex;
+        let mut pos = first_vertex - v_base;
 
         // Start ring, unless shared with the parent.
         let (start_ring, start_center) = if f & SHARES_START != 0 {
-            (end_ring[b.parent as usize], start)
+            (lay.end_ring[b.parent as usize], start)
         } else {
             let sink = if root {
                 0.0
@@ -617,8 +745,8 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
             (first_vertex as u32, c0)
         };
         // End ring: in the bisecting plane when the next branch of the axis shares it.
-        let my_end_ring = pos as u32;
-        end_ring[i] = my_end_ring;
+        let my_end_ring = lay.end_ring[i];
+        debug_assert_eq!(my_end_ring as usize, pos + v_base);
         let eo = Vec3::from_array(out.pos(end));
         let ring_out = &mut vertices[pos..pos + ring];
         if f & MITRE_END != 0 {
@@ -647,7 +775,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
         }
         pos += ring;
         // Base cap: a disc facing −d at the start ring.
-        let base_first = pos as u32;
+        let base_first = (pos + v_base) as u32;
         if f & BASE_CAP != 0 {
             let co = Vec3::from_array(out.pos(start_center));
             for (slot, &(c, sn, _)) in vertices[pos..pos + s].iter_mut().zip(table) {
@@ -661,7 +789,7 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
             pos += s;
         }
         // Tip: a disc facing +d, or apexes of a cone one radius beyond the end.
-        let tip_first = pos as u32;
+        let tip_first = (pos + v_base) as u32;
         if f & TIP != 0 {
             match o.tip {
                 Tip::Cap => {
@@ -707,14 +835,8 @@ fn write<V: Slot<Vertex>, I: Slot<u32>>(
                 }
             }
         }
-        next_vertex = pos;
-        #[cfg(debug_assertions)]
-        {
-            assert_eq!(pos, first_vertex + own_vertices, "branch {i}");
-            assert_eq!(writer.pos, index_start + own_indices, "branch {i}");
-        }
+        debug_assert!(pos <= vertices.len());
     }
-    debug_assert_eq!(next_vertex, vertices.len());
     debug_assert_eq!(writer.pos, writer.out.len());
 }
 

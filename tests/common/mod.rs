@@ -18,10 +18,17 @@ pub fn run(cmd: &mut Command) -> String {
     text
 }
 
-/// `target/<profile>/`, where cargo put `libarbor.a` and `libarbor.so` for this test run.
+/// Where cargo put `libarbor.a` and `libarbor.so` for this test run: `target/<profile>/deps/`
+/// beside the test binary. (The copies one level up are refreshed less reliably when
+/// builds with different features alternate.)
 pub fn lib_dir() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
-    exe.parent().unwrap().parent().unwrap().to_path_buf()
+    let deps = exe.parent().unwrap().to_path_buf();
+    if deps.join("libarbor.a").exists() {
+        deps
+    } else {
+        deps.parent().unwrap().to_path_buf()
+    }
 }
 
 /// Whether `tool` runs; a missing tool fails the test when `CI` is set and is skipped
