@@ -1174,8 +1174,9 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
     })
 }
 
-/// A mesh arbor owns (see arbor_mesh_create()): for hosts that prefer to read buffers in
-/// place and copy them where they like. Opaque; free with arbor_mesh_free(). A
+/// A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
+/// arbor_forest_mesh_create()): for hosts that prefer to read buffers in place and copy
+/// them where they like. Opaque; free with arbor_mesh_free(). A
 /// `const ArborMesh *` may be read from several threads at once.
 pub struct ArborMesh {
     mesh: crate::Mesh,
