@@ -34,7 +34,7 @@ pub const PRESET_NAMES: [char; 9] = ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'
 /// Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
 /// diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct HondaParams {
     /// s0: length of the trunk (100 in the paper). Finite, > 0.
     pub trunk_length: f32,

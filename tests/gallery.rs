@@ -70,6 +70,15 @@ impl Image {
     }
 }
 
+/// How many pixels differ between two pictures of one size.
+fn differing_pixels(a: &Image, b: &Image) -> usize {
+    a.rgb
+        .chunks_exact(3)
+        .zip(b.rgb.chunks_exact(3))
+        .filter(|(p, q)| p != q)
+        .count()
+}
+
 /// Intersection over union of the image's tree coverage (10 × 10 blocks with at least 2%
 /// tree pixels) and its mirror image about the vertical centre line.
 fn mirror_overlap(img: &Image) -> f64 {
@@ -150,12 +159,7 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
         "tree_g_list",
         &["--tree", "g", "--size", "400x400", "--list"],
     );
-    let differ = strips
-        .rgb
-        .chunks_exact(3)
-        .zip(list.rgb.chunks_exact(3))
-        .filter(|(p, q)| p != q)
-        .count();
+    let differ = differing_pixels(&strips, &list);
     assert!(
         (differ as f64) < 0.002 * (400.0 * 400.0),
         "{differ} pixels differ between strips and list"
@@ -185,12 +189,7 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
         "tree_g_wind",
         &["--tree", "g", "--size", "400x400", "--wind"],
     );
-    let moved = strips
-        .rgb
-        .chunks_exact(3)
-        .zip(windy.rgb.chunks_exact(3))
-        .filter(|(p, q)| p != q)
-        .count();
+    let moved = differing_pixels(&strips, &windy);
     println!("forest: {share:.4} tree pixels; wind moved {moved} pixels");
     assert!(moved > 100, "wind moved only {moved} pixels");
 

@@ -193,42 +193,34 @@ fn parametric_examples() {
 
 #[test]
 fn signals_propagate_as_the_book_prints() {
-    let ls = grammar("signal_acropetal");
-    let expected = [
-        "Fb[+Fa]Fa[-Fa]Fa[+Fa]Fa",
-        "Fb[+Fb]Fb[-Fa]Fa[+Fa]Fa",
-        "Fb[+Fb]Fb[-Fb]Fb[+Fa]Fa",
-        "Fb[+Fb]Fb[-Fb]Fb[+Fb]Fb",
-    ];
-    for (n, want) in expected.iter().enumerate() {
-        let o = LsystemOptions {
-            steps: Some(n as u32),
-            ..Default::default()
-        };
-        assert_eq!(
-            ls.format(&ls.derive(&o).unwrap()),
-            *want,
-            "acropetal step {n}"
-        );
-    }
-    let ls = grammar("signal_basipetal");
-    let expected = [
-        "Fa[+Fa]Fa[-Fa]Fa[+Fa]Fb",
-        "Fa[+Fa]Fa[-Fa]Fb[+Fa]Fb",
-        "Fa[+Fa]Fb[-Fa]Fb[+Fa]Fb",
-        "Fb[+Fa]Fb[-Fa]Fb[+Fa]Fb",
-    ];
-    for (n, want) in expected.iter().enumerate() {
-        let o = LsystemOptions {
-            steps: Some(n as u32),
-            ..Default::default()
-        };
-        assert_eq!(
-            ls.format(&ls.derive(&o).unwrap()),
-            *want,
-            "basipetal step {n}"
-        );
-    }
+    let strings_by_step = |name: &str, expected: &[&str]| {
+        let ls = grammar(name);
+        for (n, want) in expected.iter().enumerate() {
+            let o = LsystemOptions {
+                steps: Some(n as u32),
+                ..Default::default()
+            };
+            assert_eq!(ls.format(&ls.derive(&o).unwrap()), *want, "{name} step {n}");
+        }
+    };
+    strings_by_step(
+        "signal_acropetal",
+        &[
+            "Fb[+Fa]Fa[-Fa]Fa[+Fa]Fa",
+            "Fb[+Fb]Fb[-Fa]Fa[+Fa]Fa",
+            "Fb[+Fb]Fb[-Fb]Fb[+Fa]Fa",
+            "Fb[+Fb]Fb[-Fb]Fb[+Fb]Fb",
+        ],
+    );
+    strings_by_step(
+        "signal_basipetal",
+        &[
+            "Fa[+Fa]Fa[-Fa]Fa[+Fa]Fb",
+            "Fa[+Fa]Fa[-Fa]Fb[+Fa]Fb",
+            "Fa[+Fa]Fb[-Fa]Fb[+Fa]Fb",
+            "Fb[+Fa]Fb[-Fa]Fb[+Fa]Fb",
+        ],
+    );
     // The one-dimensional signal of ABOP 1.8: b moves right one place per step.
     let ls = LSystem::parse("Axiom: baaaaaaa\nb < a --> b\nb --> a").unwrap();
     for n in 0..8 {

@@ -81,7 +81,7 @@ pub struct ArborTree {
 /// Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
 /// Lengths in model units, widths are diameters, angles in degrees.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct ArborHondaParams {
     /// s0: trunk length (100 in the paper); finite, > 0.
     pub trunk_length: f32,
@@ -109,41 +109,16 @@ pub struct ArborHondaParams {
     pub steps: u32,
 }
 
+// The two structs share one layout (asserted below), so they convert by a plain cast.
 impl From<ArborHondaParams> for HondaParams {
     fn from(p: ArborHondaParams) -> Self {
-        HondaParams {
-            trunk_length: p.trunk_length,
-            trunk_width: p.trunk_width,
-            r1: p.r1,
-            r2: p.r2,
-            alpha1: p.alpha1,
-            alpha2: p.alpha2,
-            phi1: p.phi1,
-            phi2: p.phi2,
-            q: p.q,
-            e: p.e,
-            min_length: p.min_length,
-            steps: p.steps,
-        }
+        bytemuck::cast(p)
     }
 }
 
 impl From<HondaParams> for ArborHondaParams {
     fn from(p: HondaParams) -> Self {
-        ArborHondaParams {
-            trunk_length: p.trunk_length,
-            trunk_width: p.trunk_width,
-            r1: p.r1,
-            r2: p.r2,
-            alpha1: p.alpha1,
-            alpha2: p.alpha2,
-            phi1: p.phi1,
-            phi2: p.phi2,
-            q: p.q,
-            e: p.e,
-            min_length: p.min_length,
-            steps: p.steps,
-        }
+        bytemuck::cast(p)
     }
 }
 

@@ -227,3 +227,41 @@ mod fuzz {
         }
     }
 }
+
+#[test]
+fn honda_params_convert_field_by_field() {
+    // The conversion is a cast: the fields must line up by name, not only by size.
+    let p = crate::honda::HondaParams {
+        trunk_length: 1.0,
+        trunk_width: 2.0,
+        r1: 3.0,
+        r2: 4.0,
+        alpha1: 5.0,
+        alpha2: 6.0,
+        phi1: 7.0,
+        phi2: 8.0,
+        q: 9.0,
+        e: 10.0,
+        min_length: 11.0,
+        steps: 12,
+    };
+    let c = ArborHondaParams::from(p);
+    assert_eq!(
+        [
+            c.trunk_length,
+            c.trunk_width,
+            c.r1,
+            c.r2,
+            c.alpha1,
+            c.alpha2,
+            c.phi1,
+            c.phi2,
+            c.q,
+            c.e,
+            c.min_length
+        ],
+        [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0]
+    );
+    assert_eq!(c.steps, 12);
+    assert_eq!(crate::honda::HondaParams::from(c), p);
+}

@@ -1,6 +1,6 @@
 //! Parallel rewriting over flat module strings, double-buffered.
 
-use super::grammar::{CUT, ModuleList, POP, PUSH, Production, ProductionTable};
+use super::grammar::{CUT, ModuleList, POP, PUSH, Pattern, Production, ProductionTable};
 use super::rng::Rng;
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
@@ -384,6 +384,17 @@ fn bind(args: &mut [f64], slot: u16, params: &[f32]) {
     }
 }
 
+/// Whether module `j` of `s` is `pat` (symbol and arity); if so its parameters are bound.
+#[inline]
+fn bind_module(s: &ModuleString, j: usize, pat: &Pattern, args: &mut [f64]) -> bool {
+    let params = s.params(j);
+    if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+        return false;
+    }
+    bind(args, pat.slot, params);
+    true
+}
+
 /// Bracket-aware left context: walking back, a completed branch `[...]` is skipped whole
 /// and a `[` leads to the module the branch grows from.
 fn match_left(
@@ -415,11 +426,9 @@ fn match_left(
             }
             break;
         }
-        let params = s.params(j);
-        if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+        if !bind_module(s, j, pat, args) {
             return false;
         }
-        bind(args, pat.slot, params);
     }
     true
 }
@@ -486,11 +495,9 @@ fn match_right(
             }
             break;
         }
-        let params = s.params(j);
-        if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+        if !bind_module(s, j, pat, args) {
             return false;
         }
-        bind(args, pat.slot, params);
         j += 1;
     }
     true

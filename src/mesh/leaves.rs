@@ -2,7 +2,7 @@
 //! data for instanced drawing or baked into a leaf mesh (quads, a prefab from an OBJ file,
 //! and the turtle's `{ . }` polygons triangulated).
 
-use super::strips::{Slot, StripRules, StripWriter};
+use super::strips::{Slot, StripRules, StripWriter, zigzag};
 use super::tubes::{AnimationVertex, branch_phase, depth_span, ring_basis};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
 use crate::error::{Error, Result};
@@ -517,17 +517,7 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
             vi += 1;
         }
         // A convex polygon as a zig-zag strip.
-        strip.clear();
-        strip.push(base);
-        let (mut a, mut b) = (1usize, n - 1);
-        while a <= b {
-            strip.push(base + a as u32);
-            a += 1;
-            if a <= b {
-                strip.push(base + b as u32);
-                b -= 1;
-            }
-        }
+        zigzag(n, |k| base + k as u32, &mut strip);
         w.strip(&strip);
     }
     debug_assert_eq!(vi, vertices.len());

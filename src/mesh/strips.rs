@@ -178,6 +178,21 @@ impl<I: Slot<u32>> StripWriter<'_, I> {
     }
 }
 
+/// Zig-zag order of a convex polygon's `n` corners: a strip that covers it.
+pub(crate) fn zigzag(n: usize, mut corner: impl FnMut(usize) -> u32, out: &mut Vec<u32>) {
+    out.clear();
+    out.push(corner(0));
+    let (mut lo, mut hi) = (1, n - 1);
+    while lo <= hi {
+        out.push(corner(lo));
+        lo += 1;
+        if lo <= hi {
+            out.push(corner(hi));
+            hi -= 1;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,6 @@
 //! The tube mesher: every branch a truncated cone, axes joined into watertight tubes.
 
-use super::strips::{Slot, StripRules, StripWriter};
+use super::strips::{Slot, StripRules, StripWriter, zigzag};
 use super::{
     Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, RESTART_INDEX,
     Tip, UpAxis, Vertex, Winding,
@@ -487,21 +487,6 @@ fn to_f32(x: f64) -> f32 {
     x.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
 }
 
-/// Zig-zag order of a convex polygon's `n` corners: a strip that covers it.
-fn zigzag(n: usize, mut corner: impl FnMut(usize) -> u32, out: &mut Vec<u32>) {
-    out.clear();
-    out.push(corner(0));
-    let (mut lo, mut hi) = (1, n - 1);
-    while lo <= hi {
-        out.push(corner(lo));
-        lo += 1;
-        if lo <= hi {
-            out.push(corner(hi));
-            hi -= 1;
-        }
-    }
-}
-
 /// Per-branch values the writer reads, computed in one pass from parents to children (ring
 /// frames and arc length flow down the tree); the writing itself can then run on chunks of
 /// branches independently.
@@ -670,8 +655,8 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
         last: 0,
     };
     let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
-    let index_base = range.start.min(branches.len().saturating_sub(1));
-    let index_base = lay.first_index.get(index_base).copied().unwrap_or(0) as usize;
+    // Where this chunk's indices start in the whole buffer (for the debug check below).
+    let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
 
     for i in range {
         let b = &branches[i];
