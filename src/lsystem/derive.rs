@@ -117,6 +117,109 @@ fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64) -> Error {
     }
 }
 
+/// The productions of a grammar without parameters, contexts, conditions,
+/// probabilities, cuts or decomposition (a D0L-system, like ABOP's Fig. 1.24): each
+/// symbol has at most one successor, so a step is a lookup per module and the length of
+/// the next string is known before it is written.
+#[derive(Clone, Debug)]
+pub(crate) struct D0l {
+    /// Per symbol: whether it is rewritten.
+    rewrites: Vec<bool>,
+    /// Per symbol: the modules it becomes (1 for a symbol that is not rewritten).
+    lens: Vec<u32>,
+    /// Per symbol: where its successor starts in `succ`.
+    starts: Vec<u32>,
+    succ: Vec<u16>,
+}
+
+impl D0l {
+    /// The table, or `None` when the grammar needs the general rewriter.
+    pub(crate) fn new(
+        axiom: &ModuleList,
+        table: &ProductionTable,
+        decomposition: &ProductionTable,
+        has_cut: bool,
+        symbols: usize,
+    ) -> Option<D0l> {
+        let plain = |p: &Production| {
+            p.left.is_empty()
+                && p.right.is_empty()
+                && p.condition.is_none()
+                && p.probability.is_none()
+                && p.pred.arity == 0
+                && p.successor.exprs.is_empty()
+        };
+        if has_cut
+            || !decomposition.is_empty()
+            || !axiom.exprs.is_empty()
+            || !table.productions.iter().all(plain)
+        {
+            return None;
+        }
+        let mut d = D0l {
+            rewrites: vec![false; symbols],
+            lens: vec![1; symbols],
+            starts: vec![0; symbols],
+            succ: Vec::new(),
+        };
+        // Every production is unconditional and deterministic: the first of a symbol is
+        // the one the general rewriter would choose.
+        for p in &table.productions {
+            let s = p.pred.sym as usize;
+            if !d.rewrites[s] {
+                d.rewrites[s] = true;
+                d.lens[s] = p.successor.syms.len() as u32;
+                d.starts[s] = d.succ.len() as u32;
+                d.succ.extend_from_slice(&p.successor.syms);
+            }
+        }
+        Some(d)
+    }
+
+    fn derive(&self, ctx: &mut Ctx<'_>, steps: u32) -> Result<ModuleString> {
+        let axiom = &ctx.ls.axiom.syms;
+        ctx.step = 0;
+        if axiom.len() > ctx.max_modules {
+            return Err(ctx.limit("max_modules", "modules", ctx.max_modules, axiom.len()));
+        }
+        let mut cur = ModuleString {
+            syms: axiom.clone(),
+            births: vec![0; axiom.len()],
+            ..Default::default()
+        };
+        let mut next = ModuleString::default();
+        for step in 1..=steps {
+            ctx.step = step;
+            let len: usize = cur
+                .syms
+                .iter()
+                .map(|&s| self.lens[s as usize] as usize)
+                .sum();
+            if len > ctx.max_modules {
+                return Err(ctx.limit("max_modules", "modules", ctx.max_modules, len));
+            }
+            next.syms.clear();
+            next.births.clear();
+            next.syms.reserve_exact(len);
+            next.births.reserve_exact(len);
+            let birth = step as u16;
+            for (&s, &b) in cur.syms.iter().zip(&cur.births) {
+                if self.rewrites[s as usize] {
+                    let start = self.starts[s as usize] as usize;
+                    let succ = &self.succ[start..start + self.lens[s as usize] as usize];
+                    next.syms.extend_from_slice(succ);
+                    next.births.extend(std::iter::repeat_n(birth, succ.len()));
+                } else {
+                    next.syms.push(s);
+                    next.births.push(b);
+                }
+            }
+            std::mem::swap(&mut cur, &mut next);
+        }
+        Ok(cur)
+    }
+}
+
 pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
     if steps > u16::MAX as u32 {
@@ -126,6 +229,9 @@ pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleStr
         ));
     }
     let mut ctx = Ctx::new(ls, options);
+    if let Some(d0l) = &ls.d0l {
+        return d0l.derive(&mut ctx, steps);
+    }
     let mut cur = ModuleString::new();
     let mut next = ModuleString::new();
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
@@ -580,5 +686,144 @@ impl Expander {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Error;
+
+    /// Derives with the lookup table and with the general rewriter.
+    fn both(text: &str, options: &LsystemOptions) -> (Result<ModuleString>, Result<ModuleString>) {
+        let ls = LSystem::parse(text).unwrap();
+        assert!(ls.d0l.is_some(), "{text}: expected the lookup table");
+        let mut general = ls.clone();
+        general.d0l = None;
+        (derive(&ls, options), derive(&general, options))
+    }
+
+    fn options(steps: u32) -> LsystemOptions {
+        LsystemOptions {
+            steps: Some(steps),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn lookup_table_equals_the_general_rewriter_on_the_shipped_grammars() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/grammars");
+        let mut tabled = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let ls = LSystem::parse(&text).unwrap();
+            if ls.d0l.is_none() {
+                continue;
+            }
+            tabled += 1;
+            let steps = ls.derivation_length().min(5);
+            let (fast, slow) = both(&text, &options(steps));
+            let (fast, slow) = (fast.unwrap(), slow.unwrap());
+            assert!(fast.len() > 1, "{}", path.display());
+            assert_eq!(fast, slow, "{}", path.display());
+            assert!(fast.offsets.is_empty(), "no offsets without parameters");
+        }
+        // ABOP 1.24a–f, the Koch snowflake, the X/F fern.
+        assert!(tabled >= 7, "only {tabled} grammars took the lookup table");
+    }
+
+    #[test]
+    fn lookup_table_equals_the_general_rewriter_on_random_grammars() {
+        let alphabet = ["F", "G", "X", "Y", "+", "-", "f", "[F]", "[+X]", "[-G[Y]]"];
+        let mut rng = Rng::new(7);
+        let mut pick = |n: usize| (rng.next_u64() % n as u64) as usize;
+        let (mut grown, mut stopped) = (0, 0);
+        for case in 0..1000 {
+            let mut text = String::from("Axiom: ");
+            for _ in 0..1 + pick(4) {
+                text.push_str(alphabet[pick(alphabet.len())]);
+            }
+            text.push('\n');
+            // Several productions per symbol (the first applies), empty successors and
+            // symbols without any.
+            for _ in 0..pick(5) {
+                let pred = alphabet[pick(4)];
+                let succ: String = (0..pick(7))
+                    .map(|_| alphabet[pick(alphabet.len())])
+                    .collect();
+                let succ = if succ.is_empty() {
+                    "*".to_string()
+                } else {
+                    succ
+                };
+                text.push_str(&format!("{pred} --> {succ}\n"));
+            }
+            let o = LsystemOptions {
+                steps: Some(pick(9) as u32),
+                max_modules: 1 + pick(3000),
+                ..Default::default()
+            };
+            match both(&text, &o) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!(a, b, "case {case}:\n{text}");
+                    grown += usize::from(a.len() > 20);
+                }
+                (
+                    Err(Error::LimitExceeded {
+                        limit_name: n1,
+                        step: s1,
+                        ..
+                    }),
+                    Err(Error::LimitExceeded {
+                        limit_name: n2,
+                        step: s2,
+                        ..
+                    }),
+                ) => {
+                    assert_eq!((n1, s1), (n2, s2), "case {case}:\n{text}");
+                    stopped += 1;
+                }
+                (a, b) => panic!("case {case}:\n{text}\n{a:?}\n{b:?}"),
+            }
+        }
+        assert!(
+            grown > 150 && stopped > 30,
+            "{grown} grown, {stopped} stopped"
+        );
+    }
+
+    #[test]
+    fn grammars_with_parameters_context_or_chance_take_the_general_rewriter() {
+        for text in [
+            "Axiom: A(1)\nA(x) --> A(x+1)\n",
+            "Axiom: AB\nA < B --> BB\n",
+            "Axiom: A\nA : 1 --> AB\n",
+            "Axiom: A\nA --> AB : 0.5\nA --> B : 0.5\n",
+            "Axiom: A\nA --> A[%B]\n",
+            "Axiom: A\nA --> AB\ndecomposition\nB --> CC\n",
+            "Axiom: A\nA --> F(2)\n",
+        ] {
+            assert!(LSystem::parse(text).unwrap().d0l.is_none(), "{text}");
+        }
+    }
+
+    #[test]
+    fn the_lookup_table_checks_the_limit_before_writing() {
+        let text = "Axiom: F\nF --> F[+F]F[-F]F\n";
+        let o = LsystemOptions {
+            steps: Some(10),
+            max_modules: 1000,
+            ..Default::default()
+        };
+        match both(text, &o).0 {
+            Err(Error::LimitExceeded {
+                limit_name: "max_modules",
+                step: Some(4),
+                requested,
+                ..
+            }) => assert_eq!(requested, 5u64.pow(4) + 6 * (1 + 5 + 25 + 125)),
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -97,6 +97,9 @@ pub struct LSystem {
     pub(crate) view: ViewSettings,
     pub(crate) has_context: bool,
     pub(crate) has_cut: bool,
+    /// The lookup table of a grammar without parameters, contexts, conditions,
+    /// probabilities, cuts or decomposition.
+    pub(crate) d0l: Option<derive::D0l>,
 }
 
 impl LSystem {
@@ -123,7 +126,9 @@ impl LSystem {
                     .iter()
                     .any(|p| p.successor.modules.iter().any(|m| m.sym == cut))
             });
+        let d0l = derive::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len());
         LSystem {
+            d0l,
             symbols,
             axiom,
             derivation_length,
@@ -206,13 +211,26 @@ impl LSystem {
 /// A derived string: flat arrays of symbols, birth steps and parameters.
 ///
 /// Parameters are stored as `f32`, as cpfg stores them; expressions evaluate in `f64`.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// A string whose grammar has no parameters at all keeps 4 bytes per module (symbol and
+/// birth step) and no offsets.
+#[derive(Clone, Debug, Default)]
 pub struct ModuleString {
     pub(crate) syms: Vec<u16>,
     pub(crate) births: Vec<u16>,
-    /// `offsets[i]..offsets[i + 1]` are module i's parameters; `offsets[0] = 0`.
+    /// `offsets[i]..offsets[i + 1]` are module i's parameters; `offsets[0] = 0`. Empty
+    /// when no module has parameters (a string without parameters skips them).
     pub(crate) offsets: Vec<u32>,
     pub(crate) params: Vec<f32>,
+}
+
+impl PartialEq for ModuleString {
+    /// Equal modules (symbols, births, parameters), whether or not offsets are kept.
+    fn eq(&self, other: &Self) -> bool {
+        self.syms == other.syms
+            && self.births == other.births
+            && self.params == other.params
+            && (self.params.is_empty() || self.offsets == other.offsets)
+    }
 }
 
 impl ModuleString {
@@ -263,6 +281,10 @@ impl ModuleString {
     /// Parameters of module `i`.
     #[inline]
     pub fn params(&self, i: usize) -> &[f32] {
+        if self.offsets.is_empty() {
+            assert!(i < self.syms.len(), "module {i} of {}", self.syms.len());
+            return &[];
+        }
         &self.params[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
