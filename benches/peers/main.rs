@@ -71,12 +71,23 @@ fn row(name: &str, arbor: (f64, usize), peers: &[(&str, (f64, usize))]) {
     println!();
 }
 
-/// arbor's bark triangles per second from parameters (build + mesh, 8 sides, list).
+/// arbor's bark triangles per second from parameters (build + mesh, triangle list): 6
+/// sides at the three.js generator's sizes (about 6,000 and 48,000 triangles), 8 sides
+/// around ez-tree's and larger.
 fn mesh_rows() {
-    for (name, steps) in [('a', 10u32), ('a', 14), ('f', 15)] {
+    for (name, steps, sides) in [
+        ('a', 9u32, 6u32),
+        ('a', 12, 6),
+        ('a', 10, 8),
+        ('a', 14, 8),
+        ('f', 15, 8),
+    ] {
         let mut p = arbor::honda::HondaParams::preset(name).unwrap();
         p.steps = steps;
-        let o = arbor::mesh::MeshOptions::default();
+        let o = arbor::mesh::MeshOptions {
+            radial_segments: sides,
+            ..Default::default()
+        };
         let mut tris = 0;
         let mut verts = 0;
         let (t, _) = time(|| {
@@ -87,7 +98,7 @@ fn mesh_rows() {
             tris
         });
         println!(
-            "| arbor tree {name}, n = {steps} | {tris} | {verts} (u32 indices) | {:.2} |",
+            "| arbor tree {name}, n = {steps}, {sides} sides | {tris} | {verts} (u32 indices) | {:.2} |",
             tris as f64 / t / 1e6
         );
     }

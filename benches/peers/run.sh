@@ -40,5 +40,12 @@ if command -v npm >/dev/null 2>&1; then
   echo "| mesh generator | bark triangles | vertices | M triangles/s |"
   echo "|---|---|---|---|"
   (cd "$node_dir" && node ez-tree.mjs)
+  # The three.js tree generator ships in `three` itself from 0.187 on; ez-tree pins an
+  # older three, so it gets a directory of its own.
+  three_dir="$root/target/peers/three"
+  mkdir -p "$three_dir"
+  cp "$root/benches/peers/three-tree.mjs" "$three_dir/"
+  (cd "$three_dir" && npm install --silent --no-audit --no-fund three@0.187.0 >/dev/null)
+  (cd "$three_dir" && node three-tree.mjs)
   (cd "$work" && cargo run --release --quiet -- mesh)
 fi
