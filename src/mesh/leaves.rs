@@ -454,13 +454,7 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
     let dir = |v: Vec3| if z_up { [v.x, -v.z, v.y] } else { v.to_array() };
     let pos = |v: Vec3| dir(v * mesh.scale);
     let mut vi = 0usize;
-    let mut w = StripWriter {
-        out: indices,
-        pos: 0,
-        rules: plan.rules,
-        first: true,
-        last: 0,
-    };
+    let mut w = StripWriter::new(indices, plan.rules, true);
     for l in &plan.instances {
         let q = Quat::from_array(l.rotation);
         let at = Vec3::from(l.position);

@@ -57,9 +57,49 @@ pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     pub(crate) first: bool,
     /// The last index written (for degenerate joins).
     pub(crate) last: u32,
+    /// The body of a tube between rings of `tube_ring` vertices: index k is
+    /// `top + offset + (bottom − top) & mask` (mask all ones for the bottom ring), so a
+    /// tube's indices are one add and one masked add each, with no branch.
+    tube_body: Vec<(u32, u32)>,
+    tube_ring: u32,
 }
 
-impl<I: Slot<u32>> StripWriter<'_, I> {
+impl<'a, I: Slot<u32>> StripWriter<'a, I> {
+    /// A writer at the start of `out` (`first`: no strip of the buffer comes before).
+    pub(crate) fn new(out: &'a mut [I], rules: StripRules, first: bool) -> Self {
+        StripWriter {
+            out,
+            pos: 0,
+            rules,
+            first,
+            last: 0,
+            tube_body: Vec::new(),
+            tube_ring: 0,
+        }
+    }
+
+    /// Fills `tube_body` for rings of `ring` vertices.
+    fn tube_template(&mut self, ring: u32) {
+        self.tube_ring = ring;
+        self.tube_body.clear();
+        const T: u32 = 0;
+        const B: u32 = u32::MAX;
+        if self.rules.topology == Topology::TriangleList {
+            for j in 0..ring - 1 {
+                let (t0, b0, t1, b1) = ((j, T), (j, B), (j + 1, T), (j + 1, B));
+                self.tube_body.extend(if self.rules.clockwise {
+                    [t0, t1, b0, t1, b1, b0]
+                } else {
+                    [t0, b0, t1, t1, b0, b1]
+                });
+            }
+        } else {
+            for j in 0..ring {
+                self.tube_body.extend([(j, T), (j, B)]);
+            }
+        }
+    }
+
     #[inline(always)]
     fn push(&mut self, v: u32) {
         self.out[self.pos].put(v);
@@ -75,20 +115,7 @@ impl<I: Slot<u32>> StripWriter<'_, I> {
         let cw = self.rules.clockwise;
         match self.rules.topology {
             Topology::TriangleList => {
-                let n = 6 * (ring as usize - 1);
-                let out = &mut self.out[self.pos..self.pos + n];
-                for (j, tri) in (0..ring - 1).zip(out.chunks_exact_mut(6)) {
-                    let (t0, b0, t1, b1) = (top + j, bottom + j, top + j + 1, bottom + j + 1);
-                    let v = if cw {
-                        [t0, t1, b0, t1, b1, b0]
-                    } else {
-                        [t0, b0, t1, t1, b0, b1]
-                    };
-                    for (slot, x) in tri.iter_mut().zip(v) {
-                        slot.put(x);
-                    }
-                }
-                self.pos += n;
+                self.tube_body(top, bottom, ring);
                 self.last = if cw {
                     bottom + ring - 2
                 } else {
@@ -108,12 +135,7 @@ impl<I: Slot<u32>> StripWriter<'_, I> {
                 if cw {
                     self.push(top);
                 }
-                let out = &mut self.out[self.pos..self.pos + 2 * ring as usize];
-                for (j, pair) in (0..ring).zip(out.chunks_exact_mut(2)) {
-                    pair[0].put(top + j);
-                    pair[1].put(bottom + j);
-                }
-                self.pos += 2 * ring as usize;
+                self.tube_body(top, bottom, ring);
                 self.last = bottom + ring - 1;
                 if cw && topology == Topology::TriangleStripDegenerate {
                     let last = self.last;
@@ -121,6 +143,21 @@ impl<I: Slot<u32>> StripWriter<'_, I> {
                 }
             }
         }
+    }
+
+    /// Writes the body of a tube from the template for `ring`.
+    #[inline]
+    fn tube_body(&mut self, top: u32, bottom: u32, ring: u32) {
+        if ring != self.tube_ring {
+            self.tube_template(ring);
+        }
+        let n = self.tube_body.len();
+        let diff = bottom.wrapping_sub(top);
+        let out = &mut self.out[self.pos..self.pos + n];
+        for (slot, &(offset, mask)) in out.iter_mut().zip(&self.tube_body) {
+            slot.put(top.wrapping_add(offset).wrapping_add(diff & mask));
+        }
+        self.pos += n;
     }
 
     /// Writes one strip (front faces counter-clockwise in OpenGL's strip order).
@@ -209,13 +246,7 @@ mod tests {
             .map(|(i, s)| rules.count(s.len(), i == 0))
             .sum();
         let mut out = vec![0u32; total];
-        let mut w = StripWriter {
-            out: &mut out,
-            pos: 0,
-            rules,
-            first: true,
-            last: 0,
-        };
+        let mut w = StripWriter::new(&mut out, rules, true);
         for s in strips {
             w.strip(s);
         }

@@ -7,7 +7,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
-use glam::{DVec3, Quat, Vec3};
+use glam::{DVec3, Mat3, Quat, Vec2, Vec3, Vec4};
 use std::mem::MaybeUninit;
 
 /// The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
@@ -92,13 +92,29 @@ fn check_options(o: &MeshOptions) -> Result<()> {
     Ok(())
 }
 
+/// Unit direction of a branch (+Y for a zero-length branch); in f64 only when the f32
+/// difference of its ends overflows or underflows.
 #[inline]
-/// Unit direction of a branch, computed in f64 so that lengths near the f32 limit do not
-/// overflow; +Y for a zero-length branch.
 fn direction(b: &Branch) -> Vec3 {
+    let d = Vec3::from(b.end) - Vec3::from(b.start);
+    let l2 = d.length_squared();
+    if l2.is_finite() && l2 > 1e-30 {
+        return d * l2.sqrt().recip();
+    }
     (b.end().as_dvec3() - b.start().as_dvec3())
         .try_normalize()
         .map_or(Vec3::Y, |d| d.as_vec3())
+}
+
+/// Length of a branch, in f64 when its f32 difference overflows.
+#[inline]
+fn length(b: &Branch) -> f64 {
+    let l = (Vec3::from(b.end) - Vec3::from(b.start)).length();
+    if l.is_finite() {
+        l as f64
+    } else {
+        (b.end().as_dvec3() - b.start().as_dvec3()).length()
+    }
 }
 
 fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
@@ -107,17 +123,17 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
     let n = branches.len();
     let max_seg = o.radial_segments;
     let radius = |b: &Branch| b.start_radius.max(b.end_radius);
-    let r_max = branches.iter().map(radius).fold(0.0f32, f32::max);
     // Scaled positions (caps and point tips reach one radius further) must stay finite.
-    let extent = branches
-        .iter()
-        .flat_map(|b| {
-            b.start
-                .iter()
-                .chain(&b.end)
-                .map(|v| v.abs() as f64 + 2.0 * radius(b) as f64)
-        })
-        .fold(0.0f64, f64::max);
+    let (mut r_max, mut extent) = (0.0f32, 0.0f64);
+    for b in branches {
+        let r = radius(b);
+        r_max = r_max.max(r);
+        let far = Vec3::from(b.start)
+            .abs()
+            .max(Vec3::from(b.end).abs())
+            .max_element();
+        extent = extent.max(far as f64 + 2.0 * r as f64);
+    }
     if extent * o.scale as f64 > f32::MAX as f64 / 4.0 {
         return Err(Error::invalid(
             "scale",
@@ -389,20 +405,49 @@ pub(crate) fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
     (p, q)
 }
 
-/// `p` carried from a ring around `from` to a ring around `to` by the smallest rotation
-/// (Rodrigues' formula with k = from × to: R p = p c + k × p + k (k · p) / (1 + c)).
+/// The linear map that carries a ring vector from a ring around `from` to a ring around
+/// `to`: the smallest rotation (Rodrigues' formula with k = from × to:
+/// R p = p c + k × p + k (k · p) / (1 + c)), then the projection onto the plane normal to
+/// `to`, which keeps rounding from tilting the frame. It does not depend on the vector
+/// carried, so along an axis the chain of frames is one matrix product and one
+/// renormalisation per branch.
 #[inline]
-fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
+fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
     let c = from.dot(to);
-    let moved = if c > -0.9999 {
+    let rotation = if c > -0.9999 {
         let k = from.cross(to);
-        p * c + k.cross(p) + k * (k.dot(p) / (1.0 + c))
+        let h = 1.0 / (1.0 + c);
+        Mat3::from_diagonal(Vec3::splat(c))
+            + Mat3::from_cols(
+                Vec3::new(0.0, k.z, -k.y),
+                Vec3::new(-k.z, 0.0, k.x),
+                Vec3::new(k.y, -k.x, 0.0),
+            )
+            + Mat3::from_cols(k * (h * k.x), k * (h * k.y), k * (h * k.z))
     } else {
-        Quat::from_rotation_arc(from, to) * p
+        Mat3::from_quat(Quat::from_rotation_arc(from, to))
     };
-    (moved - to * moved.dot(to))
-        .try_normalize()
-        .unwrap_or_else(|| ring_basis(to.as_dvec3()).0.as_vec3())
+    let projection = Mat3::IDENTITY - Mat3::from_cols(to * to.x, to * to.y, to * to.z);
+    projection * rotation
+}
+
+/// `p` carried by `map` (see [`transport_map`]) onto the ring around `to`, unit length.
+#[inline]
+fn carry(map: &Mat3, p: Vec3, to: Vec3) -> Vec3 {
+    let v = *map * p;
+    let l2 = v.length_squared();
+    if (0.9..1.1).contains(&l2) {
+        // A rotation keeps the length to rounding: one Newton step of 1/√l2 from 1.
+        v * (1.5 - 0.5 * l2)
+    } else {
+        v.try_normalize()
+            .unwrap_or_else(|| ring_basis(to.as_dvec3()).0.as_vec3())
+    }
+}
+
+#[cfg(test)]
+fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
+    carry(&transport_map(from, to), p, to)
 }
 
 /// Writes the mesh of `skeleton` into `vertices` and `indices` and returns the counts
@@ -487,6 +532,115 @@ fn to_f32(x: f64) -> f32 {
     x.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
 }
 
+/// A ring of vertices affine in the unit circle: the vertex at (cos, sin) = (c, s) with
+/// texture coordinate u is `a + c·b + s·d + u·e`, each term the 8 floats of a [`Vertex`]
+/// (position, normal, uv) held in two 4-lane vectors. Cones, caps and the mitred ring's
+/// positions are all of this form, so a vertex is a few vector multiply-adds and two
+/// 16-byte stores.
+#[derive(Clone, Copy)]
+struct Affine {
+    a: [Vec4; 2],
+    b: [Vec4; 2],
+    d: [Vec4; 2],
+    e: [Vec4; 2],
+}
+
+impl Affine {
+    /// The terms from a center and radial directions, normals and uv.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        center: Vec3,
+        radius_p: Vec3,
+        radius_q: Vec3,
+        normal: Vec3,
+        normal_p: Vec3,
+        normal_q: Vec3,
+        uv: [f32; 2],
+        uv_p: [f32; 2],
+        uv_q: [f32; 2],
+        uv_u: [f32; 2],
+    ) -> Self {
+        let pack = |pos: Vec3, n: Vec3, t: [f32; 2]| {
+            [
+                Vec4::new(pos.x, pos.y, pos.z, n.x),
+                Vec4::new(n.y, n.z, t[0], t[1]),
+            ]
+        };
+        Affine {
+            a: pack(center, normal, uv),
+            b: pack(radius_p, normal_p, uv_p),
+            d: pack(radius_q, normal_q, uv_q),
+            e: pack(Vec3::ZERO, Vec3::ZERO, uv_u),
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, c: f32, s: f32, u: f32) -> [Vec4; 2] {
+        let (c, s, u) = (Vec4::splat(c), Vec4::splat(s), Vec4::splat(u));
+        [
+            self.a[0] + self.b[0] * c + self.d[0] * s,
+            self.a[1] + self.b[1] * c + self.d[1] * s + self.e[1] * u,
+        ]
+    }
+
+    /// Writes the ring: one vertex per entry of `table`.
+    #[inline(always)]
+    fn put<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+        for (slot, &(c, s, u)) in out.iter_mut().zip(table) {
+            slot.put(vertex(self.at(c, s, u)));
+        }
+    }
+
+    /// Writes the ring with each normal scaled to unit length (the mitred ring, whose
+    /// normals are affine in the circle only before normalising). The inverse lengths are
+    /// computed four vertices at a time, one vector square root and division each.
+    #[inline(always)]
+    fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+        let (na, nb) = (Self::normal_of(&self.b), Self::normal_of(&self.d));
+        let (aa, ab2, bb) = (
+            Vec4::splat(na.dot(na)),
+            Vec4::splat(2.0 * na.dot(nb)),
+            Vec4::splat(nb.dot(nb)),
+        );
+        let mut inv = [1.0f32; MAX_RADIAL_SEGMENTS as usize + 4];
+        for (chunk, dst) in table.chunks(4).zip(inv.chunks_exact_mut(4)) {
+            let lane = |k: usize, f: fn(&(f32, f32, f32)) -> f32| chunk.get(k).map_or(1.0, f);
+            let c = Vec4::new(
+                lane(0, |t| t.0),
+                lane(1, |t| t.0),
+                lane(2, |t| t.0),
+                lane(3, |t| t.0),
+            );
+            let s = Vec4::new(
+                lane(0, |t| t.1),
+                lane(1, |t| t.1),
+                lane(2, |t| t.1),
+                lane(3, |t| t.1),
+            );
+            let l2 = c * c * aa + c * s * ab2 + s * s * bb;
+            dst.copy_from_slice(&(Vec4::ONE / l2.sqrt()).to_array());
+        }
+        for ((slot, &(c, s, u)), &k) in out.iter_mut().zip(table).zip(&inv) {
+            let [lo, hi] = self.at(c, s, u);
+            slot.put(vertex([
+                lo * Vec4::new(1.0, 1.0, 1.0, k),
+                hi * Vec4::new(k, k, 1.0, 1.0),
+            ]));
+        }
+    }
+
+    /// The normal part of a term.
+    #[inline(always)]
+    fn normal_of(t: &[Vec4; 2]) -> Vec3 {
+        Vec3::new(t[0].w, t[1].x, t[1].y)
+    }
+}
+
+#[inline(always)]
+fn vertex([lo, hi]: [Vec4; 2]) -> Vertex {
+    bytemuck::cast([lo.to_array(), hi.to_array()])
+}
+
 /// Per-branch values the writer reads, computed in one pass from parents to children (ring
 /// frames and arc length flow down the tree); the writing itself can then run on chunks of
 /// branches independently.
@@ -530,14 +684,14 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
             ring_basis(d.as_dvec3()).0.as_vec3()
         } else {
             let parent = b.parent as usize;
-            transport(l.frame_p[parent], plan.dir[parent], d)
+            carry(&transport_map(plan.dir[parent], d), l.frame_p[parent], d)
         };
         let v0 = if root {
             0.0
         } else {
             l.v_end[b.parent as usize]
         };
-        let len = (b.end().as_dvec3() - b.start().as_dvec3()).length();
+        let len = length(b);
         // Clamped so that absurd lengths cannot push uv past the f32 range.
         l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
         let own_start = if plan.flags[i] & SHARES_START != 0 {
@@ -647,13 +801,7 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
     // In f64: a tiny texture scale must not turn v infinite.
     let inv_ts = 1.0 / o.texture_scale as f64;
     let dir = &plan.dir;
-    let mut writer = StripWriter {
-        out: indices,
-        pos: 0,
-        rules: plan.rules,
-        first,
-        last: 0,
-    };
+    let mut writer = StripWriter::new(indices, plan.rules, first);
     let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
     // Where this chunk's indices start in the whole buffer (for the debug check below).
     let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
@@ -691,20 +839,38 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
             lay.v_end[b.parent as usize]
         };
         let v1 = lay.v_end[i];
-        let len_f64 = (end.as_dvec3() - start.as_dvec3()).length();
-        // Cone normal: radial·h + axis·(r0 − r1), normalised.
-        let dr = (r0 - r1) as f64;
-        let slant = (len_f64 * len_f64 + dr * dr).sqrt();
-        let (nc, na) = if slant > 0.0 {
-            ((len_f64 / slant) as f32, (dr / slant) as f32)
-        } else {
-            (1.0, 0.0)
+        // Cone normal: radial·h + axis·(r0 − r1), normalised (in f64 only when the f32
+        // sum of squares overflows).
+        let slope = Vec2::new((end - start).length(), r0 - r1);
+        let (nc, na) = match slope.try_normalize() {
+            Some(n) => (n.x, n.y),
+            None if slope == Vec2::ZERO => (1.0, 0.0),
+            None => {
+                let (h, dr) = (length(b), (r0 - r1) as f64);
+                let slant = (h * h + dr * dr).sqrt();
+                ((h / slant) as f32, (dr / slant) as f32)
+            }
         };
         // Output-space frame.
         let (po, qo, d_o) = (rot(p), rot(q), rot(d));
         let tilt = d_o * na;
         let (r0s, r1s) = (r0 * o.scale, r1 * o.scale);
         let mut pos = first_vertex - v_base;
+        // A ring of the cone: radial·r around the center, normal radial·nc + tilt.
+        let cone = |center: Vec3, r: f32, v: f32| {
+            Affine::new(
+                center,
+                po * r,
+                qo * r,
+                tilt,
+                po * nc,
+                qo * nc,
+                [0.0, v],
+                [0.0; 2],
+                [0.0; 2],
+                [1.0, 0.0],
+            )
+        };
 
         // Start ring, unless shared with the parent.
         let (start_ring, start_center) = if f & SHARES_START != 0 {
@@ -718,14 +884,7 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
             let c0 = start - d * sink;
             let co = Vec3::from_array(out.pos(c0));
             let v = to_f32(v0 as f64 - sink as f64 * inv_ts);
-            for (slot, &(c, sn, u)) in vertices[pos..pos + ring].iter_mut().zip(table) {
-                let radial = po * c + qo * sn;
-                slot.put(Vertex {
-                    position: (co + radial * r0s).to_array(),
-                    normal: (radial * nc + tilt).to_array(),
-                    uv: [u, v],
-                });
-            }
+            cone(co, r0s, v).put(&mut vertices[pos..pos + ring], table);
             pos += ring;
             (first_vertex as u32, c0)
         };
@@ -736,41 +895,44 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
         let ring_out = &mut vertices[pos..pos + ring];
         if f & MITRE_END != 0 {
             let m = rot((d + dir[plan.cont[i] as usize]).normalize());
-            // Each point of the circle slides along d onto the bisecting plane.
+            // Each point of the circle slides along d onto the bisecting plane: the
+            // position gives up `slide · (radial · m)`, the normal its part along m.
             let slide = d_o * (r1s / d_o.dot(m));
-            for (slot, &(c, sn, u)) in ring_out.iter_mut().zip(table) {
-                let radial = po * c + qo * sn;
-                let along = radial.dot(m);
-                let normal = (radial - m * along).normalize();
-                slot.put(Vertex {
-                    position: (eo + radial * r1s - slide * along).to_array(),
-                    normal: normal.to_array(),
-                    uv: [u, v1],
-                });
-            }
+            let (pm, qm) = (po.dot(m), qo.dot(m));
+            Affine::new(
+                eo,
+                po * r1s - slide * pm,
+                qo * r1s - slide * qm,
+                Vec3::ZERO,
+                po - m * pm,
+                qo - m * qm,
+                [0.0, v1],
+                [0.0; 2],
+                [0.0; 2],
+                [1.0, 0.0],
+            )
+            .put_normalized(ring_out, table);
         } else {
-            for (slot, &(c, sn, u)) in ring_out.iter_mut().zip(table) {
-                let radial = po * c + qo * sn;
-                slot.put(Vertex {
-                    position: (eo + radial * r1s).to_array(),
-                    normal: (radial * nc + tilt).to_array(),
-                    uv: [u, v1],
-                });
-            }
+            cone(eo, r1s, v1).put(ring_out, table);
         }
         pos += ring;
         // Base cap: a disc facing −d at the start ring.
         let base_first = (pos + v_base) as u32;
         if f & BASE_CAP != 0 {
             let co = Vec3::from_array(out.pos(start_center));
-            for (slot, &(c, sn, _)) in vertices[pos..pos + s].iter_mut().zip(table) {
-                let radial = po * c + qo * sn;
-                slot.put(Vertex {
-                    position: (co + radial * r0s).to_array(),
-                    normal: (-d_o).to_array(),
-                    uv: [0.5 + 0.5 * c, 0.5 - 0.5 * sn],
-                });
-            }
+            Affine::new(
+                co,
+                po * r0s,
+                qo * r0s,
+                -d_o,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                [0.5, 0.5],
+                [0.5, 0.0],
+                [0.0, -0.5],
+                [0.0; 2],
+            )
+            .put(&mut vertices[pos..pos + s], table);
             pos += s;
         }
         // Tip: a disc facing +d, or apexes of a cone one radius beyond the end.
@@ -778,14 +940,19 @@ fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
         if f & TIP != 0 {
             match o.tip {
                 Tip::Cap => {
-                    for (slot, &(c, sn, _)) in vertices[pos..pos + s].iter_mut().zip(table) {
-                        let radial = po * c + qo * sn;
-                        slot.put(Vertex {
-                            position: (eo + radial * r1s).to_array(),
-                            normal: d_o.to_array(),
-                            uv: [0.5 + 0.5 * c, 0.5 + 0.5 * sn],
-                        });
-                    }
+                    Affine::new(
+                        eo,
+                        po * r1s,
+                        qo * r1s,
+                        d_o,
+                        Vec3::ZERO,
+                        Vec3::ZERO,
+                        [0.5, 0.5],
+                        [0.5, 0.0],
+                        [0.0, 0.5],
+                        [0.0; 2],
+                    )
+                    .put(&mut vertices[pos..pos + s], table);
                 }
                 _ => {
                     let apex = Vec3::from_array(out.pos(end + d * r1));
@@ -861,6 +1028,36 @@ mod tests {
         assert_abs_diff_eq!(p.z, 1.0, epsilon = 1e-6);
         let back = transport(Vec3::Z, Vec3::Y, Vec3::NEG_Y);
         assert_abs_diff_eq!(back.dot(Vec3::NEG_Y), 0.0, epsilon = 1e-6);
+    }
+
+    #[test]
+    fn a_long_chain_of_transports_stays_unit_and_perpendicular() {
+        // 100,000 branches along a wandering axis: the frame is carried by a matrix and
+        // renormalised by one Newton step each time, so errors must not accumulate.
+        let mut rng = crate::lsystem::Rng::new(3);
+        let mut dir = Vec3::Y;
+        let mut p = ring_basis(dir.as_dvec3()).0.as_vec3();
+        for k in 0..100_000 {
+            let jitter = Vec3::new(
+                rng.next_f64() as f32 - 0.5,
+                rng.next_f64() as f32 - 0.5,
+                rng.next_f64() as f32 - 0.5,
+            );
+            // Mostly gentle bends, now and then a reversal (the matrix from a quaternion).
+            let to = if k % 997 == 0 {
+                -dir
+            } else {
+                (dir + jitter * 0.6).normalize()
+            };
+            p = transport(p, dir, to);
+            dir = to;
+            assert!(
+                (p.length() - 1.0).abs() < 1e-5,
+                "branch {k}: |p| = {}",
+                p.length()
+            );
+            assert!(p.dot(dir).abs() < 1e-5, "branch {k}: p·d = {}", p.dot(dir));
+        }
     }
 
     #[test]
