@@ -299,22 +299,27 @@ fn cut(src: &ModuleString, dst: &mut ModuleString) {
     let mut i = 0;
     while i < src.len() {
         if src.syms[i] == CUT {
-            let mut depth = 0usize;
-            i += 1;
-            while i < src.len() {
-                match src.syms[i] {
-                    PUSH => depth += 1,
-                    POP if depth == 0 => break,
-                    POP => depth -= 1,
-                    _ => {}
-                }
-                i += 1;
-            }
+            i = branch_end(&src.syms, i + 1).unwrap_or(src.len());
             continue;
         }
         dst.push(src.syms[i], src.births[i], src.params(i));
         i += 1;
     }
+}
+
+/// The index of the `]` that closes the branch `syms[from..]` starts inside (nested
+/// branches skipped whole); `None` when it is never closed.
+fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (k, &sym) in syms.iter().enumerate().skip(from) {
+        match sym {
+            PUSH => depth += 1,
+            POP if depth == 0 => return Some(k),
+            POP => depth -= 1,
+            _ => {}
+        }
+    }
+    None
 }
 
 /// For each bracket, the index of its partner (`u32::MAX` for none).
@@ -563,20 +568,10 @@ fn match_right(
             continue;
         }
         if pat.sym == POP {
-            let mut depth = 0usize;
-            loop {
-                if j >= n {
-                    return false;
-                }
-                match s.syms[j] {
-                    PUSH => depth += 1,
-                    POP if depth == 0 => break,
-                    POP => depth -= 1,
-                    _ => {}
-                }
-                j += 1;
+            match branch_end(&s.syms, j) {
+                Some(close) => j = close + 1,
+                None => return false,
             }
-            j += 1;
             continue;
         }
         loop {
@@ -806,6 +801,22 @@ mod tests {
         ] {
             assert!(LSystem::parse(text).unwrap().d0l.is_none(), "{text}");
         }
+    }
+
+    #[test]
+    fn the_end_of_a_branch_skips_nested_branches() {
+        let ls = LSystem::parse("Axiom: A[B[C]D]E").unwrap();
+        let s = ls.derive(&options(0)).unwrap();
+        // A [ B [ C ] D ] E: from B (index 2) the branch closes at 7; from C at 5.
+        assert_eq!(branch_end(&s.syms, 2), Some(7));
+        assert_eq!(branch_end(&s.syms, 4), Some(5));
+        assert_eq!(branch_end(&s.syms, 8), None);
+        // Right context `]E`: the rest of the branch is skipped whole, nested ones too.
+        let ls = LSystem::parse("Axiom: A[B[C]D]E\nB > ]E --> X\nC > ]E --> Y\n").unwrap();
+        assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "A[X[C]D]E");
+        // A cut removes the rest of its branch with the branches nested in it.
+        let ls = LSystem::parse("Axiom: F[A[G]F]F\nA --> %\n").unwrap();
+        assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "F[]F");
     }
 
     #[test]

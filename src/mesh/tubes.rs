@@ -591,33 +591,28 @@ impl Affine {
         }
     }
 
-    /// Writes the ring with each normal scaled to unit length (the mitred ring, whose
-    /// normals are affine in the circle only before normalising). The inverse lengths are
-    /// computed four vertices at a time, one vector square root and division each.
+    /// Writes the ring with each normal scaled to unit length: the mitred ring, whose
+    /// normal `c·nb + s·nd` (the constant term's normal is zero) is affine in the circle
+    /// only before normalising. The inverse lengths are computed four vertices at a time,
+    /// one vector square root and division each.
     #[inline(always)]
     fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
-        let (na, nb) = (Self::normal_of(&self.b), Self::normal_of(&self.d));
-        let (aa, ab2, bb) = (
-            Vec4::splat(na.dot(na)),
-            Vec4::splat(2.0 * na.dot(nb)),
+        debug_assert_eq!(Self::normal_of(&self.a), Vec3::ZERO);
+        let (nb, nd) = (Self::normal_of(&self.b), Self::normal_of(&self.d));
+        let (bb, bd2, dd) = (
             Vec4::splat(nb.dot(nb)),
+            Vec4::splat(2.0 * nb.dot(nd)),
+            Vec4::splat(nd.dot(nd)),
         );
         let mut inv = [1.0f32; MAX_RADIAL_SEGMENTS as usize + 4];
         for (chunk, dst) in table.chunks(4).zip(inv.chunks_exact_mut(4)) {
-            let lane = |k: usize, f: fn(&(f32, f32, f32)) -> f32| chunk.get(k).map_or(1.0, f);
-            let c = Vec4::new(
-                lane(0, |t| t.0),
-                lane(1, |t| t.0),
-                lane(2, |t| t.0),
-                lane(3, |t| t.0),
-            );
-            let s = Vec4::new(
-                lane(0, |t| t.1),
-                lane(1, |t| t.1),
-                lane(2, |t| t.1),
-                lane(3, |t| t.1),
-            );
-            let l2 = c * c * aa + c * s * ab2 + s * s * bb;
+            // Lanes past the ring's end take (1, 0), a point of the circle.
+            let (mut c, mut s) = ([1.0f32; 4], [0.0f32; 4]);
+            for (k, &(ck, sk, _)) in chunk.iter().enumerate() {
+                (c[k], s[k]) = (ck, sk);
+            }
+            let (c, s) = (Vec4::from_array(c), Vec4::from_array(s));
+            let l2 = c * c * bb + c * s * bd2 + s * s * dd;
             dst.copy_from_slice(&(Vec4::ONE / l2.sqrt()).to_array());
         }
         for ((slot, &(c, s, u)), &k) in out.iter_mut().zip(table).zip(&inv) {
