@@ -6,7 +6,8 @@
 //! `cargo bench --bench memory`
 
 use arbor::lsystem::{LSystem, LsystemOptions};
-use arbor::{honda, mesh};
+use arbor::mesh;
+use arbor::models::honda;
 use peak_alloc::PeakAlloc;
 
 #[global_allocator]

@@ -1,7 +1,8 @@
 //! Criterion benchmarks, one group per pipeline stage.
 
 use arbor::lsystem::{LSystem, LsystemOptions};
-use arbor::{honda, mesh};
+use arbor::mesh;
+use arbor::models::honda;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 

@@ -6,7 +6,8 @@
 //! criterion's output into `docs/scale.png`.
 
 use arbor::lsystem::{LSystem, LsystemOptions};
-use arbor::{honda, mesh};
+use arbor::mesh;
+use arbor::models::honda;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 

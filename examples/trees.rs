@@ -8,8 +8,8 @@
 //! OUT_DIR defaults to `out/`, RADIAL_SEGMENTS to 8.
 
 use arbor::export::save_obj_parts;
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::mesh::{self, LeafOptions, MeshOptions, Tip};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 use std::path::PathBuf;
 use std::time::Instant;
 

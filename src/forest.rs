@@ -5,12 +5,12 @@
 //! [`merged`] places trees (position, turn about the up axis, scale) into one mesh;
 //! [`instanced`] makes one mesh per distinct tree and a transform per placement, for
 //! instanced drawing. A 1996-model tree with a non-zero seed gets seeded
-//! [`Variation`](crate::honda::Variation), so neighbours differ.
+//! [`Variation`](crate::models::honda::Variation), so neighbours differ.
 
 use crate::error::Result;
-use crate::honda::{self, HondaParams};
 use crate::lsystem::{LSystem, LsystemOptions};
 use crate::mesh::{self, Mesh, MeshOptions};
+use crate::models::honda::{self, HondaParams};
 
 /// What one tree of the forest grows from.
 #[derive(Clone, Copy, Debug)]

@@ -8,7 +8,7 @@
 //!                                                       export::write_obj, C ABI (ffi)
 //! ```
 //!
-//! - [`honda`]: the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch, with the
+//! - [`models::honda`]: the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch, with the
 //!   paper's trees a–i as presets.
 //! - [`skeleton`]: every internode as a [`Branch`]: start, end, radii, parent, depth, order.
 //! - [`mesh`]: each branch a truncated cone; 32-byte interleaved [`Vertex`] and `u32`
@@ -20,7 +20,7 @@
 //! counter-clockwise front faces, widths are diameters and radii are half of them.
 //!
 //! ```
-//! use arbor::{honda, mesh};
+//! use arbor::{mesh, models::honda};
 //!
 //! let params = honda::HondaParams::preset('g').unwrap();
 //! let skeleton = honda::build(&params)?;
@@ -43,14 +43,15 @@ pub mod export;
 #[allow(unsafe_code)]
 pub mod ffi;
 pub mod forest;
-pub mod honda;
+pub mod geom;
+pub mod limits;
 pub mod lsystem;
 pub mod mesh;
-pub mod prune;
+pub mod models;
+pub mod rng;
 pub mod skeleton;
-pub mod turtle;
 
 pub use error::{Error, Result};
-pub use honda::HondaParams;
 pub use mesh::{Mesh, MeshOptions, Topology, Vertex};
+pub use models::honda::HondaParams;
 pub use skeleton::{Branch, Skeleton};

@@ -1,8 +1,8 @@
 //! The optional animation stream: one element per vertex, growth and wind values that
 //! follow the branches, and leaves that carry their branch's values.
 
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::mesh::{self, Joints, LeafOptions, MeshOptions, Tip, Topology};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 
 #[test]
 fn one_element_per_vertex_with_branch_values() {

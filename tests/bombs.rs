@@ -4,8 +4,8 @@
 //! measured by a counting allocator.
 
 use arbor::Error;
-use arbor::honda::{self, HondaParams};
 use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::models::honda::{self, HondaParams};
 use peak_alloc::PeakAlloc;
 use std::time::{Duration, Instant};
 

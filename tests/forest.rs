@@ -2,9 +2,9 @@
 //! build tree by tree, byte by byte.
 
 use arbor::forest::{self, Item, Source};
-use arbor::honda::HondaParams;
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::MeshOptions;
+use arbor::models::honda::HondaParams;
 
 #[test]
 fn forest_equals_the_serial_build() {

@@ -4,9 +4,9 @@
 //! (`ARBOR_BLESS_GOLDEN=1 cargo test --test golden`) in the same commit, with the reason
 //! in the commit message.
 
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{self, MeshOptions, Tip, Topology};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::skeleton::Skeleton;
 
 /// FNV-1a, 64 bits.

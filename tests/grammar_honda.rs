@@ -1,8 +1,8 @@
 //! The 1996 model written as grammar text grows the same skeleton as the direct builder,
 //! branch by branch. Keep this test forever.
 
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 
 fn grammar(name: char) -> LSystem {
     let path = format!(

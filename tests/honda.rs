@@ -2,7 +2,7 @@
 
 use approx::assert_abs_diff_eq;
 use arbor::Error;
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec3;
 

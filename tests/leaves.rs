@@ -1,10 +1,10 @@
 //! Leaf placement, instance data and the baked leaf mesh.
 
-use arbor::honda::{self, HondaParams};
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{
     self, LeafInstance, LeafOptions, LeafPrefab, MeshOptions, Topology, UpAxis, Vertex, Winding,
 };
+use arbor::models::honda::{self, HondaParams};
 use arbor::skeleton::Skeleton;
 use glam::{Quat, Vec3};
 

@@ -2,12 +2,12 @@
 //! combinations, plus the properties of each option.
 
 use arbor::Error;
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{
     self, Joints, Mesh, MeshOptions, RESTART_INDEX, Tip, Topology, Triangles, UpAxis, Vertex,
     Winding,
 };
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 

@@ -1,8 +1,8 @@
 //! OBJ files written by arbor read back with tobj, an independent parser.
 
 use arbor::export::{save_obj, write_obj};
-use arbor::honda::{self, HondaParams, PRESET_NAMES};
 use arbor::mesh::{self, MeshOptions, Topology};
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
 
 #[test]
 fn every_preset_reads_back_with_tobj() {

@@ -1,7 +1,7 @@
 //! Seeded variation of the 1996 model, and pruning of colliding branches.
 
-use arbor::honda::{self, HondaParams, PRESET_NAMES, Variation};
-use arbor::prune::prune_collisions;
+use arbor::models::honda::{self, HondaParams, PRESET_NAMES, Variation};
+use arbor::skeleton::prune::prune_collisions;
 use arbor::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 

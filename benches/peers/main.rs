@@ -82,7 +82,7 @@ fn mesh_rows() {
         ('a', 14, 8),
         ('f', 15, 8),
     ] {
-        let mut p = arbor::honda::HondaParams::preset(name).unwrap();
+        let mut p = arbor::models::honda::HondaParams::preset(name).unwrap();
         p.steps = steps;
         let o = arbor::mesh::MeshOptions {
             radial_segments: sides,
@@ -91,7 +91,7 @@ fn mesh_rows() {
         let mut tris = 0;
         let mut verts = 0;
         let (t, _) = time(|| {
-            let s = arbor::honda::build(&p).unwrap();
+            let s = arbor::models::honda::build(&p).unwrap();
             let m = arbor::mesh::tubes(&s, &o).unwrap();
             tris = m.indices.len() / 3;
             verts = m.vertices.len();

@@ -9,11 +9,11 @@
 
 mod guard;
 
-use crate::honda::{self, HondaParams};
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
 use crate::mesh::{
     self, BranchRange, LeafInstance, LeafOptions, LeafPrefab, MeshOptions, Topology, Vertex,
 };
+use crate::models::honda::{self, HondaParams};
 use crate::skeleton::{Branch, Skeleton};
 use bytemuck::{Pod, Zeroable};
 use guard::{FfiError, arg_ref, guard, guard_value, in_slice, out_ref, out_slice, with_last_error};
@@ -385,6 +385,7 @@ impl TryFrom<&ArborMeshOptions> for MeshOptions {
             )?,
             up_axis: enum_field("up_axis", o.up_axis, &[(UpAxis::Y, "Y"), (UpAxis::Z, "Z")])?,
             scale: o.scale,
+            threads: 0,
         })
     }
 }
@@ -1397,7 +1398,7 @@ pub unsafe extern "C" fn arbor_tree_prune_collisions(
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let pruned = crate::prune::prune_collisions(&tree.skeleton);
+        let pruned = crate::skeleton::prune::prune_collisions(&tree.skeleton);
         if !removed.is_null() {
             // SAFETY: the caller promises a non-NULL `removed` is writable.
             *unsafe { out_ref(removed, "removed") }? = pruned.removed;

@@ -231,7 +231,7 @@ mod fuzz {
 #[test]
 fn honda_params_convert_field_by_field() {
     // The conversion is a cast: the fields must line up by name, not only by size.
-    let p = crate::honda::HondaParams {
+    let p = crate::models::honda::HondaParams {
         trunk_length: 1.0,
         trunk_width: 2.0,
         r1: 3.0,
@@ -263,5 +263,5 @@ fn honda_params_convert_field_by_field() {
         [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0]
     );
     assert_eq!(c.steps, 12);
-    assert_eq!(crate::honda::HondaParams::from(c), p);
+    assert_eq!(crate::models::honda::HondaParams::from(c), p);
 }

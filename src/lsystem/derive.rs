@@ -1,9 +1,9 @@
 //! Parallel rewriting over flat module strings, double-buffered.
 
 use super::grammar::{CUT, ModuleList, POP, PUSH, Pattern, Production, ProductionTable};
-use super::rng::Rng;
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
+use crate::rng::Rng;
 
 /// Everything a step needs besides the strings.
 pub(crate) struct Ctx<'a> {

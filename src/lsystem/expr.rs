@@ -5,8 +5,8 @@
 //! (right-associative, binds tighter than unary minus), then numbers, names, calls and
 //! parentheses. Trigonometric functions work in degrees, as in cpfg.
 
-use super::rng::Rng;
 use super::syntax::{Cursor, PResult};
+use crate::rng::Rng;
 use std::collections::HashMap;
 
 /// Deepest parenthesis/call nesting accepted, so hostile input cannot exhaust the stack.

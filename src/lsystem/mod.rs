@@ -18,22 +18,19 @@
 pub(crate) mod derive;
 mod expr;
 pub(crate) mod grammar;
+mod interpret;
 mod parse;
-mod rng;
 mod syntax;
 
 pub use grammar::ViewSettings;
 pub use parse::MAX_SOURCE_BYTES;
-pub use rng::Rng;
 
 use crate::error::Result;
 use crate::skeleton::Skeleton;
 use grammar::{ModuleList, ProductionTable, Symbols};
 
-/// Default limit on the modules of a derived string (2^24 = 16,777,216).
-pub const DEFAULT_MAX_MODULES: usize = 1 << 24;
-/// Default limit on the parameters of a derived string (2^25 = 33,554,432).
-pub const DEFAULT_MAX_PARAMS: usize = 1 << 25;
+pub use crate::limits::DEFAULT_MAX_MODULES;
+pub use crate::limits::DEFAULT_MAX_PARAMS;
 
 /// Options of [`LSystem::derive`] and [`LSystem::interpret`]. `Default` gives the
 /// documented defaults; the settings given here override the grammar's directives.
@@ -52,7 +49,7 @@ pub struct LsystemOptions {
     /// values than this (at most 2^32 − 1). Default [`DEFAULT_MAX_PARAMS`].
     pub max_params: usize,
     /// Interpretation stops with `LimitExceeded` past this many branches. Default
-    /// [`crate::honda::DEFAULT_MAX_BRANCHES`].
+    /// [`crate::limits::DEFAULT_MAX_BRANCHES`].
     pub max_branches: usize,
     /// Overrides `angle increment:` (degrees).
     pub angle_increment: Option<f64>,
@@ -73,7 +70,7 @@ impl Default for LsystemOptions {
             seed: 0,
             max_modules: DEFAULT_MAX_MODULES,
             max_params: DEFAULT_MAX_PARAMS,
-            max_branches: crate::honda::DEFAULT_MAX_BRANCHES,
+            max_branches: crate::limits::DEFAULT_MAX_BRANCHES,
             angle_increment: None,
             initial_width: None,
             width_increment: None,
@@ -177,7 +174,7 @@ impl LSystem {
 
     /// Reads `string` with the 3-D turtle (applying interpretation rules) into a skeleton.
     pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
-        crate::turtle::interpret(self, string, options)
+        interpret::interpret(self, string, options)
     }
 
     /// [`derive`](Self::derive), then [`interpret`](Self::interpret).

@@ -2,11 +2,12 @@
 //! data for instanced drawing or baked into a leaf mesh (quads, a prefab from an OBJ file,
 //! and the turtle's `{ . }` polygons triangulated).
 
+use super::animation::{AnimationVertex, branch_phase, depth_span};
 use super::strips::{Slot, StripRules, StripWriter, zigzag};
-use super::tubes::{AnimationVertex, branch_phase, depth_span, ring_basis};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
 use crate::error::{Error, Result};
-use crate::lsystem::Rng;
+use crate::geom::transport::ring_basis;
+use crate::rng::Rng;
 use crate::skeleton::Skeleton;
 use glam::{Mat3, Quat, Vec3};
 use std::mem::MaybeUninit;

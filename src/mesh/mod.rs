@@ -17,20 +17,24 @@
 //! share its parent's), its end ring, a base cap (roots, if asked), then its tip (a cap or
 //! a point, for the last branch of an axis, if asked); indices follow the same order.
 
+mod animation;
 mod leaves;
+mod lod;
+mod plan;
+mod rings;
 mod strips;
 mod topology;
 mod tubes;
 
+pub use animation::{AnimationVertex, animation};
 pub use leaves::{
     LeafInstance, LeafOptions, LeafPrefab, leaf_animation, leaf_instances, leaf_mesh,
     leaf_mesh_size, write_leaf_mesh,
 };
+pub use lod::{LodLevel, mesh_lods};
+pub use plan::{BranchRange, MeshPlan};
 pub use topology::Triangles;
-pub use tubes::{
-    AnimationVertex, BranchRange, LodLevel, animation, branch_ranges, mesh_lods, mesh_size, tubes,
-    write_mesh, write_mesh_uninit,
-};
+pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};
 
 use bytemuck::{Pod, Zeroable};
 
@@ -172,6 +176,10 @@ pub struct MeshOptions {
     pub up_axis: UpAxis,
     /// Uniform scale applied to positions. Finite, > 0. Default 1.
     pub scale: f32,
+    /// Threads a large write may use: 0 (default) the machine's cores (at most 8), 1 only
+    /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
+    /// The output is the same byte for byte whatever the count.
+    pub threads: u32,
 }
 
 impl Default for MeshOptions {
@@ -189,6 +197,7 @@ impl Default for MeshOptions {
             winding: Winding::CounterClockwise,
             up_axis: UpAxis::Y,
             scale: 1.0,
+            threads: 0,
         }
     }
 }

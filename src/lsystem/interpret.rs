@@ -1,134 +1,13 @@
-//! The 3-D turtle's frame and its rotations, exactly as cpfg computes them.
-//!
-//! The turtle starts at the origin with heading H = +Y, left L = −X and up U = L × H = −Z.
-//! Angles are in degrees; the frame is kept in `f64` so that long chains of rotations stay
-//! accurate before the skeleton stores `f32`.
+//! The interpreter: the 3-D turtle reads a derived [`ModuleString`] and draws a
+//! [`Skeleton`], with the frame rotations of [`crate::geom::Frame`].
 
 use crate::error::{Error, Result};
+use crate::geom::{Frame, cos_sin_deg};
 use crate::lsystem::derive::{Ctx, Expander};
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
 use crate::skeleton::{Branch, LeafSite, NO_PARENT, Polygon, Skeleton, assign_axis_orders};
 use glam::DVec3;
-
-/// Position and orientation of the turtle.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
-    /// Position.
-    pub position: DVec3,
-    /// Heading H: the direction `F` draws in.
-    pub heading: DVec3,
-    /// Left L.
-    pub left: DVec3,
-    /// Up U = L × H.
-    pub up: DVec3,
-}
-
-impl Default for Frame {
-    fn default() -> Self {
-        Frame {
-            position: DVec3::ZERO,
-            heading: DVec3::Y,
-            left: DVec3::NEG_X,
-            up: DVec3::NEG_Z,
-        }
-    }
-}
-
-/// Cosine and sine of an angle in degrees, reduced to one turn first so that huge angles
-/// stay exact to the reduction.
-#[inline]
-pub fn cos_sin_deg(degrees: f64) -> (f64, f64) {
-    let (s, c) = (degrees % 360.0).to_radians().sin_cos();
-    (c, s)
-}
-
-impl Frame {
-    /// `+(θ)`: turn left about U: H' = H cosθ + L sinθ, L' = L cosθ − H sinθ.
-    /// `-(θ)` is `turn` by −θ. Viewed from +Z a positive turn of the initial frame is
-    /// counter-clockwise.
-    #[inline]
-    pub fn turn(&mut self, (c, s): (f64, f64)) {
-        let h = self.heading;
-        self.heading = h * c + self.left * s;
-        self.left = self.left * c - h * s;
-    }
-
-    /// `&(θ)`: pitch down about L: H' = H cosθ + U sinθ, U' = U cosθ − H sinθ.
-    /// `^(θ)` is `pitch` by −θ.
-    #[inline]
-    pub fn pitch(&mut self, (c, s): (f64, f64)) {
-        let h = self.heading;
-        self.heading = h * c + self.up * s;
-        self.up = self.up * c - h * s;
-    }
-
-    /// `/(θ)`: roll about H: L' = L cosθ + U sinθ, U' = U cosθ − L sinθ.
-    /// `\(θ)` is `roll` by −θ.
-    #[inline]
-    pub fn roll(&mut self, (c, s): (f64, f64)) {
-        let l = self.left;
-        self.left = l * c + self.up * s;
-        self.up = self.up * c - l * s;
-    }
-
-    /// Moves the turtle `length` units along its heading and returns the new position.
-    #[inline]
-    pub fn forward(&mut self, length: f64) -> DVec3 {
-        self.position += self.heading * length;
-        self.position
-    }
-}
-
-impl Frame {
-    /// `|`: turn around (H and L negated).
-    #[inline]
-    pub fn turn_around(&mut self) {
-        self.heading = -self.heading;
-        self.left = -self.left;
-    }
-
-    /// `$` / `@v`: roll about H so that L is horizontal: L = (Y × H)/|Y × H|, U = L × H.
-    /// Nothing changes while H is vertical.
-    pub fn roll_horizontal(&mut self) {
-        let l = DVec3::Y.cross(self.heading);
-        let len = l.length();
-        if len > 1e-12 {
-            self.left = l / len;
-            self.up = self.left.cross(self.heading);
-        }
-    }
-
-    /// Rotates the whole frame about the unit `axis` by `angle` radians.
-    fn rotate(&mut self, axis: DVec3, angle: f64) {
-        let q = glam::DQuat::from_axis_angle(axis, angle);
-        self.heading = (q * self.heading).normalize();
-        self.left = (q * self.left).normalize();
-        self.up = (q * self.up).normalize();
-    }
-
-    /// Tropism: bends H toward `t` by `e·|H × t|` radians (at most 1), as cpfg does.
-    pub fn bend(&mut self, t: DVec3, e: f64) {
-        let axis = self.heading.cross(t);
-        let len = axis.length();
-        if len > 1e-12 && e != 0.0 {
-            self.rotate(axis / len, (e * len).clamp(-1.0, 1.0));
-        }
-    }
-
-    /// `@R(hx,hy,hz[,ux,uy,uz])`: sets the heading (and the up vector); L = H × U.
-    fn set_heading(&mut self, h: DVec3, up: Option<DVec3>) {
-        let Some(h) = h.try_normalize() else { return };
-        let u = up.unwrap_or(self.up);
-        let u = (u - h * u.dot(h))
-            .try_normalize()
-            .or_else(|| h.any_orthonormal_vector().try_normalize())
-            .unwrap_or(DVec3::NEG_Z);
-        self.heading = h;
-        self.up = u;
-        self.left = h.cross(u);
-    }
-}
 
 /// What a symbol means to the turtle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,7 +80,7 @@ struct Turtle {
     trig: [(u64, (f64, f64)); 8],
     /// Turn jitter in degrees and its generator.
     jitter: f64,
-    rng: crate::lsystem::Rng,
+    rng: crate::rng::Rng,
     state: State,
     stack: Vec<State>,
     /// While > 0, modules are skipped by `%` up to the end of the branch.
@@ -426,7 +305,7 @@ pub(crate) fn interpret(
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
         jitter: options.turn_jitter,
         // A stream of its own, so jitter does not change what derivation draws.
-        rng: crate::lsystem::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x005E_ED7A_110F_7EE5),
+        rng: crate::rng::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x005E_ED7A_110F_7EE5),
         state: State {
             frame: Frame::default(),
             width: initial_width,

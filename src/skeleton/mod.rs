@@ -1,5 +1,7 @@
 //! The branch skeleton: the meeting point of every generator and the input of every mesher.
 
+pub mod prune;
+
 use crate::error::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;

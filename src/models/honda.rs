@@ -9,7 +9,7 @@
 //! [`build`] grows the skeleton directly, without a module string, with an explicit stack
 //! (no recursion), in the order the turtle would read the derived string: each branch, then
 //! the whole first child's subtree, then the second's. It uses the cpfg turtle of
-//! [`crate::turtle`], so the result equals the grammar's, branch by branch.
+//! the L-system interpreter, so the result equals the grammar's, branch by branch.
 //!
 //! **Axis rule.** Of the two children, the one whose branching angle has the smaller
 //! magnitude continues its parent's axis (same `order`); the other starts a lateral axis
@@ -17,11 +17,10 @@
 //! [`assign_axis_orders`], the rule the turtle uses for every grammar.
 
 use crate::error::{Error, Result};
+use crate::geom::{Frame, cos_sin_deg};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton, assign_axis_orders};
-use crate::turtle::{Frame, cos_sin_deg};
 
-/// Default limit on the number of branches a model may produce (2^24 = 16,777,216).
-pub const DEFAULT_MAX_BRANCHES: usize = 1 << 24;
+pub use crate::limits::DEFAULT_MAX_BRANCHES;
 
 /// Largest accepted derivation length.
 pub const MAX_STEPS: u32 = 1024;
@@ -277,7 +276,7 @@ fn grow(
     params.validate()?;
     let mut rng = variation
         .filter(|v| v.seed != 0)
-        .map(|v| (crate::lsystem::Rng::new(v.seed), *v));
+        .map(|v| (crate::rng::Rng::new(v.seed), *v));
     let limit = max_branches as u64;
     let (count, over) = params.count_until(limit);
     if let Some(step) = over {

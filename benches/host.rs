@@ -1,0 +1,102 @@
+//! The mesher as a host calls it: through the C ABI (`arbor_mesh_size`, then
+//! `arbor_mesh_write` into buffers the host owns and has already touched), beside a memset
+//! of the same bytes in the same process. No allocator tuning: run it as
+//! `cargo bench --bench host`.
+//!
+//! Trees: the 1996 tree a with n = 20 (1,048,575 branches, 8 sides, triangle list) and tree
+//! g with n = 18 (restart strips). The ratio memset time / mesh time is the fraction of
+//! memset bandwidth a host gets.
+
+use arbor::ffi::{
+    ArborHondaParams, ArborMeshOptions, ArborStatus, ArborTopology, ArborTree, ArborVertex,
+    arbor_honda_preset, arbor_mesh_options_default, arbor_mesh_size, arbor_mesh_write,
+    arbor_tree_free, arbor_tree_from_honda,
+};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::mem::size_of;
+
+struct HostTree {
+    tree: *mut ArborTree,
+}
+
+impl Drop for HostTree {
+    fn drop(&mut self) {
+        // SAFETY: `tree` came from arbor_tree_from_honda and is freed once.
+        unsafe { arbor_tree_free(self.tree) }
+    }
+}
+
+fn honda(letter: char, steps: u32) -> HostTree {
+    let mut p = std::mem::MaybeUninit::<ArborHondaParams>::uninit();
+    // SAFETY: `p` is writable; the preset exists.
+    let status = unsafe { arbor_honda_preset(letter as u32, p.as_mut_ptr()) };
+    assert_eq!(status, ArborStatus::Ok);
+    // SAFETY: written on success.
+    let mut p = unsafe { p.assume_init() };
+    p.steps = steps;
+    let mut tree = std::ptr::null_mut();
+    // SAFETY: `p` is readable and `tree` writable.
+    let status = unsafe { arbor_tree_from_honda(&p, &mut tree) };
+    assert_eq!(status, ArborStatus::Ok);
+    HostTree { tree }
+}
+
+fn options(topology: u32) -> ArborMeshOptions {
+    let mut o = arbor_mesh_options_default();
+    o.topology = topology;
+    o
+}
+
+fn size(tree: &HostTree, o: &ArborMeshOptions) -> (usize, usize) {
+    let (mut nv, mut ni) = (0usize, 0usize);
+    // SAFETY: the tree is live, the options and counts are valid.
+    let status = unsafe { arbor_mesh_size(tree.tree, o, &mut nv, &mut ni) };
+    assert_eq!(status, ArborStatus::Ok);
+    (nv, ni)
+}
+
+fn bench_host(c: &mut Criterion) {
+    let mut group = c.benchmark_group("host_mesh");
+    group.sample_size(10);
+    for (letter, steps, topology, name) in [
+        ('a', 20, ArborTopology::TriangleList, "a20_list"),
+        ('g', 18, ArborTopology::TriangleStripRestart, "g18_restart"),
+    ] {
+        let tree = honda(letter, steps);
+        let o = options(topology as u32);
+        let (nv, ni) = size(&tree, &o);
+        // The host's buffers, allocated once and touched (as a mapped GPU buffer would be).
+        let mut vertices: Vec<ArborVertex> = vec![ArborVertex::default(); nv];
+        let mut indices: Vec<u32> = vec![1; ni];
+        let bytes = nv * size_of::<ArborVertex>() + ni * 4;
+        group.throughput(Throughput::Bytes(bytes as u64));
+        group.bench_function(BenchmarkId::new("c_size_then_write", name), |b| {
+            b.iter(|| {
+                let (nv, ni) = size(&tree, black_box(&o));
+                // SAFETY: the buffers hold nv vertices and ni indices.
+                let status = unsafe {
+                    arbor_mesh_write(
+                        tree.tree,
+                        &o,
+                        vertices.as_mut_ptr(),
+                        nv,
+                        indices.as_mut_ptr(),
+                        ni,
+                    )
+                };
+                assert_eq!(status, ArborStatus::Ok);
+            })
+        });
+        group.bench_function(BenchmarkId::new("memset", name), |b| {
+            b.iter(|| {
+                bytemuck::cast_slice_mut::<ArborVertex, u8>(&mut vertices).fill(black_box(0));
+                bytemuck::cast_slice_mut::<u32, u8>(&mut indices).fill(black_box(0));
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_host);
+criterion_main!(benches);

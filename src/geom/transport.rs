@@ -1,0 +1,134 @@
+//! Ring frames along a tree: a basis for a root's ring and parallel transport of a frame
+//! vector from one branch direction to the next.
+
+use glam::{DVec3, Mat3, Quat, Vec3};
+
+/// An orthonormal pair `(p, q)` with `p × q = n` for a unit `n`, continuous everywhere but
+/// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
+/// rarely point). Only roots need it; every other ring's frame is transported.
+pub fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
+    if n.y < -0.999_999 {
+        let p = (DVec3::X - n * n.x).normalize();
+        return (p, n.cross(p));
+    }
+    let a = 1.0 / (1.0 + n.y);
+    let b = -n.z * n.x * a;
+    let p = DVec3::new(b, -n.z, 1.0 - n.z * n.z * a);
+    let q = DVec3::new(1.0 - n.x * n.x * a, -n.x, b);
+    (p, q)
+}
+
+/// The linear map that carries a ring vector from a ring around `from` to a ring around
+/// `to`: the smallest rotation (Rodrigues' formula with k = from × to:
+/// R p = p c + k × p + k (k · p) / (1 + c)), then the projection onto the plane normal to
+/// `to`, which keeps rounding from tilting the frame. It does not depend on the vector
+/// carried, so along an axis the chain of frames is one matrix product and one
+/// renormalisation per branch.
+#[inline]
+pub fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
+    let c = from.dot(to);
+    let rotation = if c > -0.9999 {
+        let k = from.cross(to);
+        let h = 1.0 / (1.0 + c);
+        Mat3::from_diagonal(Vec3::splat(c))
+            + Mat3::from_cols(
+                Vec3::new(0.0, k.z, -k.y),
+                Vec3::new(-k.z, 0.0, k.x),
+                Vec3::new(k.y, -k.x, 0.0),
+            )
+            + Mat3::from_cols(k * (h * k.x), k * (h * k.y), k * (h * k.z))
+    } else {
+        Mat3::from_quat(Quat::from_rotation_arc(from, to))
+    };
+    let projection = Mat3::IDENTITY - Mat3::from_cols(to * to.x, to * to.y, to * to.z);
+    projection * rotation
+}
+
+/// `p` carried by `map` (see [`transport_map`]) onto the ring around `to`, unit length.
+#[inline]
+pub fn carry(map: &Mat3, p: Vec3, to: Vec3) -> Vec3 {
+    let v = *map * p;
+    let l2 = v.length_squared();
+    if (0.9..1.1).contains(&l2) {
+        // A rotation keeps the length to rounding: one Newton step of 1/√l2 from 1.
+        v * (1.5 - 0.5 * l2)
+    } else {
+        v.try_normalize()
+            .unwrap_or_else(|| ring_basis(to.as_dvec3()).0.as_vec3())
+    }
+}
+
+/// `p` carried from the ring around `from` to the ring around `to` (unit, perpendicular to
+/// `to`).
+pub fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
+    carry(&transport_map(from, to), p, to)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_abs_diff_eq;
+
+    #[test]
+    fn ring_basis_is_right_handed_and_orthonormal() {
+        let dirs = [
+            DVec3::Y,
+            DVec3::NEG_Y,
+            DVec3::X,
+            DVec3::NEG_Z,
+            DVec3::new(1.0, -2.0, 3.0).normalize(),
+            DVec3::new(1e-5, -1.0, 0.0).normalize(),
+        ];
+        for n in dirs {
+            let (p, q) = ring_basis(n);
+            assert_abs_diff_eq!(p.length(), 1.0, epsilon = 1e-9);
+            assert_abs_diff_eq!(q.length(), 1.0, epsilon = 1e-9);
+            assert_abs_diff_eq!(p.dot(q), 0.0, epsilon = 1e-9);
+            let c = p.cross(q);
+            assert_abs_diff_eq!((c - n).length(), 0.0, epsilon = 1e-8);
+        }
+    }
+
+    #[test]
+    fn transport_keeps_the_frame_perpendicular() {
+        let from = Vec3::Y;
+        let to = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let p = transport(Vec3::Z, from, to);
+        assert_abs_diff_eq!(p.dot(to), 0.0, epsilon = 1e-6);
+        assert_abs_diff_eq!(p.length(), 1.0, epsilon = 1e-6);
+        // A rotation in the XY plane leaves Z alone.
+        assert_abs_diff_eq!(p.z, 1.0, epsilon = 1e-6);
+        let back = transport(Vec3::Z, Vec3::Y, Vec3::NEG_Y);
+        assert_abs_diff_eq!(back.dot(Vec3::NEG_Y), 0.0, epsilon = 1e-6);
+    }
+
+    #[test]
+    fn a_long_chain_of_transports_stays_unit_and_perpendicular() {
+        // 100,000 branches along a wandering axis: the frame is carried by a matrix and
+        // renormalised by one Newton step each time, so errors must not accumulate.
+        let mut rng = crate::rng::Rng::new(3);
+        let mut dir = Vec3::Y;
+        let mut p = ring_basis(dir.as_dvec3()).0.as_vec3();
+        for k in 0..100_000 {
+            let jitter = Vec3::new(
+                rng.next_f64() as f32 - 0.5,
+                rng.next_f64() as f32 - 0.5,
+                rng.next_f64() as f32 - 0.5,
+            );
+            // Mostly gentle bends, now and then a reversal (the matrix from a quaternion).
+            let to = if k % 997 == 0 {
+                -dir
+            } else {
+                (dir + jitter * 0.6).normalize()
+            };
+            p = transport(p, dir, to);
+            dir = to;
+            assert!(
+                (p.length() - 1.0).abs() < 1e-5,
+                "branch {k}: |p| = {}",
+                p.length()
+            );
+            assert!(p.dot(dir).abs() < 1e-5, "branch {k}: p·d = {}", p.dot(dir));
+        }
+    }
+}

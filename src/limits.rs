@@ -1,0 +1,14 @@
+//! Limits on what one call may produce. Every generator checks its limit before the memory
+//! is spent and stops with [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming it.
+
+/// Most branches a generator makes by default (2^24).
+pub const DEFAULT_MAX_BRANCHES: usize = 1 << 24;
+/// Most modules a derived string may hold by default (2^24).
+pub const DEFAULT_MAX_MODULES: usize = 1 << 24;
+/// Most parameter values a derived string may hold by default (2^25).
+pub const DEFAULT_MAX_PARAMS: usize = 1 << 25;
+/// Most leaves (instances or baked copies) one call makes by default (2^24).
+pub const DEFAULT_MAX_LEAVES: usize = 1 << 24;
+/// Most vertices one mesh may have by default (2^32 − 1: 32-bit indices, the restart
+/// index reserved).
+pub const DEFAULT_MAX_VERTICES: usize = u32::MAX as usize;

@@ -1,0 +1,81 @@
+//! The animation stream: per-vertex growth time, order, position along the branch and a
+//! phase, for a host's growth and wind shaders.
+
+use super::MeshOptions;
+use super::plan::{BASE_CAP, MeshPlan, SHARES_START, TIP};
+use crate::error::Result;
+use crate::skeleton::Skeleton;
+
+/// Per-vertex animation data for a host's growth and wind shaders: an optional second
+/// vertex stream, one element per vertex of [`tubes`] with the same options (16 bytes; the
+/// layout of the C type `ArborAnimationVertex`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AnimationVertex {
+    /// When the vertex appears as the tree grows, 0..=1: (depth − first depth + along) /
+    /// (number of depths). Draw vertices with `growth <= t` and move t from 0 to 1.
+    pub growth: f32,
+    /// Branching order of the branch (0 on the trunk axis), for wind stiffness.
+    pub order: f32,
+    /// Position along the branch, 0 at its base and 1 at its tip.
+    pub along: f32,
+    /// A per-branch phase in [0, 1), so branches sway out of step.
+    pub phase: f32,
+}
+
+/// A per-branch phase in [0, 1) from the branch index (the same on every run).
+pub(crate) fn branch_phase(i: u32) -> f32 {
+    let mut z = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// The depths of the kept branches: (first, number of depths).
+pub(crate) fn depth_span(skeleton: &Skeleton) -> (u32, u32) {
+    let b = skeleton.branches();
+    let lo = b.iter().map(|x| x.depth).min().unwrap_or(0);
+    let hi = b.iter().map(|x| x.depth).max().unwrap_or(0);
+    (lo, hi - lo + 1)
+}
+
+/// The animation stream of the mesh [`tubes`] makes with `options` (see
+/// [`AnimationVertex`]); its length is the mesh's vertex count.
+pub fn animation(skeleton: &Skeleton, options: &MeshOptions) -> Result<Vec<AnimationVertex>> {
+    MeshPlan::new(skeleton, options)?.animation(skeleton)
+}
+
+impl MeshPlan {
+    /// The animation stream of this plan's mesh (see [`animation`]).
+    pub fn animation(&self, skeleton: &Skeleton) -> Result<Vec<AnimationVertex>> {
+        self.check_skeleton(skeleton)?;
+        let plan = &self.plan;
+        let (lo, span) = depth_span(skeleton);
+        let mut out = Vec::with_capacity(plan.size.vertices);
+        for (i, b) in skeleton.branches().iter().enumerate() {
+            let s = plan.segs[i] as usize;
+            if s == 0 {
+                continue;
+            }
+            let f = plan.flags[i];
+            let at = |along: f32| AnimationVertex {
+                growth: ((b.depth - lo) as f32 + along) / span as f32,
+                order: b.order as f32,
+                along,
+                phase: branch_phase(i as u32),
+            };
+            if f & SHARES_START == 0 {
+                out.extend(std::iter::repeat_n(at(0.0), s + 1));
+            }
+            out.extend(std::iter::repeat_n(at(1.0), s + 1));
+            if f & BASE_CAP != 0 {
+                out.extend(std::iter::repeat_n(at(0.0), s));
+            }
+            if f & TIP != 0 {
+                out.extend(std::iter::repeat_n(at(1.0), s));
+            }
+        }
+        debug_assert_eq!(out.len(), plan.size.vertices);
+        Ok(out)
+    }
+}

@@ -1,0 +1,149 @@
+//! Rings of vertices: the unit circle per side count, the output conventions, and a ring as
+//! an affine map of the unit circle evaluated in 4-lane vectors.
+
+use super::strips::Slot;
+use super::{MAX_RADIAL_SEGMENTS, Vertex};
+use glam::{Vec3, Vec4};
+
+/// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
+pub(crate) fn circle(segments: usize) -> Vec<(f32, f32, f32)> {
+    let step = std::f64::consts::TAU / segments as f64;
+    (0..=segments)
+        .map(|j| {
+            let (s, c) = ((j % segments) as f64 * step).sin_cos();
+            (c as f32, s as f32, j as f32 / segments as f32)
+        })
+        .collect()
+}
+
+/// Output conventions: uniform scale, then the up-axis rotation.
+#[derive(Clone, Copy)]
+pub(crate) struct Out {
+    pub(crate) scale: f32,
+    pub(crate) z_up: bool,
+}
+
+impl Out {
+    #[inline(always)]
+    pub(crate) fn dir(self, v: Vec3) -> [f32; 3] {
+        if self.z_up {
+            [v.x, -v.z, v.y]
+        } else {
+            v.to_array()
+        }
+    }
+    #[inline(always)]
+    pub(crate) fn pos(self, v: Vec3) -> [f32; 3] {
+        self.dir(v * self.scale)
+    }
+}
+
+/// `x` as f32, clamped to the finite range.
+#[inline]
+pub(crate) fn to_f32(x: f64) -> f32 {
+    x.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
+}
+
+/// A ring of vertices affine in the unit circle: the vertex at (cos, sin) = (c, s) with
+/// texture coordinate u is `a + c·b + s·d + u·e`, each term the 8 floats of a [`Vertex`]
+/// (position, normal, uv) held in two 4-lane vectors. Cones, caps and the mitred ring's
+/// positions are all of this form, so a vertex is a few vector multiply-adds and two
+/// 16-byte stores.
+#[derive(Clone, Copy)]
+pub(crate) struct Affine {
+    a: [Vec4; 2],
+    b: [Vec4; 2],
+    d: [Vec4; 2],
+    e: [Vec4; 2],
+}
+
+impl Affine {
+    /// The terms from a center and radial directions, normals and uv.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        center: Vec3,
+        radius_p: Vec3,
+        radius_q: Vec3,
+        normal: Vec3,
+        normal_p: Vec3,
+        normal_q: Vec3,
+        uv: [f32; 2],
+        uv_p: [f32; 2],
+        uv_q: [f32; 2],
+        uv_u: [f32; 2],
+    ) -> Self {
+        let pack = |pos: Vec3, n: Vec3, t: [f32; 2]| {
+            [
+                Vec4::new(pos.x, pos.y, pos.z, n.x),
+                Vec4::new(n.y, n.z, t[0], t[1]),
+            ]
+        };
+        Affine {
+            a: pack(center, normal, uv),
+            b: pack(radius_p, normal_p, uv_p),
+            d: pack(radius_q, normal_q, uv_q),
+            e: pack(Vec3::ZERO, Vec3::ZERO, uv_u),
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, c: f32, s: f32, u: f32) -> [Vec4; 2] {
+        let (c, s, u) = (Vec4::splat(c), Vec4::splat(s), Vec4::splat(u));
+        [
+            self.a[0] + self.b[0] * c + self.d[0] * s,
+            self.a[1] + self.b[1] * c + self.d[1] * s + self.e[1] * u,
+        ]
+    }
+
+    /// Writes the ring: one vertex per entry of `table`.
+    #[inline(always)]
+    pub(crate) fn put<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+        for (slot, &(c, s, u)) in out.iter_mut().zip(table) {
+            slot.put(vertex(self.at(c, s, u)));
+        }
+    }
+
+    /// Writes the ring with each normal scaled to unit length: the mitred ring, whose
+    /// normal `c·nb + s·nd` (the constant term's normal is zero) is affine in the circle
+    /// only before normalising. The inverse lengths are computed four vertices at a time,
+    /// one vector square root and division each.
+    #[inline(always)]
+    pub(crate) fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+        debug_assert_eq!(Self::normal_of(&self.a), Vec3::ZERO);
+        let (nb, nd) = (Self::normal_of(&self.b), Self::normal_of(&self.d));
+        let (bb, bd2, dd) = (
+            Vec4::splat(nb.dot(nb)),
+            Vec4::splat(2.0 * nb.dot(nd)),
+            Vec4::splat(nd.dot(nd)),
+        );
+        let mut inv = [1.0f32; MAX_RADIAL_SEGMENTS as usize + 4];
+        for (chunk, dst) in table.chunks(4).zip(inv.chunks_exact_mut(4)) {
+            // Lanes past the ring's end take (1, 0), a point of the circle.
+            let (mut c, mut s) = ([1.0f32; 4], [0.0f32; 4]);
+            for (k, &(ck, sk, _)) in chunk.iter().enumerate() {
+                (c[k], s[k]) = (ck, sk);
+            }
+            let (c, s) = (Vec4::from_array(c), Vec4::from_array(s));
+            let l2 = c * c * bb + c * s * bd2 + s * s * dd;
+            dst.copy_from_slice(&(Vec4::ONE / l2.sqrt()).to_array());
+        }
+        for ((slot, &(c, s, u)), &k) in out.iter_mut().zip(table).zip(&inv) {
+            let [lo, hi] = self.at(c, s, u);
+            slot.put(vertex([
+                lo * Vec4::new(1.0, 1.0, 1.0, k),
+                hi * Vec4::new(k, k, 1.0, 1.0),
+            ]));
+        }
+    }
+
+    /// The normal part of a term.
+    #[inline(always)]
+    fn normal_of(t: &[Vec4; 2]) -> Vec3 {
+        Vec3::new(t[0].w, t[1].x, t[1].y)
+    }
+}
+
+#[inline(always)]
+fn vertex([lo, hi]: [Vec4; 2]) -> Vertex {
+    bytemuck::cast([lo.to_array(), hi.to_array()])
+}
