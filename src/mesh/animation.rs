@@ -7,7 +7,7 @@ use crate::error::Result;
 use crate::skeleton::Skeleton;
 
 /// Per-vertex animation data for a host's growth and wind shaders: an optional second
-/// vertex stream, one element per vertex of [`tubes`] with the same options (16 bytes; the
+/// vertex stream, one element per vertex of [`tubes`](super::tubes()) with the same options (16 bytes; the
 /// layout of the C type `ArborAnimationVertex`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -39,7 +39,7 @@ pub(crate) fn depth_span(skeleton: &Skeleton) -> (u32, u32) {
     (lo, hi - lo + 1)
 }
 
-/// The animation stream of the mesh [`tubes`] makes with `options` (see
+/// The animation stream of the mesh [`tubes`](super::tubes()) makes with `options` (see
 /// [`AnimationVertex`]); its length is the mesh's vertex count.
 pub fn animation(skeleton: &Skeleton, options: &MeshOptions) -> Result<Vec<AnimationVertex>> {
     MeshPlan::new(skeleton, options)?.animation(skeleton)
