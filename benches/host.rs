@@ -9,7 +9,7 @@
 
 use arbor::ffi::{
     ArborHondaParams, ArborMeshOptions, ArborStatus, ArborTopology, ArborTree, ArborVertex,
-    arbor_honda_preset, arbor_mesh_options_default, arbor_mesh_size, arbor_mesh_write,
+    arbor_honda_preset, arbor_mesh_options_init, arbor_mesh_size, arbor_mesh_write,
     arbor_tree_free, arbor_tree_from_honda,
 };
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -43,7 +43,12 @@ fn honda(letter: char, steps: u32) -> HostTree {
 }
 
 fn options(topology: u32) -> ArborMeshOptions {
-    let mut o = arbor_mesh_options_default();
+    // As the header's arbor_mesh_options_default() does it.
+    let mut o = std::mem::MaybeUninit::<ArborMeshOptions>::zeroed();
+    // SAFETY: `o` is writable for its full size.
+    unsafe { arbor_mesh_options_init(o.as_mut_ptr(), size_of::<ArborMeshOptions>()) };
+    // SAFETY: init wrote every field (over zeroed memory).
+    let mut o = unsafe { o.assume_init() };
     o.topology = topology;
     o
 }
@@ -86,6 +91,48 @@ fn bench_host(c: &mut Criterion) {
                     )
                 };
                 assert_eq!(status, ArborStatus::Ok);
+            })
+        });
+        // The same calls on the calling thread only (threads = 1).
+        let one = ArborMeshOptions { threads: 1, ..o };
+        group.bench_function(BenchmarkId::new("c_size_then_write_1_thread", name), |b| {
+            b.iter(|| {
+                let (nv, ni) = size(&tree, black_box(&one));
+                // SAFETY: the buffers hold nv vertices and ni indices.
+                let status = unsafe {
+                    arbor_mesh_write(
+                        tree.tree,
+                        &one,
+                        vertices.as_mut_ptr(),
+                        nv,
+                        indices.as_mut_ptr(),
+                        ni,
+                    )
+                };
+                assert_eq!(status, ArborStatus::Ok);
+            })
+        });
+        // A tree meshed once: the plan (layout of every branch) is made on the way, as on
+        // a host's first call for a new tree.
+        let skeleton = arbor::models::honda::build(&{
+            let mut p = arbor::HondaParams::preset(letter).unwrap();
+            p.steps = steps;
+            p
+        })
+        .unwrap();
+        let rust_options = arbor::MeshOptions {
+            topology: arbor::Topology::from_u32(topology as u32).unwrap(),
+            ..Default::default()
+        };
+        group.bench_function(BenchmarkId::new("first_write_with_plan", name), |b| {
+            b.iter(|| {
+                arbor::mesh::write_mesh(
+                    black_box(&skeleton),
+                    &rust_options,
+                    bytemuck::cast_slice_mut(&mut vertices),
+                    &mut indices,
+                )
+                .unwrap()
             })
         });
         group.bench_function(BenchmarkId::new("memset", name), |b| {

@@ -19,36 +19,10 @@
 
 
 /**
- * Major version of the library this header belongs to.
+ * sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
+ * `struct_size` accepted.
  */
-#define ARBOR_VERSION_MAJOR 0
-
-/**
- * Minor version of the library this header belongs to.
- */
-#define ARBOR_VERSION_MINOR 1
-
-/**
- * Patch version of the library this header belongs to.
- */
-#define ARBOR_VERSION_PATCH 0
-
-/**
- * ABI version of this header: MAJOR * 10000 + MINOR * 100 + PATCH. It only grows; a host
- * built against ABI version N runs with a library whose `arbor_abi_version()` >= N.
- */
-#define ARBOR_ABI_VERSION 100
-
-/**
- * Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
- * GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
- */
-#define ARBOR_RESTART_INDEX UINT32_MAX
-
-/**
- * `ArborBranch.parent` of a root branch.
- */
-#define ARBOR_NO_PARENT UINT32_MAX
+#define ARBOR_LEAF_OPTIONS_MIN_SIZE 56
 
 /**
  * ArborLsystemOptions.override_flags bit: use `angle_increment` instead of the grammar's.
@@ -64,6 +38,52 @@
  * ArborLsystemOptions.override_flags bit: use `width_increment` instead of the grammar's.
  */
 #define ARBOR_OVERRIDE_WIDTH_INCREMENT 4
+
+/**
+ * sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
+ * smallest `struct_size` accepted.
+ */
+#define ARBOR_LSYSTEM_OPTIONS_MIN_SIZE 64
+
+/**
+ * sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
+ * `struct_size` accepted.
+ */
+#define ARBOR_MESH_OPTIONS_MIN_SIZE 52
+
+/**
+ * Major version of the library this header belongs to.
+ */
+#define ARBOR_VERSION_MAJOR 0
+
+/**
+ * Minor version of the library this header belongs to.
+ */
+#define ARBOR_VERSION_MINOR 2
+
+/**
+ * Patch version of the library this header belongs to.
+ */
+#define ARBOR_VERSION_PATCH 0
+
+/**
+ * ABI version of this header: MAJOR * 10000 + MINOR * 100 + PATCH. It only grows; a host
+ * built against ABI version N (N >= 200) runs with a library whose
+ * `arbor_abi_version()` >= N. 200 is the one break: option structs gained `struct_size`
+ * first (hosts built against 100 must be rebuilt).
+ */
+#define ARBOR_ABI_VERSION 200
+
+/**
+ * Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
+ * GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
+ */
+#define ARBOR_RESTART_INDEX UINT32_MAX
+
+/**
+ * `ArborBranch.parent` of a root branch.
+ */
+#define ARBOR_NO_PARENT UINT32_MAX
 
 /**
  * Result of every fallible function. The numbers are fixed forever and never reused.
@@ -244,11 +264,154 @@ typedef enum ArborStructId {
 typedef struct ArborMesh ArborMesh;
 
 /**
- * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda() or
- * arbor_tree_from_lsystem(), free with arbor_tree_free(). A `const ArborTree *` may be
- * read from several threads at once.
+ * A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda(),
+ * arbor_tree_from_lsystem() or arbor_tree_from_branches(), free with arbor_tree_free().
+ * A `const ArborTree *` may be read from several threads at once.
+ *
+ * The tree keeps the mesh plans (layout of every branch) of the last few mesh options it
+ * was sized or written with, so arbor_mesh_size() followed by arbor_mesh_write(), or a
+ * re-upload, computes the layout once and allocates nothing in proportion to the tree.
  */
 typedef struct ArborTree ArborTree;
+
+/**
+ * Options of the tube mesher: a struct that grows (see "Structs that grow" in the
+ * README). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
+ * change what you need. Enum-like fields are validated (unknown values give
+ * ARBOR_STATUS_INVALID_ARGUMENT naming the field).
+ */
+typedef struct ArborMeshOptions {
+  /**
+   * sizeof(ArborMeshOptions) as the host was compiled; set by arbor_mesh_options_init().
+   */
+  uint32_t struct_size;
+  /**
+   * Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
+   */
+  uint32_t radial_segments;
+  /**
+   * An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
+   */
+  uint32_t topology;
+  /**
+   * 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
+   * clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
+   * tree's largest).
+   */
+  uint32_t min_radial_segments;
+  /**
+   * Branches whose larger radius is below this are dropped with their subtree. Default 0.
+   */
+  float cull_radius;
+  /**
+   * An ArborJoints value. Default ARBOR_JOINTS_MITRED.
+   */
+  uint32_t joints;
+  /**
+   * 1: a branch's end radius becomes its continuation's start radius. Default 0.
+   */
+  uint32_t smooth_taper;
+  /**
+   * 1: a disc closes the base of each root. Default 0.
+   */
+  uint32_t base_cap;
+  /**
+   * An ArborTip value. Default ARBOR_TIP_OPEN.
+   */
+  uint32_t tip;
+  /**
+   * v = arc length from the root / texture_scale; finite, > 0. Default 1.
+   */
+  float texture_scale;
+  /**
+   * An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
+   */
+  uint32_t winding;
+  /**
+   * An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
+   */
+  uint32_t up_axis;
+  /**
+   * Uniform scale of positions; finite, > 0. Default 1.
+   */
+  float scale;
+  /**
+   * Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
+   * calling thread. Trees under 16,384 branches per thread use fewer. The output is the
+   * same whatever the count. (Added after the first layout.)
+   */
+  uint32_t threads;
+  /**
+   * Sizing or writing a mesh of more vertices than this stops with
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_vertices, before any memory is spent.
+   * Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
+   */
+  uint64_t max_vertices;
+} ArborMeshOptions;
+
+/**
+ * Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
+ * README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
+ */
+typedef struct ArborLeafOptions {
+  /**
+   * sizeof(ArborLeafOptions) as the host was compiled; set by arbor_leaf_options_init().
+   */
+  uint32_t struct_size;
+  /**
+   * 1: a leaf at every `~` site of the grammar. Default 1.
+   */
+  uint32_t sites;
+  /**
+   * 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
+   */
+  uint32_t polygons;
+  /**
+   * 1: leaves at the tips of terminal branches. Default 0.
+   */
+  uint32_t tips;
+  /**
+   * Only tips of branches made at this rewriting step or later (their `depth`, the birth
+   * step) get leaves. Default 0.
+   */
+  uint32_t min_depth;
+  /**
+   * Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
+   */
+  float density;
+  /**
+   * Leaf size in model units; > 0. Default 1.
+   */
+  float size;
+  /**
+   * Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+   */
+  float size_jitter;
+  /**
+   * Each leaf turns about its stem by up to +- this many degrees. Default 180.
+   */
+  float rotation_jitter;
+  /**
+   * Tip leaves lean out from the branch by this many degrees. Default 30.
+   */
+  float tilt;
+  /**
+   * Seed of the variation. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
+   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
+   * leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+   */
+  const char *prefab_obj_path;
+  /**
+   * Making more leaves than this (instances, or copies in the baked mesh) stops with
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
+   * Default 16,777,216. (Added after the first layout.)
+   */
+  uint64_t max_leaves;
+} ArborLeafOptions;
 
 /**
  * Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
@@ -306,10 +469,81 @@ typedef struct ArborHondaParams {
 } ArborHondaParams;
 
 /**
- * Options of arbor_tree_from_lsystem(). Get defaults from arbor_lsystem_options_default()
- * and change what you need: fields may be added at the end in later versions.
+ * One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
+ * placement (position of its root, turn about the up axis in degrees, uniform scale).
+ */
+typedef struct ArborForestTree {
+  /**
+   * The model's parameters.
+   */
+  struct ArborHondaParams params;
+  /**
+   * Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
+   */
+  uint64_t seed;
+  /**
+   * Where the root stands, in the output space of the mesh options.
+   */
+  float position[3];
+  /**
+   * Turn about the up axis, degrees.
+   */
+  float rotation;
+  /**
+   * Uniform scale, > 0.
+   */
+  float scale;
+} ArborForestTree;
+
+/**
+ * One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
+ */
+typedef struct ArborVertex {
+  /**
+   * Position in model units.
+   */
+  float position[3];
+  /**
+   * Unit outward normal.
+   */
+  float normal[3];
+  /**
+   * u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
+   */
+  float uv[2];
+} ArborVertex;
+
+/**
+ * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
+ * space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
+ * moved to `position`.
+ */
+typedef struct ArborLeafInstance {
+  /**
+   * Where the stem attaches.
+   */
+  float position[3];
+  /**
+   * Unit quaternion (x, y, z, w).
+   */
+  float rotation[4];
+  /**
+   * Uniform scale.
+   */
+  float scale;
+} ArborLeafInstance;
+
+/**
+ * Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
+ * the README). Start from arbor_lsystem_options_default() (or
+ * arbor_lsystem_options_init()) and change what you need.
  */
 typedef struct ArborLsystemOptions {
+  /**
+   * sizeof(ArborLsystemOptions) as the host was compiled; set by
+   * arbor_lsystem_options_init().
+   */
+  uint32_t struct_size;
   /**
    * Rewriting steps; < 0 (default -1): the grammar's own `derivation length:`.
    */
@@ -357,6 +591,51 @@ typedef struct ArborLsystemOptions {
 } ArborLsystemOptions;
 
 /**
+ * The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
+ */
+typedef struct ArborBranchRange {
+  /**
+   * First vertex the branch owns.
+   */
+  uint32_t first_vertex;
+  /**
+   * Number of vertices it owns (0 for a culled branch).
+   */
+  uint32_t vertex_count;
+  /**
+   * First index it owns (restart or join indices before its strips included).
+   */
+  uint32_t first_index;
+  /**
+   * Number of indices it owns.
+   */
+  uint32_t index_count;
+} ArborBranchRange;
+
+/**
+ * Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
+ * options: for growth and wind shaders, as a second vertex stream.
+ */
+typedef struct ArborAnimationVertex {
+  /**
+   * When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
+   */
+  float growth;
+  /**
+   * Branching order of its branch (0 on the trunk axis).
+   */
+  float order;
+  /**
+   * 0 at its branch's base, 1 at the tip.
+   */
+  float along;
+  /**
+   * Per-branch phase in [0, 1).
+   */
+  float phase;
+} ArborAnimationVertex;
+
+/**
  * One internode (one turtle F), 48 bytes.
  */
 typedef struct ArborBranch {
@@ -396,177 +675,6 @@ typedef struct ArborBranch {
 } ArborBranch;
 
 /**
- * Options of the tube mesher. Get defaults from arbor_mesh_options_default() and change
- * what you need: fields may be added at the end in later versions. Enum-like fields are
- * validated (unknown values give ARBOR_STATUS_INVALID_ARGUMENT naming the field).
- */
-typedef struct ArborMeshOptions {
-  /**
-   * Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
-   */
-  uint32_t radial_segments;
-  /**
-   * An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
-   */
-  uint32_t topology;
-  /**
-   * 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
-   * clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
-   * tree's largest).
-   */
-  uint32_t min_radial_segments;
-  /**
-   * Branches whose larger radius is below this are dropped with their subtree. Default 0.
-   */
-  float cull_radius;
-  /**
-   * An ArborJoints value. Default ARBOR_JOINTS_MITRED.
-   */
-  uint32_t joints;
-  /**
-   * 1: a branch's end radius becomes its continuation's start radius. Default 0.
-   */
-  uint32_t smooth_taper;
-  /**
-   * 1: a disc closes the base of each root. Default 0.
-   */
-  uint32_t base_cap;
-  /**
-   * An ArborTip value. Default ARBOR_TIP_OPEN.
-   */
-  uint32_t tip;
-  /**
-   * v = arc length from the root / texture_scale; finite, > 0. Default 1.
-   */
-  float texture_scale;
-  /**
-   * An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
-   */
-  uint32_t winding;
-  /**
-   * An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
-   */
-  uint32_t up_axis;
-  /**
-   * Uniform scale of positions; finite, > 0. Default 1.
-   */
-  float scale;
-} ArborMeshOptions;
-
-/**
- * One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
- */
-typedef struct ArborVertex {
-  /**
-   * Position in model units.
-   */
-  float position[3];
-  /**
-   * Unit outward normal.
-   */
-  float normal[3];
-  /**
-   * u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
-   */
-  float uv[2];
-} ArborVertex;
-
-/**
- * The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
- */
-typedef struct ArborBranchRange {
-  /**
-   * First vertex the branch owns.
-   */
-  uint32_t first_vertex;
-  /**
-   * Number of vertices it owns (0 for a culled branch).
-   */
-  uint32_t vertex_count;
-  /**
-   * First index it owns (restart or join indices before its strips included).
-   */
-  uint32_t first_index;
-  /**
-   * Number of indices it owns.
-   */
-  uint32_t index_count;
-} ArborBranchRange;
-
-/**
- * Where leaves go and how they vary (see arbor_leaf_options_default() for the defaults).
- * Fields may be added at the end in later versions.
- */
-typedef struct ArborLeafOptions {
-  /**
-   * 1: a leaf at every `~` site of the grammar. Default 1.
-   */
-  uint32_t sites;
-  /**
-   * 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
-   */
-  uint32_t polygons;
-  /**
-   * 1: leaves at the tips of terminal branches. Default 0.
-   */
-  uint32_t tips;
-  /**
-   * Only tips of branches at least this deep get leaves. Default 0.
-   */
-  uint32_t min_depth;
-  /**
-   * Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
-   */
-  float density;
-  /**
-   * Leaf size in model units; > 0. Default 1.
-   */
-  float size;
-  /**
-   * Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
-   */
-  float size_jitter;
-  /**
-   * Each leaf turns about its stem by up to +- this many degrees. Default 180.
-   */
-  float rotation_jitter;
-  /**
-   * Tip leaves lean out from the branch by this many degrees. Default 30.
-   */
-  float tilt;
-  /**
-   * Seed of the variation. Default 0.
-   */
-  uint64_t seed;
-  /**
-   * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
-   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
-   * leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
-   */
-  const char *prefab_obj_path;
-} ArborLeafOptions;
-
-/**
- * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
- * space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
- * moved to `position`.
- */
-typedef struct ArborLeafInstance {
-  /**
-   * Where the stem attaches.
-   */
-  float position[3];
-  /**
-   * Unit quaternion (x, y, z, w).
-   */
-  float rotation[4];
-  /**
-   * Uniform scale.
-   */
-  float scale;
-} ArborLeafInstance;
-
-/**
  * A place where the turtle met `~` in a grammar (44 bytes).
  */
 typedef struct ArborLeafSite {
@@ -592,56 +700,6 @@ typedef struct ArborLeafSite {
   uint32_t depth;
 } ArborLeafSite;
 
-/**
- * Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
- * options: for growth and wind shaders, as a second vertex stream.
- */
-typedef struct ArborAnimationVertex {
-  /**
-   * When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
-   */
-  float growth;
-  /**
-   * Branching order of its branch (0 on the trunk axis).
-   */
-  float order;
-  /**
-   * 0 at its branch's base, 1 at the tip.
-   */
-  float along;
-  /**
-   * Per-branch phase in [0, 1).
-   */
-  float phase;
-} ArborAnimationVertex;
-
-/**
- * One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
- * placement (position of its root, turn about the up axis in degrees, uniform scale).
- */
-typedef struct ArborForestTree {
-  /**
-   * The model's parameters.
-   */
-  struct ArborHondaParams params;
-  /**
-   * Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
-   */
-  uint64_t seed;
-  /**
-   * Where the root stands, in the output space of the mesh options.
-   */
-  float position[3];
-  /**
-   * Turn about the up axis, degrees.
-   */
-  float rotation;
-  /**
-   * Uniform scale, > 0.
-   */
-  float scale;
-} ArborForestTree;
-
 
 
 #ifdef __cplusplus
@@ -649,162 +707,80 @@ extern "C" {
 #endif // __cplusplus
 
 /**
- * A static, NUL-terminated description of `status` ("ok", "null argument", ...);
- * "unknown status" for a number that is not an ArborStatus. Never NULL; do not free.
- */
-const char *arbor_status_str(uint32_t status);
-
-/**
- * Copies the calling thread's last error message into `buf` (NUL-terminated, cut to
- * `capacity - 1` bytes) and returns the message's full length in bytes, without the NUL.
- * Every status-returning function replaces the message; success leaves it empty.
- * `buf` may be NULL when `capacity` is 0, to ask for the length.
+ * Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
+ * baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
+ * creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
  *
  * # Safety
- * `buf` is NULL or valid for writes of `capacity` bytes.
+ * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+ * NUL-terminated.
  */
-size_t arbor_last_error_message(char *buf, size_t capacity);
+enum ArborStatus arbor_export_obj(const struct ArborTree *tree,
+                                  const struct ArborMeshOptions *mesh_options,
+                                  const struct ArborLeafOptions *leaf_options,
+                                  const char *path);
 
 /**
- * The library version, e.g. "0.1.0": static, NUL-terminated; do not free.
- */
-const char *arbor_version(void);
-
-/**
- * The library's ABI version (see ARBOR_ABI_VERSION).
- */
-uint32_t arbor_abi_version(void);
-
-/**
- * Writes the parameters of the paper's tree `name` ('a'..'i', upper case accepted) to
- * `*out`. Unknown name: ARBOR_STATUS_INVALID_ARGUMENT; `out` NULL:
- * ARBOR_STATUS_NULL_ARGUMENT.
+ * Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
+ * places them and merges them into one new mesh object written to `*out` (read it with
+ * arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).
  *
  * # Safety
- * `out` is NULL or valid for writes of one ArborHondaParams.
+ * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+ * NULL or readable; `out` is NULL or writable.
  */
-enum ArborStatus arbor_honda_preset(uint32_t name, struct ArborHondaParams *out);
-
-/**
- * Grows the 1996 model with `params` and writes a new tree to `*out` (free it with
- * arbor_tree_free). Every field is validated (ARBOR_STATUS_INVALID_ARGUMENT names the
- * field); a model that would make more than 16,777,216 branches returns
- * ARBOR_STATUS_LIMIT_EXCEEDED at once. `*out` is written only on success.
- *
- * # Safety
- * `params` is NULL or points to an ArborHondaParams; `out` is NULL or writable.
- */
-enum ArborStatus arbor_tree_from_honda(const struct ArborHondaParams *params,
-                                       struct ArborTree **out);
-
-/**
- * The default L-system options (see ArborLsystemOptions for each default).
- */
-struct ArborLsystemOptions arbor_lsystem_options_default(void);
-
-/**
- * Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,
- * then interpret with the turtle. `source` holds `source_len` bytes of UTF-8 (no NUL
- * needed; at most 16 MiB); `options` may be NULL for the defaults. Writes a new tree to
- * `*out` on success (free it with arbor_tree_free).
- *
- * Statuses: ARBOR_STATUS_PARSE_ERROR (the message has line, column, what was found and
- * what was expected; also for bytes that are not UTF-8), ARBOR_STATUS_LIMIT_EXCEEDED
- * (the message names the limit and the step), ARBOR_STATUS_INVALID_ARGUMENT (options out
- * of range, or a parameter that evaluated to NaN or infinity), ARBOR_STATUS_NULL_ARGUMENT.
- *
- * # Safety
- * `source` is NULL (only with `source_len` 0) or readable for `source_len` bytes;
- * `options` is NULL or readable; `out` is NULL or writable.
- */
-enum ArborStatus arbor_tree_from_lsystem(const char *source,
-                                         size_t source_len,
-                                         const struct ArborLsystemOptions *options,
-                                         struct ArborTree **out);
-
-/**
- * Frees a tree. NULL does nothing. The tree must not be used afterwards.
- *
- * # Safety
- * `tree` is NULL or a tree from this library not yet freed.
- */
-void arbor_tree_free(struct ArborTree *tree);
-
-/**
- * Number of branches of `tree`; 0 for NULL.
- *
- * # Safety
- * `tree` is NULL or a live tree.
- */
-size_t arbor_tree_branch_count(const struct ArborTree *tree);
-
-/**
- * Copies all branches of `tree` into `out`, parents before children. `capacity` is the
- * number of ArborBranch elements `out` holds; less than arbor_tree_branch_count() gives
- * ARBOR_STATUS_BUFFER_TOO_SMALL and writes nothing.
- *
- * # Safety
- * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` branches.
- */
-enum ArborStatus arbor_tree_copy_branches(const struct ArborTree *tree,
-                                          struct ArborBranch *out,
-                                          size_t capacity);
-
-/**
- * The default mesh options (see ArborMeshOptions for each default).
- */
-struct ArborMeshOptions arbor_mesh_options_default(void);
-
-/**
- * Writes the exact number of vertices and indices arbor_mesh_write() needs for `tree`
- * with `options` (NULL: the defaults). Both out-pointers are required and written only
- * on success. More than 2^32 - 1 vertices: ARBOR_STATUS_LIMIT_EXCEEDED.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; the counts are NULL or writable.
- */
-enum ArborStatus arbor_mesh_size(const struct ArborTree *tree,
-                                 const struct ArborMeshOptions *options,
-                                 size_t *vertex_count,
-                                 size_t *index_count);
-
-/**
- * Writes the mesh of `tree` into caller memory (a malloc'd array or a mapped GPU buffer):
- * `vertex_capacity` ArborVertex elements and `index_capacity` uint32_t indices. Capacities
- * below arbor_mesh_size()'s counts give ARBOR_STATUS_BUFFER_TOO_SMALL and nothing is
- * written; larger buffers are fine and only their first elements are written. A buffer
- * may be NULL only when its count is 0.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
- * NULL or valid for writes of their capacities and do not overlap.
- */
-enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
-                                  const struct ArborMeshOptions *options,
-                                  struct ArborVertex *vertices,
-                                  size_t vertex_capacity,
-                                  uint32_t *indices,
-                                  size_t index_capacity);
-
-/**
- * Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
- * arbor_mesh_write() writes with `options` (NULL: the defaults): `capacity` elements,
- * at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL. The ranges are
- * consecutive and tile both buffers; a culled branch has empty ranges.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
- * writes of `capacity` elements.
- */
-enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
+enum ArborStatus arbor_forest_mesh_create(const struct ArborForestTree *trees,
+                                          size_t count,
                                           const struct ArborMeshOptions *options,
-                                          struct ArborBranchRange *out,
-                                          size_t capacity);
+                                          struct ArborMesh **out);
 
 /**
- * The default leaf options (see ArborLeafOptions for each default).
+ * Exact vertex and index counts of the merged forest mesh arbor_forest_mesh_write()
+ * writes (the trees are grown to count them; arbor_forest_mesh_create() grows them once).
+ *
+ * # Safety
+ * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+ * NULL or readable; the counts are NULL or writable.
  */
-struct ArborLeafOptions arbor_leaf_options_default(void);
+enum ArborStatus arbor_forest_mesh_size(const struct ArborForestTree *trees,
+                                        size_t count,
+                                        const struct ArborMeshOptions *options,
+                                        size_t *vertex_count,
+                                        size_t *index_count);
+
+/**
+ * Writes the merged forest mesh into caller memory; the buffer rules of
+ * arbor_mesh_write().
+ *
+ * # Safety
+ * As arbor_forest_mesh_size(), and `vertices` / `indices` are NULL or valid for writes
+ * of their capacities and do not overlap.
+ */
+enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
+                                         size_t count,
+                                         const struct ArborMeshOptions *options,
+                                         struct ArborVertex *vertices,
+                                         size_t vertex_capacity,
+                                         uint32_t *indices,
+                                         size_t index_capacity);
+
+/**
+ * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
+ * binding in another language (C#, Python) can check its layouts at run time; 0 for an
+ * unknown id.
+ */
+size_t arbor_struct_size(uint32_t id);
+
+/**
+ * Writes the default leaf options into the first `struct_size` bytes at `options`
+ * (pass `sizeof(ArborLeafOptions)`), with `options->struct_size = struct_size`, and
+ * nothing beyond. The header's static inline arbor_leaf_options_default() does this for
+ * you. NULL does nothing.
+ *
+ * # Safety
+ * `options` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_leaf_options_init(struct ArborLeafOptions *options, size_t struct_size);
 
 /**
  * Writes the number of leaf instances of `tree` with `leaf_options` (NULL: defaults) to
@@ -863,23 +839,109 @@ enum ArborStatus arbor_leaf_mesh_write(const struct ArborTree *tree,
                                        size_t index_capacity);
 
 /**
- * Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
- * baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
- * creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+ * Like arbor_mesh_create() for the baked leaf mesh (see arbor_leaf_mesh_write()).
  *
  * # Safety
- * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
- * NUL-terminated.
+ * `tree` is NULL or live; the options are NULL or readable; `out` is NULL or writable.
  */
-enum ArborStatus arbor_export_obj(const struct ArborTree *tree,
-                                  const struct ArborMeshOptions *mesh_options,
-                                  const struct ArborLeafOptions *leaf_options,
-                                  const char *path);
+enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
+                                        const struct ArborLeafOptions *leaf_options,
+                                        const struct ArborMeshOptions *mesh_options,
+                                        struct ArborMesh **out);
+
+/**
+ * Writes the default L-system options into the first `struct_size` bytes at `options`
+ * (pass `sizeof(ArborLsystemOptions)`), with `options->struct_size = struct_size`, and
+ * nothing beyond. The header's static inline arbor_lsystem_options_default() does this
+ * for you. NULL does nothing.
+ *
+ * # Safety
+ * `options` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_lsystem_options_init(struct ArborLsystemOptions *options, size_t struct_size);
+
+/**
+ * Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,
+ * then interpret with the turtle. `source` holds `source_len` bytes of UTF-8 (no NUL
+ * needed; at most 16 MiB); `options` may be NULL for the defaults. Writes a new tree to
+ * `*out` on success (free it with arbor_tree_free).
+ *
+ * Statuses: ARBOR_STATUS_PARSE_ERROR (the message has line, column, what was found and
+ * what was expected; also for bytes that are not UTF-8), ARBOR_STATUS_LIMIT_EXCEEDED
+ * (the message names the limit and the step), ARBOR_STATUS_INVALID_ARGUMENT (options out
+ * of range, or a parameter that evaluated to NaN or infinity), ARBOR_STATUS_NULL_ARGUMENT.
+ *
+ * # Safety
+ * `source` is NULL (only with `source_len` 0) or readable for `source_len` bytes;
+ * `options` is NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_lsystem(const char *source,
+                                         size_t source_len,
+                                         const struct ArborLsystemOptions *options,
+                                         struct ArborTree **out);
+
+/**
+ * Writes the default mesh options (see ArborMeshOptions for each default) into the first
+ * `struct_size` bytes at `options`, with `options->struct_size = struct_size`, and
+ * nothing beyond; pass `sizeof(ArborMeshOptions)`. The header's static inline
+ * arbor_mesh_options_default() does this for you. NULL does nothing.
+ *
+ * # Safety
+ * `options` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_mesh_options_init(struct ArborMeshOptions *options, size_t struct_size);
+
+/**
+ * Writes the exact number of vertices and indices arbor_mesh_write() needs for `tree`
+ * with `options` (NULL: the defaults). Both out-pointers are required and written only
+ * on success. More than 2^32 - 1 vertices: ARBOR_STATUS_LIMIT_EXCEEDED.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; the counts are NULL or writable.
+ */
+enum ArborStatus arbor_mesh_size(const struct ArborTree *tree,
+                                 const struct ArborMeshOptions *options,
+                                 size_t *vertex_count,
+                                 size_t *index_count);
+
+/**
+ * Writes the mesh of `tree` into caller memory (a malloc'd array or a mapped GPU buffer):
+ * `vertex_capacity` ArborVertex elements and `index_capacity` uint32_t indices. Capacities
+ * below arbor_mesh_size()'s counts give ARBOR_STATUS_BUFFER_TOO_SMALL and nothing is
+ * written; larger buffers are fine and only their first elements are written. A buffer
+ * may be NULL only when its count is 0.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
+ * NULL or valid for writes of their capacities and do not overlap.
+ */
+enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
+                                  const struct ArborMeshOptions *options,
+                                  struct ArborVertex *vertices,
+                                  size_t vertex_capacity,
+                                  uint32_t *indices,
+                                  size_t index_capacity);
+
+/**
+ * Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
+ * arbor_mesh_write() writes with `options` (NULL: the defaults): `capacity` elements,
+ * at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL. The ranges are
+ * consecutive and tile both buffers; a culled branch has empty ranges.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `capacity` elements.
+ */
+enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
+                                          const struct ArborMeshOptions *options,
+                                          struct ArborBranchRange *out,
+                                          size_t capacity);
 
 /**
  * Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
- * options (for example growing cull_radius, fewer radial_segments); the counts of level
- * k go to `vertex_counts[k]` and `index_counts[k]`.
+ * options (for example growing cull_radius, fewer radial_segments), all initialised with
+ * the same struct_size (element k is read at byte k × levels[0].struct_size); the counts
+ * of level k go to `vertex_counts[k]` and `index_counts[k]`.
  *
  * # Safety
  * `tree` is NULL or live; `levels` is NULL (only with `level_count` 0) or readable for
@@ -923,17 +985,6 @@ enum ArborStatus arbor_mesh_create(const struct ArborTree *tree,
                                    struct ArborMesh **out);
 
 /**
- * Like arbor_mesh_create() for the baked leaf mesh (see arbor_leaf_mesh_write()).
- *
- * # Safety
- * `tree` is NULL or live; the options are NULL or readable; `out` is NULL or writable.
- */
-enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
-                                        const struct ArborLeafOptions *leaf_options,
-                                        const struct ArborMeshOptions *mesh_options,
-                                        struct ArborMesh **out);
-
-/**
  * The vertices of `mesh`, valid until arbor_mesh_free(); their number goes to `*count`
  * (if `count` is not NULL). NULL mesh: returns NULL and a count of 0.
  *
@@ -968,6 +1019,96 @@ uint32_t arbor_mesh_topology(const struct ArborMesh *mesh);
  * `mesh` is NULL or a mesh from this library not yet freed.
  */
 void arbor_mesh_free(struct ArborMesh *mesh);
+
+/**
+ * Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
+ * defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `capacity` elements.
+ */
+enum ArborStatus arbor_mesh_animation_write(const struct ArborTree *tree,
+                                            const struct ArborMeshOptions *options,
+                                            struct ArborAnimationVertex *out,
+                                            size_t capacity);
+
+/**
+ * A static, NUL-terminated description of `status` ("ok", "null argument", ...);
+ * "unknown status" for a number that is not an ArborStatus. Never NULL; do not free.
+ */
+const char *arbor_status_str(uint32_t status);
+
+/**
+ * Copies the calling thread's last error message into `buf` (NUL-terminated, cut to
+ * `capacity - 1` bytes) and returns the message's full length in bytes, without the NUL.
+ * Every status-returning function replaces the message; success leaves it empty.
+ * `buf` may be NULL when `capacity` is 0, to ask for the length.
+ *
+ * # Safety
+ * `buf` is NULL or valid for writes of `capacity` bytes.
+ */
+size_t arbor_last_error_message(char *buf, size_t capacity);
+
+/**
+ * The library version, e.g. "0.2.0": static, NUL-terminated; do not free.
+ */
+const char *arbor_version(void);
+
+/**
+ * The library's ABI version (see ARBOR_ABI_VERSION).
+ */
+uint32_t arbor_abi_version(void);
+
+/**
+ * Writes the parameters of the paper's tree `name` ('a'..'i', upper case accepted) to
+ * `*out`. Unknown name: ARBOR_STATUS_INVALID_ARGUMENT; `out` NULL:
+ * ARBOR_STATUS_NULL_ARGUMENT.
+ *
+ * # Safety
+ * `out` is NULL or valid for writes of one ArborHondaParams.
+ */
+enum ArborStatus arbor_honda_preset(uint32_t name, struct ArborHondaParams *out);
+
+/**
+ * Grows the 1996 model with `params` and writes a new tree to `*out` (free it with
+ * arbor_tree_free). Every field is validated (ARBOR_STATUS_INVALID_ARGUMENT names the
+ * field); a model that would make more than 16,777,216 branches returns
+ * ARBOR_STATUS_LIMIT_EXCEEDED at once. `*out` is written only on success.
+ *
+ * # Safety
+ * `params` is NULL or points to an ArborHondaParams; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_honda(const struct ArborHondaParams *params,
+                                       struct ArborTree **out);
+
+/**
+ * Frees a tree. NULL does nothing. The tree must not be used afterwards.
+ *
+ * # Safety
+ * `tree` is NULL or a tree from this library not yet freed.
+ */
+void arbor_tree_free(struct ArborTree *tree);
+
+/**
+ * Number of branches of `tree`; 0 for NULL.
+ *
+ * # Safety
+ * `tree` is NULL or a live tree.
+ */
+size_t arbor_tree_branch_count(const struct ArborTree *tree);
+
+/**
+ * Copies all branches of `tree` into `out`, parents before children. `capacity` is the
+ * number of ArborBranch elements `out` holds; less than arbor_tree_branch_count() gives
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and writes nothing.
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` branches.
+ */
+enum ArborStatus arbor_tree_copy_branches(const struct ArborTree *tree,
+                                          struct ArborBranch *out,
+                                          size_t capacity);
 
 /**
  * Number of `~` leaf sites of `tree`; 0 for NULL.
@@ -1013,72 +1154,34 @@ enum ArborStatus arbor_tree_prune_collisions(const struct ArborTree *tree,
                                              struct ArborTree **out,
                                              size_t *removed);
 
-/**
- * Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
- * defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
- * writes of `capacity` elements.
- */
-enum ArborStatus arbor_mesh_animation_write(const struct ArborTree *tree,
-                                            const struct ArborMeshOptions *options,
-                                            struct ArborAnimationVertex *out,
-                                            size_t capacity);
-
-/**
- * Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
- * places them and merges them into one new mesh object written to `*out` (read it with
- * arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).
- *
- * # Safety
- * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
- * NULL or readable; `out` is NULL or writable.
- */
-enum ArborStatus arbor_forest_mesh_create(const struct ArborForestTree *trees,
-                                          size_t count,
-                                          const struct ArborMeshOptions *options,
-                                          struct ArborMesh **out);
-
-/**
- * Exact vertex and index counts of the merged forest mesh arbor_forest_mesh_write()
- * writes (the trees are grown to count them; arbor_forest_mesh_create() grows them once).
- *
- * # Safety
- * `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
- * NULL or readable; the counts are NULL or writable.
- */
-enum ArborStatus arbor_forest_mesh_size(const struct ArborForestTree *trees,
-                                        size_t count,
-                                        const struct ArborMeshOptions *options,
-                                        size_t *vertex_count,
-                                        size_t *index_count);
-
-/**
- * Writes the merged forest mesh into caller memory; the buffer rules of
- * arbor_mesh_write().
- *
- * # Safety
- * As arbor_forest_mesh_size(), and `vertices` / `indices` are NULL or valid for writes
- * of their capacities and do not overlap.
- */
-enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
-                                         size_t count,
-                                         const struct ArborMeshOptions *options,
-                                         struct ArborVertex *vertices,
-                                         size_t vertex_capacity,
-                                         uint32_t *indices,
-                                         size_t index_capacity);
-
-/**
- * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
- * binding in another language (C#, Python) can check its layouts at run time; 0 for an
- * unknown id.
- */
-size_t arbor_struct_size(uint32_t id);
-
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus
 
 #endif  /* ARBOR_H */
+
+#ifndef ARBOR_H_DEFAULTS
+#define ARBOR_H_DEFAULTS
+
+/* Defaults of the structs that grow, at the size this header declares (see "Structs that
+   grow" in the README): arbor fills exactly sizeof the host's struct, so a host built
+   against this header keeps working with a newer library. */
+static inline ArborMeshOptions arbor_mesh_options_default(void) {
+  ArborMeshOptions o;
+  arbor_mesh_options_init(&o, sizeof o);
+  return o;
+}
+
+static inline ArborLsystemOptions arbor_lsystem_options_default(void) {
+  ArborLsystemOptions o;
+  arbor_lsystem_options_init(&o, sizeof o);
+  return o;
+}
+
+static inline ArborLeafOptions arbor_leaf_options_default(void) {
+  ArborLeafOptions o;
+  arbor_leaf_options_init(&o, sizeof o);
+  return o;
+}
+
+#endif  /* ARBOR_H_DEFAULTS */

@@ -69,7 +69,7 @@ fn leaves_carry_their_branch_values() {
     };
     let o = MeshOptions::default();
     let inst = mesh::leaf_instances(&s, &leaves, &o).unwrap();
-    let anim = mesh::leaf_animation(&s, &leaves).unwrap();
+    let anim = mesh::leaf_animation(&s, &leaves, &mesh::MeshOptions::default()).unwrap();
     assert_eq!(inst.len(), anim.len());
     for (l, v) in inst.iter().zip(&anim) {
         // The leaf sits at the end of a terminal branch of that order and phase.

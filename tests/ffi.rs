@@ -148,6 +148,11 @@ fn c_forests_variation_pruning_animation() {
 }
 
 #[test]
+fn c_structs_that_grow_older_newer_and_bad_sizes() {
+    check_program("growing.c", "c11");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -51,8 +51,8 @@ fn grammar_and_direct_builder_agree_branch_by_branch() {
                 "tree {name} branch {i}"
             );
             assert_eq!(
-                (g.parent, g.depth, g.order),
-                (d.parent, d.depth, d.order),
+                (g.parent, g.birth, g.order),
+                (d.parent, d.birth, d.order),
                 "tree {name} branch {i}"
             );
         }

@@ -148,7 +148,7 @@ fn fern_two_formulations_agree_and_mirror_figure_1_24f() {
     assert_eq!(a.len(), mirror.len());
     for ((x, y), m) in a.branches().iter().zip(b.branches()).zip(mirror.branches()) {
         assert!((x.end() - y.end()).length() < 1e-4);
-        assert_eq!((x.parent, x.depth, x.order), (y.parent, y.depth, y.order));
+        assert_eq!((x.parent, x.birth, x.order), (y.parent, y.birth, y.order));
         let mirrored = Vec3::new(-m.end[0], m.end[1], m.end[2]);
         assert!((x.end() - mirrored).length() < 1e-3);
     }
@@ -535,7 +535,7 @@ fn turtle_symbols_follow_cpfg() {
     assert_eq!((b[1].parent, b[2].parent, b[3].parent), (0, 1, 1));
     assert_eq!((b[1].order, b[2].order, b[3].order), (0, 1, 0));
     assert_eq!(
-        b.iter().map(|x| x.depth).max(),
+        b.iter().map(|x| x.birth).max(),
         Some(0),
         "axiom modules have depth 0"
     );

@@ -56,7 +56,7 @@ fn trunk_runs_from_origin_to_100_up() {
         assert_eq!(t.start, [0.0, 0.0, 0.0], "tree {name}");
         assert_eq!(t.end, [0.0, 100.0, 0.0], "tree {name}");
         assert_eq!(t.parent, NO_PARENT);
-        assert_eq!((t.depth, t.order), (1, 0));
+        assert_eq!((t.birth, t.order), (1, 0));
         assert_eq!(
             t.start_radius,
             p.trunk_width / 2.0,
@@ -75,7 +75,7 @@ fn every_branch_starts_where_its_parent_ends() {
             assert!((br.parent as usize) < i, "tree {name} branch {i}");
             let parent = &b[br.parent as usize];
             assert_eq!(br.start, parent.end, "tree {name} branch {i}");
-            assert_eq!(br.depth, parent.depth + 1, "tree {name} branch {i}");
+            assert_eq!(br.birth, parent.birth + 1, "tree {name} branch {i}");
         }
         // Only the trunk is a root.
         assert_eq!(b.iter().filter(|br| br.is_root()).count(), 1);

@@ -19,7 +19,7 @@ fn grammar(text: &str) -> Skeleton {
         .unwrap()
 }
 
-fn terminal_branches(s: &Skeleton, min_depth: u32) -> usize {
+fn terminal_branches(s: &Skeleton, min_birth: u32) -> usize {
     let b = s.branches();
     let mut inner = vec![false; b.len()];
     for x in b {
@@ -29,15 +29,15 @@ fn terminal_branches(s: &Skeleton, min_depth: u32) -> usize {
     }
     b.iter()
         .zip(&inner)
-        .filter(|(x, i)| !**i && x.depth >= min_depth)
+        .filter(|(x, i)| !**i && x.birth >= min_birth)
         .count()
 }
 
-fn tips(density: f32, min_depth: u32, seed: u64) -> LeafOptions {
+fn tips(density: f32, min_birth: u32, seed: u64) -> LeafOptions {
     LeafOptions {
         tips: true,
         density,
-        min_depth,
+        min_birth,
         seed,
         size: 5.0,
         ..Default::default()

@@ -66,7 +66,7 @@ fn pkg_config_and_cmake_find_the_installed_library() {
         std::fs::write(
             project.join("CMakeLists.txt"),
             "cmake_minimum_required(VERSION 3.16)\nproject(app C)\n\
-             find_package(arbor 0.1 CONFIG REQUIRED)\n\
+             find_package(arbor 0.2 CONFIG REQUIRED)\n\
              add_executable(app_shared app.c)\ntarget_link_libraries(app_shared PRIVATE arbor::arbor)\n\
              add_executable(app_static app.c)\ntarget_link_libraries(app_static PRIVATE arbor::arbor_static)\n",
         )

@@ -60,14 +60,14 @@ fn variation_is_seeded_connected_and_bounded() {
     assert!(honda::build_varied(&HondaParams::preset('a').unwrap(), &bad).is_err());
 }
 
-fn branch(start: [f32; 3], end: [f32; 3], r: f32, parent: u32, depth: u32) -> Branch {
+fn branch(start: [f32; 3], end: [f32; 3], r: f32, parent: u32, birth: u32) -> Branch {
     Branch {
         start,
         end,
         start_radius: r,
         end_radius: r,
         parent,
-        depth,
+        birth,
         ..Default::default()
     }
 }

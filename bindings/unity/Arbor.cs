@@ -26,6 +26,7 @@ namespace Arbor
     {
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
+        AnimationVertex = 9, ForestTree = 10,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -50,33 +51,64 @@ namespace Arbor
         public float PX, PY, PZ, NX, NY, NZ, U, V;
     }
 
+    // Structs that grow: StructSize first, the size this binding was written against.
+    // Always start from Default(), which asks the library to fill exactly that many bytes,
+    // so this binding keeps working with a newer library.
+
     [StructLayout(LayoutKind.Sequential)]
     public struct MeshOptions
     {
+        public uint StructSize;
         public uint RadialSegments, Topology, MinRadialSegments;
         public float CullRadius;
         public uint Joints, SmoothTaper, BaseCap, Tip;
         public float TextureScale;
         public uint Winding, UpAxis;
         public float Scale;
+        public uint Threads;
+        public ulong MaxVertices;
+
+        public static MeshOptions Default()
+        {
+            var o = new MeshOptions();
+            Native.arbor_mesh_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(MeshOptions)));
+            return o;
+        }
     }
 
     [StructLayout(LayoutKind.Sequential)]
     public struct LsystemOptions
     {
+        public uint StructSize;
         public int Steps;
         public ulong Seed, MaxModules, MaxParams, MaxBranches;
         public uint OverrideFlags;
         public float AngleIncrement, InitialWidth, WidthIncrement, TurnJitter;
+
+        public static LsystemOptions Default()
+        {
+            var o = new LsystemOptions();
+            Native.arbor_lsystem_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(LsystemOptions)));
+            return o;
+        }
     }
 
     [StructLayout(LayoutKind.Sequential)]
     public struct LeafOptions
     {
+        public uint StructSize;
         public uint Sites, Polygons, Tips, MinDepth;
         public float Density, Size, SizeJitter, RotationJitter, Tilt;
         public ulong Seed;
         public IntPtr PrefabObjPath;
+        public ulong MaxLeaves;
+
+        public static LeafOptions Default()
+        {
+            var o = new LeafOptions();
+            Native.arbor_leaf_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(LeafOptions)));
+            return o;
+        }
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -128,11 +160,11 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_copy_branches(IntPtr tree, [Out] Branch[] output, UIntPtr capacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
-        public static extern MeshOptions arbor_mesh_options_default();
+        public static extern void arbor_mesh_options_init(ref MeshOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
-        public static extern LsystemOptions arbor_lsystem_options_default();
+        public static extern void arbor_lsystem_options_init(ref LsystemOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
-        public static extern LeafOptions arbor_leaf_options_default();
+        public static extern void arbor_leaf_options_init(ref LeafOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_size(IntPtr tree, ref MeshOptions options, out UIntPtr vertexCount, out UIntPtr indexCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]

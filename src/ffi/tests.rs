@@ -96,7 +96,7 @@ fn last_error_message_is_cut_at_capacity() {
 
 #[test]
 fn options_round_trip_and_unknown_topology_is_rejected() {
-    let d = arbor_mesh_options_default();
+    let d = ArborMeshOptions::default();
     assert_eq!(MeshOptions::try_from(&d).ok(), Some(MeshOptions::default()));
     let bad = ArborMeshOptions { topology: 3, ..d };
     let err = MeshOptions::try_from(&bad).unwrap_err();
@@ -138,8 +138,10 @@ fn errors_read_the_same_through_rust_and_c() {
         max_modules: 1000,
         ..Default::default()
     };
-    let mut c_small = arbor_lsystem_options_default();
-    c_small.max_modules = 1000;
+    let c_small = ArborLsystemOptions {
+        max_modules: 1000,
+        ..Default::default()
+    };
     for text in cases {
         let rust = LSystem::parse(text).and_then(|ls| ls.skeleton(&small));
         let rust = rust.expect_err(text);
@@ -169,11 +171,13 @@ mod fuzz {
             flags in 0u32..16,
             angle in any::<f32>(),
         ) {
-            let mut o = arbor_lsystem_options_default();
-            o.steps = steps;
-            o.max_modules = max_modules;
-            o.override_flags = flags;
-            o.angle_increment = angle;
+            let o = ArborLsystemOptions {
+                steps,
+                max_modules,
+                override_flags: flags,
+                angle_increment: angle,
+                ..Default::default()
+            };
             let (status, message) = grow_c(&bytes, Some(&o));
             prop_assert!(status != ArborStatus::Panic, "{message}");
             prop_assert!(status == ArborStatus::Ok || !message.is_empty());
@@ -198,6 +202,10 @@ mod fuzz {
                 winding: fields[9] % 3,
                 up_axis: fields[10] % 3,
                 scale: floats[2],
+                // Sizes from below the first layout up to this one (never past the Rust value).
+                struct_size: [52, 56, 60, 64, fields[3] % 65][fields[8] as usize % 5],
+                threads: fields[11] % 4,
+                max_vertices: u64::from(fields[3]) * 64,
             };
             let mut p = ArborHondaParams::default();
             // SAFETY: `p` is a local struct.

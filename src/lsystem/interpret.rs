@@ -173,7 +173,7 @@ impl Turtle {
                         start_radius: radius,
                         end_radius: radius,
                         parent: self.state.parent,
-                        depth: birth,
+                        birth,
                         order: 0,
                         flags: 0,
                     });
@@ -239,13 +239,13 @@ impl Turtle {
             }
             Op::PolygonVertex => self.polygon_point(),
             Op::PolygonEnd => {
-                if let Some((points, branch, depth)) = self.polygons.pop() {
+                if let Some((points, branch, birth)) = self.polygons.pop() {
                     if points.len() >= 3 {
                         self.closed.push(Polygon {
                             first: self.points.len() as u32,
                             count: points.len() as u32,
                             branch,
-                            depth,
+                            birth,
                         });
                         self.points.extend_from_slice(&points);
                     }
@@ -256,7 +256,7 @@ impl Turtle {
                 heading: v3(self.state.frame.heading),
                 up: v3(self.state.frame.up),
                 branch: self.state.parent,
-                depth: birth,
+                birth,
             }),
         }
         Ok(())

@@ -34,8 +34,8 @@ pub(crate) fn branch_phase(i: u32) -> f32 {
 /// The depths of the kept branches: (first, number of depths).
 pub(crate) fn depth_span(skeleton: &Skeleton) -> (u32, u32) {
     let b = skeleton.branches();
-    let lo = b.iter().map(|x| x.depth).min().unwrap_or(0);
-    let hi = b.iter().map(|x| x.depth).max().unwrap_or(0);
+    let lo = b.iter().map(|x| x.birth).min().unwrap_or(0);
+    let hi = b.iter().map(|x| x.birth).max().unwrap_or(0);
     (lo, hi - lo + 1)
 }
 
@@ -59,7 +59,7 @@ impl MeshPlan {
             }
             let f = plan.flags[i];
             let at = |along: f32| AnimationVertex {
-                growth: ((b.depth - lo) as f32 + along) / span as f32,
+                growth: ((b.birth - lo) as f32 + along) / span as f32,
                 order: b.order as f32,
                 along,
                 phase: branch_phase(i as u32),

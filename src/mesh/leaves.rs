@@ -3,6 +3,7 @@
 //! and the turtle's `{ . }` polygons triangulated).
 
 use super::animation::{AnimationVertex, branch_phase, depth_span};
+use super::plan::kept_branches;
 use super::strips::{Slot, StripRules, StripWriter, zigzag};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
 use crate::error::{Error, Result};
@@ -145,9 +146,9 @@ pub struct LeafOptions {
     pub polygons: bool,
     /// Leaves at the tips of terminal branches (those no branch grows from). Default false.
     pub tips: bool,
-    /// Only tips of branches at least this deep (the rewriting step that made them) get
-    /// leaves, so leaves sit on the outer levels. Default 0.
-    pub min_depth: u32,
+    /// Only tips of branches born at this rewriting step or later get leaves, so leaves
+    /// sit on the young twigs. Default 0.
+    pub min_birth: u32,
     /// Expected leaves per tip: the whole part always, the fraction by chance. Finite,
     /// 0..=64. Default 1.
     pub density: f32,
@@ -163,6 +164,10 @@ pub struct LeafOptions {
     pub seed: u64,
     /// The baked shape; `None` is [`LeafPrefab::quad`].
     pub prefab: Option<LeafPrefab>,
+    /// Placing more leaves than this fails with
+    /// [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming `max_leaves`, before
+    /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
+    pub max_leaves: usize,
 }
 
 impl Default for LeafOptions {
@@ -171,7 +176,7 @@ impl Default for LeafOptions {
             sites: true,
             polygons: true,
             tips: false,
-            min_depth: 0,
+            min_birth: 0,
             density: 1.0,
             size: 1.0,
             size_jitter: 0.2,
@@ -179,6 +184,7 @@ impl Default for LeafOptions {
             tilt: 30.0,
             seed: 0,
             prefab: None,
+            max_leaves: crate::limits::DEFAULT_MAX_LEAVES,
         }
     }
 }
@@ -221,40 +227,68 @@ impl LeafOptions {
     }
 }
 
-/// Leaves in model space, before output conventions, with the branch each sits on.
-fn place(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<LeafInstance>> {
-    Ok(place_on(skeleton, o)?.into_iter().map(|(l, _)| l).collect())
+/// Leaves in model space, before output conventions, with the branch each sits on; only
+/// on branches the mesh of `mesh` keeps (see [`MeshOptions::cull_radius`]).
+fn place(skeleton: &Skeleton, o: &LeafOptions, mesh: &MeshOptions) -> Result<Vec<LeafInstance>> {
+    Ok(place_on(skeleton, o, mesh)?
+        .into_iter()
+        .map(|(l, _)| l)
+        .collect())
 }
 
-fn place_on(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<(LeafInstance, u32)>> {
+fn place_on(
+    skeleton: &Skeleton,
+    o: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<(LeafInstance, u32)>> {
     o.validate()?;
+    let kept = kept_branches(skeleton, mesh.cull_radius);
     let mut rng = Rng::new(o.seed);
     let mut out = Vec::new();
-    let mut leaf =
-        |rng: &mut Rng, branch: u32, position: Vec3, heading: Vec3, up: Vec3, lean: f32| {
-            let heading = heading.try_normalize().unwrap_or(Vec3::Y);
-            let up = (up - heading * up.dot(heading))
-                .try_normalize()
-                .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
-            // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
-            let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
-            let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
-            let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
-            let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
-                * frame
-                * Quat::from_rotation_x(lean.to_radians()))
-            .normalize();
-            out.push((
-                LeafInstance {
-                    position: position.to_array(),
-                    rotation: rotation.to_array(),
-                    scale: o.size * grow,
-                },
-                branch,
-            ));
-        };
+    let too_many = || Error::LimitExceeded {
+        limit_name: "max_leaves",
+        what: "leaves",
+        limit: o.max_leaves as u64,
+        requested: o.max_leaves as u64 + 1,
+        step: None,
+    };
+    let mut leaf = |rng: &mut Rng,
+                    branch: u32,
+                    position: Vec3,
+                    heading: Vec3,
+                    up: Vec3,
+                    lean: f32|
+     -> Result<()> {
+        if out.len() >= o.max_leaves {
+            return Err(too_many());
+        }
+        let heading = heading.try_normalize().unwrap_or(Vec3::Y);
+        let up = (up - heading * up.dot(heading))
+            .try_normalize()
+            .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
+        // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
+        let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
+        let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
+        let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
+        let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
+            * frame
+            * Quat::from_rotation_x(lean.to_radians()))
+        .normalize();
+        out.push((
+            LeafInstance {
+                position: position.to_array(),
+                rotation: rotation.to_array(),
+                scale: o.size * grow,
+            },
+            branch,
+        ));
+        Ok(())
+    };
     if o.sites {
         for site in skeleton.leaves() {
+            if site.branch != crate::skeleton::NO_PARENT && !kept[site.branch as usize] {
+                continue;
+            }
             let (p, h, u) = (site.position, site.heading, site.up);
             leaf(
                 &mut rng,
@@ -263,21 +297,22 @@ fn place_on(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<(LeafInstance, u
                 Vec3::from(h),
                 Vec3::from(u),
                 0.0,
-            );
+            )?;
         }
     }
     if o.tips {
         let branches = skeleton.branches();
+        // A tip is a kept branch with no kept child: where the mesh's tubes end.
         let mut has_child = vec![false; branches.len()];
-        for b in branches {
-            if !b.is_root() {
+        for (b, &k) in branches.iter().zip(&kept) {
+            if k && !b.is_root() {
                 has_child[b.parent as usize] = true;
             }
         }
         let whole = o.density.floor() as u32;
         let frac = o.density - whole as f32;
         for (i, (b, &inner)) in branches.iter().zip(&has_child).enumerate() {
-            if inner || b.depth < o.min_depth {
+            if inner || !kept[i] || b.birth < o.min_birth {
                 continue;
             }
             let count = whole + u32::from((rng.next_f64() as f32) < frac);
@@ -286,7 +321,7 @@ fn place_on(skeleton: &Skeleton, o: &LeafOptions) -> Result<Vec<(LeafInstance, u
                 .0
                 .as_vec3();
             for _ in 0..count {
-                leaf(&mut rng, i as u32, b.end(), heading, up, -o.tilt);
+                leaf(&mut rng, i as u32, b.end(), heading, up, -o.tilt)?;
             }
         }
     }
@@ -300,7 +335,7 @@ pub fn leaf_instances(
     leaves: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Vec<LeafInstance>> {
-    let mut out = place(skeleton, leaves)?;
+    let mut out = place(skeleton, leaves, mesh)?;
     if mesh.up_axis == UpAxis::Z || mesh.scale != 1.0 {
         let turn = if mesh.up_axis == UpAxis::Z {
             Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)
@@ -318,14 +353,19 @@ pub fn leaf_instances(
 
 /// Animation data per leaf instance (same order as [`leaf_instances`]): the values of the
 /// tip of the branch each leaf sits on, so leaves grow and sway with their branch.
-pub fn leaf_animation(skeleton: &Skeleton, leaves: &LeafOptions) -> Result<Vec<AnimationVertex>> {
+/// `mesh` says which branches are kept (its `cull_radius`).
+pub fn leaf_animation(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<AnimationVertex>> {
     let (lo, span) = depth_span(skeleton);
     let b = skeleton.branches();
-    Ok(place_on(skeleton, leaves)?
+    Ok(place_on(skeleton, leaves, mesh)?
         .into_iter()
         .map(|(_, branch)| match b.get(branch as usize) {
             Some(x) => AnimationVertex {
-                growth: ((x.depth - lo) as f32 + 1.0) / span as f32,
+                growth: ((x.birth - lo) as f32 + 1.0) / span as f32,
                 order: x.order as f32,
                 along: 1.0,
                 phase: branch_phase(branch),
@@ -350,7 +390,7 @@ struct LeafPlan {
 
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
-    let instances = place(skeleton, leaves)?;
+    let instances = place(skeleton, leaves, mesh)?;
     let prefab = leaves.prefab.clone().unwrap_or_else(LeafPrefab::quad);
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
@@ -365,12 +405,13 @@ fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> R
         topology: mesh.topology,
         clockwise: mesh.winding == Winding::Clockwise,
     };
-    let mut first = true;
-    let mut indices = 0u64;
-    for _ in 0..instances.len() * prefab.triangles.len() {
-        indices += rules.count(3, first) as u64;
-        first = false;
-    }
+    // Every prefab triangle is a strip of 3; only the buffer's first strip differs.
+    let triangles = instances.len() as u64 * prefab.triangles.len() as u64;
+    let mut first = triangles == 0;
+    let mut indices = match triangles {
+        0 => 0,
+        t => rules.count(3, true) as u64 + (t - 1) * rules.count(3, false) as u64,
+    };
     for &(_, n) in &polygons {
         indices += rules.count(n, first) as u64;
         first = false;

@@ -180,6 +180,10 @@ pub struct MeshOptions {
     /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
     /// The output is the same byte for byte whatever the count.
     pub threads: u32,
+    /// Sizing or writing a mesh of more vertices than this fails with
+    /// [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming `max_vertices`, before
+    /// any buffer is allocated. Default [`DEFAULT_MAX_VERTICES`](crate::limits::DEFAULT_MAX_VERTICES).
+    pub max_vertices: usize,
 }
 
 impl Default for MeshOptions {
@@ -198,6 +202,7 @@ impl Default for MeshOptions {
             up_axis: UpAxis::Y,
             scale: 1.0,
             threads: 0,
+            max_vertices: crate::limits::DEFAULT_MAX_VERTICES,
         }
     }
 }

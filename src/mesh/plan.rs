@@ -111,6 +111,18 @@ pub(crate) fn length(b: &Branch) -> f64 {
     }
 }
 
+/// Which branches a mesh with `cull_radius` keeps: a branch whose larger radius is below
+/// it is dropped with its whole subtree.
+pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> {
+    let branches = skeleton.branches();
+    let mut kept = vec![false; branches.len()];
+    for (i, b) in branches.iter().enumerate() {
+        let parent_kept = b.parent == NO_PARENT || kept[b.parent as usize];
+        kept[i] = parent_kept && b.start_radius.max(b.end_radius) >= cull_radius;
+    }
+    kept
+}
+
 fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
     check_options(o)?;
     let branches = skeleton.branches();
@@ -204,6 +216,15 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         let (v, idx) = plan.counts(i, o.tip, &mut first);
         nv += v as u64;
         ni += idx as u64;
+    }
+    if nv > o.max_vertices as u64 {
+        return Err(Error::LimitExceeded {
+            limit_name: "max_vertices",
+            what: "mesh vertices",
+            limit: o.max_vertices as u64,
+            requested: nv,
+            step: None,
+        });
     }
     if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
         return Err(Error::LimitExceeded {

@@ -354,7 +354,7 @@ fn grow(
             start_radius: radius,
             end_radius: radius,
             parent: apex.parent,
-            depth: apex.step,
+            birth: apex.step,
             order: 0,
             flags: 0,
         });

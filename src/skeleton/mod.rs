@@ -27,9 +27,11 @@ pub struct Branch {
     /// Index of the branch it grows from, always smaller than its own index; [`NO_PARENT`]
     /// for a root.
     pub parent: u32,
-    /// The rewriting step that produced the branch's `F` (axiom modules are step 0, so the
-    /// trunk of the 1996 model, made by step 1, has depth 1).
-    pub depth: u32,
+    /// Its birth: the rewriting step that produced the branch's `F` (axiom modules are step
+    /// 0, so the trunk of the 1996 model, made by step 1, has birth 1); for a
+    /// self-organized tree, the growth cycle. Not the distance from the root (see
+    /// [`Adjacency::depth`]). The C field `ArborBranch.depth` holds the same value.
+    pub birth: u32,
     /// Branching order: 0 on the trunk axis, +1 for each lateral branch on the way.
     pub order: u32,
     /// Reserved, 0.
@@ -75,8 +77,8 @@ pub struct LeafSite {
     /// The branch the site sits on (the last one drawn on the turtle's axis), or
     /// [`NO_PARENT`].
     pub branch: u32,
-    /// The rewriting step that produced the `~`.
-    pub depth: u32,
+    /// The rewriting step that produced the `~` (the C field `depth`).
+    pub birth: u32,
 }
 
 /// A polygon the turtle traced between `{` and `}` (a leaf blade, a petal).
@@ -89,7 +91,7 @@ pub struct Polygon {
     /// The branch the polygon sits on, or [`NO_PARENT`].
     pub branch: u32,
     /// The rewriting step that produced the `{`.
-    pub depth: u32,
+    pub birth: u32,
 }
 
 /// A tree as a flat array of branches, parents before children, with the leaf sites and

@@ -91,7 +91,7 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
     let key = |v: DVec3| (v / cell).floor().as_i64vec3().to_array();
     let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
     let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by_key(|&i| (b[i as usize].depth, i));
+    order.sort_by_key(|&i| (b[i as usize].birth, i));
     let mut removed = vec![false; n];
     let mut candidates: Vec<u32> = Vec::new();
     for &i in &order {

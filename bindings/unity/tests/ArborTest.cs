@@ -27,10 +27,13 @@ static class ArborTest
         Expect(Marshal.SizeOf(typeof(LeafSite)) == (int)Native.arbor_struct_size((uint)StructId.LeafSite), "LeafSite size");
         Expect((int)Marshal.OffsetOf(typeof(Vertex), "NX") == 12 && (int)Marshal.OffsetOf(typeof(Vertex), "U") == 24, "Vertex offsets");
         Expect((int)Marshal.OffsetOf(typeof(LsystemOptions), "Seed") == 8, "LsystemOptions.Seed offset");
+        Expect((int)Marshal.OffsetOf(typeof(MeshOptions), "StructSize") == 0 && (int)Marshal.OffsetOf(typeof(MeshOptions), "Threads") == 52, "MeshOptions offsets");
+        Expect((int)Marshal.OffsetOf(typeof(LeafOptions), "MaxLeaves") == 56, "LeafOptions.MaxLeaves offset");
         Expect(Marshal.PtrToStringAnsi(Native.arbor_version()).Length >= 5, "version string");
 
-        var defaults = Native.arbor_mesh_options_default();
-        Expect(defaults.RadialSegments == 8 && defaults.Scale == 1.0f && defaults.Joints == (uint)Joints.Mitred, "mesh defaults");
+        var defaults = MeshOptions.Default();
+        Expect(defaults.StructSize == Marshal.SizeOf(typeof(MeshOptions)) && defaults.RadialSegments == 8 && defaults.Scale == 1.0f && defaults.Joints == (uint)Joints.Mitred, "mesh defaults");
+        Expect(LeafOptions.Default().StructSize == Marshal.SizeOf(typeof(LeafOptions)) && LsystemOptions.Default().Steps == -1, "leaf and lsystem defaults");
 
         int[] counts = { 1023, 2223, 510, 1023, 1990, 5027, 1023, 919, 1586 };
         for (int k = 0; k < 9; k++)
@@ -66,7 +69,7 @@ static class ArborTest
 
         using (var tree = Tree.FromLsystem("angle increment: 45\nAxiom: F[+F~][-F~]F~\n"))
         {
-            var leaves = Native.arbor_leaf_options_default();
+            var leaves = LeafOptions.Default();
             Expect(tree.Leaves(leaves, defaults).Length == 3, "three leaf sites");
         }
 

@@ -1,0 +1,49 @@
+//! Export to files.
+
+use super::*;
+
+/// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
+/// baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
+/// creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+/// NUL-terminated.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_export_obj(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    leaf_options: *const ArborLeafOptions,
+    path: *const c_char,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        if path.is_null() {
+            return Err(FfiError::null("path"));
+        }
+        // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
+        let path = unsafe { CStr::from_ptr(path) }
+            .to_str()
+            .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+        let bark = mesh::tubes(&tree.skeleton, &mo)?;
+        let result = if leaf_options.is_null() {
+            crate::export::save_obj_parts(&[("bark", &bark)], path)
+        } else {
+            // SAFETY: the caller promises `leaf_options` is readable.
+            let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+            let leaves = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+            crate::export::save_obj_parts(&[("bark", &bark), ("leaves", &leaves)], path)
+        };
+        result.map_err(|e| match e {
+            crate::Error::Io(io) => crate::Error::Io(std::io::Error::new(
+                io.kind(),
+                format!("cannot write {path}: {io}"),
+            )),
+            other => other,
+        })?;
+        Ok(())
+    })
+}

@@ -1,0 +1,145 @@
+//! Forests: many placed trees in one mesh.
+
+use super::*;
+
+/// One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
+/// placement (position of its root, turn about the up axis in degrees, uniform scale).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArborForestTree {
+    /// The model's parameters.
+    pub params: ArborHondaParams,
+    /// Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
+    pub seed: u64,
+    /// Where the root stands, in the output space of the mesh options.
+    pub position: [f32; 3],
+    /// Turn about the up axis, degrees.
+    pub rotation: f32,
+    /// Uniform scale, > 0.
+    pub scale: f32,
+}
+
+/// Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
+/// places them and merges them into one new mesh object written to `*out` (read it with
+/// arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).
+///
+/// # Safety
+/// `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+/// NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_forest_mesh_create(
+    trees: *const ArborForestTree,
+    count: usize,
+    options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `trees` is readable for `count` elements.
+        let trees = unsafe { read_forest(trees, count) }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let mesh = crate::forest::merged(&trees, &options)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}
+
+/// The placed forest of `trees` as Rust values.
+///
+/// # Safety
+/// `trees` is NULL (only with `count` 0) or readable for `count` elements.
+pub(crate) unsafe fn read_forest<'a>(
+    trees: *const ArborForestTree,
+    count: usize,
+) -> Result<Vec<crate::forest::Placed<'a>>, FfiError> {
+    // SAFETY: the caller promises `trees` is readable for `count` elements.
+    let trees = unsafe { in_slice(trees, count, "trees") }?;
+    Ok(trees
+        .iter()
+        .map(|t| crate::forest::Placed {
+            item: crate::forest::Item {
+                source: crate::forest::Source::Honda(t.params.into()),
+                seed: t.seed,
+            },
+            position: t.position,
+            rotation: t.rotation,
+            scale: t.scale,
+        })
+        .collect())
+}
+
+/// Exact vertex and index counts of the merged forest mesh arbor_forest_mesh_write()
+/// writes (the trees are grown to count them; arbor_forest_mesh_create() grows them once).
+///
+/// # Safety
+/// `trees` is NULL (only with `count` 0) or readable for `count` elements; `options` is
+/// NULL or readable; the counts are NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_forest_mesh_size(
+    trees: *const ArborForestTree,
+    count: usize,
+    options: *const ArborMeshOptions,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `trees` is readable for `count` elements.
+        let placed = unsafe { read_forest(trees, count) }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises both counts are NULL or writable.
+        let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_ref(index_count, "index_count") }?;
+        let size = crate::forest::merged_size(&placed, &options)?;
+        *vc = size.vertices;
+        *ic = size.indices;
+        Ok(())
+    })
+}
+
+/// Writes the merged forest mesh into caller memory; the buffer rules of
+/// arbor_mesh_write().
+///
+/// # Safety
+/// As arbor_forest_mesh_size(), and `vertices` / `indices` are NULL or valid for writes
+/// of their capacities and do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_forest_mesh_write(
+    trees: *const ArborForestTree,
+    count: usize,
+    options: *const ArborMeshOptions,
+    vertices: *mut ArborVertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `trees` is readable for `count` elements.
+        let placed = unsafe { read_forest(trees, count) }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let size = crate::forest::merged_size(&placed, &options)?;
+        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_capacity,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        let mesh = crate::forest::merged(&placed, &options)?;
+        for (d, s) in v.iter_mut().zip(&mesh.vertices) {
+            d.write(*s);
+        }
+        for (d, s) in i.iter_mut().zip(&mesh.indices) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}

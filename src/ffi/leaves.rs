@@ -1,0 +1,308 @@
+//! Leaves: instances and baked leaf meshes.
+
+use super::*;
+
+/// Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
+/// README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborLeafOptions {
+    /// sizeof(ArborLeafOptions) as the host was compiled; set by arbor_leaf_options_init().
+    pub struct_size: u32,
+    /// 1: a leaf at every `~` site of the grammar. Default 1.
+    pub sites: u32,
+    /// 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
+    pub polygons: u32,
+    /// 1: leaves at the tips of terminal branches. Default 0.
+    pub tips: u32,
+    /// Only tips of branches made at this rewriting step or later (their `depth`, the birth
+    /// step) get leaves. Default 0.
+    pub min_depth: u32,
+    /// Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
+    pub density: f32,
+    /// Leaf size in model units; > 0. Default 1.
+    pub size: f32,
+    /// Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+    pub size_jitter: f32,
+    /// Each leaf turns about its stem by up to +- this many degrees. Default 180.
+    pub rotation_jitter: f32,
+    /// Tip leaves lean out from the branch by this many degrees. Default 30.
+    pub tilt: f32,
+    /// Seed of the variation. Default 0.
+    pub seed: u64,
+    /// NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
+    /// (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
+    /// leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+    pub prefab_obj_path: *const c_char,
+    /// Making more leaves than this (instances, or copies in the baked mesh) stops with
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
+    /// Default 16,777,216. (Added after the first layout.)
+    pub max_leaves: u64,
+}
+
+/// sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
+/// `struct_size` accepted.
+pub const ARBOR_LEAF_OPTIONS_MIN_SIZE: usize = 56;
+
+const _: () =
+    assert!(std::mem::offset_of!(ArborLeafOptions, max_leaves) == ARBOR_LEAF_OPTIONS_MIN_SIZE);
+
+impl Growing for ArborLeafOptions {
+    const NAME: &'static str = "ArborLeafOptions";
+    const MIN_SIZE: usize = ARBOR_LEAF_OPTIONS_MIN_SIZE;
+    fn defaults() -> Self {
+        let d = LeafOptions::default();
+        ArborLeafOptions {
+            struct_size: std::mem::size_of::<ArborLeafOptions>() as u32,
+            sites: d.sites as u32,
+            polygons: d.polygons as u32,
+            tips: d.tips as u32,
+            min_depth: d.min_birth,
+            density: d.density,
+            size: d.size,
+            size_jitter: d.size_jitter,
+            rotation_jitter: d.rotation_jitter,
+            tilt: d.tilt,
+            seed: d.seed,
+            prefab_obj_path: std::ptr::null(),
+            max_leaves: d.max_leaves as u64,
+        }
+    }
+}
+
+impl Default for ArborLeafOptions {
+    /// What arbor_leaf_options_init() writes for this library's size.
+    fn default() -> Self {
+        Self::defaults()
+    }
+}
+
+/// One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
+/// space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
+/// moved to `position`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborLeafInstance {
+    /// Where the stem attaches.
+    pub position: [f32; 3],
+    /// Unit quaternion (x, y, z, w).
+    pub rotation: [f32; 4],
+    /// Uniform scale.
+    pub scale: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<ArborLeafInstance>() == 32);
+
+/// Writes the default leaf options into the first `struct_size` bytes at `options`
+/// (pass `sizeof(ArborLeafOptions)`), with `options->struct_size = struct_size`, and
+/// nothing beyond. The header's static inline arbor_leaf_options_default() does this for
+/// you. NULL does nothing.
+///
+/// # Safety
+/// `options` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_options_init(
+    options: *mut ArborLeafOptions,
+    struct_size: usize,
+) {
+    guard_value((), || {
+        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+        unsafe { init_growing(options, struct_size) }
+    })
+}
+
+/// The leaf options behind `options` (NULL: the defaults); `load_prefab` reads the OBJ.
+///
+/// # Safety
+/// `options` is NULL or readable, and its `prefab_obj_path` NULL or NUL-terminated.
+pub(crate) unsafe fn read_leaf_options(
+    options: *const ArborLeafOptions,
+    load_prefab: bool,
+) -> Result<LeafOptions, FfiError> {
+    if options.is_null() {
+        return Ok(LeafOptions::default());
+    }
+    // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
+    // was handled above.
+    let o = &unsafe { read_growing(options, "leaf_options") }?;
+    let boolean = [(false, "false"), (true, "true")];
+    let prefab = if load_prefab && !o.prefab_obj_path.is_null() {
+        // SAFETY: the caller promises a non-NULL path is NUL-terminated.
+        let path = unsafe { CStr::from_ptr(o.prefab_obj_path) };
+        let path = path
+            .to_str()
+            .map_err(|_| crate::Error::invalid("prefab_obj_path", "the path is not UTF-8"))?;
+        Some(LeafPrefab::from_obj(path)?)
+    } else {
+        None
+    };
+    Ok(LeafOptions {
+        sites: enum_field("sites", o.sites, &boolean)?,
+        polygons: enum_field("polygons", o.polygons, &boolean)?,
+        tips: enum_field("tips", o.tips, &boolean)?,
+        min_birth: o.min_depth,
+        max_leaves: usize::try_from(o.max_leaves).unwrap_or(usize::MAX),
+        density: o.density,
+        size: o.size,
+        size_jitter: o.size_jitter,
+        rotation_jitter: o.rotation_jitter,
+        tilt: o.tilt,
+        seed: o.seed,
+        prefab,
+    })
+}
+
+/// Writes the number of leaf instances of `tree` with `leaf_options` (NULL: defaults) to
+/// `*count`; `mesh_options` (NULL: defaults) supplies the up axis and scale.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_instance_count(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises `count` is NULL or writable.
+        let count = unsafe { out_ref(count, "count") }?;
+        *count = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?.len();
+        Ok(())
+    })
+}
+
+/// Writes the leaf instances of `tree` into `out` (`capacity` elements, at least
+/// arbor_leaf_instance_count()'s, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` instances.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_instances_write(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut ArborLeafInstance,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        let leaves = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?;
+        // SAFETY: the caller promises `out` holds `capacity` writable instances.
+        let dst = unsafe { out_slice(out.cast::<LeafInstance>(), capacity, leaves.len(), "out") }?;
+        for (d, l) in dst.iter_mut().zip(leaves) {
+            d.write(l);
+        }
+        Ok(())
+    })
+}
+
+/// Exact vertex and index counts of the baked leaf mesh (every leaf a copy of the leaf
+/// shape, then the grammar's polygons), in the topology and conventions of
+/// `mesh_options` (NULL: defaults).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; the counts NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_size(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises both are NULL or writable.
+        let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_ref(index_count, "index_count") }?;
+        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        *vc = size.vertices;
+        *ic = size.indices;
+        Ok(())
+    })
+}
+
+/// Writes the baked leaf mesh into caller memory; the same buffer rules as
+/// arbor_mesh_write().
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `vertices` and `indices` are
+/// NULL or valid for writes of their capacities and do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_write(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    vertices: *mut ArborVertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_capacity,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        mesh::write_leaf_mesh(&tree.skeleton, &lo, &mo, v, i)?;
+        Ok(())
+    })
+}
+
+/// Like arbor_mesh_create() for the baked leaf mesh (see arbor_leaf_mesh_write()).
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_mesh_create(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `leaf_options` is NULL or readable.
+        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let mesh = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}

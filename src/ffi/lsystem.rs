@@ -1,0 +1,195 @@
+//! Trees from L-system text.
+
+use super::*;
+
+/// ArborLsystemOptions.override_flags bit: use `angle_increment` instead of the grammar's.
+pub const ARBOR_OVERRIDE_ANGLE_INCREMENT: u32 = 1;
+/// ArborLsystemOptions.override_flags bit: use `initial_width` instead of the grammar's.
+pub const ARBOR_OVERRIDE_INITIAL_WIDTH: u32 = 2;
+/// ArborLsystemOptions.override_flags bit: use `width_increment` instead of the grammar's.
+pub const ARBOR_OVERRIDE_WIDTH_INCREMENT: u32 = 4;
+
+/// Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
+/// the README). Start from arbor_lsystem_options_default() (or
+/// arbor_lsystem_options_init()) and change what you need.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborLsystemOptions {
+    /// sizeof(ArborLsystemOptions) as the host was compiled; set by
+    /// arbor_lsystem_options_init().
+    pub struct_size: u32,
+    /// Rewriting steps; < 0 (default -1): the grammar's own `derivation length:`.
+    pub steps: i32,
+    /// Seed of stochastic productions, ran() and nran(), used when the grammar has no
+    /// `seed:`. Default 0.
+    pub seed: u64,
+    /// Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this
+    /// many modules (also bounds what the turtle reads after interpretation rules).
+    /// Default 16,777,216.
+    pub max_modules: u64,
+    /// Same for the parameter values of a string. Default 33,554,432.
+    pub max_params: u64,
+    /// Same for the branches of the tree. Default 16,777,216.
+    pub max_branches: u64,
+    /// ARBOR_OVERRIDE_* bits saying which of the three settings below replace the
+    /// grammar's directives. Default 0 (none).
+    pub override_flags: u32,
+    /// Degrees turned by + - & ^ / \ without a parameter (`angle increment:`).
+    pub angle_increment: f32,
+    /// The turtle's starting width (`initial line width:`), a diameter.
+    pub initial_width: f32,
+    /// What ! and # without a parameter subtract and add (`line width increment:`).
+    pub width_increment: f32,
+    /// Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
+    pub turn_jitter: f32,
+}
+
+impl ArborLsystemOptions {
+    fn to_rust(self) -> crate::Result<LsystemOptions> {
+        let known = ARBOR_OVERRIDE_ANGLE_INCREMENT
+            | ARBOR_OVERRIDE_INITIAL_WIDTH
+            | ARBOR_OVERRIDE_WIDTH_INCREMENT;
+        if self.override_flags & !known != 0 {
+            return Err(crate::Error::invalid(
+                "override_flags",
+                format!(
+                    "{:#x} has unknown bits; expected a combination of ARBOR_OVERRIDE_*",
+                    self.override_flags
+                ),
+            ));
+        }
+        let flag = |bit: u32, v: f32| (self.override_flags & bit != 0).then_some(v as f64);
+        let size = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
+        Ok(LsystemOptions {
+            steps: u32::try_from(self.steps).ok(),
+            seed: self.seed,
+            max_modules: size(self.max_modules),
+            max_params: size(self.max_params),
+            max_branches: size(self.max_branches),
+            angle_increment: flag(ARBOR_OVERRIDE_ANGLE_INCREMENT, self.angle_increment),
+            initial_width: flag(ARBOR_OVERRIDE_INITIAL_WIDTH, self.initial_width),
+            width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
+            turn_jitter: self.turn_jitter as f64,
+        })
+    }
+}
+
+/// sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
+/// smallest `struct_size` accepted.
+pub const ARBOR_LSYSTEM_OPTIONS_MIN_SIZE: usize = 64;
+
+impl Growing for ArborLsystemOptions {
+    const NAME: &'static str = "ArborLsystemOptions";
+    const MIN_SIZE: usize = ARBOR_LSYSTEM_OPTIONS_MIN_SIZE;
+    fn defaults() -> Self {
+        let d = LsystemOptions::default();
+        let view = crate::lsystem::ViewSettings::default();
+        ArborLsystemOptions {
+            struct_size: std::mem::size_of::<ArborLsystemOptions>() as u32,
+            steps: -1,
+            seed: d.seed,
+            max_modules: d.max_modules as u64,
+            max_params: d.max_params as u64,
+            max_branches: d.max_branches as u64,
+            override_flags: 0,
+            angle_increment: view.angle_increment as f32,
+            initial_width: view.initial_width as f32,
+            width_increment: view.width_increment as f32,
+            turn_jitter: d.turn_jitter as f32,
+        }
+    }
+}
+
+impl Default for ArborLsystemOptions {
+    /// What arbor_lsystem_options_init() writes for this library's size.
+    fn default() -> Self {
+        Self::defaults()
+    }
+}
+
+/// Writes the default L-system options into the first `struct_size` bytes at `options`
+/// (pass `sizeof(ArborLsystemOptions)`), with `options->struct_size = struct_size`, and
+/// nothing beyond. The header's static inline arbor_lsystem_options_default() does this
+/// for you. NULL does nothing.
+///
+/// # Safety
+/// `options` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_lsystem_options_init(
+    options: *mut ArborLsystemOptions,
+    struct_size: usize,
+) {
+    guard_value((), || {
+        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+        unsafe { init_growing(options, struct_size) }
+    })
+}
+
+/// Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,
+/// then interpret with the turtle. `source` holds `source_len` bytes of UTF-8 (no NUL
+/// needed; at most 16 MiB); `options` may be NULL for the defaults. Writes a new tree to
+/// `*out` on success (free it with arbor_tree_free).
+///
+/// Statuses: ARBOR_STATUS_PARSE_ERROR (the message has line, column, what was found and
+/// what was expected; also for bytes that are not UTF-8), ARBOR_STATUS_LIMIT_EXCEEDED
+/// (the message names the limit and the step), ARBOR_STATUS_INVALID_ARGUMENT (options out
+/// of range, or a parameter that evaluated to NaN or infinity), ARBOR_STATUS_NULL_ARGUMENT.
+///
+/// # Safety
+/// `source` is NULL (only with `source_len` 0) or readable for `source_len` bytes;
+/// `options` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_lsystem(
+    source: *const c_char,
+    source_len: usize,
+    options: *const ArborLsystemOptions,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let options = if options.is_null() {
+            LsystemOptions::default()
+        } else {
+            // SAFETY: the caller promises `options` is readable for its struct_size bytes.
+            unsafe { read_growing(options, "options") }?.to_rust()?
+        };
+        if source_len > MAX_SOURCE_BYTES {
+            return Err(crate::Error::invalid(
+                "source_len",
+                format!("{source_len} bytes; expected at most {MAX_SOURCE_BYTES}"),
+            )
+            .into());
+        }
+        let bytes: &[u8] = if source_len == 0 {
+            &[]
+        } else if source.is_null() {
+            return Err(FfiError::null("source"));
+        } else {
+            // SAFETY: the caller promises `source_len` readable bytes at `source`, and
+            // source_len <= 16 MiB fits isize.
+            unsafe { std::slice::from_raw_parts(source.cast::<u8>(), source_len) }
+        };
+        let text = std::str::from_utf8(bytes).map_err(|e| {
+            let valid = &bytes[..e.valid_up_to()];
+            let line = valid.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
+            let line_start = valid.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            // The valid prefix is UTF-8 by definition.
+            let column = String::from_utf8_lossy(&valid[line_start..])
+                .chars()
+                .count() as u32
+                + 1;
+            crate::Error::Parse {
+                line,
+                column,
+                message: format!(
+                    "found the byte {:#04x}, expected UTF-8 text",
+                    bytes[e.valid_up_to()]
+                ),
+            }
+        })?;
+        let skeleton = LSystem::parse(text)?.skeleton(&options)?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
+}

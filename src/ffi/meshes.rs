@@ -1,0 +1,653 @@
+//! Bark meshes: options, size then write, branch ranges, levels of detail, owned meshes, the animation stream.
+
+use super::*;
+
+/// How indices string triangles together; passed as `uint32_t` in ArborMeshOptions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborTopology {
+    /// Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)).
+    TriangleList = 0,
+    /// One strip per branch, strips separated by ARBOR_RESTART_INDEX; draw with
+    /// GL_TRIANGLE_STRIP and glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX).
+    TriangleStripRestart = 1,
+    /// One strip for the whole mesh, branches joined by degenerate triangles.
+    TriangleStripDegenerate = 2,
+}
+
+/// One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborVertex {
+    /// Position in model units.
+    pub position: [f32; 3],
+    /// Unit outward normal.
+    pub normal: [f32; 3],
+    /// u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
+    pub uv: [f32; 2],
+}
+
+/// Joints between a branch and the one it continues; ArborMeshOptions.joints.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborJoints {
+    /// Every branch has its own two rings.
+    Separate = 0,
+    /// A continuing branch shares its parent's end ring, in the bisecting plane
+    /// (watertight axes). The default.
+    Mitred = 1,
+}
+
+/// How the last branch of an axis ends; ArborMeshOptions.tip.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborTip {
+    /// Open tube (default).
+    Open = 0,
+    /// A flat disc.
+    Cap = 1,
+    /// A cone closing to a point one radius beyond the end.
+    Point = 2,
+}
+
+/// Front-face winding seen from outside; ArborMeshOptions.winding.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborWinding {
+    /// Counter-clockwise (OpenGL; the default).
+    CounterClockwise = 0,
+    /// Clockwise (Unity, Direct3D).
+    Clockwise = 1,
+}
+
+/// Up axis of the output; ArborMeshOptions.up_axis.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborUpAxis {
+    /// Y up (default).
+    Y = 0,
+    /// Z up (Unreal): (x, y, z) becomes (x, -z, y), a rotation that keeps the winding.
+    Z = 1,
+}
+
+/// Options of the tube mesher: a struct that grows (see "Structs that grow" in the
+/// README). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
+/// change what you need. Enum-like fields are validated (unknown values give
+/// ARBOR_STATUS_INVALID_ARGUMENT naming the field).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborMeshOptions {
+    /// sizeof(ArborMeshOptions) as the host was compiled; set by arbor_mesh_options_init().
+    pub struct_size: u32,
+    /// Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
+    pub radial_segments: u32,
+    /// An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
+    pub topology: u32,
+    /// 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
+    /// clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
+    /// tree's largest).
+    pub min_radial_segments: u32,
+    /// Branches whose larger radius is below this are dropped with their subtree. Default 0.
+    pub cull_radius: f32,
+    /// An ArborJoints value. Default ARBOR_JOINTS_MITRED.
+    pub joints: u32,
+    /// 1: a branch's end radius becomes its continuation's start radius. Default 0.
+    pub smooth_taper: u32,
+    /// 1: a disc closes the base of each root. Default 0.
+    pub base_cap: u32,
+    /// An ArborTip value. Default ARBOR_TIP_OPEN.
+    pub tip: u32,
+    /// v = arc length from the root / texture_scale; finite, > 0. Default 1.
+    pub texture_scale: f32,
+    /// An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
+    pub winding: u32,
+    /// An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
+    pub up_axis: u32,
+    /// Uniform scale of positions; finite, > 0. Default 1.
+    pub scale: f32,
+    /// Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
+    /// calling thread. Trees under 16,384 branches per thread use fewer. The output is the
+    /// same whatever the count. (Added after the first layout.)
+    pub threads: u32,
+    /// Sizing or writing a mesh of more vertices than this stops with
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_vertices, before any memory is spent.
+    /// Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
+    pub max_vertices: u64,
+}
+
+/// sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
+/// `struct_size` accepted.
+pub const ARBOR_MESH_OPTIONS_MIN_SIZE: usize = 52;
+
+const _: () =
+    assert!(std::mem::offset_of!(ArborMeshOptions, threads) == ARBOR_MESH_OPTIONS_MIN_SIZE);
+
+impl Growing for ArborMeshOptions {
+    const NAME: &'static str = "ArborMeshOptions";
+    const MIN_SIZE: usize = ARBOR_MESH_OPTIONS_MIN_SIZE;
+    fn defaults() -> Self {
+        MeshOptions::default().into()
+    }
+}
+
+impl Default for ArborMeshOptions {
+    /// What arbor_mesh_options_init() writes for this library's size.
+    fn default() -> Self {
+        Self::defaults()
+    }
+}
+
+/// The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ArborBranchRange {
+    /// First vertex the branch owns.
+    pub first_vertex: u32,
+    /// Number of vertices it owns (0 for a culled branch).
+    pub vertex_count: u32,
+    /// First index it owns (restart or join indices before its strips included).
+    pub first_index: u32,
+    /// Number of indices it owns.
+    pub index_count: u32,
+}
+
+impl TryFrom<&ArborMeshOptions> for MeshOptions {
+    type Error = crate::Error;
+    fn try_from(o: &ArborMeshOptions) -> crate::Result<Self> {
+        use crate::mesh::{Joints, Tip, UpAxis, Winding};
+        let boolean = [(false, "false"), (true, "true")];
+        Ok(MeshOptions {
+            radial_segments: o.radial_segments,
+            topology: enum_field(
+                "topology",
+                o.topology,
+                &[
+                    (Topology::TriangleList, "TRIANGLE_LIST"),
+                    (Topology::TriangleStripRestart, "TRIANGLE_STRIP_RESTART"),
+                    (
+                        Topology::TriangleStripDegenerate,
+                        "TRIANGLE_STRIP_DEGENERATE",
+                    ),
+                ],
+            )?,
+            min_radial_segments: o.min_radial_segments,
+            cull_radius: o.cull_radius,
+            joints: enum_field(
+                "joints",
+                o.joints,
+                &[(Joints::Separate, "SEPARATE"), (Joints::Mitred, "MITRED")],
+            )?,
+            smooth_taper: enum_field("smooth_taper", o.smooth_taper, &boolean)?,
+            base_cap: enum_field("base_cap", o.base_cap, &boolean)?,
+            tip: enum_field(
+                "tip",
+                o.tip,
+                &[
+                    (Tip::Open, "OPEN"),
+                    (Tip::Cap, "CAP"),
+                    (Tip::Point, "POINT"),
+                ],
+            )?,
+            texture_scale: o.texture_scale,
+            winding: enum_field(
+                "winding",
+                o.winding,
+                &[
+                    (Winding::CounterClockwise, "COUNTER_CLOCKWISE"),
+                    (Winding::Clockwise, "CLOCKWISE"),
+                ],
+            )?,
+            up_axis: enum_field("up_axis", o.up_axis, &[(UpAxis::Y, "Y"), (UpAxis::Z, "Z")])?,
+            scale: o.scale,
+            threads: o.threads,
+            max_vertices: usize::try_from(o.max_vertices).unwrap_or(usize::MAX),
+        })
+    }
+}
+
+impl From<MeshOptions> for ArborMeshOptions {
+    fn from(o: MeshOptions) -> Self {
+        ArborMeshOptions {
+            struct_size: std::mem::size_of::<ArborMeshOptions>() as u32,
+            radial_segments: o.radial_segments,
+            topology: o.topology as u32,
+            min_radial_segments: o.min_radial_segments,
+            cull_radius: o.cull_radius,
+            joints: o.joints as u32,
+            smooth_taper: o.smooth_taper as u32,
+            base_cap: o.base_cap as u32,
+            tip: o.tip as u32,
+            texture_scale: o.texture_scale,
+            winding: o.winding as u32,
+            up_axis: o.up_axis as u32,
+            scale: o.scale,
+            threads: o.threads,
+            max_vertices: o.max_vertices as u64,
+        }
+    }
+}
+
+/// Writes the default mesh options (see ArborMeshOptions for each default) into the first
+/// `struct_size` bytes at `options`, with `options->struct_size = struct_size`, and
+/// nothing beyond; pass `sizeof(ArborMeshOptions)`. The header's static inline
+/// arbor_mesh_options_default() does this for you. NULL does nothing.
+///
+/// # Safety
+/// `options` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_options_init(
+    options: *mut ArborMeshOptions,
+    struct_size: usize,
+) {
+    guard_value((), || {
+        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+        unsafe { init_growing(options, struct_size) }
+    })
+}
+
+/// The options behind `options`, or the defaults for NULL.
+///
+/// # Safety
+/// `options` is NULL or points to a readable ArborMeshOptions.
+pub(crate) unsafe fn read_mesh_options(
+    options: *const ArborMeshOptions,
+) -> Result<MeshOptions, FfiError> {
+    if options.is_null() {
+        return Ok(MeshOptions::default());
+    }
+    // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
+    // was handled above.
+    let o = unsafe { read_growing(options, "options") }?;
+    Ok(MeshOptions::try_from(&o)?)
+}
+
+/// The `count` mesh options of a host's array: its elements are the host's
+/// ArborMeshOptions, all of the first one's `struct_size`, so element k starts at byte
+/// k × `levels[0].struct_size`.
+///
+/// # Safety
+/// `levels` is NULL (only with `count` 0) or readable for `count` elements of the host's
+/// ArborMeshOptions.
+pub(crate) unsafe fn read_mesh_options_array(
+    levels: *const ArborMeshOptions,
+    count: usize,
+) -> Result<Vec<MeshOptions>, FfiError> {
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    if levels.is_null() {
+        return Err(FfiError::null("levels"));
+    }
+    // SAFETY: the caller promises the first element is readable.
+    unsafe { read_growing(levels, "levels[0]") }?;
+    // SAFETY: as above; read_growing accepted the size, so it is at least the first
+    // layout's.
+    let stride = unsafe { levels.cast::<u32>().read_unaligned() } as usize;
+    (0..count)
+        .map(|k| {
+            let name = format!("levels[{k}]");
+            // SAFETY: element k starts k strides in, inside the caller's array.
+            let p = unsafe { levels.cast::<u8>().add(k * stride) }.cast::<ArborMeshOptions>();
+            // SAFETY: the caller promises element k is readable.
+            let o = unsafe { read_growing(p, &name) }?;
+            MeshOptions::try_from(&o).map_err(|e| FfiError::from(e).at_level(k))
+        })
+        .collect()
+}
+
+/// Writes the exact number of vertices and indices arbor_mesh_write() needs for `tree`
+/// with `options` (NULL: the defaults). Both out-pointers are required and written only
+/// on success. More than 2^32 - 1 vertices: ARBOR_STATUS_LIMIT_EXCEEDED.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; the counts are NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_size(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises both are NULL or writable.
+        let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_ref(index_count, "index_count") }?;
+        let size = tree.plan(&options)?.size();
+        *vc = size.vertices;
+        *ic = size.indices;
+        Ok(())
+    })
+}
+
+/// Writes the mesh of `tree` into caller memory (a malloc'd array or a mapped GPU buffer):
+/// `vertex_capacity` ArborVertex elements and `index_capacity` uint32_t indices. Capacities
+/// below arbor_mesh_size()'s counts give ARBOR_STATUS_BUFFER_TOO_SMALL and nothing is
+/// written; larger buffers are fine and only their first elements are written. A buffer
+/// may be NULL only when its count is 0.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
+/// NULL or valid for writes of their capacities and do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_write(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    vertices: *mut ArborVertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let plan = tree.plan(&options)?;
+        let size = plan.size();
+        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices
+        // (ArborVertex and Vertex share one layout, asserted in layout.rs).
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_capacity,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        plan.write_uninit(&tree.skeleton, v, i)?;
+        Ok(())
+    })
+}
+
+/// Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
+/// arbor_mesh_write() writes with `options` (NULL: the defaults): `capacity` elements,
+/// at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL. The ranges are
+/// consecutive and tile both buffers; a culled branch has empty ranges.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_branch_ranges(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut ArborBranchRange,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let n = tree.skeleton.len();
+        // SAFETY: the caller promises `out` holds `capacity` writable elements.
+        let dst = unsafe { out_slice(out.cast::<BranchRange>(), capacity, n, "out") }?;
+        let ranges = tree.plan(&options)?.ranges();
+        for (d, r) in dst.iter_mut().zip(ranges) {
+            d.write(r);
+        }
+        Ok(())
+    })
+}
+
+/// Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
+/// options (for example growing cull_radius, fewer radial_segments), all initialised with
+/// the same struct_size (element k is read at byte k × `levels[0].struct_size`); the counts
+/// of level k go to `vertex_counts[k]` and `index_counts[k]`.
+///
+/// # Safety
+/// `tree` is NULL or live; `levels` is NULL (only with `level_count` 0) or readable for
+/// `level_count` options; the count arrays are NULL or writable for `level_count` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_lod_size(
+    tree: *const ArborTree,
+    levels: *const ArborMeshOptions,
+    level_count: usize,
+    vertex_counts: *mut usize,
+    index_counts: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `levels` is readable for `level_count` options.
+        let levels = unsafe { read_mesh_options_array(levels, level_count) }?;
+        let sizes = levels
+            .iter()
+            .map(|o| Ok(tree.plan(o)?.size()))
+            .collect::<Result<Vec<_>, FfiError>>()?;
+        // SAFETY: the caller promises both arrays hold `level_count` writable elements.
+        let vc = unsafe { out_slice(vertex_counts, level_count, level_count, "vertex_counts") }?;
+        // SAFETY: as above.
+        let ic = unsafe { out_slice(index_counts, level_count, level_count, "index_counts") }?;
+        for ((v, i), s) in vc.iter_mut().zip(ic.iter_mut()).zip(sizes) {
+            v.write(s.vertices);
+            i.write(s.indices);
+        }
+        Ok(())
+    })
+}
+
+/// Writes several levels of detail in one call: level k into `vertices[k]` (capacity
+/// `vertex_capacities[k]`) and `indices[k]` (capacity `index_capacities[k]`). Every
+/// capacity is checked before anything is written.
+///
+/// # Safety
+/// `tree` is NULL or live; `levels`, `vertices`, `vertex_capacities`, `indices` and
+/// `index_capacities` are NULL (only with `level_count` 0) or readable for `level_count`
+/// elements; each buffer pointer is NULL or valid for writes of its capacity, and no two
+/// buffers overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_lod_write(
+    tree: *const ArborTree,
+    levels: *const ArborMeshOptions,
+    level_count: usize,
+    vertices: *const *mut ArborVertex,
+    vertex_capacities: *const usize,
+    indices: *const *mut u32,
+    index_capacities: *const usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises each array is readable for `level_count` elements.
+        let (levels, vs, vcaps, is, icaps) = unsafe {
+            (
+                read_mesh_options_array(levels, level_count)?,
+                in_slice(vertices, level_count, "vertices")?,
+                in_slice(vertex_capacities, level_count, "vertex_capacities")?,
+                in_slice(indices, level_count, "indices")?,
+                in_slice(index_capacities, level_count, "index_capacities")?,
+            )
+        };
+        let mut plans = Vec::with_capacity(level_count);
+        for (k, o) in levels.iter().enumerate() {
+            let plan = tree.plan(o)?;
+            let size = plan.size();
+            size.check_capacity(vcaps[k], icaps[k])
+                .map_err(|e| FfiError::from(e).at_level(k))?;
+            plans.push((plan, size));
+        }
+        for (k, (plan, size)) in plans.into_iter().enumerate() {
+            // SAFETY: the caller promises the level's buffers hold their capacities.
+            let v =
+                unsafe { out_slice(vs[k].cast::<Vertex>(), vcaps[k], size.vertices, "vertices") }
+                    .map_err(|e| e.at_level(k))?;
+            // SAFETY: as above.
+            let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
+                .map_err(|e| e.at_level(k))?;
+            plan.write_uninit(&tree.skeleton, v, i)?;
+        }
+        Ok(())
+    })
+}
+
+/// A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
+/// arbor_forest_mesh_create()): for hosts that prefer to read buffers in place and copy
+/// them where they like. Opaque; free with arbor_mesh_free(). A
+/// `const ArborMesh *` may be read from several threads at once.
+pub struct ArborMesh {
+    pub(crate) mesh: crate::Mesh,
+}
+
+/// Builds the bark mesh of `tree` with `options` (NULL: the defaults) into a new mesh
+/// object written to `*out` (free it with arbor_mesh_free()); read it with
+/// arbor_mesh_vertices() and arbor_mesh_indices(). `*out` is written only on success.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_create(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut *mut ArborMesh,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let mesh = tree.plan(&options)?.mesh(&tree.skeleton)?;
+        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        Ok(())
+    })
+}
+
+/// The vertices of `mesh`, valid until arbor_mesh_free(); their number goes to `*count`
+/// (if `count` is not NULL). NULL mesh: returns NULL and a count of 0.
+///
+/// # Safety
+/// `mesh` is NULL or live; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_vertices(
+    mesh: *const ArborMesh,
+    count: *mut usize,
+) -> *const ArborVertex {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        let m = unsafe { arg_ref(mesh, "mesh") }.ok();
+        let v = m.map_or(&[][..], |m| &m.mesh.vertices[..]);
+        // SAFETY: the caller promises `count` is NULL or writable.
+        if let Ok(c) = unsafe { out_ref(count, "count") } {
+            *c = v.len();
+        }
+        if m.is_some() {
+            v.as_ptr().cast()
+        } else {
+            std::ptr::null()
+        }
+    })
+}
+
+/// The indices of `mesh` (laid out as arbor_mesh_topology() says), valid until
+/// arbor_mesh_free(); their number goes to `*count` (if `count` is not NULL). NULL mesh:
+/// returns NULL and a count of 0.
+///
+/// # Safety
+/// `mesh` is NULL or live; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_indices(
+    mesh: *const ArborMesh,
+    count: *mut usize,
+) -> *const u32 {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        let m = unsafe { arg_ref(mesh, "mesh") }.ok();
+        let i = m.map_or(&[][..], |m| &m.mesh.indices[..]);
+        // SAFETY: the caller promises `count` is NULL or writable.
+        if let Ok(c) = unsafe { out_ref(count, "count") } {
+            *c = i.len();
+        }
+        if m.is_some() {
+            i.as_ptr()
+        } else {
+            std::ptr::null()
+        }
+    })
+}
+
+/// The ArborTopology of `mesh`'s indices (ARBOR_TOPOLOGY_TRIANGLE_LIST for NULL).
+///
+/// # Safety
+/// `mesh` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_topology(mesh: *const ArborMesh) -> u32 {
+    guard_value(0, || {
+        // SAFETY: the caller promises `mesh` is NULL or live.
+        unsafe { arg_ref(mesh, "mesh") }.map_or(0, |m| m.mesh.topology as u32)
+    })
+}
+
+/// Frees a mesh. NULL does nothing. Pointers from arbor_mesh_vertices() and
+/// arbor_mesh_indices() become invalid.
+///
+/// # Safety
+/// `mesh` is NULL or a mesh from this library not yet freed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
+    if mesh.is_null() {
+        return;
+    }
+    guard_value((), || {
+        // SAFETY: the caller promises `mesh` came from Box::into_raw here and is freed once.
+        drop(unsafe { Box::from_raw(mesh) });
+    })
+}
+
+/// Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
+/// options: for growth and wind shaders, as a second vertex stream.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborAnimationVertex {
+    /// When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
+    pub growth: f32,
+    /// Branching order of its branch (0 on the trunk axis).
+    pub order: f32,
+    /// 0 at its branch's base, 1 at the tip.
+    pub along: f32,
+    /// Per-branch phase in [0, 1).
+    pub phase: f32,
+}
+
+/// Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
+/// defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+/// writes of `capacity` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_animation_write(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut ArborAnimationVertex,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let data = tree.plan(&options)?.animation(&tree.skeleton)?;
+        // SAFETY: the caller promises `out` holds `capacity` writable elements.
+        let dst = unsafe {
+            out_slice(
+                out.cast::<mesh::AnimationVertex>(),
+                capacity,
+                data.len(),
+                "out",
+            )
+        }?;
+        for (d, v) in dst.iter_mut().zip(data) {
+            d.write(v);
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,130 @@
+//! Option structs that grow, by the rule of Linux's `copy_struct_from_user` (C-API.md,
+//! "Structs that grow"), and the conversion of enum-like fields.
+//!
+//! A growing struct starts with `uint32_t struct_size`, the size the host was compiled
+//! with. The library reads exactly that many bytes: a smaller (older) struct gets the
+//! defaults for the fields it lacks; a larger (newer) one is accepted when every byte past
+//! the library's size is zero; a size below the first published layout is refused.
+//! `arbor_<name>_init(p, size)` writes the defaults into the first `size` bytes only.
+
+use super::guard::FfiError;
+
+/// Largest `struct_size` accepted: far above any layout, low enough that a garbage size
+/// is refused before it is read.
+pub(crate) const MAX_STRUCT_SIZE: usize = 4096;
+
+/// A `#[repr(C)]` struct that grows at its end and starts with `struct_size: u32`.
+pub(crate) trait Growing: Copy {
+    /// Its C name, for messages.
+    const NAME: &'static str;
+    /// `sizeof` of its first published layout: smaller sizes are refused.
+    const MIN_SIZE: usize;
+    /// The defaults, with `struct_size` set to the library's size.
+    fn defaults() -> Self;
+}
+
+/// Reads a host's growing struct at `p` (any alignment: an older layout may be less
+/// aligned than this one) into a full-size value: the host's `struct_size` bytes over the
+/// defaults. `name` is the argument's name for messages.
+///
+/// # Safety
+/// `p` is non-NULL and readable for the `struct_size` bytes its first four bytes say.
+pub(crate) unsafe fn read_growing<T: Growing>(p: *const T, name: &str) -> Result<T, FfiError> {
+    let full = std::mem::size_of::<T>();
+    // SAFETY: every published layout starts with a u32 struct_size, which the caller
+    // promises is readable; read unaligned, since an older layout may be less aligned.
+    let size = unsafe { p.cast::<u32>().read_unaligned() } as usize;
+    if size < T::MIN_SIZE {
+        return Err(FfiError::invalid(format!(
+            "`{name}.struct_size` is {size}; expected the sizeof({}) of a header (at least {}, \
+             this library's is {full}): set it with {}",
+            T::NAME,
+            T::MIN_SIZE,
+            init_name::<T>()
+        )));
+    }
+    if size > MAX_STRUCT_SIZE {
+        return Err(FfiError::invalid(format!(
+            "`{name}.struct_size` is {size}; expected at most {MAX_STRUCT_SIZE} (this \
+             library's sizeof({}) is {full})",
+            T::NAME
+        )));
+    }
+    let bytes = p.cast::<u8>();
+    if size > full {
+        // SAFETY: the caller promises `size` readable bytes at `p`.
+        let tail = unsafe { std::slice::from_raw_parts(bytes.add(full), size - full) };
+        if let Some(k) = tail.iter().position(|&b| b != 0) {
+            return Err(FfiError::invalid(format!(
+                "`{name}` is a newer {} of {size} bytes with a non-zero byte at offset {}, \
+                 past the {full} bytes this library knows: a field this library does not \
+                 have is set",
+                T::NAME,
+                full + k
+            )));
+        }
+    }
+    let mut out = T::defaults();
+    // SAFETY: `out` is a plain-old-data #[repr(C)] value of `full` bytes whose every bit
+    // pattern is valid (integers, floats and raw pointers); the host's first
+    // min(size, full) bytes are readable and do not overlap it.
+    unsafe {
+        std::ptr::copy_nonoverlapping(bytes, (&mut out as *mut T).cast::<u8>(), size.min(full))
+    };
+    Ok(out)
+}
+
+/// Writes the defaults of `T` into the first `size` bytes at `p` (zeros past the
+/// library's size), with `struct_size` = `size`; writes nothing when `p` is NULL or `size`
+/// is below 4.
+///
+/// # Safety
+/// `p` is NULL or writable for `size` bytes.
+pub(crate) unsafe fn init_growing<T: Growing>(p: *mut T, size: usize) {
+    if p.is_null() || size < 4 {
+        return;
+    }
+    let full = std::mem::size_of::<T>();
+    let defaults = T::defaults();
+    let bytes = p.cast::<u8>();
+    // SAFETY: `defaults` is `full` bytes; the caller promises `size` writable bytes at
+    // `p`, which cannot overlap a local. Padding bytes of `defaults` are copied as they
+    // are: the library never reads them.
+    unsafe {
+        std::ptr::copy_nonoverlapping((&defaults as *const T).cast::<u8>(), bytes, size.min(full));
+        if size > full {
+            std::ptr::write_bytes(bytes.add(full), 0, size - full);
+        }
+        p.cast::<u32>()
+            .write_unaligned(u32::try_from(size).unwrap_or(u32::MAX));
+    }
+}
+
+fn init_name<T: Growing>() -> String {
+    // ArborMeshOptions -> arbor_mesh_options_init()
+    let mut s = String::from("arbor");
+    for c in T::NAME.trim_start_matches("Arbor").chars() {
+        if c.is_ascii_uppercase() {
+            s.push('_');
+            s.push(c.to_ascii_lowercase());
+        } else {
+            s.push(c);
+        }
+    }
+    s + "_init()"
+}
+
+pub(crate) fn enum_field<T: Copy>(
+    field: &'static str,
+    value: u32,
+    all: &[(T, &str)],
+) -> crate::Result<T> {
+    all.get(value as usize).map(|&(v, _)| v).ok_or_else(|| {
+        let names: Vec<String> = all
+            .iter()
+            .enumerate()
+            .map(|(i, (_, n))| format!("{i} ({n})"))
+            .collect();
+        crate::Error::invalid(field, format!("{value}; expected {}", names.join(", ")))
+    })
+}

@@ -1,0 +1,326 @@
+//! Trees: the 1996 model, copies of branches and leaf sites, variation and pruning.
+
+use super::*;
+
+/// A generated tree (its branch skeleton). Opaque; create with arbor_tree_from_honda(),
+/// arbor_tree_from_lsystem() or arbor_tree_from_branches(), free with arbor_tree_free().
+/// A `const ArborTree *` may be read from several threads at once.
+///
+/// The tree keeps the mesh plans (layout of every branch) of the last few mesh options it
+/// was sized or written with, so arbor_mesh_size() followed by arbor_mesh_write(), or a
+/// re-upload, computes the layout once and allocates nothing in proportion to the tree.
+pub struct ArborTree {
+    pub(crate) skeleton: Skeleton,
+    plans: std::sync::Mutex<Vec<std::sync::Arc<crate::mesh::MeshPlan>>>,
+}
+
+/// Mesh plans a tree keeps (one per distinct set of options, most recent first).
+const KEPT_PLANS: usize = 4;
+
+impl ArborTree {
+    pub(crate) fn new(skeleton: Skeleton) -> Self {
+        ArborTree {
+            skeleton,
+            plans: std::sync::Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The mesh plan for `options`: kept from an earlier call, or made now and kept.
+    pub(crate) fn plan(
+        &self,
+        options: &MeshOptions,
+    ) -> crate::Result<std::sync::Arc<crate::mesh::MeshPlan>> {
+        // A poisoned lock only means another thread panicked while holding it; the list
+        // itself is always valid.
+        let lock = || self.plans.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = lock().iter().find(|p| p.serves(options)) {
+            return Ok(p.clone());
+        }
+        // Made outside the lock, so other threads keep meshing meanwhile.
+        let plan = std::sync::Arc::new(crate::mesh::MeshPlan::new(&self.skeleton, options)?);
+        let mut plans = lock();
+        plans.retain(|p| !p.serves(options));
+        plans.insert(0, plan.clone());
+        plans.truncate(KEPT_PLANS);
+        Ok(plan)
+    }
+}
+
+/// Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
+/// Lengths in model units, widths are diameters, angles in degrees.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborHondaParams {
+    /// s0: trunk length (100 in the paper); finite, > 0.
+    pub trunk_length: f32,
+    /// w0: trunk width, a diameter; finite, > 0.
+    pub trunk_width: f32,
+    /// Length ratio of the first child; finite, > 0.
+    pub r1: f32,
+    /// Length ratio of the second child; finite, > 0.
+    pub r2: f32,
+    /// Branching angle of the first child (turtle `+`), degrees; finite.
+    pub alpha1: f32,
+    /// Branching angle of the second child (turtle `+`), degrees; finite.
+    pub alpha2: f32,
+    /// Divergence angle of the first child (turtle `/`), degrees; finite.
+    pub phi1: f32,
+    /// Divergence angle of the second child (turtle `/`), degrees; finite.
+    pub phi2: f32,
+    /// Width share of the first child, 0 <= q <= 1.
+    pub q: f32,
+    /// Width exponent, finite, >= 0: children widths are w*q^e and w*(1-q)^e.
+    pub e: f32,
+    /// An apex grows only while its length s >= min_length; finite, >= 0.
+    pub min_length: f32,
+    /// Derivation length n (the axiom is step 0), at most 1024.
+    pub steps: u32,
+}
+
+// The two structs share one layout (asserted below), so they convert by a plain cast.
+impl From<ArborHondaParams> for HondaParams {
+    fn from(p: ArborHondaParams) -> Self {
+        bytemuck::cast(p)
+    }
+}
+
+impl From<HondaParams> for ArborHondaParams {
+    fn from(p: HondaParams) -> Self {
+        bytemuck::cast(p)
+    }
+}
+
+/// One internode (one turtle F), 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborBranch {
+    /// Start point (x, y, z), Y up; equal to the parent's `end`.
+    pub start: [f32; 3],
+    /// End point (x, y, z).
+    pub end: [f32; 3],
+    /// Radius at `start` (half the turtle width).
+    pub start_radius: f32,
+    /// Radius at `end`.
+    pub end_radius: f32,
+    /// Index of the branch it grows from (always smaller than its own index);
+    /// ARBOR_NO_PARENT for a root.
+    pub parent: u32,
+    /// The rewriting step that produced it; axiom modules are 0, so the 1996 trunk has 1.
+    pub depth: u32,
+    /// Branching order: 0 on the trunk axis, +1 per lateral branch.
+    pub order: u32,
+    /// Reserved, 0.
+    pub flags: u32,
+}
+
+/// Writes the parameters of the paper's tree `name` ('a'..'i', upper case accepted) to
+/// `*out`. Unknown name: ARBOR_STATUS_INVALID_ARGUMENT; `out` NULL:
+/// ARBOR_STATUS_NULL_ARGUMENT.
+///
+/// # Safety
+/// `out` is NULL or valid for writes of one ArborHondaParams.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut ArborHondaParams) -> ArborStatus {
+    guard(|| {
+        let params = char::from_u32(name)
+            .and_then(HondaParams::preset)
+            .ok_or_else(|| {
+                FfiError::invalid(format!(
+                    "invalid argument `name`: unknown preset {name:#x}; expected 'a'..'i'"
+                ))
+            })?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        *unsafe { out_ref(out, "out") }? = params.into();
+        Ok(())
+    })
+}
+
+/// Grows the 1996 model with `params` and writes a new tree to `*out` (free it with
+/// arbor_tree_free). Every field is validated (ARBOR_STATUS_INVALID_ARGUMENT names the
+/// field); a model that would make more than 16,777,216 branches returns
+/// ARBOR_STATUS_LIMIT_EXCEEDED at once. `*out` is written only on success.
+///
+/// # Safety
+/// `params` is NULL or points to an ArborHondaParams; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_honda(
+    params: *const ArborHondaParams,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `params` is NULL or readable.
+        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let skeleton = honda::build(&params)?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
+}
+
+/// Frees a tree. NULL does nothing. The tree must not be used afterwards.
+///
+/// # Safety
+/// `tree` is NULL or a tree from this library not yet freed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_free(tree: *mut ArborTree) {
+    if tree.is_null() {
+        return;
+    }
+    guard_value((), || {
+        // SAFETY: the caller promises `tree` came from Box::into_raw in this library and is
+        // freed once.
+        drop(unsafe { Box::from_raw(tree) });
+    })
+}
+
+/// Number of branches of `tree`; 0 for NULL.
+///
+/// # Safety
+/// `tree` is NULL or a live tree.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_branch_count(tree: *const ArborTree) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.len())
+    })
+}
+
+/// Copies all branches of `tree` into `out`, parents before children. `capacity` is the
+/// number of ArborBranch elements `out` holds; less than arbor_tree_branch_count() gives
+/// ARBOR_STATUS_BUFFER_TOO_SMALL and writes nothing.
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` branches.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_branches(
+    tree: *const ArborTree,
+    out: *mut ArborBranch,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let src = tree.skeleton.branches();
+        // SAFETY: the caller promises `out` holds `capacity` writable branches.
+        let dst = unsafe { out_slice(out.cast::<Branch>(), capacity, src.len(), "out") }?;
+        for (d, s) in dst.iter_mut().zip(src) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}
+
+/// A place where the turtle met `~` in a grammar (44 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ArborLeafSite {
+    /// Where the turtle stood.
+    pub position: [f32; 3],
+    /// Its heading (unit).
+    pub heading: [f32; 3],
+    /// Its up vector (unit).
+    pub up: [f32; 3],
+    /// The branch the site sits on, or ARBOR_NO_PARENT.
+    pub branch: u32,
+    /// The rewriting step that produced the `~`.
+    pub depth: u32,
+}
+
+/// Number of `~` leaf sites of `tree`; 0 for NULL.
+///
+/// # Safety
+/// `tree` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_leaf_site_count(tree: *const ArborTree) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.leaves().len())
+    })
+}
+
+/// Copies the leaf sites of `tree` into `out` (`capacity` elements, at least
+/// arbor_tree_leaf_site_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL).
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` sites.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
+    tree: *const ArborTree,
+    out: *mut ArborLeafSite,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let src = tree.skeleton.leaves();
+        // SAFETY: the caller promises `out` holds `capacity` writable sites.
+        let dst = unsafe {
+            out_slice(
+                out.cast::<crate::skeleton::LeafSite>(),
+                capacity,
+                src.len(),
+                "out",
+            )
+        }?;
+        for (d, s) in dst.iter_mut().zip(src) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}
+
+/// Grows the 1996 model with seeded variation of every branch's angles (up to +-4 degrees
+/// branching, +-10 divergence), length and width (up to +-6%), so trees from the same
+/// parameters differ; `seed` 0 gives exactly arbor_tree_from_honda(). Same seed, same tree.
+///
+/// # Safety
+/// `params` is NULL or readable; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_honda_varied(
+    params: *const ArborHondaParams,
+    seed: u64,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `params` is NULL or readable.
+        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let variation = honda::Variation {
+            seed,
+            ..Default::default()
+        };
+        let skeleton = honda::build_varied(&params, &variation)?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
+}
+
+/// Makes a new tree from `tree` without its colliding branches: where two branches'
+/// volumes intersect and they do not meet at a joint, the deeper one goes with its
+/// subtree (a parent left with no children gets a closed tip). Writes the new tree to
+/// `*out` and, if `removed` is not NULL, how many branches went.
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or writable; `removed` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_prune_collisions(
+    tree: *const ArborTree,
+    out: *mut *mut ArborTree,
+    removed: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let pruned = crate::skeleton::prune::prune_collisions(&tree.skeleton);
+        if !removed.is_null() {
+            // SAFETY: the caller promises a non-NULL `removed` is writable.
+            *unsafe { out_ref(removed, "removed") }? = pruned.removed;
+        }
+        *out = Box::into_raw(Box::new(ArborTree::new(pruned.skeleton)));
+        Ok(())
+    })
+}
