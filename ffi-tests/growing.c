@@ -27,6 +27,16 @@ typedef struct OldLeafOptions {
   const char *prefab_obj_path;
 } OldLeafOptions;
 
+/* ArborLsystemOptions as its first layout declared it (before variation_seed). */
+typedef struct OldLsystemOptions {
+  uint32_t struct_size;
+  int32_t steps;
+  uint64_t seed, max_modules, max_params, max_branches;
+  uint32_t override_flags;
+  float angle_increment, initial_width, width_increment, turn_jitter;
+} OldLsystemOptions;
+
+_Static_assert(sizeof(OldLsystemOptions) == ARBOR_LSYSTEM_OPTIONS_MIN_SIZE, "first lsystem layout");
 _Static_assert(sizeof(OldMeshOptions) == ARBOR_MESH_OPTIONS_MIN_SIZE, "first mesh layout");
 _Static_assert(sizeof(OldLeafOptions) == ARBOR_LEAF_OPTIONS_MIN_SIZE, "first leaf layout");
 _Static_assert(offsetof(ArborMeshOptions, struct_size) == 0, "struct_size first");
@@ -198,6 +208,37 @@ static void lsystem_options_of_every_size(void) {
   CHECK(arbor_tree_branch_count(t) == 27, "27 branches, got %zu", arbor_tree_branch_count(t));
   arbor_tree_free(t);
   free(o);
+  /* An older host's struct, at its exact size: variation_seed gets its default (0). */
+  {
+    const char *stoch = "Lsystem: 1\nseed: 4\nderivation length: 6\nAxiom: A\n"
+                        "A --> F[+A]A : 0.5\nA --> F[-A] : 0.5\nendlsystem\n";
+    ArborTree *a = NULL, *b = NULL, *c = NULL;
+    OldLsystemOptions *old = malloc(sizeof *old);
+    ArborLsystemOptions varied = arbor_lsystem_options_default();
+    arbor_lsystem_options_init((ArborLsystemOptions *)(void *)old, sizeof *old);
+    CHECK(old->struct_size == sizeof *old && old->steps == -1, "old lsystem init");
+    CHECK_STATUS(arbor_tree_from_lsystem(stoch, strlen(stoch), (const ArborLsystemOptions *)(void *)old, &a),
+                 ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_tree_from_lsystem(stoch, strlen(stoch), NULL, &b), ARBOR_STATUS_OK);
+    varied.variation_seed = 99;
+    CHECK_STATUS(arbor_tree_from_lsystem(stoch, strlen(stoch), &varied, &c), ARBOR_STATUS_OK);
+    {
+      size_t na = arbor_tree_branch_count(a), nb = arbor_tree_branch_count(b), nc = arbor_tree_branch_count(c);
+      ArborBranch *ba = malloc(na * sizeof *ba), *bb = malloc(nb * sizeof *bb), *bc = malloc(nc * sizeof *bc);
+      arbor_tree_copy_branches(a, ba, na);
+      arbor_tree_copy_branches(b, bb, nb);
+      arbor_tree_copy_branches(c, bc, nc);
+      CHECK(na == nb && memcmp(ba, bb, na * sizeof *ba) == 0, "old struct = defaults");
+      CHECK(nc != na || memcmp(ba, bc, na * sizeof *ba) != 0, "variation_seed varies a seeded file");
+      free(ba);
+      free(bb);
+      free(bc);
+    }
+    arbor_tree_free(a);
+    arbor_tree_free(b);
+    arbor_tree_free(c);
+    free(old);
+  }
   {
     size_t big = sizeof(ArborLsystemOptions) + 16;
     unsigned char *p = malloc(big);

@@ -588,6 +588,12 @@ typedef struct ArborLsystemOptions {
    * Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
    */
   float turn_jitter;
+  /**
+   * 0 (default): the grammar's `seed:` (else `seed`) as written. Otherwise mixed into
+   * that seed, so each value grows a distinct plant even from a file that fixes its
+   * `seed:` (a forest of one grammar). (Added after the first layout.)
+   */
+  uint64_t variation_seed;
 } ArborLsystemOptions;
 
 /**
@@ -940,7 +946,7 @@ enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
 /**
  * Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
  * options (for example growing cull_radius, fewer radial_segments), all initialised with
- * the same struct_size (element k is read at byte k × levels[0].struct_size); the counts
+ * the same struct_size (element k is read at byte k × `levels[0].struct_size`); the counts
  * of level k go to `vertex_counts[k]` and `index_counts[k]`.
  *
  * # Safety

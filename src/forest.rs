@@ -9,7 +9,8 @@
 
 use crate::error::Result;
 use crate::lsystem::{LSystem, LsystemOptions};
-use crate::mesh::{self, Mesh, MeshOptions};
+use crate::mesh::Slot;
+use crate::mesh::{self, Mesh, MeshOptions, MeshPlan, MeshSize, RESTART_INDEX, Topology, Vertex};
 use crate::models::honda::{self, HondaParams};
 
 /// What one tree of the forest grows from.
@@ -17,7 +18,10 @@ use crate::models::honda::{self, HondaParams};
 pub enum Source<'a> {
     /// The 1996 model with these parameters.
     Honda(HondaParams),
-    /// A grammar with derivation options (its `seed` is replaced by the item's seed).
+    /// A grammar with derivation options. The item's seed varies the plant: it becomes the
+    /// options' `variation_seed`, mixed into the grammar's own `seed:` (or the options'
+    /// `seed`), so each seed grows a distinct tree even from a file that fixes its seed;
+    /// seed 0 grows the grammar's tree as written.
     Grammar(&'a LSystem, LsystemOptions),
 }
 
@@ -40,7 +44,7 @@ fn grow(item: &Item<'_>) -> Result<crate::skeleton::Skeleton> {
             },
         ),
         Source::Grammar(ls, o) => ls.skeleton(&LsystemOptions {
-            seed: item.seed,
+            variation_seed: item.seed,
             ..o
         }),
     }
@@ -110,27 +114,66 @@ fn check_placed(placed: &[Placed<'_>]) -> Result<()> {
     Ok(())
 }
 
-/// Exact counts of [`merged`]'s mesh, from the trees' skeletons (no meshing).
-pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<crate::mesh::MeshSize> {
-    check_placed(placed)?;
-    let mut vertices = 0usize;
-    let mut indices = 0usize;
-    let mut non_empty = 0usize;
-    for p in placed {
-        let s = mesh::mesh_size(&grow(&p.item)?, options)?;
-        vertices += s.vertices;
-        indices += s.indices;
-        non_empty += usize::from(s.indices > 0);
+/// Index entries a join between two trees' strips takes.
+fn per_join(topology: Topology) -> usize {
+    match topology {
+        Topology::TriangleList => 0,
+        Topology::TriangleStripRestart => 1,
+        Topology::TriangleStripDegenerate => 2,
     }
-    let per_join = match options.topology {
-        crate::mesh::Topology::TriangleList => 0,
-        crate::mesh::Topology::TriangleStripRestart => 1,
-        crate::mesh::Topology::TriangleStripDegenerate => 2,
-    };
-    Ok(crate::mesh::MeshSize {
-        vertices,
-        indices: indices + non_empty.saturating_sub(1) * per_join,
+}
+
+/// The merged mesh's counts from each tree's counts, or `LimitExceeded` when they pass
+/// 32-bit indices or `max_vertices`.
+fn total(sizes: impl Iterator<Item = MeshSize>, options: &MeshOptions) -> Result<MeshSize> {
+    let (mut vertices, mut indices, mut non_empty) = (0u64, 0u64, 0u64);
+    for s in sizes {
+        vertices += s.vertices as u64;
+        indices += s.indices as u64;
+        non_empty += u64::from(s.indices > 0);
+    }
+    indices += non_empty.saturating_sub(1) * per_join(options.topology) as u64;
+    let limit = (options.max_vertices as u64).min(RESTART_INDEX as u64);
+    if vertices > limit || indices > u32::MAX as u64 {
+        let (limit_name, what, limit, requested) = if vertices > limit {
+            let name = if limit == options.max_vertices as u64 {
+                "max_vertices"
+            } else {
+                "u32 index range"
+            };
+            (name, "forest vertices", limit, vertices)
+        } else {
+            (
+                "u32 index range",
+                "forest indices",
+                u32::MAX as u64,
+                indices,
+            )
+        };
+        return Err(crate::Error::LimitExceeded {
+            limit_name,
+            what,
+            limit,
+            requested,
+            step: None,
+        });
+    }
+    Ok(MeshSize {
+        vertices: vertices as usize,
+        indices: indices as usize,
     })
+}
+
+/// Exact counts of [`merged`]'s mesh: every tree is grown and planned, none is meshed.
+/// Fails with `LimitExceeded` when the forest would pass 32-bit indices or
+/// [`MeshOptions::max_vertices`].
+pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<MeshSize> {
+    check_placed(placed)?;
+    let sizes = placed
+        .iter()
+        .map(|p| Ok(MeshPlan::new(&grow(&p.item)?, options)?.size()))
+        .collect::<Result<Vec<_>>>()?;
+    total(sizes.into_iter(), options)
 }
 
 /// Every placed tree in one mesh (one draw call): each tree's vertices are moved by its
@@ -139,72 +182,124 @@ pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
     check_placed(placed)?;
     let items: Vec<Item<'_>> = placed.iter().map(|p| p.item).collect();
     let meshes = build(&items, options)?;
-    let vertices: usize = meshes.iter().map(|m| m.vertices.len()).sum();
-    if vertices > crate::mesh::RESTART_INDEX as usize {
-        return Err(crate::Error::LimitExceeded {
-            limit_name: "u32 index range",
-            what: "forest vertices",
-            limit: crate::mesh::RESTART_INDEX as u64,
-            requested: vertices as u64,
-            step: None,
-        });
-    }
-    let joins = meshes
-        .iter()
-        .filter(|m| !m.indices.is_empty())
-        .count()
-        .saturating_sub(1);
-    let per_join = match options.topology {
-        crate::mesh::Topology::TriangleList => 0,
-        crate::mesh::Topology::TriangleStripRestart => 1,
-        crate::mesh::Topology::TriangleStripDegenerate => 2,
-    };
-    let indices: usize = meshes.iter().map(|m| m.indices.len()).sum::<usize>() + joins * per_join;
-    let mut out = Mesh {
-        vertices: Vec::with_capacity(vertices),
-        indices: Vec::with_capacity(indices),
+    let size = total(
+        meshes.iter().map(|m| MeshSize {
+            vertices: m.vertices.len(),
+            indices: m.indices.len(),
+        }),
+        options,
+    )?;
+    let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
+    let mut indices = vec![0u32; size.indices];
+    place(placed, &meshes, options, &mut vertices, &mut indices);
+    Ok(Mesh {
+        vertices,
+        indices,
         topology: options.topology,
         ranges: Vec::new(),
-    };
-    for (p, m) in placed.iter().zip(&meshes) {
+    })
+}
+
+/// [`merged`] into caller memory: every tree is grown and meshed once, then placed into
+/// the buffers, which must hold [`merged_size`]'s counts, else `BufferTooSmall` and
+/// nothing is written.
+pub fn write_merged(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    vertices: &mut [Vertex],
+    indices: &mut [u32],
+) -> Result<MeshSize> {
+    write_merged_into(placed, options, vertices, indices)
+}
+
+/// [`write_merged`] into uninitialised memory (a mapped GPU buffer).
+pub fn write_merged_uninit(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    vertices: &mut [std::mem::MaybeUninit<Vertex>],
+    indices: &mut [std::mem::MaybeUninit<u32>],
+) -> Result<MeshSize> {
+    write_merged_into(placed, options, vertices, indices)
+}
+
+fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    vertices: &mut [V],
+    indices: &mut [I],
+) -> Result<MeshSize> {
+    check_placed(placed)?;
+    let items: Vec<Item<'_>> = placed.iter().map(|p| p.item).collect();
+    let meshes = build(&items, options)?;
+    let size = total(
+        meshes.iter().map(|m| MeshSize {
+            vertices: m.vertices.len(),
+            indices: m.indices.len(),
+        }),
+        options,
+    )?;
+    size.check_capacity(vertices.len(), indices.len())?;
+    place(
+        placed,
+        &meshes,
+        options,
+        &mut vertices[..size.vertices],
+        &mut indices[..size.indices],
+    );
+    Ok(size)
+}
+
+/// Writes each tree's mesh moved by its placement, indices offset and joined.
+fn place<V: Slot<Vertex>, I: Slot<u32>>(
+    placed: &[Placed<'_>],
+    meshes: &[Mesh],
+    options: &MeshOptions,
+    vertices: &mut [V],
+    indices: &mut [I],
+) {
+    let (mut nv, mut ni) = (0usize, 0usize);
+    let mut last: Option<u32> = None;
+    for (p, m) in placed.iter().zip(meshes) {
         let t = glam::Mat4::from_cols_array(&transform(p, options));
-        let base = out.vertices.len() as u32;
-        out.vertices.extend(m.vertices.iter().map(|v| {
-            crate::mesh::Vertex {
+        let base = nv as u32;
+        for (slot, v) in vertices[nv..nv + m.vertices.len()]
+            .iter_mut()
+            .zip(&m.vertices)
+        {
+            slot.put(Vertex {
                 position: t.transform_point3(glam::Vec3::from(v.position)).to_array(),
                 normal: t
                     .transform_vector3(glam::Vec3::from(v.normal))
                     .normalize_or_zero()
                     .to_array(),
                 uv: v.uv,
-            }
-        }));
-        if m.indices.is_empty() {
+            });
+        }
+        nv += m.vertices.len();
+        let Some(&first) = m.indices.first() else {
             continue;
-        }
-        if !out.indices.is_empty() {
+        };
+        if let Some(prev) = last {
             match options.topology {
-                crate::mesh::Topology::TriangleList => {}
-                crate::mesh::Topology::TriangleStripRestart => {
-                    out.indices.push(crate::mesh::RESTART_INDEX)
+                Topology::TriangleList => {}
+                Topology::TriangleStripRestart => {
+                    indices[ni].put(RESTART_INDEX);
+                    ni += 1;
                 }
-                crate::mesh::Topology::TriangleStripDegenerate => {
-                    let last = *out.indices.last().expect("not empty");
-                    out.indices.push(last);
-                    out.indices.push(base + m.indices[0]);
+                Topology::TriangleStripDegenerate => {
+                    indices[ni].put(prev);
+                    indices[ni + 1].put(base + first);
+                    ni += 2;
                 }
             }
         }
-        out.indices.extend(m.indices.iter().map(|&i| {
-            if i == crate::mesh::RESTART_INDEX {
-                i
-            } else {
-                base + i
-            }
-        }));
+        for (slot, &i) in indices[ni..ni + m.indices.len()].iter_mut().zip(&m.indices) {
+            slot.put(if i == RESTART_INDEX { i } else { base + i });
+        }
+        ni += m.indices.len();
+        last = m.indices.last().map(|&i| base + i);
     }
-    debug_assert_eq!(out.indices.len(), indices);
-    Ok(out)
+    debug_assert_eq!((nv, ni), (vertices.len(), indices.len()));
 }
 
 /// Per placement: the index of its mesh in [`instanced`]'s list and its transform.

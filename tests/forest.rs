@@ -129,3 +129,76 @@ fn merged_and_instanced_forests_agree() {
     bad[1].scale = 0.0;
     assert!(forest::merged(&bad, &o).is_err());
 }
+
+/// A grammar that fixes its own `seed:` (stochastic_4.l does) still grows a distinct tree
+/// for each item seed; seed 0 grows the file's tree as written.
+#[test]
+fn item_seeds_vary_a_grammar_that_sets_its_own_seed() {
+    let path = format!(
+        "{}/examples/grammars/stochastic_4.l",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let ls = LSystem::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert!(ls.seed().is_some(), "the grammar sets its own seed");
+    let options = MeshOptions::default();
+    let items: Vec<Item<'_>> = (0..6u64)
+        .map(|seed| Item {
+            source: Source::Grammar(&ls, LsystemOptions::default()),
+            seed,
+        })
+        .collect();
+    let meshes = forest::build_serial(&items, &options).unwrap();
+    let as_written =
+        arbor::mesh::tubes(&ls.skeleton(&LsystemOptions::default()).unwrap(), &options).unwrap();
+    assert_eq!(meshes[0], as_written, "seed 0: the file's own tree");
+    for a in 0..meshes.len() {
+        for b in a + 1..meshes.len() {
+            assert_ne!(
+                meshes[a].vertices, meshes[b].vertices,
+                "items {a} and {b} grew alike"
+            );
+        }
+    }
+}
+
+/// The merged forest written into caller buffers equals the owned merged mesh, and a
+/// forest past `max_vertices` is refused by name before anything is written.
+#[test]
+fn merged_forest_into_buffers_and_its_limit() {
+    let placed: Vec<forest::Placed<'_>> = (0..4)
+        .map(|k| forest::Placed {
+            item: Item {
+                source: Source::Honda(HondaParams::preset('b').unwrap()),
+                seed: k,
+            },
+            position: [k as f32 * 50.0, 0.0, 0.0],
+            rotation: 30.0 * k as f32,
+            scale: 1.0,
+        })
+        .collect();
+    for topology in arbor::Topology::ALL {
+        let options = MeshOptions {
+            topology,
+            ..Default::default()
+        };
+        let owned = forest::merged(&placed, &options).unwrap();
+        let size = forest::merged_size(&placed, &options).unwrap();
+        assert_eq!(
+            (size.vertices, size.indices),
+            (owned.vertices.len(), owned.indices.len())
+        );
+        let mut v = vec![arbor::Vertex::default(); size.vertices];
+        let mut i = vec![7u32; size.indices];
+        forest::write_merged(&placed, &options, &mut v, &mut i).unwrap();
+        assert_eq!(v, owned.vertices, "{topology:?}");
+        assert_eq!(i, owned.indices, "{topology:?}");
+        let limited = MeshOptions {
+            max_vertices: size.vertices - 1,
+            ..options
+        };
+        let err = forest::merged_size(&placed, &limited).unwrap_err();
+        assert!(err.to_string().contains("max_vertices"), "{err}");
+        let err = forest::write_merged(&placed, &limited, &mut v, &mut i).unwrap_err();
+        assert!(err.to_string().contains("max_vertices"), "{err}");
+    }
+}

@@ -332,10 +332,15 @@ fn seam(m: &Mesh, first_vertex: u32, center: Vec3) -> Vec3 {
     (pos(&m.vertices[first_vertex as usize]) - center).normalize()
 }
 
+/// Without the turtle's frames (a host's own skeleton), ring frames are carried by
+/// parallel transport: a seam turns no more than its branch bends.
 #[test]
 fn seams_do_not_twist_along_an_axis() {
     for name in PRESET_NAMES {
-        let s = tree(name);
+        let mut parts = tree(name).into_parts();
+        parts.ups.clear();
+        let s = parts.build().unwrap();
+        assert!(!s.has_frames());
         let segments = 8u32;
         let o = MeshOptions {
             joints: Joints::Separate,
@@ -361,6 +366,37 @@ fn seams_do_not_twist_along_an_axis() {
             assert!(
                 twist <= bend + 1e-3,
                 "tree {name} branch {i}: seam turns {twist} for a bend of {bend}"
+            );
+        }
+    }
+}
+
+/// With the turtle's frames, every ring a branch starts on its own begins its seam at the
+/// turtle's up vector (so `/` and `\` reach the bark); a continuing branch that shares its
+/// parent's mitred ring carries that ring's frame instead.
+#[test]
+fn seams_follow_the_turtle_up_vector() {
+    for name in PRESET_NAMES {
+        let s = tree(name);
+        assert!(s.has_frames());
+        let o = MeshOptions {
+            joints: Joints::Separate,
+            ..Default::default()
+        };
+        let m = mesh::tubes(&s, &o).unwrap();
+        for (i, b) in s.branches().iter().enumerate() {
+            let dir = (b.end() - b.start()).normalize();
+            let sink = if b.parent == NO_PARENT {
+                0.0
+            } else {
+                s.branches()[b.parent as usize].end_radius
+            };
+            let up = s.up(i).unwrap();
+            let want = (up - dir * up.dot(dir)).normalize();
+            let got = seam(&m, m.ranges[i].first_vertex, b.start() - dir * sink);
+            assert!(
+                got.angle_between(want) < 1e-3,
+                "tree {name} branch {i}: seam {got} vs turtle up {want}"
             );
         }
     }

@@ -84,6 +84,7 @@ namespace Arbor
         public ulong Seed, MaxModules, MaxParams, MaxBranches;
         public uint OverrideFlags;
         public float AngleIncrement, InitialWidth, WidthIncrement, TurnJitter;
+        public ulong VariationSeed;
 
         public static LsystemOptions Default()
         {

@@ -121,25 +121,19 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         let placed = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
         let options = unsafe { read_mesh_options(options) }?;
-        let size = crate::forest::merged_size(&placed, &options)?;
         // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
         let v = unsafe {
             out_slice(
                 vertices.cast::<Vertex>(),
                 vertex_capacity,
-                size.vertices,
+                vertex_capacity,
                 "vertices",
             )
         }?;
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
-        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
-        let mesh = crate::forest::merged(&placed, &options)?;
-        for (d, s) in v.iter_mut().zip(&mesh.vertices) {
-            d.write(*s);
-        }
-        for (d, s) in i.iter_mut().zip(&mesh.indices) {
-            d.write(*s);
-        }
+        let i = unsafe { out_slice(indices, index_capacity, index_capacity, "indices") }?;
+        // Grows and meshes every tree once; checks the capacities before writing.
+        crate::forest::write_merged_uninit(&placed, &options, v, i)?;
         Ok(())
     })
 }

@@ -42,6 +42,10 @@ pub struct ArborLsystemOptions {
     pub width_increment: f32,
     /// Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
     pub turn_jitter: f32,
+    /// 0 (default): the grammar's `seed:` (else `seed`) as written. Otherwise mixed into
+    /// that seed, so each value grows a distinct plant even from a file that fixes its
+    /// `seed:` (a forest of one grammar). (Added after the first layout.)
+    pub variation_seed: u64,
 }
 
 impl ArborLsystemOptions {
@@ -70,6 +74,7 @@ impl ArborLsystemOptions {
             initial_width: flag(ARBOR_OVERRIDE_INITIAL_WIDTH, self.initial_width),
             width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
             turn_jitter: self.turn_jitter as f64,
+            variation_seed: self.variation_seed,
         })
     }
 }
@@ -77,6 +82,10 @@ impl ArborLsystemOptions {
 /// sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
 /// smallest `struct_size` accepted.
 pub const ARBOR_LSYSTEM_OPTIONS_MIN_SIZE: usize = 64;
+
+const _: () = assert!(
+    std::mem::offset_of!(ArborLsystemOptions, variation_seed) == ARBOR_LSYSTEM_OPTIONS_MIN_SIZE
+);
 
 impl Growing for ArborLsystemOptions {
     const NAME: &'static str = "ArborLsystemOptions";
@@ -96,6 +105,7 @@ impl Growing for ArborLsystemOptions {
             initial_width: view.initial_width as f32,
             width_increment: view.width_increment as f32,
             turn_jitter: d.turn_jitter as f32,
+            variation_seed: d.variation_seed,
         }
     }
 }

@@ -34,7 +34,7 @@ impl Default for Frame {
 /// stay exact to the reduction.
 #[inline]
 pub fn cos_sin_deg(degrees: f64) -> (f64, f64) {
-    let (s, c) = (degrees % 360.0).to_radians().sin_cos();
+    let (s, c) = libm::sincos((degrees % 360.0).to_radians());
     (c, s)
 }
 

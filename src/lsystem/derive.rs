@@ -24,7 +24,7 @@ impl<'a> Ctx<'a> {
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
         Ctx {
             ls,
-            rng: Rng::new(ls.seed.unwrap_or(options.seed)),
+            rng: Rng::new(ls.effective_seed(options)),
             max_modules: options.max_modules,
             max_params: options.max_params.min(u32::MAX as usize),
             step: 0,

@@ -76,14 +76,14 @@ fn b(v: bool) -> f64 {
 impl Func1 {
     fn apply(self, x: f64) -> f64 {
         match self {
-            Func1::Sin => x.to_radians().sin(),
-            Func1::Cos => x.to_radians().cos(),
-            Func1::Tan => x.to_radians().tan(),
-            Func1::Asin => x.asin().to_degrees(),
-            Func1::Acos => x.acos().to_degrees(),
-            Func1::Atan => x.atan().to_degrees(),
-            Func1::Exp => x.exp(),
-            Func1::Log => x.ln(),
+            Func1::Sin => libm::sin(x.to_radians()),
+            Func1::Cos => libm::cos(x.to_radians()),
+            Func1::Tan => libm::tan(x.to_radians()),
+            Func1::Asin => libm::asin(x).to_degrees(),
+            Func1::Acos => libm::acos(x).to_degrees(),
+            Func1::Atan => libm::atan(x).to_degrees(),
+            Func1::Exp => libm::exp(x),
+            Func1::Log => libm::log(x),
             Func1::Sqrt => x.sqrt(),
             Func1::Fabs => x.abs(),
             Func1::Floor => x.floor(),
@@ -105,10 +105,10 @@ impl Func1 {
 impl Func2 {
     fn apply(self, x: f64, y: f64) -> f64 {
         match self {
-            Func2::Atan2 => x.atan2(y).to_degrees(),
+            Func2::Atan2 => libm::atan2(x, y).to_degrees(),
             Func2::Min => x.min(y),
             Func2::Max => x.max(y),
-            Func2::Pow => x.powf(y),
+            Func2::Pow => libm::pow(x, y),
         }
     }
 }
@@ -141,7 +141,7 @@ fn binary(op: Op, x: f64, y: f64) -> f64 {
         Op::Mul => x * y,
         Op::Div => x / y,
         Op::Rem => x % y,
-        Op::Pow => x.powf(y),
+        Op::Pow => libm::pow(x, y),
         Op::Lt => b(x < y),
         Op::Le => b(x <= y),
         Op::Gt => b(x > y),

@@ -6,7 +6,9 @@ use crate::geom::{Frame, cos_sin_deg};
 use crate::lsystem::derive::{Ctx, Expander};
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
-use crate::skeleton::{Branch, LeafSite, NO_PARENT, Polygon, Skeleton, assign_axis_orders};
+use crate::skeleton::{
+    Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts, assign_axis_orders,
+};
 use glam::DVec3;
 
 /// What a symbol means to the turtle.
@@ -88,6 +90,8 @@ struct Turtle {
     polygons: Vec<(Vec<[f32; 3]>, u32, u32)>,
     branches: Vec<Branch>,
     cos_to_parent: Vec<f64>,
+    /// The turtle's up vector when each branch was drawn.
+    ups: Vec<[f32; 3]>,
     leaves: Vec<LeafSite>,
     closed: Vec<Polygon>,
     points: Vec<[f32; 3]>,
@@ -178,6 +182,7 @@ impl Turtle {
                         flags: 0,
                     });
                     let heading = self.state.frame.heading;
+                    self.ups.push(self.state.frame.up.as_vec3().to_array());
                     self.cos_to_parent
                         .push(heading.dot(self.state.parent_heading));
                     self.state.parent = (self.branches.len() - 1) as u32;
@@ -305,7 +310,7 @@ pub(crate) fn interpret(
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
         jitter: options.turn_jitter,
         // A stream of its own, so jitter does not change what derivation draws.
-        rng: crate::rng::Rng::new(ls.seed.unwrap_or(options.seed) ^ 0x005E_ED7A_110F_7EE5),
+        rng: crate::rng::Rng::new(ls.effective_seed(options) ^ 0x005E_ED7A_110F_7EE5),
         state: State {
             frame: Frame::default(),
             width: initial_width,
@@ -317,6 +322,7 @@ pub(crate) fn interpret(
         polygons: Vec::new(),
         branches: Vec::new(),
         cos_to_parent: Vec::new(),
+        ups: Vec::new(),
         leaves: Vec::new(),
         closed: Vec::new(),
         points: Vec::new(),
@@ -368,9 +374,14 @@ pub(crate) fn interpret(
     }
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);
     // Every point was checked to be finite and within the f32 range as it was made.
-    Ok(Skeleton::from_trusted(
-        t.branches, t.leaves, t.closed, t.points,
-    ))
+    Ok(Skeleton::from_trusted(SkeletonParts {
+        branches: t.branches,
+        leaves: t.leaves,
+        polygons: t.closed,
+        polygon_points: t.points,
+        ups: t.ups,
+        curves: Vec::new(),
+    }))
 }
 
 #[cfg(test)]

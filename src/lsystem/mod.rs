@@ -61,6 +61,11 @@ pub struct LsystemOptions {
     /// the way hand-made stochastic tree grammars vary their plants (seeded by the
     /// grammar's `seed:` or `seed`). Default 0.
     pub turn_jitter: f64,
+    /// 0 (default): the plant's seed is the grammar's `seed:` (else `seed`), as written.
+    /// Otherwise this value is mixed into that seed, so every value grows a distinct plant
+    /// even from a grammar that fixes its own `seed:` (what a forest of one stochastic
+    /// grammar needs): see [`LSystem::effective_seed`].
+    pub variation_seed: u64,
 }
 
 impl Default for LsystemOptions {
@@ -75,6 +80,7 @@ impl Default for LsystemOptions {
             initial_width: None,
             width_increment: None,
             turn_jitter: 0.0,
+            variation_seed: 0,
         }
     }
 }
@@ -149,6 +155,16 @@ impl LSystem {
     /// The grammar's `derivation length:` (0 when it has none).
     pub fn derivation_length(&self) -> u32 {
         self.derivation_length
+    }
+
+    /// The seed a derivation with `options` uses: the grammar's `seed:` (else
+    /// `options.seed`), with `options.variation_seed` mixed in when it is not 0.
+    pub fn effective_seed(&self, options: &LsystemOptions) -> u64 {
+        let base = self.seed.unwrap_or(options.seed);
+        match options.variation_seed {
+            0 => base,
+            v => crate::rng::Rng::new(base ^ v.rotate_left(32)).next_u64(),
+        }
     }
 
     /// The grammar's `seed:`, if it has one.

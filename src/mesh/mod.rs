@@ -33,6 +33,7 @@ pub use leaves::{
 };
 pub use lod::{LodLevel, mesh_lods};
 pub use plan::{BranchRange, MeshPlan};
+pub(crate) use strips::Slot;
 pub use topology::Triangles;
 pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};
 

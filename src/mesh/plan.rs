@@ -333,7 +333,17 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         }
         let d = plan.dir[i];
         let root = b.parent == NO_PARENT;
-        l.frame_p[i] = if root {
+        // A ring of its own starts its seam at the turtle's up vector where the generator
+        // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
+        // carries the parent's frame along, so an axis's tube never twists at a joint.
+        let own_ring = plan.flags[i] & SHARES_START == 0;
+        let turtle = skeleton
+            .up(i)
+            .filter(|_| own_ring)
+            .and_then(|u| (u - d * u.dot(d)).try_normalize());
+        l.frame_p[i] = if let Some(p) = turtle {
+            p
+        } else if root {
             ring_basis(d.as_dvec3()).0.as_vec3()
         } else {
             let parent = b.parent as usize;

@@ -10,7 +10,7 @@ pub(crate) fn circle(segments: usize) -> Vec<(f32, f32, f32)> {
     let step = std::f64::consts::TAU / segments as f64;
     (0..=segments)
         .map(|j| {
-            let (s, c) = ((j % segments) as f64 * step).sin_cos();
+            let (s, c) = libm::sincos((j % segments) as f64 * step);
             (c as f32, s as f32, j as f32 / segments as f32)
         })
         .collect()

@@ -18,7 +18,7 @@
 
 use crate::error::{Error, Result};
 use crate::geom::{Frame, cos_sin_deg};
-use crate::skeleton::{Branch, NO_PARENT, Skeleton, assign_axis_orders};
+use crate::skeleton::{Branch, NO_PARENT, Skeleton, SkeletonParts, assign_axis_orders};
 
 pub use crate::limits::DEFAULT_MAX_BRANCHES;
 
@@ -308,18 +308,19 @@ fn grow(
             cos_sin_deg(p.alpha1 as f64),
             cos_sin_deg(p.phi1 as f64),
             p.r1 as f64,
-            q.powf(e),
+            libm::pow(q, e),
         ),
         (
             cos_sin_deg(p.alpha2 as f64),
             cos_sin_deg(p.phi2 as f64),
             p.r2 as f64,
-            (1.0 - q).powf(e),
+            libm::pow(1.0 - q, e),
         ),
     ];
 
     let mut branches: Vec<Branch> = Vec::with_capacity(count as usize);
     let mut cos_to_parent: Vec<f64> = Vec::with_capacity(count as usize);
+    let mut ups: Vec<[f32; 3]> = Vec::with_capacity(count as usize);
     let mut stack = Vec::with_capacity(p.steps as usize + 1);
     stack.push(Apex {
         frame: Frame::default(),
@@ -359,6 +360,7 @@ fn grow(
             flags: 0,
         });
         cos_to_parent.push(frame.heading.dot(apex.parent_heading));
+        ups.push(frame.up.as_vec3().to_array());
         if apex.step == p.steps {
             continue;
         }
@@ -392,7 +394,13 @@ fn grow(
     }
 
     assign_axis_orders(&mut branches, &cos_to_parent);
-    let skeleton = Skeleton::new(branches).map_err(|_| {
+    let skeleton = SkeletonParts {
+        branches,
+        ups,
+        ..Default::default()
+    }
+    .build()
+    .map_err(|_| {
         Error::invalid(
             "trunk_length",
             "the tree's coordinates overflow f32; reduce trunk_length, r1 or r2",

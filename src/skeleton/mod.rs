@@ -1,8 +1,12 @@
 //! The branch skeleton: the meeting point of every generator and the input of every mesher.
 
+mod adjacency;
 pub mod prune;
 
+pub use adjacency::Adjacency;
+
 use crate::error::{Error, Result};
+use crate::geom::Curve;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -95,26 +99,73 @@ pub struct Polygon {
 }
 
 /// A tree as a flat array of branches, parents before children, with the leaf sites and
-/// polygons the turtle recorded.
+/// polygons the turtle recorded, the turtle's frame per branch where the generator had
+/// one, one cubic Bézier curve per branch, and the children and axes of every branch
+/// (built once, on first use, and shared by every stage that needs them).
 ///
-/// Invariants (checked by [`Skeleton::new`], kept by every generator): every coordinate and
-/// radius is finite, radii are non-negative, and `parent` is [`NO_PARENT`] or the index of an
-/// earlier branch.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// Invariants (checked by [`SkeletonParts::build`], kept by every generator): every
+/// coordinate and radius is finite, radii are non-negative, `parent` is [`NO_PARENT`] or
+/// the index of an earlier branch, every organ's branch is in range, and every polygon has
+/// at least three points inside `polygon_points`.
+#[derive(Clone, Debug, Default)]
 pub struct Skeleton {
     branches: Vec<Branch>,
     leaves: Vec<LeafSite>,
     polygons: Vec<Polygon>,
     polygon_points: Vec<[f32; 3]>,
+    /// The turtle's up vector when each branch was drawn; empty when the generator had no
+    /// frame (a host's own skeleton).
+    ups: Vec<[f32; 3]>,
+    /// The inner control points (p1, p2) of each branch's curve; empty while every branch
+    /// is straight.
+    curves: Vec<[[f32; 3]; 2]>,
+    adjacency: std::sync::OnceLock<Adjacency>,
 }
 
-impl Skeleton {
-    /// A skeleton from branches a host built itself; fails with
-    /// [`Error::InvalidArgument`] naming the first branch that breaks an invariant.
-    pub fn new(branches: Vec<Branch>) -> Result<Self> {
-        for (i, b) in branches.iter().enumerate() {
-            let finite = b.start.iter().chain(&b.end).all(|v| v.is_finite());
-            if !finite {
+impl PartialEq for Skeleton {
+    /// Equal content; whether the adjacency has been built yet does not matter.
+    fn eq(&self, other: &Self) -> bool {
+        self.branches == other.branches
+            && self.leaves == other.leaves
+            && self.polygons == other.polygons
+            && self.polygon_points == other.polygon_points
+            && self.ups == other.ups
+            && self.curves == other.curves
+    }
+}
+
+/// Everything a skeleton is made of, for hosts and generators that bring their own:
+/// [`build`](SkeletonParts::build) checks every invariant and names the first element that
+/// breaks one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SkeletonParts {
+    /// The branches, parents before children.
+    pub branches: Vec<Branch>,
+    /// Leaf sites; each `branch` is [`NO_PARENT`] or a branch index.
+    pub leaves: Vec<LeafSite>,
+    /// Polygons; each at least 3 points of `polygon_points`.
+    pub polygons: Vec<Polygon>,
+    /// The points of all polygons.
+    pub polygon_points: Vec<[f32; 3]>,
+    /// Empty, or one up vector per branch (the turtle's U when the branch was drawn):
+    /// the mesher starts its rings' seams there.
+    pub ups: Vec<[f32; 3]>,
+    /// Empty (every branch straight), or the inner control points (p1, p2) of each
+    /// branch's cubic Bézier curve from `start` to `end`.
+    pub curves: Vec<[[f32; 3]; 2]>,
+}
+
+fn finite3(p: &[f32; 3]) -> bool {
+    p.iter().all(|v| v.is_finite())
+}
+
+impl SkeletonParts {
+    /// The skeleton, or [`Error::InvalidArgument`] naming the first element that breaks an
+    /// invariant.
+    pub fn build(self) -> Result<Skeleton> {
+        let n = self.branches.len();
+        for (i, b) in self.branches.iter().enumerate() {
+            if !(finite3(&b.start) && finite3(&b.end)) {
                 return Err(Error::invalid(
                     "branches",
                     format!("branch {i} has a non-finite start or end"),
@@ -141,75 +192,177 @@ impl Skeleton {
                 ));
             }
         }
-        Ok(Skeleton {
-            branches,
-            ..Default::default()
-        })
+        let in_range = |branch: u32| branch == NO_PARENT || (branch as usize) < n;
+        for (i, l) in self.leaves.iter().enumerate() {
+            if !(finite3(&l.position) && finite3(&l.heading) && finite3(&l.up)) {
+                return Err(Error::invalid(
+                    "leaves",
+                    format!("leaf site {i} has a non-finite position or direction"),
+                ));
+            }
+            if !in_range(l.branch) {
+                return Err(Error::invalid(
+                    "leaves",
+                    format!(
+                        "leaf site {i} is on branch {}; expected one of the {n} branches or NO_PARENT",
+                        l.branch
+                    ),
+                ));
+            }
+        }
+        if let Some(i) = self.polygon_points.iter().position(|p| !finite3(p)) {
+            return Err(Error::invalid(
+                "polygon_points",
+                format!("point {i} is not finite"),
+            ));
+        }
+        for (i, p) in self.polygons.iter().enumerate() {
+            if p.count < 3 {
+                return Err(Error::invalid(
+                    "polygons",
+                    format!("polygon {i} has {} points; expected at least 3", p.count),
+                ));
+            }
+            if p.first as u64 + p.count as u64 > self.polygon_points.len() as u64 {
+                return Err(Error::invalid(
+                    "polygons",
+                    format!(
+                        "polygon {i} reaches past the {} points",
+                        self.polygon_points.len()
+                    ),
+                ));
+            }
+            if !in_range(p.branch) {
+                return Err(Error::invalid(
+                    "polygons",
+                    format!(
+                        "polygon {i} is on branch {}; expected one of the {n} branches or NO_PARENT",
+                        p.branch
+                    ),
+                ));
+            }
+        }
+        for (field, len) in [("ups", self.ups.len()), ("curves", self.curves.len())] {
+            if len != 0 && len != n {
+                return Err(Error::invalid(
+                    field,
+                    format!("{len} entries; expected none or one per branch ({n})"),
+                ));
+            }
+        }
+        if let Some(i) = self.ups.iter().position(|u| !finite3(u)) {
+            return Err(Error::invalid(
+                "ups",
+                format!("up vector {i} is not finite"),
+            ));
+        }
+        if let Some(i) = self
+            .curves
+            .iter()
+            .position(|c| !(finite3(&c[0]) && finite3(&c[1])))
+        {
+            return Err(Error::invalid(
+                "curves",
+                format!("curve {i} has a non-finite control point"),
+            ));
+        }
+        Ok(self.build_trusted())
     }
 
-    /// A skeleton with leaf sites and polygons; checked like [`Skeleton::new`], and every
-    /// point must be finite and every polygon's range inside `polygon_points`.
+    fn build_trusted(self) -> Skeleton {
+        Skeleton {
+            branches: self.branches,
+            leaves: self.leaves,
+            polygons: self.polygons,
+            polygon_points: self.polygon_points,
+            ups: self.ups,
+            curves: self.curves,
+            adjacency: std::sync::OnceLock::new(),
+        }
+    }
+}
+
+impl Skeleton {
+    /// A skeleton from branches a host built itself; fails with
+    /// [`Error::InvalidArgument`] naming the first branch that breaks an invariant.
+    pub fn new(branches: Vec<Branch>) -> Result<Self> {
+        SkeletonParts {
+            branches,
+            ..Default::default()
+        }
+        .build()
+    }
+
+    /// A skeleton with leaf sites and polygons; checked like [`SkeletonParts::build`].
     pub fn with_organs(
         branches: Vec<Branch>,
         leaves: Vec<LeafSite>,
         polygons: Vec<Polygon>,
         polygon_points: Vec<[f32; 3]>,
     ) -> Result<Self> {
-        let mut s = Skeleton::new(branches)?;
-        let finite = |p: &[f32; 3]| p.iter().all(|v| v.is_finite());
-        if let Some(i) = leaves
-            .iter()
-            .position(|l| !(finite(&l.position) && finite(&l.heading) && finite(&l.up)))
-        {
-            return Err(Error::invalid(
-                "leaves",
-                format!("leaf site {i} has a non-finite position or direction"),
-            ));
-        }
-        if let Some(i) = polygon_points.iter().position(|p| !finite(p)) {
-            return Err(Error::invalid(
-                "polygon_points",
-                format!("point {i} is not finite"),
-            ));
-        }
-        if let Some(i) = polygons
-            .iter()
-            .position(|p| p.first as usize + p.count as usize > polygon_points.len())
-        {
-            return Err(Error::invalid(
-                "polygons",
-                format!("polygon {i} reaches past the points"),
-            ));
-        }
-        s.leaves = leaves;
-        s.polygons = polygons;
-        s.polygon_points = polygon_points;
-        Ok(s)
-    }
-
-    /// For generators that keep the invariants by construction (checked in debug builds).
-    pub(crate) fn from_trusted(
-        branches: Vec<Branch>,
-        leaves: Vec<LeafSite>,
-        polygons: Vec<Polygon>,
-        polygon_points: Vec<[f32; 3]>,
-    ) -> Self {
-        let s = Skeleton {
+        SkeletonParts {
             branches,
             leaves,
             polygons,
             polygon_points,
-        };
-        debug_assert!(
-            Skeleton::with_organs(
-                s.branches.clone(),
-                s.leaves.clone(),
-                s.polygons.clone(),
-                s.polygon_points.clone()
-            )
-            .is_ok()
-        );
-        s
+            ..Default::default()
+        }
+        .build()
+    }
+
+    /// For generators that keep the invariants by construction (checked in debug builds).
+    pub(crate) fn from_trusted(parts: SkeletonParts) -> Self {
+        debug_assert!(parts.clone().build().is_ok());
+        parts.build_trusted()
+    }
+
+    /// Everything the skeleton is made of, to change and build again.
+    pub fn into_parts(self) -> SkeletonParts {
+        SkeletonParts {
+            branches: self.branches,
+            leaves: self.leaves,
+            polygons: self.polygons,
+            polygon_points: self.polygon_points,
+            ups: self.ups,
+            curves: self.curves,
+        }
+    }
+
+    /// The turtle's up vector when branch `i` was drawn, if the generator had a turtle.
+    #[inline]
+    pub fn up(&self, i: usize) -> Option<Vec3> {
+        self.ups.get(i).map(|&u| Vec3::from(u))
+    }
+
+    /// Whether any branch has a curve of its own (else all are straight).
+    pub fn has_curves(&self) -> bool {
+        !self.curves.is_empty()
+    }
+
+    /// Whether the skeleton carries the turtle's frame per branch.
+    pub fn has_frames(&self) -> bool {
+        !self.ups.is_empty()
+    }
+
+    /// Branch `i`'s curve: a cubic Bézier from its start to its end (straight, control
+    /// points at the thirds, unless a generator or an edit bent it).
+    pub fn curve(&self, i: usize) -> Curve {
+        let b = &self.branches[i];
+        match self.curves.get(i) {
+            Some([p1, p2]) => Curve {
+                p0: b.start(),
+                p1: Vec3::from(*p1),
+                p2: Vec3::from(*p2),
+                p3: b.end(),
+            },
+            None => Curve::straight(b.start(), b.end()),
+        }
+    }
+
+    /// Children and axes of every branch, built on first use and kept.
+    pub fn adjacency(&self) -> &Adjacency {
+        self.adjacency
+            .get_or_init(|| Adjacency::new(&self.branches))
     }
 
     /// Leaf sites recorded by `~`.

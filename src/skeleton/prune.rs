@@ -1,12 +1,12 @@
 //! Pruning branches that run into each other: where two branches' volumes (capsules from
 //! start, end and radius) intersect and the two do not meet at a joint, the one farther
-//! from the root (greater depth; the later one on a tie) is removed with its whole
+//! from the root (more branches between it and its root; the later one on a tie) is removed with its whole
 //! subtree, and a parent left with no children gets a closed tip (end radius 0). A uniform
 //! grid keeps the pass near linear.
 
-use crate::skeleton::{Branch, NO_PARENT, Skeleton};
+use crate::geom::grid::Grid;
+use crate::skeleton::{Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts};
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// What [`prune_collisions`] did.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,7 +68,13 @@ fn adjacent(a: &Branch, b: &Branch) -> bool {
     close(a.start, b.start) || close(a.start, b.end) || close(a.end, b.start) || close(a.end, b.end)
 }
 
-/// Removes colliding branches (see the module documentation).
+/// Most grid cells one branch is put in; a longer branch is checked against as one large
+/// item, so one long branch cannot fill (length / cell)³ cells.
+const MAX_CELLS_PER_BRANCH: u64 = 64;
+
+/// Removes colliding branches (see the module documentation). Leaf sites and polygons of
+/// kept branches are kept (renumbered, in order), those of removed branches go with them;
+/// so do the turtle's frames and the curves of kept branches.
 pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
     let b = skeleton.branches();
     let n = b.len();
@@ -78,6 +84,7 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             removed: 0,
         };
     }
+    let adjacency = skeleton.adjacency();
     // Cell size: the mean capsule extent, so most capsules touch a few cells.
     let extent: f64 = b
         .iter()
@@ -87,11 +94,11 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
         })
         .sum::<f64>()
         / n as f64;
-    let cell = extent.max(1e-9);
-    let key = |v: DVec3| (v / cell).floor().as_i64vec3().to_array();
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut grid = Grid::new(extent, MAX_CELLS_PER_BRANCH);
+    // Nearer the root first (fewer branches between it and its root; the earlier on a
+    // tie), so the branch farther from the root is the one removed.
     let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by_key(|&i| (b[i as usize].birth, i));
+    order.sort_by_key(|&i| (adjacency.depth(i as usize), i));
     let mut removed = vec![false; n];
     let mut candidates: Vec<u32> = Vec::new();
     for &i in &order {
@@ -101,20 +108,8 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             continue;
         }
         let (p, q, r) = ends(x);
-        let lo = key(p.min(q) - DVec3::splat(r));
-        let hi = key(p.max(q) + DVec3::splat(r));
-        candidates.clear();
-        for cx in lo[0]..=hi[0] {
-            for cy in lo[1]..=hi[1] {
-                for cz in lo[2]..=hi[2] {
-                    if let Some(v) = grid.get(&[cx, cy, cz]) {
-                        candidates.extend_from_slice(v);
-                    }
-                }
-            }
-        }
-        candidates.sort_unstable();
-        candidates.dedup();
+        let (lo, hi) = (p.min(q) - DVec3::splat(r), p.max(q) + DVec3::splat(r));
+        grid.query(lo, hi, &mut candidates);
         let hit = candidates.iter().any(|&j| {
             let y = &b[j as usize];
             if j == x.parent || adjacent(x, y) {
@@ -127,43 +122,65 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             removed[i as usize] = true;
             continue;
         }
-        for cx in lo[0]..=hi[0] {
-            for cy in lo[1]..=hi[1] {
-                for cz in lo[2]..=hi[2] {
-                    grid.entry([cx, cy, cz]).or_default().push(i);
-                }
-            }
+        grid.insert(i, lo, hi);
+    }
+    // A removed branch takes its whole subtree (parents come before children).
+    for i in 0..n {
+        let p = b[i].parent;
+        if p != NO_PARENT && removed[p as usize] {
+            removed[i] = true;
         }
     }
     // Renumber the kept branches, close tips that lost every child.
     let mut new_index = vec![NO_PARENT; n];
-    let mut kept: Vec<Branch> = Vec::with_capacity(n);
-    let (mut had_child, mut has_child) = (vec![false; n], vec![false; n]);
-    for (i, x) in b.iter().enumerate() {
-        if x.parent != NO_PARENT {
-            had_child[x.parent as usize] = true;
-            if !removed[i] {
-                has_child[x.parent as usize] = true;
-            }
-        }
-    }
+    let mut parts = SkeletonParts::default();
+    let has_kept_child = |i: usize| adjacency.children(i).iter().any(|&c| !removed[c as usize]);
     for (i, x) in b.iter().enumerate() {
         if removed[i] {
             continue;
         }
-        new_index[i] = kept.len() as u32;
+        new_index[i] = parts.branches.len() as u32;
         let mut y = *x;
         if y.parent != NO_PARENT {
             y.parent = new_index[y.parent as usize];
         }
-        if had_child[i] && !has_child[i] {
+        if !adjacency.is_tip(i) && !has_kept_child(i) {
             y.end_radius = 0.0;
         }
-        kept.push(y);
+        parts.branches.push(y);
+        if let Some(u) = skeleton.up(i) {
+            parts.ups.push(u.to_array());
+        }
+        if skeleton.has_curves() {
+            let c = skeleton.curve(i);
+            parts.curves.push([c.p1.to_array(), c.p2.to_array()]);
+        }
     }
-    let count = n - kept.len();
+    // Organs on kept branches (or on none) stay.
+    let renumber = |branch: u32| match branch {
+        NO_PARENT => Some(NO_PARENT),
+        k => Some(new_index[k as usize]).filter(|&j| j != NO_PARENT),
+    };
+    for l in skeleton.leaves() {
+        if let Some(branch) = renumber(l.branch) {
+            parts.leaves.push(LeafSite { branch, ..*l });
+        }
+    }
+    for poly in skeleton.polygons() {
+        if let Some(branch) = renumber(poly.branch) {
+            parts.polygons.push(Polygon {
+                first: parts.polygon_points.len() as u32,
+                branch,
+                ..*poly
+            });
+            parts
+                .polygon_points
+                .extend_from_slice(skeleton.polygon(poly));
+        }
+    }
+    let count = n - parts.branches.len();
     Pruned {
-        skeleton: Skeleton::new(kept).expect("pruning keeps parents before children"),
+        skeleton: Skeleton::from_trusted(parts),
         removed: count,
     }
 }
