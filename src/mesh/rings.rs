@@ -104,13 +104,23 @@ impl Affine {
     }
 
     /// Writes the ring with each normal scaled to unit length: the mitred ring, whose
-    /// normal `c·nb + s·nd` (the constant term's normal is zero) is affine in the circle
-    /// only before normalising. The inverse lengths are computed four vertices at a time,
-    /// one vector square root and division each.
+    /// normal `na + c·nb + s·nd` is affine in the circle only before normalising. The
+    /// inverse lengths are computed four vertices at a time, one vector square root and
+    /// division each. The normal part of `e` must be zero.
     #[inline(always)]
     pub(crate) fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
-        debug_assert_eq!(Self::normal_of(&self.a), Vec3::ZERO);
-        let (nb, nd) = (Self::normal_of(&self.b), Self::normal_of(&self.d));
+        debug_assert_eq!(Self::normal_of(&self.e), Vec3::ZERO);
+        let (na, nb, nd) = (
+            Self::normal_of(&self.a),
+            Self::normal_of(&self.b),
+            Self::normal_of(&self.d),
+        );
+        // |na + c nb + s nd|² = aa + 2c ab + 2s ad + c² bb + 2cs bd + s² dd
+        let (aa, ab2, ad2) = (
+            Vec4::splat(na.dot(na)),
+            Vec4::splat(2.0 * na.dot(nb)),
+            Vec4::splat(2.0 * na.dot(nd)),
+        );
         let (bb, bd2, dd) = (
             Vec4::splat(nb.dot(nb)),
             Vec4::splat(2.0 * nb.dot(nd)),
@@ -124,7 +134,7 @@ impl Affine {
                 (c[k], s[k]) = (ck, sk);
             }
             let (c, s) = (Vec4::from_array(c), Vec4::from_array(s));
-            let l2 = c * c * bb + c * s * bd2 + s * s * dd;
+            let l2 = aa + c * ab2 + s * ad2 + c * c * bb + c * s * bd2 + s * s * dd;
             dst.copy_from_slice(&(Vec4::ONE / l2.sqrt()).to_array());
         }
         for ((slot, &(c, s, u)), &k) in out.iter_mut().zip(table).zip(&inv) {

@@ -168,6 +168,51 @@ impl MeshPlan {
         });
     }
 
+    /// The tube of kept branch `i` as drawn: (radius at its start ring, radius at its end
+    /// ring, height from its start ring's center to its end). A branch that shares its
+    /// parent's end ring starts at that ring's radius; a lateral's own ring is sunk one
+    /// parent radius into the parent, which lengthens its cone.
+    fn drawn(&self, skeleton: &Skeleton, i: usize) -> (f32, f32, f64) {
+        let branches = skeleton.branches();
+        let b = &branches[i];
+        let end_radius = |k: usize| {
+            let c = self.plan.cont[k];
+            if self.options.smooth_taper && c != NO_PARENT {
+                branches[c as usize].start_radius
+            } else {
+                branches[k].end_radius
+            }
+        };
+        let r1 = end_radius(i);
+        if b.parent == NO_PARENT {
+            return (b.start_radius, r1, length(b));
+        }
+        let parent = b.parent as usize;
+        if self.plan.flags[i] & SHARES_START != 0 {
+            (end_radius(parent), r1, length(b))
+        } else {
+            let sink = branches[parent].end_radius as f64;
+            (b.start_radius, r1, length(b) + sink)
+        }
+    }
+
+    /// (radial, axial) parts of the unit outward normal of kept branch `i`'s cone as
+    /// drawn: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
+    /// overflows).
+    fn slope(&self, skeleton: &Skeleton, i: usize) -> (f32, f32) {
+        let (r0, r1, h) = self.drawn(skeleton, i);
+        let slope = Vec2::new(h as f32, r0 - r1);
+        match slope.try_normalize() {
+            Some(n) => (n.x, n.y),
+            None if slope == Vec2::ZERO => (1.0, 0.0),
+            None => {
+                let dr = (r0 - r1) as f64;
+                let slant = (h * h + dr * dr).sqrt();
+                ((h / slant) as f32, (dr / slant) as f32)
+            }
+        }
+    }
+
     /// Writes branches `range` into `vertices` (which starts at vertex `v_base` of the mesh)
     /// and `indices` (which starts at the first index of `range`); `first`: no strip of the
     /// mesh comes before.
@@ -218,30 +263,14 @@ impl MeshPlan {
             let root = b.parent == NO_PARENT;
             let p = lay.frame_p[i];
             let q = d.cross(p);
-            let r0 = b.start_radius;
-            let r1 = if o.smooth_taper && plan.cont[i] != NO_PARENT {
-                branches[plan.cont[i] as usize].start_radius
-            } else {
-                b.end_radius
-            };
+            let (r0, r1, _) = self.drawn(skeleton, i);
             let v0 = if root {
                 0.0
             } else {
                 lay.v_end[b.parent as usize]
             };
             let v1 = lay.v_end[i];
-            // Cone normal: radial·h + axis·(r0 − r1), normalised (in f64 only when the f32
-            // sum of squares overflows).
-            let slope = Vec2::new((end - start).length(), r0 - r1);
-            let (nc, na) = match slope.try_normalize() {
-                Some(n) => (n.x, n.y),
-                None if slope == Vec2::ZERO => (1.0, 0.0),
-                None => {
-                    let (h, dr) = (length(b), (r0 - r1) as f64);
-                    let slant = (h * h + dr * dr).sqrt();
-                    ((h / slant) as f32, (dr / slant) as f32)
-                }
-            };
+            let (nc, na) = self.slope(skeleton, i);
             // Output-space frame.
             let (po, qo, d_o) = (rot(p), rot(q), rot(d));
             let tilt = d_o * na;
@@ -285,18 +314,26 @@ impl MeshPlan {
             let eo = Vec3::from_array(out.pos(end));
             let ring_out = &mut vertices[pos..pos + ring];
             if f & MITRE_END != 0 {
-                let m = rot((d + dir[plan.cont[i] as usize]).normalize());
+                let c = plan.cont[i] as usize;
+                let m = rot((d + dir[c]).normalize());
                 // Each point of the circle slides along d onto the bisecting plane: the
-                // position gives up `slide · (radial · m)`, the normal its part along m.
+                // position gives up `slide · (radial · m)`. The point lies on a generator
+                // line of both cones (this branch's, and the continuing branch's at the
+                // transported angle), along which each cone's normal is constant: the
+                // vertex normal is the mean of the two, normalised per vertex.
                 let slide = d_o * (r1s / d_o.dot(m));
                 let (pm, qm) = (po.dot(m), qo.dot(m));
+                let (nc_c, na_c) = self.slope(skeleton, c);
+                let pc = rot(lay.frame_p[c]);
+                let dc = rot(dir[c]);
+                let qc = dc.cross(pc);
                 Affine::new(
                     eo,
                     po * r1s - slide * pm,
                     qo * r1s - slide * qm,
-                    Vec3::ZERO,
-                    po - m * pm,
-                    qo - m * qm,
+                    (tilt + dc * na_c) * 0.5,
+                    (po * nc + pc * nc_c) * 0.5,
+                    (qo * nc + qc * nc_c) * 0.5,
                     [0.0, v1],
                     [0.0; 2],
                     [0.0; 2],
