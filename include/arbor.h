@@ -1089,6 +1089,24 @@ enum ArborStatus arbor_tree_from_honda(const struct ArborHondaParams *params,
                                        struct ArborTree **out);
 
 /**
+ * Makes a tree from a host's own skeleton: `count` branches, parents before children
+ * (each `parent` is ARBOR_NO_PARENT or the index of an earlier branch), finite positions,
+ * finite radii >= 0; `depth` is kept as the branch's birth step, `order` as its branching
+ * order. The branches are copied; every function that takes a tree takes it (ring frames
+ * come from parallel transport, since a host's skeleton has no turtle). Writes the new
+ * tree to `*out` on success (free it with arbor_tree_free()).
+ *
+ * ARBOR_STATUS_INVALID_ARGUMENT names the first branch that breaks a rule and the rule;
+ * `branches` may be NULL only when `count` is 0.
+ *
+ * # Safety
+ * `branches` is NULL or readable for `count` elements; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_branches(const struct ArborBranch *branches,
+                                          size_t count,
+                                          struct ArborTree **out);
+
+/**
  * Frees a tree. NULL does nothing. The tree must not be used afterwards.
  *
  * # Safety

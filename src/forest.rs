@@ -12,6 +12,7 @@ use crate::lsystem::{LSystem, LsystemOptions};
 use crate::mesh::Slot;
 use crate::mesh::{self, Mesh, MeshOptions, MeshPlan, MeshSize, RESTART_INDEX, Topology, Vertex};
 use crate::models::honda::{self, HondaParams};
+use crate::skeleton::Skeleton;
 
 /// What one tree of the forest grows from.
 #[derive(Clone, Copy, Debug)]
@@ -34,7 +35,7 @@ pub struct Item<'a> {
     pub seed: u64,
 }
 
-fn grow(item: &Item<'_>) -> Result<crate::skeleton::Skeleton> {
+fn grow(item: &Item<'_>) -> Result<Skeleton> {
     match item.source {
         Source::Honda(p) => honda::build_varied(
             &p,
@@ -62,15 +63,40 @@ pub fn build_serial(items: &[Item<'_>], options: &MeshOptions) -> Result<Vec<Mes
 /// Grows and meshes every item; on all cores with the `parallel` feature, else serially.
 /// The first error (in item order) is returned.
 pub fn build(items: &[Item<'_>], options: &MeshOptions) -> Result<Vec<Mesh>> {
+    each(items, |i| build_one(i, options))
+}
+
+/// `f` of every element, on all cores with the `parallel` feature; the first error in
+/// order is returned.
+fn each<T: Sync, R: Send>(
+    items: &[T],
+    f: impl Fn(&T) -> Result<R> + Sync + Send,
+) -> Result<Vec<R>> {
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;
-        items.par_iter().map(|i| build_one(i, options)).collect()
+        items.par_iter().map(f).collect()
     }
     #[cfg(not(feature = "parallel"))]
     {
-        build_serial(items, options)
+        items.iter().map(f).collect()
     }
+}
+
+/// Every placed tree grown and planned (not meshed), with the merged mesh's counts
+/// checked against the limits before any mesh memory is spent.
+fn grow_and_plan(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+) -> Result<(Vec<(Skeleton, MeshPlan)>, MeshSize)> {
+    check_placed(placed)?;
+    let planned = each(placed, |p| {
+        let s = grow(&p.item)?;
+        let plan = MeshPlan::new(&s, options)?;
+        Ok((s, plan))
+    })?;
+    let size = total(planned.iter().map(|(_, plan)| plan.size()), options)?;
+    Ok((planned, size))
 }
 
 /// A tree placed in a scene.
@@ -168,27 +194,15 @@ fn total(sizes: impl Iterator<Item = MeshSize>, options: &MeshOptions) -> Result
 /// Fails with `LimitExceeded` when the forest would pass 32-bit indices or
 /// [`MeshOptions::max_vertices`].
 pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<MeshSize> {
-    check_placed(placed)?;
-    let sizes = placed
-        .iter()
-        .map(|p| Ok(MeshPlan::new(&grow(&p.item)?, options)?.size()))
-        .collect::<Result<Vec<_>>>()?;
-    total(sizes.into_iter(), options)
+    Ok(grow_and_plan(placed, options)?.1)
 }
 
 /// Every placed tree in one mesh (one draw call): each tree's vertices are moved by its
 /// placement (normals turned with it) and its indices offset, joined as the topology asks.
+/// The counts are checked against the limits before any tree is meshed.
 pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
-    check_placed(placed)?;
-    let items: Vec<Item<'_>> = placed.iter().map(|p| p.item).collect();
-    let meshes = build(&items, options)?;
-    let size = total(
-        meshes.iter().map(|m| MeshSize {
-            vertices: m.vertices.len(),
-            indices: m.indices.len(),
-        }),
-        options,
-    )?;
+    let (planned, size) = grow_and_plan(placed, options)?;
+    let meshes = each(&planned, |(s, plan)| plan.mesh(s))?;
     let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
     let mut indices = vec![0u32; size.indices];
     place(placed, &meshes, options, &mut vertices, &mut indices);
@@ -200,9 +214,9 @@ pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
     })
 }
 
-/// [`merged`] into caller memory: every tree is grown and meshed once, then placed into
-/// the buffers, which must hold [`merged_size`]'s counts, else `BufferTooSmall` and
-/// nothing is written.
+/// [`merged`] into caller memory: every tree is grown once, the counts checked against
+/// the limits and the buffers' capacities (`BufferTooSmall`, nothing written), then each
+/// tree is meshed and placed into the buffers.
 pub fn write_merged(
     placed: &[Placed<'_>],
     options: &MeshOptions,
@@ -228,17 +242,9 @@ fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
     vertices: &mut [V],
     indices: &mut [I],
 ) -> Result<MeshSize> {
-    check_placed(placed)?;
-    let items: Vec<Item<'_>> = placed.iter().map(|p| p.item).collect();
-    let meshes = build(&items, options)?;
-    let size = total(
-        meshes.iter().map(|m| MeshSize {
-            vertices: m.vertices.len(),
-            indices: m.indices.len(),
-        }),
-        options,
-    )?;
+    let (planned, size) = grow_and_plan(placed, options)?;
     size.check_capacity(vertices.len(), indices.len())?;
+    let meshes = each(&planned, |(s, plan)| plan.mesh(s))?;
     place(
         placed,
         &meshes,

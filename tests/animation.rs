@@ -83,3 +83,38 @@ fn leaves_carry_their_branch_values() {
         assert_eq!(v.growth, 1.0, "outer leaves appear last");
     }
 }
+
+/// In ABOP 1.24a every internode is born at the last step; growth still runs from the
+/// root to the tips (a child's tip appears after its parent's), not all at once.
+#[test]
+fn growth_runs_from_root_to_tips_when_all_births_are_equal() {
+    let path = format!(
+        "{}/examples/grammars/abop_1_24a.l",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let ls = arbor::lsystem::LSystem::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let s = ls
+        .skeleton(&arbor::lsystem::LsystemOptions::default())
+        .unwrap();
+    let births: std::collections::HashSet<u32> = s.branches().iter().map(|b| b.birth).collect();
+    assert_eq!(births.len(), 1, "one birth step for every internode");
+    let o = MeshOptions {
+        joints: Joints::Separate,
+        ..Default::default()
+    };
+    let m = mesh::tubes(&s, &o).unwrap();
+    let a = mesh::animation(&s, &o).unwrap();
+    let end_growth = |i: usize| {
+        let r = m.ranges[i];
+        // The end ring follows the start ring with separate joints.
+        a[(r.first_vertex + r.vertex_count - 1) as usize].growth
+    };
+    assert!(
+        end_growth(0) < 0.2,
+        "the first internode finishes early: {}",
+        end_growth(0)
+    );
+    for (i, b) in s.branches().iter().enumerate().skip(1) {
+        assert!(end_growth(i) > end_growth(b.parent as usize), "branch {i}");
+    }
+}

@@ -60,3 +60,68 @@ fn growth_bombs_stop_within_budget() {
         honda::build(&p).map(|_| ())
     });
 }
+
+/// Output limits stop leaves, meshes and forests before their memory is spent: each call
+/// below would need gigabytes under the defaults; with a small limit it fails naming the
+/// limit, well inside a budget of 64 MiB.
+#[test]
+fn output_limits_stop_before_the_memory_is_spent() {
+    use arbor::forest::{self, Item, Placed, Source};
+    use arbor::mesh::{self, LeafOptions, MeshOptions};
+    let mut p = HondaParams::preset('a').unwrap();
+    p.steps = 16;
+    let tree = honda::build(&p).unwrap();
+    let small = |what: &str, limit: &str, f: &dyn Fn() -> Result<(), Error>| {
+        let base = ALLOC.current_usage();
+        ALLOC.reset_peak_usage();
+        match f() {
+            Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, limit, "{what}"),
+            other => panic!("{what}: expected LimitExceeded, got {other:?}"),
+        }
+        let peak = ALLOC.peak_usage() - base;
+        println!("{what}: {limit}, peak {peak} bytes");
+        assert!(peak < 64 << 20, "{what} peaked at {peak} bytes");
+    };
+    // 32,768 tips × 64 leaves: 2 M leaves (and 8 M baked vertices) under the defaults.
+    let leaves = LeafOptions {
+        tips: true,
+        density: 64.0,
+        max_leaves: 1000,
+        ..Default::default()
+    };
+    small("leaf instances", "max_leaves", &|| {
+        mesh::leaf_instances(&tree, &leaves, &MeshOptions::default()).map(|_| ())
+    });
+    small("baked leaves", "max_leaves", &|| {
+        mesh::leaf_mesh_size(&tree, &leaves, &MeshOptions::default()).map(|_| ())
+    });
+    let capped = MeshOptions {
+        max_vertices: 10_000,
+        radial_segments: 64,
+        ..Default::default()
+    };
+    small("mesh", "max_vertices", &|| {
+        mesh::mesh_size(&tree, &capped).map(|_| ())
+    });
+    let placed: Vec<Placed<'_>> = (0..4)
+        .map(|k| Placed {
+            item: Item {
+                source: Source::Honda(p),
+                seed: k,
+            },
+            position: [k as f32 * 300.0, 0.0, 0.0],
+            rotation: 0.0,
+            scale: 1.0,
+        })
+        .collect();
+    // 4 trees of 65,535 branches × 64 sides would be ~17 M vertices (540 MiB): refused
+    // after planning, before any tree is meshed.
+    let forest_options = MeshOptions {
+        max_vertices: 1_000_000,
+        radial_segments: 64,
+        ..Default::default()
+    };
+    small("forest", "max_vertices", &|| {
+        forest::merged(&placed, &forest_options).map(|_| ())
+    });
+}

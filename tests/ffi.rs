@@ -153,6 +153,11 @@ fn c_structs_that_grow_older_newer_and_bad_sizes() {
 }
 
 #[test]
+fn c_trees_from_a_hosts_own_branches() {
+    check_program("skeleton.c", "c11");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -637,3 +637,28 @@ fn turn_jitter_varies_turns_within_its_bound() {
     };
     assert!(ls.skeleton(&bad).is_err());
 }
+
+/// A string remembers the grammar that derived it: reading it with another grammar (whose
+/// symbol table differs) is an error naming the string, not a panic or a wrong tree.
+#[test]
+fn a_string_is_read_only_by_its_own_grammar() {
+    let big = LSystem::parse("derivation length: 2\nAxiom: A\nA --> F[+B][-C]D E A").unwrap();
+    let small = LSystem::parse("derivation length: 1\nAxiom: F\nF --> FF").unwrap();
+    let options = LsystemOptions::default();
+    let s = big.derive(&options).unwrap();
+    let err = small.interpret(&s, &options).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            arbor::Error::InvalidArgument {
+                field: "string",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("another grammar"), "{err}");
+    // The same grammar, or a clone of it, reads it.
+    assert!(big.interpret(&s, &options).is_ok());
+    assert!(big.clone().interpret(&s, &options).is_ok());
+}

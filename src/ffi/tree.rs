@@ -158,6 +158,46 @@ pub unsafe extern "C" fn arbor_tree_from_honda(
     })
 }
 
+/// Makes a tree from a host's own skeleton: `count` branches, parents before children
+/// (each `parent` is ARBOR_NO_PARENT or the index of an earlier branch), finite positions,
+/// finite radii >= 0; `depth` is kept as the branch's birth step, `order` as its branching
+/// order. The branches are copied; every function that takes a tree takes it (ring frames
+/// come from parallel transport, since a host's skeleton has no turtle). Writes the new
+/// tree to `*out` on success (free it with arbor_tree_free()).
+///
+/// ARBOR_STATUS_INVALID_ARGUMENT names the first branch that breaks a rule and the rule;
+/// `branches` may be NULL only when `count` is 0.
+///
+/// # Safety
+/// `branches` is NULL or readable for `count` elements; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_branches(
+    branches: *const ArborBranch,
+    count: usize,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        if count > crate::limits::DEFAULT_MAX_BRANCHES {
+            return Err(crate::Error::LimitExceeded {
+                limit_name: "max_branches",
+                what: "branches",
+                limit: crate::limits::DEFAULT_MAX_BRANCHES as u64,
+                requested: count as u64,
+                step: None,
+            }
+            .into());
+        }
+        // SAFETY: the caller promises `count` readable branches (ArborBranch and Branch
+        // share one layout, checked field by field in layout.rs).
+        let src = unsafe { in_slice(branches.cast::<Branch>(), count, "branches") }?;
+        let skeleton = Skeleton::new(src.to_vec())?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
+}
+
 /// Frees a tree. NULL does nothing. The tree must not be used afterwards.
 ///
 /// # Safety

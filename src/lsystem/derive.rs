@@ -221,6 +221,12 @@ impl D0l {
 }
 
 pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
+    let mut string = derive_string(ls, options)?;
+    string.grammar = ls.id;
+    Ok(string)
+}
+
+fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
     if steps > u16::MAX as u32 {
         return Err(Error::invalid(

@@ -103,7 +103,13 @@ pub struct LSystem {
     /// The lookup table of a grammar without parameters, contexts, conditions,
     /// probabilities, cuts or decomposition.
     pub(crate) d0l: Option<derive::D0l>,
+    /// Which grammar this is (unique per parse; clones keep it): the strings it derives
+    /// carry it, so one is never read with another grammar's symbol table.
+    pub(crate) id: u64,
 }
+
+/// Ids of parsed grammars (0 is no grammar).
+static NEXT_GRAMMAR_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl LSystem {
     #[allow(clippy::too_many_arguments)]
@@ -132,6 +138,7 @@ impl LSystem {
         let d0l = derive::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len());
         LSystem {
             d0l,
+            id: NEXT_GRAMMAR_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             symbols,
             axiom,
             derivation_length,
@@ -189,7 +196,17 @@ impl LSystem {
     }
 
     /// Reads `string` with the 3-D turtle (applying interpretation rules) into a skeleton.
+    ///
+    /// `string` must come from [`derive`](Self::derive) of this grammar (or a clone of
+    /// it): its symbols are numbers in this grammar's table, so a string of another
+    /// grammar is refused with [`Error::InvalidArgument`](crate::Error::InvalidArgument).
     pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
+        if string.grammar != self.id {
+            return Err(crate::Error::invalid(
+                "string",
+                "derived from another grammar; interpret a string with the grammar that derived it",
+            ));
+        }
         interpret::interpret(self, string, options)
     }
 
@@ -234,6 +251,8 @@ pub struct ModuleString {
     /// when no module has parameters (a string without parameters skips them).
     pub(crate) offsets: Vec<u32>,
     pub(crate) params: Vec<f32>,
+    /// The id of the grammar that derived it (0: none).
+    pub(crate) grammar: u64,
 }
 
 impl PartialEq for ModuleString {

@@ -12,8 +12,10 @@ use crate::skeleton::Skeleton;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct AnimationVertex {
-    /// When the vertex appears as the tree grows, 0..=1: (depth − first depth + along) /
-    /// (number of depths). Draw vertices with `growth <= t` and move t from 0 to 1.
+    /// When the vertex appears as the tree grows, 0..=1: (start + along) / total, where a
+    /// branch starts at its birth (counted from the earliest) but not before its parent
+    /// has finished, and each branch takes one unit. Never smaller on a child than on its
+    /// parent. Draw vertices with `growth <= t` and move t from 0 to 1.
     pub growth: f32,
     /// Branching order of the branch (0 on the trunk axis), for wind stiffness.
     pub order: f32,
@@ -31,12 +33,26 @@ pub(crate) fn branch_phase(i: u32) -> f32 {
     ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
 }
 
-/// The depths of the kept branches: (first, number of depths).
-pub(crate) fn depth_span(skeleton: &Skeleton) -> (u32, u32) {
+/// When each branch starts to grow, and the length of the whole growth, in units of one
+/// internode's growth: a branch starts at its birth (counted from the earliest birth) but
+/// never before its parent has finished, and takes one unit. For the 1996 model (births
+/// one step apart from parent to child) this is the birth step; for a grammar whose
+/// internodes are all born at the last step it is a wave from the root to the tips.
+pub(crate) fn growth_times(skeleton: &Skeleton) -> (Vec<f32>, f32) {
     let b = skeleton.branches();
     let lo = b.iter().map(|x| x.birth).min().unwrap_or(0);
-    let hi = b.iter().map(|x| x.birth).max().unwrap_or(0);
-    (lo, hi - lo + 1)
+    let mut start = vec![0.0f32; b.len()];
+    let mut total = 1.0f32;
+    for (i, x) in b.iter().enumerate() {
+        let born = (x.birth - lo) as f32;
+        start[i] = if x.parent == crate::skeleton::NO_PARENT {
+            born
+        } else {
+            born.max(start[x.parent as usize] + 1.0)
+        };
+        total = total.max(start[i] + 1.0);
+    }
+    (start, total)
 }
 
 /// The animation stream of the mesh [`tubes`](super::tubes()) makes with `options` (see
@@ -50,7 +66,7 @@ impl MeshPlan {
     pub fn animation(&self, skeleton: &Skeleton) -> Result<Vec<AnimationVertex>> {
         self.check_skeleton(skeleton)?;
         let plan = &self.plan;
-        let (lo, span) = depth_span(skeleton);
+        let (start, total) = growth_times(skeleton);
         let mut out = Vec::with_capacity(plan.size.vertices);
         for (i, b) in skeleton.branches().iter().enumerate() {
             let s = plan.segs[i] as usize;
@@ -59,7 +75,7 @@ impl MeshPlan {
             }
             let f = plan.flags[i];
             let at = |along: f32| AnimationVertex {
-                growth: ((b.birth - lo) as f32 + along) / span as f32,
+                growth: (start[i] + along) / total,
                 order: b.order as f32,
                 along,
                 phase: branch_phase(i as u32),

@@ -2,7 +2,7 @@
 //! data for instanced drawing or baked into a leaf mesh (quads, a prefab from an OBJ file,
 //! and the turtle's `{ . }` polygons triangulated).
 
-use super::animation::{AnimationVertex, branch_phase, depth_span};
+use super::animation::{AnimationVertex, branch_phase, growth_times};
 use super::plan::kept_branches;
 use super::strips::{Slot, StripRules, StripWriter, zigzag};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
@@ -302,16 +302,12 @@ fn place_on(
     }
     if o.tips {
         let branches = skeleton.branches();
-        // A tip is a kept branch with no kept child: where the mesh's tubes end.
-        let mut has_child = vec![false; branches.len()];
-        for (b, &k) in branches.iter().zip(&kept) {
-            if k && !b.is_root() {
-                has_child[b.parent as usize] = true;
-            }
-        }
+        let adjacency = skeleton.adjacency();
         let whole = o.density.floor() as u32;
         let frac = o.density - whole as f32;
-        for (i, (b, &inner)) in branches.iter().zip(&has_child).enumerate() {
+        for (i, b) in branches.iter().enumerate() {
+            // A tip is a kept branch with no kept child: where the mesh's tubes end.
+            let inner = adjacency.children(i).iter().any(|&c| kept[c as usize]);
             if inner || !kept[i] || b.birth < o.min_birth {
                 continue;
             }
@@ -359,13 +355,13 @@ pub fn leaf_animation(
     leaves: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Vec<AnimationVertex>> {
-    let (lo, span) = depth_span(skeleton);
+    let (start, total) = growth_times(skeleton);
     let b = skeleton.branches();
     Ok(place_on(skeleton, leaves, mesh)?
         .into_iter()
         .map(|(_, branch)| match b.get(branch as usize) {
             Some(x) => AnimationVertex {
-                growth: ((x.birth - lo) as f32 + 1.0) / span as f32,
+                growth: (start[branch as usize] + 1.0) / total,
                 order: x.order as f32,
                 along: 1.0,
                 phase: branch_phase(branch),

@@ -165,16 +165,19 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         segs[i] = s as u8;
     }
     let dir: Vec<Vec3> = branches.iter().map(direction).collect();
-    let mut cont = vec![NO_PARENT; n];
-    for (i, b) in branches.iter().enumerate() {
-        if segs[i] == 0 || b.parent == NO_PARENT {
-            continue;
-        }
-        let p = b.parent as usize;
-        if cont[p] == NO_PARENT && branches[p].order == b.order {
-            cont[p] = i as u32;
-        }
-    }
+    // The kept branch that continues each branch's axis: its first kept child of the
+    // same order (from the skeleton's adjacency, built once and shared).
+    let adjacency = skeleton.adjacency();
+    let cont: Vec<u32> = (0..n)
+        .map(|p| {
+            adjacency
+                .children(p)
+                .iter()
+                .copied()
+                .find(|&c| segs[c as usize] != 0 && branches[c as usize].order == branches[p].order)
+                .unwrap_or(NO_PARENT)
+        })
+        .collect();
     let mut flags = vec![0u8; n];
     for i in 0..n {
         if segs[i] == 0 {
