@@ -43,6 +43,23 @@ int main(int argc, char **argv) {
     EXPECT(std::equal(i.begin(), i.end(), mesh.indices().begin()), "tree %c indices", name);
   }
 
+  // The host's own skeleton: the branches of tree c, copied back in, mesh the same.
+  {
+    arbor::Tree c = arbor::Tree::honda('c');
+    std::vector<ArborBranch> b = c.branches();
+    arbor::Tree own = arbor::Tree::from_branches(arbor::Span<const ArborBranch>(b.data(), b.size()));
+    EXPECT(own.branch_count() == b.size(), "own tree count");
+    EXPECT(own.mesh_size() == c.mesh_size(), "own tree mesh size");
+    b[1].parent = 5;
+    try {
+      arbor::Tree::from_branches(arbor::Span<const ArborBranch>(b.data(), b.size()));
+      EXPECT(false, "no exception for a parent after its child");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_INVALID_ARGUMENT, "status %d", (int)e.status());
+      EXPECT(std::string(e.what()).find("branch 1") != std::string::npos, "%s", e.what());
+    }
+  }
+
   // Errors are exceptions with the status and message.
   try {
     arbor::Tree::honda('z');

@@ -101,7 +101,8 @@ class Mesh {
   ArborMesh *mesh_;
 };
 
-/// Default options, to modify and pass on.
+/// Default options, to modify and pass on: each fills exactly sizeof the struct of this
+/// header (the struct_size rule), so the host keeps working with a newer library.
 inline ArborMeshOptions mesh_options() { return arbor_mesh_options_default(); }
 inline ArborLeafOptions leaf_options() { return arbor_leaf_options_default(); }
 inline ArborLsystemOptions lsystem_options() { return arbor_lsystem_options_default(); }
@@ -118,6 +119,12 @@ class Tree {
   static Tree honda(const ArborHondaParams &params) {
     ArborTree *t = nullptr;
     detail::check(arbor_tree_from_honda(&params, &t));
+    return Tree(t);
+  }
+  /// A tree from the host's own branches (parents before children), copied and checked.
+  static Tree from_branches(Span<const ArborBranch> branches) {
+    ArborTree *t = nullptr;
+    detail::check(arbor_tree_from_branches(branches.data(), branches.size(), &t));
     return Tree(t);
   }
   /// A tree from L-system text in the cpfg language.
