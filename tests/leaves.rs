@@ -264,3 +264,59 @@ fn bad_leaf_options_name_their_field() {
     assert_eq!(sizes, 32);
     let _ = Vertex::default();
 }
+
+/// Leaves go only on branches the mesh keeps: with `cull_radius`, no site or tip leaf
+/// floats where its twig was dropped, and the new ends of the culled tree get tip leaves.
+#[test]
+fn leaves_sit_only_on_kept_branches() {
+    // Every internode of a thinning binary tree ends in a `~` site.
+    let s = grammar(
+        "derivation length: 7\nAxiom: A(10,2)\n\
+         A(l,w) --> !(w)F(l)~[+(30)A(l*0.7,w*0.6)][-(30)A(l*0.7,w*0.6)]",
+    );
+    let full = MeshOptions::default();
+    let culled = MeshOptions {
+        cull_radius: 0.3,
+        ..Default::default()
+    };
+    let ranges = mesh::branch_ranges(&s, &culled).unwrap();
+    let kept = |b: u32| ranges[b as usize].vertex_count > 0;
+    assert!(
+        ranges.iter().any(|r| r.vertex_count == 0),
+        "some twigs are culled"
+    );
+    let sites = LeafOptions {
+        tips: false,
+        ..Default::default()
+    };
+    let all = mesh::leaf_instances(&s, &sites, &full).unwrap();
+    assert_eq!(all.len(), s.leaves().len());
+    let some = mesh::leaf_instances(&s, &sites, &culled).unwrap();
+    let on_kept = s.leaves().iter().filter(|l| kept(l.branch)).count();
+    assert!(on_kept < s.leaves().len());
+    assert_eq!(some.len(), on_kept, "sites of culled twigs are dropped");
+    // Tip leaves: at the kept branches whose children were all culled.
+    let leaves = tips(1.0, 0, 3);
+    let at_tips = mesh::leaf_instances(
+        &s,
+        &LeafOptions {
+            sites: false,
+            ..leaves.clone()
+        },
+        &culled,
+    )
+    .unwrap();
+    let new_tips = (0..s.len())
+        .filter(|&i| kept(i as u32) && !s.adjacency().children(i).iter().any(|&c| kept(c)))
+        .count();
+    assert_eq!(at_tips.len(), new_tips);
+    for l in &at_tips {
+        let p = Vec3::from(l.position);
+        let on = s
+            .branches()
+            .iter()
+            .enumerate()
+            .any(|(i, b)| kept(i as u32) && b.end().distance(p) < 1e-4);
+        assert!(on, "tip leaf at {p} is not at the end of a kept branch");
+    }
+}

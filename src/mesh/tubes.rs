@@ -225,199 +225,277 @@ impl MeshPlan {
         indices: &mut [I],
         first: bool,
     ) {
-        let (o, plan, lay, tables) = (&self.options, &self.plan, &self.layout, &self.tables);
-        let branches = skeleton.branches();
-        let out = Out {
-            scale: o.scale,
-            z_up: o.up_axis == UpAxis::Z,
-        };
-        // The output conventions are linear: apply them to each branch's centers and frame
-        // vectors once, so the per-vertex loops are two multiply-adds.
-        let rot = |v: Vec3| Vec3::from_array(out.dir(v));
-        // In f64: a tiny texture scale must not turn v infinite.
-        let inv_ts = 1.0 / o.texture_scale as f64;
-        let dir = &plan.dir;
+        let (plan, lay) = (&self.plan, &self.layout);
         let mut writer = StripWriter::new(indices, plan.rules, first);
         let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
         // Where this chunk's indices start in the whole buffer (for the debug check below).
         let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
-
         for i in range {
-            let b = &branches[i];
-            let d = dir[i];
-            let s = plan.segs[i] as usize;
-            if s == 0 {
+            if plan.segs[i] == 0 {
                 continue;
             }
-            let table = &tables[s];
-            let ring = s + 1;
-            let f = plan.flags[i];
-            let first_vertex = lay.first_vertex[i] as usize;
             debug_assert_eq!(
                 writer.pos + index_base,
                 lay.first_index[i] as usize,
                 "branch {i}"
             );
-            let start = b.start();
-            let end = b.end();
-            let root = b.parent == NO_PARENT;
-            let p = lay.frame_p[i];
-            let q = d.cross(p);
-            let (r0, r1, _) = self.drawn(skeleton, i);
-            let v0 = if root {
-                0.0
-            } else {
-                lay.v_end[b.parent as usize]
-            };
-            let v1 = lay.v_end[i];
-            let (nc, na) = self.slope(skeleton, i);
-            // Output-space frame.
-            let (po, qo, d_o) = (rot(p), rot(q), rot(d));
-            let tilt = d_o * na;
-            let (r0s, r1s) = (r0 * o.scale, r1 * o.scale);
-            let mut pos = first_vertex - v_base;
-            // A ring of the cone: radial·r around the center, normal radial·nc + tilt.
-            let cone = |center: Vec3, r: f32, v: f32| {
-                Affine::new(
-                    center,
-                    po * r,
-                    qo * r,
-                    tilt,
-                    po * nc,
-                    qo * nc,
-                    [0.0, v],
-                    [0.0; 2],
-                    [0.0; 2],
-                    [1.0, 0.0],
-                )
-            };
-
-            // Start ring, unless shared with the parent.
-            let (start_ring, start_center) = if f & SHARES_START != 0 {
-                (lay.end_ring[b.parent as usize], start)
-            } else {
-                let sink = if root {
-                    0.0
-                } else {
-                    branches[b.parent as usize].end_radius
-                };
-                let c0 = start - d * sink;
-                let co = Vec3::from_array(out.pos(c0));
-                let v = to_f32(v0 as f64 - sink as f64 * inv_ts);
-                cone(co, r0s, v).put(&mut vertices[pos..pos + ring], table);
-                pos += ring;
-                (first_vertex as u32, c0)
-            };
-            // End ring: in the bisecting plane when the next branch of the axis shares it.
-            let my_end_ring = lay.end_ring[i];
-            debug_assert_eq!(my_end_ring as usize, pos + v_base);
-            let eo = Vec3::from_array(out.pos(end));
-            let ring_out = &mut vertices[pos..pos + ring];
-            if f & MITRE_END != 0 {
-                let c = plan.cont[i] as usize;
-                let m = rot((d + dir[c]).normalize());
-                // Each point of the circle slides along d onto the bisecting plane: the
-                // position gives up `slide · (radial · m)`. The point lies on a generator
-                // line of both cones (this branch's, and the continuing branch's at the
-                // transported angle), along which each cone's normal is constant: the
-                // vertex normal is the mean of the two, normalised per vertex.
-                let slide = d_o * (r1s / d_o.dot(m));
-                let (pm, qm) = (po.dot(m), qo.dot(m));
-                let (nc_c, na_c) = self.slope(skeleton, c);
-                let pc = rot(lay.frame_p[c]);
-                let dc = rot(dir[c]);
-                let qc = dc.cross(pc);
-                Affine::new(
-                    eo,
-                    po * r1s - slide * pm,
-                    qo * r1s - slide * qm,
-                    (tilt + dc * na_c) * 0.5,
-                    (po * nc + pc * nc_c) * 0.5,
-                    (qo * nc + qc * nc_c) * 0.5,
-                    [0.0, v1],
-                    [0.0; 2],
-                    [0.0; 2],
-                    [1.0, 0.0],
-                )
-                .put_normalized(ring_out, table);
-            } else {
-                cone(eo, r1s, v1).put(ring_out, table);
-            }
-            pos += ring;
-            // Base cap: a disc facing −d at the start ring.
-            let base_first = (pos + v_base) as u32;
-            if f & BASE_CAP != 0 {
-                let co = Vec3::from_array(out.pos(start_center));
-                Affine::new(
-                    co,
-                    po * r0s,
-                    qo * r0s,
-                    -d_o,
-                    Vec3::ZERO,
-                    Vec3::ZERO,
-                    [0.5, 0.5],
-                    [0.5, 0.0],
-                    [0.0, -0.5],
-                    [0.0; 2],
-                )
-                .put(&mut vertices[pos..pos + s], table);
-                pos += s;
-            }
-            // Tip: a disc facing +d, or apexes of a cone one radius beyond the end.
-            let tip_first = (pos + v_base) as u32;
-            if f & TIP != 0 {
-                match o.tip {
-                    Tip::Cap => {
-                        Affine::new(
-                            eo,
-                            po * r1s,
-                            qo * r1s,
-                            d_o,
-                            Vec3::ZERO,
-                            Vec3::ZERO,
-                            [0.5, 0.5],
-                            [0.5, 0.0],
-                            [0.0, 0.5],
-                            [0.0; 2],
-                        )
-                        .put(&mut vertices[pos..pos + s], table);
-                    }
-                    _ => {
-                        let apex = Vec3::from_array(out.pos(end + d * r1));
-                        for (j, slot) in vertices[pos..pos + s].iter_mut().enumerate() {
-                            let (c0, s0, u0) = table[j];
-                            let (c1, s1, u1) = table[j + 1];
-                            let radial = (po * (c0 + c1) + qo * (s0 + s1)).normalize_or_zero();
-                            slot.put(Vertex {
-                                position: apex.to_array(),
-                                normal: (radial + d_o).normalize().to_array(),
-                                uv: [0.5 * (u0 + u1), to_f32(v1 as f64 + r1 as f64 * inv_ts)],
-                            });
-                        }
-                    }
-                }
-                pos += s;
-            }
-
-            // Indices: the tube, then the caps.
-            writer.tube(my_end_ring, start_ring, ring as u32);
-            if f & BASE_CAP != 0 {
-                zigzag(s, |k| base_first + ((s - k) % s) as u32, &mut strip);
-                writer.strip(&strip);
-            }
-            if f & TIP != 0 {
-                if o.tip == Tip::Cap {
-                    zigzag(s, |k| tip_first + k as u32, &mut strip);
-                    writer.strip(&strip);
-                } else {
-                    for j in 0..s as u32 {
-                        writer.strip(&[tip_first + j, my_end_ring + j, my_end_ring + j + 1]);
-                    }
-                }
-            }
-            debug_assert!(pos <= vertices.len());
+            let tube = self.tube(skeleton, i);
+            let at = lay.first_vertex[i] as usize - v_base;
+            let end = at + plan.counts(i, self.options.tip, &mut false).0;
+            let firsts = tube.write_vertices(self, skeleton, &mut vertices[at..end]);
+            tube.write_indices(&self.options, firsts, &mut writer, &mut strip);
         }
         debug_assert_eq!(writer.pos, writer.out.len());
+    }
+
+    /// Everything the writer needs of kept branch `i`, in output space.
+    fn tube(&self, skeleton: &Skeleton, i: usize) -> Tube<'_> {
+        let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
+        let out = Out {
+            scale: o.scale,
+            z_up: o.up_axis == UpAxis::Z,
+        };
+        // The output conventions are linear: apply them to each branch's centers and frame
+        // vectors once, so the per-vertex loops are a few multiply-adds.
+        let rot = |v: Vec3| Vec3::from_array(out.dir(v));
+        let b = &skeleton.branches()[i];
+        let s = plan.segs[i] as usize;
+        let (d, p) = (plan.dir[i], lay.frame_p[i]);
+        let (r0, r1, _) = self.drawn(skeleton, i);
+        let (nc, na) = self.slope(skeleton, i);
+        let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
+        Tube {
+            i,
+            segments: s,
+            table: &self.tables[s],
+            flags: plan.flags[i],
+            out,
+            po: rot(p),
+            qo: rot(d.cross(p)),
+            d_o: rot(d),
+            d,
+            nc,
+            na,
+            r0,
+            r1,
+            v0: parent.map_or(0.0, |p| lay.v_end[p]),
+            v1: lay.v_end[i],
+            // In f64: a tiny texture scale must not turn v infinite.
+            inv_ts: 1.0 / o.texture_scale as f64,
+            first_vertex: lay.first_vertex[i],
+            end_ring: lay.end_ring[i],
+            shared_start: parent
+                .filter(|_| plan.flags[i] & SHARES_START != 0)
+                .map(|p| lay.end_ring[p]),
+            sink: parent.map_or(0.0, |p| skeleton.branches()[p].end_radius),
+            start: b.start(),
+            end: b.end(),
+        }
+    }
+}
+
+/// One kept branch's tube as the writer sees it: frame and centers in output space, the
+/// cone's slope, radii, texture v and where its rings go.
+struct Tube<'a> {
+    i: usize,
+    segments: usize,
+    /// The unit circle: (cos, sin, u) per vertex of a ring.
+    table: &'a [(f32, f32, f32)],
+    flags: u8,
+    out: Out,
+    /// Ring frame and axis in output space.
+    po: Vec3,
+    qo: Vec3,
+    d_o: Vec3,
+    /// The axis in model space.
+    d: Vec3,
+    /// Radial and axial parts of the cone's unit normal.
+    nc: f32,
+    na: f32,
+    /// Radii as drawn (model units).
+    r0: f32,
+    r1: f32,
+    v0: f32,
+    v1: f32,
+    inv_ts: f64,
+    first_vertex: u32,
+    end_ring: u32,
+    /// The parent's end ring, when this branch starts on it.
+    shared_start: Option<u32>,
+    /// How far an own start ring sinks into the parent.
+    sink: f32,
+    start: Vec3,
+    end: Vec3,
+}
+
+/// First vertex of each part of a tube's vertices: (start ring, base cap, tip).
+type Firsts = (u32, u32, u32);
+
+impl Tube<'_> {
+    fn pos(&self, v: Vec3) -> Vec3 {
+        Vec3::from_array(self.out.pos(v))
+    }
+
+    /// A ring of the cone: radial·r around the center, normal radial·nc + axis·na.
+    fn cone(&self, center: Vec3, r: f32, v: f32) -> Affine {
+        Affine::new(
+            center,
+            self.po * r,
+            self.qo * r,
+            self.d_o * self.na,
+            self.po * self.nc,
+            self.qo * self.nc,
+            [0.0, v],
+            [0.0; 2],
+            [0.0; 2],
+            [1.0, 0.0],
+        )
+    }
+
+    /// A disc of radius r facing `normal`, uv a unit disc around (0.5, 0.5) (`flip`
+    /// mirrors v, so a base cap seen from below is not mirrored).
+    fn disc(&self, center: Vec3, r: f32, normal: Vec3, flip: bool) -> Affine {
+        Affine::new(
+            center,
+            self.po * r,
+            self.qo * r,
+            normal,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            [0.5, 0.5],
+            [0.5, 0.0],
+            [0.0, if flip { -0.5 } else { 0.5 }],
+            [0.0; 2],
+        )
+    }
+
+    /// The end ring shared with the continuing branch `c`, in the plane bisecting the bend.
+    /// Each point of the circle slides along d onto that plane: the position gives up
+    /// `slide · (radial · m)`. The point lies on a generator line of both cones (this
+    /// branch's, and the continuing branch's at the transported angle), along which each
+    /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
+    /// vertex.
+    fn mitre(&self, plan: &MeshPlan, skeleton: &Skeleton, c: usize) -> Affine {
+        let rot = |v: Vec3| Vec3::from_array(self.out.dir(v));
+        let (po, qo, d_o) = (self.po, self.qo, self.d_o);
+        let r1s = self.r1 * self.out.scale;
+        let dc = plan.plan.dir[c];
+        let m = rot((self.d + dc).normalize());
+        let slide = d_o * (r1s / d_o.dot(m));
+        let (pm, qm) = (po.dot(m), qo.dot(m));
+        let (nc_c, na_c) = plan.slope(skeleton, c);
+        let (pc, dc) = (rot(plan.layout.frame_p[c]), rot(dc));
+        let qc = dc.cross(pc);
+        Affine::new(
+            self.pos(self.end),
+            po * r1s - slide * pm,
+            qo * r1s - slide * qm,
+            (d_o * self.na + dc * na_c) * 0.5,
+            (po * self.nc + pc * nc_c) * 0.5,
+            (qo * self.nc + qc * nc_c) * 0.5,
+            [0.0, self.v1],
+            [0.0; 2],
+            [0.0; 2],
+            [1.0, 0.0],
+        )
+    }
+
+    /// Writes the tube's own vertices (`out` holds exactly them): its start ring unless
+    /// shared, its end ring, a base cap, a tip. Returns where each part starts.
+    fn write_vertices<V: Slot<Vertex>>(
+        &self,
+        plan: &MeshPlan,
+        skeleton: &Skeleton,
+        out: &mut [V],
+    ) -> Firsts {
+        let (s, ring, table, f) = (self.segments, self.segments + 1, self.table, self.flags);
+        let scale = self.out.scale;
+        let mut pos = 0;
+        let start_center = match self.shared_start {
+            Some(_) => self.start,
+            None => {
+                let c0 = self.start - self.d * self.sink;
+                let v = to_f32(self.v0 as f64 - self.sink as f64 * self.inv_ts);
+                self.cone(self.pos(c0), self.r0 * scale, v)
+                    .put(&mut out[..ring], table);
+                pos += ring;
+                c0
+            }
+        };
+        let start_ring = self.shared_start.unwrap_or(self.first_vertex);
+        debug_assert_eq!(self.first_vertex + pos as u32, self.end_ring);
+        let ring_out = &mut out[pos..pos + ring];
+        if f & MITRE_END != 0 {
+            let c = plan.plan.cont[self.i] as usize;
+            self.mitre(plan, skeleton, c)
+                .put_normalized(ring_out, table);
+        } else {
+            self.cone(self.pos(self.end), self.r1 * scale, self.v1)
+                .put(ring_out, table);
+        }
+        pos += ring;
+        let base_first = self.first_vertex + pos as u32;
+        if f & BASE_CAP != 0 {
+            self.disc(self.pos(start_center), self.r0 * scale, -self.d_o, true)
+                .put(&mut out[pos..pos + s], table);
+            pos += s;
+        }
+        let tip_first = self.first_vertex + pos as u32;
+        if f & TIP != 0 {
+            let tip = &mut out[pos..pos + s];
+            match plan.options.tip {
+                Tip::Cap => self
+                    .disc(self.pos(self.end), self.r1 * scale, self.d_o, false)
+                    .put(tip, table),
+                _ => self.point_tip(tip),
+            }
+            pos += s;
+        }
+        debug_assert_eq!(pos, out.len());
+        (start_ring, base_first, tip_first)
+    }
+
+    /// The apexes of a cone one radius beyond the end, one per side (each with the
+    /// normal of its facet's middle).
+    fn point_tip<V: Slot<Vertex>>(&self, out: &mut [V]) {
+        let apex = self.pos(self.end + self.d * self.r1);
+        let v = to_f32(self.v1 as f64 + self.r1 as f64 * self.inv_ts);
+        for (j, slot) in out.iter_mut().enumerate() {
+            let (c0, s0, u0) = self.table[j];
+            let (c1, s1, u1) = self.table[j + 1];
+            let radial = (self.po * (c0 + c1) + self.qo * (s0 + s1)).normalize_or_zero();
+            slot.put(Vertex {
+                position: apex.to_array(),
+                normal: (radial + self.d_o).normalize().to_array(),
+                uv: [0.5 * (u0 + u1), v],
+            });
+        }
+    }
+
+    /// Writes the tube's indices: the tube between its rings, then the caps.
+    fn write_indices<I: Slot<u32>>(
+        &self,
+        o: &MeshOptions,
+        (start_ring, base_first, tip_first): Firsts,
+        writer: &mut StripWriter<'_, I>,
+        strip: &mut Vec<u32>,
+    ) {
+        let s = self.segments;
+        writer.tube(self.end_ring, start_ring, s as u32 + 1);
+        if self.flags & BASE_CAP != 0 {
+            zigzag(s, |k| base_first + ((s - k) % s) as u32, strip);
+            writer.strip(strip);
+        }
+        if self.flags & TIP != 0 {
+            if o.tip == Tip::Cap {
+                zigzag(s, |k| tip_first + k as u32, strip);
+                writer.strip(strip);
+            } else {
+                for j in 0..s as u32 {
+                    writer.strip(&[tip_first + j, self.end_ring + j, self.end_ring + j + 1]);
+                }
+            }
+        }
     }
 }
 
