@@ -61,6 +61,15 @@ fn size(tree: &HostTree, o: &ArborMeshOptions) -> (usize, usize) {
     (nv, ni)
 }
 
+/// What a host does each time it (re)uploads: size, then write into its own buffers.
+fn size_then_write(tree: &HostTree, o: &ArborMeshOptions, v: &mut [ArborVertex], i: &mut [u32]) {
+    let (nv, ni) = size(tree, black_box(o));
+    assert!(nv <= v.len() && ni <= i.len());
+    // SAFETY: the buffers hold at least nv vertices and ni indices.
+    let status = unsafe { arbor_mesh_write(tree.tree, o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
+    assert_eq!(status, ArborStatus::Ok);
+}
+
 fn bench_host(c: &mut Criterion) {
     let mut group = c.benchmark_group("host_mesh");
     group.sample_size(10);
@@ -77,40 +86,12 @@ fn bench_host(c: &mut Criterion) {
         let bytes = nv * size_of::<ArborVertex>() + ni * 4;
         group.throughput(Throughput::Bytes(bytes as u64));
         group.bench_function(BenchmarkId::new("c_size_then_write", name), |b| {
-            b.iter(|| {
-                let (nv, ni) = size(&tree, black_box(&o));
-                // SAFETY: the buffers hold nv vertices and ni indices.
-                let status = unsafe {
-                    arbor_mesh_write(
-                        tree.tree,
-                        &o,
-                        vertices.as_mut_ptr(),
-                        nv,
-                        indices.as_mut_ptr(),
-                        ni,
-                    )
-                };
-                assert_eq!(status, ArborStatus::Ok);
-            })
+            b.iter(|| size_then_write(&tree, &o, &mut vertices, &mut indices))
         });
         // The same calls on the calling thread only (threads = 1).
         let one = ArborMeshOptions { threads: 1, ..o };
         group.bench_function(BenchmarkId::new("c_size_then_write_1_thread", name), |b| {
-            b.iter(|| {
-                let (nv, ni) = size(&tree, black_box(&one));
-                // SAFETY: the buffers hold nv vertices and ni indices.
-                let status = unsafe {
-                    arbor_mesh_write(
-                        tree.tree,
-                        &one,
-                        vertices.as_mut_ptr(),
-                        nv,
-                        indices.as_mut_ptr(),
-                        ni,
-                    )
-                };
-                assert_eq!(status, ArborStatus::Ok);
-            })
+            b.iter(|| size_then_write(&tree, &one, &mut vertices, &mut indices))
         });
         // A tree meshed once: the plan (layout of every branch) is made on the way, as on
         // a host's first call for a new tree.

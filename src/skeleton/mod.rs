@@ -192,7 +192,19 @@ impl SkeletonParts {
                 ));
             }
         }
-        let in_range = |branch: u32| branch == NO_PARENT || (branch as usize) < n;
+        // An organ sits on a branch of the skeleton or on none.
+        let on_branch = |field: &'static str, what: String, branch: u32| {
+            if branch == NO_PARENT || (branch as usize) < n {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    field,
+                    format!(
+                        "{what} is on branch {branch}; expected one of the {n} branches or NO_PARENT"
+                    ),
+                ))
+            }
+        };
         for (i, l) in self.leaves.iter().enumerate() {
             if !(finite3(&l.position) && finite3(&l.heading) && finite3(&l.up)) {
                 return Err(Error::invalid(
@@ -200,15 +212,7 @@ impl SkeletonParts {
                     format!("leaf site {i} has a non-finite position or direction"),
                 ));
             }
-            if !in_range(l.branch) {
-                return Err(Error::invalid(
-                    "leaves",
-                    format!(
-                        "leaf site {i} is on branch {}; expected one of the {n} branches or NO_PARENT",
-                        l.branch
-                    ),
-                ));
-            }
+            on_branch("leaves", format!("leaf site {i}"), l.branch)?;
         }
         if let Some(i) = self.polygon_points.iter().position(|p| !finite3(p)) {
             return Err(Error::invalid(
@@ -232,15 +236,7 @@ impl SkeletonParts {
                     ),
                 ));
             }
-            if !in_range(p.branch) {
-                return Err(Error::invalid(
-                    "polygons",
-                    format!(
-                        "polygon {i} is on branch {}; expected one of the {n} branches or NO_PARENT",
-                        p.branch
-                    ),
-                ));
-            }
+            on_branch("polygons", format!("polygon {i}"), p.branch)?;
         }
         for (field, len) in [("ups", self.ups.len()), ("curves", self.curves.len())] {
             if len != 0 && len != n {
