@@ -361,7 +361,7 @@ pub unsafe extern "C" fn arbor_mesh_write(
         }?;
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
-        plan.write_uninit(&tree.skeleton, v, i)?;
+        plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?;
         Ok(())
     })
 }
@@ -482,7 +482,7 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
             // SAFETY: as above.
             let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
                 .map_err(|e| e.at_level(k))?;
-            plan.write_uninit(&tree.skeleton, v, i)?;
+            plan.write_uninit_on(&tree.skeleton, levels[k].threads, v, i)?;
         }
         Ok(())
     })
@@ -515,7 +515,9 @@ pub unsafe extern "C" fn arbor_mesh_create(
         let options = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let mesh = tree.plan(&options)?.mesh(&tree.skeleton)?;
+        let mesh = tree
+            .plan(&options)?
+            .mesh_on(&tree.skeleton, options.threads)?;
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })

@@ -82,12 +82,30 @@ impl MeshPlan {
         self.write_checked(skeleton, vertices, indices)
     }
 
+    /// [`write_uninit`](Self::write_uninit) on up to `threads` threads (as
+    /// [`MeshOptions::threads`]) instead of the plan's own setting: a plan serves options
+    /// that differ only in their thread count.
+    pub fn write_uninit_on(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        vertices: &mut [MaybeUninit<Vertex>],
+        indices: &mut [MaybeUninit<u32>],
+    ) -> Result<MeshSize> {
+        self.write_on(skeleton, threads, vertices, indices)
+    }
+
     /// The owned mesh of `skeleton` with the branch ranges.
     pub fn mesh(&self, skeleton: &Skeleton) -> Result<Mesh> {
+        self.mesh_on(skeleton, self.options.threads)
+    }
+
+    /// [`mesh`](Self::mesh) on up to `threads` threads (as [`MeshOptions::threads`]).
+    pub fn mesh_on(&self, skeleton: &Skeleton, threads: u32) -> Result<Mesh> {
         let size = self.size();
         let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
         let mut indices = bytemuck::zeroed_vec::<u32>(size.indices);
-        self.write(skeleton, &mut vertices, &mut indices)?;
+        self.write_on(skeleton, threads, &mut vertices, &mut indices)?;
         Ok(Mesh {
             vertices,
             indices,
@@ -102,25 +120,36 @@ impl MeshPlan {
         vertices: &mut [V],
         indices: &mut [I],
     ) -> Result<MeshSize> {
+        self.write_on(skeleton, self.options.threads, vertices, indices)
+    }
+
+    fn write_on<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        vertices: &mut [V],
+        indices: &mut [I],
+    ) -> Result<MeshSize> {
         self.check_skeleton(skeleton)?;
         let size = self.size();
         size.check_capacity(vertices.len(), indices.len())?;
         self.write_all(
             skeleton,
+            threads,
             &mut vertices[..size.vertices],
             &mut indices[..size.indices],
         );
         Ok(size)
     }
 
-    /// How many threads a write of this plan uses.
-    fn threads(&self) -> usize {
+    /// How many threads a write of this plan uses when `threads` are asked for.
+    fn threads(&self, threads: u32) -> usize {
         // A degenerate strip joins each strip to the previous one's last index, so it is
         // written in order on one thread.
         if self.plan.rules.topology == super::Topology::TriangleStripDegenerate {
             return 1;
         }
-        let wanted = match self.options.threads {
+        let wanted = match threads {
             0 => std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
             t => t as usize,
         };
@@ -130,11 +159,12 @@ impl MeshPlan {
     fn write_all<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,
+        threads: u32,
         vertices: &mut [V],
         indices: &mut [I],
     ) {
         let n = skeleton.len();
-        let threads = self.threads();
+        let threads = self.threads(threads);
         if threads == 1 {
             self.write_branches(skeleton, 0..n, vertices, 0, indices, true);
             return;
@@ -172,6 +202,7 @@ impl MeshPlan {
     /// ring, height from its start ring's center to its end). A branch that shares its
     /// parent's end ring starts at that ring's radius; a lateral's own ring is sunk one
     /// parent radius into the parent, which lengthens its cone.
+    #[inline(always)]
     fn drawn(&self, skeleton: &Skeleton, i: usize) -> (f32, f32, f64) {
         let branches = skeleton.branches();
         let b = &branches[i];
@@ -199,6 +230,7 @@ impl MeshPlan {
     /// (radial, axial) parts of the unit outward normal of kept branch `i`'s cone as
     /// drawn: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
     /// overflows).
+    #[inline(always)]
     fn slope(&self, skeleton: &Skeleton, i: usize) -> (f32, f32) {
         let (r0, r1, h) = self.drawn(skeleton, i);
         let slope = Vec2::new(h as f32, r0 - r1);
@@ -249,6 +281,7 @@ impl MeshPlan {
     }
 
     /// Everything the writer needs of kept branch `i`, in output space.
+    #[inline(always)]
     fn tube(&self, skeleton: &Skeleton, i: usize) -> Tube<'_> {
         let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
         let out = Out {
@@ -332,11 +365,13 @@ struct Tube<'a> {
 type Firsts = (u32, u32, u32);
 
 impl Tube<'_> {
+    #[inline(always)]
     fn pos(&self, v: Vec3) -> Vec3 {
         Vec3::from_array(self.out.pos(v))
     }
 
     /// A ring of the cone: radial·r around the center, normal radial·nc + axis·na.
+    #[inline(always)]
     fn cone(&self, center: Vec3, r: f32, v: f32) -> Affine {
         Affine::new(
             center,
@@ -354,6 +389,7 @@ impl Tube<'_> {
 
     /// A disc of radius r facing `normal`, uv a unit disc around (0.5, 0.5) (`flip`
     /// mirrors v, so a base cap seen from below is not mirrored).
+    #[inline(always)]
     fn disc(&self, center: Vec3, r: f32, normal: Vec3, flip: bool) -> Affine {
         Affine::new(
             center,
@@ -402,6 +438,7 @@ impl Tube<'_> {
 
     /// Writes the tube's own vertices (`out` holds exactly them): its start ring unless
     /// shared, its end ring, a base cap, a tip. Returns where each part starts.
+    #[inline(always)]
     fn write_vertices<V: Slot<Vertex>>(
         &self,
         plan: &MeshPlan,
@@ -473,6 +510,7 @@ impl Tube<'_> {
     }
 
     /// Writes the tube's indices: the tube between its rings, then the caps.
+    #[inline(always)]
     fn write_indices<I: Slot<u32>>(
         &self,
         o: &MeshOptions,
