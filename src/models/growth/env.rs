@@ -1,0 +1,384 @@
+//! The environment a world's trees share: a shadow voxel grid, or attraction markers on a
+//! uniform grid, and the obstacles placed in it.
+
+use super::{Environment, GrowthParams, WorldOptions};
+use crate::error::{Error, Result};
+use glam::Vec3;
+
+/// A shape that casts shadow (shadow worlds) or removes markers (space colonization).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Obstacle {
+    /// An axis-aligned box between two corners.
+    Box {
+        /// Lower corner.
+        min: [f32; 3],
+        /// Upper corner.
+        max: [f32; 3],
+    },
+    /// A sphere.
+    Sphere {
+        /// Center.
+        center: [f32; 3],
+        /// Radius, > 0.
+        radius: f32,
+    },
+}
+
+impl Obstacle {
+    pub(crate) fn validate(&self) -> Result<()> {
+        let finite = |p: &[f32; 3]| p.iter().all(|v| v.is_finite());
+        match self {
+            Obstacle::Box { min, max } => {
+                if !(finite(min) && finite(max)) || (0..3).any(|k| max[k] < min[k]) {
+                    return Err(Error::invalid(
+                        "obstacle",
+                        format!("box {min:?}..{max:?}; expected finite corners, min <= max"),
+                    ));
+                }
+            }
+            Obstacle::Sphere { center, radius } => {
+                if !(finite(center) && radius.is_finite() && *radius > 0.0) {
+                    return Err(Error::invalid(
+                        "obstacle",
+                        format!(
+                            "sphere at {center:?} radius {radius}; expected a finite center and radius > 0"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn contains(&self, p: Vec3) -> bool {
+        match *self {
+            Obstacle::Box { min, max } => {
+                p.cmpge(Vec3::from(min)).all() && p.cmple(Vec3::from(max)).all()
+            }
+            Obstacle::Sphere { center, radius } => {
+                p.distance_squared(Vec3::from(center)) <= radius * radius
+            }
+        }
+    }
+
+    fn bounds(&self) -> (Vec3, Vec3) {
+        match *self {
+            Obstacle::Box { min, max } => (Vec3::from(min), Vec3::from(max)),
+            Obstacle::Sphere { center, radius } => {
+                let c = Vec3::from(center);
+                (c - Vec3::splat(radius), c + Vec3::splat(radius))
+            }
+        }
+    }
+}
+
+/// One bud as the environment sees it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Bud {
+    pub(crate) position: Vec3,
+    pub(crate) direction: Vec3,
+}
+
+/// The shared environment.
+#[derive(Clone, Debug)]
+pub(crate) struct Env {
+    kind: Environment,
+    origin: Vec3,
+    inv_cell: f32,
+    cell: f32,
+    dims: [usize; 3],
+    /// Shadow per cell, x fastest, then z, then y (a layer of the pyramid is rows of x).
+    shadow: Vec<f32>,
+    /// a·b^−q for q = 0..=q_max.
+    falloff: Vec<f32>,
+    full_light: f32,
+    strength: f32,
+    /// Markers (space colonization), binned by cell: `markers[first[c]..first[c + 1]]`.
+    first: Vec<u32>,
+    markers: Vec<Vec3>,
+    alive: Vec<bool>,
+    min: Vec3,
+    max: Vec3,
+    /// Shadow changes not applied yet: (cell, buds added there, negative for removed).
+    pending: Vec<(u32, f32)>,
+    obstacles: Vec<Obstacle>,
+}
+
+impl Env {
+    pub(crate) fn new(o: &WorldOptions) -> Self {
+        let (min, max) = (Vec3::from(o.min), Vec3::from(o.max));
+        let dims = [0, 1, 2].map(|k| (((max[k] - min[k]) / o.cell_size).ceil() as usize).max(1));
+        let cells = dims[0] * dims[1] * dims[2];
+        let mut env = Env {
+            kind: o.environment,
+            origin: min,
+            inv_cell: 1.0 / o.cell_size,
+            cell: o.cell_size,
+            dims,
+            shadow: Vec::new(),
+            falloff: (0..=o.shadow_depth)
+                .map(|q| o.shadow_strength * libm::powf(o.shadow_falloff, -(q as f32)))
+                .collect(),
+            full_light: o.full_light,
+            strength: o.shadow_strength,
+            first: Vec::new(),
+            markers: Vec::new(),
+            alive: Vec::new(),
+            min,
+            max,
+            pending: Vec::new(),
+            obstacles: Vec::new(),
+        };
+        match o.environment {
+            Environment::Shadow => env.shadow = vec![0.0; cells],
+            Environment::SpaceColonization => {
+                // One marker per cell, jittered inside it (seeded).
+                let mut rng = crate::rng::Rng::new(o.seed ^ 0x3A2C_E125_0000_0001);
+                env.first = Vec::with_capacity(cells + 1);
+                env.markers = Vec::with_capacity(cells);
+                for c in 0..cells {
+                    env.first.push(c as u32);
+                    let (x, y, z) = env.coords(c);
+                    let jitter = Vec3::new(
+                        rng.next_f64() as f32,
+                        rng.next_f64() as f32,
+                        rng.next_f64() as f32,
+                    );
+                    let p = min + (Vec3::new(x as f32, y as f32, z as f32) + jitter) * o.cell_size;
+                    env.markers.push(p.min(max));
+                }
+                env.first.push(cells as u32);
+                env.alive = vec![true; cells];
+            }
+        }
+        env
+    }
+
+    fn coords(&self, c: usize) -> (usize, usize, usize) {
+        let [nx, _, nz] = self.dims;
+        (c % nx, c / (nx * nz), (c / nx) % nz)
+    }
+
+    fn index(&self, x: usize, y: usize, z: usize) -> usize {
+        let [nx, _, nz] = self.dims;
+        (y * nz + z) * nx + x
+    }
+
+    /// The cell holding `p`, clamped into the grid.
+    fn cell_of(&self, p: Vec3) -> [usize; 3] {
+        let g = ((p - self.origin) * self.inv_cell).floor();
+        [0, 1, 2].map(|k| (g[k].max(0.0) as usize).min(self.dims[k] - 1))
+    }
+
+    pub(crate) fn inside(&self, p: Vec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
+    /// Adds (`count` > 0) or removes (< 0) the shadow pyramids of `count` buds at `p`,
+    /// applied at the next [`flush`](Self::flush). Nothing for markers.
+    pub(crate) fn cast(&mut self, p: Vec3, count: f32) {
+        if self.kind != Environment::Shadow {
+            return;
+        }
+        let [x, y, z] = self.cell_of(p);
+        self.pending.push((self.index(x, y, z) as u32, count));
+    }
+
+    /// Applies the pending shadow changes: buds added and removed in one cell cancel, and
+    /// each changed cell's pyramid is applied once, in cell order (so the result does not
+    /// depend on the order the changes came in; the counts are small integers, exact in
+    /// any order).
+    pub(crate) fn flush(&mut self) {
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.sort_unstable_by_key(|&(c, _)| c);
+        let mut k = 0;
+        while k < pending.len() {
+            let cell = pending[k].0;
+            let mut net = 0.0;
+            while k < pending.len() && pending[k].0 == cell {
+                net += pending[k].1;
+                k += 1;
+            }
+            if net != 0.0 {
+                let (x, y, z) = self.coords(cell as usize);
+                self.pyramid([x, y, z], net);
+            }
+        }
+        pending.clear();
+        self.pending = pending;
+    }
+
+    /// The shadow pyramid of `count` buds in cell `c`: the cells q layers below, within q
+    /// cells sideways, each gain count·a·b^−q.
+    fn pyramid(&mut self, [cx, cy, cz]: [usize; 3], count: f32) {
+        let sign = count;
+        let [nx, _, nz] = self.dims;
+        for (q, &f) in self.falloff.iter().enumerate() {
+            if q > cy {
+                break;
+            }
+            let y = cy - q;
+            let add = f * sign;
+            let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
+            let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
+            for z in z0..=z1 {
+                let row = self.index(0, y, z);
+                for s in &mut self.shadow[row + x0..=row + x1] {
+                    *s += add;
+                }
+            }
+        }
+    }
+
+    /// Shadow at a cell, 0 outside the grid.
+    fn s(&self, x: isize, y: isize, z: isize) -> f32 {
+        let [nx, ny, nz] = self.dims;
+        if x < 0 || y < 0 || z < 0 || x as usize >= nx || y as usize >= ny || z as usize >= nz {
+            return 0.0;
+        }
+        self.shadow[self.index(x as usize, y as usize, z as usize)]
+    }
+
+    /// Light and optimal direction at a bud of a shadow world (none outside the box):
+    /// Q = max(C − s + a, 0)
+    /// (the `+ a` takes away the bud's own shadow) and V = −∇s, normalised (zero where
+    /// flat).
+    pub(crate) fn shadow_light(&self, p: Vec3) -> (f32, Vec3) {
+        // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
+        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+            return (0.0, Vec3::ZERO);
+        }
+        let [x, y, z] = self.cell_of(p).map(|v| v as isize);
+        let s = self.s(x, y, z);
+        let q = (self.full_light - s + self.strength).max(0.0);
+        let grad = Vec3::new(
+            self.s(x + 1, y, z) - self.s(x - 1, y, z),
+            self.s(x, y + 1, z) - self.s(x, y - 1, z),
+            self.s(x, y, z + 1) - self.s(x, y, z - 1),
+        );
+        (q, (-grad).normalize_or_zero())
+    }
+
+    /// Space colonization for every bud of every tree: markers within a bud's occupancy
+    /// reach are removed, then each remaining marker inside one or more buds' perception
+    /// cones goes to the nearest of them. A bud with markers gets Q = 1 and V the
+    /// normalised sum of unit vectors to its markers; others Q = 0.
+    pub(crate) fn colonize(
+        &mut self,
+        buds: &[Vec<Bud>],
+        species: &[GrowthParams],
+    ) -> Vec<Vec<(f32, Vec3)>> {
+        // Occupancy.
+        for (tree, p) in buds.iter().zip(species) {
+            let reach = p.occupancy_reach * p.internode_length;
+            for b in tree {
+                self.for_markers(b.position, reach, |env, m| {
+                    if env.markers[m].distance_squared(b.position) <= reach * reach {
+                        env.alive[m] = false;
+                    }
+                });
+            }
+        }
+        // Perception: the nearest perceiving bud wins each marker.
+        let mut best: std::collections::HashMap<u32, (f32, u32, u32)> = Default::default();
+        for (t, (tree, p)) in buds.iter().zip(species).enumerate() {
+            let reach = p.perception_reach * p.internode_length;
+            let cos = libm::cosf(p.perception_angle.to_radians());
+            for (k, b) in tree.iter().enumerate() {
+                self.for_markers(b.position, reach, |env, m| {
+                    let to = env.markers[m] - b.position;
+                    let d2 = to.length_squared();
+                    if d2 > reach * reach || d2 == 0.0 {
+                        return;
+                    }
+                    if to.dot(b.direction) < cos * d2.sqrt() {
+                        return;
+                    }
+                    let e = best.entry(m as u32).or_insert((f32::INFINITY, 0, 0));
+                    if d2 < e.0 {
+                        *e = (d2, t as u32, k as u32);
+                    }
+                });
+            }
+        }
+        let mut out: Vec<Vec<(f32, Vec3)>> = buds
+            .iter()
+            .map(|t| vec![(0.0, Vec3::ZERO); t.len()])
+            .collect();
+        // Sum in marker order so the result does not depend on the map's order.
+        let mut won: Vec<(u32, u32, u32)> =
+            best.into_iter().map(|(m, (_, t, k))| (m, t, k)).collect();
+        won.sort_unstable();
+        for (m, t, k) in won {
+            let b = &buds[t as usize][k as usize];
+            let slot = &mut out[t as usize][k as usize];
+            slot.0 = 1.0;
+            slot.1 += (self.markers[m as usize] - b.position).normalize_or_zero();
+        }
+        for tree in &mut out {
+            for slot in tree {
+                slot.1 = slot.1.normalize_or_zero();
+            }
+        }
+        out
+    }
+
+    /// Calls `f` with every living marker in the cells within `reach` of `p`.
+    fn for_markers(&mut self, p: Vec3, reach: f32, mut f: impl FnMut(&mut Env, usize)) {
+        let lo = self.cell_of(p - Vec3::splat(reach));
+        let hi = self.cell_of(p + Vec3::splat(reach));
+        for y in lo[1]..=hi[1] {
+            for z in lo[2]..=hi[2] {
+                for x in lo[0]..=hi[0] {
+                    let c = self.index(x, y, z);
+                    for m in self.first[c] as usize..self.first[c + 1] as usize {
+                        if self.alive[m] {
+                            f(self, m);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Places an obstacle: in a shadow world every cell whose center it contains is
+    /// opaque: every cell straight below it gets full exposure's worth of shadow (C), and
+    /// its pyramid spreads a bud's shadow around that; buds inside it get no light. In a
+    /// colonization world the markers inside it are removed.
+    pub(crate) fn add_obstacle(&mut self, o: &Obstacle) {
+        self.obstacles.push(*o);
+        let (lo, hi) = o.bounds();
+        let (lo, hi) = (self.cell_of(lo), self.cell_of(hi));
+        for y in lo[1]..=hi[1] {
+            for z in lo[2]..=hi[2] {
+                for x in lo[0]..=hi[0] {
+                    let center =
+                        self.origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * self.cell;
+                    match self.kind {
+                        Environment::Shadow => {
+                            if o.contains(center) {
+                                self.pyramid([x, y, z], 1.0);
+                                for below in 0..y {
+                                    let c = self.index(x, below, z);
+                                    self.shadow[c] += self.full_light;
+                                }
+                            }
+                        }
+                        Environment::SpaceColonization => {
+                            let c = self.index(x, y, z);
+                            for m in self.first[c] as usize..self.first[c + 1] as usize {
+                                if o.contains(self.markers[m]) {
+                                    self.alive[m] = false;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    pub(crate) fn kind(&self) -> Environment {
+        self.kind
+    }
+}

@@ -1,0 +1,654 @@
+//! Self-organizing trees (Pałubicki et al. 2009): trees that grow cycle by cycle toward
+//! light and space, shade each other and shed what starves.
+//!
+//! A [`World`] holds the trees and one environment they share: shadow propagation in a
+//! voxel grid, or space colonization with attraction markers ([`Environment`]). Each
+//! [`World::step`] runs one growth cycle for every tree: light and the optimal direction
+//! at every bud; a basipetal pass that gathers light; an acropetal pass that splits the
+//! vigour by the extended Borchert–Honda model (apical control λ, vigour multiplier α);
+//! new shoots of ⌊v⌋ internodes heading between the previous heading, the environment's
+//! direction and tropism; shedding of branches whose vigour no longer pays for their size;
+//! pipe-model radii that never shrink; and, optionally, seeding of new trees.
+//!
+//! A snapshot of any tree ([`World::tree`]) is an ordinary [`Skeleton`]: `birth` is the
+//! growth cycle that made each branch, `order` its branching order, and every living bud
+//! is a leaf site, so meshes, leaves, LOD, animation and export work on it unchanged.
+//!
+//! ```
+//! use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
+//!
+//! let mut world = World::new(&WorldOptions::default())?;
+//! world.plant(&GrowthParams::preset(Species::Excurrent), [0.0, 0.0, 0.0], 1)?;
+//! world.step(8)?;
+//! let tree = world.tree(0)?;
+//! assert!(tree.len() > 20);
+//! # Ok::<(), arbor::Error>(())
+//! ```
+
+mod env;
+mod tree;
+
+use crate::error::{Error, Result};
+use crate::skeleton::Skeleton;
+use env::Env;
+use glam::Vec3;
+use tree::Tree;
+
+pub use env::Obstacle;
+
+/// How a world's trees perceive light and space. The numbers are those of the C enum
+/// `ArborEnvironment`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Environment {
+    /// Shadow propagation in a voxel grid: every bud casts a pyramid of shadow below it.
+    #[default]
+    Shadow = 0,
+    /// Space colonization: buds compete for attraction markers scattered in the box.
+    SpaceColonization = 1,
+}
+
+/// The world: its box, its environment and its limits. Plain data; `Default` gives the
+/// documented defaults.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldOptions {
+    /// Shadow (default) or space colonization.
+    pub environment: Environment,
+    /// Lower corner of the box trees grow in (world units, Y up). Default (−10, 0, −10).
+    pub min: [f32; 3],
+    /// Upper corner. Default (10, 20, 10).
+    pub max: [f32; 3],
+    /// Voxel edge of the shadow grid, or the spacing of attraction markers (one per cell,
+    /// jittered). Finite, > 0. Default 0.25 (one internode of the presets).
+    pub cell_size: f32,
+    /// Seeds the markers and the seeding of new trees. Default 0.
+    pub seed: u64,
+    /// Shadow a bud casts into its own cell and the layer below (`a`), > 0. Default 0.2.
+    pub shadow_strength: f32,
+    /// Falloff per layer (`b` > 1: layer q gets a·b^−q). Default 2.
+    pub shadow_falloff: f32,
+    /// Layers of the shadow pyramid below a bud (`q_max`), 0..=16. Default 5.
+    pub shadow_depth: u32,
+    /// Full exposure (`C`), > 0. Default 1.5.
+    pub full_light: f32,
+    /// Most cells the grid may have (4 bytes each for shadow). Default 2^25 (128 MiB).
+    pub max_cells: usize,
+    /// Growth stops with `LimitExceeded` naming `max_branches` before the world's
+    /// internodes would pass this. Default 2^24.
+    pub max_branches: usize,
+    /// Most trees (seeding stops adding trees at this count). Default 1,024.
+    pub max_trees: usize,
+    /// Grow the trees of one cycle on all cores with the `parallel` feature (the result is
+    /// identical to the serial path). Default true.
+    pub parallel: bool,
+}
+
+impl Default for WorldOptions {
+    fn default() -> Self {
+        WorldOptions {
+            environment: Environment::Shadow,
+            min: [-10.0, 0.0, -10.0],
+            max: [10.0, 20.0, 10.0],
+            cell_size: 0.25,
+            seed: 0,
+            shadow_strength: 0.2,
+            shadow_falloff: 2.0,
+            shadow_depth: 5,
+            full_light: 1.5,
+            max_cells: 1 << 25,
+            max_branches: crate::limits::DEFAULT_MAX_BRANCHES,
+            max_trees: 1024,
+            parallel: true,
+        }
+    }
+}
+
+/// One species: how a tree grows. Plain data; `Default` is [`Species::Excurrent`]'s values
+/// with neutral apical control. Lengths are world units, angles degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrowthParams {
+    /// λ in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
+    /// laterals (decurrent). Default 0.5.
+    pub apical_control: f32,
+    /// α > 0: vigour at the base = α · light gathered. Default 2.
+    pub vigor_multiplier: f32,
+    /// Length of an internode at vigour 1, > 0. Default 0.25.
+    pub internode_length: f32,
+    /// Angle between a lateral bud and its internode's heading, 0..=180. Default 45.
+    pub branch_angle: f32,
+    /// Turn about the heading from one lateral bud to the next, finite. Default 137.5.
+    pub phyllotaxis: f32,
+    /// η: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
+    /// −1..=1. Default 0.1.
+    pub tropism: f32,
+    /// ξ ≥ 0: weight of the environment's optimal direction. Default 0.25.
+    pub environment_weight: f32,
+    /// n in [1, 4]: a parent's r^n is the sum of its children's. Default 2.5.
+    pub pipe_exponent: f32,
+    /// Radius of a branch tip, > 0. Default 0.01.
+    pub tip_radius: f32,
+    /// A lateral branch is shed when its vigour < shed_multiplier · internodes^shed_exponent
+    /// (its internodes counted with everything above it). ≥ 0 (0: never). Default 0.03.
+    pub shed_multiplier: f32,
+    /// 0..=8. Default 1.3.
+    pub shed_exponent: f32,
+    /// A branch younger than this many cycles is never shed. Default 4.
+    pub shed_delay: u32,
+    /// A tree older than this many cycles drops seeds each cycle; 0 (default): never.
+    pub seed_age: u32,
+    /// Seeds land within ln(root vigour) · seed_spread of the base, ≥ 0. Default 2.
+    pub seed_spread: f32,
+    /// Space colonization: half-angle of a bud's perception cone, 0..=180. Default 90.
+    pub perception_angle: f32,
+    /// Space colonization: reach of the perception cone, in internode lengths, > 0.
+    /// Default 4.
+    pub perception_reach: f32,
+    /// Space colonization: markers closer than this many internode lengths to a bud are
+    /// removed (occupied), ≥ 0. Default 2.
+    pub occupancy_reach: f32,
+    /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
+    pub max_shoot: u32,
+}
+
+impl Default for GrowthParams {
+    fn default() -> Self {
+        GrowthParams {
+            apical_control: 0.5,
+            vigor_multiplier: 2.0,
+            internode_length: 0.25,
+            branch_angle: 45.0,
+            phyllotaxis: 137.5,
+            tropism: 0.1,
+            environment_weight: 0.25,
+            pipe_exponent: 2.5,
+            tip_radius: 0.01,
+            shed_multiplier: 0.03,
+            shed_exponent: 1.3,
+            shed_delay: 4,
+            seed_age: 0,
+            seed_spread: 2.0,
+            perception_angle: 90.0,
+            perception_reach: 4.0,
+            occupancy_reach: 2.0,
+            max_shoot: 8,
+        }
+    }
+}
+
+/// Named species with documented parameter values (see [`GrowthParams::preset`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Species {
+    /// A conifer-like tree with a strong leader: λ 0.58, branch angle 65°.
+    Excurrent = 0,
+    /// A broad, spreading crown: λ 0.46, α 2.2, branch angle 45°.
+    Decurrent = 1,
+    /// A narrow column: λ 0.54, branch angle 30°, tropism 0.25.
+    Columnar = 2,
+    /// A shrub: λ 0.42, short internodes, branch angle 55°, little shedding.
+    Bush = 3,
+    /// Drooping shoots: λ 0.5, tropism −0.25 (shoots bend down).
+    Weeping = 4,
+}
+
+impl Species {
+    /// Every species, in their numeric order.
+    pub const ALL: [Species; 5] = [
+        Species::Excurrent,
+        Species::Decurrent,
+        Species::Columnar,
+        Species::Bush,
+        Species::Weeping,
+    ];
+}
+
+impl GrowthParams {
+    /// The parameters of a named species. Values (the rest as [`Default`]):
+    ///
+    /// | species | λ | α | internode | branch angle | tropism | ξ | shed multiplier |
+    /// |---|---|---|---|---|---|---|---|
+    /// | excurrent | 0.58 | 2 | 0.25 | 65 | 0.15 | 0.2 | 0.03 |
+    /// | decurrent | 0.46 | 2.2 | 0.25 | 45 | 0.05 | 0.3 | 0.03 |
+    /// | columnar | 0.54 | 2 | 0.25 | 30 | 0.25 | 0.15 | 0.03 |
+    /// | bush | 0.42 | 2.4 | 0.15 | 55 | 0.05 | 0.3 | 0.015 |
+    /// | weeping | 0.5 | 2 | 0.25 | 50 | −0.25 | 0.2 | 0.03 |
+    pub fn preset(species: Species) -> Self {
+        let d = GrowthParams::default();
+        match species {
+            Species::Excurrent => GrowthParams {
+                apical_control: 0.58,
+                branch_angle: 65.0,
+                tropism: 0.15,
+                environment_weight: 0.2,
+                ..d
+            },
+            Species::Decurrent => GrowthParams {
+                apical_control: 0.46,
+                vigor_multiplier: 2.2,
+                tropism: 0.05,
+                environment_weight: 0.3,
+                ..d
+            },
+            Species::Columnar => GrowthParams {
+                apical_control: 0.54,
+                branch_angle: 30.0,
+                tropism: 0.25,
+                environment_weight: 0.15,
+                ..d
+            },
+            Species::Bush => GrowthParams {
+                apical_control: 0.42,
+                vigor_multiplier: 2.4,
+                internode_length: 0.15,
+                branch_angle: 55.0,
+                tropism: 0.05,
+                environment_weight: 0.3,
+                shed_multiplier: 0.015,
+                ..d
+            },
+            Species::Weeping => GrowthParams {
+                branch_angle: 50.0,
+                tropism: -0.25,
+                environment_weight: 0.2,
+                ..d
+            },
+        }
+    }
+
+    /// [`Error::InvalidArgument`] naming the first parameter out of its range.
+    pub fn validate(&self) -> Result<()> {
+        let check = |field: &'static str, v: f32, ok: bool, expected: &str| {
+            if v.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(Error::invalid(field, format!("{v}; expected {expected}")))
+            }
+        };
+        check(
+            "apical_control",
+            self.apical_control,
+            (0.0..=1.0).contains(&self.apical_control),
+            "0..=1",
+        )?;
+        check(
+            "vigor_multiplier",
+            self.vigor_multiplier,
+            self.vigor_multiplier > 0.0,
+            "a finite number > 0",
+        )?;
+        check(
+            "internode_length",
+            self.internode_length,
+            self.internode_length > 0.0,
+            "a finite length > 0",
+        )?;
+        check(
+            "branch_angle",
+            self.branch_angle,
+            (0.0..=180.0).contains(&self.branch_angle),
+            "0..=180 degrees",
+        )?;
+        check("phyllotaxis", self.phyllotaxis, true, "a finite angle")?;
+        check(
+            "tropism",
+            self.tropism,
+            (-1.0..=1.0).contains(&self.tropism),
+            "-1..=1",
+        )?;
+        check(
+            "environment_weight",
+            self.environment_weight,
+            self.environment_weight >= 0.0,
+            "a finite number >= 0",
+        )?;
+        check(
+            "pipe_exponent",
+            self.pipe_exponent,
+            (1.0..=4.0).contains(&self.pipe_exponent),
+            "1..=4",
+        )?;
+        check(
+            "tip_radius",
+            self.tip_radius,
+            self.tip_radius > 0.0,
+            "a finite radius > 0",
+        )?;
+        check(
+            "shed_multiplier",
+            self.shed_multiplier,
+            self.shed_multiplier >= 0.0,
+            "a finite number >= 0",
+        )?;
+        check(
+            "shed_exponent",
+            self.shed_exponent,
+            (0.0..=8.0).contains(&self.shed_exponent),
+            "0..=8",
+        )?;
+        check(
+            "seed_spread",
+            self.seed_spread,
+            self.seed_spread >= 0.0,
+            "a finite distance factor >= 0",
+        )?;
+        check(
+            "perception_angle",
+            self.perception_angle,
+            self.perception_angle > 0.0 && self.perception_angle <= 180.0,
+            "0 < angle <= 180 degrees",
+        )?;
+        check(
+            "perception_reach",
+            self.perception_reach,
+            self.perception_reach > 0.0 && self.perception_reach <= 64.0,
+            "0 < reach <= 64 internode lengths",
+        )?;
+        check(
+            "occupancy_reach",
+            self.occupancy_reach,
+            (0.0..=64.0).contains(&self.occupancy_reach),
+            "0..=64 internode lengths",
+        )?;
+        if !(1..=64).contains(&self.max_shoot) {
+            return Err(Error::invalid(
+                "max_shoot",
+                format!("{}; expected 1..=64 internodes", self.max_shoot),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl WorldOptions {
+    /// [`Error::InvalidArgument`] naming the first option out of its range, or
+    /// [`Error::LimitExceeded`] when the grid would pass `max_cells`.
+    pub fn validate(&self) -> Result<()> {
+        let finite = |p: &[f32; 3]| p.iter().all(|v| v.is_finite());
+        if !(finite(&self.min) && finite(&self.max)) {
+            return Err(Error::invalid("min/max", "the box corners must be finite"));
+        }
+        if (0..3).any(|k| self.max[k] <= self.min[k]) {
+            return Err(Error::invalid(
+                "max",
+                format!(
+                    "{:?}; expected greater than min {:?} on every axis",
+                    self.max, self.min
+                ),
+            ));
+        }
+        let positive = |field: &'static str, v: f32| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    field,
+                    format!("{v}; expected a finite number > 0"),
+                ))
+            }
+        };
+        positive("cell_size", self.cell_size)?;
+        positive("shadow_strength", self.shadow_strength)?;
+        positive("full_light", self.full_light)?;
+        if !(self.shadow_falloff.is_finite() && self.shadow_falloff > 1.0) {
+            return Err(Error::invalid(
+                "shadow_falloff",
+                format!("{}; expected a finite number > 1", self.shadow_falloff),
+            ));
+        }
+        if self.shadow_depth > 16 {
+            return Err(Error::invalid(
+                "shadow_depth",
+                format!("{}; expected 0..=16 layers", self.shadow_depth),
+            ));
+        }
+        let cells = self.cells();
+        if cells > self.max_cells as u128 {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_cells",
+                what: "grid cells of the world box at this cell_size",
+                limit: self.max_cells as u64,
+                requested: u64::try_from(cells).unwrap_or(u64::MAX),
+                step: None,
+            });
+        }
+        Ok(())
+    }
+
+    /// Cells of the world box at `cell_size` (saturating).
+    fn cells(&self) -> u128 {
+        (0..3)
+            .map(|k| {
+                let n = ((self.max[k] - self.min[k]) as f64 / self.cell_size as f64).ceil();
+                if n.is_finite() {
+                    n.max(1.0) as u128
+                } else {
+                    u128::MAX
+                }
+            })
+            .fold(1u128, |a, n| a.saturating_mul(n))
+    }
+}
+
+/// Trees growing together, sharing light and space (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct World {
+    options: WorldOptions,
+    env: Env,
+    trees: Vec<Tree>,
+    cycle: u32,
+    rng: crate::rng::Rng,
+}
+
+impl World {
+    /// An empty world; fails naming the first bad option, or with `LimitExceeded` when
+    /// the grid would pass `max_cells` (before it is allocated).
+    pub fn new(options: &WorldOptions) -> Result<Self> {
+        options.validate()?;
+        Ok(World {
+            options: *options,
+            env: Env::new(options),
+            trees: Vec::new(),
+            cycle: 0,
+            rng: crate::rng::Rng::new(options.seed ^ 0x5EED_F0E5_7000_0001),
+        })
+    }
+
+    /// The world's options.
+    pub fn options(&self) -> &WorldOptions {
+        &self.options
+    }
+
+    /// Plants a tree of `species` with its base at `position` (inside the box): one
+    /// internode pointing up, with a terminal and a lateral bud. `seed` turns its first
+    /// lateral bud. Returns its index (planting order).
+    pub fn plant(&mut self, species: &GrowthParams, position: [f32; 3], seed: u64) -> Result<u32> {
+        species.validate()?;
+        if !position.iter().all(|v| v.is_finite()) || !self.env.inside(Vec3::from(position)) {
+            return Err(Error::invalid(
+                "position",
+                format!(
+                    "{position:?}; expected a point inside the world box {:?}..{:?}",
+                    self.options.min, self.options.max
+                ),
+            ));
+        }
+        if self.trees.len() >= self.options.max_trees {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_trees",
+                what: "trees",
+                limit: self.options.max_trees as u64,
+                requested: self.trees.len() as u64 + 1,
+                step: None,
+            });
+        }
+        self.check_branches(1)?;
+        let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle);
+        tree.cast(&mut self.env, 1.0);
+        self.env.flush();
+        self.trees.push(tree);
+        Ok(self.trees.len() as u32 - 1)
+    }
+
+    /// Adds an obstacle: it casts shadow (shadow worlds) or removes the markers inside it
+    /// (space colonization).
+    pub fn add_obstacle(&mut self, obstacle: Obstacle) -> Result<()> {
+        obstacle.validate()?;
+        self.env.add_obstacle(&obstacle);
+        Ok(())
+    }
+
+    fn check_branches(&self, more: usize) -> Result<()> {
+        let now = self.branch_count();
+        if now + more > self.options.max_branches {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_branches",
+                what: "internodes of the world",
+                limit: self.options.max_branches as u64,
+                requested: (now + more) as u64,
+                step: Some(self.cycle),
+            });
+        }
+        Ok(())
+    }
+
+    /// Runs `cycles` growth cycles for every tree. A cycle that would pass `max_branches`
+    /// stops with `LimitExceeded` before it grows anything; the world stays as it was
+    /// after the last whole cycle.
+    pub fn step(&mut self, cycles: u32) -> Result<()> {
+        for _ in 0..cycles {
+            self.cycle_once()?;
+        }
+        Ok(())
+    }
+
+    fn cycle_once(&mut self) -> Result<()> {
+        let cycle = self.cycle + 1;
+        let parallel = self.options.parallel;
+        // 1: light and direction at every bud of every tree, from the shared environment.
+        let buds: Vec<Vec<env::Bud>> = each(&mut self.trees, parallel, |t| {
+            let mut b = Vec::new();
+            t.buds(&mut b);
+            b
+        });
+        let light: Vec<Vec<(f32, Vec3)>> = match self.env.kind() {
+            Environment::Shadow => {
+                let env = &self.env;
+                each_ref(&buds, parallel, |b| {
+                    b.iter().map(|x| env.shadow_light(x.position)).collect()
+                })
+            }
+            Environment::SpaceColonization => {
+                let species: Vec<GrowthParams> = self.trees.iter().map(|t| t.species).collect();
+                self.env.colonize(&buds, &species)
+            }
+        };
+        // 2–5: the basipetal and acropetal passes, shedding and the new shoots, planned
+        // per tree (in parallel with the `parallel` feature).
+        let mut work: Vec<(&mut Tree, &[(f32, Vec3)])> = self
+            .trees
+            .iter_mut()
+            .zip(light.iter().map(|l| l.as_slice()))
+            .collect();
+        let plans: Vec<tree::Plan> = each(&mut work, parallel, |(t, l)| t.plan_cycle(l, cycle));
+        let new: usize = plans.iter().map(|p| p.new_internodes()).sum();
+        self.check_branches(new)?;
+        // Growth, shedding and the shared grid's updates, in tree order, so the result
+        // does not depend on the thread count.
+        for (t, plan) in self.trees.iter_mut().zip(plans) {
+            t.grow(plan, &mut self.env, cycle);
+        }
+        // 7: seeding.
+        let mut seedlings = Vec::new();
+        for t in &self.trees {
+            t.seeds(cycle, &mut self.rng, &mut seedlings);
+        }
+        for (species, at) in seedlings {
+            if self.trees.len() >= self.options.max_trees || !self.env.inside(at) {
+                continue;
+            }
+            if self.check_branches(1).is_err() {
+                break;
+            }
+            let seed = self.rng.next_u64();
+            let tree = Tree::plant(species, at, seed, cycle);
+            tree.cast(&mut self.env, 1.0);
+            self.trees.push(tree);
+        }
+        self.env.flush();
+        self.cycle = cycle;
+        Ok(())
+    }
+
+    /// Growth cycles run so far.
+    pub fn cycle(&self) -> u32 {
+        self.cycle
+    }
+
+    /// Number of trees (planted and seeded).
+    pub fn tree_count(&self) -> usize {
+        self.trees.len()
+    }
+
+    /// Living internodes of all trees.
+    pub fn branch_count(&self) -> usize {
+        self.trees.iter().map(|t| t.len()).sum()
+    }
+
+    /// Internodes shed so far by tree `index`.
+    pub fn shed_count(&self, index: usize) -> Result<usize> {
+        Ok(self.tree_ref(index)?.shed)
+    }
+
+    fn tree_ref(&self, index: usize) -> Result<&Tree> {
+        self.trees.get(index).ok_or_else(|| {
+            Error::invalid(
+                "index",
+                format!("{index}; the world has {} trees", self.trees.len()),
+            )
+        })
+    }
+
+    /// A snapshot of tree `index` (planting order) as an ordinary skeleton: `birth` is the
+    /// cycle that made each branch, `order` its branching order, radii from the pipe
+    /// model, and a leaf site at every living bud.
+    pub fn tree(&self, index: usize) -> Result<Skeleton> {
+        Ok(self.tree_ref(index)?.skeleton())
+    }
+
+    /// The largest relative vigour residual of the last cycle's splits over every
+    /// branching point of every tree: |v − v_main − v_lateral| / v (0 up to rounding: the
+    /// extended Borchert–Honda split conserves vigour).
+    pub fn vigour_residual(&self) -> f32 {
+        self.trees.iter().map(|t| t.residual).fold(0.0, f32::max)
+    }
+}
+
+/// `f` of every element, on all cores with the `parallel` feature (and `parallel` set).
+fn each<T: Send, R: Send>(
+    items: &mut [T],
+    parallel: bool,
+    f: impl Fn(&mut T) -> R + Sync + Send,
+) -> Vec<R> {
+    #[cfg(feature = "parallel")]
+    if parallel && items.len() > 1 {
+        use rayon::prelude::*;
+        return items.par_iter_mut().map(f).collect();
+    }
+    let _ = parallel;
+    items.iter_mut().map(f).collect()
+}
+
+/// [`each`] over shared elements.
+fn each_ref<T: Sync, R: Send>(
+    items: &[T],
+    parallel: bool,
+    f: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    #[cfg(feature = "parallel")]
+    if parallel && items.len() > 1 {
+        use rayon::prelude::*;
+        return items.par_iter().map(f).collect();
+    }
+    let _ = parallel;
+    items.iter().map(f).collect()
+}

@@ -1,0 +1,509 @@
+//! One self-organizing tree: its internodes and buds, and the passes of a growth cycle.
+
+use super::GrowthParams;
+use super::env::{Bud, Env};
+use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
+use glam::Vec3;
+
+/// `main` / `lateral` of an internode whose bud is alive there.
+const BUD: u32 = u32::MAX;
+/// `main` / `lateral` of an internode whose bud or branch there is gone (shed).
+const GONE: u32 = u32::MAX - 1;
+
+fn is_child(slot: u32) -> bool {
+    slot < GONE
+}
+
+/// One internode (metamer): it ends in a node that holds a terminal bud (until the main
+/// axis grows on) and a lateral bud (until a lateral shoot grows from it).
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    start: Vec3,
+    end: Vec3,
+    /// Unit heading.
+    dir: Vec3,
+    /// Unit direction of the lateral bud.
+    lat_dir: Vec3,
+    parent: u32,
+    /// The internode continuing the axis, [`BUD`] or [`GONE`].
+    main: u32,
+    /// The first internode of the lateral shoot, [`BUD`] or [`GONE`].
+    lateral: u32,
+    birth: u32,
+    order: u32,
+    /// Angle of the lateral bud about the heading, degrees.
+    phyllo: f32,
+    /// Radius^pipe_exponent; never shrinks.
+    rn: f32,
+}
+
+/// A new internode planned for this cycle.
+#[derive(Clone, Copy, Debug)]
+struct New {
+    /// Parent: an existing internode index, or (with `chain`) the previous new one.
+    parent: u32,
+    chain: bool,
+    /// Continues the parent's axis (main) or starts a lateral shoot.
+    main: bool,
+    start: Vec3,
+    end: Vec3,
+    dir: Vec3,
+    lat_dir: Vec3,
+    phyllo: f32,
+    order: u32,
+}
+
+/// What one cycle will do to a tree, planned while the environment is only read.
+#[derive(Debug, Default)]
+pub(crate) struct Plan {
+    new: Vec<New>,
+    /// Roots of the subtrees to shed.
+    shed: Vec<u32>,
+    residual: f32,
+    root_vigour: f32,
+}
+
+impl Plan {
+    pub(crate) fn new_internodes(&self) -> usize {
+        self.new.len()
+    }
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Tree {
+    pub(crate) species: GrowthParams,
+    nodes: Vec<Node>,
+    base: Vec3,
+    planted: u32,
+    /// Internodes shed so far.
+    pub(crate) shed: usize,
+    /// Largest vigour residual of the last cycle's splits (a conservation check).
+    pub(crate) residual: f32,
+    /// Vigour at the base in the last cycle.
+    root_vigour: f32,
+    /// Scratch of the passes, kept to avoid allocating each cycle.
+    q: Vec<f32>,
+    qm: Vec<f32>,
+    ql: Vec<f32>,
+    vig: Vec<f32>,
+    desc: Vec<u32>,
+}
+
+/// A unit vector perpendicular to unit `h`, continuous except near −Y.
+fn perpendicular(h: Vec3) -> Vec3 {
+    crate::geom::transport::ring_basis(h.as_dvec3()).0.as_vec3()
+}
+
+/// The lateral bud direction of an internode heading `h`, turned `phyllo` degrees about it.
+fn lateral(h: Vec3, phyllo: f32, branch_angle: f32) -> Vec3 {
+    let e = perpendicular(h);
+    let (s, c) = libm::sincosf(phyllo.to_radians());
+    let side = e * c + h.cross(e) * s;
+    let (sb, cb) = libm::sincosf(branch_angle.to_radians());
+    (h * cb + side * sb).normalize_or_zero()
+}
+
+impl Tree {
+    /// A new tree: one internode pointing up with a terminal and a lateral bud.
+    pub(crate) fn plant(species: GrowthParams, base: Vec3, seed: u64, cycle: u32) -> Self {
+        let phyllo = (crate::rng::Rng::new(seed).next_f64() * 360.0) as f32;
+        let dir = Vec3::Y;
+        let node = Node {
+            start: base,
+            end: base + dir * species.internode_length,
+            dir,
+            lat_dir: lateral(dir, phyllo, species.branch_angle),
+            parent: NO_PARENT,
+            main: BUD,
+            lateral: BUD,
+            birth: cycle,
+            order: 0,
+            phyllo,
+            rn: libm::powf(species.tip_radius, species.pipe_exponent),
+        };
+        Tree {
+            species,
+            nodes: vec![node],
+            base,
+            planted: cycle,
+            shed: 0,
+            residual: 0.0,
+            root_vigour: 0.0,
+            q: Vec::new(),
+            qm: Vec::new(),
+            ql: Vec::new(),
+            vig: Vec::new(),
+            desc: Vec::new(),
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
+    pub(crate) fn cast(&self, env: &mut Env, sign: f32) {
+        for n in &self.nodes {
+            let buds = u8::from(n.main == BUD) + u8::from(n.lateral == BUD);
+            if buds > 0 {
+                env.cast(n.end, sign * buds as f32);
+            }
+        }
+    }
+
+    /// The living buds, terminal before lateral, in internode order: the order of the
+    /// light slice [`Tree::plan_cycle`] takes.
+    pub(crate) fn buds(&self, out: &mut Vec<Bud>) {
+        out.clear();
+        for n in &self.nodes {
+            if n.main == BUD {
+                out.push(Bud {
+                    position: n.end,
+                    direction: n.dir,
+                });
+            }
+            if n.lateral == BUD {
+                out.push(Bud {
+                    position: n.end,
+                    direction: n.lat_dir,
+                });
+            }
+        }
+    }
+
+    /// Plans one cycle from the light and direction at every bud (in [`Tree::buds`]
+    /// order): the basipetal pass, the vigour split, shedding and the new shoots.
+    pub(crate) fn plan_cycle(&mut self, light: &[(f32, Vec3)], cycle: u32) -> Plan {
+        let p = self.species;
+        let n = self.nodes.len();
+        // Light of each node's buds, in bud order.
+        let mut bud_light = light.iter();
+        let mut own = vec![[(0.0f32, Vec3::ZERO); 2]; 0];
+        own.reserve(n);
+        for node in &self.nodes {
+            let mut pair = [(0.0, Vec3::ZERO); 2];
+            if node.main == BUD {
+                pair[0] = *bud_light.next().expect("one light per bud");
+            }
+            if node.lateral == BUD {
+                pair[1] = *bud_light.next().expect("one light per bud");
+            }
+            own.push(pair);
+        }
+        // Basipetal: light above each internode, split into main and lateral.
+        self.q.clear();
+        self.q.resize(n, 0.0);
+        self.qm.clear();
+        self.qm.resize(n, 0.0);
+        self.ql.clear();
+        self.ql.resize(n, 0.0);
+        self.desc.clear();
+        self.desc.resize(n, 1);
+        for i in (0..n).rev() {
+            let node = self.nodes[i];
+            let side = |slot: u32, bud: f32, q: &[f32]| match slot {
+                BUD => bud,
+                GONE => 0.0,
+                c => q[c as usize],
+            };
+            self.qm[i] = side(node.main, own[i][0].0, &self.q);
+            self.ql[i] = side(node.lateral, own[i][1].0, &self.q);
+            self.q[i] = self.qm[i] + self.ql[i];
+            for c in [node.main, node.lateral] {
+                if is_child(c) {
+                    self.desc[i] += self.desc[c as usize];
+                }
+            }
+        }
+        // Acropetal: the extended Borchert–Honda split of the vigour.
+        self.vig.clear();
+        self.vig.resize(n, 0.0);
+        self.vig[0] = p.vigor_multiplier * self.q[0];
+        let lambda = p.apical_control;
+        let mut bud_vigour = vec![[0.0f32; 2]; n];
+        let mut residual = 0.0f32;
+        for (i, buds) in bud_vigour.iter_mut().enumerate() {
+            let v = self.vig[i];
+            let (qm, ql) = (self.qm[i], self.ql[i]);
+            let denom = lambda * qm + (1.0 - lambda) * ql;
+            let (vm, vl) = if denom > 0.0 {
+                (v * lambda * qm / denom, v * (1.0 - lambda) * ql / denom)
+            } else {
+                (0.0, 0.0)
+            };
+            if denom > 0.0 {
+                residual = residual.max((v - vm - vl).abs() / v.max(1e-30));
+            }
+            let node = self.nodes[i];
+            for (k, (slot, share)) in [(node.main, vm), (node.lateral, vl)]
+                .into_iter()
+                .enumerate()
+            {
+                if is_child(slot) {
+                    self.vig[slot as usize] = share;
+                } else if slot == BUD {
+                    buds[k] = share;
+                }
+            }
+        }
+        // Shedding: a lateral branch whose vigour no longer pays for its size goes, with
+        // everything above it.
+        let mut plan = Plan {
+            residual,
+            root_vigour: self.vig[0],
+            ..Default::default()
+        };
+        let mut dead = vec![false; n];
+        for i in 1..n {
+            let node = self.nodes[i];
+            let parent = node.parent as usize;
+            if dead[parent] {
+                dead[i] = true;
+                continue;
+            }
+            let is_lateral_base = self.nodes[parent].lateral == i as u32;
+            if p.shed_multiplier > 0.0
+                && is_lateral_base
+                && cycle.saturating_sub(node.birth) > p.shed_delay
+            {
+                let cost = p.shed_multiplier * libm::powf(self.desc[i] as f32, p.shed_exponent);
+                if self.vig[i] < cost {
+                    dead[i] = true;
+                    plan.shed.push(i as u32);
+                }
+            }
+        }
+        // Shoots: a bud with vigour v grows ⌊v⌋ internodes (at most max_shoot).
+        let up = Vec3::Y;
+        for i in 0..n {
+            if dead[i] {
+                continue;
+            }
+            let node = self.nodes[i];
+            for k in 0..2 {
+                let slot = if k == 0 { node.main } else { node.lateral };
+                let v = bud_vigour[i][k];
+                if slot != BUD || v < 1.0 {
+                    continue;
+                }
+                let count = (v.floor() as u32).min(p.max_shoot);
+                let length = p.internode_length * (v / count as f32).min(2.0);
+                let env_dir = own[i][k].1;
+                let mut heading = if k == 0 { node.dir } else { node.lat_dir };
+                let mut at = node.end;
+                let mut phyllo = node.phyllo;
+                let order = node.order + k as u32;
+                for j in 0..count {
+                    heading = (heading + env_dir * p.environment_weight + up * p.tropism)
+                        .try_normalize()
+                        .unwrap_or(heading);
+                    phyllo = (phyllo + p.phyllotaxis) % 360.0;
+                    let end = at + heading * length;
+                    plan.new.push(New {
+                        parent: if j == 0 {
+                            i as u32
+                        } else {
+                            plan.new.len() as u32 - 1
+                        },
+                        chain: j > 0,
+                        main: k == 0 || j > 0,
+                        start: at,
+                        end,
+                        dir: heading,
+                        lat_dir: lateral(heading, phyllo, p.branch_angle),
+                        phyllo,
+                        order,
+                    });
+                    at = end;
+                }
+            }
+        }
+        plan
+    }
+
+    /// Carries out a plan: buds that grew or were shed take their shadow away, new buds
+    /// add theirs, shed subtrees are removed (indices stay parents-before-children).
+    pub(crate) fn grow(&mut self, plan: Plan, env: &mut Env, cycle: u32) {
+        self.residual = plan.residual;
+        self.root_vigour = plan.root_vigour;
+        let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
+        // New internodes, appended in plan order (a chain's parent comes first).
+        let base = self.nodes.len() as u32;
+        let mut index = Vec::with_capacity(plan.new.len());
+        for (k, nw) in plan.new.iter().enumerate() {
+            let parent = if nw.chain {
+                index[nw.parent as usize]
+            } else {
+                nw.parent
+            };
+            let me = base + k as u32;
+            index.push(me);
+            let p = &mut self.nodes[parent as usize];
+            if nw.main {
+                if p.main == BUD {
+                    env.cast(p.end, -1.0);
+                }
+                p.main = me;
+            } else {
+                if p.lateral == BUD {
+                    env.cast(p.end, -1.0);
+                }
+                p.lateral = me;
+            }
+            self.nodes.push(Node {
+                start: nw.start,
+                end: nw.end,
+                dir: nw.dir,
+                lat_dir: nw.lat_dir,
+                parent,
+                main: BUD,
+                lateral: BUD,
+                birth: cycle,
+                order: nw.order,
+                phyllo: nw.phyllo,
+                rn: tip_rn,
+            });
+            // Its lateral bud and its terminal bud (taken away again if the chain goes on;
+            // the two cancel before the grid is touched).
+            env.cast(nw.end, 2.0);
+        }
+        if !plan.shed.is_empty() {
+            self.shed_subtrees(&plan.shed, env);
+        }
+        self.update_radii(tip_rn);
+    }
+
+    /// The pipe model, tips to root: r^n of an internode is the sum over its children (the
+    /// tip radius at a tip), and never less than it has been.
+    fn update_radii(&mut self, tip_rn: f32) {
+        for i in (0..self.nodes.len()).rev() {
+            let node = self.nodes[i];
+            let mut rn = 0.0;
+            let mut children = false;
+            for c in [node.main, node.lateral] {
+                if is_child(c) {
+                    rn += self.nodes[c as usize].rn;
+                    children = true;
+                }
+            }
+            let rn = if children { rn } else { tip_rn };
+            let node = &mut self.nodes[i];
+            node.rn = node.rn.max(rn);
+        }
+    }
+
+    /// Removes the subtrees rooted at `roots`, taking their buds' shadow away; indices
+    /// stay parents-before-children.
+    fn shed_subtrees(&mut self, roots: &[u32], env: &mut Env) {
+        let n = self.nodes.len();
+        let mut dead = vec![false; n];
+        for &r in roots {
+            dead[r as usize] = true;
+        }
+        for i in 1..n {
+            if dead[self.nodes[i].parent as usize] {
+                dead[i] = true;
+            }
+        }
+        let mut new_index = vec![NO_PARENT; n];
+        let mut kept = Vec::with_capacity(n);
+        for (i, node) in self.nodes.iter().enumerate() {
+            if dead[i] {
+                let buds = u8::from(node.main == BUD) + u8::from(node.lateral == BUD);
+                if buds > 0 {
+                    env.cast(node.end, -(buds as f32));
+                }
+                continue;
+            }
+            new_index[i] = kept.len() as u32;
+            kept.push(*node);
+        }
+        self.shed += n - kept.len();
+        let map = |slot: u32| {
+            if is_child(slot) {
+                match new_index[slot as usize] {
+                    NO_PARENT => GONE,
+                    j => j,
+                }
+            } else {
+                slot
+            }
+        };
+        for node in &mut kept {
+            if node.parent != NO_PARENT {
+                node.parent = new_index[node.parent as usize];
+            }
+            node.main = map(node.main);
+            node.lateral = map(node.lateral);
+        }
+        self.nodes = kept;
+    }
+
+    /// Seeds this tree drops this cycle: (species, position on the ground).
+    pub(crate) fn seeds(
+        &self,
+        cycle: u32,
+        rng: &mut crate::rng::Rng,
+        out: &mut Vec<(GrowthParams, Vec3)>,
+    ) {
+        let p = &self.species;
+        if p.seed_age == 0
+            || cycle.saturating_sub(self.planted) <= p.seed_age
+            || self.root_vigour <= 1.0
+        {
+            return;
+        }
+        let log = libm::logf(self.root_vigour);
+        let count = log.floor() as u32;
+        let reach = log * p.seed_spread;
+        for _ in 0..count {
+            let angle = rng.next_f64() as f32 * std::f32::consts::TAU;
+            let dist = reach * (rng.next_f64() as f32).sqrt();
+            let (s, c) = libm::sincosf(angle);
+            out.push((*p, self.base + Vec3::new(c * dist, 0.0, s * dist)));
+        }
+    }
+
+    /// The tree as a skeleton: one branch per internode, radii from the pipe model
+    /// (start: this internode's; end: its continuation's, or the tip radius), a leaf site
+    /// at every living bud.
+    pub(crate) fn skeleton(&self) -> Skeleton {
+        let inv = 1.0 / self.species.pipe_exponent;
+        let radius = |rn: f32| libm::powf(rn, inv);
+        let tip = self.species.tip_radius;
+        let mut parts = SkeletonParts {
+            branches: Vec::with_capacity(self.nodes.len()),
+            ..Default::default()
+        };
+        for (i, n) in self.nodes.iter().enumerate() {
+            let r = radius(n.rn);
+            let end_radius = if is_child(n.main) {
+                radius(self.nodes[n.main as usize].rn)
+            } else {
+                tip.min(r)
+            };
+            parts.branches.push(Branch {
+                start: n.start.to_array(),
+                end: n.end.to_array(),
+                start_radius: r,
+                end_radius,
+                parent: n.parent,
+                birth: n.birth,
+                order: n.order,
+                flags: 0,
+            });
+            for (slot, heading) in [(n.main, n.dir), (n.lateral, n.lat_dir)] {
+                if slot == BUD {
+                    parts.leaves.push(LeafSite {
+                        position: n.end.to_array(),
+                        heading: heading.to_array(),
+                        up: perpendicular(heading).to_array(),
+                        branch: i as u32,
+                        birth: n.birth,
+                    });
+                }
+            }
+        }
+        Skeleton::from_trusted(parts)
+    }
+}

@@ -1,0 +1,312 @@
+//! Self-organizing trees: what must be true of the model (GROWTH.md), on its presets and
+//! in both environments.
+
+use arbor::models::growth::{Environment, GrowthParams, Obstacle, Species, World, WorldOptions};
+use arbor::skeleton::{NO_PARENT, Skeleton};
+use glam::Vec3;
+
+fn world(environment: Environment) -> World {
+    World::new(&WorldOptions {
+        environment,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+fn grown(environment: Environment, species: &GrowthParams, cycles: u32) -> (World, Skeleton) {
+    let mut w = world(environment);
+    w.plant(species, [0.0, 0.0, 0.0], 1).unwrap();
+    w.step(cycles).unwrap();
+    let s = w.tree(0).unwrap();
+    (w, s)
+}
+
+fn check_skeleton(s: &Skeleton, what: &str) {
+    let b = s.branches();
+    assert!(!b.is_empty(), "{what}");
+    let roots = b.iter().filter(|x| x.parent == NO_PARENT).count();
+    assert_eq!(roots, 1, "{what}: one root");
+    for (i, x) in b.iter().enumerate() {
+        assert!(
+            x.start.iter().chain(&x.end).all(|v| v.is_finite()),
+            "{what}: branch {i}"
+        );
+        assert!(
+            x.start_radius.is_finite() && x.start_radius > 0.0,
+            "{what}: branch {i}"
+        );
+        if x.parent != NO_PARENT {
+            assert!((x.parent as usize) < i, "{what}: parents before children");
+            assert_eq!(
+                x.start, b[x.parent as usize].end,
+                "{what}: branch {i} connected"
+            );
+            assert!(
+                x.birth >= b[x.parent as usize].birth,
+                "{what}: born after its parent"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_species_grows_a_connected_tree_in_both_environments() {
+    for environment in [Environment::Shadow, Environment::SpaceColonization] {
+        for species in Species::ALL {
+            let (_, s) = grown(environment, &GrowthParams::preset(species), 10);
+            let what = format!("{environment:?} {species:?}");
+            check_skeleton(&s, &what);
+            assert!(s.len() > 50, "{what}: {} branches", s.len());
+            assert!(!s.leaves().is_empty(), "{what}: living buds are leaf sites");
+            // An ordinary skeleton: it meshes.
+            let m = arbor::mesh::tubes(&s, &arbor::MeshOptions::default()).unwrap();
+            assert!(!m.indices.is_empty());
+        }
+    }
+}
+
+/// Height ÷ width of the crown grows strictly with apical control.
+#[test]
+fn more_apical_control_gives_a_taller_narrower_crown() {
+    let mut last = 0.0;
+    for lambda in [0.44, 0.50, 0.58] {
+        let p = GrowthParams {
+            apical_control: lambda,
+            ..GrowthParams::default()
+        };
+        let (_, s) = grown(Environment::Shadow, &p, 12);
+        let (lo, hi) = s.bounds().unwrap();
+        let ratio = (hi.y - lo.y) / (hi.x - lo.x).max(hi.z - lo.z);
+        println!(
+            "lambda {lambda}: {} branches, height / width {ratio:.3}",
+            s.len()
+        );
+        assert!(ratio > last, "lambda {lambda}: {ratio} after {last}");
+        last = ratio;
+    }
+}
+
+/// Mean horizontal offset of the branch ends from the base, along x.
+fn lean(s: &Skeleton, base_x: f32) -> f32 {
+    let b = s.branches();
+    b.iter().map(|x| x.end[0] - base_x).sum::<f32>() / b.len() as f32
+}
+
+#[test]
+fn neighbours_lean_away_from_each_other() {
+    let p = GrowthParams::preset(Species::Decurrent);
+    let alone = |x: f32| {
+        let mut w = world(Environment::Shadow);
+        w.plant(&p, [x, 0.0, 0.0], 1).unwrap();
+        w.step(12).unwrap();
+        lean(&w.tree(0).unwrap(), x)
+    };
+    let mut w = world(Environment::Shadow);
+    w.plant(&p, [-1.0, 0.0, 0.0], 1).unwrap();
+    w.plant(&p, [1.0, 0.0, 0.0], 1).unwrap();
+    w.step(12).unwrap();
+    let (left, right) = (
+        lean(&w.tree(0).unwrap(), -1.0),
+        lean(&w.tree(1).unwrap(), 1.0),
+    );
+    let (left_alone, right_alone) = (alone(-1.0), alone(1.0));
+    println!("left {left:.3} (alone {left_alone:.3}), right {right:.3} (alone {right_alone:.3})");
+    assert!(left < left_alone - 0.05, "the left tree leans left");
+    assert!(right > right_alone + 0.05, "the right tree leans right");
+}
+
+/// The same tree grown 14 cycles in the open, and with a roof put over one half of its
+/// crown after 8 cycles (as a neighbour would grow over it): the shaded tree sheds a larger
+/// share of what it grew.
+#[test]
+fn a_shaded_tree_sheds_more_than_the_same_tree_in_the_open() {
+    let p = GrowthParams::preset(Species::Decurrent);
+    let (open, _) = grown(Environment::Shadow, &p, 14);
+    let mut shaded = world(Environment::Shadow);
+    shaded.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+    shaded.step(8).unwrap();
+    let (lo, hi) = shaded.tree(0).unwrap().bounds().unwrap();
+    shaded
+        .add_obstacle(Obstacle::Box {
+            min: [lo.x - 1.0, hi.y + 0.25, lo.z - 1.0],
+            max: [0.0, hi.y + 0.75, hi.z + 1.0],
+        })
+        .unwrap();
+    shaded.step(6).unwrap();
+    // The share of everything the tree grew that it shed.
+    let share = |w: &World| {
+        let shed = w.shed_count(0).unwrap() as f32;
+        shed / (shed + w.tree(0).unwrap().len() as f32)
+    };
+    let (a, b) = (share(&open), share(&shaded));
+    println!("share shed in the open {a:.3}, under the roof {b:.3}");
+    assert!(b > a + 0.05, "shaded {b} vs open {a}");
+}
+
+#[test]
+fn vigour_is_conserved_and_radii_follow_the_pipe_model() {
+    for species in Species::ALL {
+        let p = GrowthParams::preset(species);
+        let mut w = world(Environment::Shadow);
+        w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+        for _ in 0..10 {
+            w.step(1).unwrap();
+            assert!(
+                w.vigour_residual() < 1e-5,
+                "{species:?}: {}",
+                w.vigour_residual()
+            );
+        }
+        let s = w.tree(0).unwrap();
+        let n = p.pipe_exponent;
+        let adjacency = s.adjacency();
+        for (i, b) in s.branches().iter().enumerate() {
+            let children = adjacency.children(i);
+            let rn = b.start_radius.powf(n);
+            if children.is_empty() {
+                assert!(
+                    b.start_radius >= p.tip_radius * (1.0 - 1e-5),
+                    "{species:?}: tip {i}"
+                );
+                continue;
+            }
+            let sum: f32 = children
+                .iter()
+                .map(|&c| s.branches()[c as usize].start_radius.powf(n))
+                .sum();
+            // Equal while nothing above was shed; never thinner after shedding.
+            assert!(
+                rn >= sum * (1.0 - 1e-4),
+                "{species:?}: branch {i}: {rn} < {sum}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_same_world_grows_the_same_forest() {
+    let grow = |parallel: bool| {
+        let mut w = World::new(&WorldOptions {
+            parallel,
+            ..Default::default()
+        })
+        .unwrap();
+        for (k, species) in Species::ALL.iter().enumerate() {
+            let angle = k as f32 * 1.2566;
+            w.plant(
+                &GrowthParams::preset(*species),
+                [3.0 * angle.cos(), 0.0, 3.0 * angle.sin()],
+                k as u64,
+            )
+            .unwrap();
+        }
+        w.step(10).unwrap();
+        (0..w.tree_count())
+            .map(|i| w.tree(i).unwrap())
+            .collect::<Vec<_>>()
+    };
+    let a = grow(true);
+    assert_eq!(a, grow(true), "same seed, same forest");
+    assert_eq!(a, grow(false), "parallel = serial");
+    for (i, s) in a.iter().enumerate() {
+        check_skeleton(s, &format!("tree {i}"));
+    }
+}
+
+#[test]
+fn old_trees_seed_new_ones_around_them() {
+    let p = GrowthParams {
+        seed_age: 5,
+        ..GrowthParams::preset(Species::Decurrent)
+    };
+    let mut w = world(Environment::Shadow);
+    w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+    w.step(12).unwrap();
+    assert!(w.tree_count() > 1, "seedlings appear");
+    for i in 1..w.tree_count() {
+        let s = w.tree(i).unwrap();
+        let base = Vec3::from(s.branches()[0].start);
+        assert!(base.y.abs() < 1e-6, "on the ground");
+        assert!(base.length() < 20.0);
+        assert!(
+            s.branches()[0].birth >= 6,
+            "born after the tree was old enough"
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_refused_by_name() {
+    let bad = |f: &dyn Fn(&mut GrowthParams), field: &str| {
+        let mut p = GrowthParams::default();
+        f(&mut p);
+        let mut w = world(Environment::Shadow);
+        let err = w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap_err().to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    };
+    bad(&|p| p.apical_control = f32::NAN, "apical_control");
+    bad(&|p| p.apical_control = 1.5, "apical_control");
+    bad(&|p| p.vigor_multiplier = 0.0, "vigor_multiplier");
+    bad(&|p| p.internode_length = f32::INFINITY, "internode_length");
+    bad(&|p| p.pipe_exponent = 9.0, "pipe_exponent");
+    bad(&|p| p.tropism = -2.0, "tropism");
+    bad(&|p| p.max_shoot = 0, "max_shoot");
+    let world_err = |o: WorldOptions, field: &str| {
+        let err = World::new(&o).unwrap_err().to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    };
+    let d = WorldOptions::default();
+    world_err(
+        WorldOptions {
+            cell_size: 0.0,
+            ..d
+        },
+        "cell_size",
+    );
+    world_err(
+        WorldOptions {
+            cell_size: f32::NAN,
+            ..d
+        },
+        "cell_size",
+    );
+    world_err(
+        WorldOptions {
+            max: [-20.0, 20.0, 10.0],
+            ..d
+        },
+        "max",
+    );
+    world_err(
+        WorldOptions {
+            shadow_falloff: 1.0,
+            ..d
+        },
+        "shadow_falloff",
+    );
+    // A box too fine for the grid limit is refused before anything is allocated.
+    world_err(
+        WorldOptions {
+            cell_size: 0.001,
+            ..d
+        },
+        "max_cells",
+    );
+    // A plant outside the box.
+    let mut w = world(Environment::Shadow);
+    let err = w
+        .plant(&GrowthParams::default(), [50.0, 0.0, 0.0], 1)
+        .unwrap_err();
+    assert!(err.to_string().contains("position"), "{err}");
+    // Growth past max_branches stops with the limit named.
+    let mut w = World::new(&WorldOptions {
+        max_branches: 200,
+        ..d
+    })
+    .unwrap();
+    w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
+        .unwrap();
+    let err = w.step(30).unwrap_err().to_string();
+    assert!(err.contains("max_branches"), "{err}");
+    assert!(w.branch_count() <= 200);
+}
