@@ -60,6 +60,24 @@ int main(int argc, char **argv) {
     }
   }
 
+  // A self-organized forest: a snapshot is an ordinary tree that meshes.
+  {
+    arbor::World world;
+    world.plant(arbor::species(ARBOR_SPECIES_EXCURRENT), 0, 0, 0, 1);
+    world.plant(arbor::species(ARBOR_SPECIES_DECURRENT), 3, 0, 0, 2);
+    world.step(8);
+    EXPECT(world.tree_count() == 2, "two trees");
+    arbor::Tree t = world.tree(1);
+    EXPECT(t.branch_count() > 50, "grown: %zu", t.branch_count());
+    EXPECT(t.mesh().indices().size() > 0, "the snapshot meshes");
+    try {
+      world.plant(arbor::growth_params(), 500, 0, 0);
+      EXPECT(false, "no exception for a plant outside the box");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_INVALID_ARGUMENT, "status %d", (int)e.status());
+    }
+  }
+
   // Errors are exceptions with the status and message.
   try {
     arbor::Tree::honda('z');

@@ -19,6 +19,16 @@
 
 
 /**
+ * sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
+ */
+#define ARBOR_WORLD_OPTIONS_MIN_SIZE 88
+
+/**
+ * sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
+ */
+#define ARBOR_GROWTH_PARAMS_MIN_SIZE 76
+
+/**
  * sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
  * `struct_size` accepted.
  */
@@ -253,7 +263,55 @@ typedef enum ArborStructId {
    * ArborForestTree.
    */
   ARBOR_STRUCT_ID_FOREST_TREE = 10,
+  /**
+   * ArborWorldOptions.
+   */
+  ARBOR_STRUCT_ID_WORLD_OPTIONS = 11,
+  /**
+   * ArborGrowthParams.
+   */
+  ARBOR_STRUCT_ID_GROWTH_PARAMS = 12,
 } ArborStructId;
+
+/**
+ * How a world's trees perceive light and space; ArborWorldOptions.environment.
+ */
+typedef enum ArborEnvironment {
+  /**
+   * Shadow propagation in a voxel grid (the default).
+   */
+  ARBOR_ENVIRONMENT_SHADOW = 0,
+  /**
+   * Space colonization with attraction markers.
+   */
+  ARBOR_ENVIRONMENT_SPACE_COLONIZATION = 1,
+} ArborEnvironment;
+
+/**
+ * Named species for arbor_growth_params_preset().
+ */
+typedef enum ArborSpecies {
+  /**
+   * Conifer-like, a strong leader.
+   */
+  ARBOR_SPECIES_EXCURRENT = 0,
+  /**
+   * A broad, spreading crown.
+   */
+  ARBOR_SPECIES_DECURRENT = 1,
+  /**
+   * A narrow column.
+   */
+  ARBOR_SPECIES_COLUMNAR = 2,
+  /**
+   * A shrub.
+   */
+  ARBOR_SPECIES_BUSH = 3,
+  /**
+   * Drooping shoots.
+   */
+  ARBOR_SPECIES_WEEPING = 4,
+} ArborSpecies;
 
 /**
  * A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
@@ -273,6 +331,13 @@ typedef struct ArborMesh ArborMesh;
  * re-upload, computes the layout once and allocates nothing in proportion to the tree.
  */
 typedef struct ArborTree ArborTree;
+
+/**
+ * A world of trees growing together (see arbor_world_create()). Opaque; free with
+ * arbor_world_free(). A `const ArborWorld *` may be read from several threads at once;
+ * stepping or planting needs it to yourself.
+ */
+typedef struct ArborWorld ArborWorld;
 
 /**
  * Options of the tube mesher: a struct that grows (see "Structs that grow" in the
@@ -514,6 +579,157 @@ typedef struct ArborVertex {
 } ArborVertex;
 
 /**
+ * Options of a world: a struct that grows (see "Structs that grow" in the README).
+ * Start from arbor_world_options_default() (or arbor_world_options_init()).
+ */
+typedef struct ArborWorldOptions {
+  /**
+   * sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
+   */
+  uint32_t struct_size;
+  /**
+   * An ArborEnvironment value. Default ARBOR_ENVIRONMENT_SHADOW.
+   */
+  uint32_t environment;
+  /**
+   * Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
+   */
+  float min[3];
+  /**
+   * Upper corner. Default (10, 20, 10).
+   */
+  float max[3];
+  /**
+   * Voxel edge (shadow) or marker spacing (colonization), > 0. Default 0.25.
+   */
+  float cell_size;
+  /**
+   * Seeds the markers and the seeding of new trees. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * Shadow a bud casts (a), > 0. Default 0.2.
+   */
+  float shadow_strength;
+  /**
+   * Falloff per layer below a bud (b > 1). Default 2.
+   */
+  float shadow_falloff;
+  /**
+   * Layers of the shadow pyramid (q_max), 0..=16. Default 5.
+   */
+  uint32_t shadow_depth;
+  /**
+   * Full exposure (C), > 0. Default 1.5.
+   */
+  float full_light;
+  /**
+   * Most grid cells (4 bytes each): a finer box is ARBOR_STATUS_LIMIT_EXCEEDED naming
+   * max_cells. Default 33,554,432.
+   */
+  uint64_t max_cells;
+  /**
+   * Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
+   * this. Default 16,777,216.
+   */
+  uint64_t max_branches;
+  /**
+   * Most trees (seeding stops there). Default 1,024.
+   */
+  uint32_t max_trees;
+  /**
+   * 1 (default): grow the trees of a cycle on all cores when arbor is built with its
+   * `parallel` feature (the result is identical); 0: the calling thread only.
+   */
+  uint32_t parallel;
+} ArborWorldOptions;
+
+/**
+ * One species: a struct that grows (see "Structs that grow" in the README). Start from
+ * arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
+ * angles in degrees; the ranges are those of the Rust `GrowthParams`.
+ */
+typedef struct ArborGrowthParams {
+  /**
+   * sizeof(ArborGrowthParams) as the host was compiled.
+   */
+  uint32_t struct_size;
+  /**
+   * lambda in [0, 1]; 0.5 neutral, > 0.5 favours the main axis. Default 0.5.
+   */
+  float apical_control;
+  /**
+   * alpha > 0. Default 2.
+   */
+  float vigor_multiplier;
+  /**
+   * > 0, world units. Default 0.25.
+   */
+  float internode_length;
+  /**
+   * Degrees between a lateral bud and its internode's heading, 0..=180. Default 45.
+   */
+  float branch_angle;
+  /**
+   * Degrees between successive lateral buds about the heading. Default 137.5.
+   */
+  float phyllotaxis;
+  /**
+   * eta: weight of up in a shoot's heading, -1..=1 (negative bends down). Default 0.1.
+   */
+  float tropism;
+  /**
+   * xi >= 0: weight of the environment's optimal direction. Default 0.25.
+   */
+  float environment_weight;
+  /**
+   * n in [1, 4]: r^n = sum of the children's r^n. Default 2.5.
+   */
+  float pipe_exponent;
+  /**
+   * Radius of a tip, > 0. Default 0.01.
+   */
+  float tip_radius;
+  /**
+   * A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent;
+   * >= 0 (0: never). Default 0.03.
+   */
+  float shed_multiplier;
+  /**
+   * 0..=8. Default 1.3.
+   */
+  float shed_exponent;
+  /**
+   * Branches younger than this many cycles are never shed. Default 4.
+   */
+  uint32_t shed_delay;
+  /**
+   * Trees older than this many cycles drop seeds; 0 (default): never.
+   */
+  uint32_t seed_age;
+  /**
+   * Seeds land within ln(root vigour) * seed_spread of the base, >= 0. Default 2.
+   */
+  float seed_spread;
+  /**
+   * Colonization: perception half-angle, degrees, (0, 180]. Default 90.
+   */
+  float perception_angle;
+  /**
+   * Colonization: perception reach in internode lengths, (0, 64]. Default 4.
+   */
+  float perception_reach;
+  /**
+   * Colonization: occupancy reach in internode lengths, 0..=64. Default 2.
+   */
+  float occupancy_reach;
+  /**
+   * Most internodes one shoot grows in a cycle, 1..=64. Default 8.
+   */
+  uint32_t max_shoot;
+} ArborGrowthParams;
+
+/**
  * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
  * space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
  * moved to `position`.
@@ -708,6 +924,8 @@ typedef struct ArborLeafSite {
 
 
 
+
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -769,6 +987,134 @@ enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
                                          size_t vertex_capacity,
                                          uint32_t *indices,
                                          size_t index_capacity);
+
+/**
+ * Writes the default world options into the first `struct_size` bytes at `options`
+ * (pass `sizeof(ArborWorldOptions)`), with `options->struct_size = struct_size`, and
+ * nothing beyond. NULL does nothing.
+ *
+ * # Safety
+ * `options` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_world_options_init(struct ArborWorldOptions *options, size_t struct_size);
+
+/**
+ * Writes the default species parameters into the first `struct_size` bytes at `params`
+ * (pass `sizeof(ArborGrowthParams)`), with `params->struct_size = struct_size`, and
+ * nothing beyond. NULL does nothing.
+ *
+ * # Safety
+ * `params` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_growth_params_init(struct ArborGrowthParams *params, size_t struct_size);
+
+/**
+ * Writes the parameters of species `species` (an ArborSpecies) into the first
+ * `struct_size` bytes at `params`, as arbor_growth_params_init() does for the defaults.
+ * An unknown species: ARBOR_STATUS_INVALID_ARGUMENT, nothing written.
+ *
+ * # Safety
+ * `params` is NULL or writable for `struct_size` bytes.
+ */
+enum ArborStatus arbor_growth_params_preset(uint32_t species,
+                                            struct ArborGrowthParams *params,
+                                            size_t struct_size);
+
+/**
+ * Makes an empty world. `options` NULL: the defaults. Writes the world to `*out` on
+ * success (free it with arbor_world_free()). ARBOR_STATUS_LIMIT_EXCEEDED when the box at
+ * `cell_size` would pass `max_cells` (nothing allocated); INVALID_ARGUMENT naming the
+ * first bad option.
+ *
+ * # Safety
+ * `options` is NULL or readable for its struct_size; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_world_create(const struct ArborWorldOptions *options,
+                                    struct ArborWorld **out);
+
+/**
+ * Frees a world. NULL does nothing.
+ *
+ * # Safety
+ * `world` is NULL or a world from arbor_world_create() not yet freed.
+ */
+void arbor_world_free(struct ArborWorld *world);
+
+/**
+ * Plants a tree of `species` (NULL: the default parameters) with its base at
+ * `position` (inside the world's box); `seed` turns its first bud. Writes its index
+ * (planting order) to `*tree_id` if `tree_id` is not NULL.
+ *
+ * # Safety
+ * `world` is NULL or live (and not used elsewhere meanwhile); `species` is NULL or
+ * readable for its struct_size; `position` is NULL or readable for 3 floats;
+ * `tree_id` is NULL or writable.
+ */
+enum ArborStatus arbor_world_plant(struct ArborWorld *world,
+                                   const struct ArborGrowthParams *species,
+                                   const float *position,
+                                   uint64_t seed,
+                                   uint32_t *tree_id);
+
+/**
+ * Adds an axis-aligned box obstacle (min <= max) that casts shadow or removes markers.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `min` and `max` are NULL or
+ * readable for 3 floats.
+ */
+enum ArborStatus arbor_world_add_box(struct ArborWorld *world, const float *min, const float *max);
+
+/**
+ * Adds a sphere obstacle (radius > 0) that casts shadow or removes markers.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `center` is NULL or readable
+ * for 3 floats.
+ */
+enum ArborStatus arbor_world_add_sphere(struct ArborWorld *world,
+                                        const float *center,
+                                        float radius);
+
+/**
+ * Runs `cycles` growth cycles for every tree. A cycle that would pass max_branches
+ * returns ARBOR_STATUS_LIMIT_EXCEEDED naming it, before it grows anything (the world
+ * stays as after the last whole cycle).
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile).
+ */
+enum ArborStatus arbor_world_step(struct ArborWorld *world, uint32_t cycles);
+
+/**
+ * Number of trees (planted and seeded); 0 for NULL.
+ *
+ * # Safety
+ * `world` is NULL or live.
+ */
+size_t arbor_world_tree_count(const struct ArborWorld *world);
+
+/**
+ * Living internodes of all trees; 0 for NULL.
+ *
+ * # Safety
+ * `world` is NULL or live.
+ */
+size_t arbor_world_branch_count(const struct ArborWorld *world);
+
+/**
+ * A snapshot of tree `index` (0..count, planting order) as an ordinary ArborTree, so
+ * every mesh, leaf, export and curve function takes it: its branches' `depth` is the
+ * growth cycle that made them, `order` the branching order, and every living bud is a
+ * leaf site. Free it with arbor_tree_free(). An index past the end:
+ * ARBOR_STATUS_INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `world` is NULL or live; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_world_tree(const struct ArborWorld *world,
+                                  size_t index,
+                                  struct ArborTree **out);
 
 /**
  * The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -1206,6 +1552,18 @@ static inline ArborLeafOptions arbor_leaf_options_default(void) {
   ArborLeafOptions o;
   arbor_leaf_options_init(&o, sizeof o);
   return o;
+}
+
+static inline ArborWorldOptions arbor_world_options_default(void) {
+  ArborWorldOptions o;
+  arbor_world_options_init(&o, sizeof o);
+  return o;
+}
+
+static inline ArborGrowthParams arbor_growth_params_default(void) {
+  ArborGrowthParams p;
+  arbor_growth_params_init(&p, sizeof p);
+  return p;
 }
 
 #endif  /* ARBOR_H_DEFAULTS */

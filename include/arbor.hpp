@@ -106,6 +106,16 @@ class Mesh {
 inline ArborMeshOptions mesh_options() { return arbor_mesh_options_default(); }
 inline ArborLeafOptions leaf_options() { return arbor_leaf_options_default(); }
 inline ArborLsystemOptions lsystem_options() { return arbor_lsystem_options_default(); }
+inline ArborWorldOptions world_options() { return arbor_world_options_default(); }
+inline ArborGrowthParams growth_params() { return arbor_growth_params_default(); }
+/// The parameters of a named species.
+inline ArborGrowthParams species(ArborSpecies s) {
+  ArborGrowthParams p;
+  detail::check(arbor_growth_params_preset(static_cast<uint32_t>(s), &p, sizeof p));
+  return p;
+}
+
+class World;
 
 /// A generated tree. Const member functions may run on several threads at once.
 class Tree {
@@ -208,8 +218,53 @@ class Tree {
   const ArborTree *get() const noexcept { return tree_; }
 
  private:
+  friend class World;
   explicit Tree(ArborTree *tree) noexcept : tree_(tree) {}
   ArborTree *tree_;
+};
+
+/// Self-organizing trees growing together in one environment (move-only). Const member
+/// functions may run on several threads at once; plant() and step() need it alone.
+class World {
+ public:
+  explicit World(const ArborWorldOptions &options = world_options()) {
+    detail::check(arbor_world_create(&options, &world_));
+  }
+  World(World &&other) noexcept : world_(std::exchange(other.world_, nullptr)) {}
+  World &operator=(World &&other) noexcept {
+    std::swap(world_, other.world_);
+    return *this;
+  }
+  World(const World &) = delete;
+  World &operator=(const World &) = delete;
+  ~World() { arbor_world_free(world_); }
+
+  /// Plants a tree; returns its index.
+  uint32_t plant(const ArborGrowthParams &species, float x, float y, float z, uint64_t seed = 0) {
+    const float at[3] = {x, y, z};
+    uint32_t id = 0;
+    detail::check(arbor_world_plant(world_, &species, at, seed, &id));
+    return id;
+  }
+  void add_box(const float min[3], const float max[3]) {
+    detail::check(arbor_world_add_box(world_, min, max));
+  }
+  void add_sphere(const float center[3], float radius) {
+    detail::check(arbor_world_add_sphere(world_, center, radius));
+  }
+  void step(uint32_t cycles = 1) { detail::check(arbor_world_step(world_, cycles)); }
+  std::size_t tree_count() const noexcept { return arbor_world_tree_count(world_); }
+  std::size_t branch_count() const noexcept { return arbor_world_branch_count(world_); }
+  /// A snapshot of tree `index` as an ordinary tree.
+  Tree tree(std::size_t index) const {
+    ArborTree *t = nullptr;
+    detail::check(arbor_world_tree(world_, index, &t));
+    return Tree(t);
+  }
+  const ArborWorld *get() const noexcept { return world_; }
+
+ private:
+  ArborWorld *world_ = nullptr;
 };
 
 }  // namespace arbor

@@ -158,6 +158,11 @@ fn c_trees_from_a_hosts_own_branches() {
 }
 
 #[test]
+fn c_self_organizing_worlds() {
+    check_program("growth.c", "c11");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -26,7 +26,7 @@ namespace Arbor
     {
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
-        AnimationVertex = 9, ForestTree = 10,
+        AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -112,6 +112,56 @@ namespace Arbor
         }
     }
 
+    public enum Environment : uint { Shadow = 0, SpaceColonization = 1 }
+    public enum Species : uint { Excurrent = 0, Decurrent = 1, Columnar = 2, Bush = 3, Weeping = 4 }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WorldOptions
+    {
+        public uint StructSize;
+        public uint Environment;
+        public float MinX, MinY, MinZ, MaxX, MaxY, MaxZ;
+        public float CellSize;
+        public ulong Seed;
+        public float ShadowStrength, ShadowFalloff;
+        public uint ShadowDepth;
+        public float FullLight;
+        public ulong MaxCells, MaxBranches;
+        public uint MaxTrees, Parallel;
+
+        public static WorldOptions Default()
+        {
+            var o = new WorldOptions();
+            Native.arbor_world_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(WorldOptions)));
+            return o;
+        }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct GrowthParams
+    {
+        public uint StructSize;
+        public float ApicalControl, VigorMultiplier, InternodeLength, BranchAngle, Phyllotaxis,
+            Tropism, EnvironmentWeight, PipeExponent, TipRadius, ShedMultiplier, ShedExponent;
+        public uint ShedDelay, SeedAge;
+        public float SeedSpread, PerceptionAngle, PerceptionReach, OccupancyReach;
+        public uint MaxShoot;
+
+        public static GrowthParams Default()
+        {
+            var p = new GrowthParams();
+            Native.arbor_growth_params_init(ref p, (UIntPtr)Marshal.SizeOf(typeof(GrowthParams)));
+            return p;
+        }
+
+        public static GrowthParams Preset(Species species)
+        {
+            var p = new GrowthParams();
+            ArborException.Check(Native.arbor_growth_params_preset((uint)species, ref p, (UIntPtr)Marshal.SizeOf(typeof(GrowthParams))));
+            return p;
+        }
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct LeafInstance
     {
@@ -171,6 +221,24 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_write(IntPtr tree, ref MeshOptions options, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] int[] indices, UIntPtr indexCapacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_world_options_init(ref WorldOptions options, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_growth_params_init(ref GrowthParams p, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_growth_params_preset(uint species, ref GrowthParams p, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_create(ref WorldOptions options, out IntPtr world);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_world_free(IntPtr world);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_plant(IntPtr world, ref GrowthParams species, float[] position, ulong seed, out uint treeId);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_step(IntPtr world, uint cycles);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_world_tree_count(IntPtr world);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_tree(IntPtr world, UIntPtr index, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_instance_count(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, out UIntPtr count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_instances_write(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, [Out] LeafInstance[] output, UIntPtr capacity);
@@ -195,11 +263,50 @@ namespace Arbor
         }
     }
 
+    /// Self-organizing trees growing together; Dispose (or using) frees it.
+    public sealed class World : IDisposable
+    {
+        IntPtr handle;
+
+        public World(WorldOptions options)
+        {
+            ArborException.Check(Native.arbor_world_create(ref options, out handle));
+        }
+
+        public uint Plant(GrowthParams species, float x, float y, float z, ulong seed)
+        {
+            uint id;
+            ArborException.Check(Native.arbor_world_plant(handle, ref species, new[] { x, y, z }, seed, out id));
+            return id;
+        }
+
+        public void Step(uint cycles) { ArborException.Check(Native.arbor_world_step(handle, cycles)); }
+
+        public int TreeCount { get { return (int)Native.arbor_world_tree_count(handle); } }
+
+        /// A snapshot of tree `index` as an ordinary tree (mesh it like any other).
+        public Tree Tree(int index)
+        {
+            IntPtr t;
+            ArborException.Check(Native.arbor_world_tree(handle, (UIntPtr)index, out t));
+            return new Tree(t);
+        }
+
+        public void Dispose()
+        {
+            if (handle != IntPtr.Zero)
+            {
+                Native.arbor_world_free(handle);
+                handle = IntPtr.Zero;
+            }
+        }
+    }
+
     /// A generated tree; Dispose (or using) frees it.
     public sealed class Tree : IDisposable
     {
         IntPtr handle;
-        Tree(IntPtr h) { handle = h; }
+        internal Tree(IntPtr h) { handle = h; }
 
         public static Tree FromPreset(char name)
         {

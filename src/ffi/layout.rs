@@ -65,6 +65,10 @@ pub enum ArborStructId {
     AnimationVertex = 9,
     /// ArborForestTree.
     ForestTree = 10,
+    /// ArborWorldOptions.
+    WorldOptions = 11,
+    /// ArborGrowthParams.
+    GrowthParams = 12,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -85,6 +89,8 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         8 => size_of::<ArborLeafSite>(),
         9 => size_of::<ArborAnimationVertex>(),
         10 => size_of::<ArborForestTree>(),
+        11 => size_of::<ArborWorldOptions>(),
+        12 => size_of::<ArborGrowthParams>(),
         _ => 0,
     }
 }

@@ -9,6 +9,7 @@
 
 mod export;
 mod forest;
+mod growth;
 mod guard;
 mod layout;
 mod leaves;
@@ -20,6 +21,7 @@ mod tree;
 
 pub use export::*;
 pub use forest::*;
+pub use growth::*;
 pub use layout::*;
 pub use leaves::*;
 pub use lsystem::*;

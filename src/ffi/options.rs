@@ -100,6 +100,30 @@ pub(crate) unsafe fn init_growing<T: Growing>(p: *mut T, size: usize) {
     }
 }
 
+/// Writes `value` (a full-size struct) into the first `size` bytes at `p` as
+/// [`init_growing`] writes the defaults: zeros past the library's size, `struct_size` =
+/// `size`; nothing when `size` is below 4.
+///
+/// # Safety
+/// `p` is non-NULL and writable for `size` bytes.
+pub(crate) unsafe fn write_growing<T: Growing>(p: *mut T, size: usize, value: &T) {
+    if size < 4 {
+        return;
+    }
+    let full = std::mem::size_of::<T>();
+    let bytes = p.cast::<u8>();
+    // SAFETY: `value` is `full` bytes; the caller promises `size` writable bytes at `p`,
+    // which cannot overlap a reference the caller holds.
+    unsafe {
+        std::ptr::copy_nonoverlapping((value as *const T).cast::<u8>(), bytes, size.min(full));
+        if size > full {
+            std::ptr::write_bytes(bytes.add(full), 0, size - full);
+        }
+        p.cast::<u32>()
+            .write_unaligned(u32::try_from(size).unwrap_or(u32::MAX));
+    }
+}
+
 fn init_name<T: Growing>() -> String {
     // ArborMeshOptions -> arbor_mesh_options_init()
     let mut s = String::from("arbor");

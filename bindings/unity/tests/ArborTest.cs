@@ -25,6 +25,23 @@ static class ArborTest
         Expect(Marshal.SizeOf(typeof(LeafInstance)) == (int)Native.arbor_struct_size((uint)StructId.LeafInstance), "LeafInstance size");
         Expect(Marshal.SizeOf(typeof(BranchRange)) == (int)Native.arbor_struct_size((uint)StructId.BranchRange), "BranchRange size");
         Expect(Marshal.SizeOf(typeof(LeafSite)) == (int)Native.arbor_struct_size((uint)StructId.LeafSite), "LeafSite size");
+        Expect(Marshal.SizeOf(typeof(WorldOptions)) == (int)Native.arbor_struct_size((uint)StructId.WorldOptions), "WorldOptions size");
+        Expect(Marshal.SizeOf(typeof(GrowthParams)) == (int)Native.arbor_struct_size((uint)StructId.GrowthParams), "GrowthParams size");
+        using (var world = new World(WorldOptions.Default()))
+        {
+            world.Plant(GrowthParams.Preset(Species.Excurrent), 0, 0, 0, 1);
+            world.Plant(GrowthParams.Default(), 3, 0, 0, 2);
+            world.Step(6);
+            Expect(world.TreeCount == 2, "two trees in the world");
+            using (var t = world.Tree(0))
+            {
+                Expect(t.BranchCount > 30, "a grown tree: " + t.BranchCount);
+                Vertex[] gv;
+                int[] gi;
+                t.UnityMeshArrays(MeshOptions.Default(), out gv, out gi);
+                Expect(gi.Length > 0, "the snapshot meshes");
+            }
+        }
         Expect((int)Marshal.OffsetOf(typeof(Vertex), "NX") == 12 && (int)Marshal.OffsetOf(typeof(Vertex), "U") == 24, "Vertex offsets");
         Expect((int)Marshal.OffsetOf(typeof(LsystemOptions), "Seed") == 8, "LsystemOptions.Seed offset");
         Expect((int)Marshal.OffsetOf(typeof(MeshOptions), "StructSize") == 0 && (int)Marshal.OffsetOf(typeof(MeshOptions), "Threads") == 52, "MeshOptions offsets");

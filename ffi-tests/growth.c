@@ -1,0 +1,176 @@
+/* Self-organizing growth through the C ABI: worlds, species, planting, stepping,
+ * snapshots that mesh like any tree, obstacles, the growing-struct rule for the two new
+ * option structs, and bad input. */
+#include "arbor.h"
+#include "check.h"
+
+#include <math.h>
+#include <string.h>
+
+static ArborWorld *forest(uint64_t seed, uint32_t parallel) {
+  ArborWorldOptions o = arbor_world_options_default();
+  ArborWorld *w = NULL;
+  o.seed = seed;
+  o.parallel = parallel;
+  CHECK_STATUS(arbor_world_create(&o, &w), ARBOR_STATUS_OK);
+  for (uint32_t s = 0; s < 5; s++) {
+    ArborGrowthParams p;
+    float at[3] = {3.0f * cosf(1.2566f * (float)s), 0.0f, 3.0f * sinf(1.2566f * (float)s)};
+    uint32_t id = 99;
+    CHECK_STATUS(arbor_growth_params_preset(s, &p, sizeof p), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_plant(w, &p, at, s, &id), ARBOR_STATUS_OK);
+    CHECK(id == s, "tree id %u", id);
+  }
+  CHECK_STATUS(arbor_world_step(w, 8), ARBOR_STATUS_OK);
+  return w;
+}
+
+static ArborBranch *branches_of(const ArborWorld *w, size_t index, size_t *n) {
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_world_tree(w, index, &t), ARBOR_STATUS_OK);
+  *n = arbor_tree_branch_count(t);
+  ArborBranch *b = malloc(*n * sizeof *b);
+  CHECK_STATUS(arbor_tree_copy_branches(t, b, *n), ARBOR_STATUS_OK);
+  arbor_tree_free(t);
+  return b;
+}
+
+int main(void) {
+  ArborWorld *w = forest(7, 1);
+  CHECK(arbor_world_tree_count(w) == 5, "5 trees");
+  CHECK(arbor_world_branch_count(w) > 500, "%zu branches", arbor_world_branch_count(w));
+  /* A snapshot is an ordinary tree: connected, meshable, with leaf sites. */
+  {
+    ArborTree *t = NULL;
+    size_t nv = 0, ni = 0;
+    CHECK_STATUS(arbor_world_tree(w, 0, &t), ARBOR_STATUS_OK);
+    size_t n = arbor_tree_branch_count(t);
+    ArborBranch *b = malloc(n * sizeof *b);
+    CHECK_STATUS(arbor_tree_copy_branches(t, b, n), ARBOR_STATUS_OK);
+    CHECK(b[0].parent == ARBOR_NO_PARENT, "root first");
+    for (size_t i = 1; i < n; i++) {
+      CHECK(b[i].parent < i, "branch %zu parent before child", i);
+      CHECK(memcmp(b[i].start, b[b[i].parent].end, sizeof b[i].start) == 0, "branch %zu connected", i);
+      CHECK(b[i].depth >= b[b[i].parent].depth, "birth cycle never before the parent's");
+    }
+    free(b);
+    CHECK(arbor_tree_leaf_site_count(t) > 0, "living buds are leaf sites");
+    ArborMeshOptions mo = arbor_mesh_options_default();
+    CHECK_STATUS(arbor_mesh_size(t, &mo, &nv, &ni), ARBOR_STATUS_OK);
+    ArborVertex *v = malloc(nv * sizeof *v);
+    uint32_t *ix = malloc(ni * sizeof *ix);
+    CHECK_STATUS(arbor_mesh_write(t, &mo, v, nv, ix, ni), ARBOR_STATUS_OK);
+    free(v);
+    free(ix);
+    arbor_tree_free(t);
+  }
+  /* The same world seed and plantings grow the same forest, serial or parallel. */
+  {
+    ArborWorld *again = forest(7, 0);
+    for (size_t k = 0; k < 5; k++) {
+      size_t na, nb;
+      ArborBranch *a = branches_of(w, k, &na), *b = branches_of(again, k, &nb);
+      CHECK(na == nb && memcmp(a, b, na * sizeof *a) == 0, "tree %zu identical", k);
+      free(a);
+      free(b);
+    }
+    arbor_world_free(again);
+  }
+  {
+    ArborTree *t = (ArborTree *)1;
+    CHECK_STATUS(arbor_world_tree(w, 5, &t), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK(t == (ArborTree *)1, "out untouched on error");
+  }
+  arbor_world_free(w);
+  arbor_world_free(NULL);
+
+  /* Obstacles, and space colonization. */
+  {
+    ArborWorldOptions o = arbor_world_options_default();
+    ArborWorld *c = NULL;
+    float lo[3] = {-1, 3, -1}, hi[3] = {1, 3.5f, 1}, center[3] = {2, 2, 0}, base[3] = {0, 0, 0};
+    o.environment = ARBOR_ENVIRONMENT_SPACE_COLONIZATION;
+    CHECK_STATUS(arbor_world_create(&o, &c), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_add_box(c, lo, hi), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_add_sphere(c, center, 0.5f), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_add_sphere(c, center, -1.0f), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_world_add_box(c, hi, lo), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_world_plant(c, NULL, base, 1, NULL), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_step(c, 6), ARBOR_STATUS_OK);
+    CHECK(arbor_world_branch_count(c) > 20, "colonization grows: %zu", arbor_world_branch_count(c));
+    arbor_world_free(c);
+  }
+
+  /* Growing structs: larger zero-tailed accepted, non-zero tail refused by offset, 0. */
+  {
+    char msg[512];
+    size_t big = sizeof(ArborGrowthParams) + 8;
+    unsigned char *p = malloc(big);
+    ArborWorld *g = NULL;
+    float at[3] = {0, 0, 0};
+    CHECK_STATUS(arbor_world_create(NULL, &g), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_growth_params_preset(ARBOR_SPECIES_BUSH, (ArborGrowthParams *)(void *)p, big),
+                 ARBOR_STATUS_OK);
+    CHECK(((ArborGrowthParams *)(void *)p)->struct_size == big, "preset kept the host's size");
+    CHECK_STATUS(arbor_world_plant(g, (const ArborGrowthParams *)(void *)p, at, 1, NULL), ARBOR_STATUS_OK);
+    p[big - 2] = 3;
+    CHECK_STATUS(arbor_world_plant(g, (const ArborGrowthParams *)(void *)p, at, 1, NULL),
+                 ARBOR_STATUS_INVALID_ARGUMENT);
+    arbor_last_error_message(msg, sizeof msg);
+    CHECK(strstr(msg, "offset") != NULL, "%s", msg);
+    free(p);
+    {
+      ArborGrowthParams z = arbor_growth_params_default();
+      z.struct_size = 0;
+      CHECK_STATUS(arbor_world_plant(g, &z, at, 1, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+    }
+    {
+      ArborWorldOptions *exact = malloc(sizeof *exact);
+      ArborWorld *e = NULL;
+      arbor_world_options_init(exact, sizeof *exact);
+      CHECK_STATUS(arbor_world_create(exact, &e), ARBOR_STATUS_OK);
+      arbor_world_free(e);
+      free(exact);
+    }
+    arbor_world_free(g);
+  }
+
+  /* Bad input, by name. */
+  {
+    char msg[512];
+    ArborWorld *g = NULL;
+    ArborWorldOptions o = arbor_world_options_default();
+    ArborGrowthParams p = arbor_growth_params_default();
+    float at[3] = {0, 0, 0}, far[3] = {100, 0, 0};
+    o.cell_size = 0.0005f;
+    CHECK_STATUS(arbor_world_create(&o, &g), ARBOR_STATUS_LIMIT_EXCEEDED);
+    arbor_last_error_message(msg, sizeof msg);
+    CHECK(strstr(msg, "max_cells") != NULL, "%s", msg);
+    o = arbor_world_options_default();
+    o.environment = 7;
+    CHECK_STATUS(arbor_world_create(&o, &g), ARBOR_STATUS_INVALID_ARGUMENT);
+    o = arbor_world_options_default();
+    o.cell_size = NAN;
+    CHECK_STATUS(arbor_world_create(&o, &g), ARBOR_STATUS_INVALID_ARGUMENT);
+    o = arbor_world_options_default();
+    o.max_branches = 300;
+    CHECK_STATUS(arbor_world_create(&o, &g), ARBOR_STATUS_OK);
+    p.apical_control = NAN;
+    CHECK_STATUS(arbor_world_plant(g, &p, at, 1, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+    arbor_last_error_message(msg, sizeof msg);
+    CHECK(strstr(msg, "apical_control") != NULL, "%s", msg);
+    p = arbor_growth_params_default();
+    CHECK_STATUS(arbor_world_plant(g, &p, far, 1, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_world_plant(g, &p, NULL, 1, NULL), ARBOR_STATUS_NULL_ARGUMENT);
+    CHECK_STATUS(arbor_world_plant(g, &p, at, 1, NULL), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_step(g, 40), ARBOR_STATUS_LIMIT_EXCEEDED);
+    arbor_last_error_message(msg, sizeof msg);
+    CHECK(strstr(msg, "max_branches") != NULL, "%s", msg);
+    CHECK(arbor_world_branch_count(g) <= 300, "limit kept");
+    CHECK_STATUS(arbor_growth_params_preset(9, &p, sizeof p), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_world_step(NULL, 1), ARBOR_STATUS_NULL_ARGUMENT);
+    CHECK(arbor_world_tree_count(NULL) == 0 && arbor_world_branch_count(NULL) == 0, "NULL counts");
+    arbor_world_free(g);
+  }
+  return check_report("growth");
+}

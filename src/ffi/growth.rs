@@ -1,0 +1,509 @@
+//! Self-organizing growth: worlds of trees that grow toward light and space.
+
+use super::*;
+use crate::models::growth::{Environment, GrowthParams, Obstacle, Species, World, WorldOptions};
+
+/// How a world's trees perceive light and space; ArborWorldOptions.environment.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborEnvironment {
+    /// Shadow propagation in a voxel grid (the default).
+    Shadow = 0,
+    /// Space colonization with attraction markers.
+    SpaceColonization = 1,
+}
+
+/// Options of a world: a struct that grows (see "Structs that grow" in the README).
+/// Start from arbor_world_options_default() (or arbor_world_options_init()).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborWorldOptions {
+    /// sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
+    pub struct_size: u32,
+    /// An ArborEnvironment value. Default ARBOR_ENVIRONMENT_SHADOW.
+    pub environment: u32,
+    /// Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
+    pub min: [f32; 3],
+    /// Upper corner. Default (10, 20, 10).
+    pub max: [f32; 3],
+    /// Voxel edge (shadow) or marker spacing (colonization), > 0. Default 0.25.
+    pub cell_size: f32,
+    /// Seeds the markers and the seeding of new trees. Default 0.
+    pub seed: u64,
+    /// Shadow a bud casts (a), > 0. Default 0.2.
+    pub shadow_strength: f32,
+    /// Falloff per layer below a bud (b > 1). Default 2.
+    pub shadow_falloff: f32,
+    /// Layers of the shadow pyramid (q_max), 0..=16. Default 5.
+    pub shadow_depth: u32,
+    /// Full exposure (C), > 0. Default 1.5.
+    pub full_light: f32,
+    /// Most grid cells (4 bytes each): a finer box is ARBOR_STATUS_LIMIT_EXCEEDED naming
+    /// max_cells. Default 33,554,432.
+    pub max_cells: u64,
+    /// Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
+    /// this. Default 16,777,216.
+    pub max_branches: u64,
+    /// Most trees (seeding stops there). Default 1,024.
+    pub max_trees: u32,
+    /// 1 (default): grow the trees of a cycle on all cores when arbor is built with its
+    /// `parallel` feature (the result is identical); 0: the calling thread only.
+    pub parallel: u32,
+}
+
+/// sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
+pub const ARBOR_WORLD_OPTIONS_MIN_SIZE: usize = 88;
+
+const _: () = assert!(std::mem::size_of::<ArborWorldOptions>() == ARBOR_WORLD_OPTIONS_MIN_SIZE);
+
+impl Growing for ArborWorldOptions {
+    const NAME: &'static str = "ArborWorldOptions";
+    const MIN_SIZE: usize = ARBOR_WORLD_OPTIONS_MIN_SIZE;
+    fn defaults() -> Self {
+        let d = WorldOptions::default();
+        ArborWorldOptions {
+            struct_size: std::mem::size_of::<ArborWorldOptions>() as u32,
+            environment: d.environment as u32,
+            min: d.min,
+            max: d.max,
+            cell_size: d.cell_size,
+            seed: d.seed,
+            shadow_strength: d.shadow_strength,
+            shadow_falloff: d.shadow_falloff,
+            shadow_depth: d.shadow_depth,
+            full_light: d.full_light,
+            max_cells: d.max_cells as u64,
+            max_branches: d.max_branches as u64,
+            max_trees: d.max_trees as u32,
+            parallel: d.parallel as u32,
+        }
+    }
+}
+
+impl TryFrom<&ArborWorldOptions> for WorldOptions {
+    type Error = crate::Error;
+    fn try_from(o: &ArborWorldOptions) -> crate::Result<Self> {
+        let size = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
+        Ok(WorldOptions {
+            environment: enum_field(
+                "environment",
+                o.environment,
+                &[
+                    (Environment::Shadow, "SHADOW"),
+                    (Environment::SpaceColonization, "SPACE_COLONIZATION"),
+                ],
+            )?,
+            min: o.min,
+            max: o.max,
+            cell_size: o.cell_size,
+            seed: o.seed,
+            shadow_strength: o.shadow_strength,
+            shadow_falloff: o.shadow_falloff,
+            shadow_depth: o.shadow_depth,
+            full_light: o.full_light,
+            max_cells: size(o.max_cells),
+            max_branches: size(o.max_branches),
+            max_trees: o.max_trees as usize,
+            parallel: enum_field("parallel", o.parallel, &[(false, "false"), (true, "true")])?,
+        })
+    }
+}
+
+/// One species: a struct that grows (see "Structs that grow" in the README). Start from
+/// arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
+/// angles in degrees; the ranges are those of the Rust `GrowthParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArborGrowthParams {
+    /// sizeof(ArborGrowthParams) as the host was compiled.
+    pub struct_size: u32,
+    /// lambda in [0, 1]; 0.5 neutral, > 0.5 favours the main axis. Default 0.5.
+    pub apical_control: f32,
+    /// alpha > 0. Default 2.
+    pub vigor_multiplier: f32,
+    /// > 0, world units. Default 0.25.
+    pub internode_length: f32,
+    /// Degrees between a lateral bud and its internode's heading, 0..=180. Default 45.
+    pub branch_angle: f32,
+    /// Degrees between successive lateral buds about the heading. Default 137.5.
+    pub phyllotaxis: f32,
+    /// eta: weight of up in a shoot's heading, -1..=1 (negative bends down). Default 0.1.
+    pub tropism: f32,
+    /// xi >= 0: weight of the environment's optimal direction. Default 0.25.
+    pub environment_weight: f32,
+    /// n in [1, 4]: r^n = sum of the children's r^n. Default 2.5.
+    pub pipe_exponent: f32,
+    /// Radius of a tip, > 0. Default 0.01.
+    pub tip_radius: f32,
+    /// A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent;
+    /// >= 0 (0: never). Default 0.03.
+    pub shed_multiplier: f32,
+    /// 0..=8. Default 1.3.
+    pub shed_exponent: f32,
+    /// Branches younger than this many cycles are never shed. Default 4.
+    pub shed_delay: u32,
+    /// Trees older than this many cycles drop seeds; 0 (default): never.
+    pub seed_age: u32,
+    /// Seeds land within ln(root vigour) * seed_spread of the base, >= 0. Default 2.
+    pub seed_spread: f32,
+    /// Colonization: perception half-angle, degrees, (0, 180]. Default 90.
+    pub perception_angle: f32,
+    /// Colonization: perception reach in internode lengths, (0, 64]. Default 4.
+    pub perception_reach: f32,
+    /// Colonization: occupancy reach in internode lengths, 0..=64. Default 2.
+    pub occupancy_reach: f32,
+    /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
+    pub max_shoot: u32,
+}
+
+/// sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
+pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
+
+const _: () = assert!(std::mem::size_of::<ArborGrowthParams>() == ARBOR_GROWTH_PARAMS_MIN_SIZE);
+
+impl From<GrowthParams> for ArborGrowthParams {
+    fn from(p: GrowthParams) -> Self {
+        ArborGrowthParams {
+            struct_size: std::mem::size_of::<ArborGrowthParams>() as u32,
+            apical_control: p.apical_control,
+            vigor_multiplier: p.vigor_multiplier,
+            internode_length: p.internode_length,
+            branch_angle: p.branch_angle,
+            phyllotaxis: p.phyllotaxis,
+            tropism: p.tropism,
+            environment_weight: p.environment_weight,
+            pipe_exponent: p.pipe_exponent,
+            tip_radius: p.tip_radius,
+            shed_multiplier: p.shed_multiplier,
+            shed_exponent: p.shed_exponent,
+            shed_delay: p.shed_delay,
+            seed_age: p.seed_age,
+            seed_spread: p.seed_spread,
+            perception_angle: p.perception_angle,
+            perception_reach: p.perception_reach,
+            occupancy_reach: p.occupancy_reach,
+            max_shoot: p.max_shoot,
+        }
+    }
+}
+
+impl From<&ArborGrowthParams> for GrowthParams {
+    fn from(p: &ArborGrowthParams) -> Self {
+        GrowthParams {
+            apical_control: p.apical_control,
+            vigor_multiplier: p.vigor_multiplier,
+            internode_length: p.internode_length,
+            branch_angle: p.branch_angle,
+            phyllotaxis: p.phyllotaxis,
+            tropism: p.tropism,
+            environment_weight: p.environment_weight,
+            pipe_exponent: p.pipe_exponent,
+            tip_radius: p.tip_radius,
+            shed_multiplier: p.shed_multiplier,
+            shed_exponent: p.shed_exponent,
+            shed_delay: p.shed_delay,
+            seed_age: p.seed_age,
+            seed_spread: p.seed_spread,
+            perception_angle: p.perception_angle,
+            perception_reach: p.perception_reach,
+            occupancy_reach: p.occupancy_reach,
+            max_shoot: p.max_shoot,
+        }
+    }
+}
+
+impl Growing for ArborGrowthParams {
+    const NAME: &'static str = "ArborGrowthParams";
+    const MIN_SIZE: usize = ARBOR_GROWTH_PARAMS_MIN_SIZE;
+    fn defaults() -> Self {
+        GrowthParams::default().into()
+    }
+}
+
+/// Named species for arbor_growth_params_preset().
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborSpecies {
+    /// Conifer-like, a strong leader.
+    Excurrent = 0,
+    /// A broad, spreading crown.
+    Decurrent = 1,
+    /// A narrow column.
+    Columnar = 2,
+    /// A shrub.
+    Bush = 3,
+    /// Drooping shoots.
+    Weeping = 4,
+}
+
+/// A world of trees growing together (see arbor_world_create()). Opaque; free with
+/// arbor_world_free(). A `const ArborWorld *` may be read from several threads at once;
+/// stepping or planting needs it to yourself.
+pub struct ArborWorld {
+    world: World,
+}
+
+/// Writes the default world options into the first `struct_size` bytes at `options`
+/// (pass `sizeof(ArborWorldOptions)`), with `options->struct_size = struct_size`, and
+/// nothing beyond. NULL does nothing.
+///
+/// # Safety
+/// `options` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_options_init(
+    options: *mut ArborWorldOptions,
+    struct_size: usize,
+) {
+    guard_value((), || {
+        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+        unsafe { init_growing(options, struct_size) }
+    })
+}
+
+/// Writes the default species parameters into the first `struct_size` bytes at `params`
+/// (pass `sizeof(ArborGrowthParams)`), with `params->struct_size = struct_size`, and
+/// nothing beyond. NULL does nothing.
+///
+/// # Safety
+/// `params` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_growth_params_init(
+    params: *mut ArborGrowthParams,
+    struct_size: usize,
+) {
+    guard_value((), || {
+        // SAFETY: the caller promises `struct_size` writable bytes at `params`.
+        unsafe { init_growing(params, struct_size) }
+    })
+}
+
+/// Writes the parameters of species `species` (an ArborSpecies) into the first
+/// `struct_size` bytes at `params`, as arbor_growth_params_init() does for the defaults.
+/// An unknown species: ARBOR_STATUS_INVALID_ARGUMENT, nothing written.
+///
+/// # Safety
+/// `params` is NULL or writable for `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_growth_params_preset(
+    species: u32,
+    params: *mut ArborGrowthParams,
+    struct_size: usize,
+) -> ArborStatus {
+    guard(|| {
+        let species = *Species::ALL.get(species as usize).ok_or_else(|| {
+            crate::Error::invalid(
+                "species",
+                format!("{species}; expected 0..=4 (an ArborSpecies)"),
+            )
+        })?;
+        if params.is_null() {
+            return Err(FfiError::null("params"));
+        }
+        let value: ArborGrowthParams = GrowthParams::preset(species).into();
+        // SAFETY: the caller promises `struct_size` writable bytes at `params`.
+        unsafe { write_growing(params, struct_size, &value) };
+        Ok(())
+    })
+}
+
+/// Makes an empty world. `options` NULL: the defaults. Writes the world to `*out` on
+/// success (free it with arbor_world_free()). ARBOR_STATUS_LIMIT_EXCEEDED when the box at
+/// `cell_size` would pass `max_cells` (nothing allocated); INVALID_ARGUMENT naming the
+/// first bad option.
+///
+/// # Safety
+/// `options` is NULL or readable for its struct_size; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_create(
+    options: *const ArborWorldOptions,
+    out: *mut *mut ArborWorld,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let o = if options.is_null() {
+            WorldOptions::default()
+        } else {
+            // SAFETY: the caller promises `options` is readable for its struct_size.
+            WorldOptions::try_from(&unsafe { read_growing(options, "options") }?)?
+        };
+        let world = World::new(&o)?;
+        *out = Box::into_raw(Box::new(ArborWorld { world }));
+        Ok(())
+    })
+}
+
+/// Frees a world. NULL does nothing.
+///
+/// # Safety
+/// `world` is NULL or a world from arbor_world_create() not yet freed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_free(world: *mut ArborWorld) {
+    if world.is_null() {
+        return;
+    }
+    guard_value((), || {
+        // SAFETY: the caller promises `world` came from Box::into_raw here, freed once.
+        drop(unsafe { Box::from_raw(world) });
+    })
+}
+
+/// The mutable world behind a handle.
+///
+/// # Safety
+/// `world` is NULL or live and not used by another thread for the call.
+unsafe fn world_mut<'a>(world: *mut ArborWorld) -> Result<&'a mut World, FfiError> {
+    if world.is_null() {
+        return Err(FfiError::null("world"));
+    }
+    // SAFETY: non-null; the caller promises it is live and unshared for the call.
+    Ok(&mut unsafe { &mut *world }.world)
+}
+
+/// Plants a tree of `species` (NULL: the default parameters) with its base at
+/// `position` (inside the world's box); `seed` turns its first bud. Writes its index
+/// (planting order) to `*tree_id` if `tree_id` is not NULL.
+///
+/// # Safety
+/// `world` is NULL or live (and not used elsewhere meanwhile); `species` is NULL or
+/// readable for its struct_size; `position` is NULL or readable for 3 floats;
+/// `tree_id` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_plant(
+    world: *mut ArborWorld,
+    species: *const ArborGrowthParams,
+    position: *const f32,
+    seed: u64,
+    tree_id: *mut u32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: as the caller promises.
+        let world = unsafe { world_mut(world) }?;
+        let p = if species.is_null() {
+            GrowthParams::default()
+        } else {
+            // SAFETY: the caller promises `species` is readable for its struct_size.
+            GrowthParams::from(&unsafe { read_growing(species, "species") }?)
+        };
+        // SAFETY: the caller promises three readable floats.
+        let at = unsafe { in_slice(position, 3, "position") }?;
+        let id = world.plant(&p, [at[0], at[1], at[2]], seed)?;
+        if !tree_id.is_null() {
+            // SAFETY: the caller promises a non-NULL `tree_id` is writable.
+            *unsafe { out_ref(tree_id, "tree_id") }? = id;
+        }
+        Ok(())
+    })
+}
+
+/// Adds an axis-aligned box obstacle (min <= max) that casts shadow or removes markers.
+///
+/// # Safety
+/// `world` is NULL or live (not used elsewhere meanwhile); `min` and `max` are NULL or
+/// readable for 3 floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_add_box(
+    world: *mut ArborWorld,
+    min: *const f32,
+    max: *const f32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: as the caller promises.
+        let world = unsafe { world_mut(world) }?;
+        // SAFETY: the caller promises three readable floats each.
+        let (a, b) = unsafe { (in_slice(min, 3, "min")?, in_slice(max, 3, "max")?) };
+        world.add_obstacle(Obstacle::Box {
+            min: [a[0], a[1], a[2]],
+            max: [b[0], b[1], b[2]],
+        })?;
+        Ok(())
+    })
+}
+
+/// Adds a sphere obstacle (radius > 0) that casts shadow or removes markers.
+///
+/// # Safety
+/// `world` is NULL or live (not used elsewhere meanwhile); `center` is NULL or readable
+/// for 3 floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_add_sphere(
+    world: *mut ArborWorld,
+    center: *const f32,
+    radius: f32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: as the caller promises.
+        let world = unsafe { world_mut(world) }?;
+        // SAFETY: the caller promises three readable floats.
+        let c = unsafe { in_slice(center, 3, "center") }?;
+        world.add_obstacle(Obstacle::Sphere {
+            center: [c[0], c[1], c[2]],
+            radius,
+        })?;
+        Ok(())
+    })
+}
+
+/// Runs `cycles` growth cycles for every tree. A cycle that would pass max_branches
+/// returns ARBOR_STATUS_LIMIT_EXCEEDED naming it, before it grows anything (the world
+/// stays as after the last whole cycle).
+///
+/// # Safety
+/// `world` is NULL or live (not used elsewhere meanwhile).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_step(world: *mut ArborWorld, cycles: u32) -> ArborStatus {
+    guard(|| {
+        // SAFETY: as the caller promises.
+        unsafe { world_mut(world) }?.step(cycles)?;
+        Ok(())
+    })
+}
+
+/// Number of trees (planted and seeded); 0 for NULL.
+///
+/// # Safety
+/// `world` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_tree_count(world: *const ArborWorld) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `world` is NULL or live.
+        unsafe { arg_ref(world, "world") }.map_or(0, |w| w.world.tree_count())
+    })
+}
+
+/// Living internodes of all trees; 0 for NULL.
+///
+/// # Safety
+/// `world` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_branch_count(world: *const ArborWorld) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `world` is NULL or live.
+        unsafe { arg_ref(world, "world") }.map_or(0, |w| w.world.branch_count())
+    })
+}
+
+/// A snapshot of tree `index` (0..count, planting order) as an ordinary ArborTree, so
+/// every mesh, leaf, export and curve function takes it: its branches' `depth` is the
+/// growth cycle that made them, `order` the branching order, and every living bud is a
+/// leaf site. Free it with arbor_tree_free(). An index past the end:
+/// ARBOR_STATUS_INVALID_ARGUMENT.
+///
+/// # Safety
+/// `world` is NULL or live; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_world_tree(
+    world: *const ArborWorld,
+    index: usize,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `world` is NULL or live.
+        let world = unsafe { arg_ref(world, "world") }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let skeleton = world.world.tree(index)?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
+}
