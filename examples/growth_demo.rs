@@ -1,4 +1,6 @@
-//! Grows a self-organizing tree and a small forest and prints their sizes and timings.
+//! Grows self-organizing trees (every species, both environments) and a forest of 100
+//! trees on a 10 × 10 grid with seeding, and prints sizes and timings:
+//! `cargo run --release --example growth_demo [forest]`.
 use arbor::models::growth::{Environment, GrowthParams, Species, World, WorldOptions};
 
 fn main() -> Result<(), arbor::Error> {
@@ -14,7 +16,7 @@ fn main() -> Result<(), arbor::Error> {
             })?;
             w.plant(&GrowthParams::preset(species), [0.0, 0.0, 0.0], 1)?;
             let t = std::time::Instant::now();
-            w.step(12)?;
+            w.step(10)?;
             let s = w.tree(0)?;
             let (lo, hi) = s.bounds().unwrap();
             println!(
@@ -27,30 +29,36 @@ fn main() -> Result<(), arbor::Error> {
             );
         }
     }
+    let cycles: u32 = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(50);
     let mut w = World::new(&WorldOptions {
         min: [-30.0, 0.0, -30.0],
-        max: [30.0, 25.0, 30.0],
+        max: [30.0, 20.0, 30.0],
         ..Default::default()
     })?;
+    let species = GrowthParams {
+        seed_age: 20,
+        ..GrowthParams::preset(Species::Decurrent)
+    };
     for i in 0..10 {
         for j in 0..10 {
             w.plant(
-                &GrowthParams {
-                    seed_age: 0,
-                    ..GrowthParams::preset(Species::Decurrent)
-                },
+                &species,
                 [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5],
                 (i * 10 + j) as u64,
             )?;
         }
     }
     let t = std::time::Instant::now();
-    w.step(20)?;
+    w.step(cycles)?;
+    let e = t.elapsed();
     println!(
-        "forest: {} trees, {} branches, {:?}",
+        "forest: {} trees, {} branches after {cycles} cycles, {e:?}: {:.2} M branches/s",
         w.tree_count(),
         w.branch_count(),
-        t.elapsed()
+        w.branch_count() as f64 / e.as_secs_f64() / 1e6
     );
     Ok(())
 }

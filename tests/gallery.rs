@@ -193,6 +193,43 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     println!("forest: {share:.4} tree pixels; wind moved {moved} pixels");
     assert!(moved > 100, "wind moved only {moved} pixels");
 
+    // The self-organized world: seven trees sharing light, grown cycle by cycle. More
+    // cycles, more tree; both environments grow visible trees.
+    let young = render(&exe, "world_4", &["--world", "4", "--size", "400x300"]);
+    let grown = render(&exe, "world_14", &["--world", "14", "--size", "400x300"]);
+    let colonized = render(
+        &exe,
+        "world_colonization",
+        &["--world", "14", "--world-env", "1", "--size", "400x300"],
+    );
+    let (y, g, c) = (
+        young.share(0, 0, 400, 300),
+        grown.share(0, 0, 400, 300),
+        colonized.share(0, 0, 400, 300),
+    );
+    println!("world: {y:.4} tree pixels after 4 cycles, {g:.4} after 14; colonization {c:.4}");
+    assert!(g > 0.05, "the grown world has {g:.4} tree pixels");
+    assert!(
+        g > 3.0 * y,
+        "growth shows: {y:.4} after 4 cycles, {g:.4} after 14"
+    );
+    assert!(c > 0.02, "space colonization grows visible trees: {c:.4}");
+    // Its trees stand apart: the lower band holds several separate trunks.
+    let row = grown.height * 3 / 4;
+    let mut runs = 0;
+    let mut inside = false;
+    for x in 0..grown.width {
+        let t = grown.tree(x, row);
+        if t && !inside {
+            runs += 1;
+        }
+        inside = t;
+    }
+    assert!(
+        runs >= 2,
+        "{runs} trunks or crowns across the lower quarter"
+    );
+
     // The PNG writer makes a real PNG of the asked size.
     let png = Path::new(env!("CARGO_TARGET_TMPDIR")).join("grid.png");
     run(Command::new("xvfb-run")

@@ -4,13 +4,16 @@
  * mapped OpenGL buffers.
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
+ *           [--world CYCLES [--world-env 0|1] [--world-species -1..4]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
  * animation (a moving threshold on arbor's per-vertex growth times); N wind (sway from
  * arbor's per-vertex order, position along the branch and phase); W wireframe; S strips
- * <-> triangle list; F forest (one merged mesh of 25 varied trees); P screenshot; Esc.
+ * <-> triangle list; F forest (one merged mesh of 25 varied trees); O a self-organized
+ * world of seven trees sharing light (Space: one more growth cycle, R reset, E shadow /
+ * space colonization, K species: a mix, then each preset); P screenshot; Esc.
  */
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -49,6 +52,7 @@
   X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                               \
   X(PFNGLBINDBUFFERPROC, glBindBuffer)                                     \
   X(PFNGLBUFFERDATAPROC, glBufferData)                                     \
+  X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                               \
   X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                             \
   X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                   \
   X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                   \
@@ -240,6 +244,9 @@ typedef struct {
   double drag_x, drag_y;
   int dragging, dirty, screenshot_requested, wind, threshold_growth;
   double growth_clock;
+  /* Self-organized world mode: environment (0 shadow, 1 colonization), species (-1: a mix),
+     cycles grown so far. */
+  int world_mode, world_env, world_species, world_cycles;
 } State;
 
 static Tree trees[9];
@@ -248,6 +255,9 @@ static GLuint program, ground_vao, ground_vbo, ground_ebo, leaf_quad_vao, leaf_q
 static GLint u_view_proj, u_model, u_mode, u_light, u_time, u_wind, u_growth;
 static GLuint forest_vao, forest_vbo, forest_ebo;
 static size_t forest_indices;
+static ArborWorld *world;
+static GLuint world_vao, world_vbo, world_ebo;
+static size_t world_indices;
 
 static double now_ms(void) { return glfwGetTime() * 1e3; }
 
@@ -441,6 +451,97 @@ static void build_forest(float spacing) {
   arbor_mesh_free(m);
 }
 
+/* The self-organized world: seven trees planted in a 12 x 10 x 12 box, sharing one
+ * environment; st.world_cycles cycles are grown (stepping on from the current world when
+ * it has fewer), every tree snapshotted and meshed, and the meshes concatenated into one
+ * triangle list for one draw call. */
+static const char *species_names[5] = {"excurrent", "decurrent", "columnar", "bush", "weeping"};
+
+static void reset_world(void) {
+  arbor_world_free(world);
+  world = NULL;
+  ArborWorldOptions o = arbor_world_options_default();
+  o.environment = (uint32_t)st.world_env;
+  o.min[0] = -6; o.min[1] = 0; o.min[2] = -6;
+  o.max[0] = 6; o.max[1] = 10; o.max[2] = 6;
+  o.seed = 7;
+  if (arbor_world_create(&o, &world) != ARBOR_STATUS_OK) fail("arbor_world_create");
+  static const float at[7][2] = {{0, 0}, {2.6f, 0.4f}, {-2.4f, 1.1f}, {0.9f, 2.5f},
+                                 {-1.1f, -2.6f}, {2.2f, -2.2f}, {-2.7f, -1.4f}};
+  for (int k = 0; k < 7; k++) {
+    ArborGrowthParams p;
+    uint32_t species = st.world_species >= 0 ? (uint32_t)st.world_species : (uint32_t)(k % 5);
+    if (arbor_growth_params_preset(species, &p, sizeof p) != ARBOR_STATUS_OK) fail("preset");
+    float pos[3] = {at[k][0], 0, at[k][1]};
+    if (arbor_world_plant(world, &p, pos, (uint64_t)k + 1, NULL) != ARBOR_STATUS_OK) fail("plant");
+  }
+}
+
+static int world_grown;
+
+static void build_world(void) {
+  double t0 = now_ms();
+  if (!world || st.world_cycles < world_grown) {
+    reset_world();
+    world_grown = 0;
+  }
+  if (st.world_cycles > world_grown) {
+    if (arbor_world_step(world, (uint32_t)(st.world_cycles - world_grown)) != ARBOR_STATUS_OK)
+      fail("arbor_world_step");
+    world_grown = st.world_cycles;
+  }
+  double grow_ms = now_ms() - t0;
+  ArborMeshOptions o = mesh_options();
+  o.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
+  o.radial_segments = 6;
+  size_t trees_n = arbor_world_tree_count(world), nv = 0, ni = 0;
+  ArborMesh **meshes = calloc(trees_n, sizeof *meshes);
+  for (size_t k = 0; k < trees_n; k++) {
+    ArborTree *t = NULL;
+    size_t a = 0, b = 0;
+    if (arbor_world_tree(world, k, &t) != ARBOR_STATUS_OK) fail("arbor_world_tree");
+    if (arbor_mesh_create(t, &o, &meshes[k]) != ARBOR_STATUS_OK) fail("arbor_mesh_create");
+    arbor_mesh_vertices(meshes[k], &a);
+    arbor_mesh_indices(meshes[k], &b);
+    nv += a;
+    ni += b;
+    arbor_tree_free(t);
+  }
+  if (!world_vao) {
+    p_glGenVertexArrays(1, &world_vao);
+    p_glGenBuffers(1, &world_vbo);
+    p_glGenBuffers(1, &world_ebo);
+  }
+  p_glBindVertexArray(world_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, world_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), NULL, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, world_ebo);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof(uint32_t)), NULL, GL_STATIC_DRAW);
+  size_t vat = 0, iat = 0;
+  for (size_t k = 0; k < trees_n; k++) {
+    size_t a = 0, b = 0;
+    const ArborVertex *v = arbor_mesh_vertices(meshes[k], &a);
+    const uint32_t *ix = arbor_mesh_indices(meshes[k], &b);
+    uint32_t *shifted = malloc((b ? b : 1) * sizeof *shifted);
+    for (size_t j = 0; j < b; j++) shifted[j] = ix[j] + (uint32_t)vat;
+    p_glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)(vat * sizeof *v), (GLsizeiptr)(a * sizeof *v), v);
+    p_glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)(iat * 4), (GLsizeiptr)(b * 4), shifted);
+    free(shifted);
+    vat += a;
+    iat += b;
+    arbor_mesh_free(meshes[k]);
+  }
+  free(meshes);
+  setup_vertex_layout();
+  p_glBindVertexArray(0);
+  world_indices = ni;
+  printf("world (%s, %s): %zu trees, %zu branches after %d cycles, %zu vertices; %.2f ms to grow, "
+         "%.2f ms to mesh + upload\n",
+         st.world_env ? "space colonization" : "shadow",
+         st.world_species >= 0 ? species_names[st.world_species] : "mixed species", trees_n,
+         arbor_world_branch_count(world), st.world_cycles, nv, grow_ms, now_ms() - t0 - grow_ms);
+}
+
 static void build_all(int verbose) {
   for (int i = 0; i < 9; i++) build_tree(&trees[i]);
   if (verbose) {
@@ -522,6 +623,10 @@ static void draw_view(int i, int x, int y, int w, int h) {
   float height = t->hi[1] > 1 ? t->hi[1] : 1;
   float radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.08f;
   if (st.forest) radius *= 3.2f;
+  if (st.world_mode) {
+    height = 10;
+    radius = 8.5f;
+  }
   float fov = 0.6f;
   float dist = radius / sinf(fov / 2) * st.zoom;
   float at[3] = {0, height * 0.5f, 0};
@@ -535,6 +640,13 @@ static void draw_view(int i, int x, int y, int w, int h) {
   p_glUniform1i(u_mode, 1);
   p_glBindVertexArray(ground_vao);
   p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0);
+  if (st.world_mode) {
+    if (!world_vao) build_world();
+    p_glUniform1i(u_mode, 0);
+    p_glBindVertexArray(world_vao);
+    p_glDrawElements(GL_TRIANGLES, (GLsizei)world_indices, GL_UNSIGNED_INT, 0);
+    return;
+  }
   if (!st.forest) {
     draw_tree(t, identity);
     return;
@@ -565,7 +677,7 @@ static void render(void) {
     if (growth > 1.0f) growth = 1.0f;
   }
   p_glUniform1f(u_growth, growth);
-  if (st.single >= 0 || st.forest) {
+  if (st.single >= 0 || st.forest || st.world_mode) {
     draw_view(st.single >= 0 ? st.single : 0, 0, 0, st.width, st.height);
   } else {
     int cw = st.width / 3, ch = st.height / 3;
@@ -640,6 +752,18 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
     st.growth_clock = glfwGetTime();
   }
   else if (k == GLFW_KEY_N) st.wind = !st.wind;
+  /* The self-organized world: O on/off, Space one more cycle, R reset, E environment,
+     K species (a mix, then each preset). */
+  else if (k == GLFW_KEY_O) { st.world_mode = !st.world_mode; st.forest = 0; st.dirty = 1; }
+  else if (k == GLFW_KEY_SPACE && st.world_mode) { st.world_cycles++; st.dirty = 1; }
+  else if (k == GLFW_KEY_R && st.world_mode) { st.world_cycles = 0; arbor_world_free(world); world = NULL; st.dirty = 1; }
+  else if (k == GLFW_KEY_E && st.world_mode) { st.world_env = !st.world_env; arbor_world_free(world); world = NULL; st.dirty = 1; }
+  else if (k == GLFW_KEY_K && st.world_mode) {
+    st.world_species = st.world_species >= 4 ? -1 : st.world_species + 1;
+    arbor_world_free(world);
+    world = NULL;
+    st.dirty = 1;
+  }
 }
 
 static void mouse_button(GLFWwindow *win, int button, int action, int mods) {
@@ -685,6 +809,7 @@ int main(int argc, char **argv) {
   st.length = 1;
   st.zoom = 1;
   st.pitch = 0.12f;
+  st.world_species = -1;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) { shot = argv[++i]; headless = 1; }
     else if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
@@ -693,6 +818,9 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--list")) st.strips = 0;
     else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
+    else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
+    else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
+    else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) st.world_species = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--depth") && i + 1 < argc) depth = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--wind")) st.wind = 1;
     else {
@@ -762,7 +890,8 @@ int main(int argc, char **argv) {
   build_all(1);
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
-           "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, P screenshot\n");
+           "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, "
+           "O self-organized world (Space cycle, R reset, E environment, K species), P screenshot\n");
 
   glfwSetKeyCallback(win, key);
   glfwSetMouseButtonCallback(win, mouse_button);
@@ -780,13 +909,15 @@ int main(int argc, char **argv) {
       }
     }
     if (st.dirty) {
-      build_all(!st.growth);
+      if (st.world_mode) build_world();
+      else build_all(!st.growth);
       st.dirty = 0;
     }
     render();
     frame++;
     if (headless && frame >= frames) {
       int ok = save_image(shot);
+      arbor_world_free(world);
       glfwDestroyWindow(win);
       glfwTerminate();
       return ok ? 0 : 1;

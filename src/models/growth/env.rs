@@ -166,7 +166,8 @@ impl Env {
 
     /// The cell holding `p`, clamped into the grid.
     fn cell_of(&self, p: Vec3) -> [usize; 3] {
-        let g = ((p - self.origin) * self.inv_cell).floor();
+        let g = (p - self.origin) * self.inv_cell;
+        // Truncation is the floor for the non-negative values kept (NaN becomes 0).
         [0, 1, 2].map(|k| (g[k].max(0.0) as usize).min(self.dims[k] - 1))
     }
 
@@ -221,9 +222,12 @@ impl Env {
             let add = f * sign;
             let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
             let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
-            for z in z0..=z1 {
-                let row = self.index(0, y, z);
-                for s in &mut self.shadow[row + x0..=row + x1] {
+            // The layer's rows are nx apart: one slice for all of them, rows by chunks.
+            let w = x1 - x0 + 1;
+            let first = self.index(x0, y, z0);
+            let slab = &mut self.shadow[first..first + (z1 - z0) * nx + w];
+            for row in slab.chunks_mut(nx) {
+                for s in &mut row[..w] {
                     *s += add;
                 }
             }
@@ -248,14 +252,28 @@ impl Env {
         if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
             return (0.0, Vec3::ZERO);
         }
-        let [x, y, z] = self.cell_of(p).map(|v| v as isize);
-        let s = self.s(x, y, z);
+        let [cx, cy, cz] = self.cell_of(p);
+        let [nx, ny, nz] = self.dims;
+        let c = self.index(cx, cy, cz);
+        let s = self.shadow[c];
         let q = (self.full_light - s + self.strength).max(0.0);
-        let grad = Vec3::new(
-            self.s(x + 1, y, z) - self.s(x - 1, y, z),
-            self.s(x, y + 1, z) - self.s(x, y - 1, z),
-            self.s(x, y, z + 1) - self.s(x, y, z - 1),
-        );
+        let grad = if cx > 0 && cy > 0 && cz > 0 && cx + 1 < nx && cy + 1 < ny && cz + 1 < nz {
+            // Inside: neighbours at ±1, ±nx (z) and ±nx·nz (y).
+            let (dz, dy) = (nx, nx * nz);
+            let g = &self.shadow;
+            Vec3::new(
+                g[c + 1] - g[c - 1],
+                g[c + dy] - g[c - dy],
+                g[c + dz] - g[c - dz],
+            )
+        } else {
+            let [x, y, z] = [cx, cy, cz].map(|v| v as isize);
+            Vec3::new(
+                self.s(x + 1, y, z) - self.s(x - 1, y, z),
+                self.s(x, y + 1, z) - self.s(x, y - 1, z),
+                self.s(x, y, z + 1) - self.s(x, y, z - 1),
+            )
+        };
         (q, (-grad).normalize_or_zero())
     }
 

@@ -87,6 +87,9 @@ pub(crate) struct Tree {
     ql: Vec<f32>,
     vig: Vec<f32>,
     desc: Vec<u32>,
+    own: Vec<[(f32, Vec3); 2]>,
+    bud_vigour: Vec<[f32; 2]>,
+    dead: Vec<bool>,
 }
 
 /// A unit vector perpendicular to unit `h`, continuous except near −Y.
@@ -134,6 +137,9 @@ impl Tree {
             ql: Vec::new(),
             vig: Vec::new(),
             desc: Vec::new(),
+            own: Vec::new(),
+            bud_vigour: Vec::new(),
+            dead: Vec::new(),
         }
     }
 
@@ -178,8 +184,8 @@ impl Tree {
         let n = self.nodes.len();
         // Light of each node's buds, in bud order.
         let mut bud_light = light.iter();
-        let mut own = vec![[(0.0f32, Vec3::ZERO); 2]; 0];
-        own.reserve(n);
+        let mut own = std::mem::take(&mut self.own);
+        own.clear();
         for node in &self.nodes {
             let mut pair = [(0.0, Vec3::ZERO); 2];
             if node.main == BUD {
@@ -220,7 +226,9 @@ impl Tree {
         self.vig.resize(n, 0.0);
         self.vig[0] = p.vigor_multiplier * self.q[0];
         let lambda = p.apical_control;
-        let mut bud_vigour = vec![[0.0f32; 2]; n];
+        let mut bud_vigour = std::mem::take(&mut self.bud_vigour);
+        bud_vigour.clear();
+        bud_vigour.resize(n, [0.0; 2]);
         let mut residual = 0.0f32;
         for (i, buds) in bud_vigour.iter_mut().enumerate() {
             let v = self.vig[i];
@@ -253,7 +261,9 @@ impl Tree {
             root_vigour: self.vig[0],
             ..Default::default()
         };
-        let mut dead = vec![false; n];
+        let mut dead = std::mem::take(&mut self.dead);
+        dead.clear();
+        dead.resize(n, false);
         for i in 1..n {
             let node = self.nodes[i];
             let parent = node.parent as usize;
@@ -318,6 +328,9 @@ impl Tree {
                 }
             }
         }
+        self.own = own;
+        self.bud_vigour = bud_vigour;
+        self.dead = dead;
         plan
     }
 
