@@ -226,9 +226,22 @@ impl Env {
             let w = x1 - x0 + 1;
             let first = self.index(x0, y, z0);
             let slab = &mut self.shadow[first..first + (z1 - z0) * nx + w];
-            for row in slab.chunks_mut(nx) {
-                for s in &mut row[..w] {
-                    *s += add;
+            // Unclipped rows of the common widths are fixed-size arrays, which the
+            // compiler unrolls into vector adds.
+            match w {
+                1 => add_rows::<1>(slab, nx, add),
+                3 => add_rows::<3>(slab, nx, add),
+                5 => add_rows::<5>(slab, nx, add),
+                7 => add_rows::<7>(slab, nx, add),
+                9 => add_rows::<9>(slab, nx, add),
+                11 => add_rows::<11>(slab, nx, add),
+                13 => add_rows::<13>(slab, nx, add),
+                _ => {
+                    for row in slab.chunks_mut(nx) {
+                        for s in &mut row[..w] {
+                            *s += add;
+                        }
+                    }
                 }
             }
         }
@@ -398,5 +411,18 @@ impl Env {
 
     pub(crate) fn kind(&self) -> Environment {
         self.kind
+    }
+}
+
+/// Adds `add` to the first `W` values of every row of `slab` (rows `stride` apart; the
+/// last row may be just `W` long).
+#[inline(always)]
+fn add_rows<const W: usize>(slab: &mut [f32], stride: usize, add: f32) {
+    for row in slab.chunks_mut(stride) {
+        if let Some(r) = row.first_chunk_mut::<W>() {
+            for v in r {
+                *v += add;
+            }
+        }
     }
 }
