@@ -165,12 +165,19 @@ impl Env {
     }
 
     /// The cell holding `p`, clamped into the grid.
+    #[inline]
     fn cell_of(&self, p: Vec3) -> [usize; 3] {
         let g = (p - self.origin) * self.inv_cell;
         // Truncation is the floor for the non-negative values kept (NaN becomes 0).
-        [0, 1, 2].map(|k| (g[k].max(0.0) as usize).min(self.dims[k] - 1))
+        let [nx, ny, nz] = self.dims;
+        [
+            (g.x.max(0.0) as usize).min(nx - 1),
+            (g.y.max(0.0) as usize).min(ny - 1),
+            (g.z.max(0.0) as usize).min(nz - 1),
+        ]
     }
 
+    #[inline]
     pub(crate) fn inside(&self, p: Vec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
@@ -260,6 +267,7 @@ impl Env {
     /// Q = max(C − s + a, 0)
     /// (the `+ a` takes away the bud's own shadow) and V = −∇s, normalised (zero where
     /// flat).
+    #[inline]
     pub(crate) fn shadow_light(&self, p: Vec3) -> (f32, Vec3) {
         // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
         if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
