@@ -271,6 +271,18 @@ typedef enum ArborStructId {
    * ArborGrowthParams.
    */
   ARBOR_STRUCT_ID_GROWTH_PARAMS = 12,
+  /**
+   * ArborCurve.
+   */
+  ARBOR_STRUCT_ID_CURVE = 13,
+  /**
+   * ArborCurveRecord.
+   */
+  ARBOR_STRUCT_ID_CURVE_RECORD = 14,
+  /**
+   * ArborCurveGrowthRecord.
+   */
+  ARBOR_STRUCT_ID_CURVE_GROWTH_RECORD = 15,
 } ArborStructId;
 
 /**
@@ -338,6 +350,114 @@ typedef struct ArborTree ArborTree;
  * stepping or planting needs it to yourself.
  */
 typedef struct ArborWorld ArborWorld;
+
+/**
+ * One branch as a cubic Bezier, 56 bytes: p0 is the branch's start, p3 its end.
+ */
+typedef struct ArborCurve {
+  /**
+   * Start.
+   */
+  float p0[3];
+  /**
+   * First inner control point (tangent at p0 = 3 (p1 - p0)).
+   */
+  float p1[3];
+  /**
+   * Second inner control point (tangent at p3 = 3 (p3 - p2)).
+   */
+  float p2[3];
+  /**
+   * End.
+   */
+  float p3[3];
+  /**
+   * Radius at p0.
+   */
+  float r0;
+  /**
+   * Radius at p3.
+   */
+  float r1;
+} ArborCurve;
+
+/**
+ * One branch for a shader (std430-ready, 80 bytes): see CurveRecord in the Rust docs.
+ * texture v at curve fraction s of the arc is v0 + length * s; u starts at u_offset.
+ */
+typedef struct ArborCurveRecord {
+  /**
+   * Start, then the radius at the start.
+   */
+  float p0[3];
+  /**
+   * Radius at p0.
+   */
+  float r0;
+  /**
+   * First inner control point.
+   */
+  float p1[3];
+  /**
+   * Radius at p3.
+   */
+  float r1;
+  /**
+   * Second inner control point.
+   */
+  float p2[3];
+  /**
+   * Arc length from the root to p0, model units.
+   */
+  float v0;
+  /**
+   * End.
+   */
+  float p3[3];
+  /**
+   * Arc length of the curve, model units.
+   */
+  float length;
+  /**
+   * Turn of the texture about the curve, 0..1.
+   */
+  float u_offset;
+  /**
+   * Branching order.
+   */
+  uint32_t order;
+  /**
+   * Parent branch, or ARBOR_NO_PARENT.
+   */
+  uint32_t parent;
+  /**
+   * Birth step or growth cycle.
+   */
+  uint32_t birth;
+} ArborCurveRecord;
+
+/**
+ * An ArborCurveRecord with growth bounds (96 bytes): the branch grows from grow_start to
+ * grow_end, 0..1, as the animation stream's growth times.
+ */
+typedef struct ArborCurveGrowthRecord {
+  /**
+   * The branch.
+   */
+  struct ArborCurveRecord curve;
+  /**
+   * When it starts to grow.
+   */
+  float grow_start;
+  /**
+   * When it is fully grown.
+   */
+  float grow_end;
+  /**
+   * Zero.
+   */
+  float reserved[2];
+} ArborCurveGrowthRecord;
 
 /**
  * Options of the tube mesher: a struct that grows (see "Structs that grow" in the
@@ -929,6 +1049,63 @@ typedef struct ArborLeafSite {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+/**
+ * Copies the curve of every branch of `tree` (branch order) into `out`: `capacity`
+ * elements, at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written. Straight branches have their inner points at the thirds.
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` curves.
+ */
+enum ArborStatus arbor_tree_copy_curves(const struct ArborTree *tree,
+                                        struct ArborCurve *out,
+                                        size_t capacity);
+
+/**
+ * Replaces one branch's curve and radii. `curve->p0` must equal the branch's current
+ * start, else ARBOR_STATUS_INVALID_ARGUMENT; every branch that grows from it, directly or
+ * not (with its leaf sites and polygons), is translated by p3's displacement, so the
+ * tree stays connected. A bad edit (index past the end, NaN, negative radius) changes
+ * nothing. The tree's kept mesh plans are dropped.
+ *
+ * # Safety
+ * `tree` is NULL or live and not read by another thread meanwhile; `curve` is NULL or
+ * readable.
+ */
+enum ArborStatus arbor_tree_set_curve(struct ArborTree *tree,
+                                      size_t branch,
+                                      const struct ArborCurve *curve);
+
+/**
+ * Bends every branch of `tree` into a C1 cubic Bezier along its axis (`tension` 0..=2:
+ * 0 straight, 1 the usual); no joint moves. The tree's kept mesh plans are dropped.
+ *
+ * # Safety
+ * `tree` is NULL or live and not read by another thread meanwhile.
+ */
+enum ArborStatus arbor_tree_smooth(struct ArborTree *tree, float tension);
+
+/**
+ * Writes one ArborCurveRecord per branch (branch order) into `out` (`capacity` elements,
+ * at least arbor_tree_branch_count()).
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` records.
+ */
+enum ArborStatus arbor_tree_curve_records_write(const struct ArborTree *tree,
+                                                struct ArborCurveRecord *out,
+                                                size_t capacity);
+
+/**
+ * As arbor_tree_curve_records_write(), with each record's growth bounds.
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` records.
+ */
+enum ArborStatus arbor_tree_curve_growth_records_write(const struct ArborTree *tree,
+                                                       struct ArborCurveGrowthRecord *out,
+                                                       size_t capacity);
 
 /**
  * Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its

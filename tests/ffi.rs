@@ -163,6 +163,11 @@ fn c_self_organizing_worlds() {
 }
 
 #[test]
+fn c_curves_smoothing_edits_and_records() {
+    check_program("curves.c", "c11");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -35,6 +35,13 @@ same_layout!(ArborLeafInstance, LeafInstance, [
 same_layout!(ArborLeafSite, crate::skeleton::LeafSite, [
     position => position, heading => heading, up => up, branch => branch, depth => birth,
 ]);
+same_layout!(ArborCurveRecord, crate::mesh::CurveRecord, [
+    p0 => p0, r0 => r0, p1 => p1, r1 => r1, p2 => p2, v0 => v0, p3 => p3, length => length,
+    u_offset => u_offset, order => order, parent => parent, birth => birth,
+]);
+same_layout!(ArborCurveGrowthRecord, crate::mesh::CurveGrowthRecord, [
+    curve => curve, grow_start => grow_start, grow_end => grow_end, reserved => reserved,
+]);
 same_layout!(ArborAnimationVertex, crate::mesh::AnimationVertex, [
     growth => growth, order => order, along => along, phase => phase,
 ]);
@@ -69,6 +76,12 @@ pub enum ArborStructId {
     WorldOptions = 11,
     /// ArborGrowthParams.
     GrowthParams = 12,
+    /// ArborCurve.
+    Curve = 13,
+    /// ArborCurveRecord.
+    CurveRecord = 14,
+    /// ArborCurveGrowthRecord.
+    CurveGrowthRecord = 15,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -91,6 +104,9 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         10 => size_of::<ArborForestTree>(),
         11 => size_of::<ArborWorldOptions>(),
         12 => size_of::<ArborGrowthParams>(),
+        13 => size_of::<ArborCurve>(),
+        14 => size_of::<ArborCurveRecord>(),
+        15 => size_of::<ArborCurveGrowthRecord>(),
         _ => 0,
     }
 }

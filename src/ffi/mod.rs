@@ -7,6 +7,7 @@
 //! Rust users do not need this module; it is public so that its documentation and the
 //! layouts it fixes can be read here too.
 
+mod curves;
 mod export;
 mod forest;
 mod growth;
@@ -19,6 +20,7 @@ mod options;
 mod status;
 mod tree;
 
+pub use curves::*;
 pub use export::*;
 pub use forest::*;
 pub use growth::*;

@@ -25,6 +25,20 @@ impl ArborTree {
         }
     }
 
+    /// Changes the skeleton with `f` (nothing if it fails) and drops the kept plans, which
+    /// were made for the old one.
+    pub(crate) fn edit(
+        &mut self,
+        f: impl FnOnce(&mut Skeleton) -> crate::Result<()>,
+    ) -> crate::Result<()> {
+        f(&mut self.skeleton)?;
+        self.plans
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        Ok(())
+    }
+
     /// The mesh plan for `options`: kept from an earlier call, or made now and kept.
     pub(crate) fn plan(
         &self,

@@ -21,6 +21,7 @@ mod animation;
 mod leaves;
 mod lod;
 mod plan;
+mod records;
 mod rings;
 mod strips;
 mod topology;
@@ -33,6 +34,7 @@ pub use leaves::{
 };
 pub use lod::{LodLevel, mesh_lods};
 pub use plan::{BranchRange, MeshPlan};
+pub use records::{CurveGrowthRecord, CurveRecord, curve_growth_records, curve_records};
 pub(crate) use strips::Slot;
 pub use topology::Triangles;
 pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};

@@ -1,6 +1,7 @@
 //! The branch skeleton: the meeting point of every generator and the input of every mesher.
 
 mod adjacency;
+mod curves;
 pub mod prune;
 
 pub use adjacency::Adjacency;
