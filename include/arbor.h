@@ -532,6 +532,13 @@ typedef struct ArborMeshOptions {
    * Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
    */
   uint64_t max_vertices;
+  /**
+   * Extra rings inside every branch along its curve, 0..=64: 0 (default) one cone per
+   * branch, exactly as without curves; k >= 1 a sweep with k inner rings,
+   * rotation-minimising frames, interpolated radii and v by arc length. (Added after the
+   * first layout.)
+   */
+  uint32_t curve_rings;
 } ArborMeshOptions;
 
 /**

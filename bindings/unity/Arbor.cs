@@ -67,6 +67,7 @@ namespace Arbor
         public float Scale;
         public uint Threads;
         public ulong MaxVertices;
+        public uint CurveRings;
 
         public static MeshOptions Default()
         {

@@ -113,6 +113,11 @@ pub struct ArborMeshOptions {
     /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_vertices, before any memory is spent.
     /// Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
     pub max_vertices: u64,
+    /// Extra rings inside every branch along its curve, 0..=64: 0 (default) one cone per
+    /// branch, exactly as without curves; k >= 1 a sweep with k inner rings,
+    /// rotation-minimising frames, interpolated radii and v by arc length. (Added after the
+    /// first layout.)
+    pub curve_rings: u32,
 }
 
 /// sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
@@ -201,6 +206,7 @@ impl TryFrom<&ArborMeshOptions> for MeshOptions {
             scale: o.scale,
             threads: o.threads,
             max_vertices: usize::try_from(o.max_vertices).unwrap_or(usize::MAX),
+            curve_rings: o.curve_rings,
         })
     }
 }
@@ -223,6 +229,7 @@ impl From<MeshOptions> for ArborMeshOptions {
             scale: o.scale,
             threads: o.threads,
             max_vertices: o.max_vertices as u64,
+            curve_rings: o.curve_rings,
         }
     }
 }

@@ -203,9 +203,10 @@ mod fuzz {
                 up_axis: fields[10] % 3,
                 scale: floats[2],
                 // Sizes from below the first layout up to this one (never past the Rust value).
-                struct_size: [52, 56, 60, 64, fields[3] % 65][fields[8] as usize % 5],
+                struct_size: [52, 56, 64, 72, fields[3] % 73][fields[8] as usize % 5],
                 threads: fields[11] % 4,
                 max_vertices: u64::from(fields[3]) * 64,
+                curve_rings: fields[11] % 3,
             };
             let mut p = ArborHondaParams::default();
             // SAFETY: `p` is a local struct.

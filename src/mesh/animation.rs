@@ -83,6 +83,13 @@ impl MeshPlan {
             if f & SHARES_START == 0 {
                 out.extend(std::iter::repeat_n(at(0.0), s + 1));
             }
+            // The inner rings of a sweep, at equal curve parameters.
+            for j in 1..=plan.inner {
+                out.extend(std::iter::repeat_n(
+                    at(j as f32 / (plan.inner + 1) as f32),
+                    s + 1,
+                ));
+            }
             out.extend(std::iter::repeat_n(at(1.0), s + 1));
             if f & BASE_CAP != 0 {
                 out.extend(std::iter::repeat_n(at(0.0), s));

@@ -187,6 +187,12 @@ pub struct MeshOptions {
     /// [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming `max_vertices`, before
     /// any buffer is allocated. Default [`DEFAULT_MAX_VERTICES`](crate::limits::DEFAULT_MAX_VERTICES).
     pub max_vertices: usize,
+    /// Extra rings inside every branch, placed along its curve (a sweep), 0..=64: 0 (the
+    /// default) draws each branch as one truncated cone between its end rings, exactly as
+    /// without curves; k ≥ 1 adds k rings at equal curve parameters, framed by rotation-
+    /// minimising frames continuous across joints, with radii interpolated and v by arc
+    /// length.
+    pub curve_rings: u32,
 }
 
 impl Default for MeshOptions {
@@ -206,6 +212,7 @@ impl Default for MeshOptions {
             scale: 1.0,
             threads: 0,
             max_vertices: crate::limits::DEFAULT_MAX_VERTICES,
+            curve_rings: 0,
         }
     }
 }

@@ -51,6 +51,12 @@ pub(crate) struct Plan {
     pub(crate) cont: Vec<u32>,
     /// Unit direction of every branch.
     pub(crate) dir: Vec<Vec3>,
+    /// Rings inside every branch (`curve_rings`).
+    pub(crate) inner: usize,
+    /// With inner rings: the unit tangents of each branch's curve at its start and end
+    /// (the joints' directions); empty otherwise.
+    pub(crate) t0: Vec<Vec3>,
+    pub(crate) t1: Vec<Vec3>,
     pub(crate) size: MeshSize,
     pub(crate) rules: StripRules,
 }
@@ -74,6 +80,15 @@ pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
         return Err(Error::invalid(
             "cull_radius",
             format!("{}; expected a finite number >= 0", o.cull_radius),
+        ));
+    }
+    if o.curve_rings > 64 {
+        return Err(Error::invalid(
+            "curve_rings",
+            format!(
+                "{}; expected 0..=64 rings inside each branch",
+                o.curve_rings
+            ),
         ));
     }
     for (field, v) in [("texture_scale", o.texture_scale), ("scale", o.scale)] {
@@ -165,6 +180,21 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         segs[i] = s as u8;
     }
     let dir: Vec<Vec3> = branches.iter().map(direction).collect();
+    let inner = o.curve_rings as usize;
+    // With a sweep, the joints' directions are the curves' tangents.
+    let (t0, t1): (Vec<Vec3>, Vec<Vec3>) = if inner > 0 {
+        (0..n)
+            .map(|i| {
+                let c = skeleton.curve(i);
+                (
+                    c.tangent(0.0).try_normalize().unwrap_or(dir[i]),
+                    c.tangent(1.0).try_normalize().unwrap_or(dir[i]),
+                )
+            })
+            .unzip()
+    } else {
+        (Vec::new(), Vec::new())
+    };
     // The kept branch that continues each branch's axis: its first kept child of the
     // same order (from the skeleton's adjacency, built once and shared).
     let adjacency = skeleton.adjacency();
@@ -190,10 +220,15 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             }
         } else {
             let p = b.parent as usize;
+            let bend_cos = if inner > 0 {
+                t1[p].dot(t0[i])
+            } else {
+                dir[p].dot(dir[i])
+            };
             if o.joints == Joints::Mitred
                 && cont[p] == i as u32
                 && segs[p] == segs[i]
-                && dir[p].dot(dir[i]) > MITRE_MIN_COS
+                && bend_cos > MITRE_MIN_COS
             {
                 flags[i] |= SHARES_START;
                 flags[p] |= MITRE_END;
@@ -208,6 +243,9 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         flags,
         cont,
         dir,
+        inner,
+        t0,
+        t1,
         size: MeshSize::default(),
         rules: StripRules {
             topology: o.topology,
@@ -261,9 +299,10 @@ impl Plan {
         let f = self.flags[i];
         let rules = self.rules;
         let ring = s + 1;
-        let mut v = ring + if f & SHARES_START != 0 { 0 } else { ring };
+        let mut v = ring * (1 + self.inner) + if f & SHARES_START != 0 { 0 } else { ring };
         let mut idx = rules.count(2 * ring, *first);
         *first = false;
+        idx += self.inner * rules.count(2 * ring, false);
         if f & BASE_CAP != 0 {
             v += s;
             idx += rules.count(s, false);
@@ -310,6 +349,9 @@ pub(crate) struct Layout {
     pub(crate) v_end: Vec<f32>,
     /// First vertex of each branch's end ring.
     pub(crate) end_ring: Vec<u32>,
+    /// With inner rings: the frame vector at each branch's end (carried along its curve by
+    /// rotation-minimising frames); empty otherwise.
+    pub(crate) frame_end: Vec<Vec3>,
 }
 
 fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
@@ -322,7 +364,13 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         frame_p: vec![Vec3::ZERO; n],
         v_end: vec![0.0; n],
         end_ring: vec![0; n],
+        frame_end: if plan.inner > 0 {
+            vec![Vec3::ZERO; n]
+        } else {
+            Vec::new()
+        },
     };
+    let sweep = plan.inner > 0;
     let (mut nv, mut ni) = (0u32, 0u32);
     let mut first = true;
     for (i, b) in branches.iter().enumerate() {
@@ -335,7 +383,7 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         if s == 0 {
             continue;
         }
-        let d = plan.dir[i];
+        let d = if sweep { plan.t0[i] } else { plan.dir[i] };
         let root = b.parent == NO_PARENT;
         // A ring of its own starts its seam at the turtle's up vector where the generator
         // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
@@ -349,6 +397,9 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
             p
         } else if root {
             ring_basis(d.as_dvec3()).0.as_vec3()
+        } else if sweep {
+            let parent = b.parent as usize;
+            carry(&transport_map(plan.t1[parent], d), l.frame_end[parent], d)
         } else {
             let parent = b.parent as usize;
             carry(&transport_map(plan.dir[parent], d), l.frame_p[parent], d)
@@ -358,7 +409,19 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         } else {
             l.v_end[b.parent as usize]
         };
-        let len = length(b);
+        let len = if sweep {
+            // The arc through the ring centres, and the frame at the end.
+            let mut arc = 0.0f32;
+            l.frame_end[i] = skeleton.curve(i).rotation_minimising_frames(
+                d,
+                l.frame_p[i],
+                plan.inner + 1,
+                |_, _, _, _, a| arc = a,
+            );
+            arc as f64
+        } else {
+            length(b)
+        };
         // Clamped so that absurd lengths cannot push uv past the f32 range.
         l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
         let own_start = if plan.flags[i] & SHARES_START != 0 {
@@ -366,7 +429,7 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         } else {
             s + 1
         };
-        l.end_ring[i] = l.first_vertex[i] + own_start as u32;
+        l.end_ring[i] = l.first_vertex[i] + (own_start + plan.inner * (s + 1)) as u32;
     }
     l
 }
