@@ -193,6 +193,23 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     println!("forest: {share:.4} tree pixels; wind moved {moved} pixels");
     assert!(moved > 100, "wind moved only {moved} pixels");
 
+    // Smooth mode: the same tree with C1 curves swept by inner rings covers about as much
+    // of the picture, drawn differently.
+    let straight = render(&exe, "tree_e", &["--tree", "e", "--size", "300x300"]);
+    let smooth = render(
+        &exe,
+        "tree_e_smooth",
+        &["--tree", "e", "--size", "300x300", "--smooth"],
+    );
+    let (a, b) = (straight.share(0, 0, 300, 300), smooth.share(0, 0, 300, 300));
+    let moved = differing_pixels(&straight, &smooth);
+    println!("smooth: {b:.4} tree pixels against {a:.4} straight; {moved} pixels differ");
+    assert!(
+        (b / a - 1.0).abs() < 0.35,
+        "smoothing keeps the tree's size: {a:.4} vs {b:.4}"
+    );
+    assert!(moved > 200, "smoothing changes the picture: {moved} pixels");
+
     // The self-organized world: seven trees sharing light, grown cycle by cycle. More
     // cycles, more tree; both environments grow visible trees.
     let young = render(&exe, "world_4", &["--world", "4", "--size", "400x300"]);

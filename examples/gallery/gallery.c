@@ -4,14 +4,14 @@
  * mapped OpenGL buffers.
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
- *           [--world CYCLES [--world-env 0|1] [--world-species -1..4]]
+ *           [--smooth] [--world CYCLES [--world-env 0|1] [--world-species -1..4]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
  * animation (a moving threshold on arbor's per-vertex growth times); N wind (sway from
  * arbor's per-vertex order, position along the branch and phase); W wireframe; S strips
- * <-> triangle list; F forest (one merged mesh of 25 varied trees); O a self-organized
+ * <-> triangle list; C smooth (C1 curves swept with 3 inner rings); F forest (one merged mesh of 25 varied trees); O a self-organized
  * world of seven trees sharing light (Space: one more growth cycle, R reset, E shadow /
  * space colonization, K species: a mix, then each preset); P screenshot; Esc.
  */
@@ -247,6 +247,8 @@ typedef struct {
   /* Self-organized world mode: environment (0 shadow, 1 colonization), species (-1: a mix),
      cycles grown so far. */
   int world_mode, world_env, world_species, world_cycles;
+  /* Smooth mode: every tree's branches bent into C1 curves and swept with inner rings. */
+  int smooth;
 } State;
 
 static Tree trees[9];
@@ -275,6 +277,7 @@ static ArborMeshOptions mesh_options(void) {
   o.smooth_taper = 1;
   o.tip = ARBOR_TIP_POINT;
   o.texture_scale = 6.0f;
+  o.curve_rings = st.smooth ? 3u : 0u;
   return o;
 }
 
@@ -297,6 +300,7 @@ static void build_tree(Tree *t) {
   p.steps = (uint32_t)(steps < 0 ? 0 : steps);
   ArborTree *tree = NULL;
   if (arbor_tree_from_honda(&p, &tree) != ARBOR_STATUS_OK) fail("arbor_tree_from_honda");
+  if (st.smooth && arbor_tree_smooth(tree, 1.0f) != ARBOR_STATUS_OK) fail("arbor_tree_smooth");
   double t1 = now_ms();
 
   /* Frame the grown tree, so the growth animation does not zoom. */
@@ -752,6 +756,7 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
     st.growth_clock = glfwGetTime();
   }
   else if (k == GLFW_KEY_N) st.wind = !st.wind;
+  else if (k == GLFW_KEY_C) { st.smooth = !st.smooth; st.dirty = 1; }
   /* The self-organized world: O on/off, Space one more cycle, R reset, E environment,
      K species (a mix, then each preset). */
   else if (k == GLFW_KEY_O) { st.world_mode = !st.world_mode; st.forest = 0; st.dirty = 1; }
@@ -818,6 +823,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--list")) st.strips = 0;
     else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
+    else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
     else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
     else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
     else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) st.world_species = atoi(argv[++i]);
@@ -891,7 +897,8 @@ int main(int argc, char **argv) {
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
            "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, "
-           "O self-organized world (Space cycle, R reset, E environment, K species), P screenshot\n");
+           "C smooth, O self-organized world (Space cycle, R reset, E environment, K species), "
+           "P screenshot\n");
 
   glfwSetKeyCallback(win, key);
   glfwSetMouseButtonCallback(win, mouse_button);
