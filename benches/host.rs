@@ -126,5 +126,58 @@ fn bench_host(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_host);
+/// Editing a twig of tree a at n = 18 (262,143 branches) and rewriting only what changed
+/// inside the host's buffers, beside writing the whole mesh, both through the C ABI.
+fn bench_rewrite(c: &mut Criterion) {
+    let mut group = c.benchmark_group("host_rewrite");
+    group.sample_size(20);
+    let tree = honda('a', 18);
+    let o = options(ArborTopology::TriangleList as u32);
+    let (nv, ni) = size(&tree, &o);
+    // SAFETY: the tree is live.
+    let branches = unsafe { arbor::ffi::arbor_tree_branch_count(tree.tree) };
+    let mut vertices: Vec<ArborVertex> = vec![ArborVertex::default(); nv];
+    let mut indices: Vec<u32> = vec![0; ni];
+    size_then_write(&tree, &o, &mut vertices, &mut indices);
+    let twig = branches - 1;
+    let mut curves = vec![arbor::ffi::ArborCurve::default(); branches];
+    // SAFETY: the buffer holds every branch's curve.
+    let status =
+        unsafe { arbor::ffi::arbor_tree_copy_curves(tree.tree, curves.as_mut_ptr(), branches) };
+    assert_eq!(status, ArborStatus::Ok);
+    let mut edit = curves[twig];
+    let mut flip = 1.0f32;
+    group.bench_function("edit_twig_and_rewrite", |b| {
+        b.iter(|| {
+            flip = -flip;
+            edit.p2[0] += 0.01 * flip;
+            // SAFETY: the tree is live and only this thread uses it; the buffers hold the
+            // complete mesh.
+            unsafe {
+                assert_eq!(
+                    arbor::ffi::arbor_tree_set_curve(tree.tree, twig, &edit),
+                    ArborStatus::Ok
+                );
+                assert_eq!(
+                    arbor::ffi::arbor_mesh_rewrite_branch(
+                        tree.tree,
+                        &o,
+                        twig,
+                        vertices.as_mut_ptr(),
+                        nv,
+                        indices.as_mut_ptr(),
+                        ni,
+                    ),
+                    ArborStatus::Ok
+                );
+            }
+        })
+    });
+    group.bench_function("full_write", |b| {
+        b.iter(|| size_then_write(&tree, &o, &mut vertices, &mut indices))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_host, bench_rewrite);
 criterion_main!(benches);

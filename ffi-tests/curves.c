@@ -125,5 +125,44 @@ int main(void) {
   free(c);
   arbor_tree_free(t);
   CHECK_STATUS(arbor_tree_smooth(NULL, 1), ARBOR_STATUS_NULL_ARGUMENT);
+
+  /* One-branch rewrites inside the host's buffers equal full writes, in every topology. */
+  for (uint32_t topo = 0; topo < 3; topo++) {
+    ArborHondaParams g;
+    ArborTree *tree = NULL;
+    arbor_honda_preset('g', &g);
+    g.steps = 12;
+    CHECK_STATUS(arbor_tree_from_honda(&g, &tree), ARBOR_STATUS_OK);
+    ArborMeshOptions mo = arbor_mesh_options_default();
+    mo.topology = topo;
+    mo.curve_rings = 2;
+    size_t nv = 0, ni = 0, nb = arbor_tree_branch_count(tree);
+    CHECK_STATUS(arbor_mesh_size(tree, &mo, &nv, &ni), ARBOR_STATUS_OK);
+    ArborVertex *v = malloc(nv * sizeof *v), *fresh_v = malloc(nv * sizeof *v);
+    uint32_t *ix = malloc(ni * sizeof *ix), *fresh_i = malloc(ni * sizeof *ix);
+    CHECK_STATUS(arbor_mesh_write(tree, &mo, v, nv, ix, ni), ARBOR_STATUS_OK);
+    ArborCurve *cs = malloc(nb * sizeof *cs);
+    size_t edits[2] = {nb - 1, 5};
+    for (int k = 0; k < 2; k++) {
+      CHECK_STATUS(arbor_tree_copy_curves(tree, cs, nb), ARBOR_STATUS_OK);
+      ArborCurve e2 = cs[edits[k]];
+      e2.p3[0] += 0.5f;
+      e2.p2[2] -= 0.3f;
+      e2.r1 *= 0.9f;
+      CHECK_STATUS(arbor_tree_set_curve(tree, edits[k], &e2), ARBOR_STATUS_OK);
+      CHECK_STATUS(arbor_mesh_rewrite_branch(tree, &mo, edits[k], v, nv, ix, ni), ARBOR_STATUS_OK);
+      CHECK_STATUS(arbor_mesh_write(tree, &mo, fresh_v, nv, fresh_i, ni), ARBOR_STATUS_OK);
+      CHECK(memcmp(v, fresh_v, nv * sizeof *v) == 0, "topology %u edit %d: vertices equal a full write", topo, k);
+      CHECK(memcmp(ix, fresh_i, ni * sizeof *ix) == 0, "topology %u edit %d: indices", topo, k);
+    }
+    CHECK_STATUS(arbor_mesh_rewrite_branch(tree, &mo, nb, v, nv, ix, ni), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_mesh_rewrite_branch(tree, &mo, 0, v, nv - 1, ix, ni), ARBOR_STATUS_INVALID_ARGUMENT);
+    free(v);
+    free(fresh_v);
+    free(ix);
+    free(fresh_i);
+    free(cs);
+    arbor_tree_free(tree);
+  }
   return check_report("curves");
 }

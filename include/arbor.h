@@ -1074,7 +1074,8 @@ enum ArborStatus arbor_tree_copy_curves(const struct ArborTree *tree,
  * start, else ARBOR_STATUS_INVALID_ARGUMENT; every branch that grows from it, directly or
  * not (with its leaf sites and polygons), is translated by p3's displacement, so the
  * tree stays connected. A bad edit (index past the end, NaN, negative radius) changes
- * nothing. The tree's kept mesh plans are dropped.
+ * nothing. The tree's kept mesh plans are brought up to date (in time proportional to the
+ * branch's subtree), so arbor_mesh_rewrite_branch() can rewrite only what changed.
  *
  * # Safety
  * `tree` is NULL or live and not read by another thread meanwhile; `curve` is NULL or
@@ -1457,6 +1458,30 @@ enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
                                   size_t vertex_capacity,
                                   uint32_t *indices,
                                   size_t index_capacity);
+
+/**
+ * Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`
+ * (`vertex_count` / `index_count`: their full sizes, those of arbor_mesh_size()), only
+ * what the edits since (arbor_tree_set_curve() of `branch`, or others) changed: the
+ * result equals a full arbor_mesh_write() byte for byte. Branch ranges stay as they were
+ * (an edit that would change them drops the plan; then, and when no plan for `options`
+ * is kept, this writes the whole mesh, still correctly). For a twig of a large tree this
+ * is thousands of times faster than a full write; rewrite the vertex range from
+ * arbor_mesh_branch_ranges() with glBufferSubData. Sizes other than the mesh's:
+ * ARBOR_STATUS_BUFFER_TOO_SMALL or INVALID_ARGUMENT; a branch past the end:
+ * INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
+ * NULL or valid for reads and writes of their counts and hold the mesh.
+ */
+enum ArborStatus arbor_mesh_rewrite_branch(const struct ArborTree *tree,
+                                           const struct ArborMeshOptions *options,
+                                           size_t branch,
+                                           struct ArborVertex *vertices,
+                                           size_t vertex_count,
+                                           uint32_t *indices,
+                                           size_t index_count);
 
 /**
  * Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that

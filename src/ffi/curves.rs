@@ -108,7 +108,8 @@ pub unsafe extern "C" fn arbor_tree_copy_curves(
 /// start, else ARBOR_STATUS_INVALID_ARGUMENT; every branch that grows from it, directly or
 /// not (with its leaf sites and polygons), is translated by p3's displacement, so the
 /// tree stays connected. A bad edit (index past the end, NaN, negative radius) changes
-/// nothing. The tree's kept mesh plans are dropped.
+/// nothing. The tree's kept mesh plans are brought up to date (in time proportional to the
+/// branch's subtree), so arbor_mesh_rewrite_branch() can rewrite only what changed.
 ///
 /// # Safety
 /// `tree` is NULL or live and not read by another thread meanwhile; `curve` is NULL or
@@ -134,7 +135,7 @@ pub unsafe extern "C" fn arbor_tree_set_curve(
             p2: v(c.p2),
             p3: v(c.p3),
         };
-        tree.edit(|s| s.set_curve(branch, &rust, c.r0, c.r1))?;
+        tree.edit_branch(branch, |s| s.set_curve(branch, &rust, c.r0, c.r1))?;
         Ok(())
     })
 }

@@ -369,6 +369,82 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
         plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?;
+        tree.written(&options);
+        Ok(())
+    })
+}
+
+/// Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`
+/// (`vertex_count` / `index_count`: their full sizes, those of arbor_mesh_size()), only
+/// what the edits since (arbor_tree_set_curve() of `branch`, or others) changed: the
+/// result equals a full arbor_mesh_write() byte for byte. Branch ranges stay as they were
+/// (an edit that would change them drops the plan; then, and when no plan for `options`
+/// is kept, this writes the whole mesh, still correctly). For a twig of a large tree this
+/// is thousands of times faster than a full write; rewrite the vertex range from
+/// arbor_mesh_branch_ranges() with glBufferSubData. Sizes other than the mesh's:
+/// ARBOR_STATUS_BUFFER_TOO_SMALL or INVALID_ARGUMENT; a branch past the end:
+/// INVALID_ARGUMENT.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `vertices` and `indices` are
+/// NULL or valid for reads and writes of their counts and hold the mesh.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    branch: usize,
+    vertices: *mut ArborVertex,
+    vertex_count: usize,
+    indices: *mut u32,
+    index_count: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let n = tree.skeleton.len();
+        if branch >= n {
+            return Err(crate::Error::invalid(
+                "branch",
+                format!("{branch}; the tree has {n} branches"),
+            )
+            .into());
+        }
+        let kept = tree.take_pending(&options);
+        let (plan, pending) = match &kept {
+            Some((plan, pending)) => (plan.clone(), pending.clone()),
+            None => (tree.plan(&options)?, Vec::new()),
+        };
+        let size = plan.size();
+        if vertex_count != size.vertices || index_count != size.indices {
+            return Err(crate::Error::invalid(
+                "vertex_count",
+                format!(
+                    "buffers of {vertex_count} vertices and {index_count} indices; the mesh \
+                     has {} and {}: size and write it again",
+                    size.vertices, size.indices
+                ),
+            )
+            .into());
+        }
+        // SAFETY: the caller promises `vertices` holds `vertex_count` vertices.
+        let v = unsafe {
+            out_slice(
+                vertices.cast::<Vertex>(),
+                vertex_count,
+                size.vertices,
+                "vertices",
+            )
+        }?;
+        if kept.is_none() {
+            // No plan was kept through the edits: write everything (the indices too).
+            // SAFETY: the caller promises `indices` holds `index_count` indices.
+            let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
+            plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?;
+            return Ok(());
+        }
+        plan.rewrite_uninit(&tree.skeleton, &pending, v)?;
         Ok(())
     })
 }

@@ -11,7 +11,14 @@ use super::*;
 /// re-upload, computes the layout once and allocates nothing in proportion to the tree.
 pub struct ArborTree {
     pub(crate) skeleton: Skeleton,
-    plans: std::sync::Mutex<Vec<std::sync::Arc<crate::mesh::MeshPlan>>>,
+    plans: std::sync::Mutex<Vec<Kept>>,
+}
+
+/// A mesh plan a tree keeps, with the branches whose vertices edits changed since then
+/// (what arbor_mesh_rewrite_branch() rewrites).
+struct Kept {
+    plan: std::sync::Arc<crate::mesh::MeshPlan>,
+    pending: Vec<u32>,
 }
 
 /// Mesh plans a tree keeps (one per distinct set of options, most recent first).
@@ -39,24 +46,77 @@ impl ArborTree {
         Ok(())
     }
 
+    /// Edits branch `i`'s curve with `f`; every kept plan is brought up to date (in time
+    /// proportional to the branch's subtree) and remembers the branches to rewrite; a plan
+    /// whose branch ranges the edit would change is dropped.
+    pub(crate) fn edit_branch(
+        &mut self,
+        i: usize,
+        f: impl FnOnce(&mut Skeleton) -> crate::Result<()>,
+    ) -> crate::Result<()> {
+        f(&mut self.skeleton)?;
+        let skeleton = &self.skeleton;
+        let plans = self.plans.get_mut().unwrap_or_else(|e| e.into_inner());
+        plans.retain_mut(|k| {
+            match std::sync::Arc::make_mut(&mut k.plan).update_after_edit(skeleton, i) {
+                Ok(changed) => {
+                    k.pending.extend(changed);
+                    true
+                }
+                Err(_) => false,
+            }
+        });
+        Ok(())
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Kept>> {
+        // A poisoned lock only means another thread panicked while holding it; the list
+        // itself is always valid.
+        self.plans.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     /// The mesh plan for `options`: kept from an earlier call, or made now and kept.
     pub(crate) fn plan(
         &self,
         options: &MeshOptions,
     ) -> crate::Result<std::sync::Arc<crate::mesh::MeshPlan>> {
-        // A poisoned lock only means another thread panicked while holding it; the list
-        // itself is always valid.
-        let lock = || self.plans.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(p) = lock().iter().find(|p| p.serves(options)) {
-            return Ok(p.clone());
+        if let Some(k) = self.lock().iter().find(|k| k.plan.serves(options)) {
+            return Ok(k.plan.clone());
         }
         // Made outside the lock, so other threads keep meshing meanwhile.
         let plan = std::sync::Arc::new(crate::mesh::MeshPlan::new(&self.skeleton, options)?);
-        let mut plans = lock();
-        plans.retain(|p| !p.serves(options));
-        plans.insert(0, plan.clone());
+        let mut plans = self.lock();
+        plans.retain(|k| !k.plan.serves(options));
+        plans.insert(
+            0,
+            Kept {
+                plan: plan.clone(),
+                pending: Vec::new(),
+            },
+        );
         plans.truncate(KEPT_PLANS);
         Ok(plan)
+    }
+
+    /// A full write with `plan` leaves nothing to rewrite for it.
+    pub(crate) fn written(&self, options: &MeshOptions) {
+        if let Some(k) = self.lock().iter_mut().find(|k| k.plan.serves(options)) {
+            k.pending.clear();
+        }
+    }
+
+    /// The kept plan for `options` and the branches edits changed since it was last
+    /// written (sorted, each once), taken: a rewrite clears them.
+    pub(crate) fn take_pending(
+        &self,
+        options: &MeshOptions,
+    ) -> Option<(std::sync::Arc<crate::mesh::MeshPlan>, Vec<u32>)> {
+        let mut plans = self.lock();
+        let k = plans.iter_mut().find(|k| k.plan.serves(options))?;
+        let mut pending = std::mem::take(&mut k.pending);
+        pending.sort_unstable();
+        pending.dedup();
+        Some((k.plan.clone(), pending))
     }
 }
 

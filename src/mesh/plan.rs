@@ -43,6 +43,7 @@ pub(crate) const TIP: u8 = 8;
 const MITRE_MIN_COS: f32 = 0.0;
 
 /// What each branch gets, decided once and shared by the size query and the writer.
+#[derive(Clone)]
 pub(crate) struct Plan {
     /// Sides per branch; 0 for a dropped branch.
     pub(crate) segs: Vec<u8>,
@@ -340,6 +341,7 @@ impl Plan {
 /// Per-branch values the writer reads, computed in one pass from parents to children (ring
 /// frames and arc length flow down the tree); the writing itself can then run on chunks of
 /// branches independently.
+#[derive(Clone)]
 pub(crate) struct Layout {
     pub(crate) first_vertex: Vec<u32>,
     pub(crate) first_index: Vec<u32>,
@@ -370,10 +372,9 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
             Vec::new()
         },
     };
-    let sweep = plan.inner > 0;
     let (mut nv, mut ni) = (0u32, 0u32);
     let mut first = true;
-    for (i, b) in branches.iter().enumerate() {
+    for i in 0..branches.len() {
         l.first_vertex[i] = nv;
         l.first_index[i] = ni;
         let (v, idx) = plan.counts(i, o.tip, &mut first);
@@ -383,47 +384,7 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         if s == 0 {
             continue;
         }
-        let d = if sweep { plan.t0[i] } else { plan.dir[i] };
-        let root = b.parent == NO_PARENT;
-        // A ring of its own starts its seam at the turtle's up vector where the generator
-        // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
-        // carries the parent's frame along, so an axis's tube never twists at a joint.
-        let own_ring = plan.flags[i] & SHARES_START == 0;
-        let turtle = skeleton
-            .up(i)
-            .filter(|_| own_ring)
-            .and_then(|u| (u - d * u.dot(d)).try_normalize());
-        l.frame_p[i] = if let Some(p) = turtle {
-            p
-        } else if root {
-            ring_basis(d.as_dvec3()).0.as_vec3()
-        } else if sweep {
-            let parent = b.parent as usize;
-            carry(&transport_map(plan.t1[parent], d), l.frame_end[parent], d)
-        } else {
-            let parent = b.parent as usize;
-            carry(&transport_map(plan.dir[parent], d), l.frame_p[parent], d)
-        };
-        let v0 = if root {
-            0.0
-        } else {
-            l.v_end[b.parent as usize]
-        };
-        let len = if sweep {
-            // The arc through the ring centres, and the frame at the end.
-            let mut arc = 0.0f32;
-            l.frame_end[i] = skeleton.curve(i).rotation_minimising_frames(
-                d,
-                l.frame_p[i],
-                plan.inner + 1,
-                |_, _, _, _, a| arc = a,
-            );
-            arc as f64
-        } else {
-            length(b)
-        };
-        // Clamped so that absurd lengths cannot push uv past the f32 range.
-        l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
+        frames(skeleton, plan, &mut l, i, inv_ts);
         let own_start = if plan.flags[i] & SHARES_START != 0 {
             0
         } else {
@@ -432,6 +393,54 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
         l.end_ring[i] = l.first_vertex[i] + (own_start + plan.inner * (s + 1)) as u32;
     }
     l
+}
+
+/// Branch `i`'s ring frame at its start (and end, for a sweep) and v at its end, from its
+/// parent's: the part of the layout an edit of a branch changes for it and its subtree.
+fn frames(skeleton: &Skeleton, plan: &Plan, l: &mut Layout, i: usize, inv_ts: f64) {
+    let b = &skeleton.branches()[i];
+    let sweep = plan.inner > 0;
+    let d = if sweep { plan.t0[i] } else { plan.dir[i] };
+    let root = b.parent == NO_PARENT;
+    // A ring of its own starts its seam at the turtle's up vector where the generator
+    // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
+    // carries the parent's frame along, so an axis's tube never twists at a joint.
+    let own_ring = plan.flags[i] & SHARES_START == 0;
+    let turtle = skeleton
+        .up(i)
+        .filter(|_| own_ring)
+        .and_then(|u| (u - d * u.dot(d)).try_normalize());
+    l.frame_p[i] = if let Some(p) = turtle {
+        p
+    } else if root {
+        ring_basis(d.as_dvec3()).0.as_vec3()
+    } else if sweep {
+        let parent = b.parent as usize;
+        carry(&transport_map(plan.t1[parent], d), l.frame_end[parent], d)
+    } else {
+        let parent = b.parent as usize;
+        carry(&transport_map(plan.dir[parent], d), l.frame_p[parent], d)
+    };
+    let v0 = if root {
+        0.0
+    } else {
+        l.v_end[b.parent as usize]
+    };
+    let len = if sweep {
+        // The arc through the ring centres, and the frame at the end.
+        let mut arc = 0.0f32;
+        l.frame_end[i] = skeleton.curve(i).rotation_minimising_frames(
+            d,
+            l.frame_p[i],
+            plan.inner + 1,
+            |_, _, _, _, a| arc = a,
+        );
+        arc as f64
+    } else {
+        length(b)
+    };
+    // Clamped so that absurd lengths cannot push uv past the f32 range.
+    l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
 }
 
 /// Everything the writer needs for one tree and one set of options, computed once: a host
@@ -448,6 +457,7 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
 /// plan.write(&tree, &mut vertices, &mut indices)?;
 /// # Ok::<(), arbor::Error>(())
 /// ```
+#[derive(Clone)]
 pub struct MeshPlan {
     pub(crate) options: MeshOptions,
     pub(crate) branch_count: usize,
@@ -530,5 +540,97 @@ impl MeshPlan {
             ));
         }
         Ok(())
+    }
+}
+
+impl MeshPlan {
+    /// Brings the plan up to date after [`Skeleton::set_curve`] edited branch `i` of
+    /// `skeleton` (the tree the plan was made for): recomputes the directions, joints and
+    /// ring frames of the branch, its subtree and its parent, in time proportional to the
+    /// subtree. Returns the branches whose vertices changed (in increasing order), for
+    /// [`MeshPlan::rewrite`].
+    ///
+    /// Branch ranges stay as they were; an edit that would change them (a joint that
+    /// stops or starts being mitred, or any edit while LOD or culling is on, whose sides
+    /// depend on every radius) is [`Error::InvalidArgument`], and the mesh must be sized
+    /// and written again (make a new plan).
+    pub fn update_after_edit(&mut self, skeleton: &Skeleton, i: usize) -> Result<Vec<u32>> {
+        self.check_skeleton(skeleton)?;
+        let n = skeleton.len();
+        if i >= n {
+            return Err(Error::invalid(
+                "branch",
+                format!("{i}; the tree has {n} branches"),
+            ));
+        }
+        let o = self.options;
+        if o.min_radial_segments != 0 || o.cull_radius != 0.0 {
+            return Err(Error::invalid(
+                "options",
+                "an edit cannot be rewritten in place while LOD (min_radial_segments) or \
+                 cull_radius is on: write the mesh again",
+            ));
+        }
+        let branches = skeleton.branches();
+        let adjacency = skeleton.adjacency();
+        // The subtree of i, then its parent (its end ring meets i), in index order.
+        let mut affected = vec![i as u32];
+        let mut k = 0;
+        while k < affected.len() {
+            let b = affected[k] as usize;
+            affected.extend_from_slice(adjacency.children(b));
+            k += 1;
+        }
+        if branches[i].parent != NO_PARENT {
+            affected.push(branches[i].parent);
+        }
+        affected.sort_unstable();
+        let plan = &mut self.plan;
+        let inner = plan.inner;
+        for &b in &affected {
+            let b = b as usize;
+            plan.dir[b] = direction(&branches[b]);
+            if inner > 0 {
+                let c = skeleton.curve(b);
+                plan.t0[b] = c.tangent(0.0).try_normalize().unwrap_or(plan.dir[b]);
+                plan.t1[b] = c.tangent(1.0).try_normalize().unwrap_or(plan.dir[b]);
+            }
+        }
+        // The joints must stay as they were.
+        let mitred = |plan: &Plan, p: usize, c: usize| {
+            let bend_cos = if inner > 0 {
+                plan.t1[p].dot(plan.t0[c])
+            } else {
+                plan.dir[p].dot(plan.dir[c])
+            };
+            o.joints == Joints::Mitred
+                && plan.cont[p] == c as u32
+                && plan.segs[p] == plan.segs[c]
+                && bend_cos > MITRE_MIN_COS
+        };
+        for &b in &affected {
+            let b = b as usize;
+            if plan.segs[b] == 0 {
+                continue;
+            }
+            let p = branches[b].parent;
+            if p != NO_PARENT && mitred(plan, p as usize, b) != (plan.flags[b] & SHARES_START != 0)
+            {
+                return Err(Error::invalid(
+                    "curve",
+                    format!(
+                        "the edit changes whether branch {b} shares its parent's ring (a bend \
+                         past 90°): write the mesh again"
+                    ),
+                ));
+            }
+        }
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        for &b in &affected {
+            if plan.segs[b as usize] != 0 {
+                frames(skeleton, plan, &mut self.layout, b as usize, inv_ts);
+            }
+        }
+        Ok(affected)
     }
 }

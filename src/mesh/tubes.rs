@@ -142,6 +142,76 @@ impl MeshPlan {
         Ok(size)
     }
 
+    /// Rewrites, inside `vertices` that hold this plan's complete mesh of `skeleton`, the
+    /// vertices of `branches` (as [`MeshPlan::update_after_edit`] returns them): the result
+    /// equals a full [`write`](Self::write) byte for byte. The indices do not change with
+    /// an edit and are not touched.
+    pub fn rewrite(
+        &self,
+        skeleton: &Skeleton,
+        branches: &[u32],
+        vertices: &mut [Vertex],
+    ) -> Result<()> {
+        self.rewrite_into(skeleton, branches, vertices)
+    }
+
+    /// [`rewrite`](Self::rewrite) into a host's buffer that may hold uninitialised slots
+    /// beyond the mesh (a mapped GPU buffer).
+    pub fn rewrite_uninit(
+        &self,
+        skeleton: &Skeleton,
+        branches: &[u32],
+        vertices: &mut [MaybeUninit<Vertex>],
+    ) -> Result<()> {
+        self.rewrite_into(skeleton, branches, vertices)
+    }
+
+    fn rewrite_into<V: Slot<Vertex>>(
+        &self,
+        skeleton: &Skeleton,
+        branches: &[u32],
+        vertices: &mut [V],
+    ) -> Result<()> {
+        self.check_skeleton(skeleton)?;
+        let size = self.size();
+        size.check_capacity(vertices.len(), size.indices)?;
+        let n = skeleton.len();
+        // Runs of consecutive branches, each written in one call; the indices, which an
+        // edit does not change, go to slots that discard them.
+        let mut k = 0;
+        while k < branches.len() {
+            let a = branches[k] as usize;
+            let mut b = a + 1;
+            k += 1;
+            while k < branches.len() && branches[k] as usize == b {
+                b += 1;
+                k += 1;
+            }
+            if a >= n || b > n {
+                return Err(crate::Error::invalid(
+                    "branches",
+                    format!("branch {} past the {n} branches", b - 1),
+                ));
+            }
+            let lay = &self.layout;
+            let end = if b < n {
+                lay.first_index[b]
+            } else {
+                size.indices as u32
+            };
+            let mut discard = vec![Discard; (end - lay.first_index[a]) as usize];
+            self.write_branches(
+                skeleton,
+                a..b,
+                &mut vertices[..size.vertices],
+                0,
+                &mut discard,
+                lay.first_index[a] == 0,
+            );
+        }
+        Ok(())
+    }
+
     /// How many threads a write of this plan uses when `threads` are asked for.
     fn threads(&self, threads: u32) -> usize {
         // A degenerate strip joins each strip to the previous one's last index, so it is
@@ -492,6 +562,15 @@ impl MeshPlan {
             end: b.end(),
         }
     }
+}
+
+/// An index slot that drops what is written (a rewrite leaves the indices as they are).
+#[derive(Clone, Copy)]
+struct Discard;
+
+impl Slot<u32> for Discard {
+    #[inline(always)]
+    fn put(&mut self, _: u32) {}
 }
 
 /// One kept branch's tube as the writer sees it: frame and centers in output space, the
