@@ -60,6 +60,26 @@ int main(int argc, char **argv) {
     }
   }
 
+  // Curves: smooth, edit one branch, rewrite in place; equal to a full write.
+  {
+    arbor::Tree t = arbor::Tree::honda('b');
+    t.smooth(1.0f);
+    ArborMeshOptions o = arbor::mesh_options();
+    o.curve_rings = 2;
+    auto size = t.mesh_size(o);
+    std::vector<ArborVertex> v(size.first), fresh(size.first);
+    std::vector<uint32_t> ix(size.second), fresh_i(size.second);
+    t.write_mesh(o, v, ix);
+    std::vector<ArborCurve> curves = t.curves();
+    ArborCurve e = curves.back();
+    e.p3[1] += 0.5f;
+    t.set_curve(curves.size() - 1, e);
+    t.rewrite_branch(o, curves.size() - 1, v, ix);
+    t.write_mesh(o, fresh, fresh_i);
+    EXPECT(std::memcmp(v.data(), fresh.data(), v.size() * sizeof v[0]) == 0, "rewrite = full write");
+    EXPECT(t.curve_records().size() == t.branch_count(), "one record per branch");
+  }
+
   // A self-organized forest: a snapshot is an ordinary tree that meshes.
   {
     arbor::World world;

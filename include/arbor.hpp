@@ -164,6 +164,31 @@ class Tree {
     return out;
   }
 
+  /// Every branch's cubic Bezier curve (straight until smoothed or edited).
+  std::vector<ArborCurve> curves() const {
+    std::vector<ArborCurve> out(branch_count());
+    detail::check(arbor_tree_copy_curves(tree_, out.data(), out.size()));
+    return out;
+  }
+  /// Bends every axis into C1 curves; no joint moves.
+  void smooth(float tension = 1.0f) { detail::check(arbor_tree_smooth(tree_, tension)); }
+  /// Replaces one branch's curve; its subtree follows the end.
+  void set_curve(std::size_t branch, const ArborCurve &curve) {
+    detail::check(arbor_tree_set_curve(tree_, branch, &curve));
+  }
+  /// Rewrites, in buffers holding the whole mesh, what the edits since changed.
+  void rewrite_branch(const ArborMeshOptions &options, std::size_t branch, Span<ArborVertex> vertices,
+                      Span<uint32_t> indices) const {
+    detail::check(arbor_mesh_rewrite_branch(tree_, &options, branch, vertices.data(), vertices.size(),
+                                            indices.data(), indices.size()));
+  }
+  /// One std430 record per branch for shaders that ray-march curves.
+  std::vector<ArborCurveRecord> curve_records() const {
+    std::vector<ArborCurveRecord> out(branch_count());
+    detail::check(arbor_tree_curve_records_write(tree_, out.data(), out.size()));
+    return out;
+  }
+
   /// The bark mesh, owned by the returned object.
   Mesh mesh(const ArborMeshOptions &options = mesh_options()) const {
     ArborMesh *m = nullptr;

@@ -27,6 +27,7 @@ namespace Arbor
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
+        Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -111,6 +112,14 @@ namespace Arbor
             Native.arbor_leaf_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(LeafOptions)));
             return o;
         }
+    }
+
+    /// One branch as a cubic Bezier (56 bytes): p0 its start, p3 its end.
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Curve
+    {
+        public float P0X, P0Y, P0Z, P1X, P1Y, P1Z, P2X, P2Y, P2Z, P3X, P3Y, P3Z;
+        public float R0, R1;
     }
 
     public enum Environment : uint { Shadow = 0, SpaceColonization = 1 }
@@ -222,6 +231,14 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_write(IntPtr tree, ref MeshOptions options, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] int[] indices, UIntPtr indexCapacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_copy_curves(IntPtr tree, [Out] Curve[] output, UIntPtr capacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_set_curve(IntPtr tree, UIntPtr branch, ref Curve curve);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_smooth(IntPtr tree, float tension);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_rewrite_branch(IntPtr tree, ref MeshOptions options, UIntPtr branch, [In, Out] Vertex[] vertices, UIntPtr vertexCount, [In, Out] int[] indices, UIntPtr indexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_world_options_init(ref WorldOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_growth_params_init(ref GrowthParams p, UIntPtr structSize);
@@ -332,6 +349,24 @@ namespace Arbor
         }
 
         public int BranchCount { get { return (int)Native.arbor_tree_branch_count(handle); } }
+
+        public Curve[] Curves()
+        {
+            var c = new Curve[BranchCount];
+            ArborException.Check(Native.arbor_tree_copy_curves(handle, c, (UIntPtr)c.Length));
+            return c;
+        }
+
+        public void Smooth(float tension) { ArborException.Check(Native.arbor_tree_smooth(handle, tension)); }
+
+        /// Replaces one branch's curve; its subtree follows the end.
+        public void SetCurve(int branch, Curve curve) { ArborException.Check(Native.arbor_tree_set_curve(handle, (UIntPtr)branch, ref curve)); }
+
+        /// Rewrites, in arrays holding the whole mesh (from Mesh()), what the edits since changed.
+        public void RewriteBranch(MeshOptions options, int branch, Vertex[] vertices, int[] indices)
+        {
+            ArborException.Check(Native.arbor_mesh_rewrite_branch(handle, ref options, (UIntPtr)branch, vertices, (UIntPtr)vertices.Length, indices, (UIntPtr)indices.Length));
+        }
 
         public Branch[] Branches()
         {

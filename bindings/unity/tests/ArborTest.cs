@@ -27,6 +27,24 @@ static class ArborTest
         Expect(Marshal.SizeOf(typeof(LeafSite)) == (int)Native.arbor_struct_size((uint)StructId.LeafSite), "LeafSite size");
         Expect(Marshal.SizeOf(typeof(WorldOptions)) == (int)Native.arbor_struct_size((uint)StructId.WorldOptions), "WorldOptions size");
         Expect(Marshal.SizeOf(typeof(GrowthParams)) == (int)Native.arbor_struct_size((uint)StructId.GrowthParams), "GrowthParams size");
+        Expect(Marshal.SizeOf(typeof(Curve)) == (int)Native.arbor_struct_size((uint)StructId.Curve), "Curve size");
+        using (var bent = Tree.FromPreset('c'))
+        {
+            bent.Smooth(1.0f);
+            var opts = MeshOptions.Default();
+            Vertex[] bv, fv;
+            int[] bi, fi;
+            bent.Mesh(opts, out bv, out bi);
+            var curves = bent.Curves();
+            var last = curves[curves.Length - 1];
+            last.P3Y += 0.5f;
+            bent.SetCurve(curves.Length - 1, last);
+            bent.RewriteBranch(opts, curves.Length - 1, bv, bi);
+            bent.Mesh(opts, out fv, out fi);
+            bool same = bv.Length == fv.Length;
+            for (int k = 0; same && k < bv.Length; k++) same = bv[k].PX == fv[k].PX && bv[k].PY == fv[k].PY && bv[k].NZ == fv[k].NZ;
+            Expect(same, "rewrite after an edit equals a full write");
+        }
         using (var world = new World(WorldOptions.Default()))
         {
             world.Plant(GrowthParams.Preset(Species.Excurrent), 0, 0, 0, 1);
