@@ -62,3 +62,42 @@ fn curve_records_round_trip_to_the_mesh() {
         );
     }
 }
+
+/// A grammar's generalized cylinder (`@Gs` … `@Ge`) sets the curves of the internodes
+/// drawn inside it from the turtle's path: C¹ through its joints; branches outside it stay
+/// straight.
+#[test]
+fn generalized_cylinders_set_curves_from_the_turtle_path() {
+    use arbor::lsystem::{LSystem, LsystemOptions};
+    let ls =
+        LSystem::parse("Axiom: F(1) [+(40) F(1)] @Gs F(1) @Gc(2) +(30) F(1) +(30) F(1) @Ge F(1)")
+            .unwrap();
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert_eq!(s.len(), 6);
+    assert!(s.has_curves());
+    let straight = |i: usize| s.curve(i).is_straight(1e-5);
+    assert!(straight(0) && straight(1), "outside the cylinder");
+    assert!(!straight(2) && !straight(3) && !straight(4), "inside it");
+    assert!(straight(5), "after @Ge");
+    for (a, b) in [(2usize, 3usize), (3, 4)] {
+        let (ta, tb) = (
+            s.curve(a).tangent(1.0).normalize(),
+            s.curve(b).tangent(0.0).normalize(),
+        );
+        assert!(
+            ta.cross(tb).length() < 1e-5 && ta.dot(tb) > 0.0,
+            "C1 at the joint {a}-{b}"
+        );
+        assert_eq!(s.curve(a).p3, s.curve(b).p0);
+    }
+    // A sweep follows it.
+    let m = arbor::mesh::tubes(
+        &s,
+        &arbor::MeshOptions {
+            curve_rings: 3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(!m.indices.is_empty());
+}

@@ -32,6 +32,9 @@ enum Op {
     PolygonVertex,
     PolygonEnd,
     Leaf,
+    CylinderStart,
+    CylinderPoint,
+    CylinderEnd,
 }
 
 fn op_of(name: &str) -> Op {
@@ -57,6 +60,9 @@ fn op_of(name: &str) -> Op {
         "." => Op::PolygonVertex,
         "}" => Op::PolygonEnd,
         "~" => Op::Leaf,
+        "@Gs" => Op::CylinderStart,
+        "@Gc" => Op::CylinderPoint,
+        "@Ge" => Op::CylinderEnd,
         _ => Op::Ignore,
     }
 }
@@ -69,6 +75,9 @@ struct State {
     parent: u32,
     /// The heading that branch was drawn with.
     parent_heading: DVec3,
+    /// The generalized cylinder (`@Gs` … `@Ge`) being drawn: an index into
+    /// `Turtle::cylinders`, or NO_PARENT.
+    cylinder: u32,
 }
 
 struct Turtle {
@@ -92,6 +101,8 @@ struct Turtle {
     cos_to_parent: Vec<f64>,
     /// The turtle's up vector when each branch was drawn.
     ups: Vec<[f32; 3]>,
+    /// The branches drawn inside each generalized cylinder, in drawing order.
+    cylinders: Vec<Vec<u32>>,
     leaves: Vec<LeafSite>,
     closed: Vec<Polygon>,
     points: Vec<[f32; 3]>,
@@ -183,6 +194,10 @@ impl Turtle {
                     });
                     let heading = self.state.frame.heading;
                     self.ups.push(self.state.frame.up.as_vec3().to_array());
+                    if self.state.cylinder != NO_PARENT {
+                        let b = (self.branches.len() - 1) as u32;
+                        self.cylinders[self.state.cylinder as usize].push(b);
+                    }
                     self.cos_to_parent
                         .push(heading.dot(self.state.parent_heading));
                     self.state.parent = (self.branches.len() - 1) as u32;
@@ -232,6 +247,13 @@ impl Turtle {
                 }
             }
             Op::Push => self.stack.push(self.state),
+            Op::CylinderStart => {
+                self.state.cylinder = self.cylinders.len() as u32;
+                self.cylinders.push(Vec::new());
+            }
+            // Every drawn internode's end is a control point of the cylinder's curve.
+            Op::CylinderPoint => {}
+            Op::CylinderEnd => self.state.cylinder = NO_PARENT,
             Op::Pop => {
                 if let Some(s) = self.stack.pop() {
                     self.state = s;
@@ -316,6 +338,7 @@ pub(crate) fn interpret(
             width: initial_width,
             parent: NO_PARENT,
             parent_heading: DVec3::Y,
+            cylinder: NO_PARENT,
         },
         stack: Vec::new(),
         cutting: None,
@@ -323,6 +346,7 @@ pub(crate) fn interpret(
         branches: Vec::new(),
         cos_to_parent: Vec::new(),
         ups: Vec::new(),
+        cylinders: Vec::new(),
         leaves: Vec::new(),
         closed: Vec::new(),
         points: Vec::new(),
@@ -374,14 +398,57 @@ pub(crate) fn interpret(
     }
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);
     // Every point was checked to be finite and within the f32 range as it was made.
+    let curves = cylinder_curves(&t.branches, &t.cylinders);
     Ok(Skeleton::from_trusted(SkeletonParts {
         branches: t.branches,
         leaves: t.leaves,
         polygons: t.closed,
         polygon_points: t.points,
         ups: t.ups,
-        curves: Vec::new(),
+        curves,
     }))
+}
+
+/// The curves of a grammar's generalized cylinders (`@Gs` … `@Ge`): the internodes drawn
+/// inside one form a C¹ chain, each a cubic Bézier whose tangent at a joint with the
+/// next internode of the chain is the mean of the two directions (handles a third of the
+/// internode long); other branches stay straight. Empty when there are no cylinders.
+fn cylinder_curves(branches: &[Branch], cylinders: &[Vec<u32>]) -> Vec<[[f32; 3]; 2]> {
+    if cylinders.iter().all(|c| c.is_empty()) {
+        return Vec::new();
+    }
+    let dir = |b: &Branch| {
+        (glam::Vec3::from(b.end) - glam::Vec3::from(b.start)).normalize_or(glam::Vec3::Y)
+    };
+    let mut curves: Vec<[[f32; 3]; 2]> = branches
+        .iter()
+        .map(|b| {
+            let c = crate::geom::Curve::straight(b.start.into(), b.end.into());
+            [c.p1.to_array(), c.p2.to_array()]
+        })
+        .collect();
+    for chain in cylinders {
+        for (k, &i) in chain.iter().enumerate() {
+            let b = &branches[i as usize];
+            let d = dir(b);
+            let third = (glam::Vec3::from(b.end) - glam::Vec3::from(b.start)).length() / 3.0;
+            // The neighbour in the chain, when it continues this internode's axis.
+            let mean = |o: u32| (d + dir(&branches[o as usize])).normalize_or(d);
+            let t0 = match k.checked_sub(1).map(|p| chain[p]) {
+                Some(p) if b.parent == p => mean(p),
+                _ => d,
+            };
+            let t1 = match chain.get(k + 1) {
+                Some(&n) if branches[n as usize].parent == i => mean(n),
+                _ => d,
+            };
+            curves[i as usize] = [
+                (glam::Vec3::from(b.start) + t0 * third).to_array(),
+                (glam::Vec3::from(b.end) - t1 * third).to_array(),
+            ];
+        }
+    }
+    curves
 }
 
 #[cfg(test)]

@@ -464,6 +464,11 @@ impl<'a> Parser<'a> {
             '@' => match cur.peek() {
                 Some(l) if l.is_ascii_alphabetic() => {
                     cur.bump();
+                    // cpfg's generalized cylinders are two letters after `@`: @Gs (start),
+                    // @Gc (control point), @Ge (end), @Gt and @Gr (tangent, radius).
+                    if l == 'G' && matches!(cur.peek(), Some('s' | 'c' | 'e' | 't' | 'r')) {
+                        cur.bump();
+                    }
                     name_end = cur.pos();
                 }
                 _ => return Err(cur.error("a letter after `@` (such as @M, @R or @v)")),
