@@ -61,16 +61,18 @@ fn swept_vertices_lie_on_the_tube_around_their_curve() {
 fn sweeps_are_valid_meshes_in_every_topology() {
     for name in PRESET_NAMES {
         let s = smoothed(name);
-        for (joints, tip, base_cap) in [
-            (Joints::Mitred, Tip::Open, false),
-            (Joints::Separate, Tip::Point, true),
-            (Joints::Mitred, Tip::Cap, true),
+        for (joints, tip, base_cap, lod) in [
+            (Joints::Mitred, Tip::Open, false, 0),
+            (Joints::Separate, Tip::Point, true, 0),
+            (Joints::Mitred, Tip::Cap, true, 0),
+            (Joints::Mitred, Tip::Open, false, 3),
         ] {
             let base = MeshOptions {
                 curve_rings: 3,
                 joints,
                 tip,
                 base_cap,
+                min_radial_segments: lod,
                 ..Default::default()
             };
             let list = mesh::tubes(&s, &base).unwrap();
