@@ -57,11 +57,26 @@ thread_local! {
     static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
 }
 
+/// Stores the thread's last message with every control character (NUL included) escaped
+/// (`\0`, `\n`, `\t`, `\x01` …), so a C host's `strlen` sees all of it and printing it
+/// cannot move a terminal's cursor: messages quote input, and input may hold any byte.
 fn set_last_error(message: &str) {
     LAST_ERROR.with(|m| {
         let mut m = m.borrow_mut();
         m.clear();
-        m.push_str(message);
+        for c in message.chars() {
+            match c {
+                '\0' => m.push_str("\\0"),
+                '\n' => m.push_str("\\n"),
+                '\r' => m.push_str("\\r"),
+                '\t' => m.push_str("\\t"),
+                c if c.is_control() => {
+                    use std::fmt::Write;
+                    let _ = write!(m, "\\x{:02x}", c as u32);
+                }
+                c => m.push(c),
+            }
+        }
     });
 }
 

@@ -13,10 +13,31 @@ fn last_error() -> String {
     let m = unsafe { arbor_last_error_message(buf.as_mut_ptr(), buf.len()) };
     assert_eq!(m, n);
     // SAFETY: the function NUL-terminated the buffer.
-    unsafe { CStr::from_ptr(buf.as_ptr()) }
+    let text = unsafe { CStr::from_ptr(buf.as_ptr()) }
         .to_str()
         .unwrap()
-        .to_owned()
+        .to_owned();
+    // What a C host reads with strlen is the whole message, with no control character.
+    assert_eq!(text.len(), n, "a NUL inside the message: {text:?}");
+    assert!(
+        !text.chars().any(char::is_control),
+        "a control character: {text:?}"
+    );
+    text
+}
+
+/// nul_in_message.l: a NUL (or any control byte) in the grammar is escaped in the message.
+#[test]
+fn messages_escape_nul_and_control_bytes() {
+    for bytes in [
+        &b"Axiom: F\0"[..],
+        b"Axiom: F\x01\x1b[2J",
+        b"Axiom: F(\n\0\x7f",
+    ] {
+        let (status, message) = grow_c(bytes, None);
+        assert_eq!(status, ArborStatus::ParseError, "{message}");
+        assert!(message.contains("\\"), "escaped: {message}");
+    }
 }
 
 #[test]

@@ -6,16 +6,22 @@ use glam::{DVec3, Mat3, Quat, Vec3};
 /// An orthonormal pair `(p, q)` with `p × q = n` for a unit `n`, continuous everywhere but
 /// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
 /// rarely point). Only roots need it; every other ring's frame is transported.
+///
+/// `n` is normalised first and `p` made exactly perpendicular and unit afterwards: near
+/// −Y the construction divides by 1 + n.y, which magnifies any rounding of `n` (a heading
+/// a few thousandths from straight down used to give rings 1.6% too wide).
 pub fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
-    if n.y < -0.999_999 {
-        let p = (DVec3::X - n * n.x).normalize();
-        return (p, n.cross(p));
-    }
-    let a = 1.0 / (1.0 + n.y);
-    let b = -n.z * n.x * a;
-    let p = DVec3::new(b, -n.z, 1.0 - n.z * n.z * a);
-    let q = DVec3::new(1.0 - n.x * n.x * a, -n.x, b);
-    (p, q)
+    let n = n.try_normalize().unwrap_or(DVec3::Y);
+    let p = if n.y < -0.999_999 {
+        DVec3::X - n * n.x
+    } else {
+        let a = 1.0 / (1.0 + n.y);
+        DVec3::new(-n.z * n.x * a, -n.z, 1.0 - n.z * n.z * a)
+    };
+    let p = (p - n * n.dot(p))
+        .try_normalize()
+        .unwrap_or_else(|| n.any_orthonormal_vector());
+    (p, n.cross(p))
 }
 
 /// The linear map that carries a ring vector from a ring around `from` to a ring around

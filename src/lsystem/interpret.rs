@@ -170,7 +170,10 @@ impl Turtle {
                     });
                 }
                 if !self.polygons.is_empty() {
+                    // Inside `{ }` a move only traces the polygon: the turtle has left the
+                    // end of its last branch, so what is drawn next starts a new root.
                     self.polygon_point();
+                    self.state.parent = NO_PARENT;
                 } else if op == Op::Draw {
                     if self.branches.len() >= self.max_branches {
                         return Err(Error::LimitExceeded {

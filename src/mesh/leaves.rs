@@ -3,7 +3,7 @@
 //! and the turtle's `{ . }` polygons triangulated).
 
 use super::animation::{AnimationVertex, branch_phase, growth_times};
-use super::plan::kept_branches;
+use super::plan::{check_options, kept_branches};
 use super::strips::{Slot, StripRules, StripWriter, zigzag};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
 use crate::error::{Error, Result};
@@ -241,7 +241,35 @@ fn place_on(
     o: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Vec<(LeafInstance, u32)>> {
+    // The same validation as the bark's, then the leaf's own, including the products
+    // that size every leaf (so no leaf can overflow to a non-finite number).
+    check_options(mesh)?;
     o.validate()?;
+    let extent = o
+        .prefab
+        .as_ref()
+        .map_or(1.0f64, |p| {
+            p.vertices
+                .iter()
+                .flat_map(|v| v.position)
+                .fold(0.0f64, |a, x| a.max(x.abs() as f64))
+        })
+        .max(1.0);
+    let largest = o.size as f64 * (1.0 + o.size_jitter as f64) * mesh.scale as f64 * extent;
+    let far = skeleton
+        .bounds()
+        .map_or(0.0, |(lo, hi)| lo.abs().max(hi.abs()).max_element() as f64)
+        * mesh.scale as f64;
+    if largest + far > f32::MAX as f64 / 16.0 {
+        return Err(Error::invalid(
+            "size",
+            format!(
+                "{}; a leaf would reach {:e} units (size x (1 + size_jitter) x scale), past the f32 range",
+                o.size,
+                largest + far
+            ),
+        ));
+    }
     let kept = kept_branches(skeleton, mesh.cull_radius);
     let mut rng = Rng::new(o.seed);
     let mut out = Vec::new();

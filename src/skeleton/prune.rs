@@ -101,10 +101,24 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
     order.sort_by_key(|&i| (adjacency.depth(i as usize), i));
     let mut removed = vec![false; n];
     let mut candidates: Vec<u32> = Vec::new();
+    // A capsule identical to one already judged gets the same verdict (it meets the same
+    // branches, and its twin at every end point) and is not put in the grid again: many
+    // coincident branches (zero-length internodes at one point) stay linear.
+    let mut judged: std::collections::HashMap<([u32; 3], [u32; 3], u32), bool> =
+        std::collections::HashMap::new();
     for &i in &order {
         let x = &b[i as usize];
         if x.parent != NO_PARENT && removed[x.parent as usize] {
             removed[i as usize] = true;
+            continue;
+        }
+        let key = (
+            x.start.map(f32::to_bits),
+            x.end.map(f32::to_bits),
+            x.start_radius.max(x.end_radius).to_bits(),
+        );
+        if let Some(&verdict) = judged.get(&key) {
+            removed[i as usize] = verdict;
             continue;
         }
         let (p, q, r) = ends(x);
@@ -118,6 +132,7 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             let (p2, q2, r2) = ends(y);
             segment_distance_sq(p, q, p2, q2) < (r + r2) * (r + r2)
         });
+        judged.insert(key, hit);
         if hit {
             removed[i as usize] = true;
             continue;
