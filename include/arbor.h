@@ -937,6 +937,12 @@ typedef struct ArborLsystemOptions {
    * `seed:` (a forest of one grammar). (Added after the first layout.)
    */
   uint64_t variation_seed;
+  /**
+   * Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED naming max_work before its steps
+   * together would rewrite more modules than this (a bound on time). Default 268,435,456.
+   * (Added after the first layout.)
+   */
+  uint64_t max_work;
 } ArborLsystemOptions;
 
 /**

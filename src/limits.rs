@@ -12,3 +12,7 @@ pub const DEFAULT_MAX_LEAVES: usize = 1 << 24;
 /// Most vertices one mesh may have by default (2^32 − 1: 32-bit indices, the restart
 /// index reserved).
 pub const DEFAULT_MAX_VERTICES: usize = u32::MAX as usize;
+/// Most modules the steps of one derivation may rewrite together by default (2^28, a few
+/// seconds of work): a string that stays large for many steps stops here instead of
+/// running for hours.
+pub const DEFAULT_MAX_WORK: usize = 1 << 28;

@@ -125,3 +125,50 @@ fn output_limits_stop_before_the_memory_is_spent() {
         forest::merged(&placed, &forest_options).map(|_| ())
     });
 }
+
+/// steady_state_65535_steps.l: a string that stays at 16.7 M modules would cost hours over
+/// 65,535 steps; the work limit stops it (here set to 2^26 modules, reached after the
+/// doubling steps; the default is 2^28).
+#[test]
+fn the_work_limit_stops_a_steady_state_derivation() {
+    let text = "Lsystem: 1\nderivation length: 65535\nAxiom: A(0)\nA(n) : n < 24 --> A(n+1)A(n+1)\nendlsystem";
+    let ls = LSystem::parse(text).unwrap();
+    within_budget("steady state, 65,535 steps", || {
+        ls.derive(&LsystemOptions {
+            max_work: 1 << 26,
+            ..Default::default()
+        })
+        .map(|_| ())
+    });
+    let err = ls
+        .derive(&LsystemOptions {
+            max_work: 1 << 20,
+            ..Default::default()
+        })
+        .unwrap_err();
+    assert!(err.to_string().contains("max_work"), "{err}");
+    assert_eq!(arbor::limits::DEFAULT_MAX_WORK, 1 << 28);
+}
+
+/// prune_long_branch.l: one internode thousands of times longer than the others no longer
+/// fills (length / cell)³ grid cells.
+#[test]
+fn pruning_a_very_long_branch_stays_small() {
+    let ls = LSystem::parse(
+        "Lsystem: 1\nderivation length: 10\nAxiom: F[+(45)&(35)F(10000)]\nF --> FF\nendlsystem",
+    )
+    .unwrap();
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert_eq!(s.len(), 1025);
+    let base = ALLOC.current_usage();
+    ALLOC.reset_peak_usage();
+    let start = Instant::now();
+    let p = arbor::skeleton::prune::prune_collisions(&s);
+    let (took, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
+    println!(
+        "long branch: {} removed, {took:?}, peak {peak} bytes",
+        p.removed
+    );
+    assert!(peak < 16 << 20, "peak {peak} bytes");
+    assert!(took < TIME_BUDGET, "{took:?}");
+}

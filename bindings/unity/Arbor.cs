@@ -86,7 +86,7 @@ namespace Arbor
         public ulong Seed, MaxModules, MaxParams, MaxBranches;
         public uint OverrideFlags;
         public float AngleIncrement, InitialWidth, WidthIncrement, TurnJitter;
-        public ulong VariationSeed;
+        public ulong VariationSeed, MaxWork;
 
         public static LsystemOptions Default()
         {

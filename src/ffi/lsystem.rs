@@ -46,6 +46,10 @@ pub struct ArborLsystemOptions {
     /// that seed, so each value grows a distinct plant even from a file that fixes its
     /// `seed:` (a forest of one grammar). (Added after the first layout.)
     pub variation_seed: u64,
+    /// Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED naming max_work before its steps
+    /// together would rewrite more modules than this (a bound on time). Default 268,435,456.
+    /// (Added after the first layout.)
+    pub max_work: u64,
 }
 
 impl ArborLsystemOptions {
@@ -75,6 +79,7 @@ impl ArborLsystemOptions {
             width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
             turn_jitter: self.turn_jitter as f64,
             variation_seed: self.variation_seed,
+            max_work: size(self.max_work),
         })
     }
 }
@@ -106,6 +111,7 @@ impl Growing for ArborLsystemOptions {
             width_increment: view.width_increment as f32,
             turn_jitter: d.turn_jitter as f32,
             variation_seed: d.variation_seed,
+            max_work: d.max_work as u64,
         }
     }
 }

@@ -11,6 +11,10 @@ pub(crate) struct Ctx<'a> {
     pub(crate) rng: Rng,
     pub(crate) max_modules: usize,
     pub(crate) max_params: usize,
+    /// Most modules all steps together may rewrite (`LsystemOptions::max_work`).
+    pub(crate) max_work: u64,
+    /// Modules rewritten so far.
+    pub(crate) work: u64,
     pub(crate) step: u32,
     /// Bound parameter values of the production being tried.
     args: Vec<f64>,
@@ -27,11 +31,28 @@ impl<'a> Ctx<'a> {
             rng: Rng::new(ls.effective_seed(options)),
             max_modules: options.max_modules,
             max_params: options.max_params.min(u32::MAX as usize),
+            max_work: options.max_work as u64,
+            work: 0,
             step: 0,
             args: Vec::new(),
             cands: Vec::new(),
             cand_args: Vec::new(),
         }
+    }
+
+    /// Counts a step that rewrites `modules` modules against `max_work`, before it runs.
+    pub(crate) fn spend(&mut self, modules: usize) -> Result<()> {
+        self.work = self.work.saturating_add(modules as u64);
+        if self.work > self.max_work {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_work",
+                what: "modules rewritten by all steps together",
+                limit: self.max_work,
+                requested: self.work,
+                step: Some(self.step),
+            });
+        }
+        Ok(())
     }
 
     fn limit(&self, name: &'static str, what: &'static str, limit: usize, need: usize) -> Error {
@@ -190,6 +211,7 @@ impl D0l {
         let mut next = ModuleString::default();
         for step in 1..=steps {
             ctx.step = step;
+            ctx.spend(cur.syms.len())?;
             let len: usize = cur
                 .syms
                 .iter()
@@ -248,6 +270,7 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
     let mut growth = (1.0f64, 1.0f64);
     for step in 1..=steps {
         ctx.step = step;
+        ctx.spend(cur.len())?;
         next.clear();
         let want = |len: usize, g: f64, limit: usize| ((len as f64 * g * 1.02) as usize).min(limit);
         next.reserve(

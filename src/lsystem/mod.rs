@@ -66,6 +66,10 @@ pub struct LsystemOptions {
     /// even from a grammar that fixes its own `seed:` (what a forest of one stochastic
     /// grammar needs): see [`LSystem::effective_seed`].
     pub variation_seed: u64,
+    /// Derivation stops with `LimitExceeded` naming `max_work` before its steps together
+    /// would rewrite more modules than this (a bound on time, where `max_modules` bounds
+    /// memory). Default [`DEFAULT_MAX_WORK`](crate::limits::DEFAULT_MAX_WORK).
+    pub max_work: usize,
 }
 
 impl Default for LsystemOptions {
@@ -81,6 +85,7 @@ impl Default for LsystemOptions {
             width_increment: None,
             turn_jitter: 0.0,
             variation_seed: 0,
+            max_work: crate::limits::DEFAULT_MAX_WORK,
         }
     }
 }
