@@ -190,11 +190,15 @@ impl<'a> Parser<'a> {
         let mut start = 0;
         while start < text.len() {
             let mut end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-            // A production whose parentheses are still open continues on the next line.
-            while paren_depth(&text[start..end]) > 0 && end < text.len() {
-                end = text[end + 1..]
+            // A production whose parentheses are still open continues on the next line;
+            // the depth is carried from line to line (time linear in the text).
+            let mut depth = paren_depth(&text[start..end]);
+            while depth > 0 && end < text.len() {
+                let next = text[end + 1..]
                     .find('\n')
                     .map_or(text.len(), |i| end + 1 + i);
+                depth += paren_depth(&text[end..next]);
+                end = next;
             }
             self.line(start, end)?;
             start = end + 1;
