@@ -264,7 +264,7 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
     let mut next = ModuleString::new();
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
     post_process(&mut ctx, &mut cur, &mut next)?;
-    let mut partner: Vec<u32> = Vec::new();
+    let mut links = Links::default();
     // Growth of the last step (modules, parameters), to size the next buffer once instead
     // of letting it double (and copy) its way up.
     let mut growth = (1.0f64, 1.0f64);
@@ -279,9 +279,9 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         );
         let before = (cur.len().max(1) as f64, cur.params.len().max(1) as f64);
         if ls.has_context {
-            brackets(&cur, &mut partner);
+            links.build(ls, &cur);
         }
-        rewrite(&mut ctx, &cur, &partner, &mut next)?;
+        rewrite(&mut ctx, &cur, &links, &mut next)?;
         growth = (
             next.len() as f64 / before.0,
             next.params.len() as f64 / before.1,
@@ -351,6 +351,51 @@ fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
     None
 }
 
+/// What context matching needs of a string, computed once per step so that matching a
+/// context costs time proportional to the context, not to the string: each bracket's
+/// partner, the next module not skipped by `ignore:`/`consider:`, and the `]` that closes
+/// the branch each module is in (`u32::MAX` for none).
+#[derive(Default)]
+pub(crate) struct Links {
+    pub(crate) partner: Vec<u32>,
+    next: Vec<u32>,
+    close: Vec<u32>,
+}
+
+impl Links {
+    pub(crate) fn build(&mut self, ls: &LSystem, s: &ModuleString) {
+        brackets(s, &mut self.partner);
+        let n = s.len();
+        self.next.clear();
+        self.next.resize(n + 1, n as u32);
+        for j in (0..n).rev() {
+            let sym = s.syms[j];
+            // Brackets are never skipped: they are the string's structure.
+            self.next[j] = if sym != PUSH && sym != POP && ls.skip[sym as usize] {
+                self.next[j + 1]
+            } else {
+                j as u32
+            };
+        }
+        // close[j]: the first `]` at or after j that closes the branch j is in (j itself
+        // at a `]`), as scanning forward with a depth count finds it; from the right with a
+        // stack of the `]`s not yet matched.
+        self.close.clear();
+        self.close.resize(n + 1, u32::MAX);
+        let mut unmatched: Vec<u32> = Vec::new();
+        for j in (0..n).rev() {
+            match s.syms[j] {
+                POP => unmatched.push(j as u32),
+                PUSH => {
+                    unmatched.pop();
+                }
+                _ => {}
+            }
+            self.close[j] = unmatched.last().copied().unwrap_or(u32::MAX);
+        }
+    }
+}
+
 /// For each bracket, the index of its partner (`u32::MAX` for none).
 pub(crate) fn brackets(s: &ModuleString, partner: &mut Vec<u32>) {
     partner.clear();
@@ -371,7 +416,7 @@ pub(crate) fn brackets(s: &ModuleString, partner: &mut Vec<u32>) {
 fn rewrite(
     ctx: &mut Ctx<'_>,
     cur: &ModuleString,
-    partner: &[u32],
+    links: &Links,
     next: &mut ModuleString,
 ) -> Result<()> {
     let table = &ctx.ls.productions;
@@ -391,7 +436,7 @@ fn rewrite(
             i = j;
             continue;
         }
-        match select(ctx, table, cur, partner, i) {
+        match select(ctx, table, cur, links, i) {
             Some(p) => {
                 let prod = &table.productions[p as usize];
                 let args = std::mem::take(&mut ctx.args);
@@ -447,13 +492,13 @@ fn select(
     ctx: &mut Ctx<'_>,
     table: &ProductionTable,
     s: &ModuleString,
-    partner: &[u32],
+    links: &Links,
     i: usize,
 ) -> Option<u32> {
     let ls = ctx.ls;
     select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
-        (p.left.is_empty() || match_left(ls, s, partner, i, p, args))
-            && (p.right.is_empty() || match_right(ls, s, partner, i, p, args))
+        (p.left.is_empty() || match_left(ls, s, links, i, p, args))
+            && (p.right.is_empty() || match_right(ls, s, links, i, p, args))
     })
 }
 
@@ -540,7 +585,7 @@ fn bind_module(s: &ModuleString, j: usize, pat: &Pattern, args: &mut [f64]) -> b
 fn match_left(
     ls: &LSystem,
     s: &ModuleString,
-    partner: &[u32],
+    links: &Links,
     i: usize,
     p: &Production,
     args: &mut [f64],
@@ -554,7 +599,7 @@ fn match_left(
             j -= 1;
             let sym = s.syms[j];
             if sym == POP {
-                let open = partner[j];
+                let open = links.partner[j];
                 if open == u32::MAX {
                     return false;
                 }
@@ -576,9 +621,9 @@ fn match_left(
 /// Bracket-aware right context: a branch in the string is skipped unless the context
 /// itself has a `[` there; a `]` in the context skips to the end of the current branch.
 fn match_right(
-    ls: &LSystem,
+    _ls: &LSystem,
     s: &ModuleString,
-    partner: &[u32],
+    links: &Links,
     i: usize,
     p: &Production,
     args: &mut [f64],
@@ -587,9 +632,7 @@ fn match_right(
     let mut j = i + 1;
     for pat in &p.right {
         if pat.sym == PUSH {
-            while j < n && ls.skip[s.syms[j] as usize] {
-                j += 1;
-            }
+            j = links.next[j.min(n)] as usize;
             if j >= n || s.syms[j] != PUSH {
                 return false;
             }
@@ -597,19 +640,22 @@ fn match_right(
             continue;
         }
         if pat.sym == POP {
-            match branch_end(&s.syms, j) {
-                Some(close) => j = close + 1,
-                None => return false,
+            // The `]` that closes the branch j is in (or, at a `]`, that one).
+            let close = links.close[j.min(n)];
+            if close == u32::MAX {
+                return false;
             }
+            j = close as usize + 1;
             continue;
         }
         loop {
+            j = links.next[j.min(n)] as usize;
             if j >= n {
                 return false;
             }
             let sym = s.syms[j];
             if sym == PUSH {
-                let close = partner[j];
+                let close = links.partner[j];
                 if close == u32::MAX {
                     return false;
                 }
@@ -618,10 +664,6 @@ fn match_right(
             }
             if sym == POP {
                 return false;
-            }
-            if ls.skip[sym as usize] {
-                j += 1;
-                continue;
             }
             break;
         }
@@ -829,6 +871,36 @@ mod tests {
             "Axiom: A\nA --> F(2)\n",
         ] {
             assert!(LSystem::parse(text).unwrap().d0l.is_none(), "{text}");
+        }
+    }
+
+    /// The per-step links give what the scans they replace gave, on random bracket
+    /// strings, balanced or not: the closing `]` of every position's branch, and the next
+    /// module not skipped.
+    #[test]
+    fn links_equal_the_scans_they_replace() {
+        let ls = LSystem::parse("ignore: B\nAxiom: A\n").unwrap();
+        let id = |name: &str| ls.symbols.names.iter().position(|n| n == name).unwrap() as u16;
+        let (a, b) = (id("A"), id("B"));
+        let mut rng = Rng::new(11);
+        for _ in 0..500 {
+            let n = (rng.next_u64() % 40) as usize;
+            let syms: Vec<u16> = (0..n)
+                .map(|_| [PUSH, POP, a, b][(rng.next_u64() % 4) as usize])
+                .collect();
+            let s = ModuleString {
+                births: vec![0; n],
+                syms: syms.clone(),
+                ..Default::default()
+            };
+            let mut links = Links::default();
+            links.build(&ls, &s);
+            for j in 0..=n {
+                let scan = branch_end(&syms, j).map_or(u32::MAX, |k| k as u32);
+                assert_eq!(links.close[j], scan, "{syms:?} at {j}");
+                let next = (j..n).find(|&k| syms[k] != b).unwrap_or(n) as u32;
+                assert_eq!(links.next[j], next, "{syms:?} at {j}");
+            }
         }
     }
 
