@@ -167,3 +167,35 @@ fn right_contexts_match_in_linear_time() {
         assert!(took < Duration::from_secs(5), "{what}: {took:?}");
     }
 }
+
+/// A `#define` whose value is a constant `?:` is folded, as cpp would (it was refused as
+/// "not constant").
+#[test]
+fn a_define_with_a_conditional_value_is_constant() {
+    let s = grow("#define n 1 ? 3 : 5\nderivation length: n\nAxiom: F\nF --> FF");
+    assert_eq!(s.len(), 8);
+}
+
+/// prune_drops_leaf_sites.l, as the fuzzer ran it: pruning that removes nothing keeps the
+/// leaf site and the polygon.
+#[test]
+fn pruning_keeps_the_organs_of_the_reproducer() {
+    let s = grow("Lsystem: 1\nAxiom: F(1)~F(1){.+F.+F.+F.}\nendlsystem");
+    let p = arbor::skeleton::prune::prune_collisions(&s);
+    assert_eq!(p.removed, 0);
+    assert_eq!(p.skeleton.leaves().len(), s.leaves().len());
+    assert_eq!(s.leaves().len(), 1);
+    assert_eq!(p.skeleton.polygons().len(), s.polygons().len());
+}
+
+/// An evaluation error names the line of the production whose successor overflowed.
+#[test]
+fn evaluation_errors_name_the_line_of_the_production() {
+    let ls = LSystem::parse("derivation length: 3\nAxiom: A(1)\n\nA(x) --> A(x/0)\n").unwrap();
+    let err = ls
+        .derive(&LsystemOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("line 4"), "{err}");
+    assert!(err.contains("`A`"), "{err}");
+}

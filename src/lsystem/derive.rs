@@ -121,18 +121,23 @@ fn emit(
             .iter()
             .find(|m| (m.first + m.count) as usize > k)
             .expect("every parameter belongs to a module");
-        return Err(non_finite(ctx, m.sym, v));
+        return Err(non_finite(ctx, m.sym, v, list.line));
     }
     Ok(())
 }
 
-fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64) -> Error {
+fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64, line: u32) -> Error {
+    let place = if line > 0 {
+        format!(" (written at line {line} of the grammar)")
+    } else {
+        String::new()
+    };
     Error::Eval {
         step: ctx.step,
         message: format!(
-            "a parameter of module `{}` evaluated to {v}; expected a finite number within \
-             the f32 range (look for a division by zero, log or sqrt of a negative number, \
-             or overflow)",
+            "a parameter of module `{}` evaluated to {v}{place}; expected a finite number \
+             within the f32 range (look for a division by zero, log or sqrt of a negative \
+             number, or overflow)",
             ctx.ls.symbol_name(sym)
         ),
     }
@@ -729,7 +734,7 @@ impl Expander {
                     let v = e.eval(&args, &mut ctx.rng);
                     if !(v as f32).is_finite() {
                         ctx.args = args;
-                        return Err(non_finite(ctx, m.sym, v));
+                        return Err(non_finite(ctx, m.sym, v, succ.line));
                     }
                     self.produced_params.push(v as f32);
                 }

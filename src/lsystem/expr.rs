@@ -198,6 +198,14 @@ impl Expr {
     pub(crate) fn as_const(&self) -> Option<f64> {
         match self {
             Expr::Const(c) => Some(*c),
+            // Code without parameters or random draws (a `?:`, say) has one value.
+            Expr::Code(ops, depth)
+                if ops
+                    .iter()
+                    .all(|op| !matches!(op, Op::Param(_) | Op::Ran | Op::Nran)) =>
+            {
+                Some(run_code(ops, *depth, &[], &mut Rng::new(0)))
+            }
             _ => None,
         }
     }

@@ -73,6 +73,8 @@ pub(crate) struct ModuleList {
     pub(crate) syms: Vec<u16>,
     /// For each module, the number of parameter values up to and including it.
     pub(crate) param_ends: Vec<u32>,
+    /// The line of the grammar it was written on (for messages); 0 when unknown.
+    pub(crate) line: u32,
 }
 
 impl ModuleList {

@@ -288,7 +288,9 @@ impl<'a> Parser<'a> {
                 return Err(self.err(at, "one `Axiom:` line only"));
             }
             let mut cur = Cursor::range(self.text, rest_at(rest), end);
-            let list = self.module_list(&mut cur, &[], false, true)?;
+            let axiom_at = cur.pos();
+            let mut list = self.module_list(&mut cur, &[], false, true)?;
+            list.line = super::syntax::line_col(self.text, axiom_at).0;
             cur.skip_ws();
             if !cur.at_end() {
                 return Err(cur.error("a module"));
@@ -697,7 +699,9 @@ impl<'a> Parser<'a> {
         // Interpretation rules feed only the turtle, so they may open or close a branch
         // (`[ --> [+`); strings that are derived further must stay balanced.
         let interpretation = self.section == Section::Homomorphism;
-        let successor = self.module_list(&mut cur, &scope_names, true, !interpretation)?;
+        let successor_at = cur.pos();
+        let mut successor = self.module_list(&mut cur, &scope_names, true, !interpretation)?;
+        successor.line = super::syntax::line_col(self.text, successor_at).0;
         let probability = if cur.eat(":") {
             let scope = Scope {
                 params: &scope_names,
