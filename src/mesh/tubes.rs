@@ -431,27 +431,9 @@ impl MeshPlan {
         let end_out = &mut out[at..at + ring];
         if f & MITRE_END != 0 {
             let c = plan.cont[i] as usize;
-            let (po, qo, d_o) = (rot(end_frame), rot(t1.cross(end_frame)), rot(t1));
-            let m = rot((t1 + plan.t0[c]).normalize());
-            let r1s = t.r1 * scale;
-            let slide = d_o * (r1s / d_o.dot(m));
-            let (pm, qm) = (po.dot(m), qo.dot(m));
-            let (nc_c, na_c) = self.slope(skeleton, c);
-            let (pc, dc) = (rot(lay.frame_p[c]), rot(plan.t0[c]));
-            let qc = dc.cross(pc);
-            Affine::new(
-                pos(t.end),
-                po * r1s - slide * pm,
-                qo * r1s - slide * qm,
-                (d_o * t.na + dc * na_c) * 0.5,
-                (po * t.nc + pc * nc_c) * 0.5,
-                (qo * t.nc + qc * nc_c) * 0.5,
-                [0.0, t.v1],
-                [0.0; 2],
-                [0.0; 2],
-                [1.0, 0.0],
-            )
-            .put_normalized(end_out, table);
+            let frame = (rot(end_frame), rot(t1.cross(end_frame)));
+            t.mitre_with(self, skeleton, c, frame, t1, plan.t0[c])
+                .put_normalized(end_out, table);
         } else {
             ring_at(t.end, t1, end_frame, t.r1, t.v1).put(end_out, table);
         }
@@ -658,11 +640,32 @@ impl Tube<'_> {
     /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
     /// vertex.
     fn mitre(&self, plan: &MeshPlan, skeleton: &Skeleton, c: usize) -> Affine {
+        self.mitre_with(
+            plan,
+            skeleton,
+            c,
+            (self.po, self.qo),
+            self.d,
+            plan.plan.dir[c],
+        )
+    }
+
+    /// [`mitre`](Self::mitre) with the end ring's frame (output space) and the two axes at
+    /// the joint (model space) given: this branch's at its end, the continuation's at its
+    /// start (the curves' tangents in a sweep).
+    fn mitre_with(
+        &self,
+        plan: &MeshPlan,
+        skeleton: &Skeleton,
+        c: usize,
+        (po, qo): (Vec3, Vec3),
+        d: Vec3,
+        dc: Vec3,
+    ) -> Affine {
         let rot = |v: Vec3| Vec3::from_array(self.out.dir(v));
-        let (po, qo, d_o) = (self.po, self.qo, self.d_o);
+        let d_o = rot(d);
         let r1s = self.r1 * self.out.scale;
-        let dc = plan.plan.dir[c];
-        let m = rot((self.d + dc).normalize());
+        let m = rot((d + dc).normalize());
         let slide = d_o * (r1s / d_o.dot(m));
         let (pm, qm) = (po.dot(m), qo.dot(m));
         let (nc_c, na_c) = plan.slope(skeleton, c);
