@@ -524,32 +524,36 @@ impl World {
     fn cycle_once(&mut self) -> Result<()> {
         let cycle = self.cycle + 1;
         let parallel = self.options.parallel;
-        // 1: light and direction at every bud of every tree, from the shared environment.
-        let buds: Vec<Vec<env::Bud>> = each(&mut self.trees, parallel, |t| {
-            let mut b = Vec::new();
-            t.buds(&mut b);
-            b
-        });
-        let light: Vec<Vec<(f32, Vec3)>> = match self.env.kind() {
+        // 1–5: light and direction at every bud from the shared environment, then the
+        // basipetal and acropetal passes, shedding and the new shoots, planned per tree
+        // (in parallel with the `parallel` feature). The shadow is read where each bud
+        // is; colonization first needs every bud of every tree.
+        let plans: Vec<tree::Plan> = match self.env.kind() {
             Environment::Shadow => {
                 let env = &self.env;
-                each_ref(&buds, parallel, |b| {
-                    b.iter().map(|x| env.shadow_light(x.position)).collect()
+                each(&mut self.trees, parallel, |t| {
+                    t.plan_cycle(|at, _| env.shadow_light(at), cycle)
                 })
             }
             Environment::SpaceColonization => {
+                let buds: Vec<Vec<env::Bud>> = each(&mut self.trees, parallel, |t| {
+                    let mut b = Vec::new();
+                    t.buds(&mut b);
+                    b
+                });
                 let species: Vec<GrowthParams> = self.trees.iter().map(|t| t.species).collect();
-                self.env.colonize(&buds, &species)
+                let light = self.env.colonize(&buds, &species);
+                let mut work: Vec<(&mut Tree, &[(f32, Vec3)])> = self
+                    .trees
+                    .iter_mut()
+                    .zip(light.iter().map(|l| l.as_slice()))
+                    .collect();
+                each(&mut work, parallel, |(t, l)| {
+                    let mut it = l.iter();
+                    t.plan_cycle(|_, _| *it.next().expect("one light per bud"), cycle)
+                })
             }
         };
-        // 2–5: the basipetal and acropetal passes, shedding and the new shoots, planned
-        // per tree (in parallel with the `parallel` feature).
-        let mut work: Vec<(&mut Tree, &[(f32, Vec3)])> = self
-            .trees
-            .iter_mut()
-            .zip(light.iter().map(|l| l.as_slice()))
-            .collect();
-        let plans: Vec<tree::Plan> = each(&mut work, parallel, |(t, l)| t.plan_cycle(l, cycle));
         let new: usize = plans.iter().map(|p| p.new_internodes()).sum();
         self.check_branches(new)?;
         // Growth, shedding and the shared grid's updates, in tree order, so the result
@@ -636,19 +640,4 @@ fn each<T: Send, R: Send>(
     }
     let _ = parallel;
     items.iter_mut().map(f).collect()
-}
-
-/// [`each`] over shared elements.
-fn each_ref<T: Sync, R: Send>(
-    items: &[T],
-    parallel: bool,
-    f: impl Fn(&T) -> R + Sync + Send,
-) -> Vec<R> {
-    #[cfg(feature = "parallel")]
-    if parallel && items.len() > 1 {
-        use rayon::prelude::*;
-        return items.par_iter().map(f).collect();
-    }
-    let _ = parallel;
-    items.iter().map(f).collect()
 }

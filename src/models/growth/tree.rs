@@ -177,22 +177,26 @@ impl Tree {
         }
     }
 
-    /// Plans one cycle from the light and direction at every bud (in [`Tree::buds`]
-    /// order): the basipetal pass, the vigour split, shedding and the new shoots.
-    pub(crate) fn plan_cycle(&mut self, light: &[(f32, Vec3)], cycle: u32) -> Plan {
+    /// Plans one cycle from the light and direction at every bud, asked of `light` with
+    /// the bud's position and direction in [`Tree::buds`] order: the basipetal pass, the
+    /// vigour split, shedding and the new shoots.
+    pub(crate) fn plan_cycle(
+        &mut self,
+        mut light: impl FnMut(Vec3, Vec3) -> (f32, Vec3),
+        cycle: u32,
+    ) -> Plan {
         let p = self.species;
         let n = self.nodes.len();
         // Light of each node's buds, in bud order.
-        let mut bud_light = light.iter();
         let mut own = std::mem::take(&mut self.own);
         own.clear();
         for node in &self.nodes {
             let mut pair = [(0.0, Vec3::ZERO); 2];
             if node.main == BUD {
-                pair[0] = *bud_light.next().expect("one light per bud");
+                pair[0] = light(node.end, node.dir);
             }
             if node.lateral == BUD {
-                pair[1] = *bud_light.next().expect("one light per bud");
+                pair[1] = light(node.end, node.lat_dir);
             }
             own.push(pair);
         }
@@ -406,10 +410,13 @@ impl Tree {
     }
 
     /// Removes the subtrees rooted at `roots`, taking their buds' shadow away; indices
-    /// stay parents-before-children.
+    /// stay parents-before-children. The internodes are compacted in place, with the
+    /// scratch of the plan (no allocation in proportion to the tree).
     fn shed_subtrees(&mut self, roots: &[u32], env: &mut Env) {
         let n = self.nodes.len();
-        let mut dead = vec![false; n];
+        let mut dead = std::mem::take(&mut self.dead);
+        dead.clear();
+        dead.resize(n, false);
         for &r in roots {
             dead[r as usize] = true;
         }
@@ -418,9 +425,12 @@ impl Tree {
                 dead[i] = true;
             }
         }
-        let mut new_index = vec![NO_PARENT; n];
-        let mut kept = Vec::with_capacity(n);
-        for (i, node) in self.nodes.iter().enumerate() {
+        let mut new_index = std::mem::take(&mut self.desc);
+        new_index.clear();
+        new_index.resize(n, NO_PARENT);
+        let mut kept = 0usize;
+        for i in 0..n {
+            let node = self.nodes[i];
             if dead[i] {
                 let buds = u8::from(node.main == BUD) + u8::from(node.lateral == BUD);
                 if buds > 0 {
@@ -428,10 +438,12 @@ impl Tree {
                 }
                 continue;
             }
-            new_index[i] = kept.len() as u32;
-            kept.push(*node);
+            new_index[i] = kept as u32;
+            self.nodes[kept] = node;
+            kept += 1;
         }
-        self.shed += n - kept.len();
+        self.nodes.truncate(kept);
+        self.shed += n - kept;
         let map = |slot: u32| {
             if is_child(slot) {
                 match new_index[slot as usize] {
@@ -442,14 +454,15 @@ impl Tree {
                 slot
             }
         };
-        for node in &mut kept {
+        for node in &mut self.nodes {
             if node.parent != NO_PARENT {
                 node.parent = new_index[node.parent as usize];
             }
             node.main = map(node.main);
             node.lateral = map(node.lateral);
         }
-        self.nodes = kept;
+        self.dead = dead;
+        self.desc = new_index;
     }
 
     /// Seeds this tree drops this cycle: (species, position on the ground).
