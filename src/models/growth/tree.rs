@@ -59,6 +59,8 @@ pub(crate) struct Plan {
     new: Vec<New>,
     /// Roots of the subtrees to shed.
     shed: Vec<u32>,
+    /// Per existing internode: shed this cycle (a root of `shed` or above one).
+    dead: Vec<bool>,
     residual: f32,
     root_vigour: f32,
 }
@@ -88,7 +90,6 @@ pub(crate) struct Tree {
     vig: Vec<f32>,
     desc: Vec<u32>,
     own: Vec<[(f32, Vec3); 2]>,
-    bud_vigour: Vec<[f32; 2]>,
     dead: Vec<bool>,
 }
 
@@ -138,7 +139,6 @@ impl Tree {
             vig: Vec::new(),
             desc: Vec::new(),
             own: Vec::new(),
-            bud_vigour: Vec::new(),
             dead: Vec::new(),
         }
     }
@@ -225,17 +225,40 @@ impl Tree {
                 }
             }
         }
-        // Acropetal: the extended Borchert–Honda split of the vigour.
+        // One acropetal pass: the extended Borchert–Honda split of the vigour, shedding
+        // (a lateral branch whose vigour no longer pays for its size goes, with everything
+        // above it) and the new shoots (a bud with vigour v grows ⌊v⌋ internodes, at most
+        // max_shoot). An internode's vigour is set by its parent, before it is visited.
         self.vig.clear();
         self.vig.resize(n, 0.0);
         self.vig[0] = p.vigor_multiplier * self.q[0];
         let lambda = p.apical_control;
-        let mut bud_vigour = std::mem::take(&mut self.bud_vigour);
-        bud_vigour.clear();
-        bud_vigour.resize(n, [0.0; 2]);
         let mut residual = 0.0f32;
-        for (i, buds) in bud_vigour.iter_mut().enumerate() {
+        let mut plan = Plan::default();
+        let mut dead = std::mem::take(&mut self.dead);
+        dead.clear();
+        dead.resize(n, false);
+        let up = Vec3::Y;
+        for i in 0..n {
+            let node = self.nodes[i];
             let v = self.vig[i];
+            // Shedding.
+            if i > 0 {
+                let parent = node.parent as usize;
+                if dead[parent] {
+                    dead[i] = true;
+                } else if p.shed_multiplier > 0.0
+                    && self.nodes[parent].lateral == i as u32
+                    && cycle.saturating_sub(node.birth) > p.shed_delay
+                {
+                    let cost = p.shed_multiplier * libm::powf(self.desc[i] as f32, p.shed_exponent);
+                    if v < cost {
+                        dead[i] = true;
+                        plan.shed.push(i as u32);
+                    }
+                }
+            }
+            // The split.
             let (qm, ql) = (self.qm[i], self.ql[i]);
             let denom = lambda * qm + (1.0 - lambda) * ql;
             let (vm, vl) = if denom > 0.0 {
@@ -246,62 +269,20 @@ impl Tree {
             if denom > 0.0 {
                 residual = residual.max((v - vm - vl).abs() / v.max(1e-30));
             }
-            let node = self.nodes[i];
             for (k, (slot, share)) in [(node.main, vm), (node.lateral, vl)]
                 .into_iter()
                 .enumerate()
             {
                 if is_child(slot) {
                     self.vig[slot as usize] = share;
-                } else if slot == BUD {
-                    buds[k] = share;
-                }
-            }
-        }
-        // Shedding: a lateral branch whose vigour no longer pays for its size goes, with
-        // everything above it.
-        let mut plan = Plan {
-            residual,
-            root_vigour: self.vig[0],
-            ..Default::default()
-        };
-        let mut dead = std::mem::take(&mut self.dead);
-        dead.clear();
-        dead.resize(n, false);
-        for i in 1..n {
-            let node = self.nodes[i];
-            let parent = node.parent as usize;
-            if dead[parent] {
-                dead[i] = true;
-                continue;
-            }
-            let is_lateral_base = self.nodes[parent].lateral == i as u32;
-            if p.shed_multiplier > 0.0
-                && is_lateral_base
-                && cycle.saturating_sub(node.birth) > p.shed_delay
-            {
-                let cost = p.shed_multiplier * libm::powf(self.desc[i] as f32, p.shed_exponent);
-                if self.vig[i] < cost {
-                    dead[i] = true;
-                    plan.shed.push(i as u32);
-                }
-            }
-        }
-        // Shoots: a bud with vigour v grows ⌊v⌋ internodes (at most max_shoot).
-        let up = Vec3::Y;
-        for i in 0..n {
-            if dead[i] {
-                continue;
-            }
-            let node = self.nodes[i];
-            for k in 0..2 {
-                let slot = if k == 0 { node.main } else { node.lateral };
-                let v = bud_vigour[i][k];
-                if slot != BUD || v < 1.0 {
                     continue;
                 }
-                let count = (v.floor() as u32).min(p.max_shoot);
-                let length = p.internode_length * (v / count as f32).min(2.0);
+                // Shoots, from the living buds of living internodes.
+                if slot != BUD || dead[i] || share < 1.0 {
+                    continue;
+                }
+                let count = (share.floor() as u32).min(p.max_shoot);
+                let length = p.internode_length * (share / count as f32).min(2.0);
                 let env_dir = own[i][k].1;
                 let mut heading = if k == 0 { node.dir } else { node.lat_dir };
                 let mut at = node.end;
@@ -332,9 +313,10 @@ impl Tree {
                 }
             }
         }
+        plan.residual = residual;
+        plan.root_vigour = self.vig[0];
         self.own = own;
-        self.bud_vigour = bud_vigour;
-        self.dead = dead;
+        plan.dead = dead;
         plan
     }
 
@@ -384,9 +366,11 @@ impl Tree {
             // the two cancel before the grid is touched).
             env.cast(nw.end, 2.0);
         }
+        let mut dead = plan.dead;
         if !plan.shed.is_empty() {
-            self.shed_subtrees(&plan.shed, env);
+            self.shed_subtrees(&mut dead, env);
         }
+        self.dead = dead;
         self.update_radii(tip_rn);
     }
 
@@ -409,22 +393,14 @@ impl Tree {
         }
     }
 
-    /// Removes the subtrees rooted at `roots`, taking their buds' shadow away; indices
-    /// stay parents-before-children. The internodes are compacted in place, with the
-    /// scratch of the plan (no allocation in proportion to the tree).
-    fn shed_subtrees(&mut self, roots: &[u32], env: &mut Env) {
+    /// Removes the internodes marked in `dead` (the plan's marks, for the internodes
+    /// that existed when it was made), taking their buds' shadow away; indices stay
+    /// parents-before-children. The internodes are compacted in place, with the scratch
+    /// of the plan (no allocation in proportion to the tree).
+    fn shed_subtrees(&mut self, dead: &mut Vec<bool>, env: &mut Env) {
         let n = self.nodes.len();
-        let mut dead = std::mem::take(&mut self.dead);
-        dead.clear();
+        // Internodes grown this cycle never grow on a shed one.
         dead.resize(n, false);
-        for &r in roots {
-            dead[r as usize] = true;
-        }
-        for i in 1..n {
-            if dead[self.nodes[i].parent as usize] {
-                dead[i] = true;
-            }
-        }
         let mut new_index = std::mem::take(&mut self.desc);
         new_index.clear();
         new_index.resize(n, NO_PARENT);
@@ -461,7 +437,6 @@ impl Tree {
             node.main = map(node.main);
             node.lateral = map(node.lateral);
         }
-        self.dead = dead;
         self.desc = new_index;
     }
 
