@@ -790,7 +790,7 @@ typedef struct ArborGrowthParams {
    */
   float vigor_multiplier;
   /**
-   * > 0, world units. Default 0.25.
+   * World units, in (0, 10000]. Default 0.25.
    */
   float internode_length;
   /**
@@ -814,7 +814,7 @@ typedef struct ArborGrowthParams {
    */
   float pipe_exponent;
   /**
-   * Radius of a tip, > 0. Default 0.01.
+   * Radius of a tip, world units, in (0, 10000]. Default 0.01.
    */
   float tip_radius;
   /**

@@ -251,6 +251,10 @@ fn bad_input_is_refused_by_name() {
     bad(&|p| p.pipe_exponent = 9.0, "pipe_exponent");
     bad(&|p| p.tropism = -2.0, "tropism");
     bad(&|p| p.max_shoot = 0, "max_shoot");
+    // A finite but huge tip radius made tip_radius^pipe_exponent infinite, and every
+    // snapshot unmeshable (found by the C-level growth fuzzer).
+    bad(&|p| p.tip_radius = 2e36, "tip_radius");
+    bad(&|p| p.internode_length = 1e30, "internode_length");
     let world_err = |o: WorldOptions, field: &str| {
         let err = World::new(&o).unwrap_err().to_string();
         assert!(err.contains(field), "{field}: {err}");

@@ -121,7 +121,7 @@ pub struct ArborGrowthParams {
     pub apical_control: f32,
     /// alpha > 0. Default 2.
     pub vigor_multiplier: f32,
-    /// > 0, world units. Default 0.25.
+    /// World units, in (0, 10000]. Default 0.25.
     pub internode_length: f32,
     /// Degrees between a lateral bud and its internode's heading, 0..=180. Default 45.
     pub branch_angle: f32,
@@ -133,7 +133,7 @@ pub struct ArborGrowthParams {
     pub environment_weight: f32,
     /// n in [1, 4]: r^n = sum of the children's r^n. Default 2.5.
     pub pipe_exponent: f32,
-    /// Radius of a tip, > 0. Default 0.01.
+    /// Radius of a tip, world units, in (0, 10000]. Default 0.01.
     pub tip_radius: f32,
     /// A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent;
     /// >= 0 (0: never). Default 0.03.

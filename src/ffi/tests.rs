@@ -174,6 +174,7 @@ fn errors_read_the_same_through_rust_and_c() {
 
 mod fuzz {
     use super::*;
+    use crate::ffi::options::Growing;
     use proptest::prelude::*;
 
     proptest! {
@@ -254,6 +255,108 @@ mod fuzz {
             }
             // SAFETY: made above, freed once.
             unsafe { arbor_tree_free(tree) };
+        }
+
+        /// Random world options and species through create, plant, step and the
+        /// snapshot. Each float is mostly in a plausible range (so most cases grow) and
+        /// otherwise any bit pattern (NaN, ±∞, huge, negative, zero): a status with a
+        /// message, never a panic, and a snapshot that meshes to finite vertices. Grids
+        /// and growth are capped so a case stays small.
+        #[test]
+        fn c_growth_entry_points_take_any_parameters(
+            u in prop::collection::vec(prop_oneof![15 => 0.0f32..1.0, 1 => any::<f32>()], 28),
+            ints in prop::collection::vec(any::<u32>(), 7),
+            cycles in 0u32..6,
+        ) {
+            // Field k in [lo, hi) when u[k] is in [0, 1); wild values stay wild.
+            let r = |k: usize, lo: f32, hi: f32| lo + u[k] * (hi - lo);
+            let o = ArborWorldOptions {
+                environment: [0, 0, 0, 0, 1, 1, 1, 2][ints[0] as usize % 8],
+                min: [r(0, -30.0, -5.0), r(1, -2.0, 0.0), r(2, -30.0, -5.0)],
+                max: [r(3, 5.0, 30.0), r(4, 5.0, 20.0), r(5, 5.0, 30.0)],
+                cell_size: r(6, 0.2, 2.0),
+                seed: u64::from(ints[1]),
+                shadow_strength: r(7, 0.5, 3.0),
+                shadow_falloff: r(8, 1.1, 4.0),
+                shadow_depth: ints[2] % 20,
+                full_light: r(9, 1.0, 20.0),
+                max_cells: 1 << 18,
+                max_branches: 20_000,
+                max_trees: 1 + ints[3] % 16,
+                parallel: ints[3] % 2,
+                ..<ArborWorldOptions as Growing>::defaults()
+            };
+            let mut world: *mut ArborWorld = std::ptr::null_mut();
+            // SAFETY: local struct and out-pointer.
+            let status = unsafe { arbor_world_create(&o, &mut world) };
+            prop_assert!(status != ArborStatus::Panic);
+            if status != ArborStatus::Ok {
+                prop_assert!(!last_error().is_empty());
+                prop_assert!(world.is_null());
+                return Ok(());
+            }
+            let species = ArborGrowthParams {
+                apical_control: r(10, 0.0, 1.0),
+                vigor_multiplier: r(11, 0.5, 4.0),
+                internode_length: r(12, 0.05, 1.0),
+                branch_angle: r(13, 0.0, 90.0),
+                phyllotaxis: r(14, 0.0, 360.0),
+                tropism: r(15, -0.5, 0.5),
+                environment_weight: r(16, 0.0, 1.0),
+                pipe_exponent: r(17, 1.5, 3.5),
+                tip_radius: r(18, 0.001, 0.05),
+                shed_multiplier: r(19, 0.0, 0.5),
+                shed_exponent: r(20, 1.0, 2.0),
+                shed_delay: ints[4] % 8,
+                seed_age: ints[5] % 8,
+                seed_spread: r(21, 0.0, 5.0),
+                perception_angle: r(22, 10.0, 180.0),
+                perception_reach: r(23, 1.0, 10.0),
+                occupancy_reach: r(24, 0.5, 3.0),
+                max_shoot: ints[6] % 6,
+                ..<ArborGrowthParams as Growing>::defaults()
+            };
+            let at = [r(25, -5.0, 5.0), r(26, 0.0, 0.5), r(27, -5.0, 5.0)];
+            // SAFETY: `world` is live; the species and position are locals.
+            let planted = unsafe {
+                arbor_world_plant(world, &species, at.as_ptr(), 7, std::ptr::null_mut())
+            };
+            prop_assert!(planted != ArborStatus::Panic);
+            prop_assert!(planted == ArborStatus::Ok || !last_error().is_empty());
+            // SAFETY: `world` is live.
+            let stepped = unsafe { arbor_world_step(world, cycles) };
+            prop_assert!(
+                stepped == ArborStatus::Ok || stepped == ArborStatus::LimitExceeded,
+                "{stepped:?}: {}", last_error()
+            );
+            // SAFETY: `world` is live.
+            let trees = unsafe { arbor_world_tree_count(world) };
+            if planted == ArborStatus::Ok {
+                prop_assert!(trees >= 1);
+            }
+            for index in 0..trees.min(2) {
+                let mut tree: *mut ArborTree = std::ptr::null_mut();
+                // SAFETY: `world` is live; `tree` is a local out-pointer.
+                prop_assert_eq!(unsafe { arbor_world_tree(world, index, &mut tree) }, ArborStatus::Ok);
+                let (mut nv, mut ni) = (0usize, 0usize);
+                // SAFETY: `tree` is live; NULL options are the defaults.
+                let sized = unsafe { arbor_mesh_size(tree, std::ptr::null(), &mut nv, &mut ni) };
+                prop_assert_eq!(sized, ArborStatus::Ok, "{}", last_error());
+                let mut v = vec![ArborVertex::default(); nv];
+                let mut i = vec![0u32; ni];
+                // SAFETY: the buffers hold exactly the sizes asked for.
+                let w = unsafe {
+                    arbor_mesh_write(tree, std::ptr::null(), v.as_mut_ptr(), nv, i.as_mut_ptr(), ni)
+                };
+                prop_assert_eq!(w, ArborStatus::Ok);
+                for x in &v {
+                    prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()), "{x:?}");
+                }
+                // SAFETY: made above, freed once.
+                unsafe { arbor_tree_free(tree) };
+            }
+            // SAFETY: made above, freed once.
+            unsafe { arbor_world_free(world) };
         }
     }
 }

@@ -112,7 +112,7 @@ pub struct GrowthParams {
     pub apical_control: f32,
     /// α > 0: vigour at the base = α · light gathered. Default 2.
     pub vigor_multiplier: f32,
-    /// Length of an internode at vigour 1, > 0. Default 0.25.
+    /// Length of an internode at vigour 1, in (0, 10000]. Default 0.25.
     pub internode_length: f32,
     /// Angle between a lateral bud and its internode's heading, 0..=180. Default 45.
     pub branch_angle: f32,
@@ -125,7 +125,7 @@ pub struct GrowthParams {
     pub environment_weight: f32,
     /// n in [1, 4]: a parent's r^n is the sum of its children's. Default 2.5.
     pub pipe_exponent: f32,
-    /// Radius of a branch tip, > 0. Default 0.01.
+    /// Radius of a branch tip, in (0, 10000]. Default 0.01.
     pub tip_radius: f32,
     /// A lateral branch is shed when its vigour < shed_multiplier · internodes^shed_exponent
     /// (its internodes counted with everything above it). ≥ 0 (0: never). Default 0.03.
@@ -257,6 +257,8 @@ impl GrowthParams {
 
     /// [`Error::InvalidArgument`] naming the first parameter out of its range.
     pub fn validate(&self) -> Result<()> {
+        // Longest internode and thickest tip: 10,000 world units.
+        const MAX_LENGTH: f32 = 1e4;
         let check = |field: &'static str, v: f32, ok: bool, expected: &str| {
             if v.is_finite() && ok {
                 Ok(())
@@ -279,8 +281,8 @@ impl GrowthParams {
         check(
             "internode_length",
             self.internode_length,
-            self.internode_length > 0.0,
-            "a finite length > 0",
+            self.internode_length > 0.0 && self.internode_length <= MAX_LENGTH,
+            "a length in (0, 10000] world units",
         )?;
         check(
             "branch_angle",
@@ -310,8 +312,8 @@ impl GrowthParams {
         check(
             "tip_radius",
             self.tip_radius,
-            self.tip_radius > 0.0,
-            "a finite radius > 0",
+            self.tip_radius > 0.0 && self.tip_radius <= MAX_LENGTH,
+            "a radius in (0, 10000] world units (so tip_radius^pipe_exponent summed over every branch stays finite)",
         )?;
         check(
             "shed_multiplier",
