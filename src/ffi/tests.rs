@@ -358,6 +358,81 @@ mod fuzz {
             // SAFETY: made above, freed once.
             unsafe { arbor_world_free(world) };
         }
+
+        /// Random leaf options (floats mostly plausible, otherwise any bit pattern; enums
+        /// and sizes random, struct_size of either layout) through the instance and baked
+        /// leaf entry points: a status with a message, never a panic; what is written is
+        /// finite, with unit rotations.
+        #[test]
+        fn c_leaf_entry_points_take_any_options(
+            u in prop::collection::vec(prop_oneof![15 => 0.0f32..1.0, 1 => any::<f32>()], 5),
+            ints in prop::collection::vec(any::<u32>(), 6),
+        ) {
+            let r = |k: usize, lo: f32, hi: f32| lo + u[k] * (hi - lo);
+            let o = ArborLeafOptions {
+                // Sizes of either layout or below (never past the Rust value: the
+                // library reads struct_size bytes of this local).
+                struct_size: {
+                    let size = std::mem::size_of::<ArborLeafOptions>() as u32;
+                    [ARBOR_LEAF_OPTIONS_MIN_SIZE as u32, size, size, ints[5] % (size + 1)][ints[5] as usize % 4]
+                },
+                sites: [0, 1, 1, 1, 1, 1, 1, 2][ints[0] as usize % 8],
+                polygons: [0, 1, 1, 1, 1, 1, 1, 3][ints[1] as usize % 8],
+                tips: [0, 0, 0, 1, 1, 1, 1, 2][ints[2] as usize % 8],
+                min_depth: ints[3] % 8,
+                density: r(0, 0.0, 2.0),
+                size: r(1, 0.01, 1.0),
+                size_jitter: r(2, 0.0, 1.0),
+                rotation_jitter: r(3, 0.0, 180.0),
+                tilt: r(4, -90.0, 90.0),
+                seed: u64::from(ints[4]),
+                max_leaves: 100_000,
+                ..<ArborLeafOptions as Growing>::defaults()
+            };
+            let mut p = ArborHondaParams::default();
+            // SAFETY: `p` is a local struct.
+            prop_assert_eq!(unsafe { arbor_honda_preset('c' as u32, &mut p) }, ArborStatus::Ok);
+            p.steps = 5;
+            let mut tree: *mut ArborTree = std::ptr::null_mut();
+            // SAFETY: local pointers.
+            prop_assert_eq!(unsafe { arbor_tree_from_honda(&p, &mut tree) }, ArborStatus::Ok);
+            let refused = |status: ArborStatus| {
+                status == ArborStatus::InvalidArgument || status == ArborStatus::LimitExceeded
+            };
+            let mut count = 0usize;
+            // SAFETY: `tree` is live; the options and count are locals; NULL mesh options
+            // are the defaults.
+            let status = unsafe { arbor_leaf_instance_count(tree, &o, std::ptr::null(), &mut count) };
+            prop_assert!(status == ArborStatus::Ok || (refused(status) && !last_error().is_empty()), "{status:?}");
+            if status == ArborStatus::Ok {
+                let mut out = vec![ArborLeafInstance::default(); count];
+                // SAFETY: `out` holds exactly `count` instances.
+                let w = unsafe { arbor_leaf_instances_write(tree, &o, std::ptr::null(), out.as_mut_ptr(), count) };
+                prop_assert_eq!(w, ArborStatus::Ok);
+                for l in &out {
+                    prop_assert!(l.position.iter().chain(&l.rotation).all(|f| f.is_finite()) && l.scale.is_finite(), "{l:?}");
+                    let norm: f32 = l.rotation.iter().map(|x| x * x).sum();
+                    prop_assert!((norm - 1.0).abs() < 1e-3, "{l:?}");
+                }
+            }
+            let (mut nv, mut ni) = (0usize, 0usize);
+            // SAFETY: as above.
+            let status = unsafe { arbor_leaf_mesh_size(tree, &o, std::ptr::null(), &mut nv, &mut ni) };
+            prop_assert!(status == ArborStatus::Ok || (refused(status) && !last_error().is_empty()), "{status:?}");
+            if status == ArborStatus::Ok {
+                let mut v = vec![ArborVertex::default(); nv];
+                let mut i = vec![0u32; ni];
+                // SAFETY: the buffers hold exactly the sizes asked for.
+                let w = unsafe { arbor_leaf_mesh_write(tree, &o, std::ptr::null(), v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
+                prop_assert_eq!(w, ArborStatus::Ok);
+                for x in &v {
+                    prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()), "{x:?}");
+                }
+                prop_assert!(i.iter().all(|&k| (k as usize) < nv));
+            }
+            // SAFETY: made above, freed once.
+            unsafe { arbor_tree_free(tree) };
+        }
     }
 }
 
