@@ -387,7 +387,7 @@ typedef struct ArborCurve {
  */
 typedef struct ArborCurveRecord {
   /**
-   * Start, then the radius at the start.
+   * Start.
    */
   float p0[3];
   /**

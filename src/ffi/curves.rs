@@ -29,7 +29,7 @@ const _: () = assert!(std::mem::size_of::<ArborCurve>() == 56);
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct ArborCurveRecord {
-    /// Start, then the radius at the start.
+    /// Start.
     pub p0: [f32; 3],
     /// Radius at p0.
     pub r0: f32,

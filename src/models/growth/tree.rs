@@ -57,9 +57,9 @@ struct New {
 #[derive(Debug, Default)]
 pub(crate) struct Plan {
     new: Vec<New>,
-    /// Roots of the subtrees to shed.
-    shed: Vec<u32>,
-    /// Per existing internode: shed this cycle (a root of `shed` or above one).
+    /// Some subtree is shed this cycle.
+    sheds: bool,
+    /// Per existing internode: shed this cycle (the root of a shed subtree or above one).
     dead: Vec<bool>,
     residual: f32,
     root_vigour: f32,
@@ -254,7 +254,7 @@ impl Tree {
                     let cost = p.shed_multiplier * libm::powf(self.desc[i] as f32, p.shed_exponent);
                     if v < cost {
                         dead[i] = true;
-                        plan.shed.push(i as u32);
+                        plan.sheds = true;
                     }
                 }
             }
@@ -326,17 +326,16 @@ impl Tree {
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
-        // New internodes, appended in plan order (a chain's parent comes first).
+        // New internodes, appended in plan order (a chain's parent comes first), so the
+        // k-th new one is internode base + k.
         let base = self.nodes.len() as u32;
-        let mut index = Vec::with_capacity(plan.new.len());
         for (k, nw) in plan.new.iter().enumerate() {
             let parent = if nw.chain {
-                index[nw.parent as usize]
+                base + nw.parent
             } else {
                 nw.parent
             };
             let me = base + k as u32;
-            index.push(me);
             let p = &mut self.nodes[parent as usize];
             if nw.main {
                 if p.main == BUD {
@@ -367,7 +366,7 @@ impl Tree {
             env.cast(nw.end, 2.0);
         }
         let mut dead = plan.dead;
-        if !plan.shed.is_empty() {
+        if plan.sheds {
             self.shed_subtrees(&mut dead, env);
         }
         self.dead = dead;
