@@ -107,7 +107,7 @@ int main(int argc, char **argv) {
     EXPECT(std::string(e.what()).find("preset") != std::string::npos, "%s", e.what());
   }
   try {
-    arbor::Tree::lsystem("Axiom: F\nF --> F(y)\n");
+    arbor::Tree::lsystem("Axiom: F\nF --> F(y +)\n");
     EXPECT(false, "no exception for a parse error");
   } catch (const arbor::Error &e) {
     EXPECT(e.status() == ARBOR_STATUS_PARSE_ERROR, "status %d", (int)e.status());

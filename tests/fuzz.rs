@@ -143,6 +143,30 @@ fn successor() -> impl Strategy<Value = String> {
     })
 }
 
+/// `text` with the names `x` and `y` (whole identifiers only) replaced by numbers.
+fn numbers_for_xy(text: &str) -> String {
+    let mut out = String::new();
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        match word.as_str() {
+            "x" => out.push_str("1.5"),
+            "y" => out.push_str("(-2)"),
+            w => out.push_str(w),
+        }
+        word.clear();
+    };
+    for c in text.chars() {
+        if c.is_ascii_alphanumeric() || c == '_' {
+            word.push(c);
+        } else {
+            flush(&mut word, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
 fn grammar() -> impl Strategy<Value = String> {
     let production = (
         prop::sample::select(vec!["A(x,y)", "X(x)", "F(x)", "B", "F"]),
@@ -181,11 +205,15 @@ fn grammar() -> impl Strategy<Value = String> {
         ])),
     )
         .prop_map(|(axiom, prods, n, extra)| {
-            // x and y are defines outside productions and parameters inside them.
-            let mut s = format!(
-                "#define x 1.5\n#define y -2\nderivation length: {n}\nAxiom: {}\n",
-                if axiom.is_empty() { "F" } else { &axiom }
-            );
+            // x and y are parameters inside productions; in the axiom they stand for
+            // the numbers 1.5 and -2 (a `#define` would replace them everywhere, as
+            // cpfg's C preprocessor does).
+            let axiom = if axiom.is_empty() {
+                "F".to_string()
+            } else {
+                numbers_for_xy(&axiom)
+            };
+            let mut s = format!("derivation length: {n}\nAxiom: {axiom}\n");
             for p in prods {
                 s += &p;
                 s += "\n";

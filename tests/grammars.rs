@@ -470,7 +470,8 @@ fn decomposition_cut_polygons_and_leaves() {
         "F[F]F"
     );
     // Polygons and leaf sites are recorded, not drawn as branches.
-    let ls = LSystem::parse("Axiom: F[{.+f.+f.+f.}]~F").unwrap();
+    // `~l` is a surface site (cpfg's predefined surface `l`).
+    let ls = LSystem::parse("Axiom: F[{.+f.+f.+f.}]~lF").unwrap();
     let sk = ls.skeleton(&LsystemOptions::default()).unwrap();
     assert_eq!(sk.len(), 2);
     assert_eq!(sk.polygons().len(), 1);

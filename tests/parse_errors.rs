@@ -13,8 +13,8 @@ const CASES: &[(&str, u32, u32, &str)] = &[
         ("Axiom: F(1 2)", 1, 12, "`,` or `)` after a module parameter"),
         ("Axiom: [F", 1, 8, "unbalanced brackets: this `[` is never c"),
         ("Axiom: F]", 1, 9, "unbalanced brackets: this `]` closes no "),
-        ("Axiom: F(zz)", 1, 10, "a parameter of the production or a #defi"),
-        ("Axiom: F(foo(1))", 1, 10, "a function: sin cos tan asin acos atan e"),
+        ("Axiom: F(zz[1])", 1, 10, "`zz` is subscripted but never declared "),
+        ("Axiom: F(foo(1))", 1, 10, "a function: sin cos tan asin acos atan a"),
         ("Axiom: F(min(1))", 1, 10, "2 argument(s) to `min`, not 1"),
         ("Axiom: @", 1, 9, "a letter after `@` (such as @M, @R or @v"),
         ("Axiom: @1", 1, 9, "a letter after `@` (such as @M, @R or @v"),
@@ -23,33 +23,33 @@ const CASES: &[(&str, u32, u32, &str)] = &[
         ("Axiom: F\nF -> [F", 2, 6, "unbalanced brackets: this `[` is never c"),
         ("Axiom: F\nF --> F]", 2, 8, "unbalanced brackets: this `]` closes no "),
         ("Axiom: F\n --> F", 2, 2, "a predecessor module before `-->`"),
-        ("Axiom: F\nF G --> F", 2, 1, "a single predecessor module (use `<` and"),
+        ("Axiom: F\n[ --> F", 2, 1, "a bracket alone as a predecessor is rewr"),
         ("Axiom: F\nF(x, x) --> F", 2, 6, "a parameter name not used before in this"),
         ("Axiom: F\nF(1) --> F", 2, 3, "a parameter name"),
-        ("Axiom: F\nF(x) --> F(y)", 2, 12, "a parameter of the production or a #defi"),
+        ("Axiom: F\nF(x) --> F(x[0])", 2, 12, "`x[` subscripts a name that is not an ar"),
         ("Axiom: F\nF(x) : x > --> F", 2, 12, "an expression (a number, a name or `(`)"),
-        ("Axiom: F\nF(x) : { y = x; } --> F", 2, 8, "production statements `{ }` are not supp"),
-        ("Axiom: F\nF(x) : x > 0 { } --> F", 2, 14, "production statements `{ }` are not supp"),
+        ("Axiom: F\nF(x) : { y = ; } --> F", 2, 14, "an expression (a number, a name or `(`)"),
+        ("Axiom: F\nF(x) : x > 0 { } z --> F", 2, 18, "`-->` after the condition"),
         ("Axiom: F\nF --> F :", 2, 10, "an expression (a number, a name or `(`)"),
         ("Axiom: F\nF --> F : -1", 2, 11, "a finite probability >= 0"),
         ("Axiom: F\nF --> F : 1 2", 2, 13, "the end of the production after its prob"),
-        ("Axiom: F\nA < [B] --> F", 2, 5, "brackets are supported in a right contex"),
+        ("Axiom: F\n[A < B --> F", 2, 1, "brackets are supported in a right contex"),
         ("Axiom: F\nF", 2, 1, "a production with `-->` or a directive s"),
         ("Axiom: F\nhello world", 2, 1, "a production with `-->` or a directive s"),
         ("/* open comment\nAxiom: F", 1, 1, "unterminated comment: `/*` has no closin"),
         ("Axiom: F /* x", 1, 10, "unterminated comment: `/*` has no closin"),
-        ("#include \"foo.h\"\nAxiom: F", 1, 1, "the preprocessor directive `#include` is"),
-        ("#define\nAxiom: F", 1, 8, "a name after #define"),
-        ("#define 3x 1\nAxiom: F", 1, 9, "a name after #define"),
-        ("#define x\nAxiom: F", 1, 10, "a value for the #define"),
-        ("#define x ran(1)\nAxiom: F", 1, 10, "a value for the #define that is constant"),
+        ("#include \"foo.h\"\nAxiom: F", 1, 1, "#include \"foo.h\" needs the grammar's fo"),
+        ("#define\nAxiom: F", 1, 1, "a macro name after `#define`"),
+        ("#define 3x 1\nAxiom: F", 1, 1, "a macro name after `#define`"),
+        ("#define M(a\nAxiom: F", 1, 1, "`)` closing the parameters of a function"),
+        ("#define A B\n#define B A\nAxiom: A", 3, 1, "the macro `A` expands to itself (recursi"),
         ("derivation length: -1\nAxiom: F", 1, 20, "a whole number of steps from 0 to 65535"),
         ("derivation length: 2.5\nAxiom: F", 1, 20, "a whole number of steps from 0 to 65535"),
-        ("derivation length: x\nAxiom: F", 1, 20, "a parameter of the production or a #defi"),
+        ("derivation length: x\nAxiom: F", 1, 20, "a number or a #define name (this name is"),
         ("seed: -3\nAxiom: F", 1, 7, "a whole, non-negative seed"),
-        ("Start: { x = 1; }\nAxiom: F", 1, 1, "Start/End blocks are not supported"),
-        ("End: { }\nAxiom: F", 1, 1, "Start/End blocks are not supported"),
-        ("define: { array a[3]; }\nAxiom: F", 1, 1, "arrays (`define:` blocks) are not suppor"),
+        ("Start: { x = ; }\nAxiom: F", 1, 14, "an expression (a number, a name or `(`)"),
+        ("End: { while (1 }\nAxiom: F", 1, 17, "`)` closing the condition of `while`"),
+        ("define: { array a[0]; }\nAxiom: F", 1, 19, "a constant array size from 1 to 4194304"),
         ("ring L-system: 1\nAxiom: F", 1, 1, "ring L-systems are not supported"),
         ("Lsystem: 1\nAxiom: F\nendlsystem\nLsystem: 2", 4, 1, "sub-L-systems (a second `Lsystem:`) are "),
         ("Lsystem: 1\nAxiom: F\nendlsystem\nF --> G", 4, 1, "nothing after `endlsystem`"),
@@ -57,7 +57,7 @@ const CASES: &[(&str, u32, u32, &str)] = &[
         ("maximum depth: 3\nAxiom: F", 1, 1, "`maximum depth:` after `homomorphism` or"),
         ("homomorphism\nmaximum depth: -2\nAxiom: F", 2, 16, "a whole maximum depth from 0 to 1000"),
         ("homomorphism\nA < B --> F\nAxiom: F", 2, 1, "context in homomorphism or decomposition"),
-        ("angle increment: abc\nAxiom: F", 1, 18, "a parameter of the production or a #defi"),
+        ("angle increment: abc\nAxiom: F", 1, 18, "a number or a #define name (this name is"),
         ("tropism: 0 -1 0\nAxiom: F", 1, 10, "`T:` and the tropism vector (tropism: T:"),
         ("tropism: T: 0 -1\nAxiom: F", 1, 17, "a number or a #define name"),
         ("tropism: T: 0 -1 0 E:\nAxiom: F", 1, 22, "a number or a #define name"),
@@ -93,11 +93,9 @@ fn hostile_text_is_refused_cleanly() {
     let ls = LSystem::parse(&brackets).unwrap();
     let s = ls.skeleton(&Default::default()).unwrap();
     assert_eq!(s.len(), 1);
+    // A long macro name is C: fine.
     let long_name = format!("#define {} 1\nAxiom: F", "x".repeat(10_000));
-    assert!(matches!(
-        LSystem::parse(&long_name),
-        Err(Error::Parse { .. })
-    ));
+    assert!(LSystem::parse(&long_name).is_ok());
     assert!(matches!(LSystem::parse(""), Err(Error::Parse { .. })));
     // Keywords are case-insensitive, as in cpfg.
     assert!(LSystem::parse("LSYSTEM: 1\nAXIOM: F\nDerivation Length: 2\nENDLSYSTEM").is_ok());

@@ -149,8 +149,8 @@ fn grow_c(bytes: &[u8], options: Option<&ArborLsystemOptions>) -> (ArborStatus, 
 fn errors_read_the_same_through_rust_and_c() {
     let cases: [&str; 6] = [
         "Axiom: F(",
-        "Axiom: F\nF(x) --> F(y)",
-        "Start: { }\nAxiom: F",
+        "Axiom: F\nF(x) --> F(a[1])",
+        "#include \"missing.h\"\nAxiom: F",
         "derivation length: 1\nAxiom: A(0)\nA(x) --> F(log(x))",
         "derivation length: 30\nAxiom: F\nF --> FF",
         "",

@@ -111,6 +111,22 @@ impl Frame {
         }
     }
 
+    /// cpfg's older tropism toward the unit vector `t` with elasticity `e`: H turns
+    /// toward U by asin(e·(t·U)), then toward L by asin(e·(t·L)).
+    pub fn bend_old_style(&mut self, t: DVec3, e: f64) {
+        if e == 0.0 {
+            return;
+        }
+        let a = (e * t.dot(self.up)).clamp(-1.0, 1.0).asin();
+        if let Some(axis) = self.heading.cross(self.up).try_normalize() {
+            self.rotate(axis, a);
+        }
+        let b = (e * t.dot(self.left)).clamp(-1.0, 1.0).asin();
+        if let Some(axis) = self.heading.cross(self.left).try_normalize() {
+            self.rotate(axis, b);
+        }
+    }
+
     /// `@R(hx,hy,hz[,ux,uy,uz])`: sets the heading (and the up vector); L = H × U.
     pub fn set_heading(&mut self, h: DVec3, up: Option<DVec3>) {
         let Some(h) = h.try_normalize() else { return };

@@ -1,14 +1,22 @@
 //! Parallel rewriting over flat module strings, double-buffered.
 
+use super::expr::Env;
 use super::grammar::{CUT, ModuleList, POP, PUSH, Pattern, Production, ProductionTable};
+use super::stmt::{self, Effects, Stmt};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
+#[cfg(test)]
 use crate::rng::Rng;
 
 /// Everything a step needs besides the strings.
 pub(crate) struct Ctx<'a> {
     pub(crate) ls: &'a LSystem,
-    pub(crate) rng: Rng,
+    /// The random stream and the global variables.
+    pub(crate) env: Env,
+    /// The statements' budget, log and `stop()`.
+    pub(crate) fx: Effects,
+    /// The line of the production whose statements are running (for messages).
+    line: u32,
     pub(crate) max_modules: usize,
     pub(crate) max_params: usize,
     /// Most modules all steps together may rewrite (`LsystemOptions::max_work`).
@@ -28,7 +36,12 @@ impl<'a> Ctx<'a> {
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
         Ctx {
             ls,
-            rng: Rng::new(ls.effective_seed(options)),
+            env: Env::new(ls.effective_seed(options), &ls.globals),
+            fx: Effects {
+                budget: options.max_work as u64,
+                ..Default::default()
+            },
+            line: 0,
             max_modules: options.max_modules,
             max_params: options.max_params.min(u32::MAX as usize),
             max_work: options.max_work as u64,
@@ -53,6 +66,40 @@ impl<'a> Ctx<'a> {
             });
         }
         Ok(())
+    }
+
+    /// Runs a block of statements without parameters (`Start:` and the like).
+    pub(crate) fn run_block(&mut self, stmts: &[Stmt], what: &str) -> Result<()> {
+        if stmts.is_empty() {
+            return Ok(());
+        }
+        stmt::exec(stmts, &mut [], &mut self.env, &mut self.fx);
+        self.check(what)
+    }
+
+    /// Turns a fault the statements or expressions noted into an error.
+    pub(crate) fn check(&mut self, what: &str) -> Result<()> {
+        let Some(fault) = self.env.fault.take() else {
+            return Ok(());
+        };
+        if fault.contains("max_work") {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_work",
+                what: "statements executed (max_work)",
+                limit: self.max_work,
+                requested: self.max_work.saturating_add(1),
+                step: Some(self.step),
+            });
+        }
+        let place = if self.line > 0 {
+            format!("the production at line {}", self.line)
+        } else {
+            what.to_string()
+        };
+        Err(Error::Eval {
+            step: self.step,
+            message: format!("in {place}: {fault}"),
+        })
     }
 
     fn limit(&self, name: &'static str, what: &'static str, limit: usize, need: usize) -> Error {
@@ -108,7 +155,7 @@ fn emit(
     out.params.resize(base + list.exprs.len(), 0.0);
     let mut bad = None;
     for (k, (slot, e)) in out.params[base..].iter_mut().zip(&list.exprs).enumerate() {
-        let v = e.eval(args, &mut ctx.rng);
+        let v = e.eval(args, &mut ctx.env);
         let stored = v as f32;
         if !stored.is_finite() && bad.is_none() {
             bad = Some((k, v));
@@ -267,15 +314,22 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
     }
     let mut cur = ModuleString::new();
     let mut next = ModuleString::new();
+    // cpfg's order: Start, the axiom, then per step StartEach, the step, EndEach; End.
+    ctx.run_block(&ls.blocks.start, "the Start: block")?;
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
+    ctx.check("the axiom")?;
     post_process(&mut ctx, &mut cur, &mut next)?;
     let mut links = Links::default();
     // Growth of the last step (modules, parameters), to size the next buffer once instead
     // of letting it double (and copy) its way up.
     let mut growth = (1.0f64, 1.0f64);
     for step in 1..=steps {
+        if ctx.fx.stop {
+            break;
+        }
         ctx.step = step;
         ctx.spend(cur.len())?;
+        ctx.run_block(&ls.blocks.start_each, "the StartEach: block")?;
         next.clear();
         let want = |len: usize, g: f64, limit: usize| ((len as f64 * g * 1.02) as usize).min(limit);
         next.reserve(
@@ -293,7 +347,11 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         );
         std::mem::swap(&mut cur, &mut next);
         post_process(&mut ctx, &mut cur, &mut next)?;
+        ctx.run_block(&ls.blocks.end_each, "the EndEach: block")?;
     }
+    ctx.run_block(&ls.blocks.end, "the End: block")?;
+    cur.globals = std::mem::take(&mut ctx.env.vars);
+    cur.log = std::mem::take(&mut ctx.fx.log);
     Ok(cur)
 }
 
@@ -441,13 +499,20 @@ fn rewrite(
             i = j;
             continue;
         }
-        match select(ctx, table, cur, links, i) {
+        let chosen = select(ctx, table, cur, links, i);
+        if ctx.env.fault.is_some() {
+            return ctx.check("a production");
+        }
+        match chosen {
             Some(p) => {
                 let prod = &table.productions[p as usize];
                 let args = std::mem::take(&mut ctx.args);
                 let r = emit(ctx, &prod.successor, &args, birth, next);
                 ctx.args = args;
                 r?;
+                ctx.line = prod.line;
+                ctx.check("a production")?;
+                i += prod.pred_rest.len();
             }
             None => copy_run(ctx, cur, i, i + 1, next)?,
         }
@@ -502,9 +567,21 @@ fn select(
 ) -> Option<u32> {
     let ls = ctx.ls;
     select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
-        (p.left.is_empty() || match_left(ls, s, links, i, p, args))
-            && (p.right.is_empty() || match_right(ls, s, links, i, p, args))
+        (p.pred_rest.is_empty() || match_rest(s, i, p, args))
+            && (p.left.is_empty() || match_left(ls, s, links, i, p, args))
+            && (p.right.is_empty() || match_right(ls, s, links, i + p.pred_rest.len(), p, args))
     })
+}
+
+/// The modules after the first of a predecessor of several, one after another.
+fn match_rest(s: &ModuleString, i: usize, p: &Production, args: &mut [f64]) -> bool {
+    if i + p.pred_rest.len() >= s.len() {
+        return false;
+    }
+    p.pred_rest
+        .iter()
+        .enumerate()
+        .all(|(k, pat)| bind_module(s, i + 1 + k, pat, args))
 }
 
 /// Chooses among the productions of `sym` whose arity, context (`context`) and condition
@@ -523,11 +600,23 @@ fn select_with(
     for &pi in table.candidates(sym) {
         let p = &table.productions[pi as usize];
         let mut args = std::mem::take(&mut ctx.args);
-        let ok = bind_pred(&mut args, p, params)
-            && context(p, &mut args)
+        let mut ok = bind_pred(&mut args, p, params) && context(p, &mut args);
+        if ok && !p.pre.is_empty() {
+            ctx.line = p.line;
+            ok = stmt::exec(&p.pre, &mut args, &mut ctx.env, &mut ctx.fx);
+        }
+        ok = ok
             && p.condition
                 .as_ref()
-                .is_none_or(|c| c.eval(&args, &mut ctx.rng) != 0.0);
+                .is_none_or(|c| c.eval(&args, &mut ctx.env) != 0.0);
+        if ok && !p.post.is_empty() {
+            ctx.line = p.line;
+            ok = stmt::exec(&p.post, &mut args, &mut ctx.env, &mut ctx.fx);
+        }
+        if ctx.env.fault.is_some() {
+            ctx.args = args;
+            return None;
+        }
         if ok {
             match &p.probability {
                 None if ctx.cands.is_empty() => {
@@ -536,7 +625,7 @@ fn select_with(
                 }
                 None => {}
                 Some(w) => {
-                    let w = w.eval(&args, &mut ctx.rng);
+                    let w = w.eval(&args, &mut ctx.env);
                     if w.is_finite() && w > 0.0 {
                         ctx.cands.push((pi, ctx.cand_args.len(), w));
                         ctx.cand_args.extend_from_slice(&args);
@@ -550,7 +639,7 @@ fn select_with(
     if ctx.cands.is_empty() {
         return None;
     }
-    let mut r = ctx.rng.next_f64() * total;
+    let mut r = ctx.env.rng.next_f64() * total;
     let mut chosen = ctx.cands[ctx.cands.len() - 1];
     for &c in &ctx.cands {
         if r < c.2 {
@@ -718,6 +807,9 @@ impl Expander {
             } else {
                 None
             };
+            if ctx.env.fault.is_some() {
+                return ctx.check("an interpretation or decomposition rule");
+            }
             let Some(pi) = chosen else {
                 sink(ctx, sym, &self.arena[base..], depth > 0)?;
                 self.arena.truncate(base);
@@ -731,7 +823,7 @@ impl Expander {
             for m in &succ.modules {
                 let first = self.produced_params.len() as u32;
                 for e in succ.params(m) {
-                    let v = e.eval(&args, &mut ctx.rng);
+                    let v = e.eval(&args, &mut ctx.env);
                     if !(v as f32).is_finite() {
                         ctx.args = args;
                         return Err(non_finite(ctx, m.sym, v, succ.line));

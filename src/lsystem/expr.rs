@@ -1,13 +1,121 @@
 //! Expressions: parsed once, constant-folded, compiled to a compact stack bytecode.
 //!
-//! Grammar, lowest precedence first (C-like, with `^` as power, as in cpfg):
-//! `c ? a : b`, `||`, `&&`, `== !=`, `< <= > >=`, `+ -`, `* / %`, unary `- + !`, `^`
-//! (right-associative, binds tighter than unary minus), then numbers, names, calls and
-//! parentheses. Trigonometric functions work in degrees, as in cpfg.
+//! Grammar, lowest precedence first (C-like, as cpfg reads it): `c ? a : b`, `||`, `&&`,
+//! `== != <>`, `< <= > >=`, `+ -`, `* / %`, `^` (power, left-associative and looser than
+//! unary minus: `-2^2` is 4, `2^3^2` is 64), unary `- + !`, then numbers, names, array
+//! elements `a[i][j]`, calls and parentheses. Trigonometric functions work in degrees;
+//! `trunc` rounds to the nearest whole number and `%` works on the integer parts, as in
+//! cpfg. A name that is neither a parameter of the production nor an array is a global
+//! variable (0 until a statement assigns it).
 
 use super::syntax::{Cursor, PResult};
 use crate::rng::Rng;
+use std::cell::RefCell;
 use std::collections::HashMap;
+
+/// Most values all global variables and arrays of a grammar may hold together.
+pub(crate) const MAX_GLOBAL_VALUES: usize = 1 << 22;
+
+/// An array declared in a `define:` block.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ArrayDecl {
+    pub(crate) name: String,
+    pub(crate) dims: Vec<u32>,
+    /// Index of its first element in [`Env::vars`].
+    pub(crate) offset: u32,
+}
+
+/// The global variables and arrays of a grammar, named while parsing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Globals {
+    /// Plain variables: name and index in [`Env::vars`].
+    pub(crate) vars: Vec<(String, u32)>,
+    pub(crate) arrays: Vec<ArrayDecl>,
+    /// Initial values of every slot (0, or an array's `= { ... }`).
+    pub(crate) init: Vec<f64>,
+}
+
+impl Globals {
+    pub(crate) fn var(&self, name: &str) -> Option<u32> {
+        self.vars.iter().find(|(n, _)| n == name).map(|&(_, i)| i)
+    }
+
+    pub(crate) fn array(&self, name: &str) -> Option<u16> {
+        self.arrays
+            .iter()
+            .position(|a| a.name == name)
+            .map(|i| i as u16)
+    }
+
+    /// The slot of variable `name`, created (0) on first use; `None` past the limit.
+    pub(crate) fn intern(&mut self, name: &str) -> Option<u32> {
+        if let Some(i) = self.var(name) {
+            return Some(i);
+        }
+        if self.init.len() >= MAX_GLOBAL_VALUES {
+            return None;
+        }
+        let i = self.init.len() as u32;
+        self.init.push(0.0);
+        self.vars.push((name.to_string(), i));
+        Some(i)
+    }
+}
+
+/// What expressions and statements read and change while a grammar runs: the random
+/// stream, the global variables, and the first run-time fault (an array index out of
+/// range, a statement budget spent).
+#[derive(Clone, Debug)]
+pub(crate) struct Env {
+    pub(crate) rng: Rng,
+    pub(crate) vars: Vec<f64>,
+    pub(crate) arrays: std::sync::Arc<[ArrayDecl]>,
+    pub(crate) fault: Option<String>,
+}
+
+impl Env {
+    pub(crate) fn new(seed: u64, globals: &Globals) -> Self {
+        Env {
+            rng: Rng::new(seed),
+            vars: globals.init.clone(),
+            arrays: globals.arrays.clone().into(),
+            fault: None,
+        }
+    }
+
+    /// An environment without variables (constant folding, tests).
+    pub(crate) fn empty(seed: u64) -> Self {
+        Env {
+            rng: Rng::new(seed),
+            vars: Vec::new(),
+            arrays: Vec::new().into(),
+            fault: None,
+        }
+    }
+
+    /// The slot of element `idx` of array `a`, or `None` (with a fault noted) when an
+    /// index is outside its dimension.
+    pub(crate) fn element(&mut self, a: u16, idx: &[f64]) -> Option<usize> {
+        let decl = &self.arrays[a as usize];
+        let mut linear = 0usize;
+        for (k, (&i, &d)) in idx.iter().zip(&decl.dims).enumerate() {
+            let i = i.floor();
+            if !(i >= 0.0 && i < d as f64) {
+                if self.fault.is_none() {
+                    self.fault = Some(format!(
+                        "index {} of `{}` is {i}, outside 0..{}",
+                        k + 1,
+                        decl.name,
+                        d
+                    ));
+                }
+                return None;
+            }
+            linear = linear * d as usize + i as usize;
+        }
+        Some(decl.offset as usize + linear)
+    }
+}
 
 /// Deepest parenthesis/call nesting accepted, so hostile input cannot exhaust the stack.
 pub(crate) const MAX_NESTING: usize = 100;
@@ -30,6 +138,17 @@ pub(crate) enum Func1 {
     Ceil,
     Trunc,
     Sign,
+}
+
+/// Functions of three or more values, and those that change the environment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Special {
+    /// `srand(s)`: restarts the random stream; its value is 0.
+    Srand,
+    /// `bran(a, b)`: a draw from the beta distribution.
+    Bran,
+    /// `biran(n, p)`: a draw from the binomial distribution.
+    Biran,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,6 +183,11 @@ pub(crate) enum Op {
     F2(Func2),
     Ran,
     Nran,
+    /// A global variable's slot in [`Env::vars`].
+    Var(u32),
+    /// Pops the array's indices (one per dimension) and pushes the element.
+    Elem(u16),
+    Special(Special),
     /// Pops; jumps to the target when the value is 0.
     JumpIfZero(u32),
     Jump(u32),
@@ -88,7 +212,7 @@ impl Func1 {
             Func1::Fabs => x.abs(),
             Func1::Floor => x.floor(),
             Func1::Ceil => x.ceil(),
-            Func1::Trunc => x.trunc(),
+            Func1::Trunc => (x + 0.5).floor(),
             Func1::Sign => {
                 if x > 0.0 {
                     1.0
@@ -140,7 +264,10 @@ fn binary(op: Op, x: f64, y: f64) -> f64 {
         Op::Sub => x - y,
         Op::Mul => x * y,
         Op::Div => x / y,
-        Op::Rem => x % y,
+        Op::Rem => {
+            let (a, b) = (x.trunc(), y.trunc());
+            if b == 0.0 { f64::NAN } else { a % b }
+        }
         Op::Pow => libm::pow(x, y),
         Op::Lt => b(x < y),
         Op::Le => b(x <= y),
@@ -185,12 +312,12 @@ pub(crate) enum Expr {
 impl Expr {
     /// Evaluates with the production's bound parameters `args`.
     #[inline(always)]
-    pub(crate) fn eval(&self, args: &[f64], rng: &mut Rng) -> f64 {
+    pub(crate) fn eval(&self, args: &[f64], env: &mut Env) -> f64 {
         match self {
             Expr::Const(c) => *c,
             Expr::Param(i) => args[*i as usize],
             Expr::Binary(op, a, b) => binary(*op, a.get(args), b.get(args)),
-            Expr::Code(ops, depth) => run_code(ops, *depth, args, rng),
+            Expr::Code(ops, depth) => run_code(ops, *depth, args, env),
         }
     }
 
@@ -200,11 +327,19 @@ impl Expr {
             Expr::Const(c) => Some(*c),
             // Code without parameters or random draws (a `?:`, say) has one value.
             Expr::Code(ops, depth)
-                if ops
-                    .iter()
-                    .all(|op| !matches!(op, Op::Param(_) | Op::Ran | Op::Nran)) =>
+                if ops.iter().all(|op| {
+                    !matches!(
+                        op,
+                        Op::Param(_)
+                            | Op::Ran
+                            | Op::Nran
+                            | Op::Var(_)
+                            | Op::Elem(_)
+                            | Op::Special(_)
+                    )
+                }) =>
             {
-                Some(run_code(ops, *depth, &[], &mut Rng::new(0)))
+                Some(run_code(ops, *depth, &[], &mut Env::empty(0)))
             }
             _ => None,
         }
@@ -215,15 +350,15 @@ impl Expr {
 const SMALL_STACK: usize = 16;
 
 #[inline(never)]
-fn run_code(ops: &[Op], depth: usize, args: &[f64], rng: &mut Rng) -> f64 {
+fn run_code(ops: &[Op], depth: usize, args: &[f64], env: &mut Env) -> f64 {
     if depth <= SMALL_STACK {
-        run(ops, args, rng, &mut [0.0; SMALL_STACK])
+        run(ops, args, env, &mut [0.0; SMALL_STACK])
     } else {
-        run(ops, args, rng, &mut vec![0.0; depth])
+        run(ops, args, env, &mut vec![0.0; depth])
     }
 }
 
-fn run(ops: &[Op], args: &[f64], rng: &mut Rng, stack: &mut [f64]) -> f64 {
+fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
     let mut sp = 0usize;
     let mut pc = 0usize;
     while pc < ops.len() {
@@ -241,14 +376,40 @@ fn run(ops: &[Op], args: &[f64], rng: &mut Rng, stack: &mut [f64]) -> f64 {
             Op::Neg => stack[sp - 1] = -stack[sp - 1],
             Op::Not => stack[sp - 1] = b(stack[sp - 1] == 0.0),
             Op::F1(f) => stack[sp - 1] = f.apply(stack[sp - 1]),
-            Op::Ran => stack[sp - 1] *= rng.next_f64(),
+            Op::Ran => stack[sp - 1] *= env.rng.next_f64(),
+            Op::Var(i) => {
+                stack[sp] = env.vars.get(i as usize).copied().unwrap_or(0.0);
+                sp += 1;
+            }
+            Op::Elem(a) => {
+                let n = env.arrays[a as usize].dims.len();
+                sp -= n;
+                let v = match env.element(a, &stack[sp..sp + n]) {
+                    Some(slot) => env.vars[slot],
+                    None => 0.0,
+                };
+                stack[sp] = v;
+                sp += 1;
+            }
+            Op::Special(Special::Srand) => {
+                env.rng = Rng::new(stack[sp - 1] as i64 as u64);
+                stack[sp - 1] = 0.0;
+            }
+            Op::Special(Special::Bran) => {
+                sp -= 1;
+                stack[sp - 1] = beta(&mut env.rng, stack[sp - 1], stack[sp]);
+            }
+            Op::Special(Special::Biran) => {
+                sp -= 1;
+                stack[sp - 1] = binomial(&mut env.rng, stack[sp - 1], stack[sp]);
+            }
             Op::F2(f) => {
                 sp -= 1;
                 stack[sp - 1] = f.apply(stack[sp - 1], stack[sp]);
             }
             Op::Nran => {
                 sp -= 1;
-                stack[sp - 1] = rng.normal(stack[sp - 1], stack[sp]);
+                stack[sp - 1] = env.rng.normal(stack[sp - 1], stack[sp]);
             }
             Op::JumpIfZero(t) => {
                 sp -= 1;
@@ -267,10 +428,36 @@ fn run(ops: &[Op], args: &[f64], rng: &mut Rng, stack: &mut [f64]) -> f64 {
     stack[0]
 }
 
-/// What names mean while compiling: formal parameters (slots) and `#define`d constants.
+/// A draw from Beta(a, b) (Jöhnk's method, at most 1,000 tries, then the mean).
+fn beta(rng: &mut Rng, a: f64, b: f64) -> f64 {
+    if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
+        return f64::NAN;
+    }
+    for _ in 0..1000 {
+        let x = rng.next_f64().powf(1.0 / a);
+        let y = rng.next_f64().powf(1.0 / b);
+        if x + y <= 1.0 && x + y > 0.0 {
+            return x / (x + y);
+        }
+    }
+    a / (a + b)
+}
+
+/// A draw from Binomial(n, p) by counting trials (n at most 100,000).
+fn binomial(rng: &mut Rng, n: f64, p: f64) -> f64 {
+    if !(n.is_finite() && (0.0..=100_000.0).contains(&n) && (0.0..=1.0).contains(&p)) {
+        return f64::NAN;
+    }
+    (0..n as u32).filter(|_| rng.next_f64() < p).count() as f64
+}
+
+/// What names mean while compiling: formal parameters (slots), `#define`d constants
+/// (the view file's own), and the grammar's global variables and arrays.
 pub(crate) struct Scope<'a> {
     pub(crate) params: &'a [(String, u16)],
     pub(crate) defines: &'a HashMap<String, f64>,
+    /// `None`: an unknown name is an error (a constant is wanted).
+    pub(crate) globals: Option<&'a RefCell<Globals>>,
 }
 
 impl Scope<'_> {
@@ -324,12 +511,15 @@ pub(crate) fn compile(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<Expr> 
 impl Compiler<'_, '_, '_> {
     fn push(&mut self, op: Op) {
         match op {
-            Op::Const(_) | Op::Param(_) => {
+            Op::Const(_) | Op::Param(_) | Op::Var(_) => {
                 self.depth += 1;
                 self.max_depth = self.max_depth.max(self.depth);
             }
             Op::JumpIfZero(_) => self.depth -= 1,
-            Op::Neg | Op::Not | Op::F1(_) | Op::Ran | Op::Jump(_) => {}
+            Op::Neg | Op::Not | Op::F1(_) | Op::Ran | Op::Jump(_) | Op::Special(Special::Srand) => {
+            }
+            // The caller accounts for the indices an element pops.
+            Op::Elem(_) => {}
             _ => self.depth -= 1,
         }
         self.ops.push(op);
@@ -425,6 +615,10 @@ impl Compiler<'_, '_, '_> {
             if tok == "-" && (self.cur.peek_str("->") || self.cur.peek_str("-->")) {
                 return Ok(());
             }
+            // `<>` is `!=`, one level up.
+            if tok == "<" && self.cur.peek_str("<>") {
+                return Ok(());
+            }
             self.cur.eat(tok);
             let right = self.ops.len();
             next(self)?;
@@ -441,7 +635,10 @@ impl Compiler<'_, '_, '_> {
     }
 
     fn equality(&mut self) -> PResult<()> {
-        self.binary_level(&[("==", Op::Eq), ("!=", Op::Ne)], Self::relation)
+        self.binary_level(
+            &[("==", Op::Eq), ("!=", Op::Ne), ("<>", Op::Ne)],
+            Self::relation,
+        )
     }
 
     fn relation(&mut self) -> PResult<()> {
@@ -458,8 +655,13 @@ impl Compiler<'_, '_, '_> {
     fn multiplicative(&mut self) -> PResult<()> {
         self.binary_level(
             &[("*", Op::Mul), ("/", Op::Div), ("%", Op::Rem)],
-            Self::unary,
+            Self::power,
         )
+    }
+
+    /// `a ^ b ^ c`, left to right, over unary operands (so `-2^2` is `(-2)^2`).
+    fn power(&mut self) -> PResult<()> {
+        self.binary_level(&[("^", Op::Pow)], Self::unary)
     }
 
     fn unary(&mut self) -> PResult<()> {
@@ -479,23 +681,9 @@ impl Compiler<'_, '_, '_> {
             }
         }
         let start = self.ops.len();
-        self.power()?;
+        self.primary()?;
         for op in prefix.into_iter().rev() {
             self.emit_unary(op, start);
-        }
-        Ok(())
-    }
-
-    fn power(&mut self) -> PResult<()> {
-        let left = self.ops.len();
-        self.primary()?;
-        self.cur.skip_ws();
-        if self.cur.eat("^") {
-            self.nest()?;
-            let right = self.ops.len();
-            self.unary()?;
-            self.nesting -= 1;
-            self.emit_binary(Op::Pow, left, right);
         }
         Ok(())
     }
@@ -523,15 +711,56 @@ impl Compiler<'_, '_, '_> {
             return self.call(name, at);
         }
         if let Some(slot) = self.scope.param(name) {
+            if self.cur.peek_str("[") {
+                return Err(self.cur.message_at(
+                    at,
+                    &format!("`{name}[` subscripts a name that is not an array (a parameter)"),
+                ));
+            }
             self.push(Op::Param(slot));
-        } else if let Some(&v) = self.scope.defines.get(name) {
-            self.push(Op::Const(v));
-        } else {
-            return Err(self.cur.error_at(
-                at,
-                "a parameter of the production or a #define name (this name is undefined)",
-            ));
+            return Ok(());
         }
+        if let Some(&v) = self.scope.defines.get(name) {
+            self.push(Op::Const(v));
+            return Ok(());
+        }
+        let Some(globals) = self.scope.globals else {
+            return Err(self
+                .cur
+                .error_at(at, "a number or a #define name (this name is undefined)"));
+        };
+        let array = globals.borrow().array(name);
+        if self.cur.peek_str("[") || array.is_some() {
+            let Some(a) = array else {
+                return Err(self.cur.message_at(
+                    at,
+                    &format!("`{name}` is subscripted but never declared as an array (define: {{ array {name}[n]; }})"),
+                ));
+            };
+            let dims = globals.borrow().arrays[a as usize].dims.len();
+            self.nest()?;
+            for _ in 0..dims {
+                self.cur.skip_ws();
+                if !self.cur.eat("[") {
+                    return Err(self.cur.error(&format!(
+                        "`[` and an index: `{name}` has {dims} dimension(s)"
+                    )));
+                }
+                self.ternary()?;
+                self.cur.skip_ws();
+                if !self.cur.eat("]") {
+                    return Err(self.cur.error("`]` closing an array index"));
+                }
+            }
+            self.nesting -= 1;
+            self.push(Op::Elem(a));
+            self.depth -= dims - 1;
+            return Ok(());
+        }
+        let Some(slot) = globals.borrow_mut().intern(name) else {
+            return Err(self.cur.message_at(at, "too many global variables"));
+        };
+        self.push(Op::Var(slot));
         Ok(())
     }
 
@@ -561,11 +790,26 @@ impl Compiler<'_, '_, '_> {
             "max" => F::Two(Op::F2(Func2::Max)),
             "pow" => F::Two(Op::F2(Func2::Pow)),
             "nran" => F::Two(Op::Nran),
+            "atan2" => F::Two(Op::F2(Func2::Atan2)),
+            "srand" => F::One(Op::Special(Special::Srand)),
+            "bran" => F::Two(Op::Special(Special::Bran)),
+            "biran" => F::Two(Op::Special(Special::Biran)),
+            "func" | "curveX" | "curveY" | "curveZ" | "curveGAL" | "play" | "inblob" | "fopen"
+            | "fclose" | "fflush" | "fscanf" | "fprintf" | "vvXmin" | "vvXmax" | "vvYmin"
+            | "vvYmax" | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
+                return Err(self.cur.message_at(
+                    at,
+                    &format!(
+                        "`{name}()` needs what arbor does not load (function sets, curve \
+                         files, files or the viewer); the grammar cannot run without it"
+                    ),
+                ));
+            }
             _ => {
                 return Err(self.cur.error_at(
                     at,
-                    "a function: sin cos tan asin acos atan exp log sqrt fabs floor ceil \
-                     trunc sign min max pow ran nran",
+                    "a function: sin cos tan asin acos atan atan2 exp log sqrt fabs floor \
+                     ceil trunc sign min max pow ran nran bran biran srand",
                 ));
             }
         };
@@ -614,6 +858,11 @@ impl Compiler<'_, '_, '_> {
     }
 
     fn push_two(&mut self, op: Op, start: usize) {
+        if let Op::Special(_) = op {
+            self.depth -= 1;
+            self.ops.push(op);
+            return;
+        }
         if let [Op::Const(x), Op::Const(y)] = self.ops[start..] {
             if let Op::F2(f) = op {
                 self.ops.truncate(start);
@@ -639,9 +888,11 @@ mod tests {
         let args: Vec<f64> = params.iter().map(|&(_, v)| v).collect();
         let mut defines = HashMap::new();
         defines.insert("q".to_string(), 0.5);
+        let globals = RefCell::new(Globals::default());
         let scope = Scope {
             params: &names,
             defines: &defines,
+            globals: Some(&globals),
         };
         let mut cur = Cursor::new(text);
         let e = compile(&mut cur, &scope).map_err(|e| e.expected)?;
@@ -649,7 +900,7 @@ mod tests {
         if !cur.at_end() {
             return Err(format!("stopped at {}", cur.pos()));
         }
-        Ok(e.eval(&args, &mut Rng::new(1)))
+        Ok(e.eval(&args, &mut Env::new(1, &globals.borrow())))
     }
 
     fn eval(text: &str) -> f64 {
@@ -660,8 +911,12 @@ mod tests {
     fn precedence_and_associativity() {
         assert_eq!(eval("1 + 2 * 3"), 7.0);
         assert_eq!(eval("(1 + 2) * 3"), 9.0);
-        assert_eq!(eval("2 ^ 3 ^ 2"), 512.0);
-        assert_eq!(eval("-2 ^ 2"), -4.0);
+        // cpfg's `^`: left-associative, looser than unary minus.
+        assert_eq!(eval("2 ^ 3 ^ 2"), 64.0);
+        assert_eq!(eval("-2 ^ 2"), 4.0);
+        assert_eq!(eval("2 * 3 ^ 2"), 18.0);
+        assert_eq!(eval("1 <> 2"), 1.0);
+        assert_eq!(eval("7.5 % 4.9"), 3.0);
         assert_eq!(eval("2 ^ -1"), 0.5);
         assert_eq!(eval("10 - 4 - 3"), 3.0);
         assert_eq!(eval("x * q ^ 2"), 0.75);
@@ -694,6 +949,7 @@ mod tests {
         let scope = Scope {
             params: &scope_names,
             defines: &defines,
+            globals: None,
         };
         let e = compile(&mut Cursor::new("2 * r ^ 2 + sin(90)"), &scope).unwrap();
         assert_eq!(e, Expr::Const(1.5));
@@ -717,7 +973,13 @@ mod tests {
     #[test]
     fn errors_say_what_was_expected() {
         assert!(eval_with("1 +", &[]).unwrap_err().contains("an expression"));
-        assert!(eval_with("zz", &[]).unwrap_err().contains("undefined"));
+        // An unknown name is a global variable, 0 until assigned.
+        assert_eq!(eval_with("zz + 1", &[]).unwrap(), 1.0);
+        assert!(
+            eval_with("zz[1]", &[])
+                .unwrap_err()
+                .contains("never declared as an array")
+        );
         assert!(eval_with("foo(1)", &[]).unwrap_err().contains("a function"));
         assert!(eval_with("min(1)", &[]).unwrap_err().contains("2 argument"));
         assert!(eval_with("(1", &[]).unwrap_err().contains("`)`"));
@@ -734,6 +996,7 @@ mod tests {
         let scope = Scope {
             params: &[],
             defines: &HashMap::new(),
+            globals: None,
         };
         let mut cur = Cursor::new("1 > 0 --> F");
         assert_eq!(compile(&mut cur, &scope).unwrap(), Expr::Const(1.0));

@@ -2,6 +2,7 @@
 //! expressions, and the settings the turtle reads.
 
 use super::expr::Expr;
+use super::stmt::Stmt;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -93,6 +94,13 @@ impl ModuleList {
 #[derive(Clone, Debug)]
 pub(crate) struct Production {
     pub(crate) pred: Pattern,
+    /// The modules after the first of a predecessor of several (`AB`, `[F(x)A]`),
+    /// matched one after another.
+    pub(crate) pred_rest: Vec<Pattern>,
+    /// Statements run before the condition (they may change the bound parameters).
+    pub(crate) pre: Vec<Stmt>,
+    /// Statements run when the condition holds, before the successor is made.
+    pub(crate) post: Vec<Stmt>,
     /// Left context in text order.
     pub(crate) left: Vec<Pattern>,
     /// Right context in text order; may contain `[` and `]`.
@@ -103,6 +111,26 @@ pub(crate) struct Production {
     pub(crate) probability: Option<Expr>,
     /// Number of bound parameters (left, predecessor, right, in text order).
     pub(crate) slots: usize,
+    /// The line of the grammar it starts on (for messages).
+    pub(crate) line: u32,
+}
+
+/// The `Start:`, `End:`, `StartEach:` and `EndEach:` blocks of a grammar.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Blocks {
+    pub(crate) start: Vec<Stmt>,
+    pub(crate) end: Vec<Stmt>,
+    pub(crate) start_each: Vec<Stmt>,
+    pub(crate) end_each: Vec<Stmt>,
+}
+
+impl Blocks {
+    pub(crate) fn is_empty(&self) -> bool {
+        self.start.is_empty()
+            && self.end.is_empty()
+            && self.start_each.is_empty()
+            && self.end_each.is_empty()
+    }
 }
 
 /// A table of productions found by the predecessor's symbol.
@@ -151,6 +179,22 @@ pub struct ViewSettings {
     pub tropism: Option<(DVec3, f64)>,
     /// Length of `F`, `G`, `f`, `g` without a parameter. Default 1.
     pub step_size: f64,
+    /// The view file's `tropism direction:` with `initial elasticity:` and `elasticity
+    /// increment:` (cpfg's older tropism). Default none.
+    pub old_tropism: Option<OldTropism>,
+}
+
+/// cpfg's older tropism: after every `F` the heading H turns toward the tropism vector T
+/// by asin(e·(T·U)) about L (toward U) and by asin(e·(T·L)) about U (toward L); `_(e)`
+/// sets e and `_` adds the increment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OldTropism {
+    /// T, a unit vector.
+    pub direction: DVec3,
+    /// e at the start.
+    pub elasticity: f64,
+    /// What `_` without a parameter adds to e.
+    pub increment: f64,
 }
 
 impl Default for ViewSettings {
@@ -161,6 +205,7 @@ impl Default for ViewSettings {
             width_increment: 1.0,
             tropism: None,
             step_size: 1.0,
+            old_tropism: None,
         }
     }
 }

@@ -15,6 +15,7 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Op {
     Ignore,
+    Elasticity,
     Draw,
     Move,
     Turn(f64),
@@ -59,7 +60,9 @@ fn op_of(name: &str) -> Op {
         "{" => Op::PolygonStart,
         "." => Op::PolygonVertex,
         "}" => Op::PolygonEnd,
-        "~" => Op::Leaf,
+        // `~` alone, or `~x` (cpfg's predefined surface x): a surface site.
+        n if n.starts_with('~') => Op::Leaf,
+        "_" => Op::Elasticity,
         "@Gs" => Op::CylinderStart,
         "@Gc" => Op::CylinderPoint,
         "@Ge" => Op::CylinderEnd,
@@ -78,6 +81,8 @@ struct State {
     /// The generalized cylinder (`@Gs` … `@Ge`) being drawn: an index into
     /// `Turtle::cylinders`, or NO_PARENT.
     cylinder: u32,
+    /// The elasticity of the view file's older tropism (`_` changes it).
+    elasticity: f64,
 }
 
 struct Turtle {
@@ -86,6 +91,7 @@ struct Turtle {
     width_increment: f64,
     step_size: f64,
     tropism: Option<(DVec3, f64)>,
+    old_tropism: Option<crate::lsystem::grammar::OldTropism>,
     max_branches: usize,
     /// Cosine and sine of recently used angles (grammars reuse a few angles).
     trig: [(u64, (f64, f64)); 8],
@@ -161,6 +167,11 @@ impl Turtle {
                 }
                 let start = self.state.frame.position;
                 let end = self.state.frame.forward(length);
+                if let (Some(t), Op::Draw) = (self.old_tropism, op) {
+                    self.state
+                        .frame
+                        .bend_old_style(t.direction, self.state.elasticity);
+                }
                 if !end.is_finite() || end.abs().max_element() > f32::MAX as f64 {
                     return Err(Error::Eval {
                         step,
@@ -250,6 +261,10 @@ impl Turtle {
                 }
             }
             Op::Push => self.stack.push(self.state),
+            Op::Elasticity => {
+                let inc = self.old_tropism.map_or(0.0, |t| t.increment);
+                self.state.elasticity = arg(0).unwrap_or(self.state.elasticity + inc);
+            }
             Op::CylinderStart => {
                 self.state.cylinder = self.cylinders.len() as u32;
                 self.cylinders.push(Vec::new());
@@ -330,6 +345,7 @@ pub(crate) fn interpret(
         width_increment: options.width_increment.unwrap_or(view.width_increment),
         step_size: view.step_size,
         tropism: view.tropism,
+        old_tropism: view.old_tropism,
         max_branches: options.max_branches,
         // NaN bits never equal an angle's, so every slot starts empty.
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
@@ -342,6 +358,7 @@ pub(crate) fn interpret(
             parent: NO_PARENT,
             parent_heading: DVec3::Y,
             cylinder: NO_PARENT,
+            elasticity: view.old_tropism.map_or(0.0, |t| t.elasticity),
         },
         stack: Vec::new(),
         cutting: None,
@@ -373,6 +390,10 @@ pub(crate) fn interpret(
         }
     } else {
         let mut ctx = Ctx::new(ls, options);
+        if string.globals.len() == ctx.env.vars.len() {
+            // Interpretation rules read the variables as the derivation left them.
+            ctx.env.vars.clone_from(&string.globals);
+        }
         let mut expander = Expander::default();
         let mut read = 0usize;
         for i in 0..string.len() {

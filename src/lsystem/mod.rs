@@ -20,9 +20,12 @@ mod expr;
 pub(crate) mod grammar;
 mod interpret;
 mod parse;
+pub(crate) mod preprocess;
+mod stmt;
 mod syntax;
+mod view;
 
-pub use grammar::ViewSettings;
+pub use grammar::{OldTropism, ViewSettings};
 pub use parse::MAX_SOURCE_BYTES;
 
 use crate::error::Result;
@@ -111,6 +114,9 @@ pub struct LSystem {
     /// Which grammar this is (unique per parse; clones keep it): the strings it derives
     /// carry it, so one is never read with another grammar's symbol table.
     pub(crate) id: u64,
+    /// Global variables and arrays.
+    pub(crate) globals: expr::Globals,
+    pub(crate) blocks: grammar::Blocks,
 }
 
 /// Ids of parsed grammars (0 is no grammar).
@@ -128,11 +134,21 @@ impl LSystem {
         decomposition: ProductionTable,
         skip: Vec<bool>,
         view: ViewSettings,
+        globals: expr::Globals,
+        blocks: grammar::Blocks,
     ) -> Self {
         let has_context = productions
             .productions
             .iter()
             .any(|p| !p.left.is_empty() || !p.right.is_empty());
+        let has_statements = !blocks.is_empty()
+            || [&productions, &homomorphism, &decomposition]
+                .iter()
+                .any(|t| {
+                    t.productions
+                        .iter()
+                        .any(|p| !p.pre.is_empty() || !p.post.is_empty() || !p.pred_rest.is_empty())
+                });
         let cut = grammar::CUT;
         let has_cut = axiom.modules.iter().any(|m| m.sym == cut)
             || [&productions, &decomposition].iter().any(|t| {
@@ -140,7 +156,11 @@ impl LSystem {
                     .iter()
                     .any(|p| p.successor.modules.iter().any(|m| m.sym == cut))
             });
-        let d0l = derive::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len());
+        let d0l = if has_statements || !globals.init.is_empty() {
+            None
+        } else {
+            derive::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len())
+        };
         LSystem {
             d0l,
             id: NEXT_GRAMMAR_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
@@ -155,6 +175,8 @@ impl LSystem {
             view,
             has_context,
             has_cut,
+            globals,
+            blocks,
         }
     }
 
@@ -162,6 +184,25 @@ impl LSystem {
     /// [`crate::Error::Parse`] with line, column and what was expected.
     pub fn parse(source: &str) -> Result<Self> {
         parse::parse(source)
+    }
+
+    /// Reads an L-system file as cpfg does: preprocessed (`#include` relative to its
+    /// folder), with its view file: `view` if given, else the `.v` file beside it with the
+    /// same stem, else none. Errors name the file and line.
+    pub fn from_file(
+        path: impl AsRef<std::path::Path>,
+        view: Option<&std::path::Path>,
+    ) -> Result<Self> {
+        parse::parse_file(path.as_ref(), view)
+    }
+
+    /// Parses grammar text with the text of its view file (`.v`): the view file's
+    /// settings (angle factor or increment, line widths, tropism) apply as cpfg applies
+    /// them. `#include` is refused in text without a folder.
+    pub fn parse_with_view(source: &str, view: &str) -> Result<Self> {
+        let mut ls = parse::parse(source)?;
+        view::apply(&mut ls.view, view, "", preprocess::Includes::None)?;
+        Ok(ls)
     }
 
     /// The grammar's `derivation length:` (0 when it has none).
@@ -258,6 +299,10 @@ pub struct ModuleString {
     pub(crate) params: Vec<f32>,
     /// The id of the grammar that derived it (0: none).
     pub(crate) grammar: u64,
+    /// The global variables after the derivation (read by interpretation rules).
+    pub(crate) globals: Vec<f64>,
+    /// What the grammar's `printf` statements wrote (at most 64 KiB).
+    pub(crate) log: String,
 }
 
 impl PartialEq for ModuleString {
@@ -271,6 +316,11 @@ impl PartialEq for ModuleString {
 }
 
 impl ModuleString {
+    /// What the grammar's `printf` statements wrote while deriving it (at most 64 KiB).
+    pub fn log(&self) -> &str {
+        &self.log
+    }
+
     pub(crate) fn new() -> Self {
         ModuleString {
             offsets: vec![0],

@@ -1,13 +1,17 @@
 //! Reading grammar text in the cpfg language into an [`LSystem`].
 
 use super::LSystem;
-use super::expr::{self, Scope};
+use super::expr::{self, Globals, Scope};
 use super::grammar::{
-    ModuleList, POP, PUSH, Pattern, Production, ProductionTable, SuccModule, Symbols, ViewSettings,
+    Blocks, ModuleList, POP, PUSH, Pattern, Production, ProductionTable, SuccModule, Symbols,
+    ViewSettings,
 };
+use super::preprocess::{Includes, preprocess};
+use super::stmt::{self, Stmt};
 use super::syntax::{Cursor, PErr, PResult, line_col};
 use crate::error::{Error, Result};
 use glam::DVec3;
+use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Longest accepted grammar text (16 MiB).
@@ -73,10 +77,40 @@ struct Parser<'a> {
     section: Section,
     lsystem_seen: bool,
     ended: bool,
+    globals: RefCell<Globals>,
+    blocks: Blocks,
 }
 
-/// Parses grammar text; errors carry line, column, what was found and what was expected.
+/// Parses grammar text in memory (preprocessed first; `#include` is refused); errors
+/// carry line, column, what was found and what was expected.
 pub fn parse(source: &str) -> Result<LSystem> {
+    parse_with(source, "", Includes::None)
+}
+
+/// Preprocesses `source` (named `name` in messages, its includes found by `includes`),
+/// then parses it; errors point into the original files.
+pub(crate) fn parse_with(source: &str, name: &str, includes: Includes) -> Result<LSystem> {
+    check_size(source)?;
+    let pre = preprocess(source, name, includes)?;
+    parse_text(&pre.text).map_err(|e| pre.map_error(e))
+}
+
+pub(crate) fn check_size(source: &str) -> Result<()> {
+    if source.len() > MAX_SOURCE_BYTES {
+        return Err(Error::Parse {
+            line: 1,
+            column: 1,
+            message: format!(
+                "the grammar is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
+                source.len()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Parses preprocessed text.
+fn parse_text(source: &str) -> Result<LSystem> {
     if source.len() > MAX_SOURCE_BYTES {
         return Err(Error::Parse {
             line: 1,
@@ -123,6 +157,8 @@ pub fn parse(source: &str) -> Result<LSystem> {
         section: Section::Productions,
         lsystem_seen: false,
         ended: false,
+        globals: RefCell::new(Globals::default()),
+        blocks: Blocks::default(),
     };
     p.run().map_err(to_error)?;
     let Parser {
@@ -136,6 +172,8 @@ pub fn parse(source: &str) -> Result<LSystem> {
         ignore,
         consider,
         view,
+        globals,
+        blocks,
         ..
     } = p;
     let Some(axiom) = axiom else {
@@ -176,7 +214,80 @@ pub fn parse(source: &str) -> Result<LSystem> {
         decomposition,
         skip,
         view,
+        globals.into_inner(),
+        blocks,
     ))
+}
+
+/// Reads a grammar file with its view file (see [`LSystem::from_file`]).
+pub(crate) fn parse_file(
+    path: &std::path::Path,
+    view: Option<&std::path::Path>,
+) -> Result<LSystem> {
+    let read = |p: &std::path::Path, what: &str| -> Result<String> {
+        let meta = std::fs::metadata(p).map_err(|e| {
+            Error::invalid(
+                "path",
+                format!("cannot open the {what} `{}`: {e}", p.display()),
+            )
+        })?;
+        if meta.len() as usize > MAX_SOURCE_BYTES {
+            return Err(Error::Parse {
+                line: 1,
+                column: 1,
+                message: format!(
+                    "the {what} `{}` is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
+                    p.display(),
+                    meta.len()
+                ),
+            });
+        }
+        let bytes = std::fs::read(p).map_err(|e| {
+            Error::invalid(
+                "path",
+                format!("cannot read the {what} `{}`: {e}", p.display()),
+            )
+        })?;
+        String::from_utf8(bytes).map_err(|e| Error::Parse {
+            line: 1,
+            column: 1,
+            message: format!(
+                "the {what} `{}` is not UTF-8 text (byte {})",
+                p.display(),
+                e.utf8_error().valid_up_to()
+            ),
+        })
+    };
+    let text = read(path, "grammar file")?;
+    let dir = path
+        .parent()
+        .map(std::path::Path::to_path_buf)
+        .unwrap_or_default();
+    let dir = if dir.as_os_str().is_empty() {
+        std::path::PathBuf::from(".")
+    } else {
+        dir
+    };
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut ls = parse_with(&text, &name, Includes::Dir(dir.clone()))?;
+    let view_path = match view {
+        Some(v) => Some(v.to_path_buf()),
+        None => {
+            let beside = path.with_extension("v");
+            beside.is_file().then_some(beside)
+        }
+    };
+    if let Some(v) = view_path {
+        let text = read(&v, "view file")?;
+        let vname = v
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let vdir = v.parent().map(std::path::Path::to_path_buf).unwrap_or(dir);
+        super::view::apply(&mut ls.view, &text, &vname, Includes::Dir(vdir))?;
+    }
+    Ok(ls)
 }
 
 fn keyword<'t>(line: &'t str, key: &str) -> Option<&'t str> {
@@ -190,14 +301,18 @@ impl<'a> Parser<'a> {
         let mut start = 0;
         while start < text.len() {
             let mut end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-            // A production whose parentheses are still open continues on the next line;
-            // the depth is carried from line to line (time linear in the text).
+            // A line continues on the next while its parentheses or braces are open, and
+            // whenever the next line starts with a TAB (cpfg reads newline-TAB as a
+            // blank); the depths are carried from line to line (time linear in the text).
             let mut depth = paren_depth(&text[start..end]);
-            while depth > 0 && end < text.len() {
+            while end < text.len()
+                && (depth.0 > 0 || depth.1 > 0 || text.as_bytes().get(end + 1) == Some(&b'\t'))
+            {
                 let next = text[end + 1..]
                     .find('\n')
                     .map_or(text.len(), |i| end + 1 + i);
-                depth += paren_depth(&text[end..next]);
+                let d = paren_depth(&text[end..next]);
+                depth = (depth.0 + d.0, depth.1 + d.1);
                 end = next;
             }
             self.line(start, end)?;
@@ -230,30 +345,30 @@ impl<'a> Parser<'a> {
             }
             return Err(self.err(at, "nothing after `endlsystem`"));
         }
-        if let Some(rest) = keyword(line, "#define") {
-            return self.define(rest_at(rest), end);
-        }
-        if line.starts_with('#')
-            && keyword(line, "#ignore:").is_none()
-            && keyword(line, "#consider:").is_none()
-        {
-            let what = line.split_whitespace().next().unwrap_or("#");
-            return Err(self.msg(
-                at,
-                &format!("the preprocessor directive `{what}` is not supported (only #define)"),
-            ));
-        }
-        for (key, what) in [
-            ("starteach:", "StartEach/EndEach blocks"),
-            ("endeach:", "StartEach/EndEach blocks"),
-            ("start:", "Start/End blocks"),
-            ("end:", "Start/End blocks"),
-            ("define:", "arrays (`define:` blocks)"),
-            ("ring", "ring L-systems"),
+        for (key, which) in [
+            ("starteach:", 2),
+            ("start each:", 2),
+            ("endeach:", 3),
+            ("end each:", 3),
+            ("start:", 0),
+            ("end:", 1),
         ] {
-            if keyword(line, key).is_some() {
-                return Err(self.msg(at, &format!("{what} are not supported")));
+            if let Some(rest) = keyword(line, key) {
+                let stmts = self.block(rest_at(rest), end)?;
+                let b = &mut self.blocks;
+                let slot = [&mut b.start, &mut b.end, &mut b.start_each, &mut b.end_each];
+                slot.into_iter()
+                    .nth(which)
+                    .expect("four blocks")
+                    .extend(stmts);
+                return Ok(());
             }
+        }
+        if let Some(rest) = keyword(line, "define:") {
+            return self.arrays(rest_at(rest), end);
+        }
+        if keyword(line, "ring lsystem").is_some() || keyword(line, "ring l-system").is_some() {
+            return Err(self.msg(at, "ring L-systems are not supported"));
         }
         if let Some(rest) = keyword(line, "lsystem:") {
             if self.lsystem_seen {
@@ -267,7 +382,9 @@ impl<'a> Parser<'a> {
             self.ended = true;
             return Ok(());
         }
-        if let Some(rest) = keyword(line, "derivation length:") {
+        if let Some(rest) =
+            keyword(line, "derivation length:").or_else(|| keyword(line, "derivationlength:"))
+        {
             let v = self.const_expr(rest_at(rest), end, "a derivation length")?;
             if !(v.is_finite() && v >= 0.0 && v <= u16::MAX as f64 && v.fract() == 0.0) {
                 return Err(self.err(rest_at(rest), "a whole number of steps from 0 to 65535"));
@@ -326,13 +443,28 @@ impl<'a> Parser<'a> {
                 return Ok(());
             }
         }
-        if keyword(line, "homomorphism").is_some() || keyword(line, "interpretation:").is_some() {
-            self.section = Section::Homomorphism;
-            return Ok(());
-        }
-        if keyword(line, "decomposition").is_some() {
-            self.section = Section::Decomposition;
-            return Ok(());
+        // `homomorphism`, `homomorphism:`, `homomorphism: warnings` / `no warnings`, and
+        // what follows on the line when a TAB continued it.
+        for (key, section) in [
+            ("homomorphism", Section::Homomorphism),
+            ("interpretation:", Section::Homomorphism),
+            ("decomposition", Section::Decomposition),
+        ] {
+            if let Some(rest) = keyword(line, key) {
+                self.section = section;
+                let mut rest = rest.trim_start();
+                rest = rest.strip_prefix(':').unwrap_or(rest).trim_start();
+                for w in ["no warnings", "warnings"] {
+                    if let Some(r) = keyword(rest, w) {
+                        rest = r.trim_start();
+                    }
+                }
+                if rest.is_empty() {
+                    return Ok(());
+                }
+                let at = rest_at(rest);
+                return self.line(at, end);
+            }
         }
         if let Some(rest) = keyword(line, "maximum depth:") {
             let v = self.const_expr(rest_at(rest), end, "a maximum depth")?;
@@ -377,6 +509,158 @@ impl<'a> Parser<'a> {
         self.production(at, end)
     }
 
+    /// `{ statements }` filling the rest of the line (a `Start:` block and the like).
+    fn block(&mut self, pos: usize, end: usize) -> PResult<Vec<Stmt>> {
+        let mut cur = Cursor::range(self.text, pos, end);
+        let scope = Scope {
+            params: &[],
+            defines: &self.defines,
+            globals: Some(&self.globals),
+        };
+        let stmts = stmt::block(&mut cur, &scope)?;
+        cur.skip_ws();
+        if !cur.at_end() {
+            return Err(cur.error("the end of the line after the block"));
+        }
+        Ok(stmts)
+    }
+
+    /// `define: { array a[n] = { v, ... }, b[n][m]; ... }`.
+    fn arrays(&mut self, pos: usize, end: usize) -> PResult<()> {
+        let mut cur = Cursor::range(self.text, pos, end);
+        cur.skip_ws();
+        if !cur.eat("{") {
+            return Err(cur.error("`{` opening the `define:` block"));
+        }
+        loop {
+            cur.skip_ws();
+            if cur.eat("}") {
+                break;
+            }
+            if cur.eat(";") {
+                continue;
+            }
+            if cur.identifier() != Some("array") {
+                return Err(cur.error("`array name[size];` in the `define:` block"));
+            }
+            loop {
+                cur.skip_ws();
+                let name_at = cur.pos();
+                let Some(name) = cur.identifier() else {
+                    return Err(cur.error("an array name"));
+                };
+                let name = name.to_string();
+                let mut dims = Vec::new();
+                let mut total = 1usize;
+                loop {
+                    cur.skip_ws();
+                    if !cur.eat("[") {
+                        break;
+                    }
+                    let at = cur.pos();
+                    let e = {
+                        let scope = Scope {
+                            params: &[],
+                            defines: &self.defines,
+                            globals: None,
+                        };
+                        expr::compile(&mut cur, &scope)?
+                    };
+                    let n = e.as_const().unwrap_or(f64::NAN);
+                    if !(n >= 1.0 && n <= expr::MAX_GLOBAL_VALUES as f64) {
+                        return Err(self.err(at, "a constant array size from 1 to 4194304"));
+                    }
+                    cur.skip_ws();
+                    if !cur.eat("]") {
+                        return Err(cur.error("`]` after the array size"));
+                    }
+                    dims.push(n as u32);
+                    total = total.saturating_mul(n as usize);
+                }
+                if dims.is_empty() {
+                    return Err(cur.error("`[size]` after the array name"));
+                }
+                let mut g = self.globals.borrow_mut();
+                if g.array(&name).is_some() || g.var(&name).is_some() {
+                    return Err(self.msg(name_at, &format!("`{name}` is declared twice")));
+                }
+                if g.init.len() + total > expr::MAX_GLOBAL_VALUES {
+                    return Err(self.msg(name_at, "arrays of at most 4194304 values in all"));
+                }
+                let offset = g.init.len() as u32;
+                let len = g.init.len() + total;
+                g.init.resize(len, 0.0);
+                g.arrays.push(expr::ArrayDecl { name, dims, offset });
+                drop(g);
+                cur.skip_ws();
+                if cur.eat("=") {
+                    // Initial values, flat or nested in braces, in row-major order.
+                    let mut values = Vec::new();
+                    let mut depth = 0usize;
+                    loop {
+                        cur.skip_ws();
+                        if cur.eat("{") {
+                            depth += 1;
+                            if depth > 16 {
+                                return Err(cur.error("initial values nested at most 16 deep"));
+                            }
+                            continue;
+                        }
+                        if cur.eat("}") {
+                            if depth == 0 {
+                                return Err(cur.error("a value"));
+                            }
+                            depth -= 1;
+                            if depth == 0 {
+                                break;
+                            }
+                            continue;
+                        }
+                        if cur.eat(",") {
+                            continue;
+                        }
+                        let at = cur.pos();
+                        let scope = Scope {
+                            params: &[],
+                            defines: &self.defines,
+                            globals: None,
+                        };
+                        let v = expr::compile(&mut cur, &scope)?
+                            .as_const()
+                            .ok_or_else(|| self.err(at, "a constant initial value"))?;
+                        values.push(v);
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    if values.len() > total {
+                        return Err(self.err(
+                            name_at,
+                            &format!("at most {total} initial values for this array"),
+                        ));
+                    }
+                    let mut g = self.globals.borrow_mut();
+                    let o = offset as usize;
+                    g.init[o..o + values.len()].copy_from_slice(&values);
+                }
+                cur.skip_ws();
+                if cur.eat(",") {
+                    continue;
+                }
+                break;
+            }
+            cur.skip_ws();
+            if !cur.eat(";") && !cur.peek_str("}") {
+                return Err(cur.error("`;` after the array declaration"));
+            }
+        }
+        cur.skip_ws();
+        if !cur.at_end() {
+            return Err(cur.error("the end of the line after the `define:` block"));
+        }
+        Ok(())
+    }
+
     fn const_expr(&self, pos: usize, end: usize, what: &str) -> PResult<f64> {
         let mut cur = Cursor::range(self.text, pos, end);
         cur.skip_ws();
@@ -386,6 +670,7 @@ impl<'a> Parser<'a> {
         let scope = Scope {
             params: &[],
             defines: &self.defines,
+            globals: None,
         };
         let e = expr::compile(&mut cur, &scope)?;
         cur.skip_ws();
@@ -394,21 +679,6 @@ impl<'a> Parser<'a> {
         }
         e.as_const()
             .ok_or_else(|| self.err(pos, &format!("{what} that is constant (no ran/nran)")))
-    }
-
-    fn define(&mut self, pos: usize, end: usize) -> PResult<()> {
-        let mut cur = Cursor::range(self.text, pos, end);
-        cur.skip_ws();
-        let name_at = cur.pos();
-        let Some(name) = cur.identifier() else {
-            return Err(cur.error("a name after #define"));
-        };
-        if name.len() > 256 {
-            return Err(self.err(name_at, "a name of at most 256 characters"));
-        }
-        let v = self.const_expr(cur.pos(), end, "a value for the #define")?;
-        self.defines.insert(name.to_string(), v);
-        Ok(())
     }
 
     fn tropism(&mut self, pos: usize, end: usize) -> PResult<()> {
@@ -482,6 +752,12 @@ impl<'a> Parser<'a> {
             c if c.is_whitespace() || c.is_control() => {
                 return Err(cur.error_at(at, "a module (a letter or a turtle symbol)"));
             }
+            // Query modules (`?P`, `?H`, `?U`, `?L`, `?E`) and surfaces (`~l`) are two
+            // characters, as cpfg reads them.
+            '?' | '~' if cur.peek().is_some_and(|l| l.is_ascii_alphanumeric()) => {
+                cur.bump();
+                name_end = cur.pos();
+            }
             _ => name_end = cur.pos(),
         }
         let name = &self.text[at..name_end];
@@ -525,9 +801,24 @@ impl<'a> Parser<'a> {
                 let scope = Scope {
                     params,
                     defines: &self.defines,
+                    globals: Some(&self.globals),
                 };
                 loop {
                     cur.skip_ws();
+                    if cur.peek_str("\"") {
+                        // A text parameter (`@L("label")`): labels have no geometry, so
+                        // the text is read and the value is 0.
+                        skip_string(cur)?;
+                        list.exprs.push(expr::Expr::Const(0.0));
+                        cur.skip_ws();
+                        if cur.eat(",") {
+                            continue;
+                        }
+                        if cur.eat(")") {
+                            break;
+                        }
+                        return Err(cur.error("`,` or `)` after a module parameter"));
+                    }
                     list.exprs.push(expr::compile(cur, &scope)?);
                     cur.skip_ws();
                     if cur.eat(",") {
@@ -622,7 +913,7 @@ impl<'a> Parser<'a> {
             ));
         };
         let (arrow, after) = (start + arrow, start + arrow + arrow_len);
-        // Left side: [lc <] pred [> rc] [: condition]
+        // Left side: [lc <] pred [> rc] [: [{pre}] [condition] [{post}]]
         let left = &self.text[start..arrow];
         let colon = top_level(left, b':').map(|i| start + i);
         let pred_end = colon.unwrap_or(arrow);
@@ -645,67 +936,80 @@ impl<'a> Parser<'a> {
         let pred = self.patterns(
             &mut Cursor::range(self.text, pred_range.0, pred_range.1),
             &mut names,
-            self.section == Section::Homomorphism,
+            true,
         )?;
         let right_ctx = self.patterns(
             &mut Cursor::range(self.text, rc_range.0, rc_range.1),
             &mut names,
             true,
         )?;
-        let pred = match pred.as_slice() {
-            [p] => *p,
-            [] => return Err(self.err(pred_range.0, "a predecessor module before `-->`")),
-            [_, second, ..] => {
-                let _ = second;
-                return Err(self.err(
-                    pred_range.0,
-                    "a single predecessor module (use `<` and `>` for context)",
-                ));
-            }
+        let (pred, pred_rest) = match pred.split_first() {
+            Some((p, rest)) => (*p, rest.to_vec()),
+            None => return Err(self.err(pred_range.0, "a predecessor module before `-->`")),
         };
-        let scope_names = names.clone();
-        let condition = match colon {
-            Some(c) => {
-                let mut cur = Cursor::range(self.text, c + 1, arrow);
+        if pred_rest.is_empty()
+            && (pred.sym == PUSH || pred.sym == POP)
+            && self.section != Section::Homomorphism
+        {
+            return Err(self.msg(
+                pred_range.0,
+                "a bracket alone as a predecessor is rewritten only by interpretation rules",
+            ));
+        }
+        if !pred_rest.is_empty() && self.section != Section::Productions {
+            return Err(self.msg(
+                pred_range.0,
+                "a predecessor of several modules in interpretation or decomposition rules is not supported",
+            ));
+        }
+        let mut scope_names = names.clone();
+        let (mut pre, mut post, mut condition) = (Vec::new(), Vec::new(), None);
+        if let Some(c) = colon {
+            let mut cur = Cursor::range(self.text, c + 1, arrow);
+            cur.skip_ws();
+            if cur.peek_str("{") {
+                pre = self.statements(&mut cur, &scope_names)?;
                 cur.skip_ws();
-                if cur.peek_str("{") {
-                    return Err(
-                        self.msg(cur.pos(), "production statements `{ }` are not supported")
-                    );
-                }
-                if cur.rest().trim() == "*" {
-                    None
-                } else {
-                    let scope = Scope {
-                        params: &scope_names,
-                        defines: &self.defines,
-                    };
-                    let e = expr::compile(&mut cur, &scope)?;
-                    cur.skip_ws();
-                    if cur.peek_str("{") {
-                        return Err(
-                            self.msg(cur.pos(), "production statements `{ }` are not supported")
-                        );
-                    }
-                    if !cur.at_end() {
-                        return Err(cur.error("`-->` after the condition"));
-                    }
-                    Some(e)
-                }
             }
-            None => None,
-        };
+            let star = cur.peek_str("*") && {
+                let mut probe = cur.clone();
+                probe.eat("*");
+                probe.skip_ws();
+                probe.at_end() || probe.peek_str("{")
+            };
+            if star {
+                cur.eat("*");
+            } else if !cur.at_end() && !cur.peek_str("{") {
+                let scope = Scope {
+                    params: &scope_names,
+                    defines: &self.defines,
+                    globals: Some(&self.globals),
+                };
+                condition = Some(expr::compile(&mut cur, &scope)?);
+            }
+            cur.skip_ws();
+            if cur.peek_str("{") {
+                post = self.statements(&mut cur, &scope_names)?;
+                cur.skip_ws();
+            }
+            if !cur.at_end() {
+                return Err(cur.error("`-->` after the condition"));
+            }
+        }
+        scope_names.truncate(names.len());
         let mut cur = Cursor::range(self.text, after, end);
         // Interpretation rules feed only the turtle, so they may open or close a branch
         // (`[ --> [+`); strings that are derived further must stay balanced.
         let interpretation = self.section == Section::Homomorphism;
         let successor_at = cur.pos();
         let mut successor = self.module_list(&mut cur, &scope_names, true, !interpretation)?;
+        let line = super::syntax::line_col(self.text, start).0;
         successor.line = super::syntax::line_col(self.text, successor_at).0;
         let probability = if cur.eat(":") {
             let scope = Scope {
                 params: &scope_names,
                 defines: &self.defines,
+                globals: Some(&self.globals),
             };
             cur.skip_ws();
             let at = cur.pos();
@@ -731,12 +1035,16 @@ impl<'a> Parser<'a> {
         }
         let production = Production {
             pred,
+            pred_rest,
+            pre,
+            post,
             left: left_ctx,
             right: right_ctx,
             condition,
             successor,
             probability,
             slots: names.len(),
+            line,
         };
         match self.section {
             Section::Productions => self.productions.productions.push(production),
@@ -745,61 +1053,105 @@ impl<'a> Parser<'a> {
         }
         Ok(())
     }
+
+    fn statements(&self, cur: &mut Cursor<'_>, names: &[(String, u16)]) -> PResult<Vec<Stmt>> {
+        let scope = Scope {
+            params: names,
+            defines: &self.defines,
+            globals: Some(&self.globals),
+        };
+        stmt::block(cur, &scope)
+    }
 }
 
-fn paren_depth(s: &str) -> i64 {
-    s.bytes().fold(0i64, |d, b| match b {
-        b'(' => d + 1,
-        b')' => d - 1,
-        _ => d,
-    })
-}
-
-/// The first `-->` or `->` outside parentheses: (offset, length).
-fn find_arrow(s: &str) -> Option<(usize, usize)> {
-    let b = s.as_bytes();
-    let mut depth = 0i64;
-    for i in 0..b.len() {
-        match b[i] {
-            b'(' => depth += 1,
-            b')' => depth -= 1,
-            b'-' if depth == 0 => {
-                if b[i..].starts_with(b"-->") {
-                    return Some((i, 3));
-                }
-                if b[i..].starts_with(b"->") {
-                    return Some((i, 2));
-                }
-            }
+/// Open parentheses and braces in `s`, outside string literals.
+fn paren_depth(s: &str) -> (i64, i64) {
+    let mut d = (0i64, 0i64);
+    let mut quoted = false;
+    for b in s.bytes() {
+        match b {
+            b'"' => quoted = !quoted,
+            _ if quoted => {}
+            b'(' => d.0 += 1,
+            b')' => d.0 -= 1,
+            b'{' => d.1 += 1,
+            b'}' => d.1 -= 1,
             _ => {}
         }
     }
-    None
+    d
+}
+
+/// Depth of parentheses and braces before each byte of `s`, strings skipped: calls
+/// `visit(i, byte)` for every byte outside both and outside string literals.
+fn scan_top(s: &str, mut visit: impl FnMut(usize, u8) -> bool) {
+    let b = s.as_bytes();
+    let (mut depth, mut quoted) = (0i64, false);
+    for (i, &c) in b.iter().enumerate() {
+        match c {
+            b'"' => quoted = !quoted,
+            _ if quoted => {}
+            b'(' | b'{' => depth += 1,
+            b')' | b'}' => depth -= 1,
+            _ if depth == 0 && !visit(i, c) => return,
+            _ => {}
+        }
+    }
+}
+
+/// The first `-->` or `->` outside parentheses, braces and strings: (offset, length).
+fn find_arrow(s: &str) -> Option<(usize, usize)> {
+    let b = s.as_bytes();
+    let mut found = None;
+    scan_top(s, |i, c| {
+        if c == b'-' {
+            if b[i..].starts_with(b"-->") {
+                found = Some((i, 3));
+                return false;
+            }
+            if b[i..].starts_with(b"->") {
+                found = Some((i, 2));
+                return false;
+            }
+        }
+        true
+    });
+    found
 }
 
 fn top_level(s: &str, target: u8) -> Option<usize> {
-    let mut depth = 0i64;
-    for (i, &b) in s.as_bytes().iter().enumerate() {
-        match b {
-            b'(' => depth += 1,
-            b')' => depth -= 1,
-            _ if b == target && depth == 0 => return Some(i),
-            _ => {}
+    let mut found = None;
+    scan_top(s, |i, c| {
+        if c == target {
+            found = Some(i);
+            return false;
         }
-    }
-    None
+        true
+    });
+    found
 }
 
 fn top_level_last(s: &str, target: u8) -> Option<usize> {
-    let mut depth = 0i64;
     let mut found = None;
-    for (i, &b) in s.as_bytes().iter().enumerate() {
-        match b {
-            b'(' => depth += 1,
-            b')' => depth -= 1,
-            _ if b == target && depth == 0 => found = Some(i),
-            _ => {}
+    scan_top(s, |i, c| {
+        if c == target {
+            found = Some(i);
+        }
+        true
+    });
+    found
+}
+
+fn skip_string(cur: &mut Cursor<'_>) -> PResult<()> {
+    cur.eat("\"");
+    loop {
+        match cur.bump() {
+            Some('"') => return Ok(()),
+            Some('\\') => {
+                cur.bump();
+            }
+            Some(_) => {}
+            None => return Err(cur.error("`\"` closing the text")),
         }
     }
-    found
 }

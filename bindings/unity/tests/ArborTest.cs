@@ -110,7 +110,7 @@ static class ArborTest
 
         try
         {
-            Tree.FromLsystem("Axiom: F\nF --> F(y)\n");
+            Tree.FromLsystem("Axiom: F\nF --> F(+)\n");
             Expect(false, "no exception for a parse error");
         }
         catch (ArborException e)

@@ -1,0 +1,193 @@
+//! cpfg's view file (`.v`): the turtle's angle, line widths and tropism, read after the
+//! same preprocessor pass as the grammar.
+//!
+//! Read: `angle factor: N` (the angle is 360/N degrees), `angle increment: D`, `initial
+//! line width: W [pixels|polygons]`, `line width increment: W`, `tropism direction: x,y,z`
+//! with `initial elasticity: e` and `elasticity increment: d`, and `tropism: T: x,y,z
+//! ... E: e` (the first tropism of cpfg's newer syntax). Every other line (colours,
+//! lights, viewpoint, projection, render modes, surfaces, contours, textures, ...) has
+//! no meaning for a mesh and is accepted without effect; a line that is not `key: value`
+//! is also skipped, as cpfg does.
+
+use super::grammar::{OldTropism, ViewSettings};
+use super::preprocess::{Includes, preprocess};
+use crate::error::{Error, Result};
+use glam::DVec3;
+
+/// Applies view-file text to `view`; `name` names the file in messages.
+pub(crate) fn apply(view: &mut ViewSettings, text: &str, name: &str, inc: Includes) -> Result<()> {
+    super::parse::check_size(text)?;
+    let pre = preprocess(text, name, inc)?;
+    let mut direction: Option<DVec3> = None;
+    let mut elasticity = 0.0;
+    let mut increment = 0.0;
+    for (k, line) in pre.text.lines().enumerate() {
+        let Some((key, value)) = line.split_once(':') else {
+            continue;
+        };
+        let key: String = key
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .to_ascii_lowercase();
+        let value = value.trim();
+        let fail = |what: &str| {
+            let (file, line) = pre.origin(k as u32 + 1);
+            let place = file.map_or_else(
+                || {
+                    if name.is_empty() {
+                        "the view file".to_string()
+                    } else {
+                        format!("`{name}`")
+                    }
+                },
+                |f| format!("`{f}`"),
+            );
+            Error::Parse {
+                line,
+                column: 1,
+                message: format!("in {place}: `{key}:` needs {what}, found `{value}`"),
+            }
+        };
+        let numbers = |value: &str| -> Vec<Option<f64>> {
+            value
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .map(|s| s.parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect()
+        };
+        let first = || numbers(value).first().copied().flatten();
+        match key.as_str() {
+            "angle factor" => {
+                let n = first()
+                    .filter(|&n| n > 0.0)
+                    .ok_or_else(|| fail("a number > 0"))?;
+                view.angle_increment = 360.0 / n;
+            }
+            "angle increment" => {
+                view.angle_increment = first().ok_or_else(|| fail("a number of degrees"))?;
+            }
+            "initial line width" => {
+                view.initial_width = first()
+                    .filter(|&w| w >= 0.0)
+                    .ok_or_else(|| fail("a width >= 0"))?;
+            }
+            "line width increment" => {
+                view.width_increment = first()
+                    .filter(|&w| w >= 0.0)
+                    .ok_or_else(|| fail("a width >= 0"))?;
+            }
+            "tropism direction" => {
+                let v = numbers(value);
+                match v.as_slice() {
+                    [Some(x), Some(y), Some(z), ..] => direction = Some(DVec3::new(*x, *y, *z)),
+                    _ => return Err(fail("three numbers x, y, z")),
+                }
+            }
+            "initial elasticity" => {
+                elasticity = first().ok_or_else(|| fail("a number"))?;
+            }
+            "elasticity increment" => {
+                increment = first().ok_or_else(|| fail("a number"))?;
+            }
+            "tropism" => {
+                // `tropism: T: x,y,z, A: angle, I: intensity, E: elasticity, S: step`
+                if let Some((t, e)) = new_style_tropism(line) {
+                    view.tropism = Some((t, e));
+                }
+            }
+            _ => {}
+        }
+    }
+    if let Some(d) = direction {
+        if d.length_squared() > 0.0 {
+            view.old_tropism = Some(OldTropism {
+                direction: d.normalize(),
+                elasticity,
+                increment,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The T and E of a new-style `tropism:` line, when both are there.
+fn new_style_tropism(line: &str) -> Option<(DVec3, f64)> {
+    let rest = line.split_once(':')?.1;
+    let mut t = None;
+    let mut e = None;
+    let mut parts = rest.split(':').peekable();
+    let mut key = parts.next()?.trim().to_string();
+    while let Some(part) = parts.next() {
+        // `part` holds this key's value, then the next key's letter at its end.
+        let (value, next_key) = match parts.peek() {
+            Some(_) => {
+                let cut = part
+                    .trim_end()
+                    .rfind(|c: char| c == ',' || c.is_whitespace());
+                match cut {
+                    Some(i) => (&part[..i], part[i + 1..].trim().to_string()),
+                    None => (part, String::new()),
+                }
+            }
+            None => (part, String::new()),
+        };
+        let nums: Vec<f64> = value
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter_map(|s| s.parse().ok())
+            .collect();
+        match key.as_str() {
+            "T" | "t" if nums.len() >= 3 => t = Some(DVec3::new(nums[0], nums[1], nums[2])),
+            "E" | "e" if !nums.is_empty() => e = Some(nums[0]),
+            _ => {}
+        }
+        key = next_key;
+    }
+    Some((t?, e?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angle_widths_and_tropism() {
+        let mut v = ViewSettings::default();
+        apply(
+            &mut v,
+            "#define N 40\nangle factor: N\ninitial line width: 2 pixels\nline width increment: .1\n\
+             viewpoint: -1,0,30\ntropism direction: 0.0,1.0,0.0\ninitial elasticity: 0.02\n\
+             surface: l leaf.s 800 3 5\nnonsense line\n",
+            "plant.v",
+            Includes::None,
+        )
+        .unwrap();
+        assert_eq!(v.angle_increment, 9.0);
+        assert_eq!(v.initial_width, 2.0);
+        assert_eq!(v.width_increment, 0.1);
+        let t = v.old_tropism.unwrap();
+        assert_eq!(t.direction, DVec3::Y);
+        assert_eq!(t.elasticity, 0.02);
+        let mut v = ViewSettings::default();
+        apply(
+            &mut v,
+            "angle increment: 22.5\ntropism: T: 0,-1,0, A: 0, E: 0.3\n",
+            "",
+            Includes::None,
+        )
+        .unwrap();
+        assert_eq!(v.angle_increment, 22.5);
+        assert_eq!(v.tropism, Some((DVec3::NEG_Y, 0.3)));
+    }
+
+    #[test]
+    fn bad_values_name_the_key_and_line() {
+        let mut v = ViewSettings::default();
+        let e = apply(&mut v, "\nangle factor: zero\n", "plant.v", Includes::None).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("line 2") && text.contains("angle factor") && text.contains("plant.v"),
+            "{text}"
+        );
+    }
+}
