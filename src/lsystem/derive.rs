@@ -36,7 +36,11 @@ impl<'a> Ctx<'a> {
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
         Ctx {
             ls,
-            env: Env::new(ls.effective_seed(options), &ls.globals),
+            env: Env::new(
+                ls.effective_seed(options),
+                &ls.globals,
+                ls.functions.clone(),
+            ),
             fx: Effects {
                 budget: options.max_work as u64,
                 ..Default::default()
@@ -366,19 +370,32 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
         spare.clear();
         let table = &ctx.ls.decomposition;
         let mut expander = Expander::default();
-        for i in 0..cur.len() {
+        let mut produced = ModuleString::new();
+        let mut i = 0;
+        while i < cur.len() {
             let birth = cur.births[i];
-            expander.expand(
-                ctx,
-                table,
-                cur.symbol(i),
-                cur.params(i),
-                |ctx, sym, params, new| {
-                    ctx.room(spare, 1, params.len())?;
-                    spare.push(sym, if new { ctx.step as u16 } else { birth }, params);
-                    Ok(())
-                },
-            )?;
+            let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], new: bool| {
+                ctx.room(spare, 1, params.len())?;
+                spare.push(sym, if new { ctx.step as u16 } else { birth }, params);
+                Ok(())
+            };
+            if let Some(p) = select_multi(ctx, table, cur, i) {
+                successor_of(ctx, table, p, ctx.step as u16, &mut produced)?;
+                for k in 0..produced.len() {
+                    expander.expand(
+                        ctx,
+                        table,
+                        produced.symbol(k),
+                        produced.params(k),
+                        |ctx, sym, params, _| sink(ctx, sym, params, true),
+                    )?;
+                }
+                i += 1 + table.productions[p as usize].pred_rest.len();
+                continue;
+            }
+            ctx.check("a decomposition rule")?;
+            expander.expand(ctx, table, cur.symbol(i), cur.params(i), &mut sink)?;
+            i += 1;
         }
         std::mem::swap(cur, spare);
     }
@@ -571,6 +588,42 @@ fn select(
             && (p.left.is_empty() || match_left(ls, s, links, i, p, args))
             && (p.right.is_empty() || match_right(ls, s, links, i + p.pred_rest.len(), p, args))
     })
+}
+
+/// In a table of context-free rules (interpretation, decomposition): the production with
+/// a predecessor of several modules that matches at module `i` of `s`, its bound
+/// parameters left in `ctx.args`. Such productions are tried before those of one module.
+pub(crate) fn select_multi(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    s: &ModuleString,
+    i: usize,
+) -> Option<u32> {
+    if !table.multi[s.syms[i] as usize] {
+        return None;
+    }
+    select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
+        !p.pred_rest.is_empty() && match_rest(s, i, p, args)
+    })
+}
+
+/// The successor of production `p` of `table` (its arguments in `ctx.args`) as modules
+/// in `out` (cleared first).
+pub(crate) fn successor_of(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    p: u32,
+    birth: u16,
+    out: &mut ModuleString,
+) -> Result<()> {
+    out.clear();
+    let prod = &table.productions[p as usize];
+    let args = std::mem::take(&mut ctx.args);
+    let r = emit(ctx, &prod.successor, &args, birth, out);
+    ctx.args = args;
+    r?;
+    ctx.line = prod.line;
+    ctx.check("a rule")
 }
 
 /// The modules after the first of a predecessor of several, one after another.

@@ -70,15 +70,22 @@ pub(crate) struct Env {
     pub(crate) rng: Rng,
     pub(crate) vars: Vec<f64>,
     pub(crate) arrays: std::sync::Arc<[ArrayDecl]>,
+    /// The view file's functions, read by `func(id, x)` (id from 1).
+    pub(crate) functions: std::sync::Arc<[super::funcs::Function]>,
     pub(crate) fault: Option<String>,
 }
 
 impl Env {
-    pub(crate) fn new(seed: u64, globals: &Globals) -> Self {
+    pub(crate) fn new(
+        seed: u64,
+        globals: &Globals,
+        functions: std::sync::Arc<[super::funcs::Function]>,
+    ) -> Self {
         Env {
             rng: Rng::new(seed),
             vars: globals.init.clone(),
             arrays: globals.arrays.clone().into(),
+            functions,
             fault: None,
         }
     }
@@ -89,6 +96,7 @@ impl Env {
             rng: Rng::new(seed),
             vars: Vec::new(),
             arrays: Vec::new().into(),
+            functions: Vec::new().into(),
             fault: None,
         }
     }
@@ -149,6 +157,8 @@ pub(crate) enum Special {
     Bran,
     /// `biran(n, p)`: a draw from the binomial distribution.
     Biran,
+    /// `func(id, x)`: function `id` of the view file at x.
+    Func,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -398,6 +408,22 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
             Op::Special(Special::Bran) => {
                 sp -= 1;
                 stack[sp - 1] = beta(&mut env.rng, stack[sp - 1], stack[sp]);
+            }
+            Op::Special(Special::Func) => {
+                sp -= 1;
+                let (id, x) = (stack[sp - 1], stack[sp]);
+                let n = env.functions.len();
+                stack[sp - 1] = if id >= 1.0 && id < n as f64 + 1.0 {
+                    env.functions[id as usize - 1].eval(x)
+                } else {
+                    if env.fault.is_none() {
+                        env.fault = Some(format!(
+                            "func({id}, ...): the view file lists {n} function(s) \
+                             (`function: file.func` or `function set: file.fset`)"
+                        ));
+                    }
+                    0.0
+                };
             }
             Op::Special(Special::Biran) => {
                 sp -= 1;
@@ -794,14 +820,22 @@ impl Compiler<'_, '_, '_> {
             "srand" => F::One(Op::Special(Special::Srand)),
             "bran" => F::Two(Op::Special(Special::Bran)),
             "biran" => F::Two(Op::Special(Special::Biran)),
-            "func" | "curveX" | "curveY" | "curveZ" | "curveGAL" | "play" | "inblob" | "fopen"
-            | "fclose" | "fflush" | "fscanf" | "fprintf" | "vvXmin" | "vvXmax" | "vvYmin"
-            | "vvYmax" | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
+            "func" => F::Two(Op::Special(Special::Func)),
+            "fopen" => return self.fopen(at),
+            "curveX" | "curveY" | "curveZ" | "curveGAL" | "play" | "inblob" | "fclose"
+            | "fflush" | "fscanf" | "fprintf" | "vvXmin" | "vvXmax" | "vvYmin" | "vvYmax"
+            | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
+                let what = match name {
+                    n if n.starts_with("curve") => "curve files (cpfg's contour gallery)",
+                    "fscanf" => "data files read by the grammar",
+                    "fclose" | "fflush" | "fprintf" => "a file handle used as a value",
+                    _ => "cpfg's viewer",
+                };
                 return Err(self.cur.message_at(
                     at,
                     &format!(
-                        "`{name}()` needs what arbor does not load (function sets, curve \
-                         files, files or the viewer); the grammar cannot run without it"
+                        "`{name}()` needs {what}, which arbor does not have; the grammar \
+                         cannot run without it"
                     ),
                 ));
             }
@@ -857,6 +891,45 @@ impl Compiler<'_, '_, '_> {
         Ok(())
     }
 
+    /// `fopen("name", "mode")`: a file opened for writing is a handle whose `fprintf`
+    /// goes to the log; reading files is refused, naming the file.
+    fn fopen(&mut self, at: usize) -> PResult<()> {
+        self.cur.eat("(");
+        let mut strings = Vec::new();
+        for k in 0..2 {
+            self.cur.skip_ws();
+            if k == 1 && !self.cur.eat(",") {
+                return Err(self.cur.error("`,` and the mode of fopen"));
+            }
+            self.cur.skip_ws();
+            if !self.cur.eat("\"") {
+                return Err(self.cur.error("a file name or mode in double quotes"));
+            }
+            let s = self.cur.rest();
+            let Some(end) = s.find('"') else {
+                return Err(self.cur.error("`\"` closing the text"));
+            };
+            strings.push(s[..end].to_string());
+            self.cur.eat(&s[..=end]);
+        }
+        self.cur.skip_ws();
+        if !self.cur.eat(")") {
+            return Err(self.cur.error("`)` closing fopen"));
+        }
+        if strings[1].starts_with('r') {
+            return Err(self.cur.message_at(
+                at,
+                &format!(
+                    "fopen(\"{}\", \"{}\"): the grammar reads a data file, which arbor does \
+                     not do; it cannot run without `{}`",
+                    strings[0], strings[1], strings[0]
+                ),
+            ));
+        }
+        self.push(Op::Const(1.0));
+        Ok(())
+    }
+
     fn push_two(&mut self, op: Op, start: usize) {
         if let Op::Special(_) = op {
             self.depth -= 1;
@@ -900,7 +973,10 @@ mod tests {
         if !cur.at_end() {
             return Err(format!("stopped at {}", cur.pos()));
         }
-        Ok(e.eval(&args, &mut Env::new(1, &globals.borrow())))
+        Ok(e.eval(
+            &args,
+            &mut Env::new(1, &globals.borrow(), Vec::new().into()),
+        ))
     }
 
     fn eval(text: &str) -> f64 {

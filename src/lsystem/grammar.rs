@@ -141,6 +141,9 @@ pub(crate) struct ProductionTable {
     pub(crate) by_symbol: Vec<Vec<u32>>,
     /// For each symbol id, whether it has any production.
     pub(crate) has_rules: Vec<bool>,
+    /// For each symbol id, whether a production with a predecessor of several modules
+    /// starts with it.
+    pub(crate) multi: Vec<bool>,
     /// Interpretation and decomposition: how many times rules may re-apply.
     pub(crate) max_depth: u32,
 }
@@ -152,6 +155,12 @@ impl ProductionTable {
             self.by_symbol[p.pred.sym as usize].push(i as u32);
         }
         self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
+        self.multi = vec![false; symbols];
+        for p in &self.productions {
+            if !p.pred_rest.is_empty() {
+                self.multi[p.pred.sym as usize] = true;
+            }
+        }
     }
 
     pub(crate) fn is_empty(&self) -> bool {

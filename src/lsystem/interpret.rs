@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::geom::{Frame, cos_sin_deg};
-use crate::lsystem::derive::{Ctx, Expander};
+use crate::lsystem::derive::{Ctx, Expander, select_multi, successor_of};
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
 use crate::skeleton::{
@@ -396,28 +396,48 @@ pub(crate) fn interpret(
         }
         let mut expander = Expander::default();
         let mut read = 0usize;
-        for i in 0..string.len() {
+        let mut produced = ModuleString::new();
+        let mut i = 0;
+        while i < string.len() {
             let birth = string.birth(i);
             ctx.step = birth;
+            let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
+                read += 1;
+                if read > ctx.max_modules {
+                    return Err(Error::LimitExceeded {
+                        limit_name: "max_modules",
+                        what: "modules read by the turtle after interpretation rules",
+                        limit: ctx.max_modules as u64,
+                        requested: read as u64,
+                        step: None,
+                    });
+                }
+                t.module(sym, params, birth, birth)
+            };
+            // A rule whose predecessor is several modules replaces them all.
+            if let Some(p) = select_multi(&mut ctx, table, string, i) {
+                successor_of(&mut ctx, table, p, birth as u16, &mut produced)?;
+                for k in 0..produced.len() {
+                    expander.expand(
+                        &mut ctx,
+                        table,
+                        produced.symbol(k),
+                        produced.params(k),
+                        &mut sink,
+                    )?;
+                }
+                i += 1 + table.productions[p as usize].pred_rest.len();
+                continue;
+            }
+            ctx.check("an interpretation rule")?;
             expander.expand(
                 &mut ctx,
                 table,
                 string.symbol(i),
                 string.params(i),
-                |ctx, sym, params, _| {
-                    read += 1;
-                    if read > ctx.max_modules {
-                        return Err(Error::LimitExceeded {
-                            limit_name: "max_modules",
-                            what: "modules read by the turtle after interpretation rules",
-                            limit: ctx.max_modules as u64,
-                            requested: read as u64,
-                            step: None,
-                        });
-                    }
-                    t.module(sym, params, birth, birth)
-                },
+                &mut sink,
             )?;
+            i += 1;
         }
     }
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);

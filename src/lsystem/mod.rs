@@ -17,6 +17,7 @@
 
 pub(crate) mod derive;
 mod expr;
+mod funcs;
 pub(crate) mod grammar;
 mod interpret;
 mod parse;
@@ -117,6 +118,8 @@ pub struct LSystem {
     /// Global variables and arrays.
     pub(crate) globals: expr::Globals,
     pub(crate) blocks: grammar::Blocks,
+    /// The view file's functions (`func(id, x)`).
+    pub(crate) functions: std::sync::Arc<[funcs::Function]>,
 }
 
 /// Ids of parsed grammars (0 is no grammar).
@@ -177,6 +180,7 @@ impl LSystem {
             has_cut,
             globals,
             blocks,
+            functions: Vec::new().into(),
         }
     }
 
@@ -200,8 +204,11 @@ impl LSystem {
     /// settings (angle factor or increment, line widths, tropism) apply as cpfg applies
     /// them. `#include` is refused in text without a folder.
     pub fn parse_with_view(source: &str, view: &str) -> Result<Self> {
+        let mut settings = ViewSettings::default();
+        let functions = view::apply(&mut settings, view, "", preprocess::Includes::None)?;
         let mut ls = parse::parse(source)?;
-        view::apply(&mut ls.view, view, "", preprocess::Includes::None)?;
+        parse::merge_view(&mut ls.view, &settings);
+        ls.functions = functions.into();
         Ok(ls)
     }
 

@@ -90,9 +90,19 @@ pub fn parse(source: &str) -> Result<LSystem> {
 /// Preprocesses `source` (named `name` in messages, its includes found by `includes`),
 /// then parses it; errors point into the original files.
 pub(crate) fn parse_with(source: &str, name: &str, includes: Includes) -> Result<LSystem> {
+    parse_named(source, name, includes, &[])
+}
+
+/// [`parse_with`], with `names` (the view file's function names) standing for numbers.
+fn parse_named(
+    source: &str,
+    name: &str,
+    includes: Includes,
+    names: &[(String, f64)],
+) -> Result<LSystem> {
     check_size(source)?;
     let pre = preprocess(source, name, includes)?;
-    parse_text(&pre.text).map_err(|e| pre.map_error(e))
+    parse_text(&pre.text, names).map_err(|e| pre.map_error(e))
 }
 
 pub(crate) fn check_size(source: &str) -> Result<()> {
@@ -110,7 +120,7 @@ pub(crate) fn check_size(source: &str) -> Result<()> {
 }
 
 /// Parses preprocessed text.
-fn parse_text(source: &str) -> Result<LSystem> {
+fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
     if source.len() > MAX_SOURCE_BYTES {
         return Err(Error::Parse {
             line: 1,
@@ -138,7 +148,7 @@ fn parse_text(source: &str) -> Result<LSystem> {
     let mut p = Parser {
         text: &clean,
         symbols: Symbols::new(),
-        defines: HashMap::new(),
+        defines: names.iter().cloned().collect(),
         axiom: None,
         derivation_length: 0,
         seed: None,
@@ -219,6 +229,27 @@ fn parse_text(source: &str) -> Result<LSystem> {
     ))
 }
 
+/// Settings of a view file over those a grammar's directives gave: a directive that
+/// left its default takes the view file's value.
+pub(crate) fn merge_view(grammar: &mut ViewSettings, view: &ViewSettings) {
+    let d = ViewSettings::default();
+    if grammar.angle_increment == d.angle_increment {
+        grammar.angle_increment = view.angle_increment;
+    }
+    if grammar.initial_width == d.initial_width {
+        grammar.initial_width = view.initial_width;
+    }
+    if grammar.width_increment == d.width_increment {
+        grammar.width_increment = view.width_increment;
+    }
+    if grammar.tropism.is_none() {
+        grammar.tropism = view.tropism;
+    }
+    if grammar.old_tropism.is_none() {
+        grammar.old_tropism = view.old_tropism;
+    }
+}
+
 /// Reads a grammar file with its view file (see [`LSystem::from_file`]).
 pub(crate) fn parse_file(
     path: &std::path::Path,
@@ -248,17 +279,23 @@ pub(crate) fn parse_file(
                 format!("cannot read the {what} `{}`: {e}", p.display()),
             )
         })?;
-        String::from_utf8(bytes).map_err(|e| Error::Parse {
-            line: 1,
-            column: 1,
-            message: format!(
-                "the {what} `{}` is not UTF-8 text (byte {})",
-                p.display(),
-                e.utf8_error().valid_up_to()
-            ),
-        })
+        // cpfg reads bytes: a file that is not UTF-8 (Latin-1 comments in older models)
+        // is read as Latin-1.
+        Ok(String::from_utf8(bytes)
+            .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
     };
     let text = read(path, "grammar file")?;
+    // The view file first: the names of its functions are numbers in the grammar
+    // (`func(LEAF_GROWTH, t)`), as cpfg defines them.
+    let view_path = match view {
+        Some(v) => Some(v.to_path_buf()),
+        None => {
+            let beside = path.with_extension("v");
+            beside.is_file().then_some(beside)
+        }
+    };
+    let mut settings = ViewSettings::default();
+    let mut functions = Vec::new();
     let dir = path
         .parent()
         .map(std::path::Path::to_path_buf)
@@ -271,22 +308,33 @@ pub(crate) fn parse_file(
     let name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let mut ls = parse_with(&text, &name, Includes::Dir(dir.clone()))?;
-    let view_path = match view {
-        Some(v) => Some(v.to_path_buf()),
-        None => {
-            let beside = path.with_extension("v");
-            beside.is_file().then_some(beside)
-        }
-    };
+    let mut view_seen = false;
     if let Some(v) = view_path {
         let text = read(&v, "view file")?;
         let vname = v
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let vdir = v.parent().map(std::path::Path::to_path_buf).unwrap_or(dir);
-        super::view::apply(&mut ls.view, &text, &vname, Includes::Dir(vdir))?;
+        let vdir = v
+            .parent()
+            .map(std::path::Path::to_path_buf)
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or_else(|| dir.clone());
+        functions = super::view::apply(&mut settings, &text, &vname, Includes::Dir(vdir))?;
+        view_seen = true;
     }
+    let names: Vec<(String, f64)> = functions
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| !f.name.is_empty())
+        .map(|(i, f)| (f.name.clone(), (i + 1) as f64))
+        .collect();
+    let mut ls = parse_named(&text, &name, Includes::Dir(dir), &names)?;
+    if view_seen {
+        // The grammar's own directives stand; the view file's settings fill in what it
+        // leaves at the defaults (cpfg reads the angle and widths only from the view).
+        merge_view(&mut ls.view, &settings);
+    }
+    ls.functions = functions.into();
     Ok(ls)
 }
 
@@ -468,8 +516,8 @@ impl<'a> Parser<'a> {
         }
         if let Some(rest) = keyword(line, "maximum depth:") {
             let v = self.const_expr(rest_at(rest), end, "a maximum depth")?;
-            if !(v.is_finite() && (0.0..=1000.0).contains(&v) && v.fract() == 0.0) {
-                return Err(self.err(rest_at(rest), "a whole maximum depth from 0 to 1000"));
+            if !(v.is_finite() && (0.0..=1_000_000.0).contains(&v) && v.fract() == 0.0) {
+                return Err(self.err(rest_at(rest), "a whole maximum depth from 0 to 1000000"));
             }
             match self.section {
                 Section::Homomorphism => self.homomorphism.max_depth = v as u32,
@@ -738,8 +786,17 @@ impl<'a> Parser<'a> {
                 return Err(cur.error_at(at, "a module (a letter or a turtle symbol)"));
             }
             '@' => match cur.peek() {
+                // `@;` `@!` and the like: cpfg's variants of the one-character modules.
+                Some(p) if p.is_ascii_punctuation() && !matches!(p, '(' | ')' | '[' | ']') => {
+                    cur.bump();
+                    name_end = cur.pos();
+                }
                 Some(l) if l.is_ascii_alphabetic() => {
                     cur.bump();
+                    // `@Tx`-style texture switches are three characters.
+                    if l == 'T' && cur.peek().is_some_and(|c| c.is_ascii_lowercase()) {
+                        cur.bump();
+                    }
                     // cpfg's generalized cylinders are two letters after `@`: @Gs (start),
                     // @Gc (control point), @Ge (end), @Gt and @Gr (tangent, radius).
                     if l == 'G' && matches!(cur.peek(), Some('s' | 'c' | 'e' | 't' | 'r')) {
@@ -954,12 +1011,6 @@ impl<'a> Parser<'a> {
             return Err(self.msg(
                 pred_range.0,
                 "a bracket alone as a predecessor is rewritten only by interpretation rules",
-            ));
-        }
-        if !pred_rest.is_empty() && self.section != Section::Productions {
-            return Err(self.msg(
-                pred_range.0,
-                "a predecessor of several modules in interpretation or decomposition rules is not supported",
             ));
         }
         let mut scope_names = names.clone();

@@ -190,6 +190,17 @@ fn logical_lines(text: &str, file: &str) -> Result<Vec<(u32, String)>> {
     while let Some(c) = chars.next() {
         let here = col;
         col = if c == '\n' { 1 } else { col + 1 };
+        // A line ending in backslashes continues (cpfg's models also write `\\`).
+        while c == '\\' && chars.peek() == Some(&'\\') && in_block.is_none() && quote.is_none() {
+            let mut ahead = chars.clone();
+            while ahead.peek() == Some(&'\\') {
+                ahead.next();
+            }
+            if !matches!(ahead.peek(), Some('\n') | Some('\r')) {
+                break;
+            }
+            chars.next();
+        }
         if c == '\\' && matches!(chars.peek(), Some('\n') | Some('\r')) {
             if chars.next() == Some('\r') && chars.peek() == Some(&'\n') {
                 chars.next();
@@ -282,7 +293,8 @@ fn tokenize(s: &str) -> Vec<Tok> {
             while i < b.len() && matches!(b[i], b' ' | b'\t' | b'\x0c' | b'\x0b' | b'\r') {
                 i += 1;
             }
-            out.push(tok(Kind::Space, " "));
+            // Kept as written: a leading TAB continues a production in cpfg.
+            out.push(tok(Kind::Space, &s[start..i]));
         } else if c.is_ascii_alphabetic() || c == b'_' {
             while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
                 i += 1;

@@ -167,6 +167,47 @@ fn statement(
             out.push(Stmt::Printf(fmt.into(), args));
             return Ok(());
         }
+        Some("fprintf") => {
+            // `fprintf(fp, "format", ...)`: files opened for writing go to the log.
+            cur.skip_ws();
+            if !cur.eat("(") {
+                return Err(cur.error("`(` after `fprintf`"));
+            }
+            let _handle = expr::compile(cur, scope)?;
+            cur.skip_ws();
+            if !cur.eat(",") {
+                return Err(cur.error("`,` after the file of fprintf"));
+            }
+            cur.skip_ws();
+            let fmt = string_literal(cur)?;
+            let mut args = Vec::new();
+            loop {
+                cur.skip_ws();
+                if cur.eat(")") {
+                    break;
+                }
+                if !cur.eat(",") {
+                    return Err(cur.error("`,` or `)` in fprintf"));
+                }
+                args.push(expr::compile(cur, scope)?);
+            }
+            end_of_statement(cur)?;
+            out.push(Stmt::Printf(fmt.into(), args));
+            return Ok(());
+        }
+        Some("fclose") | Some("fflush") => {
+            cur.skip_ws();
+            if !cur.eat("(") {
+                return Err(cur.error("`(` and the file"));
+            }
+            let _handle = expr::compile(cur, scope)?;
+            cur.skip_ws();
+            if !cur.eat(")") {
+                return Err(cur.error("`)` after the file"));
+            }
+            end_of_statement(cur)?;
+            return Ok(());
+        }
         Some("stop") | Some("Stop") => {
             cur.skip_ws();
             if cur.eat("(") {
@@ -529,7 +570,7 @@ mod tests {
         };
         let stmts = block(&mut Cursor::new(text), &scope).unwrap();
         let g = globals.into_inner();
-        let mut env = Env::new(1, &g);
+        let mut env = Env::new(1, &g, Vec::new().into());
         let mut fx = Effects {
             budget: 10_000,
             ..Default::default()

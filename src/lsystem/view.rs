@@ -9,15 +9,24 @@
 //! no meaning for a mesh and is accepted without effect; a line that is not `key: value`
 //! is also skipped, as cpfg does.
 
+use super::funcs::Function;
 use super::grammar::{OldTropism, ViewSettings};
 use super::preprocess::{Includes, preprocess};
 use crate::error::{Error, Result};
 use glam::DVec3;
 
-/// Applies view-file text to `view`; `name` names the file in messages.
-pub(crate) fn apply(view: &mut ViewSettings, text: &str, name: &str, inc: Includes) -> Result<()> {
+/// Applies view-file text to `view`; `name` names the file in messages. Returns the
+/// functions it lists (`function:` and `function set:` files, read from the folder of
+/// `inc`), numbered from 1 in order.
+pub(crate) fn apply(
+    view: &mut ViewSettings,
+    text: &str,
+    name: &str,
+    inc: Includes,
+) -> Result<Vec<Function>> {
     super::parse::check_size(text)?;
-    let pre = preprocess(text, name, inc)?;
+    let pre = preprocess(text, name, inc.clone())?;
+    let mut functions = Vec::new();
     let mut direction: Option<DVec3> = None;
     let mut elasticity = 0.0;
     let mut increment = 0.0;
@@ -90,6 +99,30 @@ pub(crate) fn apply(view: &mut ViewSettings, text: &str, name: &str, inc: Includ
             "elasticity increment" => {
                 increment = first().ok_or_else(|| fail("a number"))?;
             }
+            "function" | "function set" | "functions" => {
+                let file = value.split_whitespace().next().unwrap_or("");
+                let Includes::Dir(dir) = &inc else {
+                    return Err(fail(
+                        "the view file's folder to read the function file from: read the \
+                         grammar with LSystem::from_file / arbor_tree_from_lsystem_file",
+                    ));
+                };
+                let path = dir.join(file);
+                let text = std::fs::read(&path).map_err(|e| {
+                    fail(&format!(
+                        "a readable function file (`{}`: {e})",
+                        path.display()
+                    ))
+                })?;
+                if text.len() > 1 << 20 {
+                    return Err(fail("a function file of at most 1 MiB"));
+                }
+                let text: String = String::from_utf8(text)
+                    .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect());
+                let read = super::funcs::parse(&text, file)
+                    .map_err(|e| fail(&format!("a function file cpfg can read (`{file}`: {e})")))?;
+                functions.extend(read);
+            }
             "tropism" => {
                 // `tropism: T: x,y,z, A: angle, I: intensity, E: elasticity, S: step`
                 if let Some((t, e)) = new_style_tropism(line) {
@@ -108,7 +141,7 @@ pub(crate) fn apply(view: &mut ViewSettings, text: &str, name: &str, inc: Includ
             });
         }
     }
-    Ok(())
+    Ok(functions)
 }
 
 /// The T and E of a new-style `tropism:` line, when both are there.
