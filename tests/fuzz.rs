@@ -286,7 +286,7 @@ fn random_grammars_reach_the_mesher() {
         let before = MESHED.load(std::sync::atomic::Ordering::Relaxed);
         if std::env::var_os("ARBOR_FUZZ_VERBOSE").is_some() {
             if let Err(e) = LSystem::parse(&text) {
-                println!("{e}");
+                println!("{e}\n{text}\n----");
             }
         }
         check(&text).unwrap();

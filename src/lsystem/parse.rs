@@ -349,18 +349,22 @@ impl<'a> Parser<'a> {
         let mut start = 0;
         while start < text.len() {
             let mut end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-            // A line continues on the next while its parentheses or braces are open, and
-            // whenever the next line starts with a TAB (cpfg reads newline-TAB as a
-            // blank); the depths are carried from line to line (time linear in the text).
-            let mut depth = paren_depth(&text[start..end]);
+            // A line continues on the next while its parentheses are open, while the
+            // braces of statements are open (braces after a production's arrow are the
+            // turtle's polygon modules), and whenever the next line starts with a TAB
+            // (cpfg reads newline-TAB as a blank); the state is carried from line to
+            // line (time linear in the text).
+            let mut depth = Depth::default();
+            depth.scan(&text[start..end]);
             while end < text.len()
-                && (depth.0 > 0 || depth.1 > 0 || text.as_bytes().get(end + 1) == Some(&b'\t'))
+                && (depth.parens > 0
+                    || depth.braces > 0
+                    || text.as_bytes().get(end + 1) == Some(&b'\t'))
             {
                 let next = text[end + 1..]
                     .find('\n')
                     .map_or(text.len(), |i| end + 1 + i);
-                let d = paren_depth(&text[end..next]);
-                depth = (depth.0 + d.0, depth.1 + d.1);
+                depth.scan(&text[end..next]);
                 end = next;
             }
             self.line(start, end)?;
@@ -1115,22 +1119,36 @@ impl<'a> Parser<'a> {
     }
 }
 
-/// Open parentheses and braces in `s`, outside string literals.
-fn paren_depth(s: &str) -> (i64, i64) {
-    let mut d = (0i64, 0i64);
-    let mut quoted = false;
-    for b in s.bytes() {
-        match b {
-            b'"' => quoted = !quoted,
-            _ if quoted => {}
-            b'(' => d.0 += 1,
-            b')' => d.0 -= 1,
-            b'{' => d.1 += 1,
-            b'}' => d.1 -= 1,
-            _ => {}
+/// Open parentheses and statement braces of a production or directive being read.
+#[derive(Default)]
+struct Depth {
+    parens: i64,
+    braces: i64,
+    arrow: bool,
+    quoted: bool,
+}
+
+impl Depth {
+    fn scan(&mut self, s: &str) {
+        let b = s.as_bytes();
+        for (i, &c) in b.iter().enumerate() {
+            match c {
+                b'"' => self.quoted = !self.quoted,
+                _ if self.quoted => {}
+                b'(' => self.parens += 1,
+                b')' => self.parens -= 1,
+                b'{' if !self.arrow => self.braces += 1,
+                b'}' if !self.arrow => self.braces -= 1,
+                b'-' if self.parens <= 0 && self.braces <= 0 && b[i..].starts_with(b"->") => {
+                    self.arrow = true
+                }
+                b'-' if self.parens <= 0 && self.braces <= 0 && b[i..].starts_with(b"-->") => {
+                    self.arrow = true
+                }
+                _ => {}
+            }
         }
     }
-    d
 }
 
 /// Depth of parentheses and braces before each byte of `s`, strings skipped: calls

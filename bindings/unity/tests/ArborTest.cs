@@ -116,7 +116,7 @@ static class ArborTest
         catch (ArborException e)
         {
             Expect(e.Status == Status.ParseError, "parse error status " + e.Status);
-            Expect(e.Message.Contains("line 2, column 9"), "message: " + e.Message);
+            Expect(e.Message.Contains("line 2, column 10"), "message: " + e.Message);
         }
         try
         {
