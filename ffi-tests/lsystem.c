@@ -3,6 +3,7 @@
 #include "arbor.h"
 #include "check.h"
 
+#include <stdio.h>
 #include <string.h>
 
 static const char *honda_g =
@@ -118,9 +119,84 @@ static void parse_errors(void) {
   CHECK(t == NULL, "out written on failure");
 }
 
-int main(void) {
+static void write_file(const char *dir, const char *name, const char *text) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  CHECK(f != NULL, "cannot write %s", path);
+  if (f) {
+    fputs(text, f);
+    fclose(f);
+  }
+}
+
+/* The direction of branch i (its end minus its start). */
+static void direction(const ArborTree *t, size_t i, float d[3]) {
+  ArborBranch b[8];
+  size_t n = arbor_tree_branch_count(t);
+  CHECK(i < n && n <= 8, "%zu branches", n);
+  arbor_tree_copy_branches(t, b, n);
+  for (int k = 0; k < 3; k++) d[k] = b[i].end[k] - b[i].start[k];
+}
+
+static void files_as_cpfg_reads_them(const char *dir) {
+  /* A grammar that includes a header, with its angle in the view file beside it. */
+  write_file(dir, "cpfg_inc.h", "#define LEN(k) (2*(k))\n#define TURN +\n");
+  write_file(dir, "cpfg_plant.l",
+             "#include \"cpfg_inc.h\"\n// a comment, not two rolls\nLsystem: 1\n"
+             "derivation length: 1\nAxiom: A\nA --> F(LEN(1))TURN F(1)\nendlsystem\n");
+  write_file(dir, "cpfg_plant.v", "angle factor: 4\ninitial line width: 3 pixels\n");
+  char path[1024];
+  snprintf(path, sizeof path, "%s/cpfg_plant.l", dir);
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem_file(path, NULL, &t), ARBOR_STATUS_OK);
+  CHECK(arbor_tree_branch_count(t) == 2, "%zu branches", arbor_tree_branch_count(t));
+  float d[3];
+  direction(t, 0, d);
+  CHECK(d[1] > 1.99f && d[1] < 2.01f, "first branch %g long up", d[1]);
+  direction(t, 1, d);
+  /* angle factor 4: 90 degrees, + turns left: from +Y to -X. */
+  CHECK(d[0] < -0.99f && d[1] < 0.01f && d[1] > -0.01f, "turned to (%g, %g, %g)", d[0], d[1], d[2]);
+  arbor_tree_free(t);
+
+  /* An explicit view file wins over the one beside the grammar. */
+  write_file(dir, "cpfg_other.v", "angle increment: 180\n");
+  char view[1024];
+  snprintf(view, sizeof view, "%s/cpfg_other.v", dir);
+  ArborLsystemOptions o = arbor_lsystem_options_default();
+  o.view_path = view;
+  CHECK_STATUS(arbor_tree_from_lsystem_file(path, &o, &t), ARBOR_STATUS_OK);
+  direction(t, 1, d);
+  CHECK(d[1] < -0.99f, "turned around: (%g, %g, %g)", d[0], d[1], d[2]);
+  arbor_tree_free(t);
+
+  /* Text in memory with the view file's text. */
+  const char *g = "derivation length: 1\nAxiom: A\nA --> F+F\n";
+  o = arbor_lsystem_options_default();
+  o.view_text = "angle factor: 4\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_OK);
+  direction(t, 1, d);
+  CHECK(d[0] < -0.99f, "view text turned to (%g, %g, %g)", d[0], d[1], d[2]);
+  arbor_tree_free(t);
+
+  /* Errors name the file: a missing grammar, a missing include. */
+  t = NULL;
+  snprintf(path, sizeof path, "%s/cpfg_missing.l", dir);
+  CHECK_STATUS(arbor_tree_from_lsystem_file(path, NULL, &t), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("cpfg_missing.l");
+  write_file(dir, "cpfg_bad.l", "Lsystem: 1\n#include \"cpfg_nowhere.h\"\nAxiom: F\n");
+  snprintf(path, sizeof path, "%s/cpfg_bad.l", dir);
+  CHECK_STATUS(arbor_tree_from_lsystem_file(path, NULL, &t), ARBOR_STATUS_PARSE_ERROR);
+  message_contains("line 2");
+  message_contains("cpfg_nowhere.h");
+  CHECK(t == NULL, "out written on failure");
+  CHECK_STATUS(arbor_tree_from_lsystem_file(NULL, NULL, &t), ARBOR_STATUS_NULL_ARGUMENT);
+}
+
+int main(int argc, char **argv) {
   grows_like_the_direct_model();
   options_apply();
   parse_errors();
+  files_as_cpfg_reads_them(argc > 1 ? argv[1] : ".");
   return check_report("lsystem");
 }

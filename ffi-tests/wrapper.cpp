@@ -114,6 +114,14 @@ int main(int argc, char **argv) {
     EXPECT(std::string(e.what()).find("line 2") != std::string::npos, "%s", e.what());
   }
 
+  try {
+    arbor::Tree::lsystem_file("no/such/grammar.l");
+    EXPECT(false, "no exception for a missing file");
+  } catch (const arbor::Error &e) {
+    EXPECT(e.status() == ARBOR_STATUS_INVALID_ARGUMENT, "status %d", (int)e.status());
+    EXPECT(std::string(e.what()).find("grammar.l") != std::string::npos, "%s", e.what());
+  }
+
   // Moves transfer ownership; the moved-from object frees nothing.
   arbor::Tree g = arbor::Tree::lsystem("angle increment: 30\nAxiom: F[+F~]F[-F~]F~\n");
   arbor::Tree h = std::move(g);

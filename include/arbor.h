@@ -943,6 +943,18 @@ typedef struct ArborLsystemOptions {
    * (Added after the first layout.)
    */
   uint64_t max_work;
+  /**
+   * arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path);
+   * NULL (default): the `.v` file beside the grammar with the same stem, if any.
+   * (Added after the first layout.)
+   */
+  const char *view_path;
+  /**
+   * arbor_tree_from_lsystem(): the text of the grammar's view file (NUL-terminated
+   * UTF-8), applied as cpfg applies a `.v` file; NULL (default): none. (Added after
+   * the first layout.)
+   */
+  const char *view_text;
 } ArborLsystemOptions;
 
 /**
@@ -1391,6 +1403,26 @@ enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
                                         const struct ArborLeafOptions *leaf_options,
                                         const struct ArborMeshOptions *mesh_options,
                                         struct ArborMesh **out);
+
+/**
+ * Grows a tree from an L-system file read as cpfg reads it (GRAMMAR.md): the C
+ * preprocessor over the text (`#include` relative to the file's folder), then its view
+ * file: `options->view_path` when set, else the `.v` file beside it with the same stem,
+ * else none (the view file's angle, line widths, tropism and functions apply). `path`
+ * is a NUL-terminated UTF-8 path; `options` may be NULL for the defaults. Writes a new
+ * tree to `*out` on success.
+ *
+ * Statuses: as arbor_tree_from_lsystem() (parse errors name the file and line, an
+ * included file's name first); ARBOR_STATUS_INVALID_ARGUMENT for a file that cannot be
+ * opened or read (the message has the path and why).
+ *
+ * # Safety
+ * `path` is NULL or NUL-terminated; `options` is NULL or readable (its `view_path` NULL
+ * or NUL-terminated); `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_lsystem_file(const char *path,
+                                              const struct ArborLsystemOptions *options,
+                                              struct ArborTree **out);
 
 /**
  * Writes the default L-system options into the first `struct_size` bytes at `options`

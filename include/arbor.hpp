@@ -144,6 +144,14 @@ class Tree {
     return Tree(t);
   }
 
+  /// A cpfg file read as cpfg reads it: preprocessed, with its view file
+  /// (options->view_path, else the .v beside it).
+  static Tree lsystem_file(const std::string &path, const ArborLsystemOptions *options = nullptr) {
+    ArborTree *t = nullptr;
+    detail::check(arbor_tree_from_lsystem_file(path.c_str(), options, &t));
+    return Tree(t);
+  }
+
   Tree(Tree &&other) noexcept : tree_(std::exchange(other.tree_, nullptr)) {}
   Tree &operator=(Tree &&other) noexcept {
     if (this != &other) {

@@ -87,6 +87,9 @@ namespace Arbor
         public uint OverrideFlags;
         public float AngleIncrement, InitialWidth, WidthIncrement, TurnJitter;
         public ulong VariationSeed, MaxWork;
+        /// A NUL-terminated UTF-8 path (FromLsystemFile) or view-file text (FromLsystem);
+        /// IntPtr.Zero for none. The wrappers below fill them for you.
+        public IntPtr ViewPath, ViewText;
 
         public static LsystemOptions Default()
         {
@@ -214,6 +217,10 @@ namespace Arbor
         public static extern Status arbor_tree_from_honda(ref HondaParams p, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_from_lsystem(byte[] source, UIntPtr len, IntPtr options, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_lsystem(byte[] source, UIntPtr len, ref LsystemOptions options, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_lsystem_file(IntPtr path, ref LsystemOptions options, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_tree_free(IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
@@ -346,6 +353,49 @@ namespace Arbor
             IntPtr t;
             ArborException.Check(Native.arbor_tree_from_lsystem(bytes, (UIntPtr)bytes.Length, IntPtr.Zero, out t));
             return new Tree(t);
+        }
+
+        static IntPtr Utf8(string s)
+        {
+            byte[] b = Encoding.UTF8.GetBytes(s + "\0");
+            IntPtr p = Marshal.AllocHGlobal(b.Length);
+            Marshal.Copy(b, 0, p, b.Length);
+            return p;
+        }
+
+        /// A grammar in memory with the text of its view file (.v).
+        public static Tree FromLsystem(string source, string viewText)
+        {
+            byte[] bytes = Encoding.UTF8.GetBytes(source);
+            var o = LsystemOptions.Default();
+            o.ViewText = Utf8(viewText);
+            try
+            {
+                IntPtr t;
+                ArborException.Check(Native.arbor_tree_from_lsystem(bytes, (UIntPtr)bytes.Length, ref o, out t));
+                return new Tree(t);
+            }
+            finally { Marshal.FreeHGlobal(o.ViewText); }
+        }
+
+        /// A cpfg file read as cpfg reads it: preprocessed, with its view file (viewPath,
+        /// else the .v beside it).
+        public static Tree FromLsystemFile(string path, string viewPath = null)
+        {
+            var o = LsystemOptions.Default();
+            IntPtr p = Utf8(path);
+            o.ViewPath = viewPath == null ? IntPtr.Zero : Utf8(viewPath);
+            try
+            {
+                IntPtr t;
+                ArborException.Check(Native.arbor_tree_from_lsystem_file(p, ref o, out t));
+                return new Tree(t);
+            }
+            finally
+            {
+                Marshal.FreeHGlobal(p);
+                if (o.ViewPath != IntPtr.Zero) Marshal.FreeHGlobal(o.ViewPath);
+            }
         }
 
         public int BranchCount { get { return (int)Native.arbor_tree_branch_count(handle); } }

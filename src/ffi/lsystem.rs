@@ -50,6 +50,14 @@ pub struct ArborLsystemOptions {
     /// together would rewrite more modules than this (a bound on time). Default 268,435,456.
     /// (Added after the first layout.)
     pub max_work: u64,
+    /// arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path);
+    /// NULL (default): the `.v` file beside the grammar with the same stem, if any.
+    /// (Added after the first layout.)
+    pub view_path: *const c_char,
+    /// arbor_tree_from_lsystem(): the text of the grammar's view file (NUL-terminated
+    /// UTF-8), applied as cpfg applies a `.v` file; NULL (default): none. (Added after
+    /// the first layout.)
+    pub view_text: *const c_char,
 }
 
 impl ArborLsystemOptions {
@@ -112,8 +120,72 @@ impl Growing for ArborLsystemOptions {
             turn_jitter: d.turn_jitter as f32,
             variation_seed: d.variation_seed,
             max_work: d.max_work as u64,
+            view_path: std::ptr::null(),
+            view_text: std::ptr::null(),
         }
     }
+}
+
+/// A NUL-terminated UTF-8 string argument, or `None` for NULL.
+///
+/// # Safety
+/// `p` is NULL or points to a NUL-terminated string.
+unsafe fn c_string<'a>(p: *const c_char, name: &'static str) -> Result<Option<&'a str>, FfiError> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: the caller promises a non-NULL `p` is NUL-terminated.
+    let s = unsafe { CStr::from_ptr(p) };
+    if s.to_bytes().len() > MAX_SOURCE_BYTES {
+        return Err(
+            crate::Error::invalid(name, format!("longer than {MAX_SOURCE_BYTES} bytes")).into(),
+        );
+    }
+    s.to_str()
+        .map(Some)
+        .map_err(|_| crate::Error::invalid(name, "not UTF-8 text").into())
+}
+
+/// Grows a tree from an L-system file read as cpfg reads it (GRAMMAR.md): the C
+/// preprocessor over the text (`#include` relative to the file's folder), then its view
+/// file: `options->view_path` when set, else the `.v` file beside it with the same stem,
+/// else none (the view file's angle, line widths, tropism and functions apply). `path`
+/// is a NUL-terminated UTF-8 path; `options` may be NULL for the defaults. Writes a new
+/// tree to `*out` on success.
+///
+/// Statuses: as arbor_tree_from_lsystem() (parse errors name the file and line, an
+/// included file's name first); ARBOR_STATUS_INVALID_ARGUMENT for a file that cannot be
+/// opened or read (the message has the path and why).
+///
+/// # Safety
+/// `path` is NULL or NUL-terminated; `options` is NULL or readable (its `view_path` NULL
+/// or NUL-terminated); `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
+    path: *const c_char,
+    options: *const ArborLsystemOptions,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let (options, view) = if options.is_null() {
+            (LsystemOptions::default(), None)
+        } else {
+            // SAFETY: the caller promises `options` is readable for its struct_size bytes.
+            let o = unsafe { read_growing(options, "options") }?;
+            // SAFETY: the caller promises `view_path` is NULL or NUL-terminated.
+            let view = unsafe { c_string(o.view_path, "view_path") }?;
+            (o.to_rust()?, view.map(std::path::PathBuf::from))
+        };
+        // SAFETY: the caller promises `path` is NULL or NUL-terminated.
+        let Some(path) = (unsafe { c_string(path, "path") })? else {
+            return Err(FfiError::null("path"));
+        };
+        let skeleton = LSystem::from_file(path, view.as_deref())?.skeleton(&options)?;
+        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        Ok(())
+    })
 }
 
 impl Default for ArborLsystemOptions {
@@ -164,11 +236,14 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let options = if options.is_null() {
-            LsystemOptions::default()
+        let (options, view) = if options.is_null() {
+            (LsystemOptions::default(), None)
         } else {
             // SAFETY: the caller promises `options` is readable for its struct_size bytes.
-            unsafe { read_growing(options, "options") }?.to_rust()?
+            let o = unsafe { read_growing(options, "options") }?;
+            // SAFETY: the caller promises `view_text` is NULL or NUL-terminated.
+            let view = unsafe { c_string(o.view_text, "view_text") }?;
+            (o.to_rust()?, view)
         };
         if source_len > MAX_SOURCE_BYTES {
             return Err(crate::Error::invalid(
@@ -204,7 +279,11 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
                 ),
             }
         })?;
-        let skeleton = LSystem::parse(text)?.skeleton(&options)?;
+        let grammar = match view {
+            Some(v) => LSystem::parse_with_view(text, v)?,
+            None => LSystem::parse(text)?,
+        };
+        let skeleton = grammar.skeleton(&options)?;
         *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
         Ok(())
     })

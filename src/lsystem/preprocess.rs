@@ -106,8 +106,8 @@ enum Kind {
 struct Tok {
     kind: Kind,
     text: String,
-    /// Macros this token came out of (C's "hide set").
-    hide: Vec<u32>,
+    /// Macros this token came out of (C's "hide set"): an index into [`HideSets`].
+    hide: u32,
 }
 
 impl Tok {
@@ -133,8 +133,64 @@ struct Frame {
     line: u32,
 }
 
+/// Interned hide sets (sorted macro ids); set 0 is empty. Tokens carry an index, so a
+/// copy is cheap and a union is computed once per pair.
+#[derive(Default)]
+struct HideSets {
+    sets: Vec<Vec<u32>>,
+    index: HashMap<Vec<u32>, u32>,
+    unions: HashMap<(u32, u32), u32>,
+}
+
+impl HideSets {
+    fn new() -> Self {
+        let mut h = HideSets::default();
+        h.intern(Vec::new());
+        h
+    }
+
+    fn intern(&mut self, set: Vec<u32>) -> u32 {
+        if let Some(&i) = self.index.get(&set) {
+            return i;
+        }
+        let i = self.sets.len() as u32;
+        self.sets.push(set.clone());
+        self.index.insert(set, i);
+        i
+    }
+
+    fn contains(&self, set: u32, id: u32) -> bool {
+        self.sets[set as usize].binary_search(&id).is_ok()
+    }
+
+    fn union(&mut self, a: u32, b: u32) -> u32 {
+        if a == b || b == 0 {
+            return a;
+        }
+        if a == 0 {
+            return b;
+        }
+        if let Some(&u) = self.unions.get(&(a, b)) {
+            return u;
+        }
+        let mut v = self.sets[a as usize].clone();
+        v.extend_from_slice(&self.sets[b as usize]);
+        v.sort_unstable();
+        v.dedup();
+        let u = self.intern(v);
+        self.unions.insert((a, b), u);
+        u
+    }
+
+    fn with(&mut self, a: u32, id: u32) -> u32 {
+        let single = self.intern(vec![id]);
+        self.union(a, single)
+    }
+}
+
 struct Pre {
-    macros: HashMap<String, Macro>,
+    hides: HideSets,
+    macros: HashMap<String, std::rc::Rc<Macro>>,
     next_id: u32,
     names: Vec<String>,
     out: Preprocessed,
@@ -159,6 +215,7 @@ fn perr(file: &str, line: u32, message: String) -> Error {
 /// for text in memory).
 pub(crate) fn preprocess(text: &str, name: &str, includes: Includes) -> Result<Preprocessed> {
     let mut p = Pre {
+        hides: HideSets::new(),
         macros: HashMap::new(),
         next_id: 0,
         names: Vec::new(),
@@ -284,7 +341,7 @@ fn tokenize(s: &str) -> Vec<Tok> {
     let tok = |kind, text: &str| Tok {
         kind,
         text: text.to_string(),
-        hide: Vec::new(),
+        hide: 0,
     };
     while i < b.len() {
         let c = b[i];
@@ -539,8 +596,10 @@ impl Pre {
         let id = self.next_id;
         self.next_id += 1;
         self.names.push(name.to_string());
-        self.macros
-            .insert(name.to_string(), Macro { id, params, body });
+        self.macros.insert(
+            name.to_string(),
+            std::rc::Rc::new(Macro { id, params, body }),
+        );
         Ok(())
     }
 
@@ -665,9 +724,8 @@ impl Pre {
                 out.push(t);
                 continue;
             }
-            if t.hide.contains(&m.id) {
-                let chain: Vec<&str> = t
-                    .hide
+            if self.hides.contains(t.hide, m.id) {
+                let chain: Vec<&str> = self.hides.sets[t.hide as usize]
                     .iter()
                     .map(|&i| self.names[i as usize].as_str())
                     .collect();
@@ -683,10 +741,9 @@ impl Pre {
                 ));
             }
             let m = m.clone();
-            let mut hide = t.hide.clone();
-            hide.push(m.id);
+            let hide = self.hides.with(t.hide, m.id);
             let body = match &m.params {
-                None => self.substitute(&m, &[], &hide, file, line)?,
+                None => self.substitute(&m, &[], hide, file, line)?,
                 Some(_) => {
                     let k = call_open.expect("checked above");
                     let Some((args, close)) = collect_args(&rest, k) else {
@@ -719,7 +776,7 @@ impl Pre {
                                 tail.push(Tok {
                                     kind: Kind::Punct,
                                     text: ",".into(),
-                                    hide: Vec::new(),
+                                    hide: 0,
                                 });
                             }
                             tail.extend(arg.iter().cloned());
@@ -730,7 +787,7 @@ impl Pre {
                         args
                     };
                     rest.drain(..=close);
-                    self.substitute(&m, &args, &hide, file, line)?
+                    self.substitute(&m, &args, hide, file, line)?
                 }
             };
             self.count(body.len(), file, line)?;
@@ -745,7 +802,7 @@ impl Pre {
         &mut self,
         m: &Macro,
         args: &[Vec<Tok>],
-        hide: &[u32],
+        hide: u32,
         file: &str,
         line: u32,
     ) -> Result<Vec<Tok>> {
@@ -775,7 +832,7 @@ impl Pre {
                     out.push(Tok {
                         kind: Kind::Str,
                         text: format!("\"{text}\""),
-                        hide: Vec::new(),
+                        hide: 0,
                     });
                     i = j + 1;
                     continue;
@@ -825,11 +882,7 @@ impl Pre {
             i += 1;
         }
         for t in &mut out {
-            for &h in hide {
-                if !t.hide.contains(&h) {
-                    t.hide.push(h);
-                }
-            }
+            t.hide = self.hides.union(t.hide, hide);
         }
         Ok(out)
     }
@@ -860,7 +913,7 @@ impl Pre {
                 pre.push(Tok {
                     kind: Kind::Number,
                     text: if v { "1".into() } else { "0".into() },
-                    hide: Vec::new(),
+                    hide: 0,
                 });
                 i = j + 1;
                 continue;

@@ -118,6 +118,21 @@ static class ArborTest
             Expect(e.Status == Status.ParseError, "parse error status " + e.Status);
             Expect(e.Message.Contains("line 2, column 10"), "message: " + e.Message);
         }
+        // A grammar with the text of its view file: angle factor 4 is 90 degrees.
+        using (var tree = Tree.FromLsystem("derivation length: 1\nAxiom: A\nA --> F+F\n", "angle factor: 4\n"))
+        {
+            var b = tree.Branches();
+            Expect(b.Length == 2 && b[1].EndX - b[1].StartX < -0.99f, "view text turns 90 degrees");
+        }
+        try
+        {
+            Tree.FromLsystemFile("no/such/grammar.l");
+            Expect(false, "no exception for a missing file");
+        }
+        catch (ArborException e)
+        {
+            Expect(e.Status == Status.InvalidArgument && e.Message.Contains("grammar.l"), "missing file: " + e.Message);
+        }
         try
         {
             Tree.FromPreset('z');

@@ -1,0 +1,304 @@
+//! cpfg files as written: the preprocessor over files, view files, statements, arrays,
+//! multi-module predecessors, function files, and hostile preprocessor input.
+
+use arbor::Error;
+use arbor::lsystem::{LSystem, LsystemOptions};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// A fresh folder under the target directory for this test's files.
+fn folder(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cpfg_files")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &std::path::Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    if let Some(parent) = p.parent() {
+        std::fs::create_dir_all(parent).unwrap();
+    }
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn derive(ls: &LSystem) -> String {
+    ls.format(&ls.derive(&LsystemOptions::default()).unwrap())
+}
+
+fn parse_error(result: arbor::Result<LSystem>) -> (u32, String) {
+    match result {
+        Err(Error::Parse { line, message, .. }) => (line, message),
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+#[test]
+fn includes_are_relative_to_the_including_file() {
+    let dir = folder("includes");
+    write(&dir, "lib/inner.h", "#define STEP 3\n");
+    write(
+        &dir,
+        "lib/outer.h",
+        "#include \"inner.h\"\n#define SQ(x) ((x)*(x))\n",
+    );
+    let path = write(
+        &dir,
+        "plant.l",
+        "#include \"lib/outer.h\"\n#ifdef STEP\nAxiom: F(SQ(STEP))\n#else\nAxiom: G\n#endif\n",
+    );
+    let ls = LSystem::from_file(&path, None).unwrap();
+    assert_eq!(derive(&ls), "F(9)");
+    // A missing include names the file and points at the line in the file with it.
+    write(&dir, "lib/broken.h", "\n\n#include \"nowhere.h\"\n");
+    let path = write(&dir, "broken.l", "#include \"lib/broken.h\"\nAxiom: F\n");
+    let (line, message) = parse_error(LSystem::from_file(&path, None));
+    assert_eq!(line, 3, "{message}");
+    assert!(
+        message.contains("broken.h") && message.contains("nowhere.h"),
+        "{message}"
+    );
+    // An include cycle is named, in bounded time.
+    write(&dir, "a.h", "#include \"b.h\"\n");
+    write(&dir, "b.h", "#include \"a.h\"\n");
+    let path = write(&dir, "cycle.l", "#include \"a.h\"\nAxiom: F\n");
+    let (_, message) = parse_error(LSystem::from_file(&path, None));
+    assert!(
+        message.contains("#include cycle: a.h → b.h → a.h"),
+        "{message}"
+    );
+    // Errors after the preprocessor point at the original line.
+    let path = write(
+        &dir,
+        "late.l",
+        "/* two\n lines */\n#define X 1\n\nAxiom: F(X +)\n",
+    );
+    let (line, message) = parse_error(LSystem::from_file(&path, None));
+    assert_eq!(line, 5, "{message}");
+}
+
+#[test]
+fn the_view_file_sets_the_angle_widths_and_tropism() {
+    let dir = folder("view");
+    let grammar =
+        "#define N 1\nLsystem: 1\nderivation length: N\nAxiom: A\nA --> F+F\nendlsystem\n";
+    let path = write(&dir, "plant.l", grammar);
+    // No view file: the default angle.
+    let plain = LSystem::from_file(&path, None).unwrap();
+    assert_eq!(plain.view().angle_increment, 45.0);
+    write(
+        &dir,
+        "plant.v",
+        "angle factor: 40\ninitial line width: 2 pixels\nline width increment: .1\n\
+         viewpoint: -1,0,30\nlight direction: 1.0,0.0,0.5\nsurface: l leaf.s 800 3 5\n\
+         tropism direction: 0.0,1.0,0.0\ninitial elasticity: 0.02\n",
+    );
+    let ls = LSystem::from_file(&path, None).unwrap();
+    assert_eq!(ls.view().angle_increment, 9.0);
+    assert_eq!(ls.view().initial_width, 2.0);
+    assert_eq!(ls.view().width_increment, 0.1);
+    let t = ls.view().old_tropism.unwrap();
+    assert_eq!((t.direction.y, t.elasticity), (1.0, 0.02));
+    // The same text from memory, and an explicit view file.
+    let mem = LSystem::parse_with_view(grammar, "angle increment: 30\n").unwrap();
+    assert_eq!(mem.view().angle_increment, 30.0);
+    let other = write(&dir, "other.v", "angle increment: 12.5\n");
+    let ls = LSystem::from_file(&path, Some(&other)).unwrap();
+    assert_eq!(ls.view().angle_increment, 12.5);
+    // The older tropism bends every F toward its direction by asin(e·(T·U)) and
+    // asin(e·(T·L)): a branch turned off the vertical bends back up.
+    let g = "derivation length: 1\nAxiom: +(60)A\nA --> F(1)F(1)F(1)\n";
+    let straight = LSystem::parse(g)
+        .unwrap()
+        .skeleton(&Default::default())
+        .unwrap();
+    let bent = LSystem::parse_with_view(g, "tropism direction: 0,1,0\ninitial elasticity: 0.3\n")
+        .unwrap()
+        .skeleton(&Default::default())
+        .unwrap();
+    let rise = |s: &arbor::skeleton::Skeleton| s.branches()[2].end[1] - s.branches()[2].start[1];
+    assert!(
+        rise(&bent) > rise(&straight) + 0.05,
+        "{} vs {}",
+        rise(&bent),
+        rise(&straight)
+    );
+    // `_(e)` sets the elasticity: 0 keeps the branch straight.
+    let unbent = LSystem::parse_with_view(
+        "derivation length: 1\nAxiom: +(60)_(0)A\nA --> F(1)F(1)F(1)\n",
+        "tropism direction: 0,1,0\ninitial elasticity: 0.3\n",
+    )
+    .unwrap()
+    .skeleton(&Default::default())
+    .unwrap();
+    assert!((rise(&unbent) - rise(&straight)).abs() < 1e-5);
+    // A value the view file gets wrong is named with its line.
+    let bad = write(&dir, "bad.v", "\n\nangle factor: none\n");
+    let (line, message) = parse_error(LSystem::from_file(&path, Some(&bad)));
+    assert_eq!(line, 3);
+    assert!(
+        message.contains("bad.v") && message.contains("angle factor"),
+        "{message}"
+    );
+}
+
+#[test]
+fn blocks_run_in_cpfg_order_and_statements_change_the_derivation() {
+    // Start, axiom, then per step StartEach / step / EndEach, then End.
+    let ls = LSystem::parse(
+        "Lsystem: 1\nderivation length: 3\n\
+         Start: { n = 10; printf(\"start %g\\n\", n); }\n\
+         StartEach: { n = n + 1; }\n\
+         EndEach: { printf(\"step %g\\n\", n); }\n\
+         End: { printf(\"end\\n\"); }\n\
+         Axiom: A(n)\n\
+         A(x) --> A(n)\n\
+         endlsystem\n",
+    )
+    .unwrap();
+    let s = ls.derive(&LsystemOptions::default()).unwrap();
+    assert_eq!(ls.format(&s), "A(13)");
+    assert_eq!(s.log(), "start 10\nstep 11\nstep 12\nstep 13\nend\n");
+    // Statements before the condition (which see and change the parameters) and after
+    // it; a global counts the rewrites, left to right.
+    let ls = LSystem::parse(
+        "derivation length: 1\nAxiom: A(1)A(2)A(3)\n\
+         A(x) : { y = x * 2; } y > 2 { k = k + 1; } --> B(y, k)\n",
+    )
+    .unwrap();
+    assert_eq!(derive(&ls), "A(1)B(4,1)B(6,2)");
+    // if/else, while, do-while, ?: and arrays.
+    let ls = LSystem::parse(
+        "define: { array a[4] = { 1, 2, 3, 4 }, m[2][2]; }\n\
+         derivation length: 1\nAxiom: A(0)\n\
+         A(x) : * { i = 0; s = 0; while (i < 4) { s = s + a[i]; i = i + 1; }\n\
+                    m[1][0] = 7; do { i = i - 1; } while (i > 2);\n\
+                    if (s == 10) t = 1; else t = 2; } --> B(s, m[1][0], i, t, s > 5 ? 1 : 0)\n",
+    )
+    .unwrap();
+    assert_eq!(derive(&ls), "B(10,7,2,1,1)");
+    // stop() ends the derivation after the step.
+    let ls = LSystem::parse(
+        "derivation length: 10\nAxiom: A(0)\nA(x) : * { if (x >= 2) stop(); } --> A(x + 1)\n",
+    )
+    .unwrap();
+    assert_eq!(derive(&ls), "A(3)");
+    // Run-time faults are errors with the production's line.
+    let ls = LSystem::parse("define: { array a[2]; }\nderivation length: 1\nAxiom: A(5)\nA(x) : * { a[x] = 1; } --> A(x)\n").unwrap();
+    match ls.derive(&LsystemOptions::default()) {
+        Err(Error::Eval { message, .. }) => {
+            assert!(
+                message.contains("line 4") && message.contains("outside 0..2"),
+                "{message}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    // A loop that never ends stops at max_work.
+    let ls = LSystem::parse(
+        "derivation length: 1\nAxiom: A\nA : * { while (1) { x = x + 1; } } --> A\n",
+    )
+    .unwrap();
+    let options = LsystemOptions {
+        max_work: 100_000,
+        ..Default::default()
+    };
+    assert!(matches!(
+        ls.derive(&options),
+        Err(Error::LimitExceeded {
+            limit_name: "max_work",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn predecessors_of_several_modules_replace_them_all() {
+    let ls = LSystem::parse("derivation length: 1\nAxiom: XAB(2)C\nAB(x) --> D(x + 1)\n").unwrap();
+    assert_eq!(derive(&ls), "XD(3)C");
+    // Bracketed predecessors match brackets literally.
+    let ls = LSystem::parse("derivation length: 1\nAxiom: F[A(1)B]G[A(2)C]\n[A(x)B] --> [E(x)]\n")
+        .unwrap();
+    assert_eq!(derive(&ls), "F[E(1)]G[A(2)C]");
+    // In interpretation rules too: the turtle reads what they make.
+    let ls = LSystem::parse("Axiom: AB\nhomomorphism\nAB --> FFF\n").unwrap();
+    assert_eq!(ls.skeleton(&Default::default()).unwrap().len(), 3);
+}
+
+#[test]
+fn function_files_are_read_from_the_view_file() {
+    let dir = folder("functions");
+    write(
+        &dir,
+        "ramp.func",
+        "fver 1 1\nname: ramp\nsamples: 10\nflip: off\npoints: 4\n0 0 1\n0.333333 0.666667 1\n0.666667 1.333333 1\n1 2 1\n",
+    );
+    write(
+        &dir,
+        "plant.v",
+        "angle factor: 8\nfunction: ramp.func 100\n",
+    );
+    let path = write(
+        &dir,
+        "plant.l",
+        "derivation length: 1\nAxiom: A\nA --> F(func(1, 0.5))F(func(ramp, 1))\n",
+    );
+    let ls = LSystem::from_file(&path, None).unwrap();
+    let s = ls.skeleton(&Default::default()).unwrap();
+    let len = |i: usize| s.branches()[i].end[1] - s.branches()[i].start[1];
+    assert!((len(0) - 1.0).abs() < 1e-3, "{}", len(0));
+    assert!((len(1) - 2.0).abs() < 1e-3, "{}", len(1));
+    // A function the view file does not list is an error naming how many it lists.
+    let path = write(
+        &dir,
+        "more.l",
+        "derivation length: 1\nAxiom: A\nA --> F(func(3, 0.5))\n",
+    );
+    let e = LSystem::from_file(&path, Some(&dir.join("plant.v")))
+        .unwrap()
+        .derive(&Default::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("lists 1 function"), "{e}");
+}
+
+/// Hostile preprocessor input: a clear error in bounded time.
+#[test]
+fn malformed_preprocessor_input_is_refused_quickly() {
+    let bounded = |text: &str, expect: &str| {
+        let t = Instant::now();
+        let (_, message) = parse_error(LSystem::parse(text));
+        assert!(message.contains(expect), "{message}");
+        println!("{expect}: {:?}", t.elapsed());
+        assert!(
+            t.elapsed() < Duration::from_secs(20),
+            "{expect}: {:?}",
+            t.elapsed()
+        );
+    };
+    bounded(
+        "#define M(a, b) a b\nAxiom: M(F, \n",
+        "unterminated macro call",
+    );
+    bounded("#define M(a\nAxiom: F\n", "unterminated #define");
+    bounded(
+        "#define A B\n#define B A\nAxiom: A\n",
+        "recursive #define: A → B → A",
+    );
+    let mut exp = String::new();
+    for i in 1..64 {
+        exp += &format!("#define M{i} M{} M{}\n", i - 1, i - 1);
+    }
+    exp += "#define M0 F\nAxiom: M63\n";
+    bounded(&exp, "macro expansion produces more than");
+    bounded(&"#if 1\n".repeat(100_000), "nested deeper than");
+    bounded(
+        &format!("{}Axiom: F\n", "#ifdef X\n".repeat(3000)),
+        "never closed",
+    );
+    bounded("#else\nAxiom: F\n", "without an `#if`");
+    bounded("#error no model here\nAxiom: F\n", "no model here");
+    bounded("#include \"x.h\"\nAxiom: F\n", "needs the grammar's folder");
+}
