@@ -193,7 +193,34 @@ static void files_as_cpfg_reads_them(const char *dir) {
   CHECK_STATUS(arbor_tree_from_lsystem_file(NULL, NULL, &t), ARBOR_STATUS_NULL_ARGUMENT);
 }
 
+static void organs_and_colours(void) {
+  const char *g = "Axiom: F(2)@O(2);F@o(1)\n";
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), NULL, &t), ARBOR_STATUS_OK);
+  CHECK(arbor_tree_organ_count(t) == 2, "%zu organs", arbor_tree_organ_count(t));
+  ArborOrgan o[2];
+  CHECK_STATUS(arbor_tree_copy_organs(t, o, 1), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK_STATUS(arbor_tree_copy_organs(t, o, 2), ARBOR_STATUS_OK);
+  CHECK(o[0].kind == ARBOR_ORGAN_SPHERE && o[0].size == 2.0f && o[0].position[1] == 2.0f,
+        "sphere %u %g", o[0].kind, o[0].size);
+  CHECK(o[1].kind == ARBOR_ORGAN_DISC && o[1].color == 2 && o[1].branch == 1, "disc %u %u",
+        o[1].kind, o[1].color);
+  uint32_t colors[2];
+  CHECK_STATUS(arbor_tree_copy_branch_colors(t, colors, 2), ARBOR_STATUS_OK);
+  CHECK(colors[0] == 1 && colors[1] == 2, "colours %u %u", colors[0], colors[1]);
+  ArborMeshOptions mo = arbor_mesh_options_default();
+  mo.radial_segments = 8;
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  size_t nv = 0, ni = 0;
+  CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, &mo, &nv, &ni), ARBOR_STATUS_OK);
+  /* A sphere of 5 rings of 9 vertices, a disc of 8 corners. */
+  CHECK(nv == 5 * 9 + 8 && ni > 0, "%zu vertices, %zu indices", nv, ni);
+  CHECK(arbor_struct_size(16) == sizeof(ArborOrgan), "ArborOrgan size");
+  arbor_tree_free(t);
+}
+
 int main(int argc, char **argv) {
+  organs_and_colours();
   grows_like_the_direct_model();
   options_apply();
   parse_errors();

@@ -96,6 +96,26 @@
 #define ARBOR_NO_PARENT UINT32_MAX
 
 /**
+ * ArborOrgan.kind of a sphere (`@O`).
+ */
+#define ARBOR_ORGAN_SPHERE 0
+
+/**
+ * ArborOrgan.kind of a disc facing the heading (`@o`, `@c`).
+ */
+#define ARBOR_ORGAN_DISC 1
+
+/**
+ * [`Organ::kind`] of a sphere (`@O(d)`).
+ */
+#define ORGAN_SPHERE 0
+
+/**
+ * [`Organ::kind`] of a disc facing the turtle's heading (`@o(d)`, `@c(d)`).
+ */
+#define ORGAN_DISC 1
+
+/**
  * Result of every fallible function. The numbers are fixed forever and never reused.
  */
 typedef enum ArborStatus {
@@ -283,6 +303,10 @@ typedef enum ArborStructId {
    * ArborCurveGrowthRecord.
    */
   ARBOR_STRUCT_ID_CURVE_GROWTH_RECORD = 15,
+  /**
+   * ArborOrgan.
+   */
+  ARBOR_STRUCT_ID_ORGAN = 16,
 } ArborStructId;
 
 /**
@@ -1067,6 +1091,46 @@ typedef struct ArborLeafSite {
   uint32_t depth;
 } ArborLeafSite;
 
+/**
+ * A sphere or disc the turtle placed (`@O(d)`, `@o(d)`, `@c(d)`), 56 bytes. The baked
+ * leaf mesh (arbor_leaf_mesh_write) holds one per organ when ArborLeafOptions.polygons
+ * is set.
+ */
+typedef struct ArborOrgan {
+  /**
+   * Centre: where the turtle stood.
+   */
+  float position[3];
+  /**
+   * The turtle's heading there (unit): a disc's normal.
+   */
+  float heading[3];
+  /**
+   * The turtle's up vector there (unit).
+   */
+  float up[3];
+  /**
+   * Diameter.
+   */
+  float size;
+  /**
+   * ARBOR_ORGAN_SPHERE or ARBOR_ORGAN_DISC.
+   */
+  uint32_t kind;
+  /**
+   * The branch it sits on, or ARBOR_NO_PARENT.
+   */
+  uint32_t branch;
+  /**
+   * The rewriting step that produced it.
+   */
+  uint32_t depth;
+  /**
+   * The turtle's colour index there (`;` `,`).
+   */
+  uint32_t color;
+} ArborOrgan;
+
 
 
 
@@ -1745,6 +1809,37 @@ size_t arbor_tree_leaf_site_count(const struct ArborTree *tree);
 enum ArborStatus arbor_tree_copy_leaf_sites(const struct ArborTree *tree,
                                             struct ArborLeafSite *out,
                                             size_t capacity);
+
+/**
+ * Number of spheres and discs of `tree`; 0 for NULL.
+ *
+ * # Safety
+ * `tree` is NULL or live.
+ */
+size_t arbor_tree_organ_count(const struct ArborTree *tree);
+
+/**
+ * Copies the spheres and discs of `tree` into `out` (`capacity` elements, at least
+ * arbor_tree_organ_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL).
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` organs.
+ */
+enum ArborStatus arbor_tree_copy_organs(const struct ArborTree *tree,
+                                        struct ArborOrgan *out,
+                                        size_t capacity);
+
+/**
+ * Copies the colour index (`;` `,`) of every branch into `out` (`capacity` values, at
+ * least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL). A tree whose
+ * generator set no colours writes 0 for every branch.
+ *
+ * # Safety
+ * `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` values.
+ */
+enum ArborStatus arbor_tree_copy_branch_colors(const struct ArborTree *tree,
+                                               uint32_t *out,
+                                               size_t capacity);
 
 /**
  * Grows the 1996 model with seeded variation of every branch's angles (up to +-4 degrees

@@ -35,6 +35,10 @@ same_layout!(ArborLeafInstance, LeafInstance, [
 same_layout!(ArborLeafSite, crate::skeleton::LeafSite, [
     position => position, heading => heading, up => up, branch => branch, depth => birth,
 ]);
+same_layout!(ArborOrgan, crate::skeleton::Organ, [
+    position => position, heading => heading, up => up, size => size, kind => kind,
+    branch => branch, depth => birth, color => color,
+]);
 same_layout!(ArborCurveRecord, crate::mesh::CurveRecord, [
     p0 => p0, r0 => r0, p1 => p1, r1 => r1, p2 => p2, v0 => v0, p3 => p3, length => length,
     u_offset => u_offset, order => order, parent => parent, birth => birth,
@@ -82,6 +86,8 @@ pub enum ArborStructId {
     CurveRecord = 14,
     /// ArborCurveGrowthRecord.
     CurveGrowthRecord = 15,
+    /// ArborOrgan.
+    Organ = 16,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -107,6 +113,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         13 => size_of::<ArborCurve>(),
         14 => size_of::<ArborCurveRecord>(),
         15 => size_of::<ArborCurveGrowthRecord>(),
+        16 => size_of::<ArborOrgan>(),
         _ => 0,
     }
 }

@@ -384,6 +384,104 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
     })
 }
 
+/// ArborOrgan.kind of a sphere (`@O`).
+pub const ARBOR_ORGAN_SPHERE: u32 = 0;
+/// ArborOrgan.kind of a disc facing the heading (`@o`, `@c`).
+pub const ARBOR_ORGAN_DISC: u32 = 1;
+
+/// A sphere or disc the turtle placed (`@O(d)`, `@o(d)`, `@c(d)`), 56 bytes. The baked
+/// leaf mesh (arbor_leaf_mesh_write) holds one per organ when ArborLeafOptions.polygons
+/// is set.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArborOrgan {
+    /// Centre: where the turtle stood.
+    pub position: [f32; 3],
+    /// The turtle's heading there (unit): a disc's normal.
+    pub heading: [f32; 3],
+    /// The turtle's up vector there (unit).
+    pub up: [f32; 3],
+    /// Diameter.
+    pub size: f32,
+    /// ARBOR_ORGAN_SPHERE or ARBOR_ORGAN_DISC.
+    pub kind: u32,
+    /// The branch it sits on, or ARBOR_NO_PARENT.
+    pub branch: u32,
+    /// The rewriting step that produced it.
+    pub depth: u32,
+    /// The turtle's colour index there (`;` `,`).
+    pub color: u32,
+}
+
+/// Number of spheres and discs of `tree`; 0 for NULL.
+///
+/// # Safety
+/// `tree` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_organ_count(tree: *const ArborTree) -> usize {
+    guard_value(0, || {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.organs().len())
+    })
+}
+
+/// Copies the spheres and discs of `tree` into `out` (`capacity` elements, at least
+/// arbor_tree_organ_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL).
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` organs.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_organs(
+    tree: *const ArborTree,
+    out: *mut ArborOrgan,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let src = tree.skeleton.organs();
+        // SAFETY: the caller promises `out` holds `capacity` writable organs.
+        let dst = unsafe {
+            out_slice(
+                out.cast::<crate::skeleton::Organ>(),
+                capacity,
+                src.len(),
+                "out",
+            )
+        }?;
+        for (d, s) in dst.iter_mut().zip(src) {
+            d.write(*s);
+        }
+        Ok(())
+    })
+}
+
+/// Copies the colour index (`;` `,`) of every branch into `out` (`capacity` values, at
+/// least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL). A tree whose
+/// generator set no colours writes 0 for every branch.
+///
+/// # Safety
+/// `tree` is NULL or live; `out` is NULL or valid for writes of `capacity` values.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_copy_branch_colors(
+    tree: *const ArborTree,
+    out: *mut u32,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let n = tree.skeleton.len();
+        // SAFETY: the caller promises `out` holds `capacity` writable values.
+        let dst = unsafe { out_slice(out, capacity, n, "out") }?;
+        let colors = tree.skeleton.colors();
+        for (k, d) in dst.iter_mut().enumerate() {
+            d.write(colors.get(k).copied().unwrap_or(0));
+        }
+        Ok(())
+    })
+}
+
 /// Grows the 1996 model with seeded variation of every branch's angles (up to +-4 degrees
 /// branching, +-10 divergence), length and width (up to +-6%), so trees from the same
 /// parameters differ; `seed` 0 gives exactly arbor_tree_from_honda(). Same seed, same tree.

@@ -191,6 +191,10 @@ pub struct ViewSettings {
     /// The view file's `tropism direction:` with `initial elasticity:` and `elasticity
     /// increment:` (cpfg's older tropism). Default none.
     pub old_tropism: Option<OldTropism>,
+    /// The view file's `initial color:`: the turtle's first colour index. Default 1.
+    pub initial_color: u32,
+    /// The view file's `color increment:`: what `;` adds and `,` subtracts. Default 1.
+    pub color_increment: u32,
 }
 
 /// cpfg's older tropism: after every `F` the heading H turns toward the tropism vector T
@@ -215,6 +219,8 @@ impl Default for ViewSettings {
             tropism: None,
             step_size: 1.0,
             old_tropism: None,
+            initial_color: 1,
+            color_increment: 1,
         }
     }
 }

@@ -16,6 +16,10 @@ use glam::DVec3;
 enum Op {
     Ignore,
     Elasticity,
+    /// `@O` (sphere) or `@o` / `@c` (disc).
+    Organ(u32),
+    /// `;` (+1) and `,` (-1): the colour index.
+    Color(i32),
     Draw,
     Move,
     Turn(f64),
@@ -63,6 +67,10 @@ fn op_of(name: &str) -> Op {
         // `~` alone, or `~x` (cpfg's predefined surface x): a surface site.
         n if n.starts_with('~') => Op::Leaf,
         "_" => Op::Elasticity,
+        "@O" => Op::Organ(crate::skeleton::ORGAN_SPHERE),
+        "@o" | "@c" => Op::Organ(crate::skeleton::ORGAN_DISC),
+        ";" => Op::Color(1),
+        "," => Op::Color(-1),
         "@Gs" => Op::CylinderStart,
         "@Gc" => Op::CylinderPoint,
         "@Ge" => Op::CylinderEnd,
@@ -83,6 +91,8 @@ struct State {
     cylinder: u32,
     /// The elasticity of the view file's older tropism (`_` changes it).
     elasticity: f64,
+    /// The colour index (`;` and `,` change it).
+    color: u32,
 }
 
 struct Turtle {
@@ -112,6 +122,12 @@ struct Turtle {
     leaves: Vec<LeafSite>,
     closed: Vec<Polygon>,
     points: Vec<[f32; 3]>,
+    organs: Vec<crate::skeleton::Organ>,
+    /// The colour index of each branch.
+    colors: Vec<u32>,
+    /// Whether `;` or `,` appeared (else no colours are kept).
+    colored: bool,
+    color_increment: u32,
 }
 
 fn v3(v: DVec3) -> [f32; 3] {
@@ -208,6 +224,7 @@ impl Turtle {
                     });
                     let heading = self.state.frame.heading;
                     self.ups.push(self.state.frame.up.as_vec3().to_array());
+                    self.colors.push(self.state.color);
                     if self.state.cylinder != NO_PARENT {
                         let b = (self.branches.len() - 1) as u32;
                         self.cylinders[self.state.cylinder as usize].push(b);
@@ -261,6 +278,35 @@ impl Turtle {
                 }
             }
             Op::Push => self.stack.push(self.state),
+            Op::Organ(kind) => {
+                let size = arg(0).unwrap_or(self.state.width);
+                if !(size.is_finite() && size >= 0.0 && size <= f32::MAX as f64) {
+                    return Err(Error::Eval {
+                        step,
+                        message: format!(
+                            "a sphere or disc of diameter {size}; expected a finite size >= 0"
+                        ),
+                    });
+                }
+                self.organs.push(crate::skeleton::Organ {
+                    position: v3(self.state.frame.position),
+                    heading: v3(self.state.frame.heading),
+                    up: v3(self.state.frame.up),
+                    size: size as f32,
+                    kind,
+                    branch: self.state.parent,
+                    birth,
+                    color: self.state.color,
+                });
+            }
+            Op::Color(sign) => {
+                self.colored = true;
+                self.state.color = match arg(0) {
+                    Some(c) if c.is_finite() => c.clamp(0.0, u32::MAX as f64) as u32,
+                    _ if sign > 0 => self.state.color.saturating_add(self.color_increment),
+                    _ => self.state.color.saturating_sub(self.color_increment),
+                };
+            }
             Op::Elasticity => {
                 let inc = self.old_tropism.map_or(0.0, |t| t.increment);
                 self.state.elasticity = arg(0).unwrap_or(self.state.elasticity + inc);
@@ -359,6 +405,7 @@ pub(crate) fn interpret(
             parent_heading: DVec3::Y,
             cylinder: NO_PARENT,
             elasticity: view.old_tropism.map_or(0.0, |t| t.elasticity),
+            color: view.initial_color,
         },
         stack: Vec::new(),
         cutting: None,
@@ -370,6 +417,10 @@ pub(crate) fn interpret(
         leaves: Vec::new(),
         closed: Vec::new(),
         points: Vec::new(),
+        organs: Vec::new(),
+        colors: Vec::new(),
+        colored: false,
+        color_increment: view.color_increment,
     };
     debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
     debug_assert_eq!(t.ops[POP as usize], Op::Pop);
@@ -450,6 +501,8 @@ pub(crate) fn interpret(
         polygon_points: t.points,
         ups: t.ups,
         curves,
+        organs: t.organs,
+        colors: if t.colored { t.colors } else { Vec::new() },
     }))
 }
 

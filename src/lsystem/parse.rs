@@ -248,6 +248,8 @@ pub(crate) fn merge_view(grammar: &mut ViewSettings, view: &ViewSettings) {
     if grammar.old_tropism.is_none() {
         grammar.old_tropism = view.old_tropism;
     }
+    grammar.initial_color = view.initial_color;
+    grammar.color_increment = view.color_increment;
 }
 
 /// Reads a grammar file with its view file (see [`LSystem::from_file`]).

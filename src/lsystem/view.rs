@@ -93,6 +93,16 @@ pub(crate) fn apply(
                     _ => return Err(fail("three numbers x, y, z")),
                 }
             }
+            "initial color" | "initial colour" => {
+                let c = first().filter(|&c| (0.0..=65535.0).contains(&c));
+                view.initial_color =
+                    c.ok_or_else(|| fail("a colour index from 0 to 65535"))? as u32;
+            }
+            "color increment" | "colour increment" => {
+                let c = first().filter(|&c| (0.0..=65535.0).contains(&c));
+                view.color_increment =
+                    c.ok_or_else(|| fail("a colour step from 0 to 65535"))? as u32;
+            }
             "initial elasticity" => {
                 elasticity = first().ok_or_else(|| fail("a number"))?;
             }

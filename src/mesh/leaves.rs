@@ -408,6 +408,11 @@ struct LeafPlan {
     prefab: LeafPrefab,
     /// Polygons to triangulate: (first point, count).
     polygons: Vec<(usize, usize)>,
+    /// Whether the skeleton's spheres and discs are in the mesh.
+    organs: bool,
+    /// Sides of a sphere or disc, and a sphere's latitude bands.
+    sides: usize,
+    bands: usize,
     size: MeshSize,
     rules: StripRules,
 }
@@ -440,8 +445,30 @@ fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> R
         indices += rules.count(n, first) as u64;
         first = false;
     }
+    // Spheres (latitude bands, each one strip) and discs (a zig-zag strip), with the
+    // sides of the branches.
+    let organs = leaves.polygons && !skeleton.organs().is_empty();
+    let sides = mesh.radial_segments.max(3) as usize;
+    let bands = (sides / 2).max(2);
+    let mut organ_vertices = 0u64;
+    if organs {
+        for o in skeleton.organs() {
+            if o.kind == crate::skeleton::ORGAN_SPHERE {
+                organ_vertices += ((bands + 1) * (sides + 1)) as u64;
+                for _ in 0..bands {
+                    indices += rules.count(2 * (sides + 1), first) as u64;
+                    first = false;
+                }
+            } else {
+                organ_vertices += sides as u64;
+                indices += rules.count(sides, first) as u64;
+                first = false;
+            }
+        }
+    }
     let vertices = (instances.len() * prefab.vertices.len()
-        + polygons.iter().map(|p| p.1).sum::<usize>()) as u64;
+        + polygons.iter().map(|p| p.1).sum::<usize>()) as u64
+        + organ_vertices;
     if vertices > RESTART_INDEX as u64 || indices > u32::MAX as u64 {
         return Err(Error::LimitExceeded {
             limit_name: "u32 index range",
@@ -455,6 +482,9 @@ fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> R
         instances,
         prefab,
         polygons,
+        organs,
+        sides,
+        bands,
         size: MeshSize {
             vertices: vertices as usize,
             indices: indices as usize,
@@ -579,6 +609,74 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
         // A convex polygon as a zig-zag strip.
         zigzag(n, |k| base + k as u32, &mut strip);
         w.strip(&strip);
+    }
+    if plan.organs {
+        // Circle tables once per mesh: no trigonometry per vertex.
+        let (sides, bands) = (plan.sides, plan.bands);
+        let around: Vec<(f32, f32)> = (0..=sides)
+            .map(|k| {
+                let a = std::f32::consts::TAU * k as f32 / sides as f32;
+                (a.cos(), a.sin())
+            })
+            .collect();
+        let down: Vec<(f32, f32)> = (0..=bands)
+            .map(|i| match i {
+                // The poles exactly, so their triangles collapse to nothing.
+                0 => (1.0, 0.0),
+                i if i == bands => (-1.0, 0.0),
+                i => {
+                    let a = std::f32::consts::PI * i as f32 / bands as f32;
+                    (a.cos(), a.sin())
+                }
+            })
+            .collect();
+        for o in skeleton.organs() {
+            let c = Vec3::from(o.position);
+            let h = Vec3::from(o.heading).try_normalize().unwrap_or(Vec3::Y);
+            let u = Vec3::from(o.up).try_normalize().unwrap_or(Vec3::Z);
+            // L = H x U: U turning toward L is counter-clockwise about H.
+            let l = h
+                .cross(u)
+                .try_normalize()
+                .unwrap_or_else(|| h.any_orthonormal_vector());
+            let u = l.cross(h);
+            let r = 0.5 * o.size;
+            let base = vi as u32;
+            if o.kind == crate::skeleton::ORGAN_SPHERE {
+                // Poles on the heading; latitude i from +H, longitude k from U toward L.
+                for (i, &(ct, st)) in down.iter().enumerate() {
+                    for (k, &(cp, sp)) in around.iter().enumerate() {
+                        let n = h * ct + (u * cp + l * sp) * st;
+                        vertices[vi].put(Vertex {
+                            position: pos(c + n * r),
+                            normal: dir(n),
+                            uv: [k as f32 / sides as f32, i as f32 / bands as f32],
+                        });
+                        vi += 1;
+                    }
+                }
+                let ring = (sides + 1) as u32;
+                for i in 0..bands as u32 {
+                    strip.clear();
+                    for k in 0..ring {
+                        strip.push(base + i * ring + k);
+                        strip.push(base + (i + 1) * ring + k);
+                    }
+                    w.strip(&strip);
+                }
+            } else {
+                for &(cp, sp) in &around[..sides] {
+                    vertices[vi].put(Vertex {
+                        position: pos(c + (u * cp + l * sp) * r),
+                        normal: dir(h),
+                        uv: [0.5 + 0.5 * cp, 0.5 + 0.5 * sp],
+                    });
+                    vi += 1;
+                }
+                zigzag(sides, |k| base + k as u32, &mut strip);
+                w.strip(&strip);
+            }
+        }
     }
     debug_assert_eq!(vi, vertices.len());
     debug_assert_eq!(w.pos, w.out.len());

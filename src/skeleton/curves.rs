@@ -127,6 +127,11 @@ impl Skeleton {
                     shift(&mut l.position);
                 }
             }
+            for o in &mut self.organs {
+                if o.branch != NO_PARENT && above[o.branch as usize] {
+                    shift(&mut o.position);
+                }
+            }
             for poly in 0..self.polygons.len() {
                 let p = self.polygons[poly];
                 if p.branch != NO_PARENT && above[p.branch as usize] {

@@ -86,6 +86,36 @@ pub struct LeafSite {
     pub birth: u32,
 }
 
+/// [`Organ::kind`] of a sphere (`@O(d)`).
+pub const ORGAN_SPHERE: u32 = 0;
+/// [`Organ::kind`] of a disc facing the turtle's heading (`@o(d)`, `@c(d)`).
+pub const ORGAN_DISC: u32 = 1;
+
+/// A sphere or disc the turtle placed (`@O`, `@o`, `@c`): 56 bytes, `#[repr(C)]`, the
+/// layout of the C type `ArborOrgan`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Organ {
+    /// Its centre: where the turtle stood.
+    pub position: [f32; 3],
+    /// The turtle's heading H there (unit): a disc's normal.
+    pub heading: [f32; 3],
+    /// The turtle's up vector U there (unit).
+    pub up: [f32; 3],
+    /// Diameter.
+    pub size: f32,
+    /// [`ORGAN_SPHERE`] or [`ORGAN_DISC`].
+    pub kind: u32,
+    /// The branch it sits on, or [`NO_PARENT`].
+    pub branch: u32,
+    /// The rewriting step that produced it.
+    pub birth: u32,
+    /// The turtle's colour index there (`;` and `,`).
+    pub color: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<Organ>() == 56);
+
 /// A polygon the turtle traced between `{` and `}` (a leaf blade, a petal).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Polygon {
@@ -120,6 +150,9 @@ pub struct Skeleton {
     /// The inner control points (p1, p2) of each branch's curve; empty while every branch
     /// is straight.
     curves: Vec<[[f32; 3]; 2]>,
+    organs: Vec<Organ>,
+    /// The colour index (`;` `,`) of each branch; empty when the generator set none.
+    colors: Vec<u32>,
     adjacency: std::sync::OnceLock<Adjacency>,
 }
 
@@ -132,6 +165,8 @@ impl PartialEq for Skeleton {
             && self.polygon_points == other.polygon_points
             && self.ups == other.ups
             && self.curves == other.curves
+            && self.organs == other.organs
+            && self.colors == other.colors
     }
 }
 
@@ -154,6 +189,10 @@ pub struct SkeletonParts {
     /// Empty (every branch straight), or the inner control points (p1, p2) of each
     /// branch's cubic Bézier curve from `start` to `end`.
     pub curves: Vec<[[f32; 3]; 2]>,
+    /// Spheres and discs; each `branch` is [`NO_PARENT`] or a branch index.
+    pub organs: Vec<Organ>,
+    /// Empty, or one colour index per branch.
+    pub colors: Vec<u32>,
 }
 
 fn finite3(p: &[f32; 3]) -> bool {
@@ -239,7 +278,30 @@ impl SkeletonParts {
             }
             on_branch("polygons", format!("polygon {i}"), p.branch)?;
         }
-        for (field, len) in [("ups", self.ups.len()), ("curves", self.curves.len())] {
+        for (i, o) in self.organs.iter().enumerate() {
+            if !(finite3(&o.position) && finite3(&o.heading) && finite3(&o.up)) {
+                return Err(Error::invalid(
+                    "organs",
+                    format!("organ {i} has a non-finite position or direction"),
+                ));
+            }
+            if !(o.size.is_finite() && o.size >= 0.0) || o.kind > ORGAN_DISC {
+                return Err(Error::invalid(
+                    "organs",
+                    format!(
+                        "organ {i} has size {} and kind {}; expected a finite size >= 0 and \
+                         ORGAN_SPHERE or ORGAN_DISC",
+                        o.size, o.kind
+                    ),
+                ));
+            }
+            on_branch("organs", format!("organ {i}"), o.branch)?;
+        }
+        for (field, len) in [
+            ("ups", self.ups.len()),
+            ("curves", self.curves.len()),
+            ("colors", self.colors.len()),
+        ] {
             if len != 0 && len != n {
                 return Err(Error::invalid(
                     field,
@@ -274,6 +336,8 @@ impl SkeletonParts {
             polygon_points: self.polygon_points,
             ups: self.ups,
             curves: self.curves,
+            organs: self.organs,
+            colors: self.colors,
             adjacency: std::sync::OnceLock::new(),
         }
     }
@@ -322,7 +386,19 @@ impl Skeleton {
             polygon_points: self.polygon_points,
             ups: self.ups,
             curves: self.curves,
+            organs: self.organs,
+            colors: self.colors,
         }
+    }
+
+    /// The spheres and discs the turtle placed (`@O`, `@o`, `@c`).
+    pub fn organs(&self) -> &[Organ] {
+        &self.organs
+    }
+
+    /// The colour index (`;` `,`) of each branch; empty when the generator set none.
+    pub fn colors(&self) -> &[u32] {
+        &self.colors
     }
 
     /// The turtle's up vector when branch `i` was drawn, if the generator had a turtle.

@@ -5,7 +5,7 @@
 //! grid keeps the pass near linear.
 
 use crate::geom::grid::Grid;
-use crate::skeleton::{Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts};
+use crate::skeleton::{Branch, LeafSite, NO_PARENT, Organ, Polygon, Skeleton, SkeletonParts};
 use glam::DVec3;
 
 /// What [`prune_collisions`] did.
@@ -170,6 +170,9 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             let c = skeleton.curve(i);
             parts.curves.push([c.p1.to_array(), c.p2.to_array()]);
         }
+        if let Some(&c) = skeleton.colors().get(i) {
+            parts.colors.push(c);
+        }
     }
     // Organs on kept branches (or on none) stay.
     let renumber = |branch: u32| match branch {
@@ -179,6 +182,11 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
     for l in skeleton.leaves() {
         if let Some(branch) = renumber(l.branch) {
             parts.leaves.push(LeafSite { branch, ..*l });
+        }
+    }
+    for o in skeleton.organs() {
+        if let Some(branch) = renumber(o.branch) {
+            parts.organs.push(Organ { branch, ..*o });
         }
     }
     for poly in skeleton.polygons() {
