@@ -59,6 +59,24 @@ impl Image {
         r > b + 12 && r >= g
     }
 
+    /// The organ colour of the L-system mode: pink (red well above green and blue).
+    fn organ(&self, x: usize, y: usize) -> bool {
+        let i = 3 * (y * self.width + x);
+        let (r, g, b) = (
+            self.rgb[i] as i32,
+            self.rgb[i + 1] as i32,
+            self.rgb[i + 2] as i32,
+        );
+        r > g + 40 && r > b + 20
+    }
+
+    fn count(&self, f: impl Fn(&Self, usize, usize) -> bool) -> usize {
+        (0..self.height)
+            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
+            .filter(|&(x, y)| f(self, x, y))
+            .count()
+    }
+
     fn share(&self, x0: usize, y0: usize, w: usize, h: usize) -> f64 {
         let mut n = 0;
         for y in y0..y0 + h {
@@ -276,4 +294,73 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
     let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
     assert_eq!((width, height), (320, 240));
+}
+
+/// `--lsystem`: a cpfg file read as cpfg reads it (its view file's angle), drawn with its
+/// spheres and polygons; `--next` steps through the folder as Tab does.
+#[test]
+fn gallery_draws_lsystem_files_with_their_organs() {
+    if !available() {
+        return;
+    }
+    let exe = build();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gallery_lsystems");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // a.l: a stem with spheres and a polygon, its angle in a.v. b.l: bark only.
+    std::fs::write(
+        dir.join("a.l"),
+        "#define W 0.4\nLsystem: 1\nderivation length: 3\nAxiom: !(W)A\n\
+         A --> F[+F@O(1.2)][-F{.+f.+f.+f.}]A\nendlsystem\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("a.v"), "angle factor: 8\n").unwrap();
+    std::fs::write(
+        dir.join("b.l"),
+        "derivation length: 4\nAxiom: !(0.3)A\nA --> F[+A][-A]\n",
+    )
+    .unwrap();
+    let a = render(
+        &exe,
+        "lsystem_a",
+        &[
+            "--size",
+            "400x400",
+            "--lsystem",
+            dir.join("a.l").to_str().unwrap(),
+        ],
+    );
+    let organs = a.count(Image::organ);
+    let bark = a.count(Image::tree);
+    assert!(organs > 400, "{organs} organ pixels");
+    assert!(bark > 100, "{bark} bark pixels");
+    // Tab from a.l is b.l: bark and nothing else.
+    let b = render(
+        &exe,
+        "lsystem_b",
+        &[
+            "--size",
+            "400x400",
+            "--lsystem",
+            dir.join("a.l").to_str().unwrap(),
+            "--next",
+            "1",
+        ],
+    );
+    assert_eq!(b.count(Image::organ), 0);
+    assert!(b.count(Image::tree) > 100);
+    // The folder itself, stepped twice, wraps to a.l again.
+    let again = render(
+        &exe,
+        "lsystem_again",
+        &[
+            "--size",
+            "400x400",
+            "--lsystem",
+            dir.to_str().unwrap(),
+            "--next",
+            "2",
+        ],
+    );
+    assert_eq!(differing_pixels(&a, &again), 0);
 }

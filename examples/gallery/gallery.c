@@ -5,6 +5,7 @@
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
  *           [--smooth] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1..4]]
+ *           [--lsystem FILE.l|FOLDER [--next K]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
@@ -18,12 +19,15 @@
  * space colonization, K species: a mix, then each preset); P screenshot; Esc.
  */
 #define GLFW_INCLUDE_NONE
+/* scandir, alphasort, strdup (POSIX) under -std=c11. */
+#define _DEFAULT_SOURCE
 #include <GLFW/glfw3.h>
 #include <GL/glcorearb.h>
 #include <png.h>
 
 #include "arbor.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -194,7 +198,7 @@ static const char *fs_src =
     "void main() {\n"
     "  if (v_growth > u_growth) discard;\n"
     "  vec3 n = normalize(v_normal);\n"
-    "  if (u_mode == 2 && !gl_FrontFacing) n = -n;\n"
+    "  if (u_mode >= 2 && !gl_FrontFacing) n = -n;\n"
     "  float diffuse = max(dot(n, u_light), 0.0);\n"
     "  vec3 base;\n"
     "  if (u_mode == 0) {\n"
@@ -203,6 +207,8 @@ static const char *fs_src =
     "    base = mix(vec3(0.30, 0.19, 0.11), vec3(0.52, 0.36, 0.22), 0.6 * grain + 0.4 * rings);\n"
     "  } else if (u_mode == 1) {\n"
     "    base = vec3(0.36, 0.47, 0.28);\n"
+    "  } else if (u_mode == 3) {\n"
+    "    base = vec3(0.78, 0.30, 0.42);\n"
     "  } else {\n"
     "    base = vec3(0.22, 0.52, 0.16);\n"
     "  }\n"
@@ -258,6 +264,11 @@ typedef struct {
   /* Edit demo: bends applied at start (headless) and the twig chosen (counted from the
      last branch). */
   int edits, edit_pick;
+  /* L-system mode: a cpfg file read as cpfg reads it (preprocessor, view file), drawn with
+     its polygons, spheres, discs and leaves; Tab / Shift+Tab step through the .l files of
+     its folder (or of the folder given, searched recursively). */
+  int lsys_mode, lsys_index, lsys_count;
+  char **lsys_files;
 } State;
 
 static Tree trees[9];
@@ -269,6 +280,10 @@ static size_t forest_indices;
 static ArborWorld *world;
 static GLuint world_vao, world_vbo, world_ebo;
 static size_t world_indices;
+static GLuint lsys_vao, lsys_vbo, lsys_ebo, organ_vao, organ_vbo, organ_ebo;
+static size_t lsys_indices, organ_indices;
+/* The model matrix that frames the L-system's geometry: translate, then uniform scale. */
+static float lsys_center[3], lsys_scale = 1;
 
 static double now_ms(void) { return glfwGetTime() * 1e3; }
 
@@ -612,6 +627,145 @@ static void build_world(void) {
          arbor_world_branch_count(world), st.world_cycles, nv, grow_ms, now_ms() - t0 - grow_ms);
 }
 
+/* ---- L-system mode ---- */
+static int has_suffix(const char *s, const char *suffix) {
+  size_t n = strlen(s), k = strlen(suffix);
+  return n >= k && !strcmp(s + n - k, suffix);
+}
+
+static void add_file(const char *path) {
+  st.lsys_files = realloc(st.lsys_files, (size_t)(st.lsys_count + 1) * sizeof *st.lsys_files);
+  st.lsys_files[st.lsys_count++] = strdup(path);
+}
+
+/* Every .l file under dir (recursively when deep), in name order. */
+static void list_folder(const char *dir, int deep) {
+  struct dirent **names = NULL;
+  int n = scandir(dir, &names, NULL, alphasort);
+  for (int i = 0; i < n; i++) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]->d_name);
+    if (names[i]->d_name[0] != '.') {
+      DIR *sub = deep ? opendir(path) : NULL;
+      if (sub) {
+        closedir(sub);
+        list_folder(path, deep);
+      } else if (has_suffix(names[i]->d_name, ".l")) {
+        add_file(path);
+      }
+    }
+    free(names[i]);
+  }
+  free(names);
+}
+
+/* --lsystem PATH: a file (and its neighbours) or a folder. */
+static void open_lsystems(const char *path) {
+  DIR *d = opendir(path);
+  if (d) {
+    closedir(d);
+    list_folder(path, 1);
+  } else {
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) *slash = 0;
+    else snprintf(dir, sizeof dir, ".");
+    list_folder(dir, 0);
+    for (int i = 0; i < st.lsys_count; i++)
+      if (has_suffix(st.lsys_files[i], strrchr(path, '/') ? strrchr(path, '/') : path)) st.lsys_index = i;
+    if (st.lsys_count == 0) add_file(path);
+  }
+  st.lsys_mode = 1;
+}
+
+static void upload(GLuint *vao, GLuint *vbo, GLuint *ebo, const ArborVertex *v, size_t nv, const uint32_t *ix,
+                   size_t ni) {
+  if (!*vao) {
+    p_glGenVertexArrays(1, vao);
+    p_glGenBuffers(1, vbo);
+    p_glGenBuffers(1, ebo);
+  }
+  p_glBindVertexArray(*vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, *vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *v), v, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, *ebo);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof *ix), ix, GL_STATIC_DRAW);
+  setup_vertex_layout();
+  p_glBindVertexArray(0);
+}
+
+/* Grows the current file: bark as strips, organs (polygons, spheres, discs, baked leaf
+   quads) as a second mesh; frames both. A file that does not run is reported and shown
+   empty, so stepping on still works. */
+static void build_lsystem(void) {
+  lsys_indices = organ_indices = 0;
+  if (st.lsys_count == 0) return;
+  const char *path = st.lsys_files[st.lsys_index];
+  double t0 = now_ms();
+  ArborTree *t = NULL;
+  if (arbor_tree_from_lsystem_file(path, NULL, &t) != ARBOR_STATUS_OK) {
+    char msg[512];
+    arbor_last_error_message(msg, sizeof msg);
+    printf("%d/%d %s: does not run: %s\n", st.lsys_index + 1, st.lsys_count, path, msg);
+    return;
+  }
+  double grown = now_ms() - t0;
+  ArborMeshOptions o = mesh_options();
+  o.tip = ARBOR_TIP_CAP;
+  ArborMesh *bark = NULL, *organs = NULL;
+  if (arbor_mesh_create(t, &o, &bark) != ARBOR_STATUS_OK) fail("arbor_mesh_create");
+  /* Leaves in proportion to the plant: 4% of the extent of its branches and sites. */
+  float ext_lo[3] = {1e30f, 1e30f, 1e30f}, ext_hi[3] = {-1e30f, -1e30f, -1e30f};
+  size_t nb = arbor_tree_branch_count(t), ns = arbor_tree_leaf_site_count(t);
+  ArborBranch *br = malloc((nb ? nb : 1) * sizeof *br);
+  ArborLeafSite *sites = malloc((ns ? ns : 1) * sizeof *sites);
+  arbor_tree_copy_branches(t, br, nb);
+  arbor_tree_copy_leaf_sites(t, sites, ns);
+  for (size_t k = 0; k < nb + ns; k++)
+    for (int c = 0; c < 3; c++) {
+      float q = k < nb ? br[k].end[c] : sites[k - nb].position[c];
+      ext_lo[c] = fminf(ext_lo[c], q);
+      ext_hi[c] = fmaxf(ext_hi[c], q);
+    }
+  float extent = 0;
+  for (int c = 0; c < 3 && nb + ns > 0; c++) extent = fmaxf(extent, ext_hi[c] - ext_lo[c]);
+  free(br);
+  free(sites);
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  lo.size = extent > 0 ? 0.04f * extent : 1.0f;
+  if (arbor_leaf_mesh_create(t, &lo, &o, &organs) != ARBOR_STATUS_OK) fail("arbor_leaf_mesh_create");
+  size_t nv = 0, ni = 0, mv = 0, mi = 0;
+  const ArborVertex *v = arbor_mesh_vertices(bark, &nv);
+  const uint32_t *ix = arbor_mesh_indices(bark, &ni);
+  const ArborVertex *w = arbor_mesh_vertices(organs, &mv);
+  const uint32_t *jx = arbor_mesh_indices(organs, &mi);
+  float lo3[3] = {1e30f, 1e30f, 1e30f}, hi3[3] = {-1e30f, -1e30f, -1e30f};
+  for (size_t k = 0; k < nv + mv; k++) {
+    const float *q = k < nv ? v[k].position : w[k - nv].position;
+    for (int c = 0; c < 3; c++) {
+      lo3[c] = fminf(lo3[c], q[c]);
+      hi3[c] = fmaxf(hi3[c], q[c]);
+    }
+  }
+  float size = 0;
+  for (int c = 0; c < 3; c++) size = fmaxf(size, hi3[c] - lo3[c]);
+  if (nv + mv == 0 || !(size > 0)) size = 1;
+  lsys_scale = 11.0f / size;
+  for (int c = 0; c < 3; c++) lsys_center[c] = 0.5f * (lo3[c] + hi3[c]);
+  if (nv + mv == 0) lsys_center[0] = lsys_center[1] = lsys_center[2] = 0;
+  upload(&lsys_vao, &lsys_vbo, &lsys_ebo, v, nv, ix, ni);
+  upload(&organ_vao, &organ_vbo, &organ_ebo, w, mv, jx, mi);
+  lsys_indices = ni;
+  organ_indices = mi;
+  printf("%d/%d %s: %zu branches, %zu organs, %zu leaf sites; %zu + %zu vertices; %.2f ms to grow\n",
+         st.lsys_index + 1, st.lsys_count, path, arbor_tree_branch_count(t), arbor_tree_organ_count(t),
+         arbor_tree_leaf_site_count(t), nv, mv, grown);
+  arbor_mesh_free(bark);
+  arbor_mesh_free(organs);
+  arbor_tree_free(t);
+}
+
 static void build_all(int verbose) {
   for (int i = 0; i < 9; i++) build_tree(&trees[i]);
   if (verbose) {
@@ -693,7 +847,7 @@ static void draw_view(int i, int x, int y, int w, int h) {
   float height = t->hi[1] > 1 ? t->hi[1] : 1;
   float radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.08f;
   if (st.forest) radius *= 3.2f;
-  if (st.world_mode) {
+  if (st.world_mode || st.lsys_mode) {
     height = 10;
     radius = 8.5f;
   }
@@ -709,7 +863,27 @@ static void draw_view(int i, int x, int y, int w, int h) {
   p_glUniformMatrix4fv(u_model, 1, GL_FALSE, identity.m);
   p_glUniform1i(u_mode, 1);
   p_glBindVertexArray(ground_vao);
-  p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0);
+  if (!st.lsys_mode) p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0);
+  if (st.lsys_mode) {
+    /* Scale the geometry into the frame, its centre at the middle of the view. */
+    Mat4 m = model_matrix(0, 0, 0, lsys_scale);
+    for (int c = 0; c < 3; c++) m.m[12 + c] = -lsys_center[c] * lsys_scale;
+    m.m[13] += height * 0.5f;
+    p_glUniformMatrix4fv(u_model, 1, GL_FALSE, m.m);
+    p_glUniform1i(u_mode, 0);
+    if (lsys_indices) {
+      p_glBindVertexArray(lsys_vao);
+      p_glDrawElements(st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES, (GLsizei)lsys_indices, GL_UNSIGNED_INT, 0);
+    }
+    if (organ_indices) {
+      p_glUniform1i(u_mode, 3);
+      p_glDisable(GL_CULL_FACE);
+      p_glBindVertexArray(organ_vao);
+      p_glDrawElements(st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES, (GLsizei)organ_indices, GL_UNSIGNED_INT, 0);
+      p_glEnable(GL_CULL_FACE);
+    }
+    return;
+  }
   if (st.world_mode) {
     if (!world_vao) build_world();
     p_glUniform1i(u_mode, 0);
@@ -747,7 +921,7 @@ static void render(void) {
     if (growth > 1.0f) growth = 1.0f;
   }
   p_glUniform1f(u_growth, growth);
-  if (st.single >= 0 || st.forest || st.world_mode) {
+  if (st.single >= 0 || st.forest || st.world_mode || st.lsys_mode) {
     draw_view(st.single >= 0 ? st.single : 0, 0, 0, st.width, st.height);
   } else {
     int cw = st.width / 3, ch = st.height / 3;
@@ -803,6 +977,11 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
   int shift = (mods & GLFW_MOD_SHIFT) != 0;
   if (k == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(win, 1);
+  /* L-system mode: Tab the next file of the folder, Shift+Tab the one before. */
+  else if (k == GLFW_KEY_TAB && st.lsys_mode && st.lsys_count > 0) {
+    st.lsys_index = (st.lsys_index + (shift ? st.lsys_count - 1 : 1)) % st.lsys_count;
+    st.dirty = 1;
+  }
   else if (k >= GLFW_KEY_1 && k <= GLFW_KEY_9) { st.single = k - GLFW_KEY_1; st.forest = 0; }
   else if (k == GLFW_KEY_0) { st.single = -1; st.forest = 0; }
   else if (k == GLFW_KEY_EQUAL || k == GLFW_KEY_KP_ADD) { st.steps_delta++; st.dirty = 1; }
@@ -872,7 +1051,7 @@ static void resize(GLFWwindow *win, int w, int h) {
 
 int main(int argc, char **argv) {
   const char *shot = NULL;
-  int frames = 3, headless = 0, depth = -1;
+  int frames = 3, headless = 0, depth = -1, next_files = 0;
   st.width = 1080;
   st.height = 1080;
   st.single = -1;
@@ -898,9 +1077,11 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) st.world_species = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--depth") && i + 1 < argc) depth = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--wind")) st.wind = 1;
+    else if (!strcmp(argv[i], "--lsystem") && i + 1 < argc) open_lsystems(argv[++i]);
+    else if (!strcmp(argv[i], "--next") && i + 1 < argc) next_files = atoi(argv[++i]);
     else {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
-                      "[--screenshot FILE.png|FILE.ppm --frames N]\n");
+                      "[--lsystem FILE.l|FOLDER] [--screenshot FILE.png|FILE.ppm --frames N]\n");
       return 2;
     }
   }
@@ -962,13 +1143,16 @@ int main(int argc, char **argv) {
     st.growth = 1;
     st.growth_step = depth;
   }
-  build_all(1);
+  /* --next K: as if Tab were pressed K times (to check the stepping headless). */
+  if (st.lsys_mode && st.lsys_count > 0) st.lsys_index = (st.lsys_index + next_files) % st.lsys_count;
+  if (st.lsys_mode) build_lsystem();
+  else build_all(1);
   for (int k = 0; k < st.edits; k++) bend_twig(&trees[st.single >= 0 ? st.single : 0]);
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
            "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, "
            "C smooth, B bend a twig (J pick), O self-organized world (Space cycle, R reset, E environment, K species), "
-           "P screenshot\n");
+           "Tab / Shift+Tab next / previous L-system file (--lsystem), P screenshot\n");
 
   glfwSetKeyCallback(win, key);
   glfwSetMouseButtonCallback(win, mouse_button);
@@ -986,7 +1170,8 @@ int main(int argc, char **argv) {
       }
     }
     if (st.dirty) {
-      if (st.world_mode) build_world();
+      if (st.lsys_mode) build_lsystem();
+      else if (st.world_mode) build_world();
       else build_all(!st.growth);
       st.dirty = 0;
     }
