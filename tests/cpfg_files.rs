@@ -302,3 +302,52 @@ fn malformed_preprocessor_input_is_refused_quickly() {
     bounded("#error no model here\nAxiom: F\n", "no model here");
     bounded("#include \"x.h\"\nAxiom: F\n", "needs the grammar's folder");
 }
+
+#[test]
+fn surface_files_are_drawn_at_their_sites() {
+    let dir = folder("surfaces");
+    write(
+        &dir,
+        "flat.s",
+        "0 1 0 1 0 0\nCONTACT POINT  X: 0.0 Y: 0.0 Z: 0.0\nEND POINT X: 0 Y: 1 Z: 0\n\
+         HEADING  X: 0.00 Y: 1.00 Z: 0.00\nUP  X: 0.00 Y: 0.00 Z: -1.00\nSIZE: 2.00\npatch\n\
+         TOP COLOR: 0 DIFFUSE: 0.00 BOTTOM COLOR: 0 DIFFUSE: 0.00\nAL: ~ A: ~ AR: ~\nL: ~ R: ~\nBL: ~ B: ~ BR: ~\n\
+         0 0 0  1 0 0  2 0 0  3 0 0\n0 1 0  1 1 0  2 1 0  3 1 0\n0 2 0  1 2 0  2 2 0  3 2 0\n0 3 0  1 3 0  2 3 0  3 3 0\n",
+    );
+    write(
+        &dir,
+        "plant.v",
+        "angle factor: 4\nsurface: l flat.s 2 2 3\nsurface: m missing.s 1\n",
+    );
+    let path = write(&dir, "plant.l", "Axiom: F(1)~l(1.5)+~m F(1)~k\n");
+    let ls = LSystem::from_file(&path, None).unwrap();
+    // The missing surface is a warning; its `~m` stays a leaf site, as does `~k`.
+    assert_eq!(ls.warnings().len(), 1, "{:?}", ls.warnings());
+    assert!(ls.warnings()[0].contains("missing.s"));
+    let s = ls.skeleton(&Default::default()).unwrap();
+    assert_eq!(s.leaves().len(), 2);
+    // 2 x 3 cells of 2 triangles, scaled by 2 x 1.5: the area grows by 3^2.
+    assert_eq!(s.polygons().len(), 12);
+    let area: f32 = s
+        .polygons()
+        .iter()
+        .map(|p| {
+            let q = s.polygon(p);
+            let (a, b, c) = (
+                glam::Vec3::from(q[0]),
+                glam::Vec3::from(q[1]),
+                glam::Vec3::from(q[2]),
+            );
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum();
+    assert!((area - 2.25 * 9.0).abs() < 1e-3, "{area}");
+    // The surface stands on the turtle at the end of the first branch, along its heading.
+    for p in s.polygons() {
+        for q in s.polygon(p) {
+            assert!(q[1] >= 1.0 - 1e-5, "{q:?}");
+            assert!(q[2].abs() < 1e-5, "{q:?}");
+        }
+        assert_eq!(p.branch, 0);
+    }
+}

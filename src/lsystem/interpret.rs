@@ -20,6 +20,8 @@ enum Op {
     Organ(u32),
     /// `;` (+1) and `,` (-1): the colour index.
     Color(i32),
+    /// `~x` of a surface the view file defines: index into `LSystem::surfaces`.
+    Surface(u32),
     Draw,
     Move,
     Turn(f64),
@@ -123,6 +125,7 @@ struct Turtle {
     closed: Vec<Polygon>,
     points: Vec<[f32; 3]>,
     organs: Vec<crate::skeleton::Organ>,
+    surfaces: std::sync::Arc<[crate::lsystem::surface::Surface]>,
     /// The colour index of each branch.
     colors: Vec<u32>,
     /// Whether `;` or `,` appeared (else no colours are kept).
@@ -299,6 +302,44 @@ impl Turtle {
                     color: self.state.color,
                 });
             }
+            Op::Surface(k) => {
+                let s = &self.surfaces[k as usize];
+                let scale = s.scale * arg(0).unwrap_or(1.0);
+                let f = self.state.frame;
+                if self.closed.len() + s.triangles.len() > self.max_branches {
+                    return Err(Error::LimitExceeded {
+                        limit_name: "max_branches",
+                        what: "branches and surface triangles",
+                        limit: self.max_branches as u64,
+                        requested: (self.closed.len() + s.triangles.len()) as u64,
+                        step: Some(step),
+                    });
+                }
+                for tri in &s.triangles {
+                    let pts = tri.map(|p| {
+                        f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale
+                    });
+                    if pts
+                        .iter()
+                        .any(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64)
+                    {
+                        return Err(Error::Eval {
+                            step,
+                            message: format!(
+                                "surface `~{}` scaled by {scale} leaves the f32 range",
+                                s.name
+                            ),
+                        });
+                    }
+                    self.closed.push(Polygon {
+                        first: self.points.len() as u32,
+                        count: 3,
+                        branch: self.state.parent,
+                        birth,
+                    });
+                    self.points.extend(pts.iter().map(|&p| v3(p)));
+                }
+            }
             Op::Color(sign) => {
                 self.colored = true;
                 self.state.color = match arg(0) {
@@ -418,10 +459,20 @@ pub(crate) fn interpret(
         closed: Vec::new(),
         points: Vec::new(),
         organs: Vec::new(),
+        surfaces: ls.surfaces.clone(),
         colors: Vec::new(),
         colored: false,
         color_increment: view.color_increment,
     };
+    // `~x` with a surface from the view file draws the surface.
+    for (sym, name) in ls.symbols.names.iter().enumerate() {
+        let mut c = name.chars();
+        if let (Some('~'), Some(x), None) = (c.next(), c.next(), c.next()) {
+            if let Some(k) = ls.surfaces.iter().position(|s| s.name == x) {
+                t.ops[sym] = Op::Surface(k as u32);
+            }
+        }
+    }
     debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
     debug_assert_eq!(t.ops[POP as usize], Op::Pop);
     let table = &ls.homomorphism;

@@ -23,6 +23,7 @@ mod interpret;
 mod parse;
 pub(crate) mod preprocess;
 mod stmt;
+pub(crate) mod surface;
 mod syntax;
 mod view;
 
@@ -120,6 +121,10 @@ pub struct LSystem {
     pub(crate) blocks: grammar::Blocks,
     /// The view file's functions (`func(id, x)`).
     pub(crate) functions: std::sync::Arc<[funcs::Function]>,
+    /// The view file's surfaces (`~x`).
+    pub(crate) surfaces: std::sync::Arc<[surface::Surface]>,
+    /// What reading the files skipped (a surface file that is missing, ...).
+    pub(crate) warnings: Vec<String>,
 }
 
 /// Ids of parsed grammars (0 is no grammar).
@@ -181,7 +186,15 @@ impl LSystem {
             globals,
             blocks,
             functions: Vec::new().into(),
+            surfaces: Vec::new().into(),
+            warnings: Vec::new(),
         }
+    }
+
+    /// What reading the grammar and its view file skipped without failing (a surface
+    /// file that is missing leaves its `~x` a plain leaf site).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Parses grammar text in the cpfg language (see `GRAMMAR.md`). Errors are
@@ -205,10 +218,12 @@ impl LSystem {
     /// them. `#include` is refused in text without a folder.
     pub fn parse_with_view(source: &str, view: &str) -> Result<Self> {
         let mut settings = ViewSettings::default();
-        let functions = view::apply(&mut settings, view, "", preprocess::Includes::None)?;
+        let extras = view::apply(&mut settings, view, "", preprocess::Includes::None)?;
         let mut ls = parse::parse(source)?;
         parse::merge_view(&mut ls.view, &settings);
-        ls.functions = functions.into();
+        ls.functions = extras.functions.into();
+        ls.surfaces = extras.surfaces.into();
+        ls.warnings = extras.warnings;
         Ok(ls)
     }
 

@@ -297,7 +297,7 @@ pub(crate) fn parse_file(
         }
     };
     let mut settings = ViewSettings::default();
-    let mut functions = Vec::new();
+    let mut extras = super::view::Extras::default();
     let dir = path
         .parent()
         .map(std::path::Path::to_path_buf)
@@ -321,10 +321,11 @@ pub(crate) fn parse_file(
             .map(std::path::Path::to_path_buf)
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or_else(|| dir.clone());
-        functions = super::view::apply(&mut settings, &text, &vname, Includes::Dir(vdir))?;
+        extras = super::view::apply(&mut settings, &text, &vname, Includes::Dir(vdir))?;
         view_seen = true;
     }
-    let names: Vec<(String, f64)> = functions
+    let names: Vec<(String, f64)> = extras
+        .functions
         .iter()
         .enumerate()
         .filter(|(_, f)| !f.name.is_empty())
@@ -336,7 +337,9 @@ pub(crate) fn parse_file(
         // leaves at the defaults (cpfg reads the angle and widths only from the view).
         merge_view(&mut ls.view, &settings);
     }
-    ls.functions = functions.into();
+    ls.functions = extras.functions.into();
+    ls.surfaces = extras.surfaces.into();
+    ls.warnings = extras.warnings;
     Ok(ls)
 }
 

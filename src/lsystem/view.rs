@@ -15,18 +15,47 @@ use super::preprocess::{Includes, preprocess};
 use crate::error::{Error, Result};
 use glam::DVec3;
 
-/// Applies view-file text to `view`; `name` names the file in messages. Returns the
-/// functions it lists (`function:` and `function set:` files, read from the folder of
-/// `inc`), numbered from 1 in order.
+/// What a view file brings besides settings: the functions it lists (`function:` and
+/// `function set:` files, numbered from 1 in order) and its surfaces (`surface:`), read
+/// from the view file's folder.
+#[derive(Debug, Default)]
+pub(crate) struct Extras {
+    pub(crate) functions: Vec<Function>,
+    pub(crate) surfaces: Vec<super::surface::Surface>,
+    /// What was skipped, for the grammar's warnings.
+    pub(crate) warnings: Vec<String>,
+}
+
+/// Reads a companion file the view file names, from `inc`'s folder.
+fn companion(inc: &Includes, file: &str) -> std::result::Result<String, String> {
+    let Includes::Dir(dir) = inc else {
+        return Err(
+            "the view file's folder to read it from: read the grammar with \
+                    LSystem::from_file / arbor_tree_from_lsystem_file"
+                .into(),
+        );
+    };
+    let path = dir.join(file);
+    let bytes = std::fs::read(&path).map_err(|e| format!("`{}`: {e}", path.display()))?;
+    if bytes.len() > 4 << 20 {
+        return Err(format!("`{file}` is larger than 4 MiB"));
+    }
+    Ok(String::from_utf8(bytes)
+        .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+}
+
+/// Applies view-file text to `view`; `name` names the file in messages.
 pub(crate) fn apply(
     view: &mut ViewSettings,
     text: &str,
     name: &str,
     inc: Includes,
-) -> Result<Vec<Function>> {
+) -> Result<Extras> {
     super::parse::check_size(text)?;
     let pre = preprocess(text, name, inc.clone())?;
     let mut functions = Vec::new();
+    let mut surfaces = Vec::new();
+    let mut warnings = Vec::new();
     let mut direction: Option<DVec3> = None;
     let mut elasticity = 0.0;
     let mut increment = 0.0;
@@ -109,26 +138,40 @@ pub(crate) fn apply(
             "elasticity increment" => {
                 increment = first().ok_or_else(|| fail("a number"))?;
             }
+            "surface" => {
+                // `surface: x file.s [scale [s t]]`
+                let w: Vec<&str> = value.split_whitespace().collect();
+                let (Some(id), Some(file)) = (w.first(), w.get(1)) else {
+                    return Err(fail("a surface letter and its .s file"));
+                };
+                let mut chars = id.chars();
+                let (Some(letter), None) = (chars.next(), chars.next()) else {
+                    return Err(fail("a one-character surface name"));
+                };
+                let num = |k: usize| w.get(k).and_then(|v| v.parse::<f64>().ok());
+                let scale = num(2).unwrap_or(1.0);
+                let div = |k: usize| num(k).map_or(0, |v| v.clamp(0.0, 32.0) as usize);
+                // A surface file that cannot be read leaves its `~x` a plain leaf site
+                // (cpfg reports it and draws on).
+                let text = match companion(&inc, file) {
+                    Ok(t) => t,
+                    Err(e) => {
+                        let (_, line) = pre.origin(k as u32 + 1);
+                        warnings.push(format!(
+                            "view file line {line}: surface `{letter}` not loaded: {e}"
+                        ));
+                        continue;
+                    }
+                };
+                let s = super::surface::parse(&text, letter, scale, (div(3), div(4)))
+                    .map_err(|e| fail(&format!("a surface file cpfg can read (`{file}`: {e})")))?;
+                surfaces.retain(|x: &super::surface::Surface| x.name != letter);
+                surfaces.push(s);
+            }
             "function" | "function set" | "functions" => {
                 let file = value.split_whitespace().next().unwrap_or("");
-                let Includes::Dir(dir) = &inc else {
-                    return Err(fail(
-                        "the view file's folder to read the function file from: read the \
-                         grammar with LSystem::from_file / arbor_tree_from_lsystem_file",
-                    ));
-                };
-                let path = dir.join(file);
-                let text = std::fs::read(&path).map_err(|e| {
-                    fail(&format!(
-                        "a readable function file (`{}`: {e})",
-                        path.display()
-                    ))
-                })?;
-                if text.len() > 1 << 20 {
-                    return Err(fail("a function file of at most 1 MiB"));
-                }
-                let text: String = String::from_utf8(text)
-                    .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect());
+                let text = companion(&inc, file)
+                    .map_err(|e| fail(&format!("a readable function file ({e})")))?;
                 let read = super::funcs::parse(&text, file)
                     .map_err(|e| fail(&format!("a function file cpfg can read (`{file}`: {e})")))?;
                 functions.extend(read);
@@ -151,7 +194,11 @@ pub(crate) fn apply(
             });
         }
     }
-    Ok(functions)
+    Ok(Extras {
+        functions,
+        surfaces,
+        warnings,
+    })
 }
 
 /// The T and E of a new-style `tropism:` line, when both are there.
