@@ -93,10 +93,10 @@ static void parse_errors(void) {
   CHECK_STATUS(arbor_tree_from_lsystem(bad, strlen(bad), NULL, &t), ARBOR_STATUS_PARSE_ERROR);
   message_contains("line 2, column 15");
   message_contains("found `*`");
-  const char *unsupported = "Axiom: F\nF --> F(curveX(1, 2))\n";
+  const char *unsupported = "Axiom: F\nF --> F(vvXmin(1))\n";
   CHECK_STATUS(arbor_tree_from_lsystem(unsupported, strlen(unsupported), NULL, &t),
                ARBOR_STATUS_PARSE_ERROR);
-  message_contains("`curveX()` needs curve files");
+  message_contains("`vvXmin()` needs cpfg's viewer");
   const char not_utf8[] = "Axiom: F\nF --> G\xff\n";
   CHECK_STATUS(arbor_tree_from_lsystem(not_utf8, sizeof not_utf8 - 1, NULL, &t),
                ARBOR_STATUS_PARSE_ERROR);

@@ -47,8 +47,6 @@ const NEEDS_OUTSIDE: &[(&str, &str)] = &[
         "06-phyllotaxis-ridley/spiral.l",
         "`curveGAL()` needs curve files",
     ),
-    // A ring L-system (the string closes on itself for context).
-    ("Ring/ring.l", "ring L-systems are not supported"),
 ];
 
 /// Known results (the corpus manifest's D0L counts): modules after the derivation, and

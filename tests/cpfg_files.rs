@@ -351,3 +351,12 @@ fn surface_files_are_drawn_at_their_sites() {
         assert_eq!(p.branch, 0);
     }
 }
+
+#[test]
+fn a_ring_lsystem_closes_its_string_for_context() {
+    let text = "derivation length: 1\nAxiom: BCA\nA < B --> X\nA > B --> Z\n";
+    let open = LSystem::parse(text).unwrap();
+    assert_eq!(derive(&open), "BCA");
+    let ring = LSystem::parse(&format!("ring lsystem\n{text}")).unwrap();
+    assert_eq!(derive(&ring), "XCZ");
+}

@@ -50,7 +50,7 @@ const CASES: &[(&str, u32, u32, &str)] = &[
         ("Start: { x = ; }\nAxiom: F", 1, 14, "an expression (a number, a name or `(`)"),
         ("End: { while (1 }\nAxiom: F", 1, 17, "`)` closing the condition of `while`"),
         ("define: { array a[0]; }\nAxiom: F", 1, 19, "a constant array size from 1 to 4194304"),
-        ("ring L-system: 1\nAxiom: F", 1, 1, "ring L-systems are not supported"),
+        ("Axiom: F\nF --> F(vvXmin(1))", 2, 9, "`vvXmin()` needs cpfg's viewer, which ar"),
         ("Lsystem: 1\nAxiom: F\nendlsystem\nLsystem: 2", 4, 1, "sub-L-systems (a second `Lsystem:`) are "),
         ("Lsystem: 1\nAxiom: F\nendlsystem\nF --> G", 4, 1, "nothing after `endlsystem`"),
         ("ignore: +\nconsider: F\nAxiom: F", 2, 1, "one `ignore:` or `consider:` line, not b"),

@@ -34,13 +34,15 @@ pub(crate) struct Ctx<'a> {
 
 impl<'a> Ctx<'a> {
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
+        let mut env = Env::new(
+            ls.effective_seed(options),
+            &ls.globals,
+            ls.functions.clone(),
+        );
+        env.curves = ls.curves.clone();
         Ctx {
             ls,
-            env: Env::new(
-                ls.effective_seed(options),
-                &ls.globals,
-                ls.functions.clone(),
-            ),
+            env,
             fx: Effects {
                 budget: options.max_work as u64,
                 ..Default::default()
@@ -738,10 +740,16 @@ fn match_left(
     args: &mut [f64],
 ) -> bool {
     let mut j = i;
+    // A ring L-system's string closes on itself: before the first module is the last.
+    let mut wrapped = !ls.ring;
     for pat in p.left.iter().rev() {
         loop {
             if j == 0 {
-                return false;
+                if wrapped || s.is_empty() {
+                    return false;
+                }
+                wrapped = true;
+                j = s.len();
             }
             j -= 1;
             let sym = s.syms[j];
@@ -768,7 +776,7 @@ fn match_left(
 /// Bracket-aware right context: a branch in the string is skipped unless the context
 /// itself has a `[` there; a `]` in the context skips to the end of the current branch.
 fn match_right(
-    _ls: &LSystem,
+    ls: &LSystem,
     s: &ModuleString,
     links: &Links,
     i: usize,
@@ -777,6 +785,7 @@ fn match_right(
 ) -> bool {
     let n = s.len();
     let mut j = i + 1;
+    let mut wrapped = !ls.ring;
     for pat in &p.right {
         if pat.sym == PUSH {
             j = links.next[j.min(n)] as usize;
@@ -798,7 +807,15 @@ fn match_right(
         loop {
             j = links.next[j.min(n)] as usize;
             if j >= n {
-                return false;
+                // A ring L-system's string closes on itself: after the last is the first.
+                if wrapped || n == 0 {
+                    return false;
+                }
+                wrapped = true;
+                j = links.next[0] as usize;
+                if j >= n {
+                    return false;
+                }
             }
             let sym = s.syms[j];
             if sym == PUSH {

@@ -13,6 +13,10 @@ use crate::rng::Rng;
 use std::cell::RefCell;
 use std::collections::HashMap;
 
+/// The prefix under which the view file's function names are kept among the defines:
+/// they stand for their numbers only as the first argument of `func`.
+pub(crate) const FUNCTION_NAME: &str = "\u{0}func:";
+
 /// Most values all global variables and arrays of a grammar may hold together.
 pub(crate) const MAX_GLOBAL_VALUES: usize = 1 << 22;
 
@@ -72,6 +76,8 @@ pub(crate) struct Env {
     pub(crate) arrays: std::sync::Arc<[ArrayDecl]>,
     /// The view file's functions, read by `func(id, x)` (id from 1).
     pub(crate) functions: std::sync::Arc<[super::funcs::Function]>,
+    /// The view file's curves (`curve:`), read by `curveX/Y/Z` and `curveGAL`.
+    pub(crate) curves: std::sync::Arc<[super::funcs::Curve]>,
     pub(crate) fault: Option<String>,
 }
 
@@ -86,6 +92,7 @@ impl Env {
             vars: globals.init.clone(),
             arrays: globals.arrays.clone().into(),
             functions,
+            curves: Vec::new().into(),
             fault: None,
         }
     }
@@ -97,8 +104,23 @@ impl Env {
             vars: Vec::new(),
             arrays: Vec::new().into(),
             functions: Vec::new().into(),
+            curves: Vec::new().into(),
             fault: None,
         }
+    }
+
+    /// Curve `id` (from 1) of the view file, or `None` with a fault noted.
+    fn curve(&mut self, id: f64) -> Option<&super::funcs::Curve> {
+        let n = self.curves.len();
+        if id >= 1.0 && id < n as f64 + 1.0 {
+            return Some(&self.curves[id as usize - 1]);
+        }
+        if self.fault.is_none() {
+            self.fault = Some(format!(
+                "curve {id}: the view file lists {n} curve(s) (`curve: file.con`)"
+            ));
+        }
+        None
     }
 
     /// The slot of element `idx` of array `a`, or `None` (with a fault noted) when an
@@ -159,6 +181,10 @@ pub(crate) enum Special {
     Biran,
     /// `func(id, x)`: function `id` of the view file at x.
     Func,
+    /// `curveX/Y/Z(id, t)`: a coordinate of curve `id` at fraction t of its length.
+    Curve(u8),
+    /// `curveGAL(id)`: the arc length of curve `id`.
+    CurveLength,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -423,6 +449,21 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
                         ));
                     }
                     0.0
+                };
+            }
+            Op::Special(Special::CurveLength) => {
+                let id = stack[sp - 1];
+                stack[sp - 1] = match env.curve(id) {
+                    Some(c) => c.length(),
+                    None => 0.0,
+                };
+            }
+            Op::Special(Special::Curve(axis)) => {
+                sp -= 1;
+                let (id, t) = (stack[sp - 1], stack[sp]);
+                stack[sp - 1] = match env.curve(id) {
+                    Some(c) => c.at(t, axis as usize),
+                    None => 0.0,
                 };
             }
             Op::Special(Special::Biran) => {
@@ -822,11 +863,13 @@ impl Compiler<'_, '_, '_> {
             "biran" => F::Two(Op::Special(Special::Biran)),
             "func" => F::Two(Op::Special(Special::Func)),
             "fopen" => return self.fopen(at),
-            "curveX" | "curveY" | "curveZ" | "curveGAL" | "play" | "inblob" | "fclose"
-            | "fflush" | "fscanf" | "fprintf" | "vvXmin" | "vvXmax" | "vvYmin" | "vvYmax"
-            | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
+            "curveX" => F::Two(Op::Special(Special::Curve(0))),
+            "curveY" => F::Two(Op::Special(Special::Curve(1))),
+            "curveZ" => F::Two(Op::Special(Special::Curve(2))),
+            "curveGAL" => F::One(Op::Special(Special::CurveLength)),
+            "play" | "inblob" | "fclose" | "fflush" | "fscanf" | "fprintf" | "vvXmin"
+            | "vvXmax" | "vvYmin" | "vvYmax" | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
                 let what = match name {
-                    n if n.starts_with("curve") => "curve files (cpfg's contour gallery)",
                     "fscanf" => "data files read by the grammar",
                     "fclose" | "fflush" | "fprintf" => "a file handle used as a value",
                     _ => "cpfg's viewer",
@@ -851,6 +894,21 @@ impl Compiler<'_, '_, '_> {
         self.nest()?;
         let mut args = 0;
         let start = self.ops.len();
+        if name == "func" {
+            // `func(NAME, x)`: a function of the view file named by its `name:`.
+            let mut probe = self.cur.clone();
+            probe.skip_ws();
+            if let Some(id) = probe.identifier() {
+                let key = format!("{FUNCTION_NAME}{id}");
+                probe.skip_ws();
+                if let (Some(&v), true) = (self.scope.defines.get(&key), probe.peek_str(",")) {
+                    *self.cur = probe;
+                    self.cur.eat(",");
+                    self.push(Op::Const(v));
+                    args = 1;
+                }
+            }
+        }
         loop {
             self.ternary()?;
             args += 1;

@@ -180,6 +180,117 @@ pub(crate) fn parse(text: &str, name: &str) -> Result<Vec<Function>, String> {
     Ok(out)
 }
 
+/// A curve of the view file's `curve:` list (a `.con` contour): `curveX/Y/Z(id, t)` read
+/// the point at fraction t of its arc length, `curveGAL(id)` its arc length.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Curve {
+    points: Vec<[f64; 3]>,
+    /// Arc length up to each point.
+    along: Vec<f64>,
+}
+
+impl Curve {
+    /// The arc length.
+    pub(crate) fn length(&self) -> f64 {
+        self.along.last().copied().unwrap_or(0.0)
+    }
+
+    /// Coordinate `axis` of the point at fraction `t` of the arc length.
+    pub(crate) fn at(&self, t: f64, axis: usize) -> f64 {
+        if t.is_nan() || self.points.is_empty() {
+            return f64::NAN;
+        }
+        let s = t.clamp(0.0, 1.0) * self.length();
+        let k = self
+            .along
+            .partition_point(|&a| a < s)
+            .clamp(1, self.points.len() - 1);
+        let (a0, a1) = (self.along[k - 1], self.along[k]);
+        let f = if a1 > a0 { (s - a0) / (a1 - a0) } else { 0.0 };
+        let (p, q) = (self.points[k - 1][axis], self.points[k][axis]);
+        p + (q - p) * f
+    }
+}
+
+/// Reads a `.con` contour: `key: value` lines, then `points: n` and, after the header,
+/// n lines `x y z [multiplicity]` of a B-spline's control points.
+pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
+    let mut lines = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .peekable();
+    let mut count = None;
+    let mut control: Vec<[f64; 3]> = Vec::new();
+    while let Some(line) = lines.next() {
+        if let Some(n) = value(line, "points:") {
+            count = Some(
+                n.parse::<usize>()
+                    .map_err(|_| format!("`points: {n}` is not a count"))?,
+            );
+            continue;
+        }
+        if line.contains(':') {
+            continue;
+        }
+        let n = count.ok_or("points before `points:`")?;
+        if n > MAX_POINTS {
+            return Err(format!("{n} points; at most {MAX_POINTS}"));
+        }
+        let mut rows = vec![line];
+        for _ in 1..n {
+            rows.push(lines.next().ok_or("fewer points than `points:` says")?);
+        }
+        for l in rows {
+            let v: Vec<f64> = l
+                .split_whitespace()
+                .map(|w| {
+                    w.parse::<f64>()
+                        .map_err(|_| format!("`{l}` is not a point"))
+                })
+                .collect::<Result<_, _>>()?;
+            if v.len() < 3 || !v.iter().all(|x| x.is_finite()) {
+                return Err(format!("`{l}` is not a point (x y z [multiplicity])"));
+            }
+            let mult = v.get(3).map_or(1, |&m| (m.round() as usize).clamp(1, 3));
+            for _ in 0..mult {
+                control.push([v[0], v[1], v[2]]);
+            }
+        }
+        break;
+    }
+    if control.len() < 2 {
+        return Err("a curve needs at least two points".into());
+    }
+    // Sampled as a clamped cubic B-spline in the plane of each pair of axes.
+    let xy: Vec<(f64, f64)> = control.iter().map(|p| (p[0], p[1])).collect();
+    let xz: Vec<(f64, f64)> = control.iter().map(|p| (p[0], p[2])).collect();
+    let sample = |pts: &[(f64, f64)]| -> Vec<(f64, f64)> {
+        let n = pts.len();
+        if n < 4 {
+            return pts.to_vec();
+        }
+        let m = (n - 3) as f64;
+        let mut knots = vec![0.0; 4];
+        knots.extend((1..n - 3).map(|i| i as f64));
+        knots.extend([m; 4]);
+        (0..=SAMPLES)
+            .map(|s| de_boor(pts, &knots, m * s as f64 / SAMPLES as f64))
+            .collect()
+    };
+    let (a, b) = (sample(&xy), sample(&xz));
+    let points: Vec<[f64; 3]> = a.iter().zip(&b).map(|(p, q)| [p.0, p.1, q.1]).collect();
+    let mut along = vec![0.0];
+    for w in points.windows(2) {
+        let d = ((w[1][0] - w[0][0]).powi(2)
+            + (w[1][1] - w[0][1]).powi(2)
+            + (w[1][2] - w[0][2]).powi(2))
+        .sqrt();
+        along.push(along.last().copied().unwrap_or(0.0) + d);
+    }
+    Ok(Curve { points, along })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,6 +322,11 @@ mod tests {
         assert_eq!(set.len(), 2);
         assert_eq!(set[1].eval(0.3), 2.0);
         assert!(parse("points: 3\n0 0\n", "bad.func").is_err());
+        // A straight contour: arc length and points by fraction of it.
+        let c = parse_curve("version: 1.4\npoints: 2\ntype: bspline\n0 0 0 1\n3 4 0 1\n").unwrap();
+        assert!((c.length() - 5.0).abs() < 1e-12);
+        assert!((c.at(0.5, 0) - 1.5).abs() < 1e-12 && (c.at(0.5, 1) - 2.0).abs() < 1e-12);
+        assert!(parse_curve("points: 1\n0 0 0\n").is_err());
         assert!(parse("hello\n", "bad.func").is_err());
     }
 }

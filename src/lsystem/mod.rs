@@ -125,6 +125,10 @@ pub struct LSystem {
     pub(crate) surfaces: std::sync::Arc<[surface::Surface]>,
     /// What reading the files skipped (a surface file that is missing, ...).
     pub(crate) warnings: Vec<String>,
+    /// `ring lsystem`: context wraps from the string's end to its start.
+    pub(crate) ring: bool,
+    /// The view file's curves (`curveX(id, t)` and the like).
+    pub(crate) curves: std::sync::Arc<[funcs::Curve]>,
 }
 
 /// Ids of parsed grammars (0 is no grammar).
@@ -188,6 +192,8 @@ impl LSystem {
             functions: Vec::new().into(),
             surfaces: Vec::new().into(),
             warnings: Vec::new(),
+            ring: false,
+            curves: Vec::new().into(),
         }
     }
 
@@ -224,6 +230,7 @@ impl LSystem {
         ls.functions = extras.functions.into();
         ls.surfaces = extras.surfaces.into();
         ls.warnings = extras.warnings;
+        ls.curves = extras.curves.into();
         Ok(ls)
     }
 

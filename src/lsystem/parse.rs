@@ -79,6 +79,7 @@ struct Parser<'a> {
     ended: bool,
     globals: RefCell<Globals>,
     blocks: Blocks,
+    ring: bool,
 }
 
 /// Parses grammar text in memory (preprocessed first; `#include` is refused); errors
@@ -169,6 +170,7 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
         ended: false,
         globals: RefCell::new(Globals::default()),
         blocks: Blocks::default(),
+        ring: false,
     };
     p.run().map_err(to_error)?;
     let Parser {
@@ -184,6 +186,7 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
         view,
         globals,
         blocks,
+        ring,
         ..
     } = p;
     let Some(axiom) = axiom else {
@@ -227,6 +230,10 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
         globals.into_inner(),
         blocks,
     ))
+    .map(|mut ls| {
+        ls.ring = ring;
+        ls
+    })
 }
 
 /// Settings of a view file over those a grammar's directives gave: a directive that
@@ -329,7 +336,7 @@ pub(crate) fn parse_file(
         .iter()
         .enumerate()
         .filter(|(_, f)| !f.name.is_empty())
-        .map(|(i, f)| (f.name.clone(), (i + 1) as f64))
+        .map(|(i, f)| (format!("{}{}", expr::FUNCTION_NAME, f.name), (i + 1) as f64))
         .collect();
     let mut ls = parse_named(&text, &name, Includes::Dir(dir), &names)?;
     if view_seen {
@@ -340,6 +347,7 @@ pub(crate) fn parse_file(
     ls.functions = extras.functions.into();
     ls.surfaces = extras.surfaces.into();
     ls.warnings = extras.warnings;
+    ls.curves = extras.curves.into();
     Ok(ls)
 }
 
@@ -425,7 +433,8 @@ impl<'a> Parser<'a> {
             return self.arrays(rest_at(rest), end);
         }
         if keyword(line, "ring lsystem").is_some() || keyword(line, "ring l-system").is_some() {
-            return Err(self.msg(at, "ring L-systems are not supported"));
+            self.ring = true;
+            return Ok(());
         }
         if let Some(rest) = keyword(line, "lsystem:") {
             if self.lsystem_seen {

@@ -24,6 +24,8 @@ pub(crate) struct Extras {
     pub(crate) surfaces: Vec<super::surface::Surface>,
     /// What was skipped, for the grammar's warnings.
     pub(crate) warnings: Vec<String>,
+    /// The curves (`curve:` files), numbered from 1 in order.
+    pub(crate) curves: Vec<super::funcs::Curve>,
 }
 
 /// Reads a companion file the view file names, from `inc`'s folder.
@@ -56,6 +58,7 @@ pub(crate) fn apply(
     let mut functions = Vec::new();
     let mut surfaces = Vec::new();
     let mut warnings = Vec::new();
+    let mut curves = Vec::new();
     let mut direction: Option<DVec3> = None;
     let mut elasticity = 0.0;
     let mut increment = 0.0;
@@ -168,6 +171,16 @@ pub(crate) fn apply(
                 surfaces.retain(|x: &super::surface::Surface| x.name != letter);
                 surfaces.push(s);
             }
+            "curve" => {
+                let file = value.split_whitespace().next().unwrap_or("");
+                let text = companion(&inc, file)
+                    .map_err(|e| fail(&format!("a readable curve file ({e})")))?;
+                curves.push(
+                    super::funcs::parse_curve(&text).map_err(|e| {
+                        fail(&format!("a curve file cpfg can read (`{file}`: {e})"))
+                    })?,
+                );
+            }
             "function" | "function set" | "functions" => {
                 let file = value.split_whitespace().next().unwrap_or("");
                 let text = companion(&inc, file)
@@ -198,6 +211,7 @@ pub(crate) fn apply(
         functions,
         surfaces,
         warnings,
+        curves,
     })
 }
 
