@@ -463,12 +463,21 @@ fn decomposition_cut_polygons_and_leaves() {
     let s = ls.derive(&LsystemOptions::default()).unwrap();
     assert_eq!(ls.format(&s), "AFFFF");
     assert_eq!((s.birth(0), s.birth(1), s.birth(4)), (2, 2, 1));
-    // Cut: % removes the rest of its branch.
-    let ls = LSystem::parse("derivation length: 1\nAxiom: F[FA F]F\nA --> %").unwrap();
-    assert_eq!(
-        ls.format(&ls.derive(&LsystemOptions::default()).unwrap()),
-        "F[F]F"
-    );
+    // Cut: % removes the rest of its branch as the next step begins, as in cpfg; one
+    // the last step made is drawn past (`interpretation past %:` on), unless the view
+    // file turns that off.
+    let text = "derivation length: 1\nAxiom: F[FA F]F\nA --> %\nF --> F";
+    let ls = LSystem::parse(text).unwrap();
+    let last = ls.derive(&LsystemOptions::default()).unwrap();
+    assert_eq!(ls.format(&last), "F[F%F]F");
+    assert_eq!(ls.interpret(&last, &Default::default()).unwrap().len(), 4);
+    let two = LsystemOptions {
+        steps: Some(2),
+        ..Default::default()
+    };
+    assert_eq!(ls.format(&ls.derive(&two).unwrap()), "F[F]F");
+    let strict = LSystem::parse_with_view(text, "interpretation past %: off\n").unwrap();
+    assert_eq!(strict.skeleton(&Default::default()).unwrap().len(), 3);
     // Polygons and leaf sites are recorded, not drawn as branches.
     // `~l` is a surface site (cpfg's predefined surface `l`).
     let ls = LSystem::parse("Axiom: F[{.+f.+f.+f.}]~lF").unwrap();

@@ -335,6 +335,13 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         }
         ctx.step = step;
         ctx.spend(cur.len())?;
+        // A `%` cuts its branch as the next step begins (cpfg's order): one made by the
+        // last step stays in the string, and the turtle draws past it.
+        if ls.has_cut {
+            next.clear();
+            cut(&cur, &mut next);
+            std::mem::swap(&mut cur, &mut next);
+        }
         ctx.run_block(&ls.blocks.start_each, "the StartEach: block")?;
         next.clear();
         let want = |len: usize, g: f64, limit: usize| ((len as f64 * g * 1.02) as usize).min(limit);
@@ -361,13 +368,8 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
     Ok(cur)
 }
 
-/// Cut and decomposition after a step (or after the axiom).
+/// Decomposition after a step (or after the axiom).
 fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleString) -> Result<()> {
-    if ctx.ls.has_cut {
-        spare.clear();
-        cut(cur, spare);
-        std::mem::swap(cur, spare);
-    }
     if !ctx.ls.decomposition.is_empty() {
         spare.clear();
         let table = &ctx.ls.decomposition;
@@ -1082,9 +1084,10 @@ mod tests {
         // Right context `]E`: the rest of the branch is skipped whole, nested ones too.
         let ls = LSystem::parse("Axiom: A[B[C]D]E\nB > ]E --> X\nC > ]E --> Y\n").unwrap();
         assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "A[X[C]D]E");
-        // A cut removes the rest of its branch with the branches nested in it.
+        // A cut removes the rest of its branch with the branches nested in it (as the
+        // step after the one that made it begins).
         let ls = LSystem::parse("Axiom: F[A[G]F]F\nA --> %\n").unwrap();
-        assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "F[]F");
+        assert_eq!(ls.format(&ls.derive(&options(2)).unwrap()), "F[]F");
     }
 
     #[test]

@@ -195,6 +195,9 @@ pub struct ViewSettings {
     pub initial_color: u32,
     /// The view file's `color increment:`: what `;` adds and `,` subtracts. Default 1.
     pub color_increment: u32,
+    /// The view file's `interpretation past %:` (default on): the turtle draws past a `%`
+    /// the last step made (off: it skips the rest of that branch).
+    pub interpretation_past_cut: bool,
 }
 
 /// cpfg's older tropism: after every `F` the heading H turns toward the tropism vector T
@@ -221,6 +224,7 @@ impl Default for ViewSettings {
             old_tropism: None,
             initial_color: 1,
             color_increment: 1,
+            interpretation_past_cut: true,
         }
     }
 }

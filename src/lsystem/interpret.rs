@@ -104,6 +104,7 @@ struct Turtle {
     step_size: f64,
     tropism: Option<(DVec3, f64)>,
     old_tropism: Option<crate::lsystem::grammar::OldTropism>,
+    past_cut: bool,
     max_branches: usize,
     /// Cosine and sine of recently used angles (grammars reuse a few angles).
     trig: [(u64, (f64, f64)); 8],
@@ -364,6 +365,9 @@ impl Turtle {
                     self.state = s;
                 }
             }
+            // `interpretation past %: on` (cpfg's default) draws past a cut the last step
+            // made; `off` skips the rest of its branch.
+            Op::Cut if self.past_cut => {}
             Op::Cut => self.cutting = Some(0),
             Op::PolygonStart => {
                 self.polygons.push((Vec::new(), self.state.parent, birth));
@@ -433,6 +437,7 @@ pub(crate) fn interpret(
         step_size: view.step_size,
         tropism: view.tropism,
         old_tropism: view.old_tropism,
+        past_cut: view.interpretation_past_cut,
         max_branches: options.max_branches,
         // NaN bits never equal an angle's, so every slot starts empty.
         trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],

@@ -256,6 +256,7 @@ pub(crate) fn merge_view(grammar: &mut ViewSettings, view: &ViewSettings) {
         grammar.old_tropism = view.old_tropism;
     }
     grammar.initial_color = view.initial_color;
+    grammar.interpretation_past_cut = view.interpretation_past_cut;
     grammar.color_increment = view.color_increment;
 }
 

@@ -135,6 +135,9 @@ pub(crate) fn apply(
                 view.color_increment =
                     c.ok_or_else(|| fail("a colour step from 0 to 65535"))? as u32;
             }
+            "interpretation past %" => {
+                view.interpretation_past_cut = !value.to_ascii_lowercase().starts_with("off");
+            }
             "initial elasticity" => {
                 elasticity = first().ok_or_else(|| fail("a number"))?;
             }
