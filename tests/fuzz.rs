@@ -36,6 +36,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
         max_modules: 20_000,
         max_params: 40_000,
         max_branches: 20_000,
+        max_work: 2_000_000,
         ..Default::default()
     };
     let string = match ls.derive(&options) {
@@ -84,6 +85,75 @@ const SYMBOLS: &[&str] = &[
     "F", "G", "f", "g", "+", "-", "&", "^", "/", "\\", "|", "$", "!", "#", "%", "~", "{", ".", "}",
     "A", "B", "X", "@M", "@R", "@v",
 ];
+
+/// Fragments of cpfg files that fit together (directives, blocks, statements, arrays,
+/// predecessors of several modules, TAB continuations, organs)...
+const CPFG_GOOD: &[&str] = &[
+    "#define A0(x) (x)+1",
+    "#define B0 A0(2)",
+    "#define C0(x, y) x##y",
+    "#if B0 > 2\n#define K 3\n#else\n#define K 4\n#endif",
+    "#ifdef A0\n#undef A0\n#endif",
+    "Lsystem: 1",
+    "derivation length: K",
+    "Start: { i = 0; srand(3); }",
+    "StartEach: { i = i + 1; if (i > 3) stop(); }",
+    "EndEach: { printf(\"%g %d %5.2f\\n\", i, i, a[0]); }",
+    "End: { do { i = i - 1; } while (i > 0); }",
+    "define: { array a[3] = { 1, 2, 3 }, m[2][2]; }",
+    "A(x) : { y = x * 2; } y < 9 { a[1] = y; } --> A(y)B",
+    "A(x) : * { while (x < 5) { x = x + 1; } } --> A(x)F(x)",
+    "X(n) : n < 6 --> F(a[n % 3])[+X(n + 1)@O(1)]X(n + 1)",
+    "AB --> C@o(2)",
+    "[A(x)B] --> [C(x);]",
+    "B > C(y) : y > 1 --> F(y)~l",
+    "C(x) --> %F(x)",
+    "D --> ;(3)F,F_(0.1)\n\t[-F]+F(2)",
+    "ring lsystem",
+    "homomorphism: warnings\nmaximum depth: 5\nB --> F@O(0.5)\nAB --> FF",
+    "decomposition\nmaximum depth: 50\nX(n) : n > 100 --> X(n - 1)F",
+    "F(x) --> F(func(1, x))",
+    "F(x) --> F(curveX(1, x))",
+    "A(x) : { a[x] = 1; } --> A(x)",
+    "A : { while (1) { j = j + 1; } } --> A",
+    "// comment { --> }",
+    "/* a comment\n over lines */",
+];
+
+/// ... and fragments that break them.
+const CPFG_BAD: &[&str] = &[
+    "#define E E\nAxiom: E",
+    "#else",
+    "#endif",
+    "#if 1",
+    "#include \"x.h\"",
+    "x = ;",
+    "{",
+    "}",
+    "\\",
+    "/* open",
+    "endlsystem",
+    "#define M(a, b) a b\nAxiom: M(F,",
+];
+
+/// A cpfg file from the fragments: mostly good ones around one axiom, sometimes a bad one.
+fn cpfg_file() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(prop::sample::select(CPFG_GOOD), 0..10),
+        prop::sample::select(&["Axiom: A(1)B[C(2)]D", "Axiom: X(0)", "Axiom: AB(1)C(2)"][..]),
+        prop::option::weighted(0.25, prop::sample::select(CPFG_BAD)),
+        0usize..12,
+    )
+        .prop_map(|(mut parts, axiom, bad, at)| {
+            let n = parts.len();
+            parts.insert(at.min(n), axiom);
+            if let Some(b) = bad {
+                let n = parts.len();
+                parts.insert((at * 7) % (n + 1), b);
+            }
+            parts.join("\n")
+        })
+}
 
 fn expr() -> impl Strategy<Value = String> {
     let leaf = prop_oneof![
@@ -247,6 +317,15 @@ proptest! {
         check(&text)?;
     }
 
+    /// cpfg files as written: preprocessor directives, blocks, statements, arrays,
+    /// predecessors of several modules, TAB continuations and organs, shuffled and cut.
+    #[test]
+    fn random_cpfg_files_never_panic(text in cpfg_file(), cut in 0usize..400) {
+        let end = (0..=cut.min(text.len())).rev().find(|&k| text.is_char_boundary(k)).unwrap_or(0);
+        check(&text)?;
+        check(&text[..end])?;
+    }
+
     #[test]
     fn mutated_shipped_grammars_never_panic(
         which in 0usize..31,
@@ -274,6 +353,30 @@ proptest! {
     fn random_text_never_panics(text in "\\PC{0,200}") {
         check(&text)?;
     }
+}
+
+#[test]
+fn random_cpfg_files_reach_the_mesher() {
+    // The fragments are useful only if a fair share of their files grow.
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = cpfg_file();
+    let (mut meshed, total) = (0, 400);
+    let mut errors = std::collections::BTreeMap::<String, usize>::new();
+    for _ in 0..total {
+        let text = strategy.new_tree(&mut runner).unwrap().current();
+        let before = MESHED.load(std::sync::atomic::Ordering::Relaxed);
+        if let Err(e) = LSystem::parse(&text) {
+            let key: String = e.to_string().chars().skip(30).take(40).collect();
+            *errors.entry(key).or_default() += 1;
+        }
+        check(&text).unwrap();
+        meshed += (MESHED.load(std::sync::atomic::Ordering::Relaxed) > before) as usize;
+    }
+    println!("{meshed} of {total} random cpfg files were meshed; parse errors: {errors:#?}");
+    assert!(
+        meshed * 4 >= total,
+        "only {meshed} of {total} random cpfg files got to the mesher"
+    );
 }
 
 #[test]
