@@ -360,3 +360,27 @@ fn a_ring_lsystem_closes_its_string_for_context() {
     let ring = LSystem::parse(&format!("ring lsystem\n{text}")).unwrap();
     assert_eq!(derive(&ring), "XCZ");
 }
+
+#[test]
+fn query_modules_learn_where_the_turtle_is() {
+    // After every step the turtle reads the string and ?P gets its position (?H its
+    // heading), so the next step's productions see them.
+    let ls = LSystem::parse(
+        "angle increment: 90\nderivation length: 1\nAxiom: F(2)+F(3)?P(0,0)?H(0,0,0)\n\
+         ?P(x,y) --> A(x,y)\n?H(x,y,z) --> B(x,y,z)\n",
+    )
+    .unwrap();
+    let s = ls.derive(&LsystemOptions::default()).unwrap();
+    assert_eq!(ls.format(&s).split('B').next(), Some("F(2)+F(3)A(-3,2)"));
+    let heading = s.params(s.len() - 1);
+    assert!((heading[0] + 1.0).abs() < 1e-6 && heading[1].abs() < 1e-6 && heading[2].abs() < 1e-6);
+    // An environment query runs without an environment program, with a warning.
+    let ls = LSystem::parse("Axiom: A?E(1)\n").unwrap();
+    assert!(ls.warnings()[0].contains("environment program"));
+    // A growing shoot that stops where the query says it left a region.
+    let ls =
+        LSystem::parse("derivation length: 10\nAxiom: A?P(0,0)\nA > ?P(x,y) : y < 4 --> F(1)A\n")
+            .unwrap();
+    let s = ls.skeleton(&Default::default()).unwrap();
+    assert_eq!(s.len(), 4);
+}

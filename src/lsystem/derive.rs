@@ -325,6 +325,11 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
     ctx.check("the axiom")?;
     post_process(&mut ctx, &mut cur, &mut next)?;
+    // Query modules (`?P` ...) learn where the turtle is after every step.
+    let queries = super::interpret::has_queries(ls);
+    if queries {
+        super::interpret::answer_queries(ls, &mut cur, options)?;
+    }
     let mut links = Links::default();
     // Growth of the last step (modules, parameters), to size the next buffer once instead
     // of letting it double (and copy) its way up.
@@ -360,6 +365,9 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         );
         std::mem::swap(&mut cur, &mut next);
         post_process(&mut ctx, &mut cur, &mut next)?;
+        if queries {
+            super::interpret::answer_queries(ls, &mut cur, options)?;
+        }
         ctx.run_block(&ls.blocks.end_each, "the EndEach: block")?;
     }
     ctx.run_block(&ls.blocks.end, "the End: block")?;

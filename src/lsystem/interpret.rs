@@ -408,6 +408,60 @@ pub(crate) fn interpret(
     string: &ModuleString,
     options: &LsystemOptions,
 ) -> Result<Skeleton> {
+    interpret_answering(ls, string, options, None)
+}
+
+/// What a query module asks the turtle: `?P` its position, `?H` heading, `?U` up, `?L`
+/// left.
+fn query_kind(name: &str) -> Option<usize> {
+    ["?P", "?H", "?U", "?L"].iter().position(|q| *q == name)
+}
+
+/// Whether the grammar has query modules (`?P`, `?H`, `?U`, `?L`).
+pub(crate) fn has_queries(ls: &LSystem) -> bool {
+    ls.symbols.names.iter().any(|n| query_kind(n).is_some())
+}
+
+/// cpfg's query modules: the turtle reads `string` and each `?P(x,y[,z])` (and `?H`,
+/// `?U`, `?L`) gets the position (heading, up, left) the turtle has there, in as many of
+/// its parameters as it has. Run after every derivation step, as cpfg does, so the next
+/// step's productions see the answers.
+pub(crate) fn answer_queries(
+    ls: &LSystem,
+    string: &mut ModuleString,
+    options: &LsystemOptions,
+) -> Result<()> {
+    let mut answers = Vec::new();
+    interpret_answering(ls, string, options, Some(&mut answers))?;
+    for (i, v) in answers {
+        let (a, b) = (string.offsets[i] as usize, string.offsets[i + 1] as usize);
+        for (slot, x) in string.params[a..b].iter_mut().zip(v) {
+            *slot = x;
+        }
+    }
+    Ok(())
+}
+
+fn interpret_answering(
+    ls: &LSystem,
+    string: &ModuleString,
+    options: &LsystemOptions,
+    mut answers: Option<&mut Vec<(usize, [f32; 3])>>,
+) -> Result<Skeleton> {
+    let queries: Vec<Option<usize>> = match answers {
+        Some(_) => ls.symbols.names.iter().map(|n| query_kind(n)).collect(),
+        None => Vec::new(),
+    };
+    let mut ask = |i: usize, frame: &Frame| {
+        if let (Some(out), Some(&Some(kind))) =
+            (answers.as_deref_mut(), queries.get(string.syms[i] as usize))
+        {
+            if !string.offsets.is_empty() {
+                let v = [frame.position, frame.heading, frame.up, frame.left][kind];
+                out.push((i, v.as_vec3().to_array()));
+            }
+        }
+    };
     let view = ls.view;
     let initial_width = options.initial_width.unwrap_or(view.initial_width);
     if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
@@ -493,6 +547,7 @@ pub(crate) fn interpret(
     if table.is_empty() {
         for i in 0..string.len() {
             let birth = string.birth(i);
+            ask(i, &t.state.frame);
             t.module(string.symbol(i), string.params(i), birth, birth)?;
         }
     } else {
@@ -508,6 +563,7 @@ pub(crate) fn interpret(
         while i < string.len() {
             let birth = string.birth(i);
             ctx.step = birth;
+            ask(i, &t.state.frame);
             let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
                 read += 1;
                 if read > ctx.max_modules {

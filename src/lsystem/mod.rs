@@ -229,7 +229,7 @@ impl LSystem {
         parse::merge_view(&mut ls.view, &settings);
         ls.functions = extras.functions.into();
         ls.surfaces = extras.surfaces.into();
-        ls.warnings = extras.warnings;
+        ls.warnings.extend(extras.warnings);
         ls.curves = extras.curves.into();
         Ok(ls)
     }

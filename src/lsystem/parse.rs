@@ -232,6 +232,13 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
     ))
     .map(|mut ls| {
         ls.ring = ring;
+        if ls.symbols.names.iter().any(|n| n == "?E") {
+            ls.warnings.push(
+                "the grammar queries an environment program (`?E`); arbor has none, so every \
+                 `?E` keeps the parameters its productions give it"
+                    .into(),
+            );
+        }
         ls
     })
 }
@@ -347,7 +354,7 @@ pub(crate) fn parse_file(
     }
     ls.functions = extras.functions.into();
     ls.surfaces = extras.surfaces.into();
-    ls.warnings = extras.warnings;
+    ls.warnings.extend(extras.warnings);
     ls.curves = extras.curves.into();
     Ok(ls)
 }
