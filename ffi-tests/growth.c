@@ -35,7 +35,39 @@ static ArborBranch *branches_of(const ArborWorld *w, size_t index, size_t *n) {
   return b;
 }
 
+static int32_t stop_at_cycle_three(void *user, uint32_t stage, float fraction) {
+  int *calls = user;
+  (*calls)++;
+  CHECK(stage == ARBOR_STAGE_GROWTH && fraction >= 0.0f && fraction <= 1.0f, "stage %u at %g", stage,
+        fraction);
+  return *calls >= 3;
+}
+
+/* arbor_world_step stops before the cycle the callback refuses; the world keeps what
+   the whole cycles grew, and stepping on (without a callback) works. */
+static void cancelled_growth(void) {
+  int calls = 0;
+  ArborWorldOptions o = arbor_world_options_default();
+  o.progress = stop_at_cycle_three;
+  o.progress_user_data = &calls;
+  ArborWorld *w = NULL, *plain = NULL;
+  CHECK_STATUS(arbor_world_create(&o, &w), ARBOR_STATUS_OK);
+  ArborWorldOptions p = arbor_world_options_default();
+  CHECK_STATUS(arbor_world_create(&p, &plain), ARBOR_STATUS_OK);
+  float at[3] = {0, 0, 0};
+  CHECK_STATUS(arbor_world_plant(w, NULL, at, 1, NULL), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_plant(plain, NULL, at, 1, NULL), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_step(w, 10), ARBOR_STATUS_CANCELLED);
+  CHECK(calls == 3, "%d calls", calls);
+  CHECK_STATUS(arbor_world_step(plain, 2), ARBOR_STATUS_OK);
+  CHECK(arbor_world_branch_count(w) == arbor_world_branch_count(plain), "%zu vs %zu branches after 2 cycles",
+        arbor_world_branch_count(w), arbor_world_branch_count(plain));
+  arbor_world_free(w);
+  arbor_world_free(plain);
+}
+
 int main(void) {
+  cancelled_growth();
   ArborWorld *w = forest(7, 1);
   CHECK(arbor_world_tree_count(w) == 5, "5 trees");
   CHECK(arbor_world_branch_count(w) > 500, "%zu branches", arbor_world_branch_count(w));

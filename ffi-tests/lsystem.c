@@ -219,7 +219,49 @@ static void organs_and_colours(void) {
   arbor_tree_free(t);
 }
 
+/* Progress: what the callback saw, and after how many calls it says stop (0: never). */
+typedef struct {
+  int calls, stop_after, stages[3];
+  float last;
+  int backwards;
+} Seen;
+
+static int32_t on_progress(void *user, uint32_t stage, float fraction) {
+  Seen *s = user;
+  s->calls++;
+  if (stage < 3) s->stages[stage]++;
+  if (fraction < 0.0f || fraction > 1.0f) s->backwards = 1;
+  s->last = fraction;
+  return s->stop_after > 0 && s->calls >= s->stop_after;
+}
+
+static void progress_and_cancellation(void) {
+  const char *g = "derivation length: 12\nAxiom: F\nF --> F[+F]F\n";
+  ArborLsystemOptions o = arbor_lsystem_options_default();
+  Seen seen = {0};
+  o.progress = on_progress;
+  o.progress_user_data = &seen;
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_OK);
+  CHECK(seen.stages[ARBOR_STAGE_DERIVATION] >= 12 && seen.stages[ARBOR_STAGE_INTERPRETATION] >= 2,
+        "stages seen: %d derivation, %d interpretation", seen.stages[0], seen.stages[1]);
+  CHECK(seen.last == 1.0f && !seen.backwards, "last fraction %g", seen.last);
+  arbor_tree_free(t);
+  /* A non-zero return stops: CANCELLED, nothing written, nothing leaked (valgrind). */
+  for (int stop = 1; stop <= 14; stop += 3) {
+    Seen cancel = {0};
+    cancel.stop_after = stop;
+    o.progress_user_data = &cancel;
+    t = NULL;
+    CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), &o, &t), ARBOR_STATUS_CANCELLED);
+    CHECK(t == NULL && cancel.calls == stop, "stopped after %d calls, out %p", cancel.calls, (void *)t);
+    message_contains("cancelled");
+  }
+  CHECK(strcmp(arbor_status_str(ARBOR_STATUS_CANCELLED), "cancelled") == 0, "status string");
+}
+
 int main(int argc, char **argv) {
+  progress_and_cancellation();
   organs_and_colours();
   grows_like_the_direct_model();
   options_apply();

@@ -122,6 +122,21 @@ int main(int argc, char **argv) {
     EXPECT(std::string(e.what()).find("grammar.l") != std::string::npos, "%s", e.what());
   }
 
+  // Progress and cancellation through a lambda.
+  {
+    int calls = 0;
+    auto stop_at_three = [&calls](uint32_t, float) noexcept { return ++calls < 3; };
+    ArborLsystemOptions o = arbor_lsystem_options_default();
+    arbor::set_progress(o, stop_at_three);
+    try {
+      arbor::Tree::lsystem("derivation length: 8\nAxiom: F\nF --> F[+F]F\n", &o);
+      EXPECT(false, "no exception for a cancelled derivation");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_CANCELLED && calls == 3, "status %d after %d calls", (int)e.status(),
+             calls);
+    }
+  }
+
   // Moves transfer ownership; the moved-from object frees nothing.
   arbor::Tree g = arbor::Tree::lsystem("angle increment: 30\nAxiom: F[+F~]F[-F~]F~\n");
   arbor::Tree h = std::move(g);

@@ -96,6 +96,21 @@
 #define ARBOR_NO_PARENT UINT32_MAX
 
 /**
+ * ArborProgressFn stage: rewriting the string.
+ */
+#define ARBOR_STAGE_DERIVATION 0
+
+/**
+ * ArborProgressFn stage: the turtle reading the string.
+ */
+#define ARBOR_STAGE_INTERPRETATION 1
+
+/**
+ * ArborProgressFn stage: growth cycles of a world.
+ */
+#define ARBOR_STAGE_GROWTH 2
+
+/**
  * ArborOrgan.kind of a sphere (`@O`).
  */
 #define ARBOR_ORGAN_SPHERE 0
@@ -153,6 +168,10 @@ typedef enum ArborStatus {
    * An internal error (a Rust panic) was caught; please report it with the message.
    */
   ARBOR_STATUS_PANIC = 7,
+  /**
+   * A progress callback asked to stop; no out-parameter was written.
+   */
+  ARBOR_STATUS_CANCELLED = 8,
 } ArborStatus;
 
 /**
@@ -730,6 +749,14 @@ typedef struct ArborVertex {
 } ArborVertex;
 
 /**
+ * A progress callback (see "Progress and cancellation" in the README): called on the
+ * calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
+ * non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
+ * out-parameter and leaks nothing.
+ */
+typedef int32_t (*ArborProgressFn)(void *user_data, uint32_t stage, float fraction);
+
+/**
  * Options of a world: a struct that grows (see "Structs that grow" in the README).
  * Start from arbor_world_options_default() (or arbor_world_options_init()).
  */
@@ -793,6 +820,18 @@ typedef struct ArborWorldOptions {
    * `parallel` feature (the result is identical); 0: the calling thread only.
    */
   uint32_t parallel;
+  /**
+   * Called by arbor_world_step() before every cycle and at the end
+   * (ARBOR_STAGE_GROWTH, the fraction of the cycles asked), on the calling thread;
+   * non-zero stops with ARBOR_STATUS_CANCELLED before the next cycle (the world as it
+   * was after the last whole cycle). NULL (default): none. (Added after the first
+   * layout.)
+   */
+  ArborProgressFn progress;
+  /**
+   * Passed to `progress`. (Added after the first layout.)
+   */
+  void *progress_user_data;
 } ArborWorldOptions;
 
 /**
@@ -979,6 +1018,17 @@ typedef struct ArborLsystemOptions {
    * the first layout.)
    */
   const char *view_text;
+  /**
+   * Called during derivation and interpretation (ARBOR_STAGE_DERIVATION at every step
+   * and every 65,536 modules, ARBOR_STAGE_INTERPRETATION every 65,536 modules) on the
+   * calling thread; non-zero stops with ARBOR_STATUS_CANCELLED. NULL (default): none.
+   * (Added after the first layout.)
+   */
+  ArborProgressFn progress;
+  /**
+   * Passed to `progress`. (Added after the first layout.)
+   */
+  void *progress_user_data;
 } ArborLsystemOptions;
 
 /**

@@ -300,6 +300,17 @@ class World {
   ArborWorld *world_ = nullptr;
 };
 
+/// Points `options.progress` (ArborLsystemOptions or ArborWorldOptions) at `f`, called as
+/// `f(stage, fraction)` on the calling thread; `f` returns false to cancel (the call then
+/// throws arbor::Error with ARBOR_STATUS_CANCELLED). `f` must outlive the call and must not
+/// throw.
+template <class Options, class F> void set_progress(Options &options, F &f) {
+  options.progress = [](void *user, uint32_t stage, float fraction) -> int32_t {
+    return (*static_cast<F *>(user))(stage, fraction) ? 0 : 1;
+  };
+  options.progress_user_data = &f;
+}
+
 }  // namespace arbor
 
 #endif /* ARBOR_HPP */

@@ -64,6 +64,12 @@ pub enum Error {
     /// Reading or writing a file or stream failed.
     #[error("I/O error: {0}")]
     Io(#[from] std::io::Error),
+    /// A progress callback asked to stop; nothing was built.
+    #[error("cancelled by the progress callback during {stage}")]
+    Cancelled {
+        /// The stage that was running (`"derivation"`, `"interpretation"`, `"growth"`).
+        stage: &'static str,
+    },
 }
 
 /// `Result` with arbor's [`Error`].

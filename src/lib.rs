@@ -48,6 +48,7 @@ pub mod limits;
 pub mod lsystem;
 pub mod mesh;
 pub mod models;
+pub mod progress;
 pub mod rng;
 pub mod skeleton;
 

@@ -9,13 +9,31 @@ using System;
 using System.Runtime.InteropServices;
 using System.Text;
 
+#if !UNITY_5_3_OR_NEWER
+namespace AOT
+{
+    /// Unity's attribute for native-to-managed callbacks under IL2CPP (UnityEngine
+    /// defines it; this stand-in lets the binding build elsewhere).
+    [AttributeUsage(AttributeTargets.Method)]
+    public sealed class MonoPInvokeCallbackAttribute : Attribute
+    {
+        public MonoPInvokeCallbackAttribute(Type type) { }
+    }
+}
+#endif
+
 namespace Arbor
 {
     public enum Status : int
     {
         Ok = 0, NullArgument = 1, InvalidArgument = 2, ParseError = 3,
-        LimitExceeded = 4, BufferTooSmall = 5, IoError = 6, Panic = 7,
+        LimitExceeded = 4, BufferTooSmall = 5, IoError = 6, Panic = 7, Cancelled = 8,
     }
+
+    /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth), fraction in
+    /// [0, 1]; non-zero cancels.
+    [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
+    public delegate int ProgressFn(IntPtr userData, uint stage, float fraction);
 
     public enum Topology : uint { TriangleList = 0, TriangleStripRestart = 1, TriangleStripDegenerate = 2 }
     public enum Joints : uint { Separate = 0, Mitred = 1 }
@@ -90,6 +108,9 @@ namespace Arbor
         /// A NUL-terminated UTF-8 path (FromLsystemFile) or view-file text (FromLsystem);
         /// IntPtr.Zero for none. The wrappers below fill them for you.
         public IntPtr ViewPath, ViewText;
+        /// An ArborProgressFn (Marshal.GetFunctionPointerForDelegate) and its user data;
+        /// Tree.FromLsystem(source, progress) fills them.
+        public IntPtr Progress, ProgressUserData;
 
         public static LsystemOptions Default()
         {
@@ -141,6 +162,7 @@ namespace Arbor
         public float FullLight;
         public ulong MaxCells, MaxBranches;
         public uint MaxTrees, Parallel;
+        public IntPtr Progress, ProgressUserData;
 
         public static WorldOptions Default()
         {
@@ -376,6 +398,36 @@ namespace Arbor
                 return new Tree(t);
             }
             finally { Marshal.FreeHGlobal(o.ViewText); }
+        }
+
+        // One static callback for every call (IL2CPP needs a static method marked
+        // MonoPInvokeCallback); the managed callback travels in a GCHandle as user data.
+        static readonly ProgressFn progressTrampoline = ProgressTrampoline;
+
+        [AOT.MonoPInvokeCallback(typeof(ProgressFn))]
+        static int ProgressTrampoline(IntPtr user, uint stage, float fraction)
+        {
+            var f = (Func<uint, float, bool>)GCHandle.FromIntPtr(user).Target;
+            try { return f(stage, fraction) ? 0 : 1; }
+            catch (Exception) { return 1; } // an exception never crosses into native code
+        }
+
+        /// A grammar in memory, with `progress(stage, fraction)` called on this thread
+        /// (return false to cancel: ArborException with Status.Cancelled).
+        public static Tree FromLsystem(string source, Func<uint, float, bool> progress)
+        {
+            byte[] bytes = Encoding.UTF8.GetBytes(source);
+            var o = LsystemOptions.Default();
+            var handle = GCHandle.Alloc(progress);
+            o.Progress = Marshal.GetFunctionPointerForDelegate(progressTrampoline);
+            o.ProgressUserData = GCHandle.ToIntPtr(handle);
+            try
+            {
+                IntPtr t;
+                ArborException.Check(Native.arbor_tree_from_lsystem(bytes, (UIntPtr)bytes.Length, ref o, out t));
+                return new Tree(t);
+            }
+            finally { handle.Free(); }
         }
 
         /// A cpfg file read as cpfg reads it: preprocessed, with its view file (viewPath,

@@ -16,7 +16,7 @@ pub enum ArborEnvironment {
 /// Options of a world: a struct that grows (see "Structs that grow" in the README).
 /// Start from arbor_world_options_default() (or arbor_world_options_init()).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct ArborWorldOptions {
     /// sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
     pub struct_size: u32,
@@ -49,12 +49,21 @@ pub struct ArborWorldOptions {
     /// 1 (default): grow the trees of a cycle on all cores when arbor is built with its
     /// `parallel` feature (the result is identical); 0: the calling thread only.
     pub parallel: u32,
+    /// Called by arbor_world_step() before every cycle and at the end
+    /// (ARBOR_STAGE_GROWTH, the fraction of the cycles asked), on the calling thread;
+    /// non-zero stops with ARBOR_STATUS_CANCELLED before the next cycle (the world as it
+    /// was after the last whole cycle). NULL (default): none. (Added after the first
+    /// layout.)
+    pub progress: ArborProgressFn,
+    /// Passed to `progress`. (Added after the first layout.)
+    pub progress_user_data: *mut c_void,
 }
 
 /// sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_WORLD_OPTIONS_MIN_SIZE: usize = 88;
 
-const _: () = assert!(std::mem::size_of::<ArborWorldOptions>() == ARBOR_WORLD_OPTIONS_MIN_SIZE);
+const _: () =
+    assert!(std::mem::offset_of!(ArborWorldOptions, progress) == ARBOR_WORLD_OPTIONS_MIN_SIZE);
 
 impl Growing for ArborWorldOptions {
     const NAME: &'static str = "ArborWorldOptions";
@@ -76,6 +85,8 @@ impl Growing for ArborWorldOptions {
             max_branches: d.max_branches as u64,
             max_trees: d.max_trees as u32,
             parallel: d.parallel as u32,
+            progress: None,
+            progress_user_data: std::ptr::null_mut(),
         }
     }
 }
@@ -241,6 +252,8 @@ pub enum ArborSpecies {
 /// stepping or planting needs it to yourself.
 pub struct ArborWorld {
     world: World,
+    progress: ArborProgressFn,
+    progress_user_data: *mut c_void,
 }
 
 /// Writes the default world options into the first `struct_size` bytes at `options`
@@ -321,14 +334,18 @@ pub unsafe extern "C" fn arbor_world_create(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let o = if options.is_null() {
-            WorldOptions::default()
+        let raw = if options.is_null() {
+            ArborWorldOptions::defaults()
         } else {
             // SAFETY: the caller promises `options` is readable for its struct_size.
-            WorldOptions::try_from(&unsafe { read_growing(options, "options") }?)?
+            unsafe { read_growing(options, "options") }?
         };
-        let world = World::new(&o)?;
-        *out = Box::into_raw(Box::new(ArborWorld { world }));
+        let world = World::new(&WorldOptions::try_from(&raw)?)?;
+        *out = Box::into_raw(Box::new(ArborWorld {
+            world,
+            progress: raw.progress,
+            progress_user_data: raw.progress_user_data,
+        }));
         Ok(())
     })
 }
@@ -453,8 +470,15 @@ pub unsafe extern "C" fn arbor_world_add_sphere(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_world_step(world: *mut ArborWorld, cycles: u32) -> ArborStatus {
     guard(|| {
-        // SAFETY: as the caller promises.
-        unsafe { world_mut(world) }?.step(cycles)?;
+        if world.is_null() {
+            return Err(FfiError::null("world"));
+        }
+        // SAFETY: non-null; the caller promises it is live and unshared for the call.
+        let w = unsafe { &mut *world };
+        match progress_closure(w.progress, w.progress_user_data) {
+            Some(mut f) => w.world.step_with_progress(cycles, &mut f)?,
+            None => w.world.step(cycles)?,
+        }
         Ok(())
     })
 }

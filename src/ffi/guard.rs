@@ -45,6 +45,7 @@ impl From<Error> for FfiError {
             Error::Parse { .. } => ArborStatus::ParseError,
             Error::Eval { .. } => ArborStatus::InvalidArgument,
             Error::Io(_) => ArborStatus::IoError,
+            Error::Cancelled { .. } => ArborStatus::Cancelled,
         };
         FfiError {
             status,

@@ -13,7 +13,7 @@ pub const ARBOR_OVERRIDE_WIDTH_INCREMENT: u32 = 4;
 /// the README). Start from arbor_lsystem_options_default() (or
 /// arbor_lsystem_options_init()) and change what you need.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct ArborLsystemOptions {
     /// sizeof(ArborLsystemOptions) as the host was compiled; set by
     /// arbor_lsystem_options_init().
@@ -58,6 +58,13 @@ pub struct ArborLsystemOptions {
     /// UTF-8), applied as cpfg applies a `.v` file; NULL (default): none. (Added after
     /// the first layout.)
     pub view_text: *const c_char,
+    /// Called during derivation and interpretation (ARBOR_STAGE_DERIVATION at every step
+    /// and every 65,536 modules, ARBOR_STAGE_INTERPRETATION every 65,536 modules) on the
+    /// calling thread; non-zero stops with ARBOR_STATUS_CANCELLED. NULL (default): none.
+    /// (Added after the first layout.)
+    pub progress: ArborProgressFn,
+    /// Passed to `progress`. (Added after the first layout.)
+    pub progress_user_data: *mut c_void,
 }
 
 impl ArborLsystemOptions {
@@ -122,7 +129,21 @@ impl Growing for ArborLsystemOptions {
             max_work: d.max_work as u64,
             view_path: std::ptr::null(),
             view_text: std::ptr::null(),
+            progress: None,
+            progress_user_data: std::ptr::null_mut(),
         }
+    }
+}
+
+/// Derives and interprets, with the host's progress callback if it gave one.
+fn grow(
+    grammar: &LSystem,
+    options: &LsystemOptions,
+    raw: &ArborLsystemOptions,
+) -> crate::Result<Skeleton> {
+    match progress_closure(raw.progress, raw.progress_user_data) {
+        Some(mut f) => grammar.skeleton_with_progress(options, &mut f),
+        None => grammar.skeleton(options),
     }
 }
 
@@ -169,20 +190,25 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let (options, view) = if options.is_null() {
-            (LsystemOptions::default(), None)
+        let (options, view, raw) = if options.is_null() {
+            (
+                LsystemOptions::default(),
+                None,
+                ArborLsystemOptions::default(),
+            )
         } else {
             // SAFETY: the caller promises `options` is readable for its struct_size bytes.
             let o = unsafe { read_growing(options, "options") }?;
             // SAFETY: the caller promises `view_path` is NULL or NUL-terminated.
             let view = unsafe { c_string(o.view_path, "view_path") }?;
-            (o.to_rust()?, view.map(std::path::PathBuf::from))
+            (o.to_rust()?, view.map(std::path::PathBuf::from), o)
         };
         // SAFETY: the caller promises `path` is NULL or NUL-terminated.
         let Some(path) = (unsafe { c_string(path, "path") })? else {
             return Err(FfiError::null("path"));
         };
-        let skeleton = LSystem::from_file(path, view.as_deref())?.skeleton(&options)?;
+        let grammar = LSystem::from_file(path, view.as_deref())?;
+        let skeleton = grow(&grammar, &options, &raw)?;
         *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
         Ok(())
     })
@@ -236,14 +262,18 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let (options, view) = if options.is_null() {
-            (LsystemOptions::default(), None)
+        let (options, view, raw) = if options.is_null() {
+            (
+                LsystemOptions::default(),
+                None,
+                ArborLsystemOptions::default(),
+            )
         } else {
             // SAFETY: the caller promises `options` is readable for its struct_size bytes.
             let o = unsafe { read_growing(options, "options") }?;
             // SAFETY: the caller promises `view_text` is NULL or NUL-terminated.
             let view = unsafe { c_string(o.view_text, "view_text") }?;
-            (o.to_rust()?, view)
+            (o.to_rust()?, view, o)
         };
         if source_len > MAX_SOURCE_BYTES {
             return Err(crate::Error::invalid(
@@ -283,7 +313,7 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
             Some(v) => LSystem::parse_with_view(text, v)?,
             None => LSystem::parse(text)?,
         };
-        let skeleton = grammar.skeleton(&options)?;
+        let skeleton = grow(&grammar, &options, &raw)?;
         *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
         Ok(())
     })

@@ -41,6 +41,35 @@ pub enum ArborStatus {
     IoError = 6,
     /// An internal error (a Rust panic) was caught; please report it with the message.
     Panic = 7,
+    /// A progress callback asked to stop; no out-parameter was written.
+    Cancelled = 8,
+}
+
+/// ArborProgressFn stage: rewriting the string.
+pub const ARBOR_STAGE_DERIVATION: u32 = 0;
+/// ArborProgressFn stage: the turtle reading the string.
+pub const ARBOR_STAGE_INTERPRETATION: u32 = 1;
+/// ArborProgressFn stage: growth cycles of a world.
+pub const ARBOR_STAGE_GROWTH: u32 = 2;
+
+/// A progress callback (see "Progress and cancellation" in the README): called on the
+/// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
+/// non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
+/// out-parameter and leaks nothing.
+pub type ArborProgressFn =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, stage: u32, fraction: f32) -> i32>;
+
+/// The Rust closure that calls a host's progress callback (None when it is NULL).
+pub(crate) fn progress_closure(
+    f: ArborProgressFn,
+    user_data: *mut c_void,
+) -> Option<impl FnMut(crate::progress::Stage, f32) -> bool> {
+    let f = f?;
+    Some(move |stage: crate::progress::Stage, fraction: f32| {
+        // SAFETY: the host gave this function and its user data for the call's duration
+        // and promises it may be called on this thread (C-API.md).
+        unsafe { f(user_data, stage as u32, fraction) == 0 }
+    })
 }
 
 const VERSION: &CStr =
@@ -62,6 +91,7 @@ pub extern "C" fn arbor_status_str(status: u32) -> *const c_char {
         5 => c"buffer too small",
         6 => c"I/O error",
         7 => c"internal error (panic)",
+        8 => c"cancelled",
         _ => c"unknown status",
     };
     s.as_ptr()

@@ -5,6 +5,7 @@ use super::grammar::{CUT, ModuleList, POP, PUSH, Pattern, Production, Production
 use super::stmt::{self, Effects, Stmt};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
+use crate::progress::Stage;
 #[cfg(test)]
 use crate::rng::Rng;
 
@@ -17,6 +18,10 @@ pub(crate) struct Ctx<'a> {
     pub(crate) fx: Effects,
     /// The line of the production whose statements are running (for messages).
     line: u32,
+    /// The caller's progress callback.
+    pub(crate) progress: crate::progress::Progress<'a>,
+    /// Steps of the derivation (for the fraction reported).
+    steps: u32,
     pub(crate) max_modules: usize,
     pub(crate) max_params: usize,
     /// Most modules all steps together may rewrite (`LsystemOptions::max_work`).
@@ -48,6 +53,8 @@ impl<'a> Ctx<'a> {
                 ..Default::default()
             },
             line: 0,
+            progress: Default::default(),
+            steps: 0,
             max_modules: options.max_modules,
             max_params: options.max_params.min(u32::MAX as usize),
             max_work: options.max_work as u64,
@@ -269,6 +276,8 @@ impl D0l {
         let mut next = ModuleString::default();
         for step in 1..=steps {
             ctx.step = step;
+            ctx.progress
+                .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
             ctx.spend(cur.syms.len())?;
             let len: usize = cur
                 .syms
@@ -283,15 +292,33 @@ impl D0l {
             next.syms.reserve_exact(len);
             next.births.reserve_exact(len);
             let birth = step as u16;
-            for (&s, &b) in cur.syms.iter().zip(&cur.births) {
-                if self.rewrites[s as usize] {
-                    let start = self.starts[s as usize] as usize;
-                    let succ = &self.succ[start..start + self.lens[s as usize] as usize];
-                    next.syms.extend_from_slice(succ);
-                    next.births.extend(std::iter::repeat_n(birth, succ.len()));
-                } else {
-                    next.syms.push(s);
-                    next.births.push(b);
+            let n = cur.syms.len();
+            let chunk = if ctx.progress.active() {
+                crate::progress::EVERY
+            } else {
+                n.max(1)
+            };
+            for (k, (syms, births)) in cur
+                .syms
+                .chunks(chunk)
+                .zip(cur.births.chunks(chunk))
+                .enumerate()
+            {
+                if k > 0 {
+                    let done = (step - 1) as f64 + (k * chunk) as f64 / n as f64;
+                    ctx.progress
+                        .report(Stage::Derivation, done / steps as f64)?;
+                }
+                for (&s, &b) in syms.iter().zip(births) {
+                    if self.rewrites[s as usize] {
+                        let start = self.starts[s as usize] as usize;
+                        let succ = &self.succ[start..start + self.lens[s as usize] as usize];
+                        next.syms.extend_from_slice(succ);
+                        next.births.extend(std::iter::repeat_n(birth, succ.len()));
+                    } else {
+                        next.syms.push(s);
+                        next.births.push(b);
+                    }
                 }
             }
             std::mem::swap(&mut cur, &mut next);
@@ -300,13 +327,21 @@ impl D0l {
     }
 }
 
-pub(crate) fn derive(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
-    let mut string = derive_string(ls, options)?;
+pub(crate) fn derive<'a>(
+    ls: &'a LSystem,
+    options: &LsystemOptions,
+    progress: crate::progress::Progress<'a>,
+) -> Result<ModuleString> {
+    let mut string = derive_string(ls, options, progress)?;
     string.grammar = ls.id;
     Ok(string)
 }
 
-fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString> {
+fn derive_string<'a>(
+    ls: &'a LSystem,
+    options: &LsystemOptions,
+    progress: crate::progress::Progress<'a>,
+) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
     if steps > u16::MAX as u32 {
         return Err(Error::invalid(
@@ -315,8 +350,12 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         ));
     }
     let mut ctx = Ctx::new(ls, options);
+    ctx.progress = progress;
+    ctx.steps = steps;
     if let Some(d0l) = &ls.d0l {
-        return d0l.derive(&mut ctx, steps);
+        let s = d0l.derive(&mut ctx, steps)?;
+        ctx.progress.report(Stage::Derivation, 1.0)?;
+        return Ok(s);
     }
     let mut cur = ModuleString::new();
     let mut next = ModuleString::new();
@@ -339,6 +378,8 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
             break;
         }
         ctx.step = step;
+        ctx.progress
+            .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
         ctx.spend(cur.len())?;
         // A `%` cuts its branch as the next step begins (cpfg's order): one made by the
         // last step stays in the string, and the turtle draws past it.
@@ -371,6 +412,7 @@ fn derive_string(ls: &LSystem, options: &LsystemOptions) -> Result<ModuleString>
         ctx.run_block(&ls.blocks.end_each, "the EndEach: block")?;
     }
     ctx.run_block(&ls.blocks.end, "the End: block")?;
+    ctx.progress.report(Stage::Derivation, 1.0)?;
     cur.globals = std::mem::take(&mut ctx.env.vars);
     cur.log = std::mem::take(&mut ctx.fx.log);
     Ok(cur)
@@ -516,7 +558,14 @@ fn rewrite(
     let n = cur.len();
     let has_rules = &table.has_rules[..];
     let mut i = 0;
+    let mut report_at = crate::progress::EVERY;
     while i < n {
+        if i >= report_at && ctx.progress.active() {
+            report_at = i + crate::progress::EVERY;
+            let done = (ctx.step - 1) as f64 + i as f64 / n as f64;
+            ctx.progress
+                .report(Stage::Derivation, done / ctx.steps.max(1) as f64)?;
+        }
         let sym = cur.syms[i];
         if !has_rules[sym as usize] {
             // Copy the whole run of modules without productions at once.
@@ -943,7 +992,10 @@ mod tests {
         assert!(ls.d0l.is_some(), "{text}: expected the lookup table");
         let mut general = ls.clone();
         general.d0l = None;
-        (derive(&ls, options), derive(&general, options))
+        (
+            derive(&ls, options, Default::default()),
+            derive(&general, options, Default::default()),
+        )
     }
 
     fn options(steps: u32) -> LsystemOptions {

@@ -6,6 +6,7 @@ use crate::geom::{Frame, cos_sin_deg};
 use crate::lsystem::derive::{Ctx, Expander, select_multi, successor_of};
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
+use crate::progress::{Progress, Stage};
 use crate::skeleton::{
     Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts, assign_axis_orders,
 };
@@ -408,7 +409,17 @@ pub(crate) fn interpret(
     string: &ModuleString,
     options: &LsystemOptions,
 ) -> Result<Skeleton> {
-    interpret_answering(ls, string, options, None)
+    interpret_answering(ls, string, options, None, Default::default())
+}
+
+/// [`interpret`] reporting to `progress`.
+pub(crate) fn interpret_with(
+    ls: &LSystem,
+    string: &ModuleString,
+    options: &LsystemOptions,
+    progress: Progress<'_>,
+) -> Result<Skeleton> {
+    interpret_answering(ls, string, options, None, progress)
 }
 
 /// What a query module asks the turtle: `?P` its position, `?H` heading, `?U` up, `?L`
@@ -432,7 +443,7 @@ pub(crate) fn answer_queries(
     options: &LsystemOptions,
 ) -> Result<()> {
     let mut answers = Vec::new();
-    interpret_answering(ls, string, options, Some(&mut answers))?;
+    interpret_answering(ls, string, options, Some(&mut answers), Default::default())?;
     for (i, v) in answers {
         let (a, b) = (string.offsets[i] as usize, string.offsets[i + 1] as usize);
         for (slot, x) in string.params[a..b].iter_mut().zip(v) {
@@ -447,7 +458,9 @@ fn interpret_answering(
     string: &ModuleString,
     options: &LsystemOptions,
     mut answers: Option<&mut Vec<(usize, [f32; 3])>>,
+    mut progress: Progress<'_>,
 ) -> Result<Skeleton> {
+    let n = string.len().max(1) as f64;
     let queries: Vec<Option<usize>> = match answers {
         Some(_) => ls.symbols.names.iter().map(|n| query_kind(n)).collect(),
         None => Vec::new(),
@@ -546,6 +559,9 @@ fn interpret_answering(
     t.cos_to_parent.reserve(draws);
     if table.is_empty() {
         for i in 0..string.len() {
+            if i % crate::progress::EVERY == 0 {
+                progress.report(Stage::Interpretation, i as f64 / n)?;
+            }
             let birth = string.birth(i);
             ask(i, &t.state.frame);
             t.module(string.symbol(i), string.params(i), birth, birth)?;
@@ -560,7 +576,12 @@ fn interpret_answering(
         let mut read = 0usize;
         let mut produced = ModuleString::new();
         let mut i = 0;
+        let mut report_at = 0;
         while i < string.len() {
+            if i >= report_at {
+                report_at = i + crate::progress::EVERY;
+                progress.report(Stage::Interpretation, i as f64 / n)?;
+            }
             let birth = string.birth(i);
             ctx.step = birth;
             ask(i, &t.state.frame);
@@ -603,6 +624,7 @@ fn interpret_answering(
             i += 1;
         }
     }
+    progress.report(Stage::Interpretation, 1.0)?;
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);
     // Every point was checked to be finite and within the f32 range as it was made.
     let curves = cylinder_curves(&t.branches, &t.cylinders);

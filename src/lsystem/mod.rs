@@ -267,7 +267,54 @@ impl LSystem {
     /// Rewrites the axiom `steps` times in parallel. The same grammar, seed and options
     /// give the same string on every run.
     pub fn derive(&self, options: &LsystemOptions) -> Result<ModuleString> {
-        derive::derive(self, options)
+        derive::derive(self, options, Default::default())
+    }
+
+    /// [`derive`](Self::derive), reporting [`Stage::Derivation`](crate::progress::Stage)
+    /// to `progress` (at every step and every 65,536 modules within one); `false` from it
+    /// stops with [`Error::Cancelled`](crate::Error::Cancelled).
+    pub fn derive_with_progress(
+        &self,
+        options: &LsystemOptions,
+        progress: crate::progress::ProgressFn<'_>,
+    ) -> Result<ModuleString> {
+        derive::derive(
+            self,
+            options,
+            crate::progress::Progress::new(Some(progress)),
+        )
+    }
+
+    /// [`interpret`](Self::interpret), reporting
+    /// [`Stage::Interpretation`](crate::progress::Stage) every 65,536 modules.
+    pub fn interpret_with_progress(
+        &self,
+        string: &ModuleString,
+        options: &LsystemOptions,
+        progress: crate::progress::ProgressFn<'_>,
+    ) -> Result<Skeleton> {
+        if string.grammar != self.id {
+            return Err(crate::Error::invalid(
+                "string",
+                "derived from another grammar; interpret a string with the grammar that derived it",
+            ));
+        }
+        interpret::interpret_with(
+            self,
+            string,
+            options,
+            crate::progress::Progress::new(Some(progress)),
+        )
+    }
+
+    /// [`skeleton`](Self::skeleton) with one progress callback for both stages.
+    pub fn skeleton_with_progress(
+        &self,
+        options: &LsystemOptions,
+        progress: crate::progress::ProgressFn<'_>,
+    ) -> Result<Skeleton> {
+        let string = self.derive_with_progress(options, &mut *progress)?;
+        self.interpret_with_progress(&string, options, progress)
     }
 
     /// Reads `string` with the 3-D turtle (applying interpretation rules) into a skeleton.

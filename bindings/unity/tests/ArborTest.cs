@@ -124,6 +124,21 @@ static class ArborTest
             var b = tree.Branches();
             Expect(b.Length == 2 && b[1].EndX - b[1].StartX < -0.99f, "view text turns 90 degrees");
         }
+        // Progress from a managed lambda through the static trampoline; false cancels.
+        int calls = 0;
+        try
+        {
+            Tree.FromLsystem("derivation length: 8\nAxiom: F\nF --> F[+F]F\n", (stage, f) => ++calls < 3);
+            Expect(false, "no exception for a cancelled derivation");
+        }
+        catch (ArborException e)
+        {
+            Expect(e.Status == Status.Cancelled && calls == 3, "cancelled after " + calls + " calls: " + e.Status);
+        }
+        using (var tree = Tree.FromLsystem("derivation length: 3\nAxiom: F\nF --> FF\n", (stage, f) => true))
+        {
+            Expect(tree.BranchCount == 8, "progress that never cancels");
+        }
         try
         {
             Tree.FromLsystemFile("no/such/grammar.l");

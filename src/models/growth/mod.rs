@@ -523,6 +523,23 @@ impl World {
         Ok(())
     }
 
+    /// [`step`](Self::step), reporting [`Stage::Growth`](crate::progress::Stage) before
+    /// every cycle and at the end (on the calling thread); `false` from `progress` stops
+    /// with [`Error::Cancelled`] before the next cycle, the world
+    /// as it was after the last whole cycle.
+    pub fn step_with_progress(
+        &mut self,
+        cycles: u32,
+        progress: crate::progress::ProgressFn<'_>,
+    ) -> Result<()> {
+        let mut p = crate::progress::Progress::new(Some(progress));
+        for k in 0..cycles {
+            p.report(crate::progress::Stage::Growth, k as f64 / cycles as f64)?;
+            self.cycle_once()?;
+        }
+        p.report(crate::progress::Stage::Growth, 1.0)
+    }
+
     fn cycle_once(&mut self) -> Result<()> {
         let cycle = self.cycle + 1;
         let parallel = self.options.parallel;

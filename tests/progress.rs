@@ -1,0 +1,110 @@
+//! Progress and cancellation: derivation, interpretation and growth report fractions that
+//! never go back, end at 1, and stop with `Error::Cancelled` (building nothing) when the
+//! callback says so; a callback that never stops changes nothing.
+
+use arbor::Error;
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::models::growth::{GrowthParams, World, WorldOptions};
+use arbor::progress::Stage;
+
+#[test]
+fn derivation_and_interpretation_report_and_stop() {
+    // A grammar big enough to report inside steps and inside interpretation.
+    let ls = LSystem::parse("derivation length: 9\nAxiom: F\nF --> F[+F]F[-F]F\n").unwrap();
+    let options = LsystemOptions::default();
+    let mut seen: Vec<(Stage, f32)> = Vec::new();
+    let mut record = |stage: Stage, f: f32| {
+        seen.push((stage, f));
+        true
+    };
+    let with = ls.skeleton_with_progress(&options, &mut record).unwrap();
+    assert_eq!(
+        with,
+        ls.skeleton(&options).unwrap(),
+        "progress changes nothing"
+    );
+    let derivation: Vec<f32> = seen
+        .iter()
+        .filter(|s| s.0 == Stage::Derivation)
+        .map(|s| s.1)
+        .collect();
+    let interpretation: Vec<f32> = seen
+        .iter()
+        .filter(|s| s.0 == Stage::Interpretation)
+        .map(|s| s.1)
+        .collect();
+    // 5^9 F and more: reports within the last steps and within interpretation.
+    assert!(
+        derivation.len() > 9 + 10,
+        "{} derivation reports",
+        derivation.len()
+    );
+    assert!(
+        interpretation.len() > 10,
+        "{} interpretation reports",
+        interpretation.len()
+    );
+    for v in [&derivation, &interpretation] {
+        assert!(
+            v.windows(2).all(|w| w[0] <= w[1]),
+            "fractions never go back"
+        );
+        assert_eq!(*v.last().unwrap(), 1.0);
+        assert!(v.iter().all(|f| (0.0..=1.0).contains(f)));
+    }
+    // Stopping at any report stops the work.
+    for stop in [1usize, 5, derivation.len() + 3] {
+        let mut calls = 0;
+        let mut cancel = |_: Stage, _: f32| {
+            calls += 1;
+            calls < stop
+        };
+        match ls.skeleton_with_progress(&options, &mut cancel) {
+            Err(Error::Cancelled { stage }) => {
+                let expect = if stop <= derivation.len() {
+                    "derivation"
+                } else {
+                    "interpretation"
+                };
+                assert_eq!(stage, expect);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(calls, stop);
+    }
+}
+
+#[test]
+fn growth_reports_every_cycle_and_stops_between_cycles() {
+    let make = || {
+        let mut w = World::new(&WorldOptions::default()).unwrap();
+        w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 3)
+            .unwrap();
+        w
+    };
+    let mut plain = make();
+    plain.step(6).unwrap();
+    let mut reported = make();
+    let mut fractions = Vec::new();
+    reported
+        .step_with_progress(6, &mut |stage, f| {
+            assert_eq!(stage, Stage::Growth);
+            fractions.push(f);
+            true
+        })
+        .unwrap();
+    assert_eq!(fractions.len(), 7);
+    assert_eq!(fractions.last(), Some(&1.0));
+    assert_eq!(reported.branch_count(), plain.branch_count());
+    // Cancelled before the fourth cycle: the world holds three whole cycles.
+    let mut three = make();
+    three.step(3).unwrap();
+    let mut stopped = make();
+    let mut calls = 0;
+    let r = stopped.step_with_progress(6, &mut |_, _| {
+        calls += 1;
+        calls <= 3
+    });
+    assert!(matches!(r, Err(Error::Cancelled { stage: "growth" })));
+    assert_eq!(stopped.branch_count(), three.branch_count());
+}
