@@ -121,16 +121,6 @@
 #define ARBOR_ORGAN_DISC 1
 
 /**
- * [`Organ::kind`] of a sphere (`@O(d)`).
- */
-#define ORGAN_SPHERE 0
-
-/**
- * [`Organ::kind`] of a disc facing the turtle's heading (`@o(d)`, `@c(d)`).
- */
-#define ORGAN_DISC 1
-
-/**
  * Result of every fallible function. The numbers are fixed forever and never reused.
  */
 typedef enum ArborStatus {

@@ -127,13 +127,27 @@ pub fn transform(p: &Placed<'_>, options: &MeshOptions) -> [f32; 16] {
     .to_cols_array()
 }
 
+/// Largest placement scale, and largest coordinate of a placement's position: a tree
+/// placed within them stays far inside the f32 range.
+pub const MAX_PLACEMENT_SCALE: f32 = 1e6;
+/// See [`MAX_PLACEMENT_SCALE`].
+pub const MAX_PLACEMENT_POSITION: f32 = 1e12;
+
 fn check_placed(placed: &[Placed<'_>]) -> Result<()> {
     for (i, p) in placed.iter().enumerate() {
-        let finite = p.position.iter().all(|v| v.is_finite()) && p.rotation.is_finite();
-        if !(finite && p.scale.is_finite() && p.scale > 0.0) {
+        let finite = p
+            .position
+            .iter()
+            .all(|v| v.is_finite() && v.abs() <= MAX_PLACEMENT_POSITION)
+            && p.rotation.is_finite();
+        if !(finite && p.scale.is_finite() && p.scale > 0.0 && p.scale <= MAX_PLACEMENT_SCALE) {
             return Err(crate::Error::invalid(
                 "placement",
-                format!("tree {i}: position and rotation must be finite and scale > 0"),
+                format!(
+                    "tree {i}: position {:?}, rotation {}, scale {}; expected finite values, \
+                     |position| <= 1e12 and scale in (0, 1e6]",
+                    p.position, p.rotation, p.scale
+                ),
             ));
         }
     }

@@ -3,6 +3,10 @@
 
 /// Most branches a generator makes by default (2^24).
 pub const DEFAULT_MAX_BRANCHES: usize = 1 << 24;
+/// Largest coordinate, radius or organ size a skeleton may hold (10^15 units): far past
+/// any plant, and far enough inside the f32 range that squares and sums of them (lengths,
+/// normals) stay finite.
+pub const MAX_COORDINATE: f32 = 1e15;
 /// Most modules a derived string may hold by default (2^24).
 pub const DEFAULT_MAX_MODULES: usize = 1 << 24;
 /// Most parameter values a derived string may hold by default (2^25).

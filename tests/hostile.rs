@@ -199,3 +199,61 @@ fn evaluation_errors_name_the_line_of_the_production() {
     assert!(err.contains("line 4"), "{err}");
     assert!(err.contains("`A`"), "{err}");
 }
+
+/// The C-level forest fuzzer: a placement scale of 3e38 passed the checks (finite, > 0)
+/// and overflowed the vertices to infinity. Scales are now at most 1e6 and positions at
+/// most 1e12.
+#[test]
+fn huge_forest_placements_are_refused() {
+    use arbor::forest::{Item, Placed, Source, merged};
+    let params = arbor::models::honda::HondaParams::preset('a').unwrap();
+    let item = Item {
+        source: Source::Honda(params),
+        seed: 0,
+    };
+    for (scale, position) in [(2.96e38, 0.0), (0.5, 1e20), (f32::MAX, 0.0)] {
+        let placed = [Placed {
+            item,
+            position: [position, 0.0, 0.0],
+            rotation: 0.0,
+            scale,
+        }];
+        match merged(&placed, &MeshOptions::default()) {
+            Err(arbor::Error::InvalidArgument { field, reason }) => {
+                assert_eq!(field, "placement");
+                assert!(reason.contains("scale in (0, 1e6]"), "{reason}");
+            }
+            other => panic!("scale {scale}: {other:?}"),
+        }
+    }
+    let fine = [Placed {
+        item,
+        position: [1e6, 0.0, 0.0],
+        rotation: 0.0,
+        scale: 1e3,
+    }];
+    let m = merged(&fine, &MeshOptions::default()).unwrap();
+    assert!(
+        m.vertices
+            .iter()
+            .all(|v| v.position.iter().chain(&v.normal).all(|x| x.is_finite()))
+    );
+}
+
+/// The C-level curve fuzzer: an end radius of 1.6e19 made the sweep's normals infinite.
+/// Curve points and radii past 1e15 are refused, and the tree is left as it was.
+#[test]
+fn huge_curve_edits_are_refused() {
+    let mut s =
+        arbor::models::honda::build(&arbor::models::honda::HondaParams::preset('a').unwrap())
+            .unwrap();
+    let before = s.clone();
+    let c = s.curve(3);
+    for (r1, shift) in [(1.6e19f32, 0.0f32), (1.0, 1e16)] {
+        let mut bent = c;
+        bent.p2.z += shift;
+        let e = s.set_curve(3, &bent, 0.1, r1).unwrap_err();
+        assert!(matches!(e, arbor::Error::InvalidArgument { .. }), "{e}");
+    }
+    assert_eq!(s, before);
+}

@@ -433,6 +433,126 @@ mod fuzz {
             // SAFETY: made above, freed once.
             unsafe { arbor_tree_free(tree) };
         }
+
+        #[test]
+        fn c_forest_entry_points_take_any_placements(
+            u in prop::collection::vec(prop_oneof![15 => 0.0f32..1.0, 1 => any::<f32>()], 5 * 6),
+            ints in prop::collection::vec(any::<u32>(), 5 * 3),
+            count in 0usize..5,
+        ) {
+            let r = |k: usize, lo: f32, hi: f32| lo + u[k] * (hi - lo);
+            let trees: Vec<ArborForestTree> = (0..count)
+                .map(|t| {
+                    let mut params = ArborHondaParams::default();
+                    let name = b"abcdefghiz"[ints[3 * t] as usize % 10] as u32;
+                    // SAFETY: `params` is a local struct; an unknown name leaves it zeroed.
+                    let _ = unsafe { arbor_honda_preset(name, &mut params) };
+                    params.steps = ints[3 * t + 1] % 7;
+                    params.r1 = r(6 * t + 5, 0.3, 0.95);
+                    ArborForestTree {
+                        params,
+                        seed: u64::from(ints[3 * t + 2]),
+                        position: [r(6 * t, -50.0, 50.0), r(6 * t + 1, -1.0, 1.0), r(6 * t + 2, -50.0, 50.0)],
+                        rotation: r(6 * t + 3, -720.0, 720.0),
+                        scale: r(6 * t + 4, -0.5, 3.0),
+                    }
+                })
+                .collect();
+            let o = ArborMeshOptions {
+                radial_segments: 4 + ints[0] % 4,
+                ..<ArborMeshOptions as Growing>::defaults()
+            };
+            let (mut nv, mut ni) = (0usize, 0usize);
+            // SAFETY: `trees` holds `count` placements; the counts are locals.
+            let status = unsafe { arbor_forest_mesh_size(trees.as_ptr(), trees.len(), &o, &mut nv, &mut ni) };
+            prop_assert!(status != ArborStatus::Panic);
+            if status != ArborStatus::Ok {
+                prop_assert!(!last_error().is_empty());
+                return Ok(());
+            }
+            let mut v = vec![ArborVertex::default(); nv];
+            let mut i = vec![0u32; ni];
+            // SAFETY: the buffers hold exactly the sizes asked for.
+            let w = unsafe {
+                arbor_forest_mesh_write(trees.as_ptr(), trees.len(), &o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni)
+            };
+            prop_assert_eq!(w, ArborStatus::Ok);
+            for x in &v {
+                prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()), "{x:?}");
+            }
+            prop_assert!(i.iter().all(|&k| k == u32::MAX || (k as usize) < nv));
+        }
+
+        #[test]
+        fn c_curve_entry_points_take_any_edits(
+            u in prop::collection::vec(prop_oneof![12 => -1.0f32..1.0, 1 => any::<f32>()], 16),
+            ints in prop::collection::vec(any::<u32>(), 4),
+        ) {
+            let mut p = ArborHondaParams::default();
+            // SAFETY: `p` is a local struct.
+            prop_assert_eq!(unsafe { arbor_honda_preset('a' as u32, &mut p) }, ArborStatus::Ok);
+            p.steps = 4;
+            let mut tree: *mut ArborTree = std::ptr::null_mut();
+            // SAFETY: local pointers.
+            prop_assert_eq!(unsafe { arbor_tree_from_honda(&p, &mut tree) }, ArborStatus::Ok);
+            // SAFETY: `tree` is live.
+            let n = unsafe { arbor_tree_branch_count(tree) };
+            // SAFETY: `tree` is live; a wild tension is refused, not a panic.
+            let smooth = unsafe { arbor_tree_smooth(tree, u[15] * 3.0) };
+            prop_assert!(smooth != ArborStatus::Panic);
+            let mut curves = vec![ArborCurve::default(); n];
+            // SAFETY: `curves` holds `n` curves.
+            prop_assert_eq!(unsafe { arbor_tree_copy_curves(tree, curves.as_mut_ptr(), n) }, ArborStatus::Ok);
+            // An edit of a branch (or one past the end): p0 kept or moved, the rest wild.
+            let branch = ints[0] as usize % (n + 2);
+            let mut c = curves.get(branch).copied().unwrap_or_default();
+            let scale = 50.0;
+            for (k, q) in [&mut c.p1, &mut c.p2, &mut c.p3].into_iter().enumerate() {
+                for (j, x) in q.iter_mut().enumerate() {
+                    *x += u[3 * k + j] * scale;
+                }
+            }
+            if ints[1] % 4 == 0 {
+                c.p0[0] += u[9];
+            }
+            c.r0 = u[10] * 5.0;
+            c.r1 = u[11] * 5.0;
+            // SAFETY: `tree` is live; `c` is a local.
+            let set = unsafe { arbor_tree_set_curve(tree, branch, &c) };
+            prop_assert!(set != ArborStatus::Panic);
+            prop_assert!(set == ArborStatus::Ok || !last_error().is_empty());
+            // Whatever happened, the tree meshes with finite values, and a rewrite of the
+            // edited branch equals a full write.
+            let o = ArborMeshOptions {
+                curve_rings: ints[2] % 4,
+                radial_segments: 3 + ints[3] % 6,
+                ..<ArborMeshOptions as Growing>::defaults()
+            };
+            let (mut nv, mut ni) = (0usize, 0usize);
+            // SAFETY: `tree` is live; the counts are locals.
+            let size = unsafe { arbor_mesh_size(tree, &o, &mut nv, &mut ni) };
+            prop_assert!(size == ArborStatus::Ok || !last_error().is_empty(), "{size:?}");
+            if size == ArborStatus::Ok {
+                let mut v = vec![ArborVertex::default(); nv];
+                let mut i = vec![0u32; ni];
+                // SAFETY: the buffers hold exactly the sizes asked for.
+                prop_assert_eq!(unsafe { arbor_mesh_write(tree, &o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) }, ArborStatus::Ok);
+                for x in &v {
+                    prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()), "{x:?}");
+                }
+                if branch < n {
+                    let (mut v2, mut i2) = (v.clone(), i.clone());
+                    // SAFETY: the buffers hold the whole mesh of `tree` with `o`.
+                    let rw = unsafe {
+                        arbor_mesh_rewrite_branch(tree, &o, branch, v2.as_mut_ptr(), nv, i2.as_mut_ptr(), ni)
+                    };
+                    prop_assert_eq!(rw, ArborStatus::Ok);
+                    prop_assert!(v2 == v && i2 == i, "a rewrite equals the full write");
+                }
+            }
+            // SAFETY: made above, freed once.
+            unsafe { arbor_tree_free(tree) };
+        }
     }
 }
 

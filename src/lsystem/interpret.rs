@@ -193,7 +193,8 @@ impl Turtle {
                         .frame
                         .bend_old_style(t.direction, self.state.elasticity);
                 }
-                if !end.is_finite() || end.abs().max_element() > f32::MAX as f64 {
+                let bound = crate::limits::MAX_COORDINATE as f64;
+                if !end.is_finite() || end.abs().max_element() > bound {
                     return Err(Error::Eval {
                         step,
                         message: format!(
@@ -216,7 +217,11 @@ impl Turtle {
                             step: Some(step),
                         });
                     }
-                    let radius = (self.state.width.clamp(0.0, f32::MAX as f64) * 0.5) as f32;
+                    let radius = (self
+                        .state
+                        .width
+                        .clamp(0.0, crate::limits::MAX_COORDINATE as f64)
+                        * 0.5) as f32;
                     self.branches.push(Branch {
                         start: v3(start),
                         end: v3(end),
@@ -258,11 +263,20 @@ impl Turtle {
             Op::RollHorizontal => self.state.frame.roll_horizontal(),
             Op::MoveTo => {
                 let p = self.state.frame.position;
-                self.state.frame.position = DVec3::new(
+                let to = DVec3::new(
                     arg(0).unwrap_or(p.x),
                     arg(1).unwrap_or(p.y),
                     arg(2).unwrap_or(p.z),
                 );
+                if to.abs().max_element() > crate::limits::MAX_COORDINATE as f64 {
+                    return Err(Error::Eval {
+                        step,
+                        message: format!(
+                            "@M moves the turtle to {to}, past 1e15 units; shorten the moves"
+                        ),
+                    });
+                }
+                self.state.frame.position = to;
                 self.state.parent = NO_PARENT;
                 if !self.polygons.is_empty() {
                     self.polygon_point();
@@ -285,7 +299,10 @@ impl Turtle {
             Op::Push => self.stack.push(self.state),
             Op::Organ(kind) => {
                 let size = arg(0).unwrap_or(self.state.width);
-                if !(size.is_finite() && size >= 0.0 && size <= f32::MAX as f64) {
+                if !(size.is_finite()
+                    && size >= 0.0
+                    && size <= crate::limits::MAX_COORDINATE as f64)
+                {
                     return Err(Error::Eval {
                         step,
                         message: format!(
@@ -321,10 +338,10 @@ impl Turtle {
                     let pts = tri.map(|p| {
                         f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale
                     });
-                    if pts
-                        .iter()
-                        .any(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64)
-                    {
+                    if pts.iter().any(|p| {
+                        !p.is_finite()
+                            || p.abs().max_element() > crate::limits::MAX_COORDINATE as f64
+                    }) {
                         return Err(Error::Eval {
                             step,
                             message: format!(

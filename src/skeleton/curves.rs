@@ -72,17 +72,21 @@ impl Skeleton {
             ));
         }
         let points = [curve.p0, curve.p1, curve.p2, curve.p3];
-        if !points.iter().all(|p| p.is_finite()) {
+        let bound = crate::limits::MAX_COORDINATE;
+        if !points
+            .iter()
+            .all(|p| p.is_finite() && p.abs().max_element() <= bound)
+        {
             return Err(Error::invalid(
                 "curve",
-                "every control point must be finite",
+                "every control point must be finite and within 1e15 units",
             ));
         }
         for (name, r) in [("r0", r0), ("r1", r1)] {
-            if !(r.is_finite() && r >= 0.0) {
+            if !(r.is_finite() && (0.0..=bound).contains(&r)) {
                 return Err(Error::invalid(
                     name,
-                    format!("{r}; expected a finite radius >= 0"),
+                    format!("{r}; expected a radius from 0 to 1e15"),
                 ));
             }
         }

@@ -195,8 +195,10 @@ pub struct SkeletonParts {
     pub colors: Vec<u32>,
 }
 
+/// Finite and within [`MAX_COORDINATE`](crate::limits::MAX_COORDINATE).
 fn finite3(p: &[f32; 3]) -> bool {
-    p.iter().all(|v| v.is_finite())
+    p.iter()
+        .all(|v| v.is_finite() && v.abs() <= crate::limits::MAX_COORDINATE)
 }
 
 impl SkeletonParts {
@@ -215,10 +217,10 @@ impl SkeletonParts {
                 (b.start_radius, "start_radius"),
                 (b.end_radius, "end_radius"),
             ] {
-                if !(r.is_finite() && r >= 0.0) {
+                if !(r.is_finite() && (0.0..=crate::limits::MAX_COORDINATE).contains(&r)) {
                     return Err(Error::invalid(
                         "branches",
-                        format!("branch {i} has {name} {r}; expected a finite radius >= 0"),
+                        format!("branch {i} has {name} {r}; expected a radius from 0 to 1e15"),
                     ));
                 }
             }
@@ -285,7 +287,9 @@ impl SkeletonParts {
                     format!("organ {i} has a non-finite position or direction"),
                 ));
             }
-            if !(o.size.is_finite() && o.size >= 0.0) || o.kind > ORGAN_DISC {
+            if !(o.size.is_finite() && (0.0..=crate::limits::MAX_COORDINATE).contains(&o.size))
+                || o.kind > ORGAN_DISC
+            {
                 return Err(Error::invalid(
                     "organs",
                     format!(

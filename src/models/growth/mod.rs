@@ -582,8 +582,9 @@ impl World {
         }
         // 7: seeding.
         let mut seedlings = Vec::new();
+        let most = self.options.max_trees;
         for t in &self.trees {
-            t.seeds(cycle, &mut self.rng, &mut seedlings);
+            t.seeds(cycle, &mut self.rng, most, &mut seedlings);
         }
         for (species, at) in seedlings {
             if self.trees.len() >= self.options.max_trees || !self.env.inside(at) {

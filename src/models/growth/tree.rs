@@ -439,11 +439,13 @@ impl Tree {
         self.desc = new_index;
     }
 
-    /// Seeds this tree drops this cycle: (species, position on the ground).
+    /// Seeds this tree drops this cycle: (species, position on the ground), at most
+    /// `most` (a world cannot take more trees than that).
     pub(crate) fn seeds(
         &self,
         cycle: u32,
         rng: &mut crate::rng::Rng,
+        most: usize,
         out: &mut Vec<(GrowthParams, Vec3)>,
     ) {
         let p = &self.species;
@@ -454,7 +456,10 @@ impl Tree {
             return;
         }
         let log = libm::logf(self.root_vigour);
-        let count = log.floor() as u32;
+        // ln of the vigour, bounded: a huge (or infinite) vigour may not ask for more
+        // seedlings than the world can hold.
+        let count =
+            (log.floor().min(u32::MAX as f32) as u32).min(most.min(u32::MAX as usize) as u32);
         let reach = log * p.seed_spread;
         for _ in 0..count {
             let angle = rng.next_f64() as f32 * std::f32::consts::TAU;
@@ -505,5 +510,32 @@ impl Tree {
             }
         }
         Skeleton::from_trusted(parts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fuzzer found an infinite root vigour asking for 2^32 seedlings (22 GB): the
+    /// count is bounded by what the world can take.
+    #[test]
+    fn seeding_never_asks_for_more_trees_than_the_world_holds() {
+        let species = GrowthParams {
+            seed_age: 1,
+            ..GrowthParams::default()
+        };
+        let mut t = Tree::plant(species, Vec3::ZERO, 1, 0);
+        let mut rng = crate::rng::Rng::new(3);
+        for vigour in [f32::INFINITY, f32::MAX, 1e30] {
+            t.root_vigour = vigour;
+            let mut out = Vec::new();
+            t.seeds(5, &mut rng, 16, &mut out);
+            assert_eq!(out.len(), 16, "vigour {vigour}");
+        }
+        t.root_vigour = 20.0;
+        let mut out = Vec::new();
+        t.seeds(5, &mut rng, 16, &mut out);
+        assert_eq!(out.len(), 2, "ln 20 = 2.99");
     }
 }
