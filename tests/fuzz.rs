@@ -22,7 +22,27 @@ fn cases() -> u32 {
 }
 
 /// Grows, interprets and meshes `text` with small limits; checks every property.
+/// The slowest input per kilobyte seen by `check` (milliseconds per KiB, bytes), printed
+/// when it grows (`--nocapture` shows it).
+static SLOWEST: std::sync::Mutex<(f64, usize)> = std::sync::Mutex::new((0.0, 0));
+
 fn check(text: &str) -> Result<(), TestCaseError> {
+    let start = std::time::Instant::now();
+    let r = check_inner(text);
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let per_kib = ms / (text.len().max(64) as f64 / 1024.0);
+    let mut slowest = SLOWEST.lock().unwrap_or_else(|e| e.into_inner());
+    if per_kib > slowest.0 {
+        *slowest = (per_kib, text.len());
+        println!(
+            "slowest so far: {per_kib:.2} ms per KiB ({} bytes, {ms:.2} ms)",
+            text.len()
+        );
+    }
+    r
+}
+
+fn check_inner(text: &str) -> Result<(), TestCaseError> {
     let ls = match LSystem::parse(text) {
         Ok(ls) => ls,
         Err(Error::Parse { line, column, .. }) => {

@@ -205,6 +205,60 @@ mod fuzz {
             prop_assert!(status == ArborStatus::Ok || !message.is_empty());
         }
 
+        /// Every field of ArborLsystemOptions random (sizes, seeds, limits, overrides,
+        /// jitter, view text, progress) with a real grammar: a status, never a panic, and
+        /// a tree whose numbers are finite.
+        #[test]
+        fn c_lsystem_options_take_any_values(
+            floats in prop::collection::vec(prop_oneof![8 => -400.0f32..400.0, 1 => any::<f32>()], 4),
+            ints in prop::collection::vec(any::<u64>(), 8),
+            view in prop::sample::select(vec!["", "angle factor: 7\n", "angle factor: 0\n",
+                "initial line width: 1e30\ntropism direction: 0,1,0\ninitial elasticity: 3\n",
+                "interpretation past %: off\n", "#define X\nangle increment: X\n"]),
+            grammar in prop::sample::select(vec![
+                "derivation length: 6\nAxiom: A(1)\nA(x) --> F(x)[+A(x*0.7)][-A(x*0.6)]%\n",
+                "derivation length: 9\nAxiom: F\nF --> F[+F]F[-F]F\n",
+                "Start: {n=0;}\nderivation length: 5\nAxiom: A(0)\nA(x) : * {n=n+1;} --> F(n)@O(x)A(x+1)\n",
+            ]),
+        ) {
+            let view_c = std::ffi::CString::new(view).unwrap();
+            let o = ArborLsystemOptions {
+                steps: (ints[0] % 14) as i32 - 2,
+                seed: ints[1],
+                max_modules: ints[2] % 200_000,
+                max_params: ints[3] % 400_000,
+                max_branches: ints[4] % 200_000,
+                override_flags: (ints[5] % 16) as u32,
+                angle_increment: floats[0],
+                initial_width: floats[1],
+                width_increment: floats[2],
+                turn_jitter: floats[3],
+                variation_seed: ints[6],
+                max_work: ints[7] % 2_000_000,
+                view_text: if view.is_empty() { std::ptr::null() } else { view_c.as_ptr() },
+                ..Default::default()
+            };
+            let mut tree: *mut ArborTree = std::ptr::null_mut();
+            // SAFETY: the grammar, options and view text outlive the call.
+            let status = unsafe { arbor_tree_from_lsystem(grammar.as_ptr().cast(), grammar.len(), &o, &mut tree) };
+            prop_assert!(status != ArborStatus::Panic, "{}", last_error());
+            if status != ArborStatus::Ok {
+                prop_assert!(!last_error().is_empty() && tree.is_null());
+                return Ok(());
+            }
+            // SAFETY: `tree` is live.
+            let n = unsafe { arbor_tree_branch_count(tree) };
+            let mut b = vec![ArborBranch::default(); n];
+            // SAFETY: `b` holds `n` branches.
+            prop_assert_eq!(unsafe { arbor_tree_copy_branches(tree, b.as_mut_ptr(), n) }, ArborStatus::Ok);
+            for x in &b {
+                prop_assert!(x.start.iter().chain(&x.end).all(|v| v.is_finite()));
+                prop_assert!(x.start_radius.is_finite() && x.end_radius.is_finite());
+            }
+            // SAFETY: made above, freed once.
+            unsafe { arbor_tree_free(tree) };
+        }
+
         /// Random option structs (every field any value) through the mesh entry points.
         #[test]
         fn c_mesh_entry_points_take_any_options(
