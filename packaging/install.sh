@@ -14,9 +14,23 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${2:-$root/target/release}
 version=$(sed -n 's/^version = "\(.*\)"$/\1/p' "$root/Cargo.toml" | head -n 1)
 
+major=${version%%.*}
+rest=${version#*.}
+minor=${rest%%.*}
+if [ "$major" = 0 ]; then soname="libarbor.so.0.$minor"; else soname="libarbor.so.$major"; fi
+real="libarbor.so.$version"
+# The static library's system libraries, as rustc prints them for this platform
+# (`cargo rustc --release --lib --crate-type staticlib -- --print native-static-libs`;
+# tests/packaging.rs fails when the committed list drifts).
+static_libs=$(cat "$root/packaging/native-static-libs.txt")
+
 mkdir -p "$prefix/include" "$prefix/lib/pkgconfig" "$prefix/lib/cmake/arbor"
 cp "$root/include/arbor.h" "$root/include/arbor.hpp" "$prefix/include/"
-cp "$build/libarbor.a" "$build/libarbor.so" "$prefix/lib/"
+cp "$build/libarbor.a" "$prefix/lib/"
+# The shared library under its full version, with the SONAME and development links.
+cp "$build/libarbor.so" "$prefix/lib/$real"
+ln -sf "$real" "$prefix/lib/$soname"
+ln -sf "$soname" "$prefix/lib/libarbor.so"
 
 cat > "$prefix/lib/pkgconfig/arbor.pc" <<PC
 prefix=$prefix
@@ -28,33 +42,15 @@ Description: Grow 3-D trees from L-systems and turn them into GPU-ready meshes
 Version: $version
 Cflags: -I\${includedir}
 Libs: -L\${libdir} -larbor
-Libs.private: -lpthread -ldl -lm
+Libs.private: $static_libs
 PC
 
-cat > "$prefix/lib/cmake/arbor/arborConfig.cmake" <<CMAKE
-# arbor $version: imported targets arbor::arbor (shared) and arbor::arbor_static.
-get_filename_component(_arbor_prefix "\${CMAKE_CURRENT_LIST_DIR}/../../.." ABSOLUTE)
-if(NOT TARGET arbor::arbor)
-  add_library(arbor::arbor SHARED IMPORTED)
-  set_target_properties(arbor::arbor PROPERTIES
-    IMPORTED_LOCATION "\${_arbor_prefix}/lib/libarbor.so"
-    INTERFACE_INCLUDE_DIRECTORIES "\${_arbor_prefix}/include")
-  add_library(arbor::arbor_static STATIC IMPORTED)
-  set_target_properties(arbor::arbor_static PROPERTIES
-    IMPORTED_LOCATION "\${_arbor_prefix}/lib/libarbor.a"
-    INTERFACE_INCLUDE_DIRECTORIES "\${_arbor_prefix}/include"
-    INTERFACE_LINK_LIBRARIES "pthread;dl;m")
-endif()
-set(arbor_VERSION $version)
-unset(_arbor_prefix)
-CMAKE
-
-cat > "$prefix/lib/cmake/arbor/arborConfigVersion.cmake" <<CMAKE
-set(PACKAGE_VERSION $version)
-if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
-  set(PACKAGE_VERSION_COMPATIBLE FALSE)
-else()
-  set(PACKAGE_VERSION_COMPATIBLE TRUE)
-endif()
-CMAKE
+if command -v cmake >/dev/null 2>&1; then
+  cmake_libs=$(printf '%s' "$static_libs" | sed 's/-l//g; s/ /;/g')
+  cmake -DARBOR_SOURCE="$root" -DARBOR_PREFIX="$prefix" -DARBOR_VERSION="$version" \
+    -DARBOR_SHARED_REAL="$real" -DARBOR_SONAME="$soname" -DARBOR_STATIC_LIBS="$cmake_libs" \
+    -P "$root/packaging/config.cmake"
+else
+  echo "cmake not found: no CMake package config written" >&2
+fi
 echo "arbor $version installed in $prefix"

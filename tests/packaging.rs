@@ -23,10 +23,11 @@ int main(void) {
 }
 "#;
 
-fn setup() -> (PathBuf, PathBuf) {
+/// Installs into a scratch prefix of its own (tests run in parallel).
+fn setup_in(name: &str) -> (PathBuf, PathBuf) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let lib_dir = lib_dir();
-    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("packaging");
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&work);
     let prefix = work.join("prefix");
     run(Command::new("sh")
@@ -43,7 +44,7 @@ fn setup() -> (PathBuf, PathBuf) {
 
 #[test]
 fn pkg_config_and_cmake_find_the_installed_library() {
-    let (work, prefix) = setup();
+    let (work, prefix) = setup_in("packaging");
     let pc = std::fs::read_to_string(prefix.join("lib/pkgconfig/arbor.pc")).unwrap();
     assert!(pc.contains(&format!("Version: {}", env!("CARGO_PKG_VERSION"))));
     if have("pkg-config") {
@@ -84,4 +85,111 @@ fn pkg_config_and_cmake_find_the_installed_library() {
             assert!(out.contains(" 1023"), "{exe}: {out}");
         }
     }
+}
+
+/// The shared library records its SONAME (libarbor.so.0.<minor> for 0.x), and the install
+/// has the versioned file with its two links.
+#[test]
+fn the_shared_library_has_a_soname_and_versioned_links() {
+    let (_, prefix) = setup_in("packaging_soname");
+    let (major, minor) = (
+        env!("CARGO_PKG_VERSION_MAJOR"),
+        env!("CARGO_PKG_VERSION_MINOR"),
+    );
+    let soname = if major == "0" {
+        format!("libarbor.so.0.{minor}")
+    } else {
+        format!("libarbor.so.{major}")
+    };
+    let lib = prefix.join("lib");
+    let real = format!("libarbor.so.{}", env!("CARGO_PKG_VERSION"));
+    assert!(lib.join(&real).is_file());
+    assert_eq!(
+        std::fs::read_link(lib.join(&soname)).unwrap(),
+        Path::new(&real)
+    );
+    assert_eq!(
+        std::fs::read_link(lib.join("libarbor.so")).unwrap(),
+        Path::new(&soname)
+    );
+    if have("readelf") {
+        let dynamic = run(Command::new("readelf").arg("-d").arg(lib.join(&real)));
+        assert!(
+            dynamic.contains(&format!("Library soname: [{soname}]")),
+            "{dynamic}"
+        );
+    }
+}
+
+/// A C program linked statically with `pkg-config --static`: Libs.private names every
+/// system library the static library needs.
+#[test]
+fn a_static_link_with_pkg_config_works() {
+    if !have("pkg-config") {
+        assert!(std::env::var_os("CI").is_none(), "CI has pkg-config");
+        return;
+    }
+    let (work, prefix) = setup_in("packaging_static");
+    let flags = run(Command::new("pkg-config")
+        .args(["--static", "--cflags", "--libs", "arbor"])
+        .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
+    let exe = work.join("app_static_pc");
+    // The static archive, not the shared one: name it ahead of -larbor.
+    run(Command::new("cc")
+        .arg(work.join("app.c"))
+        .arg(prefix.join("lib/libarbor.a"))
+        .args(flags.split_whitespace())
+        .arg("-o")
+        .arg(&exe));
+    let out = run(Command::new(&exe).env_remove("LD_LIBRARY_PATH"));
+    assert!(out.contains(" 1023"), "{out}");
+    if have("readelf") {
+        let dynamic = run(Command::new("readelf").arg("-d").arg(&exe));
+        assert!(
+            !dynamic.contains("libarbor"),
+            "linked statically: {dynamic}"
+        );
+    }
+}
+
+/// The committed list of the static library's system libraries is what rustc prints for
+/// this platform now: a new Rust or dependency that needs another library fails here.
+#[test]
+fn libs_private_match_rustc_native_static_libs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let committed = std::fs::read_to_string(root.join("packaging/native-static-libs.txt")).unwrap();
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("native-static-libs");
+    let out = Command::new(env!("CARGO"))
+        .current_dir(root)
+        .args([
+            "rustc",
+            "--release",
+            "--lib",
+            "--crate-type",
+            "staticlib",
+            "--target-dir",
+        ])
+        .arg(&target)
+        .args(["--", "--print", "native-static-libs"])
+        .output()
+        .unwrap();
+    let text =
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find_map(|l| l.split("native-static-libs:").nth(1))
+        .unwrap_or_else(|| panic!("rustc printed no native-static-libs: {text}"));
+    assert_eq!(
+        line.trim(),
+        committed.trim(),
+        "update packaging/native-static-libs.txt (Libs.private and the CMake static target)"
+    );
+    let pc = {
+        let (_, prefix) = setup_in("packaging_libs");
+        std::fs::read_to_string(prefix.join("lib/pkgconfig/arbor.pc")).unwrap()
+    };
+    assert!(
+        pc.contains(&format!("Libs.private: {}", committed.trim())),
+        "{pc}"
+    );
 }
