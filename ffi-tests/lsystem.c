@@ -191,6 +191,23 @@ static void files_as_cpfg_reads_them(const char *dir) {
   message_contains("cpfg_nowhere.h");
   CHECK(t == NULL, "out written on failure");
   CHECK_STATUS(arbor_tree_from_lsystem_file(NULL, NULL, &t), ARBOR_STATUS_NULL_ARGUMENT);
+
+  /* glTF 2.0: a .glb starts with its magic and version 2; another extension is refused. */
+  const char *leafy = "derivation length: 3\nAxiom: A\nA --> F[+A~][-A@O(1)]\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(leafy, strlen(leafy), NULL, &t), ARBOR_STATUS_OK);
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  char glb[1024];
+  snprintf(glb, sizeof glb, "%s/cpfg_tree.glb", dir);
+  CHECK_STATUS(arbor_export_gltf(t, NULL, &lo, glb), ARBOR_STATUS_OK);
+  FILE *f = fopen(glb, "rb");
+  unsigned char head[8] = {0};
+  CHECK(f && fread(head, 1, 8, f) == 8, "read %s", glb);
+  if (f) fclose(f);
+  CHECK(memcmp(head, "glTF", 4) == 0 && head[4] == 2, "glb header");
+  snprintf(glb, sizeof glb, "%s/cpfg_tree.fbx", dir);
+  CHECK_STATUS(arbor_export_gltf(t, NULL, NULL, glb), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains(".glb or .gltf");
+  arbor_tree_free(t);
 }
 
 static void organs_and_colours(void) {

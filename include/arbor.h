@@ -1252,6 +1252,21 @@ enum ArborStatus arbor_export_obj(const struct ArborTree *tree,
                                   const char *path);
 
 /**
+ * Writes bark (and leaves, when `leaf_options` is not NULL) as glTF 2.0: binary `.glb`,
+ * or `.gltf` JSON with the buffer embedded, by the path's extension. Triangle lists,
+ * counter-clockwise, Y up, whatever `mesh_options` asks (its sides, scale, tips and curve
+ * rings stand); the settings in `asset.extras`.
+ *
+ * # Safety
+ * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+ * NUL-terminated.
+ */
+enum ArborStatus arbor_export_gltf(const struct ArborTree *tree,
+                                   const struct ArborMeshOptions *mesh_options,
+                                   const struct ArborLeafOptions *leaf_options,
+                                   const char *path);
+
+/**
  * Grows `count` trees (on all cores when arbor is built with its `parallel` feature),
  * places them and merges them into one new mesh object written to `*out` (read it with
  * arbor_mesh_vertices() / arbor_mesh_indices(), free it with arbor_mesh_free()).

@@ -1,5 +1,7 @@
 //! Writing meshes to files other tools read.
 
+mod gltf;
 mod obj;
 
+pub use gltf::{gltf_bytes, save_gltf};
 pub use obj::{save_obj, save_obj_parts, write_obj, write_obj_parts};

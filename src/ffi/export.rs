@@ -47,3 +47,41 @@ pub unsafe extern "C" fn arbor_export_obj(
         Ok(())
     })
 }
+
+/// Writes bark (and leaves, when `leaf_options` is not NULL) as glTF 2.0: binary `.glb`,
+/// or `.gltf` JSON with the buffer embedded, by the path's extension. Triangle lists,
+/// counter-clockwise, Y up, whatever `mesh_options` asks (its sides, scale, tips and curve
+/// rings stand); the settings in `asset.extras`.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
+/// NUL-terminated.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_export_gltf(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    leaf_options: *const ArborLeafOptions,
+    path: *const c_char,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        if path.is_null() {
+            return Err(FfiError::null("path"));
+        }
+        // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
+        let path = unsafe { CStr::from_ptr(path) }
+            .to_str()
+            .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+        let leaves = if leaf_options.is_null() {
+            None
+        } else {
+            // SAFETY: the caller promises `leaf_options` is readable.
+            Some(unsafe { read_leaf_options(leaf_options, true) }?)
+        };
+        crate::export::save_gltf(&tree.skeleton, &mo, leaves.as_ref(), path)?;
+        Ok(())
+    })
+}

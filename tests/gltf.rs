@@ -1,0 +1,193 @@
+//! glTF 2.0 export: trees a–i, a grammar tree with leaves, and a self-organized tree are
+//! written as `.glb` and `.gltf`, read back with the `gltf` crate (counts and values equal
+//! arbor's triangle-list meshes), and checked with the Khronos glTF-Validator when it is
+//! installed (`.ci/run` installs it; CI requires 0 errors and 0 warnings).
+
+use arbor::lsystem::LSystem;
+use arbor::mesh::{self, LeafOptions, MeshOptions, Topology, UpAxis, Winding};
+use arbor::models::growth::{GrowthParams, World, WorldOptions};
+use arbor::models::honda::{self, HondaParams};
+use arbor::skeleton::Skeleton;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn out_dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gltf");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn decode_base64(s: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let mut out = Vec::new();
+    for chunk in s.as_bytes().chunks(4) {
+        let n = chunk.iter().take_while(|&&c| c != b'=').count();
+        let mut v = 0u32;
+        for (k, &c) in chunk.iter().enumerate() {
+            v |= (if c == b'=' { 0 } else { value(c) } as u32) << (18 - 6 * k);
+        }
+        out.extend_from_slice(&v.to_be_bytes()[1..n]);
+    }
+    out
+}
+
+/// One primitive read back: positions, normals, uvs, indices.
+type Read = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>);
+
+/// Reads a written file back, per primitive.
+fn read_back(path: &Path) -> Vec<Read> {
+    let bytes = std::fs::read(path).unwrap();
+    let g = gltf::Gltf::from_slice(&bytes).unwrap();
+    assert!(g.document.as_json().asset.version == "2.0");
+    let buffer: Vec<u8> = match g.blob.clone() {
+        Some(b) => b,
+        None => {
+            let b = g.document.buffers().next().unwrap();
+            match b.source() {
+                gltf::buffer::Source::Uri(uri) => {
+                    decode_base64(uri.split_once("base64,").unwrap().1)
+                }
+                gltf::buffer::Source::Bin => unreachable!(),
+            }
+        }
+    };
+    let mut out = Vec::new();
+    for m in g.document.meshes() {
+        for p in m.primitives() {
+            assert_eq!(p.mode(), gltf::mesh::Mode::Triangles);
+            let r = p.reader(|_| Some(&buffer[..]));
+            let pos: Vec<[f32; 3]> = r.read_positions().unwrap().collect();
+            let nor: Vec<[f32; 3]> = r.read_normals().unwrap().collect();
+            let uv: Vec<[f32; 2]> = r.read_tex_coords(0).unwrap().into_f32().collect();
+            let idx: Vec<u32> = r.read_indices().unwrap().into_u32().collect();
+            out.push((pos, nor, uv, idx));
+        }
+    }
+    out
+}
+
+fn list_options() -> MeshOptions {
+    MeshOptions {
+        topology: Topology::TriangleList,
+        winding: Winding::CounterClockwise,
+        up_axis: UpAxis::Y,
+        ..Default::default()
+    }
+}
+
+/// Writes both forms and checks the read-back against arbor's own meshes.
+fn export_and_check(name: &str, s: &Skeleton, leaves: Option<&LeafOptions>) -> Vec<PathBuf> {
+    // Options that glTF overrides: strips, clockwise, Z up.
+    let asked = MeshOptions {
+        topology: Topology::TriangleStripRestart,
+        winding: Winding::Clockwise,
+        up_axis: UpAxis::Z,
+        ..Default::default()
+    };
+    let bark = mesh::tubes(s, &list_options()).unwrap();
+    let leaf = leaves.map(|l| mesh::leaf_mesh(s, l, &list_options()).unwrap());
+    let mut files = Vec::new();
+    for ext in ["glb", "gltf"] {
+        let path = out_dir().join(format!("{name}.{ext}"));
+        arbor::export::save_gltf(s, &asked, leaves, &path).unwrap();
+        let prims = read_back(&path);
+        let mut expect = vec![&bark];
+        if let Some(l) = leaf.as_ref().filter(|l| !l.indices.is_empty()) {
+            expect.push(l);
+        }
+        assert_eq!(prims.len(), expect.len(), "{name}.{ext}");
+        for ((pos, nor, uv, idx), m) in prims.iter().zip(expect) {
+            assert_eq!(pos.len(), m.vertices.len(), "{name}.{ext}");
+            assert_eq!(idx, &m.indices, "{name}.{ext}");
+            for (k, v) in m.vertices.iter().enumerate() {
+                assert_eq!((pos[k], nor[k], uv[k]), (v.position, v.normal, v.uv));
+            }
+        }
+        files.push(path);
+    }
+    files
+}
+
+fn validator_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("ARBOR_GLTF_VALIDATOR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/gltf-validator"));
+    dir.join("node_modules/gltf-validator")
+        .is_dir()
+        .then_some(dir)
+}
+
+#[test]
+fn exported_files_read_back_and_pass_the_validator() {
+    let mut files = Vec::new();
+    for name in "abcdefghi".chars() {
+        let s = honda::build(&HondaParams::preset(name).unwrap()).unwrap();
+        files.extend(export_and_check(&format!("tree_{name}"), &s, None));
+    }
+    // A grammar tree with leaves and organs.
+    let ls = LSystem::parse(
+        "derivation length: 5\nangle increment: 25\nAxiom: !(0.4)A\n\
+         A --> F[+A~][-A@O(0.6)]F{.+f.+f.+f.}A\n",
+    )
+    .unwrap();
+    let s = ls.skeleton(&Default::default()).unwrap();
+    files.extend(export_and_check(
+        "grammar_leaves",
+        &s,
+        Some(&LeafOptions::default()),
+    ));
+    // A self-organized tree.
+    let mut w = World::new(&WorldOptions::default()).unwrap();
+    w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 5)
+        .unwrap();
+    w.step(8).unwrap();
+    let s = w.tree(0).unwrap();
+    files.extend(export_and_check(
+        "self_organized",
+        &s,
+        Some(&LeafOptions::default()),
+    ));
+    // Settings in asset.extras; a bad extension is refused by name.
+    let text = std::fs::read_to_string(out_dir().join("tree_a.gltf")).unwrap();
+    assert!(text.contains("\"extras\":{\"generator\":\"arbor\",\"branches\":1023"));
+    assert!(
+        arbor::export::save_gltf(&s, &MeshOptions::default(), None, out_dir().join("x.fbx"))
+            .is_err()
+    );
+
+    let Some(dir) = validator_dir() else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI installs gltf-validator into target/gltf-validator (.ci/run)"
+        );
+        eprintln!(
+            "gltf-validator not installed (npm install gltf-validator in target/gltf-validator): skipped"
+        );
+        return;
+    };
+    let out = Command::new("node")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/validate-gltf.mjs"))
+        .args(&files)
+        .env("NODE_PATH", dir.join("node_modules"))
+        .output()
+        .expect("node runs");
+    let report = String::from_utf8_lossy(&out.stdout);
+    println!("{report}");
+    assert!(
+        out.status.success(),
+        "validator: {report}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        report.matches("0 errors, 0 warnings").count(),
+        files.len(),
+        "{report}"
+    );
+}
