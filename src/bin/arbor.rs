@@ -1,0 +1,276 @@
+//! `arbor`, the command-line tool: grow a tree from a 1996 preset, a cpfg file or a
+//! self-organizing species, and write it as glTF or OBJ, or print what it is.
+//!
+//! ```text
+//! arbor export SOURCE -o OUT.{glb,gltf,obj} [--steps N] [--seed S] [--leaves]
+//!              [--radial-segments K] [--curve-rings K]
+//! arbor info SOURCE [--steps N] [--seed S] [--json]
+//! ```
+//! SOURCE: a letter a–i (the 1996 trees), a `.l` file (read as cpfg reads it), or
+//! `growth:SPECIES` (excurrent, decurrent, columnar, bush, weeping; `--steps` cycles).
+
+use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::mesh::{LeafOptions, MeshOptions};
+use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
+use arbor::models::honda::{self, HondaParams};
+use arbor::progress::Stage;
+use arbor::skeleton::Skeleton;
+use clap::{Arg, ArgAction, ArgMatches, Command, value_parser};
+use std::io::{IsTerminal, Write};
+use std::time::Instant;
+
+fn cli() -> Command {
+    let source = Arg::new("source")
+        .required(true)
+        .help("a–i (the 1996 trees), FILE.l (a cpfg file), or growth:SPECIES");
+    let steps = Arg::new("steps")
+        .long("steps")
+        .value_parser(value_parser!(u32))
+        .help("derivation steps (cycles for growth:); default: the source's own");
+    let seed = Arg::new("seed")
+        .long("seed")
+        .value_parser(value_parser!(u64))
+        .help("seed: varies stochastic grammars, the 1996 trees and growth");
+    Command::new("arbor")
+        .version(env!("CARGO_PKG_VERSION"))
+        .about("Grow 3-D trees from L-systems and turn them into meshes")
+        .subcommand_required(true)
+        .subcommand(
+            Command::new("export")
+                .about("Write the tree as .glb, .gltf or .obj")
+                .arg(source.clone())
+                .arg(
+                    Arg::new("out")
+                        .short('o')
+                        .long("output")
+                        .required(true)
+                        .help("OUT.glb, OUT.gltf or OUT.obj"),
+                )
+                .arg(steps.clone())
+                .arg(seed.clone())
+                .arg(
+                    Arg::new("leaves")
+                        .long("leaves")
+                        .action(ArgAction::SetTrue)
+                        .help("bake leaves (and polygons, spheres, surfaces) into the file"),
+                )
+                .arg(
+                    Arg::new("radial-segments")
+                        .long("radial-segments")
+                        .value_parser(value_parser!(u32))
+                        .help("sides of every branch (3–64, default 8)"),
+                )
+                .arg(
+                    Arg::new("curve-rings")
+                        .long("curve-rings")
+                        .value_parser(value_parser!(u32))
+                        .help("rings inside every branch along its curve (default 0)"),
+                ),
+        )
+        .subcommand(
+            Command::new("info")
+                .about("Print counts and timings")
+                .arg(source)
+                .arg(steps)
+                .arg(seed)
+                .arg(
+                    Arg::new("json")
+                        .long("json")
+                        .action(ArgAction::SetTrue)
+                        .help("print JSON"),
+                ),
+        )
+}
+
+/// A progress bar on stderr when it is a terminal.
+struct Bar {
+    on: bool,
+    last: (Stage, u32),
+}
+
+impl Bar {
+    fn new() -> Self {
+        Bar {
+            on: std::io::stderr().is_terminal(),
+            last: (Stage::Derivation, u32::MAX),
+        }
+    }
+
+    fn show(&mut self, stage: Stage, fraction: f32) -> bool {
+        let pct = (fraction * 100.0) as u32;
+        if self.on && (stage, pct) != self.last {
+            self.last = (stage, pct);
+            let filled = (pct / 5) as usize;
+            eprint!(
+                "\r{:<14} [{}{}] {pct:3}%",
+                stage.name(),
+                "#".repeat(filled),
+                " ".repeat(20 - filled.min(20))
+            );
+            let _ = std::io::stderr().flush();
+        }
+        true
+    }
+
+    fn done(&self) {
+        if self.on && self.last.1 != u32::MAX {
+            eprint!("\r{:50}\r", "");
+        }
+    }
+}
+
+/// Grows the source; returns the skeleton and a description.
+fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
+    let source: &String = m.get_one("source").expect("required");
+    let steps = m.get_one::<u32>("steps").copied();
+    let seed = m.get_one::<u64>("seed").copied().unwrap_or(0);
+    let err = |e: arbor::Error| format!("{source}: {e}");
+    if let Some(species) = source.strip_prefix("growth:") {
+        let k = ["excurrent", "decurrent", "columnar", "bush", "weeping"]
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(species))
+            .ok_or_else(|| {
+                format!("{source}: unknown species; expected excurrent, decurrent, columnar, bush or weeping")
+            })?;
+        let mut w = World::new(&WorldOptions {
+            seed,
+            ..Default::default()
+        })
+        .map_err(err)?;
+        w.plant(
+            &GrowthParams::preset(Species::ALL[k]),
+            [0.0, 0.0, 0.0],
+            seed,
+        )
+        .map_err(err)?;
+        let cycles = steps.unwrap_or(12);
+        w.step_with_progress(cycles, &mut |s, f| bar.show(s, f))
+            .map_err(err)?;
+        let s = w.tree(0).map_err(err)?;
+        return Ok((s, format!("{species}, {cycles} growth cycles")));
+    }
+    let mut chars = source.chars();
+    if let (Some(c @ 'a'..='i'), None) = (chars.next(), chars.next()) {
+        let mut p = HondaParams::preset(c).expect("a to i are presets");
+        if let Some(n) = steps {
+            p.steps = n;
+        }
+        let s = if seed == 0 {
+            honda::build(&p)
+        } else {
+            honda::build_varied(
+                &p,
+                &honda::Variation {
+                    seed,
+                    ..Default::default()
+                },
+            )
+        }
+        .map_err(err)?;
+        return Ok((s, format!("1996 tree {c}, {} steps", p.steps)));
+    }
+    if !std::path::Path::new(source).is_file() {
+        return Err(format!(
+            "{source}: no such file; SOURCE is a letter a–i, a cpfg .l file or growth:SPECIES"
+        ));
+    }
+    let ls = LSystem::from_file(source, None).map_err(err)?;
+    for w in ls.warnings() {
+        eprintln!("warning: {source}: {w}");
+    }
+    let options = LsystemOptions {
+        steps,
+        variation_seed: seed,
+        ..Default::default()
+    };
+    let s = ls
+        .skeleton_with_progress(&options, &mut |st, f| bar.show(st, f))
+        .map_err(err)?;
+    let n = steps.unwrap_or(ls.derivation_length());
+    Ok((s, format!("cpfg file, {n} steps")))
+}
+
+fn run() -> Result<(), String> {
+    let matches = cli().get_matches();
+    let (name, m) = matches.subcommand().expect("a subcommand is required");
+    let mut bar = Bar::new();
+    let t0 = Instant::now();
+    let grown = grow(m, &mut bar);
+    bar.done();
+    let (skeleton, what) = grown?;
+    let grow_ms = t0.elapsed().as_secs_f64() * 1e3;
+    match name {
+        "export" => {
+            let out: &String = m.get_one("out").expect("required");
+            let mut o = MeshOptions::default();
+            if let Some(&k) = m.get_one::<u32>("radial-segments") {
+                o.radial_segments = k;
+            }
+            if let Some(&k) = m.get_one::<u32>("curve-rings") {
+                o.curve_rings = k;
+            }
+            let leaves = m.get_flag("leaves").then(LeafOptions::default);
+            let lower = out.to_ascii_lowercase();
+            let t1 = Instant::now();
+            let r = if lower.ends_with(".obj") {
+                let bark = arbor::mesh::tubes(&skeleton, &o).map_err(|e| e.to_string())?;
+                match &leaves {
+                    Some(l) => {
+                        let lm =
+                            arbor::mesh::leaf_mesh(&skeleton, l, &o).map_err(|e| e.to_string())?;
+                        arbor::export::save_obj_parts(&[("bark", &bark), ("leaves", &lm)], out)
+                    }
+                    None => arbor::export::save_obj_parts(&[("bark", &bark)], out),
+                }
+            } else {
+                arbor::export::save_gltf(&skeleton, &o, leaves.as_ref(), out)
+            };
+            r.map_err(|e| format!("{out}: {e}"))?;
+            eprintln!(
+                "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
+                skeleton.len(),
+                t1.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        _ => {
+            let o = MeshOptions::default();
+            let t1 = Instant::now();
+            let size = arbor::mesh::mesh_size(&skeleton, &o).map_err(|e| e.to_string())?;
+            let mesh_ms = t1.elapsed().as_secs_f64() * 1e3;
+            let (branches, leaves, polygons, organs) = (
+                skeleton.len(),
+                skeleton.leaves().len(),
+                skeleton.polygons().len(),
+                skeleton.organs().len(),
+            );
+            if m.get_flag("json") {
+                println!(
+                    "{{\"source\":{:?},\"what\":{:?},\"branches\":{branches},\"leaf_sites\":{leaves},\
+                     \"polygons\":{polygons},\"organs\":{organs},\"vertices\":{},\"indices\":{},\
+                     \"grow_ms\":{grow_ms:.3},\"mesh_size_ms\":{mesh_ms:.3}}}",
+                    m.get_one::<String>("source").expect("required"),
+                    what,
+                    size.vertices,
+                    size.indices
+                );
+            } else {
+                println!("{what}");
+                println!("branches    {branches}");
+                println!("leaf sites  {leaves}");
+                println!("polygons    {polygons}");
+                println!("organs      {organs}");
+                println!("vertices    {} (default mesh options)", size.vertices);
+                println!("indices     {}", size.indices);
+                println!("grown in    {grow_ms:.2} ms");
+            }
+        }
+    }
+    Ok(())
+}
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("arbor: {e}");
+        std::process::exit(1);
+    }
+}

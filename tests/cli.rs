@@ -1,0 +1,88 @@
+//! The `arbor` command-line tool: export to glTF and OBJ from each kind of source, info
+//! as text and JSON, and errors as one line with a non-zero exit.
+
+use std::path::Path;
+use std::process::Command;
+
+fn arbor(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn export_writes_every_format_from_every_source() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let grammar = dir.join("plant.l");
+    std::fs::write(
+        &grammar,
+        "#define N 4\nderivation length: N\nAxiom: A\nA --> F[+A~][-A]\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("plant.v"), "angle factor: 12\n").unwrap();
+    let g = grammar.to_str().unwrap();
+    for (source, out, extra) in [
+        ("g", "g.glb", vec!["--leaves"]),
+        (g, "plant.gltf", vec!["--radial-segments", "5"]),
+        ("growth:bush", "bush.obj", vec!["--steps", "6", "--leaves"]),
+        (
+            "c",
+            "c_curved.glb",
+            vec!["--curve-rings", "2", "--seed", "9"],
+        ),
+    ] {
+        let path = dir.join(out);
+        let _ = std::fs::remove_file(&path);
+        let mut args = vec!["export", source, "-o", path.to_str().unwrap()];
+        args.extend(extra);
+        let (ok, _, err) = arbor(&args);
+        assert!(ok, "{args:?}: {err}");
+        let bytes = std::fs::read(&path).unwrap();
+        match out.rsplit('.').next().unwrap() {
+            "glb" => assert_eq!(&bytes[..4], b"glTF"),
+            "gltf" => assert!(bytes.starts_with(b"{\"asset\":{\"version\":\"2.0\"")),
+            _ => assert!(String::from_utf8_lossy(&bytes).contains("\nf ")),
+        }
+        assert!(err.contains("branches"), "{err}");
+    }
+}
+
+#[test]
+fn info_prints_counts_as_text_and_json() {
+    let (ok, text, _) = arbor(&["info", "a"]);
+    assert!(ok);
+    assert!(text.contains("branches    1023"), "{text}");
+    let (ok, json, _) = arbor(&["info", "a", "--steps", "6", "--json"]);
+    assert!(ok);
+    assert!(
+        json.trim().starts_with('{') && json.trim().ends_with('}'),
+        "{json}"
+    );
+    assert!(json.contains("\"branches\":63"), "{json}");
+    let (ok, help, _) = arbor(&["--help"]);
+    assert!(ok && help.contains("export") && help.contains("info"));
+}
+
+#[test]
+fn errors_are_one_line_and_a_failure_exit() {
+    for args in [
+        vec!["export", "z", "-o", "x.glb"],
+        vec!["export", "a", "-o", "x.fbx"],
+        vec!["info", "growth:palm"],
+        vec!["info", "/no/such/file.l"],
+    ] {
+        let (ok, _, err) = arbor(&args);
+        assert!(!ok, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("arbor: "), "{err}");
+    }
+    let (ok, _, _) = arbor(&["export", "a"]);
+    assert!(!ok, "a missing -o is a usage error");
+}
