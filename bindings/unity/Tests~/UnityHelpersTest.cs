@@ -1,0 +1,30 @@
+// Runs the binding's Unity helper (compiled with UNITY_5_3_OR_NEWER against the stubs):
+// UnityMeshes.Fill must hand the "mesh" the tree's arrays, 32-byte vertices, 32-bit
+// indices and one submesh over all of them.
+using System;
+using Arbor;
+
+public static class UnityHelpersTest
+{
+    public static int Main()
+    {
+        int failed = 0;
+        Action<bool, string> expect = (ok, what) => { if (!ok) { failed++; Console.WriteLine("FAILED: " + what); } };
+        using (var tree = Tree.FromPreset('g'))
+        {
+            var options = MeshOptions.Default();
+            Vertex[] v; int[] i;
+            tree.UnityMeshArrays(options, out v, out i);
+            var mesh = new UnityEngine.Mesh();
+            UnityMeshes.Fill(mesh, tree, options);
+            expect(mesh.vertexCount == v.Length && mesh.vertexCount > 0, "vertex count " + mesh.vertexCount);
+            expect(mesh.indexCount == i.Length && mesh.indexCount % 3 == 0, "index count " + mesh.indexCount);
+            expect(mesh.vertexStride == 32 && mesh.layout.Length == 3, "layout");
+            expect(mesh.indexFormat == UnityEngine.Rendering.IndexFormat.UInt32, "32-bit indices");
+            expect(mesh.subMeshCount == 1 && mesh.subMesh.indexCount == i.Length, "one submesh");
+            expect(mesh.boundsRecalculated, "bounds");
+        }
+        Console.WriteLine("unity helpers: " + failed + " failed");
+        return failed == 0 ? 0 : 1;
+    }
+}

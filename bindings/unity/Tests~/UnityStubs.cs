@@ -1,0 +1,64 @@
+// The few UnityEngine types the binding's `#if UNITY_5_3_OR_NEWER` helpers and the sample
+// use, as stand-ins that record what they are given: tests/unity.rs compiles the helpers
+// against them (with UNITY_5_3_OR_NEWER defined) and checks what reached the "mesh".
+using System;
+
+namespace AOT
+{
+    [AttributeUsage(AttributeTargets.Method)]
+    public sealed class MonoPInvokeCallbackAttribute : Attribute
+    {
+        public MonoPInvokeCallbackAttribute(Type type) { }
+    }
+}
+
+namespace UnityEngine.Rendering
+{
+    public enum VertexAttribute { Position, Normal, Tangent, Color, TexCoord0 }
+    public enum VertexAttributeFormat { Float32 }
+    public enum IndexFormat { UInt16, UInt32 }
+    public struct VertexAttributeDescriptor
+    {
+        public VertexAttribute attribute; public VertexAttributeFormat format; public int dimension;
+        public VertexAttributeDescriptor(VertexAttribute a, VertexAttributeFormat f, int d) { attribute = a; format = f; dimension = d; }
+    }
+    public struct SubMeshDescriptor
+    {
+        public int indexStart, indexCount;
+        public SubMeshDescriptor(int start, int count) { indexStart = start; indexCount = count; }
+    }
+}
+
+namespace UnityEngine
+{
+    using UnityEngine.Rendering;
+
+    public class Object { }
+    public class Component : Object
+    {
+        public T GetComponent<T>() where T : new() { return new T(); }
+    }
+    public class Behaviour : Component { }
+    public class MonoBehaviour : Behaviour { }
+    public class MeshFilter : Component { public Mesh mesh; }
+
+    [AttributeUsage(AttributeTargets.Class, AllowMultiple = true)]
+    public sealed class RequireComponent : Attribute { public RequireComponent(Type t) { } }
+
+    public class Mesh : Object
+    {
+        public int vertexCount, indexCount, vertexStride;
+        public IndexFormat indexFormat;
+        public VertexAttributeDescriptor[] layout;
+        public Array vertices, indices;
+        public SubMeshDescriptor subMesh;
+        public int subMeshCount { get; set; }
+        public bool boundsRecalculated;
+        public void SetVertexBufferParams(int count, params VertexAttributeDescriptor[] l) { vertexCount = count; layout = l; }
+        public void SetVertexBufferData<T>(T[] data, int start, int meshStart, int count) where T : struct { vertices = data; vertexStride = System.Runtime.InteropServices.Marshal.SizeOf(typeof(T)); }
+        public void SetIndexBufferParams(int count, IndexFormat f) { indexCount = count; indexFormat = f; }
+        public void SetIndexBufferData<T>(T[] data, int start, int meshStart, int count) where T : struct { indices = data; }
+        public void SetSubMesh(int i, SubMeshDescriptor d) { subMesh = d; }
+        public void RecalculateBounds() { boundsRecalculated = true; }
+    }
+}
