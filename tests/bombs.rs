@@ -172,3 +172,60 @@ fn pruning_a_very_long_branch_stays_small() {
     assert!(peak < 16 << 20, "peak {peak} bytes");
     assert!(took < TIME_BUDGET, "{took:?}");
 }
+
+/// cpfg files as written bring their own bombs: macros that multiply, conditionals nested
+/// without end, statement loops that never stop, arrays past the limit. Each stops with a
+/// clear error inside the same time and memory budget.
+#[test]
+fn preprocessor_and_statement_bombs_stop_within_budget() {
+    let measure = |what: &str, text: &str, expect: &str| {
+        let base = ALLOC.current_usage();
+        ALLOC.reset_peak_usage();
+        let start = Instant::now();
+        let r = LSystem::parse(text).and_then(|ls| ls.skeleton(&LsystemOptions::default()));
+        let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
+        let e = r.expect_err(what).to_string();
+        println!("{what}: {elapsed:?}, peak {peak} bytes: {e}");
+        assert!(e.contains(expect), "{what}: {e}");
+        assert!(elapsed < TIME_BUDGET, "{what} took {elapsed:?}");
+        assert!(peak < MEMORY_BUDGET, "{what} peaked at {peak} bytes");
+    };
+    let mut doubling = String::from("#define M0 F\n");
+    for i in 1..64 {
+        doubling += &format!("#define M{i} M{} M{}\n", i - 1, i - 1);
+    }
+    doubling += "Axiom: M63\n";
+    measure(
+        "macros that double 63 times",
+        &doubling,
+        "macro expansion produces more than",
+    );
+    measure(
+        "10^5 nested #if",
+        &"#if 1\n".repeat(100_000),
+        "nested deeper than",
+    );
+    measure(
+        "a statement loop that never ends",
+        "derivation length: 1\nAxiom: A\nA : * { while (1) { i = i + 1; } } --> A\n",
+        "max_work",
+    );
+    measure(
+        "an array past the limit",
+        "define: { array a[4096][4096]; }\nAxiom: F\n",
+        "arrays of at most 4194304 values",
+    );
+    measure(
+        "a 16 MiB line of macro calls",
+        &format!("#define A(x) x x\nAxiom: {}\n", "A(F)".repeat(4_000_000)),
+        "at most 1048576 bytes",
+    );
+    measure(
+        "a 0.8 MiB line of nested macro calls",
+        &format!(
+            "#define A(x) x x\n#define B(x) A(A(A(A(A(x)))))\nAxiom: {}\n",
+            "B(F)".repeat(200_000)
+        ),
+        "macro expansion produces more than",
+    );
+}

@@ -29,6 +29,8 @@ pub(crate) const MAX_EXPANDED_TOKENS: usize = 4 << 20;
 pub(crate) const MAX_INCLUDE_DEPTH: usize = 32;
 /// Deepest `#if` nesting.
 pub(crate) const MAX_CONDITIONAL_DEPTH: usize = 4096;
+/// Longest line (bytes) whose macros are expanded.
+const MAX_EXPANDED_LINE: usize = 1 << 20;
 /// Most lines one function-like macro call may span.
 const MAX_CALL_LINES: usize = 256;
 
@@ -682,6 +684,18 @@ impl Pre {
     fn expand_line(&mut self, line: &str, file: &str, line_no: u32) -> Result<Option<String>> {
         if !line.bytes().any(|b| b.is_ascii_alphabetic() || b == b'_') || self.macros.is_empty() {
             return Ok(Some(line.to_string()));
+        }
+        // Tokens cost tens of bytes each: a line whose macros need expanding is at most
+        // 1 MiB (cpfg's lines are short; text without macros is not tokenized at all).
+        if line.len() > MAX_EXPANDED_LINE {
+            return Err(perr(
+                file,
+                line_no,
+                format!(
+                    "a line of {} bytes with macros to expand; at most {MAX_EXPANDED_LINE} bytes",
+                    line.len()
+                ),
+            ));
         }
         let toks = tokenize(line);
         match self.expand(toks, file, line_no)? {
