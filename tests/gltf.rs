@@ -154,9 +154,55 @@ fn exported_files_read_back_and_pass_the_validator() {
         &s,
         Some(&LeafOptions::default()),
     ));
-    // Settings in asset.extras; a bad extension is refused by name.
+    // A forest of nine trees merged into one mesh.
+    let presets: Vec<HondaParams> = "abcdefghi"
+        .chars()
+        .map(|c| HondaParams::preset(c).unwrap())
+        .collect();
+    let placed: Vec<arbor::forest::Placed> = presets
+        .iter()
+        .enumerate()
+        .map(|(k, p)| arbor::forest::Placed {
+            item: arbor::forest::Item {
+                source: arbor::forest::Source::Honda(*p),
+                seed: k as u64,
+            },
+            position: [(k % 3) as f32 * 400.0, 0.0, (k / 3) as f32 * 400.0],
+            rotation: k as f32 * 40.0,
+            scale: 1.0,
+        })
+        .collect();
+    for ext in ["glb", "gltf"] {
+        let path = out_dir().join(format!("forest.{ext}"));
+        arbor::export::save_gltf_forest(&placed, &MeshOptions::default(), &path).unwrap();
+        let merged = arbor::forest::merged(&placed, &list_options()).unwrap();
+        let prims = read_back(&path);
+        assert_eq!(prims.len(), 1);
+        assert_eq!(prims[0].0.len(), merged.vertices.len());
+        assert_eq!(prims[0].3, merged.indices);
+        files.push(path);
+    }
+    // Settings in asset.extras, the animation stream as custom attributes; a bad
+    // extension is refused by name.
     let text = std::fs::read_to_string(out_dir().join("tree_a.gltf")).unwrap();
     assert!(text.contains("\"extras\":{\"generator\":\"arbor\",\"branches\":1023"));
+    assert!(
+        text.contains("\"_GROWTH\":4,\"_WIND\":5"),
+        "custom attributes"
+    );
+    let g = gltf::Gltf::from_slice(&std::fs::read(out_dir().join("tree_a.glb")).unwrap()).unwrap();
+    let blob = g.blob.clone().unwrap();
+    // Accessor 4 is `_GROWTH` (checked in the JSON above).
+    let growth = g.document.accessors().nth(4).expect("_GROWTH");
+    let view = growth.view().unwrap();
+    let s = honda::build(&HondaParams::preset('a').unwrap()).unwrap();
+    let anim = mesh::animation(&s, &list_options()).unwrap();
+    assert_eq!(growth.count(), anim.len());
+    for (k, a) in anim.iter().enumerate().step_by(97) {
+        let at = view.offset() + k * view.stride().unwrap();
+        let v = f32::from_le_bytes(blob[at..at + 4].try_into().unwrap());
+        assert_eq!(v, a.growth);
+    }
     assert!(
         arbor::export::save_gltf(&s, &MeshOptions::default(), None, out_dir().join("x.fbx"))
             .is_err()

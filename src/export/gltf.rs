@@ -16,8 +16,24 @@ use crate::skeleton::Skeleton;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A primitive of the file: its name, mesh and material (0 bark, 1 leaves).
-type Primitive = (&'static str, Mesh, usize);
+/// A primitive of the file: its name, mesh, material (0 bark, 1 leaves) and, for bark,
+/// the animation stream (custom attributes `_GROWTH` and `_WIND`).
+type Primitive = (
+    &'static str,
+    Mesh,
+    usize,
+    Option<Vec<mesh::AnimationVertex>>,
+);
+
+/// The options glTF needs: triangle lists, counter-clockwise, Y up.
+fn gltf_options(options: &MeshOptions) -> MeshOptions {
+    MeshOptions {
+        topology: Topology::TriangleList,
+        winding: Winding::CounterClockwise,
+        up_axis: UpAxis::Y,
+        ..*options
+    }
+}
 
 /// The meshes a glTF file of `skeleton` holds.
 fn primitives(
@@ -25,15 +41,11 @@ fn primitives(
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
-    let o = MeshOptions {
-        topology: Topology::TriangleList,
-        winding: Winding::CounterClockwise,
-        up_axis: UpAxis::Y,
-        ..*options
-    };
-    let mut out = vec![("bark", mesh::tubes(skeleton, &o)?, 0)];
+    let o = gltf_options(options);
+    let anim = mesh::animation(skeleton, &o)?;
+    let mut out = vec![("bark", mesh::tubes(skeleton, &o)?, 0, Some(anim))];
     if let Some(l) = leaves {
-        out.push(("leaves", mesh::leaf_mesh(skeleton, l, &o)?, 1));
+        out.push(("leaves", mesh::leaf_mesh(skeleton, l, &o)?, 1, None));
     }
     out.retain(|p| !p.1.indices.is_empty());
     Ok((o, out))
@@ -80,12 +92,47 @@ pub fn gltf_bytes(
     binary: bool,
 ) -> Result<Vec<u8>> {
     let (o, prims) = primitives(skeleton, options, leaves)?;
+    let extras = format!(
+        "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"curve_rings\":{},\"scale\":{},\"leaves\":{}}}",
+        skeleton.len(),
+        o.radial_segments,
+        o.curve_rings,
+        num(o.scale),
+        leaves.is_some()
+    );
+    encode(prims, &extras, binary)
+}
+
+/// A forest as glTF: the trees merged into one bark mesh (one draw call), as
+/// [`crate::forest::merged`] places them.
+pub fn gltf_forest_bytes(
+    placed: &[crate::forest::Placed<'_>],
+    options: &MeshOptions,
+    binary: bool,
+) -> Result<Vec<u8>> {
+    let o = gltf_options(options);
+    let m = crate::forest::merged(placed, &o)?;
+    let extras = format!(
+        "{{\"generator\":\"arbor\",\"trees\":{},\"radial_segments\":{},\"scale\":{}}}",
+        placed.len(),
+        o.radial_segments,
+        num(o.scale)
+    );
+    let prims = if m.indices.is_empty() {
+        Vec::new()
+    } else {
+        vec![("forest", m, 0, None)]
+    };
+    encode(prims, &extras, binary)
+}
+
+fn encode(prims: Vec<Primitive>, extras: &str, binary: bool) -> Result<Vec<u8>> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = String::new();
     let mut accessors = String::new();
     let mut prim_json = String::new();
     let (mut nview, mut nacc) = (0usize, 0usize);
-    for (k, (_, m, material)) in prims.iter().enumerate() {
+    for (k, (_, m, material, anim)) in prims.iter().enumerate() {
         let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
         for v in &m.vertices {
             for c in 0..3 {
@@ -126,17 +173,37 @@ pub fn gltf_bytes(
             nview + 1,
             m.indices.len()
         );
+        // The animation stream: growth time, and (order, along, phase) for wind.
+        let mut custom = String::new();
+        if let Some(a) = anim.as_ref().filter(|a| a.len() == n) {
+            let astart = bin.len();
+            bin.extend_from_slice(bytemuck::cast_slice(a));
+            let alen = bin.len() - astart;
+            let _ = write!(
+                views,
+                ",{{\"buffer\":0,\"byteOffset\":{astart},\"byteLength\":{alen},\"byteStride\":16,\"target\":34962}}"
+            );
+            let _ = write!(
+                accessors,
+                ",{{\"bufferView\":{},\"byteOffset\":0,\"componentType\":5126,\"count\":{n},\"type\":\"SCALAR\"}},\
+                 {{\"bufferView\":{},\"byteOffset\":4,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}}",
+                nview + 2,
+                nview + 2
+            );
+            let _ = write!(custom, ",\"_GROWTH\":{},\"_WIND\":{}", nacc + 4, nacc + 5);
+        }
         let _ = write!(
             prim_json,
-            "{}{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{},\"TEXCOORD_0\":{}}},\"indices\":{},\"material\":{material},\"mode\":4}}",
+            "{}{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{},\"TEXCOORD_0\":{}{custom}}},\"indices\":{},\"material\":{material},\"mode\":4}}",
             if k == 0 { "" } else { "," },
             nacc,
             nacc + 1,
             nacc + 2,
             nacc + 3
         );
-        nview += 2;
-        nacc += 4;
+        let extra = if custom.is_empty() { 0 } else { 1 };
+        nview += 2 + extra;
+        nacc += 4 + 2 * extra;
     }
     let used: Vec<usize> = prims.iter().map(|p| p.2).collect();
     // Materials in index order; a file without leaves still lists both, so indices stay
@@ -171,14 +238,6 @@ pub fn gltf_bytes(
             base64(&bin)
         )
     };
-    let extras = format!(
-        "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"curve_rings\":{},\"scale\":{},\"leaves\":{}}}",
-        skeleton.len(),
-        o.radial_segments,
-        o.curve_rings,
-        num(o.scale),
-        leaves.is_some()
-    );
     let mut json = format!(
         "{{\"asset\":{{\"version\":\"2.0\",\"generator\":\"arbor {}\",\"extras\":{extras}}}",
         env!("CARGO_PKG_VERSION")
@@ -223,6 +282,41 @@ pub fn gltf_bytes(
     Ok(out)
 }
 
+/// Writes a forest ([`gltf_forest_bytes`]) to `path` (`.glb` or `.gltf`).
+pub fn save_gltf_forest(
+    placed: &[crate::forest::Placed<'_>],
+    options: &MeshOptions,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    let path = path.as_ref();
+    let bytes = gltf_forest_bytes(placed, options, binary_by_extension(path)?)?;
+    write(path, bytes)
+}
+
+fn binary_by_extension(path: &Path) -> Result<bool> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("glb") => Ok(true),
+        Some("gltf") => Ok(false),
+        _ => Err(Error::invalid(
+            "path",
+            format!("`{}`: expected a .glb or .gltf file name", path.display()),
+        )),
+    }
+}
+
+fn write(path: &Path, bytes: Vec<u8>) -> Result<()> {
+    std::fs::write(path, bytes).map_err(|e| {
+        Error::Io(std::io::Error::new(
+            e.kind(),
+            format!("cannot write {}: {e}", path.display()),
+        ))
+    })
+}
+
 /// Writes `skeleton` as glTF 2.0 to `path`: `.glb` binary, `.gltf` JSON with the buffer
 /// embedded (chosen by the extension, case-insensitive; anything else is
 /// [`Error::InvalidArgument`]).
@@ -233,25 +327,6 @@ pub fn save_gltf(
     path: impl AsRef<Path>,
 ) -> Result<()> {
     let path = path.as_ref();
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let binary = match ext.as_deref() {
-        Some("glb") => true,
-        Some("gltf") => false,
-        _ => {
-            return Err(Error::invalid(
-                "path",
-                format!("`{}`: expected a .glb or .gltf file name", path.display()),
-            ));
-        }
-    };
-    let bytes = gltf_bytes(skeleton, options, leaves, binary)?;
-    std::fs::write(path, bytes).map_err(|e| {
-        Error::Io(std::io::Error::new(
-            e.kind(),
-            format!("cannot write {}: {e}", path.display()),
-        ))
-    })
+    let bytes = gltf_bytes(skeleton, options, leaves, binary_by_extension(path)?)?;
+    write(path, bytes)
 }
