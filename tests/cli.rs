@@ -37,6 +37,7 @@ fn export_writes_every_format_from_every_source() {
             "c_curved.glb",
             vec!["--curve-rings", "2", "--seed", "9"],
         ),
+        ("g", "g_instanced.glb", vec!["--instanced-leaves"]),
     ] {
         let path = dir.join(out);
         let _ = std::fs::remove_file(&path);

@@ -154,6 +154,35 @@ fn exported_files_read_back_and_pass_the_validator() {
         &s,
         Some(&LeafOptions::default()),
     ));
+    // Leaves as instances of one quad (EXT_mesh_gpu_instancing, used, not required).
+    let leafy = ls.skeleton(&Default::default()).unwrap();
+    let instances = mesh::leaf_instances(&leafy, &LeafOptions::default(), &list_options()).unwrap();
+    assert!(!instances.is_empty());
+    for (ext, binary) in [("glb", true), ("gltf", false)] {
+        let bytes = arbor::export::gltf_bytes_instanced(
+            &leafy,
+            &MeshOptions::default(),
+            &LeafOptions::default(),
+            binary,
+        )
+        .unwrap();
+        let path = out_dir().join(format!("instanced.{ext}"));
+        std::fs::write(&path, &bytes).unwrap();
+        let g = gltf::Gltf::from_slice(&bytes).unwrap();
+        let json = g.document.as_json();
+        assert_eq!(
+            json.extensions_used,
+            vec!["EXT_mesh_gpu_instancing".to_string()]
+        );
+        assert!(json.extensions_required.is_empty());
+        assert_eq!(g.document.meshes().count(), 2);
+        let prims = read_back(&path);
+        assert_eq!(prims[1].0.len(), 4, "the leaf quad");
+        // The instance counts: TRANSLATION, ROTATION and SCALE accessors hold one each.
+        let last: Vec<usize> = g.document.accessors().map(|a| a.count()).collect();
+        assert_eq!(&last[last.len() - 3..], &[instances.len(); 3]);
+        files.push(path);
+    }
     // A forest of nine trees merged into one mesh.
     let presets: Vec<HondaParams> = "abcdefghi"
         .chars()

@@ -55,6 +55,12 @@ fn cli() -> Command {
                         .help("bake leaves (and polygons, spheres, surfaces) into the file"),
                 )
                 .arg(
+                    Arg::new("instanced-leaves")
+                        .long("instanced-leaves")
+                        .action(ArgAction::SetTrue)
+                        .help("glTF: one leaf mesh drawn per leaf site (EXT_mesh_gpu_instancing)"),
+                )
+                .arg(
                     Arg::new("radial-segments")
                         .long("radial-segments")
                         .value_parser(value_parser!(u32))
@@ -222,6 +228,13 @@ fn run() -> Result<(), String> {
                     }
                     None => arbor::export::save_obj_parts(&[("bark", &bark)], out),
                 }
+            } else if m.get_flag("instanced-leaves") {
+                let binary = lower.ends_with(".glb");
+                if !binary && !lower.ends_with(".gltf") {
+                    return Err(format!("{out}: expected a .glb, .gltf or .obj file name"));
+                }
+                arbor::export::gltf_bytes_instanced(&skeleton, &o, &LeafOptions::default(), binary)
+                    .and_then(|b| std::fs::write(out, b).map_err(arbor::Error::Io))
             } else {
                 arbor::export::save_gltf(&skeleton, &o, leaves.as_ref(), out)
             };

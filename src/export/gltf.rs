@@ -100,7 +100,36 @@ pub fn gltf_bytes(
         num(o.scale),
         leaves.is_some()
     );
-    encode(prims, &extras, binary)
+    encode(prims, &extras, binary, NO_INSTANCES)
+}
+
+/// [`gltf_bytes`] with the leaves as instances of one leaf mesh (the leaf options'
+/// prefab, else the quad) through `EXT_mesh_gpu_instancing`, declared used, not required:
+/// engines that draw instances get one small mesh and a transform per leaf; a viewer
+/// without the extension draws a single leaf at the node, so export baked leaves
+/// ([`gltf_bytes`]) for those. Only the leaf sites are instanced (no polygons or spheres).
+pub fn gltf_bytes_instanced(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: &LeafOptions,
+    binary: bool,
+) -> Result<Vec<u8>> {
+    let (o, prims) = primitives(skeleton, options, None)?;
+    let instances = mesh::leaf_instances(skeleton, leaves, &o)?;
+    let prefab = leaves.prefab.clone().unwrap_or_else(mesh::LeafPrefab::quad);
+    let quad = Mesh {
+        vertices: prefab.vertices.clone(),
+        indices: prefab.triangles.iter().flatten().copied().collect(),
+        topology: Topology::TriangleList,
+        ranges: Vec::new(),
+    };
+    let extras = format!(
+        "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"leaf_instances\":{}}}",
+        skeleton.len(),
+        o.radial_segments,
+        instances.len()
+    );
+    encode(prims, &extras, binary, Some((quad, instances)))
 }
 
 /// A forest as glTF: the trees merged into one bark mesh (one draw call), as
@@ -123,10 +152,20 @@ pub fn gltf_forest_bytes(
     } else {
         vec![("forest", m, 0, None)]
     };
-    encode(prims, &extras, binary)
+    encode(prims, &extras, binary, NO_INSTANCES)
 }
 
-fn encode(prims: Vec<Primitive>, extras: &str, binary: bool) -> Result<Vec<u8>> {
+/// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
+type Instanced = (Mesh, Vec<mesh::LeafInstance>);
+
+const NO_INSTANCES: Option<Instanced> = None;
+
+fn encode(
+    prims: Vec<Primitive>,
+    extras: &str,
+    binary: bool,
+    instanced: Option<Instanced>,
+) -> Result<Vec<u8>> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = String::new();
     let mut accessors = String::new();
@@ -205,7 +244,91 @@ fn encode(prims: Vec<Primitive>, extras: &str, binary: bool) -> Result<Vec<u8>> 
         nview += 2 + extra;
         nacc += 4 + 2 * extra;
     }
-    let used: Vec<usize> = prims.iter().map(|p| p.2).collect();
+    // The instanced leaves: the prefab as a mesh of its own, and per instance its
+    // translation, rotation and scale (tightly packed, as the extension reads them).
+    let mut inst = String::new();
+    let mut inst_ext = String::new();
+    let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
+    if let Some((m, instances)) = &instanced {
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for v in &m.vertices {
+            for c in 0..3 {
+                lo[c] = lo[c].min(v.position[c]);
+                hi[c] = hi[c].max(v.position[c]);
+            }
+        }
+        let push = |bytes: &[u8], target: &str, bin: &mut Vec<u8>, views: &mut String| {
+            let start = bin.len();
+            bin.extend_from_slice(bytes);
+            let len = bin.len() - start;
+            pad4(bin, 0);
+            let _ = write!(
+                views,
+                "{}{{\"buffer\":0,\"byteOffset\":{start},\"byteLength\":{len}{target}}}",
+                if views.is_empty() { "" } else { "," }
+            );
+        };
+        let n = m.vertices.len();
+        push(
+            bytemuck::cast_slice(&m.vertices),
+            ",\"byteStride\":32,\"target\":34962",
+            &mut bin,
+            &mut views,
+        );
+        push(
+            bytemuck::cast_slice(&m.indices),
+            ",\"target\":34963",
+            &mut bin,
+            &mut views,
+        );
+        let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
+        let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
+        let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
+        push(bytemuck::cast_slice(&t), "", &mut bin, &mut views);
+        push(bytemuck::cast_slice(&r), "", &mut bin, &mut views);
+        push(bytemuck::cast_slice(&sc), "", &mut bin, &mut views);
+        let k = instances.len();
+        let _ = write!(
+            accessors,
+            "{}{{\"bufferView\":{nview},\"byteOffset\":0,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\",\
+             \"min\":[{},{},{}],\"max\":[{},{},{}]}},\
+             {{\"bufferView\":{nview},\"byteOffset\":12,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}},\
+             {{\"bufferView\":{nview},\"byteOffset\":24,\"componentType\":5126,\"count\":{n},\"type\":\"VEC2\"}},\
+             {{\"bufferView\":{},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}},\
+             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC3\"}},\
+             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC4\"}},\
+             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC3\"}}",
+            if accessors.is_empty() { "" } else { "," },
+            num(lo[0]),
+            num(lo[1]),
+            num(lo[2]),
+            num(hi[0]),
+            num(hi[1]),
+            num(hi[2]),
+            nview + 1,
+            m.indices.len(),
+            nview + 2,
+            nview + 3,
+            nview + 4
+        );
+        inst = format!(
+            "{{\"name\":\"leaf\",\"primitives\":[{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{},\"TEXCOORD_0\":{}}},\"indices\":{},\"material\":1,\"mode\":4}}]}}",
+            nacc,
+            nacc + 1,
+            nacc + 2,
+            nacc + 3
+        );
+        inst_ext = format!(
+            "\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{},\"ROTATION\":{},\"SCALE\":{}}}}}}}",
+            nacc + 4,
+            nacc + 5,
+            nacc + 6
+        );
+    }
+    let mut used: Vec<usize> = prims.iter().map(|p| p.2).collect();
+    if instanced.is_some() {
+        used.push(1);
+    }
     // Materials in index order; a file without leaves still lists both, so indices stay
     // fixed (an unused material is fine for the validator only if referenced: list only
     // what is used, renumbered).
@@ -227,9 +350,12 @@ fn encode(prims: Vec<Primitive>, extras: &str, binary: bool) -> Result<Vec<u8>> 
             }
         );
     }
-    let prim_json = prim_json
-        .replace("\"material\":0,", &format!("\"material\":{},", remap[0]))
-        .replace("\"material\":1,", &format!("\"material\":{},", remap[1]));
+    let remat = |j: String| {
+        j.replace("\"material\":0,", &format!("\"material\":{},", remap[0]))
+            .replace("\"material\":1,", &format!("\"material\":{},", remap[1]))
+    };
+    let prim_json = remat(prim_json);
+    let inst = remat(inst);
     let uri = if binary {
         String::new()
     } else {
@@ -242,14 +368,37 @@ fn encode(prims: Vec<Primitive>, extras: &str, binary: bool) -> Result<Vec<u8>> 
         "{{\"asset\":{{\"version\":\"2.0\",\"generator\":\"arbor {}\",\"extras\":{extras}}}",
         env!("CARGO_PKG_VERSION")
     );
-    if prims.is_empty() {
+    // Meshes and the nodes that hold them: the tree, then the instanced leaves.
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    if !prims.is_empty() {
+        nodes.push(format!("{{\"name\":\"tree\",\"mesh\":{}}}", meshes.len()));
+        meshes.push(format!(
+            "{{\"name\":\"tree\",\"primitives\":[{prim_json}]}}"
+        ));
+    }
+    if !inst.is_empty() {
+        nodes.push(format!(
+            "{{\"name\":\"leaves\",\"mesh\":{},{inst_ext}}}",
+            meshes.len()
+        ));
+        meshes.push(inst);
+        // Used, not required: a viewer without the extension draws one leaf at the
+        // node; export baked leaves (save_gltf) for such viewers.
+        json.push_str(",\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"]");
+    }
+    if nodes.is_empty() {
         json.push_str(",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":\"tree\"}]}");
     } else {
+        let list: Vec<String> = (0..nodes.len()).map(|k| k.to_string()).collect();
         let _ = write!(
             json,
-            ",\"scene\":0,\"scenes\":[{{\"nodes\":[0]}}],\"nodes\":[{{\"name\":\"tree\",\"mesh\":0}}],\
-             \"meshes\":[{{\"name\":\"tree\",\"primitives\":[{prim_json}]}}],\"materials\":[{materials}],\
+            ",\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\
+             \"meshes\":[{}],\"materials\":[{materials}],\
              \"accessors\":[{accessors}],\"bufferViews\":[{views}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
+            list.join(","),
+            nodes.join(","),
+            meshes.join(","),
             bin.len()
         );
     }
