@@ -307,6 +307,31 @@ mod fuzz {
             } else {
                 prop_assert!(!last_error().is_empty());
             }
+            // The same options through the glTF writer: a status, and a file whose
+            // numbers are finite when it is OK.
+            let dir = std::env::temp_dir().join(format!("arbor-fuzz-gltf-{}", std::process::id()));
+            let _ = std::fs::create_dir_all(&dir);
+            let path = dir.join(if fields[2] % 2 == 0 { "t.glb" } else { "t.gltf" });
+            let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+            let leaves = ArborLeafOptions::default();
+            let leaf_ptr = if fields[5] % 2 == 0 { std::ptr::null() } else { &leaves as *const _ };
+            // SAFETY: `tree` is live; the options, leaf options and path are locals.
+            let g = unsafe { arbor_export_gltf(tree, &o, leaf_ptr, c_path.as_ptr()) };
+            prop_assert!(g != ArborStatus::Panic, "{}", last_error());
+            prop_assert_eq!(g == ArborStatus::Ok, status == ArborStatus::Ok, "{}", last_error());
+            if g == ArborStatus::Ok {
+                let bytes = std::fs::read(&path).unwrap();
+                // The JSON only (not the buffer, whose bytes or base64 may spell anything).
+                let json = if bytes.starts_with(b"glTF") {
+                    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+                    String::from_utf8_lossy(&bytes[20..20 + len]).into_owned()
+                } else {
+                    let text = String::from_utf8_lossy(&bytes).into_owned();
+                    text.split("data:application").next().unwrap_or("").to_string()
+                };
+                prop_assert!(json.starts_with("{\"asset\""), "{json}");
+                prop_assert!(!json.contains("NaN") && !json.contains("inf"), "{json}");
+            }
             // SAFETY: made above, freed once.
             unsafe { arbor_tree_free(tree) };
         }
