@@ -100,3 +100,121 @@ fn the_unity_package_is_complete() {
         assert!(meta.contains("PluginImporter:"), "{plugin}");
     }
 }
+
+/// The C header's structs as members: (struct name without `Arbor`, member names).
+fn header_structs(header: &str) -> Vec<(String, Vec<String>)> {
+    // Comments out first.
+    let mut text = String::new();
+    let mut rest = header;
+    while let Some(i) = rest.find("/*") {
+        text.push_str(&rest[..i]);
+        rest = rest[i..].find("*/").map_or("", |j| &rest[i + j + 2..]);
+    }
+    text.push_str(rest);
+    let mut out = Vec::new();
+    let mut at = 0;
+    while let Some(i) = text[at..].find("typedef struct Arbor") {
+        let start = at + i + "typedef struct ".len();
+        let name_end = start
+            + text[start..]
+                .find(|c: char| !c.is_ascii_alphanumeric())
+                .unwrap();
+        let name = text[start..name_end].to_string();
+        // `typedef struct ArborMesh ArborMesh;` is opaque: only definitions count.
+        if !text[name_end..].trim_start().starts_with('{') {
+            at = name_end;
+            continue;
+        }
+        let open = name_end + text[name_end..].find('{').unwrap();
+        let close = open + text[open..].find('}').unwrap();
+        let members = text[open + 1..close]
+            .split(';')
+            .map(str::trim)
+            .filter(|d| !d.is_empty())
+            .map(|d| {
+                let d = d.split('[').next().unwrap().trim();
+                d.rsplit(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                    .next()
+                    .unwrap()
+                    .to_string()
+            })
+            .collect();
+        out.push((name.trim_start_matches("Arbor").to_string(), members));
+        at = close;
+    }
+    out
+}
+
+/// Every field of every struct the binding declares starts where the C compiler puts the
+/// member of the same struct (a C array is several C# fields: its start must be one of
+/// them), and the sizes agree.
+#[test]
+fn unity_struct_offsets_match_the_c_compiler() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if !have("mcs") || !have("cc") {
+        return;
+    }
+    let header = std::fs::read_to_string(root.join("include/arbor.h")).unwrap();
+    let structs = header_structs(&header);
+    assert!(
+        structs.len() >= 15,
+        "{} structs in the header",
+        structs.len()
+    );
+    let mut c = String::from(
+        "#include \"arbor.h\"\n#include <stdio.h>\n#include <stddef.h>\nint main(void) {\n",
+    );
+    for (name, members) in &structs {
+        c += &format!("  printf(\"{name} SIZE %zu\\n\", sizeof(Arbor{name}));\n");
+        for m in members {
+            c += &format!("  printf(\"{name} {m} %zu\\n\", offsetof(Arbor{name}, {m}));\n");
+        }
+    }
+    c += "  return 0;\n}\n";
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("unity_offsets");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("offsets.c"), c).unwrap();
+    run(Command::new("cc")
+        .arg("-I")
+        .arg(root.join("include"))
+        .arg(dir.join("offsets.c"))
+        .arg("-o")
+        .arg(dir.join("offsets")));
+    let c_out = run(&mut Command::new(dir.join("offsets")));
+    let exe = dir.join("ArborOffsets.exe");
+    run(Command::new("mcs")
+        .arg(format!("-out:{}", exe.display()))
+        .arg(root.join("bindings/unity/Runtime/Arbor.cs"))
+        .arg(root.join("bindings/unity/Tests~/ArborOffsets.cs")));
+    let cs_out = run(Command::new("mono").arg(&exe));
+    let table = |text: &str| {
+        let mut t: std::collections::BTreeMap<String, (usize, Vec<usize>)> = Default::default();
+        for line in text.lines() {
+            let w: Vec<&str> = line.split_whitespace().collect();
+            if w.len() != 3 {
+                continue;
+            }
+            let e = t.entry(w[0].to_string()).or_default();
+            let v: usize = w[2].parse().unwrap();
+            if w[1] == "SIZE" { e.0 = v } else { e.1.push(v) }
+        }
+        t
+    };
+    let (c_t, cs_t) = (table(&c_out), table(&cs_out));
+    let mut compared = 0;
+    for (name, (cs_size, cs_offsets)) in &cs_t {
+        let Some((c_size, c_offsets)) = c_t.get(name) else {
+            continue;
+        };
+        assert_eq!(cs_size, c_size, "{name}: size");
+        for o in c_offsets {
+            assert!(
+                cs_offsets.contains(o),
+                "{name}: no C# field starts at the C member offset {o} ({cs_offsets:?})"
+            );
+        }
+        assert!(cs_offsets.iter().all(|o| o < c_size), "{name}");
+        compared += 1;
+    }
+    assert!(compared >= 12, "{compared} structs compared");
+}
