@@ -16,14 +16,32 @@ use crate::skeleton::Skeleton;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A primitive of the file: its name, mesh, material (0 bark, 1 leaves) and, for bark,
-/// the animation stream (custom attributes `_GROWTH` and `_WIND`).
-type Primitive = (
-    &'static str,
-    Mesh,
-    usize,
-    Option<Vec<mesh::AnimationVertex>>,
-);
+/// A primitive of the file: its mesh, its material, and for bark the animation stream
+/// (custom attributes `_GROWTH` and `_WIND`).
+struct Primitive {
+    mesh: Mesh,
+    material: Material,
+    anim: Option<Vec<mesh::AnimationVertex>>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Material {
+    Bark,
+    Leaves,
+}
+
+impl Material {
+    fn json(self) -> &'static str {
+        match self {
+            Material::Bark => {
+                "{\"name\":\"bark\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.36,0.24,0.14,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.9}}"
+            }
+            Material::Leaves => {
+                "{\"name\":\"leaves\",\"doubleSided\":true,\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.22,0.52,0.16,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}"
+            }
+        }
+    }
+}
 
 /// The options glTF needs: triangle lists, counter-clockwise, Y up.
 fn gltf_options(options: &MeshOptions) -> MeshOptions {
@@ -35,19 +53,28 @@ fn gltf_options(options: &MeshOptions) -> MeshOptions {
     }
 }
 
-/// The meshes a glTF file of `skeleton` holds.
+/// The meshes a glTF file of `skeleton` holds. The bark's mesh and animation stream come
+/// from one plan.
 fn primitives(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
     let o = gltf_options(options);
-    let anim = mesh::animation(skeleton, &o)?;
-    let mut out = vec![("bark", mesh::tubes(skeleton, &o)?, 0, Some(anim))];
+    let plan = mesh::MeshPlan::new(skeleton, &o)?;
+    let mut out = vec![Primitive {
+        mesh: plan.mesh(skeleton)?,
+        material: Material::Bark,
+        anim: Some(plan.animation(skeleton)?),
+    }];
     if let Some(l) = leaves {
-        out.push(("leaves", mesh::leaf_mesh(skeleton, l, &o)?, 1, None));
+        out.push(Primitive {
+            mesh: mesh::leaf_mesh(skeleton, l, &o)?,
+            material: Material::Leaves,
+            anim: None,
+        });
     }
-    out.retain(|p| !p.1.indices.is_empty());
+    out.retain(|p| !p.mesh.indices.is_empty());
     Ok((o, out))
 }
 
@@ -150,7 +177,11 @@ pub fn gltf_forest_bytes(
     let prims = if m.indices.is_empty() {
         Vec::new()
     } else {
-        vec![("forest", m, 0, None)]
+        vec![Primitive {
+            mesh: m,
+            material: Material::Bark,
+            anim: None,
+        }]
     };
     encode(prims, &extras, binary, NO_INSTANCES)
 }
@@ -160,252 +191,213 @@ type Instanced = (Mesh, Vec<mesh::LeafInstance>);
 
 const NO_INSTANCES: Option<Instanced> = None;
 
+/// The binary buffer and the JSON of its views and accessors, as they are added.
+#[derive(Default)]
+struct Buffers {
+    bin: Vec<u8>,
+    views: Vec<String>,
+    accessors: Vec<String>,
+}
+
+impl Buffers {
+    /// Appends `bytes` (padded to 4) as a buffer view; returns its index.
+    fn view(&mut self, bytes: &[u8], stride_target: &str) -> usize {
+        let start = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        let len = bytes.len();
+        pad4(&mut self.bin, 0);
+        self.views.push(format!(
+            "{{\"buffer\":0,\"byteOffset\":{start},\"byteLength\":{len}{stride_target}}}"
+        ));
+        self.views.len() - 1
+    }
+
+    /// Adds a float accessor into `view`; returns its index.
+    fn accessor(
+        &mut self,
+        view: usize,
+        offset: usize,
+        count: usize,
+        ty: &str,
+        extra: &str,
+    ) -> usize {
+        self.accessors.push(format!(
+            "{{\"bufferView\":{view},\"byteOffset\":{offset},\"componentType\":5126,\"count\":{count},\"type\":\"{ty}\"{extra}}}"
+        ));
+        self.accessors.len() - 1
+    }
+
+    /// A triangle-list mesh's vertices and indices: the primitive's attributes and
+    /// indices as JSON (`"attributes":{...},"indices":n`) and its vertex count.
+    fn mesh(&mut self, m: &Mesh) -> (String, usize) {
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for v in &m.vertices {
+            for c in 0..3 {
+                lo[c] = lo[c].min(v.position[c]);
+                hi[c] = hi[c].max(v.position[c]);
+            }
+        }
+        let n = m.vertices.len();
+        let vv = self.view(
+            bytemuck::cast_slice(&m.vertices),
+            ",\"byteStride\":32,\"target\":34962",
+        );
+        let iv = self.view(bytemuck::cast_slice(&m.indices), ",\"target\":34963");
+        let bounds = format!(
+            ",\"min\":[{},{},{}],\"max\":[{},{},{}]",
+            num(lo[0]),
+            num(lo[1]),
+            num(lo[2]),
+            num(hi[0]),
+            num(hi[1]),
+            num(hi[2])
+        );
+        let pos = self.accessor(vv, 0, n, "VEC3", &bounds);
+        let nor = self.accessor(vv, 12, n, "VEC3", "");
+        let uv = self.accessor(vv, 24, n, "VEC2", "");
+        self.accessors.push(format!(
+            "{{\"bufferView\":{iv},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
+            m.indices.len()
+        ));
+        let idx = self.accessors.len() - 1;
+        (
+            format!(
+                "\"attributes\":{{\"POSITION\":{pos},\"NORMAL\":{nor},\"TEXCOORD_0\":{uv}}},\"indices\":{idx}"
+            ),
+            n,
+        )
+    }
+}
+
 fn encode(
     prims: Vec<Primitive>,
     extras: &str,
     binary: bool,
     instanced: Option<Instanced>,
 ) -> Result<Vec<u8>> {
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views = String::new();
-    let mut accessors = String::new();
-    let mut prim_json = String::new();
-    let (mut nview, mut nacc) = (0usize, 0usize);
-    for (k, (_, m, material, anim)) in prims.iter().enumerate() {
-        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-        for v in &m.vertices {
-            for c in 0..3 {
-                lo[c] = lo[c].min(v.position[c]);
-                hi[c] = hi[c].max(v.position[c]);
-            }
-        }
-        let vstart = bin.len();
-        bin.extend_from_slice(bytemuck::cast_slice(&m.vertices));
-        let vlen = bin.len() - vstart;
-        pad4(&mut bin, 0);
-        let istart = bin.len();
-        bin.extend_from_slice(bytemuck::cast_slice(&m.indices));
-        let ilen = bin.len() - istart;
-        pad4(&mut bin, 0);
-        let sep = |s: &String| if s.is_empty() { "" } else { "," };
-        let _ = write!(
-            views,
-            "{}{{\"buffer\":0,\"byteOffset\":{vstart},\"byteLength\":{vlen},\"byteStride\":32,\"target\":34962}},\
-             {{\"buffer\":0,\"byteOffset\":{istart},\"byteLength\":{ilen},\"target\":34963}}",
-            sep(&views)
-        );
-        let n = m.vertices.len();
-        let _ = write!(
-            accessors,
-            "{}{{\"bufferView\":{nview},\"byteOffset\":0,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\",\
-             \"min\":[{},{},{}],\"max\":[{},{},{}]}},\
-             {{\"bufferView\":{nview},\"byteOffset\":12,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}},\
-             {{\"bufferView\":{nview},\"byteOffset\":24,\"componentType\":5126,\"count\":{n},\"type\":\"VEC2\"}},\
-             {{\"bufferView\":{},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
-            sep(&accessors),
-            num(lo[0]),
-            num(lo[1]),
-            num(lo[2]),
-            num(hi[0]),
-            num(hi[1]),
-            num(hi[2]),
-            nview + 1,
-            m.indices.len()
-        );
-        // The animation stream: growth time, and (order, along, phase) for wind.
-        let mut custom = String::new();
-        if let Some(a) = anim.as_ref().filter(|a| a.len() == n) {
-            let astart = bin.len();
-            bin.extend_from_slice(bytemuck::cast_slice(a));
-            let alen = bin.len() - astart;
-            let _ = write!(
-                views,
-                ",{{\"buffer\":0,\"byteOffset\":{astart},\"byteLength\":{alen},\"byteStride\":16,\"target\":34962}}"
-            );
-            let _ = write!(
-                accessors,
-                ",{{\"bufferView\":{},\"byteOffset\":0,\"componentType\":5126,\"count\":{n},\"type\":\"SCALAR\"}},\
-                 {{\"bufferView\":{},\"byteOffset\":4,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}}",
-                nview + 2,
-                nview + 2
-            );
-            let _ = write!(custom, ",\"_GROWTH\":{},\"_WIND\":{}", nacc + 4, nacc + 5);
-        }
-        let _ = write!(
-            prim_json,
-            "{}{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{},\"TEXCOORD_0\":{}{custom}}},\"indices\":{},\"material\":{material},\"mode\":4}}",
-            if k == 0 { "" } else { "," },
-            nacc,
-            nacc + 1,
-            nacc + 2,
-            nacc + 3
-        );
-        let extra = if custom.is_empty() { 0 } else { 1 };
-        nview += 2 + extra;
-        nacc += 4 + 2 * extra;
-    }
-    // The instanced leaves: the prefab as a mesh of its own, and per instance its
-    // translation, rotation and scale (tightly packed, as the extension reads them).
-    let mut inst = String::new();
-    let mut inst_ext = String::new();
     let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
-    if let Some((m, instances)) = &instanced {
-        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-        for v in &m.vertices {
-            for c in 0..3 {
-                lo[c] = lo[c].min(v.position[c]);
-                hi[c] = hi[c].max(v.position[c]);
-            }
+    // Only the materials in use, bark first.
+    let mut materials: Vec<Material> = Vec::new();
+    for m in prims
+        .iter()
+        .map(|p| p.material)
+        .chain(instanced.as_ref().map(|_| Material::Leaves))
+    {
+        if !materials.contains(&m) {
+            materials.push(m);
         }
-        let push = |bytes: &[u8], target: &str, bin: &mut Vec<u8>, views: &mut String| {
-            let start = bin.len();
-            bin.extend_from_slice(bytes);
-            let len = bin.len() - start;
-            pad4(bin, 0);
-            let _ = write!(
-                views,
-                "{}{{\"buffer\":0,\"byteOffset\":{start},\"byteLength\":{len}{target}}}",
-                if views.is_empty() { "" } else { "," }
+    }
+    materials.sort_by_key(|m| *m == Material::Leaves);
+    let material = |m: Material| {
+        materials
+            .iter()
+            .position(|&x| x == m)
+            .expect("listed above")
+    };
+    let mut b = Buffers::default();
+    let mut prim_json = Vec::new();
+    for p in &prims {
+        let (mut attributes, n) = b.mesh(&p.mesh);
+        // The animation stream: growth time, and (order, along, phase) for wind.
+        if let Some(a) = p.anim.as_ref().filter(|a| a.len() == n) {
+            let av = b.view(
+                bytemuck::cast_slice(a),
+                ",\"byteStride\":16,\"target\":34962",
             );
-        };
-        let n = m.vertices.len();
-        push(
-            bytemuck::cast_slice(&m.vertices),
-            ",\"byteStride\":32,\"target\":34962",
-            &mut bin,
-            &mut views,
-        );
-        push(
-            bytemuck::cast_slice(&m.indices),
-            ",\"target\":34963",
-            &mut bin,
-            &mut views,
-        );
+            let growth = b.accessor(av, 0, n, "SCALAR", "");
+            let wind = b.accessor(av, 4, n, "VEC3", "");
+            let at = attributes
+                .find("},\"indices\"")
+                .expect("the attributes close there");
+            attributes.insert_str(at, &format!(",\"_GROWTH\":{growth},\"_WIND\":{wind}"));
+        }
+        prim_json.push(format!(
+            "{{{attributes},\"material\":{},\"mode\":4}}",
+            material(p.material)
+        ));
+    }
+    // Meshes and the nodes that hold them: the tree, then the instanced leaves.
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    if !prim_json.is_empty() {
+        nodes.push(format!("{{\"name\":\"tree\",\"mesh\":{}}}", meshes.len()));
+        meshes.push(format!(
+            "{{\"name\":\"tree\",\"primitives\":[{}]}}",
+            prim_json.join(",")
+        ));
+    }
+    let mut used = String::new();
+    if let Some((m, instances)) = &instanced {
+        // The prefab as a mesh of its own, and per instance its translation, rotation and
+        // scale (tightly packed, as the extension reads them).
+        let (attributes, _) = b.mesh(m);
         let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
         let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
         let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
-        push(bytemuck::cast_slice(&t), "", &mut bin, &mut views);
-        push(bytemuck::cast_slice(&r), "", &mut bin, &mut views);
-        push(bytemuck::cast_slice(&sc), "", &mut bin, &mut views);
         let k = instances.len();
-        let _ = write!(
-            accessors,
-            "{}{{\"bufferView\":{nview},\"byteOffset\":0,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\",\
-             \"min\":[{},{},{}],\"max\":[{},{},{}]}},\
-             {{\"bufferView\":{nview},\"byteOffset\":12,\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}},\
-             {{\"bufferView\":{nview},\"byteOffset\":24,\"componentType\":5126,\"count\":{n},\"type\":\"VEC2\"}},\
-             {{\"bufferView\":{},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}},\
-             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC3\"}},\
-             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC4\"}},\
-             {{\"bufferView\":{},\"componentType\":5126,\"count\":{k},\"type\":\"VEC3\"}}",
-            if accessors.is_empty() { "" } else { "," },
-            num(lo[0]),
-            num(lo[1]),
-            num(lo[2]),
-            num(hi[0]),
-            num(hi[1]),
-            num(hi[2]),
-            nview + 1,
-            m.indices.len(),
-            nview + 2,
-            nview + 3,
-            nview + 4
+        let mut per_instance = |bytes: &[u8], ty: &str| {
+            let v = b.view(bytes, "");
+            b.accessors.push(format!(
+                "{{\"bufferView\":{v},\"componentType\":5126,\"count\":{k},\"type\":\"{ty}\"}}"
+            ));
+            b.accessors.len() - 1
+        };
+        let (ta, ra, sa) = (
+            per_instance(bytemuck::cast_slice(&t), "VEC3"),
+            per_instance(bytemuck::cast_slice(&r), "VEC4"),
+            per_instance(bytemuck::cast_slice(&sc), "VEC3"),
         );
-        inst = format!(
-            "{{\"name\":\"leaf\",\"primitives\":[{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{},\"TEXCOORD_0\":{}}},\"indices\":{},\"material\":1,\"mode\":4}}]}}",
-            nacc,
-            nacc + 1,
-            nacc + 2,
-            nacc + 3
-        );
-        inst_ext = format!(
-            "\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{},\"ROTATION\":{},\"SCALE\":{}}}}}}}",
-            nacc + 4,
-            nacc + 5,
-            nacc + 6
-        );
+        nodes.push(format!(
+            "{{\"name\":\"leaves\",\"mesh\":{},\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{ta},\"ROTATION\":{ra},\"SCALE\":{sa}}}}}}}}}",
+            meshes.len()
+        ));
+        meshes.push(format!(
+            "{{\"name\":\"leaf\",\"primitives\":[{{{attributes},\"material\":{},\"mode\":4}}]}}",
+            material(Material::Leaves)
+        ));
+        // Used, not required: a viewer without the extension draws one leaf at the
+        // node; export baked leaves (save_gltf) for such viewers.
+        used = ",\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"]".into();
     }
-    let mut used: Vec<usize> = prims.iter().map(|p| p.2).collect();
-    if instanced.is_some() {
-        used.push(1);
-    }
-    // Materials in index order; a file without leaves still lists both, so indices stay
-    // fixed (an unused material is fine for the validator only if referenced: list only
-    // what is used, renumbered).
-    let mut materials = String::new();
-    let mut remap = [usize::MAX; 2];
-    for (slot, m) in [0usize, 1].into_iter().enumerate() {
-        if !used.contains(&m) {
-            continue;
-        }
-        remap[slot] = materials.matches("\"name\"").count();
-        let _ = write!(
-            materials,
-            "{}{}",
-            if materials.is_empty() { "" } else { "," },
-            if m == 0 {
-                "{\"name\":\"bark\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.36,0.24,0.14,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.9}}"
-            } else {
-                "{\"name\":\"leaves\",\"doubleSided\":true,\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.22,0.52,0.16,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}"
-            }
-        );
-    }
-    let remat = |j: String| {
-        j.replace("\"material\":0,", &format!("\"material\":{},", remap[0]))
-            .replace("\"material\":1,", &format!("\"material\":{},", remap[1]))
-    };
-    let prim_json = remat(prim_json);
-    let inst = remat(inst);
     let uri = if binary {
         String::new()
     } else {
         format!(
             ",\"uri\":\"data:application/octet-stream;base64,{}\"",
-            base64(&bin)
+            base64(&b.bin)
         )
     };
     let mut json = format!(
-        "{{\"asset\":{{\"version\":\"2.0\",\"generator\":\"arbor {}\",\"extras\":{extras}}}",
+        "{{\"asset\":{{\"version\":\"2.0\",\"generator\":\"arbor {}\",\"extras\":{extras}}}{used}",
         env!("CARGO_PKG_VERSION")
     );
-    // Meshes and the nodes that hold them: the tree, then the instanced leaves.
-    let mut meshes = Vec::new();
-    let mut nodes = Vec::new();
-    if !prims.is_empty() {
-        nodes.push(format!("{{\"name\":\"tree\",\"mesh\":{}}}", meshes.len()));
-        meshes.push(format!(
-            "{{\"name\":\"tree\",\"primitives\":[{prim_json}]}}"
-        ));
-    }
-    if !inst.is_empty() {
-        nodes.push(format!(
-            "{{\"name\":\"leaves\",\"mesh\":{},{inst_ext}}}",
-            meshes.len()
-        ));
-        meshes.push(inst);
-        // Used, not required: a viewer without the extension draws one leaf at the
-        // node; export baked leaves (save_gltf) for such viewers.
-        json.push_str(",\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"]");
-    }
     if nodes.is_empty() {
         json.push_str(",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":\"tree\"}]}");
     } else {
         let list: Vec<String> = (0..nodes.len()).map(|k| k.to_string()).collect();
+        let materials: Vec<&str> = materials.iter().map(|m| m.json()).collect();
         let _ = write!(
             json,
             ",\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\
-             \"meshes\":[{}],\"materials\":[{materials}],\
-             \"accessors\":[{accessors}],\"bufferViews\":[{views}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
+             \"meshes\":[{}],\"materials\":[{}],\
+             \"accessors\":[{}],\"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
             list.join(","),
             nodes.join(","),
             meshes.join(","),
-            bin.len()
+            materials.join(","),
+            b.accessors.join(","),
+            b.views.join(","),
+            b.bin.len()
         );
     }
     if !binary {
         return Ok(json.into_bytes());
     }
-    let mut j = json.into_bytes();
+    glb(json.into_bytes(), &b.bin)
+}
+
+/// The GLB container: header, the JSON chunk (padded with spaces), the BIN chunk.
+fn glb(mut j: Vec<u8>, bin: &[u8]) -> Result<Vec<u8>> {
     pad4(&mut j, b' ');
     let with_bin = !bin.is_empty();
     let total = 12 + 8 + j.len() + if with_bin { 8 + bin.len() } else { 0 };
@@ -426,7 +418,7 @@ fn encode(
     if with_bin {
         out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
         out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
+        out.extend_from_slice(bin);
     }
     Ok(out)
 }

@@ -2,6 +2,30 @@
 
 use super::*;
 
+/// The tree, mesh options and path every export takes, checked in that order.
+///
+/// # Safety
+/// `tree` is NULL or live; `mesh_options` is NULL or readable; `path` is NULL or
+/// NUL-terminated.
+unsafe fn export_args<'a>(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    path: *const c_char,
+) -> Result<(&'a ArborTree, MeshOptions, &'a str), FfiError> {
+    // SAFETY: the caller promises `tree` is NULL or live.
+    let tree = unsafe { arg_ref(tree, "tree") }?;
+    // SAFETY: the caller promises `mesh_options` is NULL or readable.
+    let mo = unsafe { read_mesh_options(mesh_options) }?;
+    if path.is_null() {
+        return Err(FfiError::null("path"));
+    }
+    // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
+    let path = unsafe { CStr::from_ptr(path) }
+        .to_str()
+        .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+    Ok((tree, mo, path))
+}
+
 /// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
 /// baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
 /// creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
@@ -17,17 +41,8 @@ pub unsafe extern "C" fn arbor_export_obj(
     path: *const c_char,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
-        if path.is_null() {
-            return Err(FfiError::null("path"));
-        }
-        // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
-        let path = unsafe { CStr::from_ptr(path) }
-            .to_str()
-            .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+        // SAFETY: as the caller promises (see the function's # Safety).
+        let (tree, mo, path) = unsafe { export_args(tree, mesh_options, path) }?;
         let bark = mesh::tubes(&tree.skeleton, &mo)?;
         let result = if leaf_options.is_null() {
             crate::export::save_obj_parts(&[("bark", &bark)], path)
@@ -64,17 +79,8 @@ pub unsafe extern "C" fn arbor_export_gltf(
     path: *const c_char,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
-        if path.is_null() {
-            return Err(FfiError::null("path"));
-        }
-        // SAFETY: the caller promises a non-NULL `path` is NUL-terminated.
-        let path = unsafe { CStr::from_ptr(path) }
-            .to_str()
-            .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
+        // SAFETY: as the caller promises (see the function's # Safety).
+        let (tree, mo, path) = unsafe { export_args(tree, mesh_options, path) }?;
         let leaves = if leaf_options.is_null() {
             None
         } else {

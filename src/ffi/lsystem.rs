@@ -147,6 +147,21 @@ fn grow(
     }
 }
 
+/// The host's options as given (NULL: the defaults) and as the Rust options they mean.
+///
+/// # Safety
+/// `options` is NULL or readable for its `struct_size` bytes.
+unsafe fn read_options(
+    options: *const ArborLsystemOptions,
+) -> Result<(ArborLsystemOptions, LsystemOptions), FfiError> {
+    if options.is_null() {
+        return Ok((ArborLsystemOptions::default(), LsystemOptions::default()));
+    }
+    // SAFETY: the caller promises `options` is readable for its struct_size bytes.
+    let o = unsafe { read_growing(options, "options") }?;
+    Ok((o, o.to_rust()?))
+}
+
 /// A NUL-terminated UTF-8 string argument, or `None` for NULL.
 ///
 /// # Safety
@@ -190,19 +205,10 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let (options, view, raw) = if options.is_null() {
-            (
-                LsystemOptions::default(),
-                None,
-                ArborLsystemOptions::default(),
-            )
-        } else {
-            // SAFETY: the caller promises `options` is readable for its struct_size bytes.
-            let o = unsafe { read_growing(options, "options") }?;
-            // SAFETY: the caller promises `view_path` is NULL or NUL-terminated.
-            let view = unsafe { c_string(o.view_path, "view_path") }?;
-            (o.to_rust()?, view.map(std::path::PathBuf::from), o)
-        };
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let (raw, options) = unsafe { read_options(options) }?;
+        // SAFETY: the caller promises `view_path` is NULL or NUL-terminated.
+        let view = unsafe { c_string(raw.view_path, "view_path") }?.map(std::path::PathBuf::from);
         // SAFETY: the caller promises `path` is NULL or NUL-terminated.
         let Some(path) = (unsafe { c_string(path, "path") })? else {
             return Err(FfiError::null("path"));
@@ -262,19 +268,10 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
     guard(|| {
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let (options, view, raw) = if options.is_null() {
-            (
-                LsystemOptions::default(),
-                None,
-                ArborLsystemOptions::default(),
-            )
-        } else {
-            // SAFETY: the caller promises `options` is readable for its struct_size bytes.
-            let o = unsafe { read_growing(options, "options") }?;
-            // SAFETY: the caller promises `view_text` is NULL or NUL-terminated.
-            let view = unsafe { c_string(o.view_text, "view_text") }?;
-            (o.to_rust()?, view, o)
-        };
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let (raw, options) = unsafe { read_options(options) }?;
+        // SAFETY: the caller promises `view_text` is NULL or NUL-terminated.
+        let view = unsafe { c_string(raw.view_text, "view_text") }?;
         if source_len > MAX_SOURCE_BYTES {
             return Err(crate::Error::invalid(
                 "source_len",

@@ -642,6 +642,10 @@ fn interpret_answering(
         }
     }
     progress.report(Stage::Interpretation, 1.0)?;
+    if !queries.is_empty() {
+        // Answering queries wants the turtle's walk, not a skeleton.
+        return Ok(Skeleton::default());
+    }
     assign_axis_orders(&mut t.branches, &t.cos_to_parent);
     // Every point was checked to be finite and within the f32 range as it was made.
     let curves = cylinder_curves(&t.branches, &t.cylinders);

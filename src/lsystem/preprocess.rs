@@ -269,9 +269,8 @@ fn logical_lines(text: &str, file: &str) -> Result<Vec<(u32, String)>> {
         }
         if c == '\n' {
             line += 1;
-            if let Some(q) = quote.take() {
-                let _ = q; // an unterminated literal ends at the line's end, as in cpp
-            }
+            // An unterminated literal ends at the line's end, as in cpp.
+            quote = None;
             lines.push((start_line, std::mem::take(&mut cur)));
             start_line = line;
             continue;

@@ -145,10 +145,18 @@ fn statement(
             out.push(Stmt::DoWhile(b, c));
             return Ok(());
         }
-        Some("printf") => {
+        Some(f @ ("printf" | "fprintf")) => {
+            // `fprintf(fp, "format", ...)`: files opened for writing go to the log too.
             cur.skip_ws();
             if !cur.eat("(") {
-                return Err(cur.error("`(` after `printf`"));
+                return Err(cur.error(&format!("`(` after `{f}`")));
+            }
+            if f == "fprintf" {
+                let _handle = expr::compile(cur, scope)?;
+                cur.skip_ws();
+                if !cur.eat(",") {
+                    return Err(cur.error("`,` after the file of fprintf"));
+                }
             }
             cur.skip_ws();
             let fmt = string_literal(cur)?;
@@ -159,35 +167,7 @@ fn statement(
                     break;
                 }
                 if !cur.eat(",") {
-                    return Err(cur.error("`,` or `)` in printf"));
-                }
-                args.push(expr::compile(cur, scope)?);
-            }
-            end_of_statement(cur)?;
-            out.push(Stmt::Printf(fmt.into(), args));
-            return Ok(());
-        }
-        Some("fprintf") => {
-            // `fprintf(fp, "format", ...)`: files opened for writing go to the log.
-            cur.skip_ws();
-            if !cur.eat("(") {
-                return Err(cur.error("`(` after `fprintf`"));
-            }
-            let _handle = expr::compile(cur, scope)?;
-            cur.skip_ws();
-            if !cur.eat(",") {
-                return Err(cur.error("`,` after the file of fprintf"));
-            }
-            cur.skip_ws();
-            let fmt = string_literal(cur)?;
-            let mut args = Vec::new();
-            loop {
-                cur.skip_ws();
-                if cur.eat(")") {
-                    break;
-                }
-                if !cur.eat(",") {
-                    return Err(cur.error("`,` or `)` in fprintf"));
+                    return Err(cur.error(&format!("`,` or `)` in {f}")));
                 }
                 args.push(expr::compile(cur, scope)?);
             }
