@@ -4,6 +4,7 @@
 #include "check.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char *honda_g =
@@ -238,7 +239,7 @@ static void organs_and_colours(void) {
 
 /* Progress: what the callback saw, and after how many calls it says stop (0: never). */
 typedef struct {
-  int calls, stop_after, stages[3];
+  int calls, stop_after, stages[4];
   float last;
   int backwards;
 } Seen;
@@ -246,7 +247,7 @@ typedef struct {
 static int32_t on_progress(void *user, uint32_t stage, float fraction) {
   Seen *s = user;
   s->calls++;
-  if (stage < 3) s->stages[stage]++;
+  if (stage < 4) s->stages[stage]++;
   if (fraction < 0.0f || fraction > 1.0f) s->backwards = 1;
   s->last = fraction;
   return s->stop_after > 0 && s->calls >= s->stop_after;
@@ -277,8 +278,72 @@ static void progress_and_cancellation(void) {
   CHECK(strcmp(arbor_status_str(ARBOR_STATUS_CANCELLED), "cancelled") == 0, "status string");
 }
 
+/* Mesh writes report ARBOR_STAGE_MESH every 65,536 branches and stop when asked; engine
+   presets mirror (Unity: x negated) and unknown presets are refused by name. */
+static void mesh_progress_and_presets(void) {
+  const char *g = "derivation length: 11\nAxiom: F\nF --> F[+F]F\n";
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), NULL, &t), ARBOR_STATUS_OK);
+  size_t n = arbor_tree_branch_count(t);
+  ArborMeshOptions o = arbor_mesh_options_default();
+  o.radial_segments = 3;
+  /* One thread: Rust's scoped threads keep a handle to the calling thread that valgrind
+     counts as possibly lost at exit (the Rust tests cover threaded writes). */
+  o.threads = 1;
+  size_t nv = 0, ni = 0;
+  CHECK_STATUS(arbor_mesh_size(t, &o, &nv, &ni), ARBOR_STATUS_OK);
+  ArborVertex *v = malloc(nv * sizeof *v), *u = malloc(nv * sizeof *u);
+  uint32_t *idx = malloc(ni * sizeof *idx);
+  Seen seen = {0};
+  o.progress = on_progress;
+  o.progress_user_data = &seen;
+  CHECK_STATUS(arbor_mesh_write(t, &o, v, nv, idx, ni), ARBOR_STATUS_OK);
+  size_t rounds = (n + 65535) / 65536;
+  CHECK(seen.stages[ARBOR_STAGE_MESH] == (int)rounds && seen.calls == (int)rounds,
+        "%zu branches: %d mesh reports, expected %zu", n, seen.stages[ARBOR_STAGE_MESH], rounds);
+  CHECK(seen.last == 1.0f && !seen.backwards, "last fraction %g", seen.last);
+  for (int stop = 1; stop <= 2; stop++) {
+    Seen cancel = {0};
+    cancel.stop_after = stop;
+    o.progress_user_data = &cancel;
+    CHECK_STATUS(arbor_mesh_write(t, &o, u, nv, idx, ni), ARBOR_STATUS_CANCELLED);
+    CHECK(cancel.calls == stop, "mesh write stopped after %d calls", cancel.calls);
+    message_contains("cancelled");
+  }
+  /* An export that is cancelled writes no file. */
+  Seen cancel = {0};
+  cancel.stop_after = 1;
+  o.progress_user_data = &cancel;
+  remove("cancelled.glb");
+  CHECK_STATUS(arbor_export_gltf(t, &o, NULL, "cancelled.glb"), ARBOR_STATUS_CANCELLED);
+  FILE *f = fopen("cancelled.glb", "rb");
+  CHECK(f == NULL, "a cancelled export left a file");
+  if (f) fclose(f);
+  /* Unity: the same mesh with x negated. */
+  o.progress = NULL;
+  o.axes = ARBOR_AXES_UNITY;
+  CHECK_STATUS(arbor_mesh_write(t, &o, u, nv, idx, ni), ARBOR_STATUS_OK);
+  int mirrored = 1;
+  for (size_t k = 0; k < nv; k += 997)
+    mirrored &= u[k].position[0] == -v[k].position[0] && u[k].position[1] == v[k].position[1] &&
+                u[k].normal[0] == -v[k].normal[0];
+  CHECK(mirrored, "ARBOR_AXES_UNITY mirrors x");
+  o.axes = 7;
+  CHECK_STATUS(arbor_mesh_write(t, &o, u, nv, idx, ni), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("axes");
+  o.axes = ARBOR_AXES_UNREAL;
+  o.winding = ARBOR_WINDING_CLOCKWISE;
+  CHECK_STATUS(arbor_mesh_size(t, &o, &nv, &ni), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("winding");
+  free(v);
+  free(u);
+  free(idx);
+  arbor_tree_free(t);
+}
+
 int main(int argc, char **argv) {
   progress_and_cancellation();
+  mesh_progress_and_presets();
   organs_and_colours();
   grows_like_the_direct_model();
   options_apply();

@@ -158,12 +158,12 @@ int main(int argc, char **argv) {
   }
 
   // Unreal: CreateMeshSection(0, Vertices, Triangles, Normals, UV0, ...) wants a triangle
-  // list, Z up, centimetres and clockwise front faces.
+  // list in Unreal's left-handed, Z-up centimetres, faces as Unreal culls them: the
+  // Unreal preset (a mirror, so tree g spirals as it does in arbor).
   ArborMeshOptions ue = arbor::mesh_options();
   ue.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
-  ue.up_axis = ARBOR_UP_AXIS_Z;
-  ue.winding = ARBOR_WINDING_CLOCKWISE;
-  ue.scale = 1.0f;  // the 1996 trees are 100 units tall: 1 unit = 1 cm
+  ue.axes = ARBOR_AXES_UNREAL;
+  ue.scale = 0.1f;  // the 1996 trees are 100 units tall: as 10 m, 1,000 cm
   arbor::Tree tree = arbor::Tree::honda('g');
   arbor::Mesh section = tree.mesh(ue);
   std::vector<FVector> Vertices, Normals;
@@ -178,7 +178,20 @@ int main(int argc, char **argv) {
   EXPECT(Triangles.size() % 3 == 0 && Vertices.size() == section.vertices().size(), "arrays");
   double top = 0;
   for (const FVector &p : Vertices) top = p.Z > top ? p.Z : top;
-  EXPECT(top > 100.0, "Z is up: the trunk alone reaches 100 (top %f)", top);
+  EXPECT(top > 1000.0 * 0.999, "Z is up in cm: the trunk alone reaches 1,000 (top %f)", top);
+  // A mesh write reports progress through the same options and can be cancelled.
+  int reports = 0;
+  auto count = [&reports](uint32_t stage, float) { reports += stage == ARBOR_STAGE_MESH; return true; };
+  arbor::set_progress(ue, count);
+  EXPECT(tree.mesh(ue).vertices().size() == section.vertices().size() && reports == 1, "mesh progress: %d reports", reports);
+  auto stop = [](uint32_t, float) { return false; };
+  arbor::set_progress(ue, stop);
+  try {
+    tree.mesh(ue);
+    EXPECT(false, "no exception for a cancelled mesh");
+  } catch (const arbor::Error &e) {
+    EXPECT(e.status() == ARBOR_STATUS_CANCELLED, "status %d", (int)e.status());
+  }
 
   std::printf("wrapper: %d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;

@@ -111,6 +111,11 @@
 #define ARBOR_STAGE_GROWTH 2
 
 /**
+ * ArborProgressFn stage: writing a mesh (or the meshes of an export or a forest).
+ */
+#define ARBOR_STAGE_MESH 3
+
+/**
  * ArborOrgan.kind of a sphere (`@O`).
  */
 #define ARBOR_ORGAN_SPHERE 0
@@ -239,10 +244,33 @@ typedef enum ArborUpAxis {
    */
   ARBOR_UP_AXIS_Y = 0,
   /**
-   * Z up (Unreal): (x, y, z) becomes (x, -z, y), a rotation that keeps the winding.
+   * Z up: (x, y, z) becomes (x, -z, y), a rotation that keeps the winding (and the
+   * handedness: for Unreal, which is left-handed, use ARBOR_AXES_UNREAL).
    */
   ARBOR_UP_AXIS_Z = 1,
 } ArborUpAxis;
+
+/**
+ * Engine conventions of the output; ArborMeshOptions.axes. The presets convert as the
+ * engines' own importers do: a mirror into their left-handed space (never a rotation),
+ * so trees keep their handedness.
+ */
+typedef enum ArborAxes {
+  /**
+   * arbor's right-handed space with up_axis, winding and scale as given (default).
+   */
+  ARBOR_AXES_ARBOR = 0,
+  /**
+   * Unity: left-handed, Y up, metres: (x, y, z) becomes (-x, y, z) as Unity's glTF
+   * importers do, front faces clockwise in Unity's space.
+   */
+  ARBOR_AXES_UNITY = 1,
+  /**
+   * Unreal: left-handed, Z up, centimetres: (x, y, z) becomes (100x, 100z, 100y), the
+   * inverse of Unreal's glTF exporter, front faces as Unreal culls them.
+   */
+  ARBOR_AXES_UNREAL = 2,
+} ArborAxes;
 
 /**
  * Identifies a struct of this header for arbor_struct_size().
@@ -493,6 +521,14 @@ typedef struct ArborCurveGrowthRecord {
 } ArborCurveGrowthRecord;
 
 /**
+ * A progress callback (see "Progress and cancellation" in the README): called on the
+ * calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
+ * non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
+ * out-parameter and leaks nothing.
+ */
+typedef int32_t (*ArborProgressFn)(void *user_data, uint32_t stage, float fraction);
+
+/**
  * Options of the tube mesher: a struct that grows (see "Structs that grow" in the
  * README). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
  * change what you need. Enum-like fields are validated (unknown values give
@@ -572,6 +608,24 @@ typedef struct ArborMeshOptions {
    * first layout.)
    */
   uint32_t curve_rings;
+  /**
+   * Called while a mesh is written (arbor_mesh_write, arbor_mesh_create,
+   * arbor_forest_mesh_write, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
+   * every 65,536 branches and at the end, on the calling thread; non-zero stops with
+   * ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an export writes no
+   * file). NULL (default): none. (Added after the first layout.)
+   */
+  ArborProgressFn progress;
+  /**
+   * Passed to `progress`. (Added after the first layout.)
+   */
+  void *progress_user_data;
+  /**
+   * An ArborAxes value: ARBOR_AXES_UNITY or ARBOR_AXES_UNREAL set the axes, units and
+   * winding of that engine (then up_axis and winding must stay at their defaults, and
+   * scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
+   */
+  uint32_t axes;
 } ArborMeshOptions;
 
 /**
@@ -737,14 +791,6 @@ typedef struct ArborVertex {
    */
   float uv[2];
 } ArborVertex;
-
-/**
- * A progress callback (see "Progress and cancellation" in the README): called on the
- * calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
- * non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
- * out-parameter and leaks nothing.
- */
-typedef int32_t (*ArborProgressFn)(void *user_data, uint32_t stage, float fraction);
 
 /**
  * Options of a world: a struct that grows (see "Structs that grow" in the README).

@@ -12,6 +12,7 @@ use crate::lsystem::{LSystem, LsystemOptions};
 use crate::mesh::Slot;
 use crate::mesh::{self, Mesh, MeshOptions, MeshPlan, MeshSize, RESTART_INDEX, Topology, Vertex};
 use crate::models::honda::{self, HondaParams};
+use crate::progress::Progress;
 use crate::skeleton::Skeleton;
 
 /// What one tree of the forest grows from.
@@ -115,10 +116,7 @@ pub struct Placed<'a> {
 /// A placement as a column-major 4 × 4 matrix (rotation about the up axis, then scale,
 /// then translation), for instanced drawing.
 pub fn transform(p: &Placed<'_>, options: &MeshOptions) -> [f32; 16] {
-    let up = match options.up_axis {
-        crate::mesh::UpAxis::Y => glam::Vec3::Y,
-        crate::mesh::UpAxis::Z => glam::Vec3::Z,
-    };
+    let up = options.up();
     glam::Mat4::from_scale_rotation_translation(
         glam::Vec3::splat(p.scale),
         glam::Quat::from_axis_angle(up, p.rotation.to_radians()),
@@ -237,7 +235,7 @@ pub fn write_merged(
     vertices: &mut [Vertex],
     indices: &mut [u32],
 ) -> Result<MeshSize> {
-    write_merged_into(placed, options, vertices, indices)
+    write_merged_into(placed, options, vertices, indices, &mut Progress::default())
 }
 
 /// [`write_merged`] into uninitialised memory (a mapped GPU buffer).
@@ -247,7 +245,22 @@ pub fn write_merged_uninit(
     vertices: &mut [std::mem::MaybeUninit<Vertex>],
     indices: &mut [std::mem::MaybeUninit<u32>],
 ) -> Result<MeshSize> {
-    write_merged_into(placed, options, vertices, indices)
+    write_merged_into(placed, options, vertices, indices, &mut Progress::default())
+}
+
+/// [`write_merged_uninit`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) to
+/// `progress` (the fraction of the trees meshed) on the calling thread after each tree;
+/// `false` stops with [`Error::Cancelled`](crate::Error::Cancelled) before anything is
+/// written into the buffers.
+pub fn write_merged_uninit_with_progress(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    vertices: &mut [std::mem::MaybeUninit<Vertex>],
+    indices: &mut [std::mem::MaybeUninit<u32>],
+    progress: crate::progress::ProgressFn<'_>,
+) -> Result<MeshSize> {
+    let mut p = Progress::new(Some(progress));
+    write_merged_into(placed, options, vertices, indices, &mut p)
 }
 
 fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
@@ -255,10 +268,24 @@ fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
     options: &MeshOptions,
     vertices: &mut [V],
     indices: &mut [I],
+    progress: &mut Progress<'_>,
 ) -> Result<MeshSize> {
     let (planned, size) = grow_and_plan(placed, options)?;
     size.check_capacity(vertices.len(), indices.len())?;
-    let meshes = each(&planned, |(s, plan)| plan.mesh(s))?;
+    let meshes = if progress.active() {
+        // One tree at a time, so the calling thread can report between them.
+        let mut meshes = Vec::with_capacity(planned.len());
+        for (k, (s, plan)) in planned.iter().enumerate() {
+            meshes.push(plan.mesh(s)?);
+            progress.report(
+                crate::progress::Stage::Mesh,
+                (k + 1) as f64 / planned.len() as f64,
+            )?;
+        }
+        meshes
+    } else {
+        each(&planned, |(s, plan)| plan.mesh(s))?
+    };
     place(
         placed,
         &meshes,
@@ -332,27 +359,45 @@ pub fn instanced(
     options: &MeshOptions,
 ) -> Result<(Vec<Mesh>, Vec<Instance>)> {
     check_placed(placed)?;
+    let which = instance_meshes(placed);
     let mut distinct: Vec<Item<'_>> = Vec::new();
-    let mut which = Vec::with_capacity(placed.len());
-    for p in placed {
-        let same = |a: &Item<'_>| {
-            a.seed == p.item.seed
-                && match (a.source, p.item.source) {
-                    (Source::Honda(x), Source::Honda(y)) => x == y,
-                    (Source::Grammar(x, ox), Source::Grammar(y, oy)) => {
-                        std::ptr::eq(x, y) && ox == oy
-                    }
-                    _ => false,
-                }
-        };
-        let k = match distinct.iter().position(same) {
-            Some(k) => k,
-            None => {
-                distinct.push(p.item);
-                distinct.len() - 1
-            }
-        };
-        which.push((k as u32, transform(p, options)));
+    for (p, &k) in placed.iter().zip(&which) {
+        if k == distinct.len() {
+            distinct.push(p.item);
+        }
     }
-    Ok((build(&distinct, options)?, which))
+    let instances = placed
+        .iter()
+        .zip(&which)
+        .map(|(p, &k)| (k as u32, transform(p, options)))
+        .collect();
+    Ok((build(&distinct, options)?, instances))
+}
+
+/// Per placement, the index of its distinct tree (same source and seed), numbered in
+/// order of first appearance, as [`instanced`] numbers its meshes.
+pub fn instance_meshes(placed: &[Placed<'_>]) -> Vec<usize> {
+    let mut distinct: Vec<Item<'_>> = Vec::new();
+    placed
+        .iter()
+        .map(|p| {
+            let same = |a: &Item<'_>| {
+                a.seed == p.item.seed
+                    && match (a.source, p.item.source) {
+                        (Source::Honda(x), Source::Honda(y)) => x == y,
+                        (Source::Grammar(x, ox), Source::Grammar(y, oy)) => {
+                            std::ptr::eq(x, y) && ox == oy
+                        }
+                        _ => false,
+                    }
+            };
+            match distinct.iter().position(same) {
+                Some(k) => k,
+                None => {
+                    distinct.push(p.item);
+                    distinct.len() - 1
+                }
+            }
+        })
+        .collect()
 }

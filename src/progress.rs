@@ -28,6 +28,8 @@ pub enum Stage {
     Interpretation = 1,
     /// Growth cycles of a self-organizing world (fraction: cycles done).
     Growth = 2,
+    /// Writing a mesh (fraction: branches written).
+    Mesh = 3,
 }
 
 impl Stage {
@@ -37,6 +39,7 @@ impl Stage {
             Stage::Derivation => "derivation",
             Stage::Interpretation => "interpretation",
             Stage::Growth => "growth",
+            Stage::Mesh => "mesh",
         }
     }
 }

@@ -12,6 +12,13 @@ use std::time::{Duration, Instant};
 #[global_allocator]
 static ALLOC: PeakAlloc = PeakAlloc;
 
+/// The allocator's counts are global: each test measures alone.
+static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn alone() -> std::sync::MutexGuard<'static, ()> {
+    ALONE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 const TIME_BUDGET: Duration = Duration::from_secs(10);
 const MEMORY_BUDGET: usize = 1 << 30;
 
@@ -20,7 +27,7 @@ fn within_budget(what: &str, f: impl FnOnce() -> Result<(), Error>) {
     ALLOC.reset_peak_usage();
     let start = Instant::now();
     let result = f();
-    let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
+    let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
     match result {
         Err(Error::LimitExceeded {
             limit_name, step, ..
@@ -36,6 +43,7 @@ fn within_budget(what: &str, f: impl FnOnce() -> Result<(), Error>) {
 
 #[test]
 fn growth_bombs_stop_within_budget() {
+    let _alone = alone();
     let grow = |text: &str| {
         let ls = LSystem::parse(text).unwrap();
         ls.skeleton(&LsystemOptions::default()).map(|_| ())
@@ -66,6 +74,7 @@ fn growth_bombs_stop_within_budget() {
 /// limit, well inside a budget of 64 MiB.
 #[test]
 fn output_limits_stop_before_the_memory_is_spent() {
+    let _alone = alone();
     use arbor::forest::{self, Item, Placed, Source};
     use arbor::mesh::{self, LeafOptions, MeshOptions};
     let mut p = HondaParams::preset('a').unwrap();
@@ -78,7 +87,7 @@ fn output_limits_stop_before_the_memory_is_spent() {
             Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, limit, "{what}"),
             other => panic!("{what}: expected LimitExceeded, got {other:?}"),
         }
-        let peak = ALLOC.peak_usage() - base;
+        let peak = ALLOC.peak_usage().saturating_sub(base);
         println!("{what}: {limit}, peak {peak} bytes");
         assert!(peak < 64 << 20, "{what} peaked at {peak} bytes");
     };
@@ -131,6 +140,7 @@ fn output_limits_stop_before_the_memory_is_spent() {
 /// doubling steps; the default is 2^28).
 #[test]
 fn the_work_limit_stops_a_steady_state_derivation() {
+    let _alone = alone();
     let text = "Lsystem: 1\nderivation length: 65535\nAxiom: A(0)\nA(n) : n < 24 --> A(n+1)A(n+1)\nendlsystem";
     let ls = LSystem::parse(text).unwrap();
     within_budget("steady state, 65,535 steps", || {
@@ -154,6 +164,7 @@ fn the_work_limit_stops_a_steady_state_derivation() {
 /// fills (length / cell)³ grid cells.
 #[test]
 fn pruning_a_very_long_branch_stays_small() {
+    let _alone = alone();
     let ls = LSystem::parse(
         "Lsystem: 1\nderivation length: 10\nAxiom: F[+(45)&(35)F(10000)]\nF --> FF\nendlsystem",
     )
@@ -164,7 +175,7 @@ fn pruning_a_very_long_branch_stays_small() {
     ALLOC.reset_peak_usage();
     let start = Instant::now();
     let p = arbor::skeleton::prune::prune_collisions(&s);
-    let (took, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
+    let (took, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
     println!(
         "long branch: {} removed, {took:?}, peak {peak} bytes",
         p.removed
@@ -178,12 +189,13 @@ fn pruning_a_very_long_branch_stays_small() {
 /// clear error inside the same time and memory budget.
 #[test]
 fn preprocessor_and_statement_bombs_stop_within_budget() {
+    let _alone = alone();
     let measure = |what: &str, text: &str, expect: &str| {
         let base = ALLOC.current_usage();
         ALLOC.reset_peak_usage();
         let start = Instant::now();
         let r = LSystem::parse(text).and_then(|ls| ls.skeleton(&LsystemOptions::default()));
-        let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
+        let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
         let e = r.expect_err(what).to_string();
         println!("{what}: {elapsed:?}, peak {peak} bytes: {e}");
         assert!(e.contains(expect), "{what}: {e}");

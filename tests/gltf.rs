@@ -211,6 +211,47 @@ fn exported_files_read_back_and_pass_the_validator() {
         assert_eq!(prims[0].3, merged.indices);
         files.push(path);
     }
+    // The same forest as one node per placed tree sharing meshes: twelve placements of
+    // three distinct trees (two presets, one of them with two seeds).
+    let shared: Vec<arbor::forest::Placed> = (0..12)
+        .map(|k| arbor::forest::Placed {
+            item: arbor::forest::Item {
+                source: arbor::forest::Source::Honda(presets[[0, 6, 6][k % 3]]),
+                seed: [0, 0, 1][k % 3],
+            },
+            position: [(k % 4) as f32 * 300.0, 0.0, (k / 4) as f32 * 300.0],
+            rotation: k as f32 * 30.0,
+            scale: 0.5 + k as f32 * 0.1,
+        })
+        .collect();
+    let (distinct, _) = arbor::forest::instanced(&shared, &list_options()).unwrap();
+    assert_eq!(distinct.len(), 3);
+    for ext in ["glb", "gltf"] {
+        let path = out_dir().join(format!("forest_nodes.{ext}"));
+        arbor::export::save_gltf_forest_nodes(&shared, &MeshOptions::default(), &path).unwrap();
+        let prims = read_back(&path);
+        assert_eq!(prims.len(), 3, "one mesh per distinct tree");
+        for (p, m) in prims.iter().zip(&distinct) {
+            assert_eq!(p.0.len(), m.vertices.len());
+            assert_eq!(p.3, m.indices);
+        }
+        let g = gltf::Gltf::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+        let nodes: Vec<_> = g.document.nodes().collect();
+        assert_eq!(nodes.len(), 12, "one node per placement");
+        let which = arbor::forest::instance_meshes(&shared);
+        for ((n, p), w) in nodes.iter().zip(&shared).zip(&which) {
+            assert_eq!(n.mesh().map(|m| m.index()), Some(*w));
+            let (t, r, sc) = n.transform().decomposed();
+            assert_eq!(t, p.position);
+            assert_eq!(sc, [p.scale; 3]);
+            let q = glam::Quat::from_rotation_y(p.rotation.to_radians());
+            assert!(
+                glam::Quat::from_array(r).abs_diff_eq(q, 1e-6),
+                "{r:?} vs {q:?}"
+            );
+        }
+        files.push(path);
+    }
     // Settings in asset.extras, the animation stream as custom attributes; a bad
     // extension is refused by name.
     let text = std::fs::read_to_string(out_dir().join("tree_a.gltf")).unwrap();

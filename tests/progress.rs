@@ -108,3 +108,57 @@ fn growth_reports_every_cycle_and_stops_between_cycles() {
     assert!(matches!(r, Err(Error::Cancelled { stage: "growth" })));
     assert_eq!(stopped.branch_count(), three.branch_count());
 }
+
+#[test]
+fn mesh_writes_report_and_stop() {
+    use arbor::mesh::{MeshOptions, MeshPlan, Topology};
+    // 5^8 = 390,625 branches: six rounds of 65,536.
+    let ls = LSystem::parse("derivation length: 8\nAxiom: F\nF --> F[+F]F[-F]F\n").unwrap();
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert!(s.len() > 2 * 65_536, "{} branches", s.len());
+    for topology in [
+        Topology::TriangleList,
+        Topology::TriangleStripRestart,
+        Topology::TriangleStripDegenerate,
+    ] {
+        for threads in [1, 2] {
+            let o = MeshOptions {
+                topology,
+                threads,
+                ..Default::default()
+            };
+            let plan = MeshPlan::new(&s, &o).unwrap();
+            let plain = plan.mesh(&s).unwrap();
+            let mut seen = Vec::new();
+            let mut record = |stage: Stage, f: f32| {
+                seen.push((stage, f));
+                true
+            };
+            let with = plan.mesh_with_progress(&s, &mut record).unwrap();
+            assert!(
+                with == plain,
+                "{topology:?} on {threads}: progress changes nothing"
+            );
+            assert!(seen.iter().all(|x| x.0 == Stage::Mesh));
+            assert!(seen.len() >= 2, "{seen:?}");
+            assert!(seen.windows(2).all(|w| w[0].1 < w[1].1));
+            assert_eq!(seen.last().unwrap().1, 1.0);
+            let mut calls = 0;
+            let mut stop = |_: Stage, _: f32| {
+                calls += 1;
+                false
+            };
+            let e = plan.mesh_with_progress(&s, &mut stop).unwrap_err();
+            assert!(matches!(e, Error::Cancelled { stage: "mesh" }), "{e}");
+            assert_eq!(calls, 1, "stops at the first report");
+        }
+    }
+    // An export that is cancelled creates no file.
+    let path = std::env::temp_dir().join(format!("arbor-cancel-{}.glb", std::process::id()));
+    let mut stop = |_: Stage, _: f32| false;
+    let e =
+        arbor::export::save_gltf_with_progress(&s, &MeshOptions::default(), None, &path, &mut stop)
+            .unwrap_err();
+    assert!(matches!(e, Error::Cancelled { .. }));
+    assert!(!path.exists());
+}

@@ -11,7 +11,8 @@
 //! `asset.extras`.
 
 use crate::error::{Error, Result};
-use crate::mesh::{self, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
+use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
+use crate::progress::ProgressFn;
 use crate::skeleton::Skeleton;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -49,6 +50,7 @@ fn gltf_options(options: &MeshOptions) -> MeshOptions {
         topology: Topology::TriangleList,
         winding: Winding::CounterClockwise,
         up_axis: UpAxis::Y,
+        axes: Axes::Arbor,
         ..*options
     }
 }
@@ -59,11 +61,16 @@ fn primitives(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
+    progress: Option<ProgressFn<'_>>,
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
     let o = gltf_options(options);
     let plan = mesh::MeshPlan::new(skeleton, &o)?;
+    let bark = match progress {
+        Some(f) => plan.mesh_with_progress(skeleton, f)?,
+        None => plan.mesh(skeleton)?,
+    };
     let mut out = vec![Primitive {
-        mesh: plan.mesh(skeleton)?,
+        mesh: bark,
         material: Material::Bark,
         anim: Some(plan.animation(skeleton)?),
     }];
@@ -118,7 +125,17 @@ pub fn gltf_bytes(
     leaves: Option<&LeafOptions>,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, leaves)?;
+    gltf_bytes_with(skeleton, options, leaves, binary, None)
+}
+
+fn gltf_bytes_with(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    binary: bool,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<Vec<u8>> {
+    let (o, prims) = primitives(skeleton, options, leaves, progress)?;
     let extras = format!(
         "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"curve_rings\":{},\"scale\":{},\"leaves\":{}}}",
         skeleton.len(),
@@ -127,7 +144,7 @@ pub fn gltf_bytes(
         num(o.scale),
         leaves.is_some()
     );
-    encode(prims, &extras, binary, NO_INSTANCES)
+    encode(one_tree(prims), &extras, binary, NO_INSTANCES)
 }
 
 /// [`gltf_bytes`] with the leaves as instances of one leaf mesh (the leaf options'
@@ -141,7 +158,7 @@ pub fn gltf_bytes_instanced(
     leaves: &LeafOptions,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, None)?;
+    let (o, prims) = primitives(skeleton, options, None, None)?;
     let instances = mesh::leaf_instances(skeleton, leaves, &o)?;
     let prefab = leaves.prefab.clone().unwrap_or_else(mesh::LeafPrefab::quad);
     let quad = Mesh {
@@ -156,7 +173,7 @@ pub fn gltf_bytes_instanced(
         o.radial_segments,
         instances.len()
     );
-    encode(prims, &extras, binary, Some((quad, instances)))
+    encode(one_tree(prims), &extras, binary, Some((quad, instances)))
 }
 
 /// A forest as glTF: the trees merged into one bark mesh (one draw call), as
@@ -183,7 +200,64 @@ pub fn gltf_forest_bytes(
             anim: None,
         }]
     };
-    encode(prims, &extras, binary, NO_INSTANCES)
+    encode(one_tree(prims), &extras, binary, NO_INSTANCES)
+}
+
+/// A forest as one node per placed tree: one mesh per distinct tree (same source and
+/// seed, as [`forest::instanced`](crate::forest::instanced) finds them), shared by every
+/// node that places it, each node with the placement's translation, rotation about Y and
+/// uniform scale. Smaller than the merged file when trees repeat, and an engine keeps
+/// each tree a node of its own (to move, cull or swap); [`gltf_forest_bytes`] merges.
+pub fn gltf_forest_nodes_bytes(
+    placed: &[crate::forest::Placed<'_>],
+    options: &MeshOptions,
+    binary: bool,
+) -> Result<Vec<u8>> {
+    let o = gltf_options(options);
+    let (meshes, _) = crate::forest::instanced(placed, &o)?;
+    let which = crate::forest::instance_meshes(placed);
+    let trees: Vec<Vec<Primitive>> = meshes
+        .into_iter()
+        .map(|mesh| {
+            vec![Primitive {
+                mesh,
+                material: Material::Bark,
+                anim: None,
+            }]
+        })
+        .collect();
+    let nodes = placed
+        .iter()
+        .zip(which)
+        .enumerate()
+        .map(|(k, (p, mesh))| {
+            let q = glam::Quat::from_rotation_y(p.rotation.to_radians());
+            Node {
+                name: format!("tree {k}"),
+                mesh,
+                trs: Some((p.position, q.to_array(), p.scale)),
+            }
+        })
+        .collect();
+    let extras = format!(
+        "{{\"generator\":\"arbor\",\"trees\":{},\"distinct_trees\":{},\"radial_segments\":{},\"scale\":{}}}",
+        placed.len(),
+        trees.len(),
+        o.radial_segments,
+        num(o.scale)
+    );
+    encode((trees, nodes), &extras, binary, NO_INSTANCES)
+}
+
+/// Writes [`gltf_forest_nodes_bytes`] to `path` (`.glb` or `.gltf`, as [`save_gltf`]).
+pub fn save_gltf_forest_nodes(
+    placed: &[crate::forest::Placed<'_>],
+    options: &MeshOptions,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    let path = path.as_ref();
+    let bytes = gltf_forest_nodes_bytes(placed, options, binary_by_extension(path)?)?;
+    write(path, bytes)
 }
 
 /// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
@@ -269,8 +343,25 @@ impl Buffers {
     }
 }
 
+/// A node of the scene: which tree mesh it draws and where (none: the identity).
+struct Node {
+    name: String,
+    mesh: usize,
+    trs: Option<([f32; 3], [f32; 4], f32)>,
+}
+
+/// One tree mesh drawn by one node at the origin, as single-tree files are.
+fn one_tree(prims: Vec<Primitive>) -> (Vec<Vec<Primitive>>, Vec<Node>) {
+    let node = Node {
+        name: "tree".into(),
+        mesh: 0,
+        trs: None,
+    };
+    (vec![prims], vec![node])
+}
+
 fn encode(
-    prims: Vec<Primitive>,
+    (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
     extras: &str,
     binary: bool,
     instanced: Option<Instanced>,
@@ -278,8 +369,9 @@ fn encode(
     let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
     // Only the materials in use, bark first.
     let mut materials: Vec<Material> = Vec::new();
-    for m in prims
+    for m in trees
         .iter()
+        .flatten()
         .map(|p| p.material)
         .chain(instanced.as_ref().map(|_| Material::Leaves))
     {
@@ -295,36 +387,66 @@ fn encode(
             .expect("listed above")
     };
     let mut b = Buffers::default();
-    let mut prim_json = Vec::new();
-    for p in &prims {
-        let (mut attributes, n) = b.mesh(&p.mesh);
-        // The animation stream: growth time, and (order, along, phase) for wind.
-        if let Some(a) = p.anim.as_ref().filter(|a| a.len() == n) {
-            let av = b.view(
-                bytemuck::cast_slice(a),
-                ",\"byteStride\":16,\"target\":34962",
-            );
-            let growth = b.accessor(av, 0, n, "SCALAR", "");
-            let wind = b.accessor(av, 4, n, "VEC3", "");
-            let at = attributes
-                .find("},\"indices\"")
-                .expect("the attributes close there");
-            attributes.insert_str(at, &format!(",\"_GROWTH\":{growth},\"_WIND\":{wind}"));
-        }
-        prim_json.push(format!(
-            "{{{attributes},\"material\":{},\"mode\":4}}",
-            material(p.material)
-        ));
-    }
-    // Meshes and the nodes that hold them: the tree, then the instanced leaves.
+    // Meshes and the nodes that hold them: the trees (a tree without triangles gets no
+    // mesh, and its node none), then the instanced leaves.
     let mut meshes = Vec::new();
+    let mut mesh_of = Vec::with_capacity(trees.len());
+    for prims in &trees {
+        let mut prim_json = Vec::new();
+        for p in prims.iter().filter(|p| !p.mesh.indices.is_empty()) {
+            let (mut attributes, n) = b.mesh(&p.mesh);
+            // The animation stream: growth time, and (order, along, phase) for wind.
+            if let Some(a) = p.anim.as_ref().filter(|a| a.len() == n) {
+                let av = b.view(
+                    bytemuck::cast_slice(a),
+                    ",\"byteStride\":16,\"target\":34962",
+                );
+                let growth = b.accessor(av, 0, n, "SCALAR", "");
+                let wind = b.accessor(av, 4, n, "VEC3", "");
+                let at = attributes
+                    .find("},\"indices\"")
+                    .expect("the attributes close there");
+                attributes.insert_str(at, &format!(",\"_GROWTH\":{growth},\"_WIND\":{wind}"));
+            }
+            prim_json.push(format!(
+                "{{{attributes},\"material\":{},\"mode\":4}}",
+                material(p.material)
+            ));
+        }
+        if prim_json.is_empty() {
+            mesh_of.push(None);
+        } else {
+            mesh_of.push(Some(meshes.len()));
+            meshes.push(format!(
+                "{{\"name\":\"tree\",\"primitives\":[{}]}}",
+                prim_json.join(",")
+            ));
+        }
+    }
     let mut nodes = Vec::new();
-    if !prim_json.is_empty() {
-        nodes.push(format!("{{\"name\":\"tree\",\"mesh\":{}}}", meshes.len()));
-        meshes.push(format!(
-            "{{\"name\":\"tree\",\"primitives\":[{}]}}",
-            prim_json.join(",")
-        ));
+    for n in &placements {
+        let mut node = format!("{{\"name\":\"{}\"", n.name);
+        if let Some(m) = mesh_of.get(n.mesh).copied().flatten() {
+            let _ = write!(node, ",\"mesh\":{m}");
+        }
+        if let Some((t, r, sc)) = n.trs {
+            let _ = write!(
+                node,
+                ",\"translation\":[{},{},{}],\"rotation\":[{},{},{},{}],\"scale\":[{},{},{}]",
+                num(t[0]),
+                num(t[1]),
+                num(t[2]),
+                num(r[0]),
+                num(r[1]),
+                num(r[2]),
+                num(r[3]),
+                num(sc),
+                num(sc),
+                num(sc)
+            );
+        }
+        node.push('}');
+        nodes.push(node);
     }
     let mut used = String::new();
     if let Some((m, instances)) = &instanced {
@@ -372,17 +494,22 @@ fn encode(
         env!("CARGO_PKG_VERSION")
     );
     if nodes.is_empty() {
-        json.push_str(",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":\"tree\"}]}");
-    } else {
-        let list: Vec<String> = (0..nodes.len()).map(|k| k.to_string()).collect();
+        nodes.push("{\"name\":\"tree\"}".into());
+    }
+    let list: Vec<String> = (0..nodes.len()).map(|k| k.to_string()).collect();
+    let _ = write!(
+        json,
+        ",\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}]",
+        list.join(","),
+        nodes.join(",")
+    );
+    // glTF has no empty arrays: a file without triangles has nodes only.
+    if !meshes.is_empty() {
         let materials: Vec<&str> = materials.iter().map(|m| m.json()).collect();
         let _ = write!(
             json,
-            ",\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\
-             \"meshes\":[{}],\"materials\":[{}],\
-             \"accessors\":[{}],\"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
-            list.join(","),
-            nodes.join(","),
+            ",\"meshes\":[{}],\"materials\":[{}],\
+             \"accessors\":[{}],\"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]",
             meshes.join(","),
             materials.join(","),
             b.accessors.join(","),
@@ -390,6 +517,7 @@ fn encode(
             b.bin.len()
         );
     }
+    json.push('}');
     if !binary {
         return Ok(json.into_bytes());
     }
@@ -469,5 +597,22 @@ pub fn save_gltf(
 ) -> Result<()> {
     let path = path.as_ref();
     let bytes = gltf_bytes(skeleton, options, leaves, binary_by_extension(path)?)?;
+    write(path, bytes)
+}
+
+/// [`save_gltf`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) while the bark
+/// is meshed (as [`MeshPlan::write_uninit_with_progress`](crate::mesh::MeshPlan::write_uninit_with_progress));
+/// `false` stops with [`Error::Cancelled`](crate::Error::Cancelled) and no file is
+/// created.
+pub fn save_gltf_with_progress(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    path: impl AsRef<Path>,
+    progress: ProgressFn<'_>,
+) -> Result<()> {
+    let path = path.as_ref();
+    let binary = binary_by_extension(path)?;
+    let bytes = gltf_bytes_with(skeleton, options, leaves, binary, Some(progress))?;
     write(path, bytes)
 }

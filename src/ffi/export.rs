@@ -87,7 +87,15 @@ pub unsafe extern "C" fn arbor_export_gltf(
             // SAFETY: the caller promises `leaf_options` is readable.
             Some(unsafe { read_leaf_options(leaf_options, true) }?)
         };
-        crate::export::save_gltf(&tree.skeleton, &mo, leaves.as_ref(), path)?;
+        // SAFETY: export_args read the same options, so they are readable.
+        let (_, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
+        let (skeleton, leaves) = (&tree.skeleton, leaves.as_ref());
+        match progress_closure(progress, user) {
+            Some(mut f) => {
+                crate::export::save_gltf_with_progress(skeleton, &mo, leaves, path, &mut f)?
+            }
+            None => crate::export::save_gltf(skeleton, &mo, leaves, path)?,
+        }
         Ok(())
     })
 }

@@ -120,7 +120,7 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         // SAFETY: the caller promises `trees` is readable for `count` elements.
         let placed = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
         // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
         let v = unsafe {
             out_slice(
@@ -133,7 +133,12 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, index_capacity, "indices") }?;
         // Grows and meshes every tree once; checks the capacities before writing.
-        crate::forest::write_merged_uninit(&placed, &options, v, i)?;
+        match progress_closure(progress, user) {
+            Some(mut f) => {
+                crate::forest::write_merged_uninit_with_progress(&placed, &options, v, i, &mut f)?
+            }
+            None => crate::forest::write_merged_uninit(&placed, &options, v, i)?,
+        };
         Ok(())
     })
 }

@@ -66,8 +66,25 @@ pub enum ArborWinding {
 pub enum ArborUpAxis {
     /// Y up (default).
     Y = 0,
-    /// Z up (Unreal): (x, y, z) becomes (x, -z, y), a rotation that keeps the winding.
+    /// Z up: (x, y, z) becomes (x, -z, y), a rotation that keeps the winding (and the
+    /// handedness: for Unreal, which is left-handed, use ARBOR_AXES_UNREAL).
     Z = 1,
+}
+
+/// Engine conventions of the output; ArborMeshOptions.axes. The presets convert as the
+/// engines' own importers do: a mirror into their left-handed space (never a rotation),
+/// so trees keep their handedness.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborAxes {
+    /// arbor's right-handed space with up_axis, winding and scale as given (default).
+    Arbor = 0,
+    /// Unity: left-handed, Y up, metres: (x, y, z) becomes (-x, y, z) as Unity's glTF
+    /// importers do, front faces clockwise in Unity's space.
+    Unity = 1,
+    /// Unreal: left-handed, Z up, centimetres: (x, y, z) becomes (100x, 100z, 100y), the
+    /// inverse of Unreal's glTF exporter, front faces as Unreal culls them.
+    Unreal = 2,
 }
 
 /// Options of the tube mesher: a struct that grows (see "Structs that grow" in the
@@ -75,7 +92,7 @@ pub enum ArborUpAxis {
 /// change what you need. Enum-like fields are validated (unknown values give
 /// ARBOR_STATUS_INVALID_ARGUMENT naming the field).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct ArborMeshOptions {
     /// sizeof(ArborMeshOptions) as the host was compiled; set by arbor_mesh_options_init().
     pub struct_size: u32,
@@ -118,6 +135,18 @@ pub struct ArborMeshOptions {
     /// rotation-minimising frames, interpolated radii and v by arc length. (Added after the
     /// first layout.)
     pub curve_rings: u32,
+    /// Called while a mesh is written (arbor_mesh_write, arbor_mesh_create,
+    /// arbor_forest_mesh_write, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
+    /// every 65,536 branches and at the end, on the calling thread; non-zero stops with
+    /// ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an export writes no
+    /// file). NULL (default): none. (Added after the first layout.)
+    pub progress: ArborProgressFn,
+    /// Passed to `progress`. (Added after the first layout.)
+    pub progress_user_data: *mut c_void,
+    /// An ArborAxes value: ARBOR_AXES_UNITY or ARBOR_AXES_UNREAL set the axes, units and
+    /// winding of that engine (then up_axis and winding must stay at their defaults, and
+    /// scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
+    pub axes: u32,
 }
 
 /// sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
@@ -159,7 +188,7 @@ pub struct ArborBranchRange {
 impl TryFrom<&ArborMeshOptions> for MeshOptions {
     type Error = crate::Error;
     fn try_from(o: &ArborMeshOptions) -> crate::Result<Self> {
-        use crate::mesh::{Joints, Tip, UpAxis, Winding};
+        use crate::mesh::{Axes, Joints, Tip, UpAxis, Winding};
         let boolean = [(false, "false"), (true, "true")];
         Ok(MeshOptions {
             radial_segments: o.radial_segments,
@@ -204,6 +233,15 @@ impl TryFrom<&ArborMeshOptions> for MeshOptions {
             )?,
             up_axis: enum_field("up_axis", o.up_axis, &[(UpAxis::Y, "Y"), (UpAxis::Z, "Z")])?,
             scale: o.scale,
+            axes: enum_field(
+                "axes",
+                o.axes,
+                &[
+                    (Axes::Arbor, "ARBOR"),
+                    (Axes::Unity, "UNITY"),
+                    (Axes::Unreal, "UNREAL"),
+                ],
+            )?,
             threads: o.threads,
             max_vertices: usize::try_from(o.max_vertices).unwrap_or(usize::MAX),
             curve_rings: o.curve_rings,
@@ -230,6 +268,9 @@ impl From<MeshOptions> for ArborMeshOptions {
             threads: o.threads,
             max_vertices: o.max_vertices as u64,
             curve_rings: o.curve_rings,
+            progress: None,
+            progress_user_data: std::ptr::null_mut(),
+            axes: o.axes as u32,
         }
     }
 }
@@ -266,6 +307,22 @@ pub(crate) unsafe fn read_mesh_options(
     // was handled above.
     let o = unsafe { read_growing(options, "options") }?;
     Ok(MeshOptions::try_from(&o)?)
+}
+
+/// The mesh options at `options` with the host's progress callback (NULL: none).
+///
+/// # Safety
+/// As [`read_mesh_options`].
+pub(crate) unsafe fn read_mesh_options_with_progress(
+    options: *const ArborMeshOptions,
+) -> Result<(MeshOptions, ArborProgressFn, *mut c_void), FfiError> {
+    if options.is_null() {
+        return Ok((MeshOptions::default(), None, std::ptr::null_mut()));
+    }
+    // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
+    // was handled above.
+    let o = unsafe { read_growing(options, "options") }?;
+    Ok((MeshOptions::try_from(&o)?, o.progress, o.progress_user_data))
 }
 
 /// The `count` mesh options of a host's array: its elements are the host's
@@ -353,7 +410,7 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
         let plan = tree.plan(&options)?;
         let size = plan.size();
         // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices
@@ -368,7 +425,12 @@ pub unsafe extern "C" fn arbor_mesh_write(
         }?;
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
-        plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?;
+        match progress_closure(progress, user) {
+            Some(mut f) => {
+                plan.write_uninit_with_progress(&tree.skeleton, options.threads, v, i, &mut f)?
+            }
+            None => plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?,
+        };
         tree.written(&options);
         Ok(())
     })
@@ -595,12 +657,14 @@ pub unsafe extern "C" fn arbor_mesh_create(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let mesh = tree
-            .plan(&options)?
-            .mesh_on(&tree.skeleton, options.threads)?;
+        let plan = tree.plan(&options)?;
+        let mesh = match progress_closure(progress, user) {
+            Some(mut f) => plan.mesh_on_with_progress(&tree.skeleton, options.threads, &mut f)?,
+            None => plan.mesh_on(&tree.skeleton, options.threads)?,
+        };
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })

@@ -51,6 +51,8 @@ pub const ARBOR_STAGE_DERIVATION: u32 = 0;
 pub const ARBOR_STAGE_INTERPRETATION: u32 = 1;
 /// ArborProgressFn stage: growth cycles of a world.
 pub const ARBOR_STAGE_GROWTH: u32 = 2;
+/// ArborProgressFn stage: writing a mesh (or the meshes of an export or a forest).
+pub const ARBOR_STAGE_MESH: u32 = 3;
 
 /// A progress callback (see "Progress and cancellation" in the README): called on the
 /// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a

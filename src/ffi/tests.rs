@@ -279,10 +279,13 @@ mod fuzz {
                 up_axis: fields[10] % 3,
                 scale: floats[2],
                 // Sizes from below the first layout up to this one (never past the Rust value).
-                struct_size: [52, 56, 64, 72, fields[3] % 73][fields[8] as usize % 5],
+                struct_size: [52, 56, 64, 72, 96, fields[3] % 97][fields[8] as usize % 6],
                 threads: fields[11] % 4,
                 max_vertices: u64::from(fields[3]) * 64,
                 curve_rings: fields[11] % 3,
+                progress: None,
+                progress_user_data: std::ptr::null_mut(),
+                axes: (fields[1] / 5) % 4,
             };
             let mut p = ArborHondaParams::default();
             // SAFETY: `p` is a local struct.

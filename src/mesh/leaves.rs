@@ -4,8 +4,9 @@
 
 use super::animation::{AnimationVertex, branch_phase, growth_times};
 use super::plan::{check_options, kept_branches};
+use super::rings::AxisMap;
 use super::strips::{Slot, StripRules, StripWriter, zigzag};
-use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, UpAxis, Vertex, Winding};
+use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, Vertex};
 use crate::error::{Error, Result};
 use crate::geom::transport::ring_basis;
 use crate::rng::Rng;
@@ -255,11 +256,11 @@ fn place_on(
                 .fold(0.0f64, |a, x| a.max(x.abs() as f64))
         })
         .max(1.0);
-    let largest = o.size as f64 * (1.0 + o.size_jitter as f64) * mesh.scale as f64 * extent;
+    let largest = o.size as f64 * (1.0 + o.size_jitter as f64) * mesh.out().scale as f64 * extent;
     let far = skeleton
         .bounds()
         .map_or(0.0, |(lo, hi)| lo.abs().max(hi.abs()).max_element() as f64)
-        * mesh.scale as f64;
+        * mesh.out().scale as f64;
     if largest + far > f32::MAX as f64 / 16.0 {
         return Err(Error::invalid(
             "size",
@@ -360,16 +361,12 @@ pub fn leaf_instances(
     mesh: &MeshOptions,
 ) -> Result<Vec<LeafInstance>> {
     let mut out = place(skeleton, leaves, mesh)?;
-    if mesh.up_axis == UpAxis::Z || mesh.scale != 1.0 {
-        let turn = if mesh.up_axis == UpAxis::Z {
-            Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)
-        } else {
-            Quat::IDENTITY
-        };
+    let o = mesh.out();
+    if o.map != AxisMap::IDENTITY || o.scale != 1.0 {
         for l in &mut out {
-            l.position = (turn * (Vec3::from(l.position) * mesh.scale)).to_array();
-            l.rotation = (turn * Quat::from_array(l.rotation)).normalize().to_array();
-            l.scale *= mesh.scale;
+            l.position = o.pos(Vec3::from(l.position));
+            l.rotation = o.map.rotation(Quat::from_array(l.rotation)).to_array();
+            l.scale *= o.scale;
         }
     }
     Ok(out)
@@ -432,7 +429,7 @@ fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> R
     };
     let rules = StripRules {
         topology: mesh.topology,
-        clockwise: mesh.winding == Winding::Clockwise,
+        clockwise: mesh.reversed(),
     };
     // Every prefab triangle is a strip of 3; only the buffer's first strip differs.
     let triangles = instances.len() as u64 * prefab.triangles.len() as u64;
@@ -546,9 +543,9 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
     vertices: &mut [V],
     indices: &mut [I],
 ) {
-    let z_up = mesh.up_axis == UpAxis::Z;
-    let dir = |v: Vec3| if z_up { [v.x, -v.z, v.y] } else { v.to_array() };
-    let pos = |v: Vec3| dir(v * mesh.scale);
+    let o = mesh.out();
+    let dir = |v: Vec3| o.dir(v);
+    let pos = |v: Vec3| o.pos(v);
     let mut vi = 0usize;
     let mut w = StripWriter::new(indices, plan.rules, true);
     for l in &plan.instances {

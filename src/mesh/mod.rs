@@ -143,9 +143,32 @@ pub enum UpAxis {
     /// Y up, as arbor computes (OpenGL, Unity).
     #[default]
     Y = 0,
-    /// Z up (Unreal, Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which
-    /// keeps handedness and winding.
+    /// Z up (Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which keeps
+    /// handedness and winding. Unreal is left-handed: use [`Axes::Unreal`] there.
     Z = 1,
+}
+
+/// Engine conventions of the output: the axes, handedness, units and winding a host's
+/// engine uses, converted as that engine's own glTF importer converts (a mirror into a
+/// left-handed space, never a rotation, so a tree keeps its handedness: trees g, h and i
+/// spiral the same way in every engine).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Axes {
+    /// arbor's own right-handed space, with [`MeshOptions::up_axis`],
+    /// [`MeshOptions::winding`] and [`MeshOptions::scale`] as given (OpenGL, glTF, Vulkan).
+    #[default]
+    Arbor = 0,
+    /// Unity: left-handed, Y up, metres (one model unit = one metre, as in glTF):
+    /// (x, y, z) → (−x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
+    /// faces wind clockwise seen from outside in Unity's space, so the cross product of a
+    /// triangle's edges points out, as `Mesh.RecalculateNormals` expects.
+    Unity = 1,
+    /// Unreal: left-handed, Z up, centimetres: (x, y, z) → (100x, 100z, 100y), the
+    /// inverse of Unreal's own glTF exporter; front faces as Unreal's renderer culls them
+    /// (the cross product of a triangle's edges points in, as Epic documents for its
+    /// clockwise convention).
+    Unreal = 2,
 }
 
 /// Options of the tube mesher. Plain data; `Default` gives the documented defaults.
@@ -179,6 +202,10 @@ pub struct MeshOptions {
     pub up_axis: UpAxis,
     /// Uniform scale applied to positions. Finite, > 0. Default 1.
     pub scale: f32,
+    /// Engine conventions. Default [`Axes::Arbor`]; an engine preset sets the axes and
+    /// winding itself, so `up_axis` and `winding` must then stay at their defaults, and
+    /// `scale` applies before the preset's units.
+    pub axes: Axes,
     /// Threads a large write may use: 0 (default) the machine's cores (at most 8), 1 only
     /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
     /// The output is the same byte for byte whatever the count.
@@ -210,10 +237,43 @@ impl Default for MeshOptions {
             winding: Winding::CounterClockwise,
             up_axis: UpAxis::Y,
             scale: 1.0,
+            axes: Axes::Arbor,
             threads: 0,
             max_vertices: crate::limits::DEFAULT_MAX_VERTICES,
             curve_rings: 0,
         }
+    }
+}
+
+impl MeshOptions {
+    /// How positions and directions go from arbor's space into the output's.
+    pub(crate) fn out(&self) -> rings::Out {
+        let (map, units) = match (self.axes, self.up_axis) {
+            (Axes::Arbor, UpAxis::Y) => (rings::AxisMap::IDENTITY, 1.0),
+            (Axes::Arbor, UpAxis::Z) => (rings::AxisMap::Z_UP, 1.0),
+            (Axes::Unity, _) => (rings::AxisMap::UNITY, 1.0),
+            (Axes::Unreal, _) => (rings::AxisMap::UNREAL, 100.0),
+        };
+        rings::Out {
+            scale: self.scale * units,
+            map,
+        }
+    }
+
+    /// Whether triangles are written in the reverse of arbor's counter-clockwise order.
+    pub(crate) fn reversed(&self) -> bool {
+        match self.axes {
+            Axes::Arbor => self.winding == Winding::Clockwise,
+            // A mirror turns arbor's order clockwise; Unity wants the edges' cross product
+            // outward again, Unreal keeps the mirrored order.
+            Axes::Unity => true,
+            Axes::Unreal => false,
+        }
+    }
+
+    /// The output's up direction.
+    pub fn up(&self) -> glam::Vec3 {
+        glam::Vec3::from(self.out().map.apply(glam::Vec3::Y))
     }
 }
 

@@ -7,8 +7,8 @@
 use super::rings::{circle, to_f32};
 use super::strips::StripRules;
 use super::{
-    Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX, Tip,
-    Winding,
+    Axes, Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX,
+    Tip, UpAxis, Winding,
 };
 use crate::error::{Error, Result};
 use crate::geom::transport::{carry, ring_basis, transport_map};
@@ -100,6 +100,38 @@ pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
             ));
         }
     }
+    if o.axes != Axes::Arbor {
+        for (field, default) in [
+            ("up_axis", o.up_axis == UpAxis::Y),
+            ("winding", o.winding == Winding::CounterClockwise),
+        ] {
+            if !default {
+                return Err(Error::invalid(
+                    field,
+                    format!(
+                        "{:?} with axes {:?}; an engine preset sets the axes and winding \
+                         itself, so leave up_axis and winding at their defaults (Y, \
+                         CounterClockwise)",
+                        if field == "up_axis" {
+                            format!("{:?}", o.up_axis)
+                        } else {
+                            format!("{:?}", o.winding)
+                        },
+                        o.axes
+                    ),
+                ));
+            }
+        }
+        if !o.out().scale.is_finite() {
+            return Err(Error::invalid(
+                "scale",
+                format!(
+                    "{}; in {:?}'s units it leaves the f32 range",
+                    o.scale, o.axes
+                ),
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -157,7 +189,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             .max_element();
         extent = extent.max(far as f64 + 2.0 * r as f64);
     }
-    if extent * o.scale as f64 > f32::MAX as f64 / 4.0 {
+    if extent * o.out().scale as f64 > f32::MAX as f64 / 4.0 {
         return Err(Error::invalid(
             "scale",
             format!(
@@ -250,7 +282,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         size: MeshSize::default(),
         rules: StripRules {
             topology: o.topology,
-            clockwise: o.winding == Winding::Clockwise,
+            clockwise: o.reversed(),
         },
     };
     let (mut nv, mut ni): (u64, u64) = (0, 0);

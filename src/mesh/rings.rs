@@ -16,21 +16,82 @@ pub(crate) fn circle(segments: usize) -> Vec<(f32, f32, f32)> {
         .collect()
 }
 
-/// Output conventions: uniform scale, then the up-axis rotation.
+/// A signed permutation of the axes: output axis k is `sign[k]` times input axis
+/// `from[k]`. Exact (a sign change or a copy), so the identity leaves every bit as it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct AxisMap {
+    from: [usize; 3],
+    sign: [f32; 3],
+}
+
+impl AxisMap {
+    pub(crate) const IDENTITY: AxisMap = AxisMap {
+        from: [0, 1, 2],
+        sign: [1.0, 1.0, 1.0],
+    };
+    /// (x, y, z) → (x, −z, y): +90° about X.
+    pub(crate) const Z_UP: AxisMap = AxisMap {
+        from: [0, 2, 1],
+        sign: [1.0, -1.0, 1.0],
+    };
+    /// (x, y, z) → (−x, y, z).
+    pub(crate) const UNITY: AxisMap = AxisMap {
+        from: [0, 1, 2],
+        sign: [-1.0, 1.0, 1.0],
+    };
+    /// (x, y, z) → (x, z, y).
+    pub(crate) const UNREAL: AxisMap = AxisMap {
+        from: [0, 2, 1],
+        sign: [1.0, 1.0, 1.0],
+    };
+
+    #[inline(always)]
+    pub(crate) fn apply(self, v: Vec3) -> [f32; 3] {
+        let a = v.to_array();
+        let at = |k: usize| {
+            let x = a[self.from[k]];
+            if self.sign[k] < 0.0 { -x } else { x }
+        };
+        [at(0), at(1), at(2)]
+    }
+
+    /// Whether the map is a mirror (determinant −1).
+    pub(crate) fn mirrors(self) -> bool {
+        let odd = self.from[0] != 0 || self.from[1] != 1;
+        let negatives = self.sign.iter().filter(|s| **s < 0.0).count();
+        odd ^ (negatives % 2 == 1)
+    }
+
+    /// An instance's rotation `q` (turning a prefab's space into the tree's) in the
+    /// output. A rotation M turns it (M·R: the prefab keeps its own space); a mirror
+    /// conjugates it (M·R·M, again a rotation, of the mirrored axis by the opposite
+    /// angle: the prefab is read in the mirrored space, as an engine imports it).
+    pub(crate) fn rotation(self, q: glam::Quat) -> glam::Quat {
+        if self.mirrors() {
+            let v = self.apply(glam::Vec3::new(q.x, q.y, q.z));
+            glam::Quat::from_xyzw(-v[0], -v[1], -v[2], q.w)
+        } else {
+            let m = glam::Mat3::from_cols(
+                glam::Vec3::from(self.apply(glam::Vec3::X)),
+                glam::Vec3::from(self.apply(glam::Vec3::Y)),
+                glam::Vec3::from(self.apply(glam::Vec3::Z)),
+            );
+            (glam::Quat::from_mat3(&m) * q).normalize()
+        }
+    }
+}
+
+/// Output conventions: uniform scale (with the engine's units), then the axis map.
 #[derive(Clone, Copy)]
 pub(crate) struct Out {
     pub(crate) scale: f32,
-    pub(crate) z_up: bool,
+    pub(crate) map: AxisMap,
 }
 
 impl Out {
     #[inline(always)]
     pub(crate) fn dir(self, v: Vec3) -> [f32; 3] {
-        if self.z_up {
-            [v.x, -v.z, v.y]
-        } else {
-            v.to_array()
-        }
+        self.map.apply(v)
     }
     #[inline(always)]
     pub(crate) fn pos(self, v: Vec3) -> [f32; 3] {

@@ -3,8 +3,9 @@
 use super::plan::{BASE_CAP, BranchRange, MITRE_END, MeshPlan, SHARES_START, TIP, length};
 use super::rings::{Affine, Out, to_f32};
 use super::strips::{Slot, StripWriter, zigzag};
-use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Tip, UpAxis, Vertex};
+use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Tip, Vertex};
 use crate::error::Result;
+use crate::progress::{self, Progress, ProgressFn, Stage};
 use crate::skeleton::{NO_PARENT, Skeleton};
 use glam::{Vec2, Vec3};
 use std::mem::MaybeUninit;
@@ -95,6 +96,53 @@ impl MeshPlan {
         self.write_on(skeleton, threads, vertices, indices)
     }
 
+    /// [`write_uninit_on`](Self::write_uninit_on), reporting [`Stage::Mesh`] to
+    /// `progress` after every 65,536 branches (and at the end) on the calling thread; when
+    /// it returns `false` the write stops with [`Error::Cancelled`](crate::Error::Cancelled)
+    /// and the buffers hold a partial mesh, not to be drawn.
+    pub fn write_uninit_with_progress(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        vertices: &mut [MaybeUninit<Vertex>],
+        indices: &mut [MaybeUninit<u32>],
+        progress: ProgressFn<'_>,
+    ) -> Result<MeshSize> {
+        let mut p = Progress::new(Some(progress));
+        self.write_on_with(skeleton, threads, vertices, indices, &mut p)
+    }
+
+    /// [`mesh`](Self::mesh), reporting [`Stage::Mesh`] as
+    /// [`write_uninit_with_progress`](Self::write_uninit_with_progress) does.
+    pub fn mesh_with_progress(
+        &self,
+        skeleton: &Skeleton,
+        progress: ProgressFn<'_>,
+    ) -> Result<Mesh> {
+        self.mesh_on_with_progress(skeleton, self.options.threads, progress)
+    }
+
+    /// [`mesh_with_progress`](Self::mesh_with_progress) on up to `threads` threads (as
+    /// [`MeshOptions::threads`]).
+    pub fn mesh_on_with_progress(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        progress: ProgressFn<'_>,
+    ) -> Result<Mesh> {
+        let size = self.size();
+        let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
+        let mut indices = bytemuck::zeroed_vec::<u32>(size.indices);
+        let mut p = Progress::new(Some(progress));
+        self.write_on_with(skeleton, threads, &mut vertices, &mut indices, &mut p)?;
+        Ok(Mesh {
+            vertices,
+            indices,
+            topology: self.options.topology,
+            ranges: self.ranges(),
+        })
+    }
+
     /// The owned mesh of `skeleton` with the branch ranges.
     pub fn mesh(&self, skeleton: &Skeleton) -> Result<Mesh> {
         self.mesh_on(skeleton, self.options.threads)
@@ -130,6 +178,23 @@ impl MeshPlan {
         vertices: &mut [V],
         indices: &mut [I],
     ) -> Result<MeshSize> {
+        self.write_on_with(
+            skeleton,
+            threads,
+            vertices,
+            indices,
+            &mut Progress::default(),
+        )
+    }
+
+    fn write_on_with<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        vertices: &mut [V],
+        indices: &mut [I],
+        progress: &mut Progress<'_>,
+    ) -> Result<MeshSize> {
         self.check_skeleton(skeleton)?;
         let size = self.size();
         size.check_capacity(vertices.len(), indices.len())?;
@@ -138,7 +203,8 @@ impl MeshPlan {
             threads,
             &mut vertices[..size.vertices],
             &mut indices[..size.indices],
-        );
+            progress,
+        )?;
         Ok(size)
     }
 
@@ -207,6 +273,7 @@ impl MeshPlan {
                 0,
                 &mut discard,
                 lay.first_index[a] == 0,
+                0,
             );
         }
         Ok(())
@@ -226,46 +293,98 @@ impl MeshPlan {
         wanted.min(self.branch_count / BRANCHES_PER_THREAD).max(1)
     }
 
+    /// Writes every branch; with a callback, in rounds of [`progress::EVERY`] branches,
+    /// reporting after each round on the calling thread and stopping when it says so.
     fn write_all<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,
         threads: u32,
         vertices: &mut [V],
         indices: &mut [I],
-    ) {
+        progress: &mut Progress<'_>,
+    ) -> Result<()> {
         let n = skeleton.len();
         let threads = self.threads(threads);
+        if !progress.active() {
+            self.write_range(skeleton, threads, 0..n, vertices, indices, 0);
+            return Ok(());
+        }
+        let lay = &self.layout;
+        let starts = |b: usize| {
+            if b < n {
+                (lay.first_vertex[b] as usize, lay.first_index[b] as usize)
+            } else {
+                (self.plan.size.vertices, self.plan.size.indices)
+            }
+        };
+        let round = progress::EVERY.max(threads * BRANCHES_PER_THREAD);
+        let (mut v_rest, mut i_rest) = (vertices, indices);
+        let (mut lo, mut last) = (0, 0);
+        loop {
+            let hi = (lo + round).min(n);
+            let ((v_lo, i_lo), (v_hi, i_hi)) = (starts(lo), starts(hi));
+            let (va, vb) = std::mem::take(&mut v_rest).split_at_mut(v_hi - v_lo);
+            let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_hi - i_lo);
+            last = self.write_range(skeleton, threads, lo..hi, va, ia, last);
+            progress.report(Stage::Mesh, if n == 0 { 1.0 } else { hi as f64 / n as f64 })?;
+            if hi == n {
+                return Ok(());
+            }
+            (v_rest, i_rest, lo) = (vb, ib, hi);
+        }
+    }
+
+    /// Writes branches `range` into `vertices` and `indices`, which start where the plan
+    /// puts the range's first branch, on up to `threads` threads; `last` is the last index
+    /// written before the range (for a degenerate join), and the range's last is returned.
+    fn write_range<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
+        &self,
+        skeleton: &Skeleton,
+        threads: usize,
+        range: std::ops::Range<usize>,
+        vertices: &mut [V],
+        indices: &mut [I],
+        last: u32,
+    ) -> u32 {
+        let n = skeleton.len();
+        let lay = &self.layout;
+        let starts = |b: usize| {
+            if b < n {
+                (lay.first_vertex[b] as usize, lay.first_index[b] as usize)
+            } else {
+                (self.plan.size.vertices, self.plan.size.indices)
+            }
+        };
+        let (v0, i0) = starts(range.start);
+        let count = range.end - range.start;
+        let threads = threads.min(count / BRANCHES_PER_THREAD).max(1);
         if threads == 1 {
-            self.write_branches(skeleton, 0..n, vertices, 0, indices, true);
-            return;
+            return self.write_branches(skeleton, range, vertices, v0, indices, i0 == 0, last);
         }
         // Chunks of branches write disjoint parts of both buffers, split where the plan
-        // says each chunk's first branch starts; the calling thread writes the last.
-        let per = n.div_ceil(threads);
-        let lay = &self.layout;
+        // says each chunk's first branch starts; the calling thread writes the last. Only
+        // lists and restart strips are split, and they need no `last`.
+        let per = count.div_ceil(threads);
         std::thread::scope(|scope| {
             let (mut v_rest, mut i_rest) = (vertices, indices);
-            let (mut v_at, mut i_at) = (0usize, 0usize);
-            let mut lo = 0;
-            while lo < n {
-                let hi = (lo + per).min(n);
-                let (v_to, i_to) = if hi < n {
-                    (lay.first_vertex[hi] as usize, lay.first_index[hi] as usize)
-                } else {
-                    (self.plan.size.vertices, self.plan.size.indices)
-                };
+            let (mut v_at, mut i_at) = (v0, i0);
+            let mut lo = range.start;
+            loop {
+                let hi = (lo + per).min(range.end);
+                let (v_to, i_to) = starts(hi);
                 let (va, vb) = std::mem::take(&mut v_rest).split_at_mut(v_to - v_at);
                 let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_to - i_at);
-                let (range, v_base, first) = (lo..hi, v_at, i_at == 0);
-                if hi < n {
-                    scope
-                        .spawn(move || self.write_branches(skeleton, range, va, v_base, ia, first));
+                let (chunk, v_base, first) = (lo..hi, v_at, i_at == 0);
+                if hi < range.end {
+                    scope.spawn(move || {
+                        self.write_branches(skeleton, chunk, va, v_base, ia, first, 0)
+                    });
                 } else {
-                    self.write_branches(skeleton, range, va, v_base, ia, first);
+                    return self.write_branches(skeleton, chunk, va, v_base, ia, first, 0);
                 }
                 (v_rest, i_rest, v_at, i_at, lo) = (vb, ib, v_to, i_to, hi);
             }
-        });
+        })
     }
 
     /// The tube of kept branch `i` as drawn: (radius at its start ring, radius at its end
@@ -317,7 +436,9 @@ impl MeshPlan {
 
     /// Writes branches `range` into `vertices` (which starts at vertex `v_base` of the mesh)
     /// and `indices` (which starts at the first index of `range`); `first`: no strip of the
-    /// mesh comes before.
+    /// mesh comes before; `last`: the index written just before (for a degenerate join).
+    /// Returns the last index written.
+    #[allow(clippy::too_many_arguments)]
     fn write_branches<V: Slot<Vertex>, I: Slot<u32>>(
         &self,
         skeleton: &Skeleton,
@@ -326,9 +447,11 @@ impl MeshPlan {
         v_base: usize,
         indices: &mut [I],
         first: bool,
-    ) {
+        last: u32,
+    ) -> u32 {
         let (plan, lay) = (&self.plan, &self.layout);
         let mut writer = StripWriter::new(indices, plan.rules, first);
+        writer.last = last;
         let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
         // Where this chunk's indices start in the whole buffer (for the debug check below).
         let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
@@ -358,6 +481,7 @@ impl MeshPlan {
             tube.write_indices(&self.options, firsts, &mut writer, &mut strip);
         }
         debug_assert_eq!(writer.pos, writer.out.len());
+        writer.last
     }
 
     /// Writes a branch swept along its curve (`curve_rings` > 0): its own start ring
@@ -380,7 +504,7 @@ impl MeshPlan {
         let k = plan.inner;
         let curve = skeleton.curve(i);
         let (t0, t1) = (plan.t0[i], plan.t1[i]);
-        let scale = o.scale;
+        let scale = t.out.scale;
         // The ring of the sweep at a point: radial·r in the frame (p, tangent × p), normal
         // radial·nc + tangent·na.
         let ring_at = |center: Vec3, tangent: Vec3, p: Vec3, r: f32, v: f32| {
@@ -503,10 +627,7 @@ impl MeshPlan {
     #[inline(always)]
     fn tube(&self, skeleton: &Skeleton, i: usize) -> Tube<'_> {
         let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
-        let out = Out {
-            scale: o.scale,
-            z_up: o.up_axis == UpAxis::Z,
-        };
+        let out = o.out();
         // The output conventions are linear: apply them to each branch's centers and frame
         // vectors once, so the per-vertex loops are a few multiply-adds.
         let rot = |v: Vec3| Vec3::from_array(out.dir(v));
@@ -669,8 +790,9 @@ impl Tube<'_> {
         let slide = d_o * (r1s / d_o.dot(m));
         let (pm, qm) = (po.dot(m), qo.dot(m));
         let (nc_c, na_c) = plan.slope(skeleton, c);
-        let (pc, dc) = (rot(plan.layout.frame_p[c]), rot(dc));
-        let qc = dc.cross(pc);
+        // The cross product in arbor's space, then mapped: a mirror flips one taken after.
+        let p_c = plan.layout.frame_p[c];
+        let (pc, qc, dc) = (rot(p_c), rot(dc.cross(p_c)), rot(dc));
         Affine::new(
             self.pos(self.end),
             po * r1s - slide * pm,

@@ -3,8 +3,9 @@
 //
 // Put the native library where Unity finds plugins (Assets/Plugins/<platform>/: libarbor.so,
 // arbor.dll, libarbor.dylib; on iOS link libarbor.a, reached through "__Internal").
-// Unity is left-handed with clockwise front faces: the helpers ask arbor for a clockwise
-// triangle list and mirror Z, so trees keep their handedness (g, h and i are not mirrored).
+// Unity is left-handed with clockwise front faces: the helpers ask arbor for a triangle
+// list with its Unity preset (Axes.Unity: x mirrored as Unity's glTF importers do, winding
+// as Unity draws), so trees keep their handedness (g, h and i are not mirrored).
 using System;
 using System.Runtime.InteropServices;
 using System.Text;
@@ -40,6 +41,9 @@ namespace Arbor
     public enum Tip : uint { Open = 0, Cap = 1, Point = 2 }
     public enum Winding : uint { CounterClockwise = 0, Clockwise = 1 }
     public enum UpAxis : uint { Y = 0, Z = 1 }
+    /// Engine conventions (ArborAxes): Unity and Unreal convert by a mirror, as their
+    /// importers do; with a preset, Winding and UpAxis stay at their defaults.
+    public enum Axes : uint { Arbor = 0, Unity = 1, Unreal = 2 }
     public enum StructId : uint
     {
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
@@ -87,6 +91,11 @@ namespace Arbor
         public uint Threads;
         public ulong MaxVertices;
         public uint CurveRings;
+        /// An ArborProgressFn (Marshal.GetFunctionPointerForDelegate) and its user data,
+        /// called while a mesh is written; IntPtr.Zero for none.
+        public IntPtr Progress, ProgressUserData;
+        /// An Axes value. Default Axes.Arbor.
+        public uint Axes;
 
         public static MeshOptions Default()
         {
@@ -487,19 +496,16 @@ namespace Arbor
             ArborException.Check(Native.arbor_mesh_write(handle, ref options, vertices, nv, indices, ni));
         }
 
-        /// A triangle list for Unity: clockwise front faces and Z mirrored into Unity's
-        /// left-handed space. Feed the arrays to Mesh.SetVertexBufferData / SetIndexBufferData.
+        /// A triangle list for Unity, by arbor's Unity preset: x mirrored into Unity's
+        /// left-handed space and clockwise front faces, written by the library in one pass.
+        /// Feed the arrays to Mesh.SetVertexBufferData / SetIndexBufferData.
         public void UnityMeshArrays(MeshOptions options, out Vertex[] vertices, out int[] indices)
         {
             options.Topology = (uint)Arbor.Topology.TriangleList;
-            options.Winding = (uint)Winding.Clockwise;
+            options.Winding = (uint)Winding.CounterClockwise;
             options.UpAxis = (uint)UpAxis.Y;
+            options.Axes = (uint)Arbor.Axes.Unity;
             Mesh(options, out vertices, out indices);
-            for (int i = 0; i < vertices.Length; i++)
-            {
-                vertices[i].PZ = -vertices[i].PZ;
-                vertices[i].NZ = -vertices[i].NZ;
-            }
         }
 
         public LeafInstance[] Leaves(LeafOptions leaves, MeshOptions options)

@@ -99,6 +99,14 @@ static class ArborTest
                     if (nx * a.NX + ny * a.NY + nz * a.NZ > 0) agree++;
                 }
                 Expect(agree == i.Length / 3, "tree " + name + " winding: " + agree + " of " + i.Length / 3);
+                // The Unity preset is arbor's mesh with x mirrored, never rotated.
+                Vertex[] own;
+                int[] ownIdx;
+                tree.Mesh(defaults, out own, out ownIdx);
+                bool mirrored = own.Length == v.Length;
+                for (int q = 0; mirrored && q < v.Length; q += 7)
+                    mirrored = v[q].PX == -own[q].PX && v[q].PY == own[q].PY && v[q].PZ == own[q].PZ && v[q].NX == -own[q].NX;
+                Expect(mirrored, "tree " + name + " mirrored by x");
             }
         }
 
