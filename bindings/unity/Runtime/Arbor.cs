@@ -31,7 +31,7 @@ namespace Arbor
         LimitExceeded = 4, BufferTooSmall = 5, IoError = 6, Panic = 7, Cancelled = 8,
     }
 
-    /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth), fraction in
+    /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth, 3 mesh), fraction in
     /// [0, 1]; non-zero cancels.
     [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
     public delegate int ProgressFn(IntPtr userData, uint stage, float fraction);
@@ -494,6 +494,17 @@ namespace Arbor
             vertices = new Vertex[(int)nv];
             indices = new int[(int)ni];
             ArborException.Check(Native.arbor_mesh_write(handle, ref options, vertices, nv, indices, ni));
+        }
+
+        /// The mesh as arrays, with `progress(stage, fraction)` called on this thread while
+        /// it is written (return false to cancel: ArborException with Status.Cancelled).
+        public void Mesh(MeshOptions options, Func<uint, float, bool> progress, out Vertex[] vertices, out int[] indices)
+        {
+            var handle = GCHandle.Alloc(progress);
+            options.Progress = Marshal.GetFunctionPointerForDelegate(progressTrampoline);
+            options.ProgressUserData = GCHandle.ToIntPtr(handle);
+            try { Mesh(options, out vertices, out indices); }
+            finally { handle.Free(); }
         }
 
         /// A triangle list for Unity, by arbor's Unity preset: x mirrored into Unity's

@@ -146,6 +146,21 @@ static class ArborTest
         using (var tree = Tree.FromLsystem("derivation length: 3\nAxiom: F\nF --> FF\n", (stage, f) => true))
         {
             Expect(tree.BranchCount == 8, "progress that never cancels");
+            // Mesh writes report stage 3 and stop when asked.
+            int meshCalls = 0;
+            Vertex[] mv;
+            int[] mi;
+            tree.Mesh(MeshOptions.Default(), (stage, f) => { meshCalls += stage == 3 ? 1 : 0; return true; }, out mv, out mi);
+            Expect(meshCalls == 1 && mi.Length > 0, "mesh progress: " + meshCalls + " reports");
+            try
+            {
+                tree.Mesh(MeshOptions.Default(), (stage, f) => false, out mv, out mi);
+                Expect(false, "no exception for a cancelled mesh");
+            }
+            catch (ArborException e)
+            {
+                Expect(e.Status == Status.Cancelled, "cancelled mesh: " + e.Status);
+            }
         }
         try
         {

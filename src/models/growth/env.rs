@@ -263,21 +263,28 @@ impl Env {
         self.shadow[self.index(x as usize, y as usize, z as usize)]
     }
 
-    /// Light and optimal direction at a bud of a shadow world (none outside the box):
-    /// Q = max(C − s + a, 0)
-    /// (the `+ a` takes away the bud's own shadow) and V = −∇s, normalised (zero where
-    /// flat).
+    /// Light at a bud of a shadow world (0 outside the box or inside an obstacle):
+    /// Q = max(C − s + a, 0) (the `+ a` takes away the bud's own shadow).
     #[inline]
-    pub(crate) fn shadow_light(&self, p: Vec3) -> (f32, Vec3) {
+    pub(crate) fn shadow_q(&self, p: Vec3) -> f32 {
         // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
         if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
-            return (0.0, Vec3::ZERO);
+            return 0.0;
+        }
+        let [cx, cy, cz] = self.cell_of(p);
+        let s = self.shadow[self.index(cx, cy, cz)];
+        (self.full_light - s + self.strength).max(0.0)
+    }
+
+    /// The optimal direction at a bud of a shadow world: V = −∇s, normalised (zero where
+    /// flat, outside the box or inside an obstacle). Asked only where a shoot grows.
+    pub(crate) fn shadow_v(&self, p: Vec3) -> Vec3 {
+        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+            return Vec3::ZERO;
         }
         let [cx, cy, cz] = self.cell_of(p);
         let [nx, ny, nz] = self.dims;
         let c = self.index(cx, cy, cz);
-        let s = self.shadow[c];
-        let q = (self.full_light - s + self.strength).max(0.0);
         let grad = if cx > 0 && cy > 0 && cz > 0 && cx + 1 < nx && cy + 1 < ny && cz + 1 < nz {
             // Inside: neighbours at ±1, ±nx (z) and ±nx·nz (y).
             let (dz, dy) = (nx, nx * nz);
@@ -295,7 +302,7 @@ impl Env {
                 self.s(x, y, z + 1) - self.s(x, y, z - 1),
             )
         };
-        (q, (-grad).normalize_or_zero())
+        (-grad).normalize_or_zero()
     }
 
     /// Space colonization for every bud of every tree: markers within a bud's occupancy

@@ -551,7 +551,7 @@ impl World {
             Environment::Shadow => {
                 let env = &self.env;
                 each(&mut self.trees, parallel, |t| {
-                    t.plan_cycle(|at, _| env.shadow_light(at), cycle)
+                    t.plan_cycle(&mut ShadowLight(env), cycle)
                 })
             }
             Environment::SpaceColonization => {
@@ -568,8 +568,7 @@ impl World {
                     .zip(light.iter().map(|l| l.as_slice()))
                     .collect();
                 each(&mut work, parallel, |(t, l)| {
-                    let mut it = l.iter();
-                    t.plan_cycle(|_, _| *it.next().expect("one light per bud"), cycle)
+                    t.plan_cycle(&mut Markers { light: l, next: 0 }, cycle)
                 })
             }
         };
@@ -644,6 +643,37 @@ impl World {
     /// extended Borchert–Honda split conserves vigour).
     pub fn vigour_residual(&self) -> f32 {
         self.trees.iter().map(|t| t.residual).fold(0.0, f32::max)
+    }
+}
+
+/// The light of a shadow world: Q from the bud's cell, V from the shadow's gradient there.
+struct ShadowLight<'a>(&'a Env);
+
+impl tree::Light for ShadowLight<'_> {
+    #[inline]
+    fn q(&mut self, at: Vec3, _: Vec3) -> f32 {
+        self.0.shadow_q(at)
+    }
+    fn v(&self, _: u32, at: Vec3) -> Vec3 {
+        self.0.shadow_v(at)
+    }
+}
+
+/// The light of a colonization world, found for every bud before planning (bud order).
+struct Markers<'a> {
+    light: &'a [(f32, Vec3)],
+    next: usize,
+}
+
+impl tree::Light for Markers<'_> {
+    #[inline]
+    fn q(&mut self, _: Vec3, _: Vec3) -> f32 {
+        let q = self.light.get(self.next).map_or(0.0, |l| l.0);
+        self.next += 1;
+        q
+    }
+    fn v(&self, ordinal: u32, _: Vec3) -> Vec3 {
+        self.light.get(ordinal as usize).map_or(Vec3::ZERO, |l| l.1)
     }
 }
 

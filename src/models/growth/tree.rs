@@ -14,29 +14,6 @@ fn is_child(slot: u32) -> bool {
     slot < GONE
 }
 
-/// One internode (metamer): it ends in a node that holds a terminal bud (until the main
-/// axis grows on) and a lateral bud (until a lateral shoot grows from it).
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    start: Vec3,
-    end: Vec3,
-    /// Unit heading.
-    dir: Vec3,
-    /// Unit direction of the lateral bud.
-    lat_dir: Vec3,
-    parent: u32,
-    /// The internode continuing the axis, [`BUD`] or [`GONE`].
-    main: u32,
-    /// The first internode of the lateral shoot, [`BUD`] or [`GONE`].
-    lateral: u32,
-    birth: u32,
-    order: u32,
-    /// Angle of the lateral bud about the heading, degrees.
-    phyllo: f32,
-    /// Radius^pipe_exponent; never shrinks.
-    rn: f32,
-}
-
 /// A new internode planned for this cycle.
 #[derive(Clone, Copy, Debug)]
 struct New {
@@ -71,10 +48,100 @@ impl Plan {
     }
 }
 
+/// Where a cycle's planning reads the environment: the light `Q` at every bud, in bud
+/// order (terminal before lateral, in internode order), and the optimal direction `V`
+/// only at the buds that grow, by the bud's ordinal in that order.
+pub(crate) trait Light {
+    fn q(&mut self, at: Vec3, dir: Vec3) -> f32;
+    fn v(&self, ordinal: u32, at: Vec3) -> Vec3;
+}
+
+/// A tree's internodes (metamers), one entry per internode in each array (structure of
+/// arrays, so each pass of a cycle streams only the fields it reads). Internode `i` ends
+/// in a node that holds a terminal bud (until the main axis grows on) and a lateral bud
+/// (until a lateral shoot grows from it).
+#[derive(Clone, Debug, Default)]
+struct Nodes {
+    start: Vec<Vec3>,
+    end: Vec<Vec3>,
+    /// Unit heading.
+    dir: Vec<Vec3>,
+    /// Unit direction of the lateral bud.
+    lat_dir: Vec<Vec3>,
+    parent: Vec<u32>,
+    /// [the internode continuing the axis, the first of the lateral shoot]: an index,
+    /// [`BUD`] or [`GONE`].
+    kids: Vec<[u32; 2]>,
+    birth: Vec<u32>,
+    order: Vec<u32>,
+    /// Angle of the lateral bud about the heading, degrees.
+    phyllo: Vec<f32>,
+    /// Radius^pipe_exponent; never shrinks.
+    rn: Vec<f32>,
+}
+
+struct NodeInit {
+    start: Vec3,
+    end: Vec3,
+    dir: Vec3,
+    lat_dir: Vec3,
+    parent: u32,
+    birth: u32,
+    order: u32,
+    phyllo: f32,
+    rn: f32,
+}
+
+impl Nodes {
+    fn len(&self) -> usize {
+        self.parent.len()
+    }
+
+    fn push(&mut self, n: NodeInit) {
+        self.start.push(n.start);
+        self.end.push(n.end);
+        self.dir.push(n.dir);
+        self.lat_dir.push(n.lat_dir);
+        self.parent.push(n.parent);
+        self.kids.push([BUD, BUD]);
+        self.birth.push(n.birth);
+        self.order.push(n.order);
+        self.phyllo.push(n.phyllo);
+        self.rn.push(n.rn);
+    }
+
+    /// Moves internode `from` to `to` (`to` ≤ `from`).
+    fn move_to(&mut self, from: usize, to: usize) {
+        self.start[to] = self.start[from];
+        self.end[to] = self.end[from];
+        self.dir[to] = self.dir[from];
+        self.lat_dir[to] = self.lat_dir[from];
+        self.parent[to] = self.parent[from];
+        self.kids[to] = self.kids[from];
+        self.birth[to] = self.birth[from];
+        self.order[to] = self.order[from];
+        self.phyllo[to] = self.phyllo[from];
+        self.rn[to] = self.rn[from];
+    }
+
+    fn truncate(&mut self, n: usize) {
+        self.start.truncate(n);
+        self.end.truncate(n);
+        self.dir.truncate(n);
+        self.lat_dir.truncate(n);
+        self.parent.truncate(n);
+        self.kids.truncate(n);
+        self.birth.truncate(n);
+        self.order.truncate(n);
+        self.phyllo.truncate(n);
+        self.rn.truncate(n);
+    }
+}
+
 #[derive(Clone, Debug)]
 pub(crate) struct Tree {
     pub(crate) species: GrowthParams,
-    nodes: Vec<Node>,
+    nodes: Nodes,
     base: Vec3,
     planted: u32,
     /// Internodes shed so far.
@@ -84,13 +151,19 @@ pub(crate) struct Tree {
     /// Vigour at the base in the last cycle.
     root_vigour: f32,
     /// Scratch of the passes, kept to avoid allocating each cycle.
+    /// Per internode: light of its [terminal, lateral] buds, then light above each side.
+    own: Vec<[f32; 2]>,
+    split: Vec<[f32; 2]>,
+    /// Ordinal of the internode's first bud in bud order.
+    ordinal: Vec<u32>,
     q: Vec<f32>,
-    qm: Vec<f32>,
-    ql: Vec<f32>,
     vig: Vec<f32>,
     desc: Vec<u32>,
-    own: Vec<[(f32, Vec3); 2]>,
     dead: Vec<bool>,
+    /// Per internode: the shedding cost shed_multiplier·desc^shed_exponent for the
+    /// descendant count in `cost_desc` (recomputed only when the count changes).
+    cost: Vec<f32>,
+    cost_desc: Vec<u32>,
 }
 
 /// A unit vector perpendicular to unit `h`, continuous except near −Y.
@@ -112,34 +185,35 @@ impl Tree {
     pub(crate) fn plant(species: GrowthParams, base: Vec3, seed: u64, cycle: u32) -> Self {
         let phyllo = (crate::rng::Rng::new(seed).next_f64() * 360.0) as f32;
         let dir = Vec3::Y;
-        let node = Node {
+        let mut nodes = Nodes::default();
+        nodes.push(NodeInit {
             start: base,
             end: base + dir * species.internode_length,
             dir,
             lat_dir: lateral(dir, phyllo, species.branch_angle),
             parent: NO_PARENT,
-            main: BUD,
-            lateral: BUD,
             birth: cycle,
             order: 0,
             phyllo,
             rn: libm::powf(species.tip_radius, species.pipe_exponent),
-        };
+        });
         Tree {
             species,
-            nodes: vec![node],
+            nodes,
             base,
             planted: cycle,
             shed: 0,
             residual: 0.0,
             root_vigour: 0.0,
+            own: Vec::new(),
+            split: Vec::new(),
+            ordinal: Vec::new(),
             q: Vec::new(),
-            qm: Vec::new(),
-            ql: Vec::new(),
             vig: Vec::new(),
             desc: Vec::new(),
-            own: Vec::new(),
             dead: Vec::new(),
+            cost: Vec::new(),
+            cost_desc: Vec::new(),
         }
     }
 
@@ -149,81 +223,85 @@ impl Tree {
 
     /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
     pub(crate) fn cast(&self, env: &mut Env, sign: f32) {
-        for n in &self.nodes {
-            let buds = u8::from(n.main == BUD) + u8::from(n.lateral == BUD);
+        for (k, end) in self.nodes.kids.iter().zip(&self.nodes.end) {
+            let buds = u8::from(k[0] == BUD) + u8::from(k[1] == BUD);
             if buds > 0 {
-                env.cast(n.end, sign * buds as f32);
+                env.cast(*end, sign * buds as f32);
             }
         }
     }
 
     /// The living buds, terminal before lateral, in internode order: the order of the
-    /// light slice [`Tree::plan_cycle`] takes.
+    /// light [`Tree::plan_cycle`] asks for.
     pub(crate) fn buds(&self, out: &mut Vec<Bud>) {
         out.clear();
-        for n in &self.nodes {
-            if n.main == BUD {
+        let n = &self.nodes;
+        for i in 0..n.len() {
+            let [m, l] = n.kids[i];
+            if m == BUD {
                 out.push(Bud {
-                    position: n.end,
-                    direction: n.dir,
+                    position: n.end[i],
+                    direction: n.dir[i],
                 });
             }
-            if n.lateral == BUD {
+            if l == BUD {
                 out.push(Bud {
-                    position: n.end,
-                    direction: n.lat_dir,
+                    position: n.end[i],
+                    direction: n.lat_dir[i],
                 });
             }
         }
     }
 
-    /// Plans one cycle from the light and direction at every bud, asked of `light` with
-    /// the bud's position and direction in [`Tree::buds`] order: the basipetal pass, the
-    /// vigour split, shedding and the new shoots.
-    pub(crate) fn plan_cycle(
-        &mut self,
-        mut light: impl FnMut(Vec3, Vec3) -> (f32, Vec3),
-        cycle: u32,
-    ) -> Plan {
+    /// Plans one cycle from the light at every bud: the basipetal pass, the vigour split,
+    /// shedding and the new shoots (which ask `light` for the optimal direction).
+    pub(crate) fn plan_cycle(&mut self, light: &mut impl Light, cycle: u32) -> Plan {
         let p = self.species;
-        let n = self.nodes.len();
-        // Light of each node's buds, in bud order.
-        let mut own = std::mem::take(&mut self.own);
-        own.clear();
-        for node in &self.nodes {
-            let mut pair = [(0.0, Vec3::ZERO); 2];
-            if node.main == BUD {
-                pair[0] = light(node.end, node.dir);
+        let nodes = &self.nodes;
+        let n = nodes.len();
+        // Light of each internode's buds, in bud order.
+        self.own.clear();
+        self.ordinal.clear();
+        let mut ordinal = 0u32;
+        for i in 0..n {
+            let [m, l] = nodes.kids[i];
+            self.ordinal.push(ordinal);
+            let mut pair = [0.0f32; 2];
+            if m == BUD {
+                pair[0] = light.q(nodes.end[i], nodes.dir[i]);
+                ordinal += 1;
             }
-            if node.lateral == BUD {
-                pair[1] = light(node.end, node.lat_dir);
+            if l == BUD {
+                pair[1] = light.q(nodes.end[i], nodes.lat_dir[i]);
+                ordinal += 1;
             }
-            own.push(pair);
+            self.own.push(pair);
         }
-        // Basipetal: light above each internode, split into main and lateral.
+        // Basipetal: light above each internode, split into main and lateral, and the
+        // number of internodes at and above each.
         self.q.clear();
         self.q.resize(n, 0.0);
-        self.qm.clear();
-        self.qm.resize(n, 0.0);
-        self.ql.clear();
-        self.ql.resize(n, 0.0);
+        self.split.clear();
+        self.split.resize(n, [0.0; 2]);
         self.desc.clear();
         self.desc.resize(n, 1);
         for i in (0..n).rev() {
-            let node = self.nodes[i];
-            let side = |slot: u32, bud: f32, q: &[f32]| match slot {
-                BUD => bud,
-                GONE => 0.0,
-                c => q[c as usize],
-            };
-            self.qm[i] = side(node.main, own[i][0].0, &self.q);
-            self.ql[i] = side(node.lateral, own[i][1].0, &self.q);
-            self.q[i] = self.qm[i] + self.ql[i];
-            for c in [node.main, node.lateral] {
-                if is_child(c) {
-                    self.desc[i] += self.desc[c as usize];
-                }
+            let kids = nodes.kids[i];
+            let mut pair = [0.0f32; 2];
+            let mut desc = 1u32;
+            for k in 0..2 {
+                pair[k] = match kids[k] {
+                    BUD => self.own[i][k],
+                    GONE => 0.0,
+                    c => {
+                        desc += self.desc[c as usize];
+                        self.q[c as usize]
+                    }
+                };
             }
+            self.split[i] = pair;
+            self.q[i] = pair[0] + pair[1];
+            self.desc[i] = desc;
         }
         // One acropetal pass: the extended Borchert–Honda split of the vigour, shedding
         // (a lateral branch whose vigour no longer pays for its size goes, with everything
@@ -232,6 +310,8 @@ impl Tree {
         self.vig.clear();
         self.vig.resize(n, 0.0);
         self.vig[0] = p.vigor_multiplier * self.q[0];
+        self.cost.resize(n, 0.0);
+        self.cost_desc.resize(n, 0);
         let lambda = p.apical_control;
         let mut residual = 0.0f32;
         let mut plan = Plan::default();
@@ -240,26 +320,30 @@ impl Tree {
         dead.resize(n, false);
         let up = Vec3::Y;
         for i in 0..n {
-            let node = self.nodes[i];
+            let kids = nodes.kids[i];
             let v = self.vig[i];
             // Shedding.
             if i > 0 {
-                let parent = node.parent as usize;
+                let parent = nodes.parent[i] as usize;
                 if dead[parent] {
                     dead[i] = true;
                 } else if p.shed_multiplier > 0.0
-                    && self.nodes[parent].lateral == i as u32
-                    && cycle.saturating_sub(node.birth) > p.shed_delay
+                    && nodes.kids[parent][1] == i as u32
+                    && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
                 {
-                    let cost = p.shed_multiplier * libm::powf(self.desc[i] as f32, p.shed_exponent);
-                    if v < cost {
+                    let d = self.desc[i];
+                    if self.cost_desc[i] != d {
+                        self.cost[i] = p.shed_multiplier * libm::powf(d as f32, p.shed_exponent);
+                        self.cost_desc[i] = d;
+                    }
+                    if v < self.cost[i] {
                         dead[i] = true;
                         plan.sheds = true;
                     }
                 }
             }
             // The split.
-            let (qm, ql) = (self.qm[i], self.ql[i]);
+            let [qm, ql] = self.split[i];
             let denom = lambda * qm + (1.0 - lambda) * ql;
             let (vm, vl) = if denom > 0.0 {
                 (v * lambda * qm / denom, v * (1.0 - lambda) * ql / denom)
@@ -269,10 +353,8 @@ impl Tree {
             if denom > 0.0 {
                 residual = residual.max((v - vm - vl).abs() / v.max(1e-30));
             }
-            for (k, (slot, share)) in [(node.main, vm), (node.lateral, vl)]
-                .into_iter()
-                .enumerate()
-            {
+            for (k, share) in [vm, vl].into_iter().enumerate() {
+                let slot = kids[k];
                 if is_child(slot) {
                     self.vig[slot as usize] = share;
                     continue;
@@ -283,11 +365,17 @@ impl Tree {
                 }
                 let count = (share.floor() as u32).min(p.max_shoot);
                 let length = p.internode_length * (share / count as f32).min(2.0);
-                let env_dir = own[i][k].1;
-                let mut heading = if k == 0 { node.dir } else { node.lat_dir };
-                let mut at = node.end;
-                let mut phyllo = node.phyllo;
-                let order = node.order + k as u32;
+                // The terminal bud comes first in bud order.
+                let bud = self.ordinal[i] + u32::from(k == 1 && kids[0] == BUD);
+                let env_dir = light.v(bud, nodes.end[i]);
+                let mut heading = if k == 0 {
+                    nodes.dir[i]
+                } else {
+                    nodes.lat_dir[i]
+                };
+                let mut at = nodes.end[i];
+                let mut phyllo = nodes.phyllo[i];
+                let order = nodes.order[i] + k as u32;
                 for j in 0..count {
                     heading = (heading + env_dir * p.environment_weight + up * p.tropism)
                         .try_normalize()
@@ -315,7 +403,6 @@ impl Tree {
         }
         plan.residual = residual;
         plan.root_vigour = self.vig[0];
-        self.own = own;
         plan.dead = dead;
         plan
     }
@@ -326,6 +413,7 @@ impl Tree {
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
+        let changed = !plan.new.is_empty() || plan.sheds;
         // New internodes, appended in plan order (a chain's parent comes first), so the
         // k-th new one is internode base + k.
         let base = self.nodes.len() as u32;
@@ -336,26 +424,18 @@ impl Tree {
                 nw.parent
             };
             let me = base + k as u32;
-            let p = &mut self.nodes[parent as usize];
-            if nw.main {
-                if p.main == BUD {
-                    env.cast(p.end, -1.0);
-                }
-                p.main = me;
-            } else {
-                if p.lateral == BUD {
-                    env.cast(p.end, -1.0);
-                }
-                p.lateral = me;
+            let side = usize::from(!nw.main);
+            let slot = &mut self.nodes.kids[parent as usize][side];
+            if *slot == BUD {
+                env.cast(self.nodes.end[parent as usize], -1.0);
             }
-            self.nodes.push(Node {
+            *slot = me;
+            self.nodes.push(NodeInit {
                 start: nw.start,
                 end: nw.end,
                 dir: nw.dir,
                 lat_dir: nw.lat_dir,
                 parent,
-                main: BUD,
-                lateral: BUD,
                 birth: cycle,
                 order: nw.order,
                 phyllo: nw.phyllo,
@@ -370,25 +450,27 @@ impl Tree {
             self.shed_subtrees(&mut dead, env);
         }
         self.dead = dead;
-        self.update_radii(tip_rn);
+        // Without new or shed internodes the radii are where the last cycle left them.
+        if changed {
+            self.update_radii(tip_rn);
+        }
     }
 
     /// The pipe model, tips to root: r^n of an internode is the sum over its children (the
     /// tip radius at a tip), and never less than it has been.
     fn update_radii(&mut self, tip_rn: f32) {
-        for i in (0..self.nodes.len()).rev() {
-            let node = self.nodes[i];
+        let nodes = &mut self.nodes;
+        for i in (0..nodes.len()).rev() {
             let mut rn = 0.0;
             let mut children = false;
-            for c in [node.main, node.lateral] {
+            for c in nodes.kids[i] {
                 if is_child(c) {
-                    rn += self.nodes[c as usize].rn;
+                    rn += nodes.rn[c as usize];
                     children = true;
                 }
             }
             let rn = if children { rn } else { tip_rn };
-            let node = &mut self.nodes[i];
-            node.rn = node.rn.max(rn);
+            nodes.rn[i] = nodes.rn[i].max(rn);
         }
     }
 
@@ -403,21 +485,29 @@ impl Tree {
         let mut new_index = std::mem::take(&mut self.desc);
         new_index.clear();
         new_index.resize(n, NO_PARENT);
+        self.cost.resize(n, 0.0);
+        self.cost_desc.resize(n, 0);
         let mut kept = 0usize;
         for i in 0..n {
-            let node = self.nodes[i];
             if dead[i] {
-                let buds = u8::from(node.main == BUD) + u8::from(node.lateral == BUD);
+                let [m, l] = self.nodes.kids[i];
+                let buds = u8::from(m == BUD) + u8::from(l == BUD);
                 if buds > 0 {
-                    env.cast(node.end, -(buds as f32));
+                    env.cast(self.nodes.end[i], -(buds as f32));
                 }
                 continue;
             }
             new_index[i] = kept as u32;
-            self.nodes[kept] = node;
+            if kept != i {
+                self.nodes.move_to(i, kept);
+                self.cost[kept] = self.cost[i];
+                self.cost_desc[kept] = self.cost_desc[i];
+            }
             kept += 1;
         }
         self.nodes.truncate(kept);
+        self.cost.truncate(kept);
+        self.cost_desc.truncate(kept);
         self.shed += n - kept;
         let map = |slot: u32| {
             if is_child(slot) {
@@ -429,12 +519,13 @@ impl Tree {
                 slot
             }
         };
-        for node in &mut self.nodes {
-            if node.parent != NO_PARENT {
-                node.parent = new_index[node.parent as usize];
+        for i in 0..kept {
+            let p = self.nodes.parent[i];
+            if p != NO_PARENT {
+                self.nodes.parent[i] = new_index[p as usize];
             }
-            node.main = map(node.main);
-            node.lateral = map(node.lateral);
+            let [m, l] = self.nodes.kids[i];
+            self.nodes.kids[i] = [map(m), map(l)];
         }
         self.desc = new_index;
     }
@@ -476,35 +567,37 @@ impl Tree {
         let inv = 1.0 / self.species.pipe_exponent;
         let radius = |rn: f32| libm::powf(rn, inv);
         let tip = self.species.tip_radius;
+        let n = &self.nodes;
         let mut parts = SkeletonParts {
-            branches: Vec::with_capacity(self.nodes.len()),
+            branches: Vec::with_capacity(n.len()),
             ..Default::default()
         };
-        for (i, n) in self.nodes.iter().enumerate() {
-            let r = radius(n.rn);
-            let end_radius = if is_child(n.main) {
-                radius(self.nodes[n.main as usize].rn)
+        for i in 0..n.len() {
+            let r = radius(n.rn[i]);
+            let [m, l] = n.kids[i];
+            let end_radius = if is_child(m) {
+                radius(n.rn[m as usize])
             } else {
                 tip.min(r)
             };
             parts.branches.push(Branch {
-                start: n.start.to_array(),
-                end: n.end.to_array(),
+                start: n.start[i].to_array(),
+                end: n.end[i].to_array(),
                 start_radius: r,
                 end_radius,
-                parent: n.parent,
-                birth: n.birth,
-                order: n.order,
+                parent: n.parent[i],
+                birth: n.birth[i],
+                order: n.order[i],
                 flags: 0,
             });
-            for (slot, heading) in [(n.main, n.dir), (n.lateral, n.lat_dir)] {
+            for (slot, heading) in [(m, n.dir[i]), (l, n.lat_dir[i])] {
                 if slot == BUD {
                     parts.leaves.push(LeafSite {
-                        position: n.end.to_array(),
+                        position: n.end[i].to_array(),
                         heading: heading.to_array(),
                         up: perpendicular(heading).to_array(),
                         branch: i as u32,
-                        birth: n.birth,
+                        birth: n.birth[i],
                     });
                 }
             }
