@@ -1,45 +1,103 @@
-//! Self-organizing growth: one tree of the default species for 10 cycles, and a forest of
-//! 100 trees on a 10 × 10 grid with seeding for 50 cycles (the anchors of GROWTH.md),
-//! serial (`WorldOptions::parallel = false`) and, with the `parallel` feature, on all
-//! cores. Throughput is in branches of the grown world.
+//! Self-organizing growth as a host runs it, through the C ABI (`arbor_world_create`,
+//! `arbor_world_plant`, `arbor_world_step`, `arbor_world_free`; no allocator tuning): one
+//! tree of the default species for 10 cycles, and a forest of 100 trees on a 10 × 10 grid
+//! with seeding for 25 and 50 cycles (the anchors of GROWTH.md), serial
+//! (`ArborWorldOptions.parallel = 0`) and, with the `parallel` feature, on all cores.
+//! Throughput is in branches of the grown world.
 //!
 //! `cargo bench --bench growth` (add `--features parallel` for the parallel rows).
 
-use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
+use arbor::ffi::{
+    ArborGrowthParams, ArborStatus, ArborWorld, ArborWorldOptions, arbor_growth_params_init,
+    arbor_growth_params_preset, arbor_world_branch_count, arbor_world_create, arbor_world_free,
+    arbor_world_options_init, arbor_world_plant, arbor_world_step,
+};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
+use std::mem::{MaybeUninit, size_of};
 
-fn one_tree(parallel: bool) -> World {
-    let mut w = World::new(&WorldOptions {
-        parallel,
-        ..Default::default()
-    })
-    .unwrap();
-    w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
-        .unwrap();
-    w.step(10).unwrap();
+/// A world the host owns, freed on drop.
+struct HostWorld(*mut ArborWorld);
+
+impl Drop for HostWorld {
+    fn drop(&mut self) {
+        // SAFETY: made by arbor_world_create, freed once.
+        unsafe { arbor_world_free(self.0) }
+    }
+}
+
+impl HostWorld {
+    fn new(min: [f32; 3], max: [f32; 3], parallel: bool) -> Self {
+        let mut o = MaybeUninit::<ArborWorldOptions>::zeroed();
+        // SAFETY: `o` is writable for its full size (as arbor_world_options_default()).
+        unsafe { arbor_world_options_init(o.as_mut_ptr(), size_of::<ArborWorldOptions>()) };
+        // SAFETY: init wrote every field over zeroed memory.
+        let mut o = unsafe { o.assume_init() };
+        o.min = min;
+        o.max = max;
+        o.parallel = u32::from(parallel);
+        let mut w = std::ptr::null_mut();
+        // SAFETY: the options are readable and `w` writable.
+        assert_eq!(unsafe { arbor_world_create(&o, &mut w) }, ArborStatus::Ok);
+        HostWorld(w)
+    }
+
+    fn plant(&mut self, p: &ArborGrowthParams, at: [f32; 3], seed: u64) {
+        // SAFETY: the world is live; `p` and `at` are readable; no tree id asked.
+        let s = unsafe { arbor_world_plant(self.0, p, at.as_ptr(), seed, std::ptr::null_mut()) };
+        assert_eq!(s, ArborStatus::Ok);
+    }
+
+    fn step(&mut self, cycles: u32) {
+        // SAFETY: the world is live.
+        assert_eq!(unsafe { arbor_world_step(self.0, cycles) }, ArborStatus::Ok);
+    }
+
+    fn branches(&self) -> usize {
+        // SAFETY: the world is live.
+        unsafe { arbor_world_branch_count(self.0) }
+    }
+}
+
+fn params(species: Option<u32>) -> ArborGrowthParams {
+    let mut p = MaybeUninit::<ArborGrowthParams>::zeroed();
+    let size = size_of::<ArborGrowthParams>();
+    match species {
+        // SAFETY: `p` is writable for `size` bytes.
+        Some(s) => {
+            assert_eq!(
+                unsafe { arbor_growth_params_preset(s, p.as_mut_ptr(), size) },
+                ArborStatus::Ok
+            )
+        }
+        // SAFETY: as above.
+        None => unsafe { arbor_growth_params_init(p.as_mut_ptr(), size) },
+    }
+    // SAFETY: written above over zeroed memory.
+    unsafe { p.assume_init() }
+}
+
+fn one_tree(parallel: bool) -> HostWorld {
+    let mut w = HostWorld::new([-10.0, 0.0, -10.0], [10.0, 20.0, 10.0], parallel);
+    w.plant(&params(None), [0.0, 0.0, 0.0], 1);
+    w.step(10);
     w
 }
 
-fn forest(parallel: bool, cycles: u32) -> World {
-    let mut w = World::new(&WorldOptions {
-        min: [-30.0, 0.0, -30.0],
-        max: [30.0, 20.0, 30.0],
-        parallel,
-        ..Default::default()
-    })
-    .unwrap();
-    let species = GrowthParams {
+fn forest(parallel: bool, cycles: u32) -> HostWorld {
+    let mut w = HostWorld::new([-30.0, 0.0, -30.0], [30.0, 20.0, 30.0], parallel);
+    // ARBOR_SPECIES_DECURRENT, seeding from age 20.
+    let species = ArborGrowthParams {
         seed_age: 20,
-        ..GrowthParams::preset(Species::Decurrent)
+        ..params(Some(1))
     };
     for i in 0..10 {
         for j in 0..10 {
             let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
-            w.plant(&species, at, (i * 10 + j) as u64).unwrap();
+            w.plant(&species, at, (i * 10 + j) as u64);
         }
     }
-    w.step(cycles).unwrap();
+    w.step(cycles);
     w
 }
 
@@ -53,18 +111,18 @@ fn bench_growth(c: &mut Criterion) {
     };
     for &parallel in modes {
         let mode = if parallel { "parallel" } else { "serial" };
-        let n = one_tree(parallel).branch_count();
+        let n = one_tree(parallel).branches();
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(
             BenchmarkId::new(format!("one_tree_10_cycles_{n}_branches"), mode),
-            |b| b.iter(|| black_box(one_tree(parallel)).branch_count()),
+            |b| b.iter(|| black_box(one_tree(parallel)).branches()),
         );
         for cycles in [25, 50] {
-            let n = forest(parallel, cycles).branch_count();
+            let n = forest(parallel, cycles).branches();
             group.throughput(Throughput::Elements(n as u64));
             group.bench_function(
                 BenchmarkId::new(format!("forest_100_{cycles}_cycles_{n}_branches"), mode),
-                |b| b.iter(|| black_box(forest(parallel, cycles)).branch_count()),
+                |b| b.iter(|| black_box(forest(parallel, cycles)).branches()),
             );
         }
     }

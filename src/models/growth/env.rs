@@ -185,20 +185,38 @@ impl Env {
     /// Adds (`count` > 0) or removes (< 0) the shadow pyramids of `count` buds at `p`,
     /// applied at the next [`flush`](Self::flush). Nothing for markers.
     pub(crate) fn cast(&mut self, p: Vec3, count: f32) {
+        if let Some(cell) = self.shadow_cell(p) {
+            self.pending.push((cell, count));
+        }
+    }
+
+    /// The cell whose shadow a bud at `p` changes (None in a colonization world).
+    #[inline]
+    pub(crate) fn shadow_cell(&self, p: Vec3) -> Option<u32> {
         if self.kind != Environment::Shadow {
-            return;
+            return None;
         }
         let [x, y, z] = self.cell_of(p);
-        self.pending.push((self.index(x, y, z) as u32, count));
+        Some(self.index(x, y, z) as u32)
+    }
+
+    /// Changes recorded elsewhere ([`shadow_cell`](Self::shadow_cell)), applied at the
+    /// next [`flush`](Self::flush) as if cast in this order.
+    pub(crate) fn cast_cells(&mut self, changes: &[(u32, f32)]) {
+        self.pending.extend_from_slice(changes);
     }
 
     /// Applies the pending shadow changes: buds added and removed in one cell cancel, and
     /// each changed cell's pyramid is applied once, in cell order (so the result does not
     /// depend on the order the changes came in; the counts are small integers, exact in
-    /// any order).
-    pub(crate) fn flush(&mut self) {
+    /// any order). With `parallel` (and the `parallel` feature) the even and odd layers of
+    /// the grid are updated on two threads; every cell still receives its changes in the
+    /// same order, so the grid is the same bit for bit.
+    pub(crate) fn flush(&mut self, parallel: bool) {
         let mut pending = std::mem::take(&mut self.pending);
-        pending.sort_unstable_by_key(|&(c, _)| c);
+        sort_changes(&mut pending, parallel);
+        // Merge each cell's changes in place: (cell, net), nets of zero dropped.
+        let mut kept = 0;
         let mut k = 0;
         while k < pending.len() {
             let cell = pending[k].0;
@@ -208,10 +226,35 @@ impl Env {
                 k += 1;
             }
             if net != 0.0 {
-                let (x, y, z) = self.coords(cell as usize);
-                self.pyramid([x, y, z], net);
+                pending[kept] = (cell, net);
+                kept += 1;
             }
         }
+        pending.truncate(kept);
+        let layer = self.dims[0] * self.dims[2];
+        let (dims, falloff) = (self.dims, &self.falloff);
+        #[cfg(feature = "parallel")]
+        if parallel && pending.len() > 1024 {
+            let (mut even, mut odd): (Vec<&mut [f32]>, Vec<&mut [f32]>) = (Vec::new(), Vec::new());
+            for (y, l) in self.shadow.chunks_mut(layer).enumerate() {
+                if y % 2 == 0 {
+                    even.push(l);
+                } else {
+                    odd.push(l);
+                }
+            }
+            let changes = &pending;
+            rayon::join(
+                || apply_changes(changes, dims, falloff, &mut even, 0),
+                || apply_changes(changes, dims, falloff, &mut odd, 1),
+            );
+            pending.clear();
+            self.pending = pending;
+            return;
+        }
+        let _ = parallel;
+        let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
+        apply_changes(&pending, dims, falloff, &mut all, usize::MAX);
         pending.clear();
         self.pending = pending;
     }
@@ -219,39 +262,16 @@ impl Env {
     /// The shadow pyramid of `count` buds in cell `c`: the cells q layers below, within q
     /// cells sideways, each gain count·a·b^−q.
     fn pyramid(&mut self, [cx, cy, cz]: [usize; 3], count: f32) {
-        let sign = count;
-        let [nx, _, nz] = self.dims;
-        for (q, &f) in self.falloff.iter().enumerate() {
-            if q > cy {
-                break;
-            }
-            let y = cy - q;
-            let add = f * sign;
-            let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
-            let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
-            // The layer's rows are nx apart: one slice for all of them, rows by chunks.
-            let w = x1 - x0 + 1;
-            let first = self.index(x0, y, z0);
-            let slab = &mut self.shadow[first..first + (z1 - z0) * nx + w];
-            // Unclipped rows of the common widths are fixed-size arrays, which the
-            // compiler unrolls into vector adds.
-            match w {
-                1 => add_rows::<1>(slab, nx, add),
-                3 => add_rows::<3>(slab, nx, add),
-                5 => add_rows::<5>(slab, nx, add),
-                7 => add_rows::<7>(slab, nx, add),
-                9 => add_rows::<9>(slab, nx, add),
-                11 => add_rows::<11>(slab, nx, add),
-                13 => add_rows::<13>(slab, nx, add),
-                _ => {
-                    for row in slab.chunks_mut(nx) {
-                        for s in &mut row[..w] {
-                            *s += add;
-                        }
-                    }
-                }
-            }
-        }
+        let cell = self.index(cx, cy, cz) as u32;
+        let layer = self.dims[0] * self.dims[2];
+        let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
+        apply_changes(
+            &[(cell, count)],
+            self.dims,
+            &self.falloff,
+            &mut all,
+            usize::MAX,
+        );
     }
 
     /// Shadow at a cell, 0 outside the grid.
@@ -426,6 +446,71 @@ impl Env {
 
     pub(crate) fn kind(&self) -> Environment {
         self.kind
+    }
+}
+
+/// Sorts the shadow changes by cell (on all cores with `parallel`; the order of one
+/// cell's changes does not matter, their sum is exact).
+fn sort_changes(changes: &mut [(u32, f32)], parallel: bool) {
+    #[cfg(feature = "parallel")]
+    if parallel && changes.len() > 1 << 16 {
+        use rayon::slice::ParallelSliceMut;
+        changes.par_sort_unstable_by_key(|&(c, _)| c);
+        return;
+    }
+    let _ = parallel;
+    changes.sort_unstable_by_key(|&(c, _)| c);
+}
+
+/// Adds the shadow pyramids of `changes` ((cell, buds), in order) to `layers`: every
+/// layer of the grid (`parity` = usize::MAX), or the even (0) or odd (1) ones, where
+/// `layers[k]` is layer 2k + parity. Each cell gets its changes' values in change order.
+fn apply_changes(
+    changes: &[(u32, f32)],
+    [nx, _, nz]: [usize; 3],
+    falloff: &[f32],
+    layers: &mut [&mut [f32]],
+    parity: usize,
+) {
+    for &(cell, count) in changes {
+        let c = cell as usize;
+        let (cx, cy, cz) = (c % nx, c / (nx * nz), (c / nx) % nz);
+        for (q, &f) in falloff.iter().enumerate() {
+            if q > cy {
+                break;
+            }
+            let y = cy - q;
+            let layer = match parity {
+                usize::MAX => &mut *layers[y],
+                p if y % 2 == p => &mut *layers[y / 2],
+                _ => continue,
+            };
+            let add = f * count;
+            let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
+            let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
+            // The layer's rows are nx apart: one slice for all of them, rows by chunks.
+            let w = x1 - x0 + 1;
+            let first = z0 * nx + x0;
+            let slab = &mut layer[first..first + (z1 - z0) * nx + w];
+            // Unclipped rows of the common widths are fixed-size arrays, which the
+            // compiler unrolls into vector adds.
+            match w {
+                1 => add_rows::<1>(slab, nx, add),
+                3 => add_rows::<3>(slab, nx, add),
+                5 => add_rows::<5>(slab, nx, add),
+                7 => add_rows::<7>(slab, nx, add),
+                9 => add_rows::<9>(slab, nx, add),
+                11 => add_rows::<11>(slab, nx, add),
+                13 => add_rows::<13>(slab, nx, add),
+                _ => {
+                    for row in slab.chunks_mut(nx) {
+                        for s in &mut row[..w] {
+                            *s += add;
+                        }
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -486,7 +486,7 @@ impl World {
         self.check_branches(1)?;
         let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle);
         tree.cast(&mut self.env, 1.0);
-        self.env.flush();
+        self.env.flush(self.options.parallel);
         self.trees.push(tree);
         Ok(self.trees.len() as u32 - 1)
     }
@@ -574,10 +574,17 @@ impl World {
         };
         let new: usize = plans.iter().map(|p| p.new_internodes()).sum();
         self.check_branches(new)?;
-        // Growth, shedding and the shared grid's updates, in tree order, so the result
-        // does not depend on the thread count.
-        for (t, plan) in self.trees.iter_mut().zip(plans) {
-            t.grow(plan, &mut self.env, cycle);
+        // Growth and shedding per tree (in parallel with the `parallel` feature); the
+        // shadow changes they make go to the shared grid in tree order, so the result does
+        // not depend on the thread count.
+        let mut work: Vec<(&mut Tree, tree::Plan)> = self.trees.iter_mut().zip(plans).collect();
+        let env = &self.env;
+        each(&mut work, parallel, |(t, plan)| {
+            t.grow(std::mem::take(plan), env, cycle)
+        });
+        drop(work);
+        for t in &self.trees {
+            self.env.cast_cells(&t.casts);
         }
         // 7: seeding.
         let mut seedlings = Vec::new();
@@ -597,7 +604,7 @@ impl World {
             tree.cast(&mut self.env, 1.0);
             self.trees.push(tree);
         }
-        self.env.flush();
+        self.env.flush(parallel);
         self.cycle = cycle;
         Ok(())
     }

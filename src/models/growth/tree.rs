@@ -164,6 +164,19 @@ pub(crate) struct Tree {
     /// descendant count in `cost_desc` (recomputed only when the count changes).
     cost: Vec<f32>,
     cost_desc: Vec<u32>,
+    /// The shadow changes of the last [`Tree::grow`], in the order made: (cell, buds
+    /// added there, negative for removed).
+    pub(crate) casts: Vec<(u32, f32)>,
+    /// The new internodes' buffer, handed from plan to plan.
+    new_buf: Vec<New>,
+}
+
+/// Records a shadow change of `count` buds at `p` (nothing outside a shadow world).
+#[inline]
+fn cast(env: &Env, out: &mut Vec<(u32, f32)>, p: Vec3, count: f32) {
+    if let Some(cell) = env.shadow_cell(p) {
+        out.push((cell, count));
+    }
 }
 
 /// A unit vector perpendicular to unit `h`, continuous except near −Y.
@@ -214,6 +227,8 @@ impl Tree {
             dead: Vec::new(),
             cost: Vec::new(),
             cost_desc: Vec::new(),
+            casts: Vec::new(),
+            new_buf: Vec::new(),
         }
     }
 
@@ -314,7 +329,10 @@ impl Tree {
         self.cost_desc.resize(n, 0);
         let lambda = p.apical_control;
         let mut residual = 0.0f32;
-        let mut plan = Plan::default();
+        let mut plan = Plan {
+            new: std::mem::take(&mut self.new_buf),
+            ..Plan::default()
+        };
         let mut dead = std::mem::take(&mut self.dead);
         dead.clear();
         dead.resize(n, false);
@@ -409,7 +427,8 @@ impl Tree {
 
     /// Carries out a plan: buds that grew or were shed take their shadow away, new buds
     /// add theirs, shed subtrees are removed (indices stay parents-before-children).
-    pub(crate) fn grow(&mut self, plan: Plan, env: &mut Env, cycle: u32) {
+    pub(crate) fn grow(&mut self, mut plan: Plan, env: &Env, cycle: u32) {
+        self.casts.clear();
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
@@ -427,7 +446,7 @@ impl Tree {
             let side = usize::from(!nw.main);
             let slot = &mut self.nodes.kids[parent as usize][side];
             if *slot == BUD {
-                env.cast(self.nodes.end[parent as usize], -1.0);
+                cast(env, &mut self.casts, self.nodes.end[parent as usize], -1.0);
             }
             *slot = me;
             self.nodes.push(NodeInit {
@@ -443,13 +462,15 @@ impl Tree {
             });
             // Its lateral bud and its terminal bud (taken away again if the chain goes on;
             // the two cancel before the grid is touched).
-            env.cast(nw.end, 2.0);
+            cast(env, &mut self.casts, nw.end, 2.0);
         }
-        let mut dead = plan.dead;
+        let mut dead = std::mem::take(&mut plan.dead);
         if plan.sheds {
             self.shed_subtrees(&mut dead, env);
         }
         self.dead = dead;
+        plan.new.clear();
+        self.new_buf = plan.new;
         // Without new or shed internodes the radii are where the last cycle left them.
         if changed {
             self.update_radii(tip_rn);
@@ -478,7 +499,7 @@ impl Tree {
     /// that existed when it was made), taking their buds' shadow away; indices stay
     /// parents-before-children. The internodes are compacted in place, with the scratch
     /// of the plan (no allocation in proportion to the tree).
-    fn shed_subtrees(&mut self, dead: &mut Vec<bool>, env: &mut Env) {
+    fn shed_subtrees(&mut self, dead: &mut Vec<bool>, env: &Env) {
         let n = self.nodes.len();
         // Internodes grown this cycle never grow on a shed one.
         dead.resize(n, false);
@@ -493,7 +514,7 @@ impl Tree {
                 let [m, l] = self.nodes.kids[i];
                 let buds = u8::from(m == BUD) + u8::from(l == BUD);
                 if buds > 0 {
-                    env.cast(self.nodes.end[i], -(buds as f32));
+                    cast(env, &mut self.casts, self.nodes.end[i], -(buds as f32));
                 }
                 continue;
             }
