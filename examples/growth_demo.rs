@@ -1,6 +1,6 @@
 //! Grows self-organizing trees (every species, both environments) and a forest of 100
 //! trees on a 10 × 10 grid with seeding, and prints sizes and timings:
-//! `cargo run --release --example growth_demo [forest]`.
+//! `cargo run --release --example growth_demo [forest [CYCLES [REPEATS]]]`.
 use arbor::models::growth::{Environment, GrowthParams, Species, World, WorldOptions};
 
 fn main() -> Result<(), arbor::Error> {
@@ -33,6 +33,17 @@ fn main() -> Result<(), arbor::Error> {
         .nth(2)
         .and_then(|a| a.parse().ok())
         .unwrap_or(50);
+    let repeats: u32 = std::env::args()
+        .nth(3)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1);
+    for _ in 0..repeats {
+        forest(cycles)?;
+    }
+    Ok(())
+}
+
+fn forest(cycles: u32) -> Result<(), arbor::Error> {
     let mut w = World::new(&WorldOptions {
         min: [-30.0, 0.0, -30.0],
         max: [30.0, 20.0, 30.0],
