@@ -319,6 +319,12 @@ static void mesh_progress_and_presets(void) {
   FILE *f = fopen("cancelled.glb", "rb");
   CHECK(f == NULL, "a cancelled export left a file");
   if (f) fclose(f);
+  cancel.calls = 0;
+  remove("cancelled.obj");
+  CHECK_STATUS(arbor_export_obj(t, &o, NULL, "cancelled.obj"), ARBOR_STATUS_CANCELLED);
+  f = fopen("cancelled.obj", "rb");
+  CHECK(f == NULL && cancel.calls == 1, "a cancelled OBJ export left a file (%d calls)", cancel.calls);
+  if (f) fclose(f);
   /* Unity: the same mesh with x negated. */
   o.progress = NULL;
   o.axes = ARBOR_AXES_UNITY;

@@ -43,7 +43,13 @@ pub unsafe extern "C" fn arbor_export_obj(
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
         let (tree, mo, path) = unsafe { export_args(tree, mesh_options, path) }?;
-        let bark = mesh::tubes(&tree.skeleton, &mo)?;
+        // SAFETY: export_args read the same options, so they are readable.
+        let (_, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
+        let plan = mesh::MeshPlan::new(&tree.skeleton, &mo)?;
+        let bark = match progress_closure(progress, user) {
+            Some(mut f) => plan.mesh_with_progress(&tree.skeleton, &mut f)?,
+            None => plan.mesh(&tree.skeleton)?,
+        };
         let result = if leaf_options.is_null() {
             crate::export::save_obj_parts(&[("bark", &bark)], path)
         } else {

@@ -136,7 +136,7 @@ pub struct ArborMeshOptions {
     /// first layout.)
     pub curve_rings: u32,
     /// Called while a mesh is written (arbor_mesh_write, arbor_mesh_create,
-    /// arbor_forest_mesh_write, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
+    /// arbor_forest_mesh_write, arbor_export_obj, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
     /// every 65,536 branches and at the end, on the calling thread; non-zero stops with
     /// ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an export writes no
     /// file). NULL (default): none. (Added after the first layout.)
