@@ -2,7 +2,7 @@
 //! the complete mesh equals a full write, byte for byte.
 
 use arbor::geom::Curve;
-use arbor::mesh::{MeshOptions, MeshPlan, Tip, Topology, Vertex};
+use arbor::mesh::{Axes, MeshOptions, MeshPlan, Tip, Topology, Vertex};
 use arbor::models::honda::{self, HondaParams};
 use arbor::skeleton::Skeleton;
 use glam::Vec3;
@@ -35,7 +35,10 @@ fn rewrites_equal_full_writes_for_twigs_interior_branches_and_roots() {
         let interior = adjacency.children(0)[0] as usize;
         for smooth in [false, true] {
             for curve_rings in [0, 2] {
-                for topology in Topology::ALL {
+                for (topology, axes) in Topology::ALL
+                    .into_iter()
+                    .flat_map(|t| [Axes::Arbor, Axes::Unity, Axes::Unreal].map(|a| (t, a)))
+                {
                     for (i, what) in [(twig, "twig"), (interior, "interior"), (0, "root")] {
                         let mut s = base.clone();
                         if smooth {
@@ -46,6 +49,7 @@ fn rewrites_equal_full_writes_for_twigs_interior_branches_and_roots() {
                             curve_rings,
                             tip: Tip::Cap,
                             smooth_taper: true,
+                            axes,
                             ..Default::default()
                         };
                         let mut plan = MeshPlan::new(&s, &o).unwrap();
@@ -59,7 +63,7 @@ fn rewrites_equal_full_writes_for_twigs_interior_branches_and_roots() {
                         plan.rewrite(&s, &changed, &mut v).unwrap();
                         let fresh = MeshPlan::new(&s, &o).unwrap().mesh(&s).unwrap();
                         let what = format!(
-                            "tree {name} {what} smooth {smooth} rings {curve_rings} {topology:?}"
+                            "tree {name} {what} smooth {smooth} rings {curve_rings} {topology:?} {axes:?}"
                         );
                         assert_eq!(
                             bytemuck::cast_slice::<Vertex, u8>(&v),
@@ -76,7 +80,7 @@ fn rewrites_equal_full_writes_for_twigs_interior_branches_and_roots() {
             }
         }
     }
-    assert_eq!(checked, 2 * 2 * 2 * 3 * 3);
+    assert_eq!(checked, 2 * 2 * 2 * 3 * 3 * 3);
 }
 
 #[test]
