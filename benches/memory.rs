@@ -1,12 +1,16 @@
 //! Peak heap memory along the scale sweep, with a counting global allocator
 //! (`peak_alloc`): for the 1996 tree a with n = 10 … 22, the peak bytes alive while going
 //! from parameters (direct builder) or from grammar text to the mesh buffers, against the
-//! bytes of those final buffers. Goal: peak ≤ 1.5 × output.
+//! bytes of those final buffers. Goal: peak ≤ 1.5 × output. Then self-organizing growth:
+//! the peak heap of a world (the forest of the growth benchmark, and one tree) against
+//! its shadow grid (4 bytes per cell) and the most internodes it held, as bytes per
+//! internode beyond the grid.
 //!
 //! `cargo bench --bench memory`
 
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh;
+use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
 use arbor::models::honda;
 use peak_alloc::PeakAlloc;
 
@@ -78,4 +82,66 @@ fn main() {
         );
     }
     println!("worst peak / output: {worst:.2} (goal <= 1.5)");
+    growth(quick);
+}
+
+/// Peak heap of growing worlds: grid bytes plus bytes per internode held.
+fn growth(quick: bool) {
+    println!(
+        "\n{:>28} {:>7} {:>12} {:>12} {:>12} {:>10}",
+        "world", "cycles", "internodes", "grid bytes", "peak bytes", "B/intern."
+    );
+    let forest_cycles: &[u32] = if quick { &[5, 10] } else { &[5, 10, 15, 25] };
+    let mut runs: Vec<(&str, u32)> = vec![("one tree (default species)", 10)];
+    runs.extend(forest_cycles.iter().map(|&c| ("forest of 100, seeding", c)));
+    for (what, cycles) in runs {
+        let base = ALLOC.current_usage();
+        ALLOC.reset_peak_usage();
+        let forest = what.starts_with("forest");
+        let o = if forest {
+            WorldOptions {
+                min: [-30.0, 0.0, -30.0],
+                max: [30.0, 20.0, 30.0],
+                ..Default::default()
+            }
+        } else {
+            WorldOptions::default()
+        };
+        let cells: usize = (0..3)
+            .map(|k| ((o.max[k] - o.min[k]) / o.cell_size).ceil() as usize)
+            .product();
+        let mut w = World::new(&o).unwrap();
+        if forest {
+            let species = GrowthParams {
+                seed_age: 20,
+                ..GrowthParams::preset(Species::Decurrent)
+            };
+            for i in 0..10 {
+                for j in 0..10 {
+                    let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
+                    w.plant(&species, at, (i * 10 + j) as u64).unwrap();
+                }
+            }
+        } else {
+            w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
+                .unwrap();
+        }
+        let mut most = w.branch_count();
+        for _ in 0..cycles {
+            w.step(1).unwrap();
+            most = most.max(w.branch_count());
+        }
+        let peak = ALLOC.peak_usage() - base;
+        let grid = cells * 4;
+        drop(w);
+        println!(
+            "{:>28} {:>7} {:>12} {:>12} {:>12} {:>10.0}",
+            what,
+            cycles,
+            most,
+            grid,
+            peak,
+            peak.saturating_sub(grid) as f64 / most as f64
+        );
+    }
 }
