@@ -259,8 +259,24 @@ pub fn write_merged_uninit_with_progress(
     indices: &mut [std::mem::MaybeUninit<u32>],
     progress: crate::progress::ProgressFn<'_>,
 ) -> Result<MeshSize> {
-    let mut p = Progress::new(Some(progress));
-    write_merged_into(placed, options, vertices, indices, &mut p)
+    write_merged_uninit_reporting(placed, options, vertices, indices, Some(progress))
+}
+
+/// [`write_merged_uninit`] with an optional callback (the C ABI's may be NULL).
+pub(crate) fn write_merged_uninit_reporting(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    vertices: &mut [std::mem::MaybeUninit<Vertex>],
+    indices: &mut [std::mem::MaybeUninit<u32>],
+    progress: Option<crate::progress::ProgressFn<'_>>,
+) -> Result<MeshSize> {
+    write_merged_into(
+        placed,
+        options,
+        vertices,
+        indices,
+        &mut Progress::new(progress),
+    )
 }
 
 fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
@@ -359,45 +375,27 @@ pub fn instanced(
     options: &MeshOptions,
 ) -> Result<(Vec<Mesh>, Vec<Instance>)> {
     check_placed(placed)?;
-    let which = instance_meshes(placed);
     let mut distinct: Vec<Item<'_>> = Vec::new();
-    for (p, &k) in placed.iter().zip(&which) {
-        if k == distinct.len() {
-            distinct.push(p.item);
-        }
-    }
-    let instances = placed
-        .iter()
-        .zip(&which)
-        .map(|(p, &k)| (k as u32, transform(p, options)))
-        .collect();
-    Ok((build(&distinct, options)?, instances))
-}
-
-/// Per placement, the index of its distinct tree (same source and seed), numbered in
-/// order of first appearance, as [`instanced`] numbers its meshes.
-pub fn instance_meshes(placed: &[Placed<'_>]) -> Vec<usize> {
-    let mut distinct: Vec<Item<'_>> = Vec::new();
-    placed
-        .iter()
-        .map(|p| {
-            let same = |a: &Item<'_>| {
-                a.seed == p.item.seed
-                    && match (a.source, p.item.source) {
-                        (Source::Honda(x), Source::Honda(y)) => x == y,
-                        (Source::Grammar(x, ox), Source::Grammar(y, oy)) => {
-                            std::ptr::eq(x, y) && ox == oy
-                        }
-                        _ => false,
+    let mut which = Vec::with_capacity(placed.len());
+    for p in placed {
+        let same = |a: &Item<'_>| {
+            a.seed == p.item.seed
+                && match (a.source, p.item.source) {
+                    (Source::Honda(x), Source::Honda(y)) => x == y,
+                    (Source::Grammar(x, ox), Source::Grammar(y, oy)) => {
+                        std::ptr::eq(x, y) && ox == oy
                     }
-            };
-            match distinct.iter().position(same) {
-                Some(k) => k,
-                None => {
-                    distinct.push(p.item);
-                    distinct.len() - 1
+                    _ => false,
                 }
+        };
+        let k = match distinct.iter().position(same) {
+            Some(k) => k,
+            None => {
+                distinct.push(p.item);
+                distinct.len() - 1
             }
-        })
-        .collect()
+        };
+        which.push((k as u32, transform(p, options)));
+    }
+    Ok((build(&distinct, options)?, which))
 }

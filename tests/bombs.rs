@@ -27,7 +27,7 @@ fn within_budget(what: &str, f: impl FnOnce() -> Result<(), Error>) {
     ALLOC.reset_peak_usage();
     let start = Instant::now();
     let result = f();
-    let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
+    let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
     match result {
         Err(Error::LimitExceeded {
             limit_name, step, ..
@@ -87,7 +87,7 @@ fn output_limits_stop_before_the_memory_is_spent() {
             Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, limit, "{what}"),
             other => panic!("{what}: expected LimitExceeded, got {other:?}"),
         }
-        let peak = ALLOC.peak_usage().saturating_sub(base);
+        let peak = ALLOC.peak_usage() - base;
         println!("{what}: {limit}, peak {peak} bytes");
         assert!(peak < 64 << 20, "{what} peaked at {peak} bytes");
     };
@@ -175,7 +175,7 @@ fn pruning_a_very_long_branch_stays_small() {
     ALLOC.reset_peak_usage();
     let start = Instant::now();
     let p = arbor::skeleton::prune::prune_collisions(&s);
-    let (took, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
+    let (took, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
     println!(
         "long branch: {} removed, {took:?}, peak {peak} bytes",
         p.removed
@@ -195,7 +195,7 @@ fn preprocessor_and_statement_bombs_stop_within_budget() {
         ALLOC.reset_peak_usage();
         let start = Instant::now();
         let r = LSystem::parse(text).and_then(|ls| ls.skeleton(&LsystemOptions::default()));
-        let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage().saturating_sub(base));
+        let (elapsed, peak) = (start.elapsed(), ALLOC.peak_usage() - base);
         let e = r.expect_err(what).to_string();
         println!("{what}: {elapsed:?}, peak {peak} bytes: {e}");
         assert!(e.contains(expect), "{what}: {e}");

@@ -65,10 +65,7 @@ fn primitives(
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
     let o = gltf_options(options);
     let plan = mesh::MeshPlan::new(skeleton, &o)?;
-    let bark = match progress {
-        Some(f) => plan.mesh_with_progress(skeleton, f)?,
-        None => plan.mesh(skeleton)?,
-    };
+    let bark = plan.mesh_reporting(skeleton, o.threads, progress)?;
     let mut out = vec![Primitive {
         mesh: bark,
         material: Material::Bark,
@@ -214,8 +211,7 @@ pub fn gltf_forest_nodes_bytes(
     binary: bool,
 ) -> Result<Vec<u8>> {
     let o = gltf_options(options);
-    let (meshes, _) = crate::forest::instanced(placed, &o)?;
-    let which = crate::forest::instance_meshes(placed);
+    let (meshes, which) = crate::forest::instanced(placed, &o)?;
     let trees: Vec<Vec<Primitive>> = meshes
         .into_iter()
         .map(|mesh| {
@@ -230,11 +226,11 @@ pub fn gltf_forest_nodes_bytes(
         .iter()
         .zip(which)
         .enumerate()
-        .map(|(k, (p, mesh))| {
+        .map(|(k, (p, (mesh, _)))| {
             let q = glam::Quat::from_rotation_y(p.rotation.to_radians());
             Node {
                 name: format!("tree {k}"),
-                mesh,
+                mesh: mesh as usize,
                 trs: Some((p.position, q.to_array(), p.scale)),
             }
         })
@@ -255,9 +251,9 @@ pub fn save_gltf_forest_nodes(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    let path = path.as_ref();
-    let bytes = gltf_forest_nodes_bytes(placed, options, binary_by_extension(path)?)?;
-    write(path, bytes)
+    save(path.as_ref(), |binary| {
+        gltf_forest_nodes_bytes(placed, options, binary)
+    })
 }
 
 /// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
@@ -557,8 +553,15 @@ pub fn save_gltf_forest(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    let path = path.as_ref();
-    let bytes = gltf_forest_bytes(placed, options, binary_by_extension(path)?)?;
+    save(path.as_ref(), |binary| {
+        gltf_forest_bytes(placed, options, binary)
+    })
+}
+
+/// Writes the bytes `make` gives for the form `path`'s extension asks (binary or not); a
+/// bad extension fails before anything is made.
+fn save(path: &Path, make: impl FnOnce(bool) -> Result<Vec<u8>>) -> Result<()> {
+    let bytes = make(binary_by_extension(path)?)?;
     write(path, bytes)
 }
 
@@ -595,9 +598,7 @@ pub fn save_gltf(
     leaves: Option<&LeafOptions>,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    let path = path.as_ref();
-    let bytes = gltf_bytes(skeleton, options, leaves, binary_by_extension(path)?)?;
-    write(path, bytes)
+    save_gltf_reporting(skeleton, options, leaves, path, None)
 }
 
 /// [`save_gltf`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) while the bark
@@ -611,8 +612,18 @@ pub fn save_gltf_with_progress(
     path: impl AsRef<Path>,
     progress: ProgressFn<'_>,
 ) -> Result<()> {
-    let path = path.as_ref();
-    let binary = binary_by_extension(path)?;
-    let bytes = gltf_bytes_with(skeleton, options, leaves, binary, Some(progress))?;
-    write(path, bytes)
+    save_gltf_reporting(skeleton, options, leaves, path, Some(progress))
+}
+
+/// [`save_gltf`] with an optional callback (the C ABI's may be NULL).
+pub(crate) fn save_gltf_reporting(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    path: impl AsRef<Path>,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<()> {
+    save(path.as_ref(), |binary| {
+        gltf_bytes_with(skeleton, options, leaves, binary, progress)
+    })
 }

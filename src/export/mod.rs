@@ -3,6 +3,7 @@
 mod gltf;
 mod obj;
 
+pub(crate) use gltf::save_gltf_reporting;
 pub use gltf::{
     gltf_bytes, gltf_bytes_instanced, gltf_forest_bytes, gltf_forest_nodes_bytes, save_gltf,
     save_gltf_forest, save_gltf_forest_nodes, save_gltf_with_progress,

@@ -2,7 +2,8 @@
 
 use super::*;
 
-/// The tree, mesh options and path every export takes, checked in that order.
+/// The tree, mesh options (with the host's progress callback) and path every export
+/// takes, checked in that order.
 ///
 /// # Safety
 /// `tree` is NULL or live; `mesh_options` is NULL or readable; `path` is NULL or
@@ -11,11 +12,11 @@ unsafe fn export_args<'a>(
     tree: *const ArborTree,
     mesh_options: *const ArborMeshOptions,
     path: *const c_char,
-) -> Result<(&'a ArborTree, MeshOptions, &'a str), FfiError> {
+) -> Result<ExportArgs<'a>, FfiError> {
     // SAFETY: the caller promises `tree` is NULL or live.
     let tree = unsafe { arg_ref(tree, "tree") }?;
     // SAFETY: the caller promises `mesh_options` is NULL or readable.
-    let mo = unsafe { read_mesh_options(mesh_options) }?;
+    let (mo, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
     if path.is_null() {
         return Err(FfiError::null("path"));
     }
@@ -23,8 +24,16 @@ unsafe fn export_args<'a>(
     let path = unsafe { CStr::from_ptr(path) }
         .to_str()
         .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
-    Ok((tree, mo, path))
+    Ok((tree, mo, (progress, user), path))
 }
+
+/// What [`export_args`] reads: tree, mesh options, (progress callback, user data), path.
+type ExportArgs<'a> = (
+    &'a ArborTree,
+    MeshOptions,
+    (ArborProgressFn, *mut c_void),
+    &'a str,
+);
 
 /// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
 /// baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
@@ -42,14 +51,13 @@ pub unsafe extern "C" fn arbor_export_obj(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, path) = unsafe { export_args(tree, mesh_options, path) }?;
-        // SAFETY: export_args read the same options, so they are readable.
-        let (_, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
-        let plan = mesh::MeshPlan::new(&tree.skeleton, &mo)?;
-        let bark = match progress_closure(progress, user) {
-            Some(mut f) => plan.mesh_with_progress(&tree.skeleton, &mut f)?,
-            None => plan.mesh(&tree.skeleton)?,
-        };
+        let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
+        let mut f = progress_closure(progress, user);
+        let bark = mesh::MeshPlan::new(&tree.skeleton, &mo)?.mesh_reporting(
+            &tree.skeleton,
+            mo.threads,
+            as_progress(&mut f),
+        )?;
         let result = if leaf_options.is_null() {
             crate::export::save_obj_parts(&[("bark", &bark)], path)
         } else {
@@ -86,22 +94,21 @@ pub unsafe extern "C" fn arbor_export_gltf(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, path) = unsafe { export_args(tree, mesh_options, path) }?;
+        let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
         let leaves = if leaf_options.is_null() {
             None
         } else {
             // SAFETY: the caller promises `leaf_options` is readable.
             Some(unsafe { read_leaf_options(leaf_options, true) }?)
         };
-        // SAFETY: export_args read the same options, so they are readable.
-        let (_, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
-        let (skeleton, leaves) = (&tree.skeleton, leaves.as_ref());
-        match progress_closure(progress, user) {
-            Some(mut f) => {
-                crate::export::save_gltf_with_progress(skeleton, &mo, leaves, path, &mut f)?
-            }
-            None => crate::export::save_gltf(skeleton, &mo, leaves, path)?,
-        }
+        let mut f = progress_closure(progress, user);
+        crate::export::save_gltf_reporting(
+            &tree.skeleton,
+            &mo,
+            leaves.as_ref(),
+            path,
+            as_progress(&mut f),
+        )?;
         Ok(())
     })
 }

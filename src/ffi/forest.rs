@@ -133,12 +133,8 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, index_capacity, "indices") }?;
         // Grows and meshes every tree once; checks the capacities before writing.
-        match progress_closure(progress, user) {
-            Some(mut f) => {
-                crate::forest::write_merged_uninit_with_progress(&placed, &options, v, i, &mut f)?
-            }
-            None => crate::forest::write_merged_uninit(&placed, &options, v, i)?,
-        };
+        let mut f = progress_closure(progress, user);
+        crate::forest::write_merged_uninit_reporting(&placed, &options, v, i, as_progress(&mut f))?;
         Ok(())
     })
 }

@@ -146,6 +146,25 @@ pub(crate) unsafe fn out_ref<'a, T>(p: *mut T, name: &str) -> Result<&'a mut T, 
     unsafe { p.as_mut() }.ok_or_else(|| FfiError::null(name))
 }
 
+/// Copies `src` into a caller buffer of `capacity` elements, with the checks of
+/// [`out_slice`] (too small: `ARBOR_STATUS_BUFFER_TOO_SMALL`, nothing written).
+///
+/// # Safety
+/// As [`out_slice`].
+pub(crate) unsafe fn copy_out<T: Copy>(
+    src: &[T],
+    p: *mut T,
+    capacity: usize,
+    name: &'static str,
+) -> Result<(), FfiError> {
+    // SAFETY: passed on from the caller.
+    let dst = unsafe { out_slice(p, capacity, src.len(), name) }?;
+    for (d, s) in dst.iter_mut().zip(src) {
+        d.write(*s);
+    }
+    Ok(())
+}
+
 /// The first `needed` elements of a caller buffer of `capacity` elements, as
 /// possibly-uninitialised slots (a host's `malloc` or mapped GPU memory).
 ///

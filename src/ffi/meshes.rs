@@ -300,13 +300,8 @@ pub unsafe extern "C" fn arbor_mesh_options_init(
 pub(crate) unsafe fn read_mesh_options(
     options: *const ArborMeshOptions,
 ) -> Result<MeshOptions, FfiError> {
-    if options.is_null() {
-        return Ok(MeshOptions::default());
-    }
-    // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
-    // was handled above.
-    let o = unsafe { read_growing(options, "options") }?;
-    Ok(MeshOptions::try_from(&o)?)
+    // SAFETY: passed on from the caller.
+    Ok(unsafe { read_mesh_options_with_progress(options) }?.0)
 }
 
 /// The mesh options at `options` with the host's progress callback (NULL: none).
@@ -425,12 +420,8 @@ pub unsafe extern "C" fn arbor_mesh_write(
         }?;
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
-        match progress_closure(progress, user) {
-            Some(mut f) => {
-                plan.write_uninit_with_progress(&tree.skeleton, options.threads, v, i, &mut f)?
-            }
-            None => plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?,
-        };
+        let mut f = progress_closure(progress, user);
+        plan.write_uninit_reporting(&tree.skeleton, options.threads, v, i, as_progress(&mut f))?;
         tree.written(&options);
         Ok(())
     })
@@ -661,10 +652,8 @@ pub unsafe extern "C" fn arbor_mesh_create(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let plan = tree.plan(&options)?;
-        let mesh = match progress_closure(progress, user) {
-            Some(mut f) => plan.mesh_on_with_progress(&tree.skeleton, options.threads, &mut f)?,
-            None => plan.mesh_on(&tree.skeleton, options.threads)?,
-        };
+        let mut f = progress_closure(progress, user);
+        let mesh = plan.mesh_reporting(&tree.skeleton, options.threads, as_progress(&mut f))?;
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })

@@ -39,7 +39,9 @@ use crate::mesh::{
 use crate::models::honda::{self, HondaParams};
 use crate::skeleton::{Branch, Skeleton};
 use bytemuck::{Pod, Zeroable};
-use guard::{FfiError, arg_ref, guard, guard_value, in_slice, out_ref, out_slice, with_last_error};
+use guard::{
+    FfiError, arg_ref, copy_out, guard, guard_value, in_slice, out_ref, out_slice, with_last_error,
+};
 use std::ffi::{CStr, c_char, c_void};
 
 #[cfg(test)]

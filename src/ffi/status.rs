@@ -74,6 +74,14 @@ pub(crate) fn progress_closure(
     })
 }
 
+/// A closure from [`progress_closure`] as the optional callback the library's
+/// `*_reporting` functions take.
+pub(crate) fn as_progress<F: FnMut(crate::progress::Stage, f32) -> bool>(
+    f: &mut Option<F>,
+) -> Option<crate::progress::ProgressFn<'_>> {
+    f.as_mut().map(|f| f as crate::progress::ProgressFn<'_>)
+}
+
 const VERSION: &CStr =
     match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
         Ok(v) => v,

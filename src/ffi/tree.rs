@@ -316,12 +316,9 @@ pub unsafe extern "C" fn arbor_tree_copy_branches(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         let src = tree.skeleton.branches();
-        // SAFETY: the caller promises `out` holds `capacity` writable branches.
-        let dst = unsafe { out_slice(out.cast::<Branch>(), capacity, src.len(), "out") }?;
-        for (d, s) in dst.iter_mut().zip(src) {
-            d.write(*s);
-        }
-        Ok(())
+        // SAFETY: the caller promises `out` holds `capacity` writable branches
+        // (ArborBranch and Branch share one layout, asserted in layout.rs).
+        unsafe { copy_out(src, out.cast::<Branch>(), capacity, "out") }
     })
 }
 
@@ -368,19 +365,16 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         let src = tree.skeleton.leaves();
-        // SAFETY: the caller promises `out` holds `capacity` writable sites.
-        let dst = unsafe {
-            out_slice(
+        // SAFETY: the caller promises `out` holds `capacity` writable sites (one layout,
+        // asserted in layout.rs).
+        unsafe {
+            copy_out(
+                src,
                 out.cast::<crate::skeleton::LeafSite>(),
                 capacity,
-                src.len(),
                 "out",
             )
-        }?;
-        for (d, s) in dst.iter_mut().zip(src) {
-            d.write(*s);
         }
-        Ok(())
     })
 }
 
@@ -440,19 +434,9 @@ pub unsafe extern "C" fn arbor_tree_copy_organs(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         let src = tree.skeleton.organs();
-        // SAFETY: the caller promises `out` holds `capacity` writable organs.
-        let dst = unsafe {
-            out_slice(
-                out.cast::<crate::skeleton::Organ>(),
-                capacity,
-                src.len(),
-                "out",
-            )
-        }?;
-        for (d, s) in dst.iter_mut().zip(src) {
-            d.write(*s);
-        }
-        Ok(())
+        // SAFETY: the caller promises `out` holds `capacity` writable organs (one layout,
+        // asserted in layout.rs).
+        unsafe { copy_out(src, out.cast::<crate::skeleton::Organ>(), capacity, "out") }
     })
 }
 

@@ -583,13 +583,7 @@ fn rewrite(
         }
         match chosen {
             Some(p) => {
-                let prod = &table.productions[p as usize];
-                let args = std::mem::take(&mut ctx.args);
-                let r = emit(ctx, &prod.successor, &args, birth, next);
-                ctx.args = args;
-                r?;
-                ctx.line = prod.line;
-                ctx.check("a production")?;
+                let prod = emit_production(ctx, table, p, birth, next, "a production")?;
                 i += prod.pred_rest.len();
             }
             None => copy_run(ctx, cur, i, i + 1, next)?,
@@ -678,13 +672,27 @@ pub(crate) fn successor_of(
     out: &mut ModuleString,
 ) -> Result<()> {
     out.clear();
+    emit_production(ctx, table, p, birth, out, "a rule").map(|_| ())
+}
+
+/// Appends the successor of production `p` (its predecessor's arguments in `ctx.args`)
+/// to `out`, then reports a fault of its statements as an error about `what`.
+fn emit_production<'t>(
+    ctx: &mut Ctx<'_>,
+    table: &'t ProductionTable,
+    p: u32,
+    birth: u16,
+    out: &mut ModuleString,
+    what: &str,
+) -> Result<&'t Production> {
     let prod = &table.productions[p as usize];
     let args = std::mem::take(&mut ctx.args);
     let r = emit(ctx, &prod.successor, &args, birth, out);
     ctx.args = args;
     r?;
     ctx.line = prod.line;
-    ctx.check("a rule")
+    ctx.check(what)?;
+    Ok(prod)
 }
 
 /// The modules after the first of a predecessor of several, one after another.

@@ -363,9 +363,10 @@ pub fn leaf_instances(
     let mut out = place(skeleton, leaves, mesh)?;
     let o = mesh.out();
     if o.map != AxisMap::IDENTITY || o.scale != 1.0 {
+        let rotate = o.map.rotation();
         for l in &mut out {
             l.position = o.pos(Vec3::from(l.position));
-            l.rotation = o.map.rotation(Quat::from_array(l.rotation)).to_array();
+            l.rotation = rotate(Quat::from_array(l.rotation)).to_array();
             l.scale *= o.scale;
         }
     }

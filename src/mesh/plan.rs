@@ -101,26 +101,25 @@ pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
         }
     }
     if o.axes != Axes::Arbor {
-        for (field, default) in [
-            ("up_axis", o.up_axis == UpAxis::Y),
-            ("winding", o.winding == Winding::CounterClockwise),
-        ] {
-            if !default {
-                return Err(Error::invalid(
-                    field,
-                    format!(
-                        "{:?} with axes {:?}; an engine preset sets the axes and winding \
-                         itself, so leave up_axis and winding at their defaults (Y, \
-                         CounterClockwise)",
-                        if field == "up_axis" {
-                            format!("{:?}", o.up_axis)
-                        } else {
-                            format!("{:?}", o.winding)
-                        },
-                        o.axes
-                    ),
-                ));
-            }
+        let (up, winding) = (
+            o.up_axis != UpAxis::Y,
+            o.winding != Winding::CounterClockwise,
+        );
+        if up || winding {
+            let (field, value) = if up {
+                ("up_axis", format!("{:?}", o.up_axis))
+            } else {
+                ("winding", format!("{:?}", o.winding))
+            };
+            return Err(Error::invalid(
+                field,
+                format!(
+                    "{value} with axes {:?}; an engine preset sets the axes and winding \
+                     itself, so leave up_axis and winding at their defaults (Y, \
+                     CounterClockwise)",
+                    o.axes
+                ),
+            ));
         }
         if !o.out().scale.is_finite() {
             return Err(Error::invalid(

@@ -55,28 +55,34 @@ impl AxisMap {
         [at(0), at(1), at(2)]
     }
 
-    /// Whether the map is a mirror (determinant −1).
+    /// Whether the map is a mirror (determinant −1): an odd permutation or an odd number of
+    /// sign changes, not both.
     pub(crate) fn mirrors(self) -> bool {
-        let odd = self.from[0] != 0 || self.from[1] != 1;
+        let f = self.from;
+        let inversions =
+            usize::from(f[0] > f[1]) + usize::from(f[0] > f[2]) + usize::from(f[1] > f[2]);
         let negatives = self.sign.iter().filter(|s| **s < 0.0).count();
-        odd ^ (negatives % 2 == 1)
+        (inversions + negatives) % 2 == 1
     }
 
-    /// An instance's rotation `q` (turning a prefab's space into the tree's) in the
-    /// output. A rotation M turns it (M·R: the prefab keeps its own space); a mirror
-    /// conjugates it (M·R·M, again a rotation, of the mirrored axis by the opposite
-    /// angle: the prefab is read in the mirrored space, as an engine imports it).
-    pub(crate) fn rotation(self, q: glam::Quat) -> glam::Quat {
-        if self.mirrors() {
-            let v = self.apply(glam::Vec3::new(q.x, q.y, q.z));
-            glam::Quat::from_xyzw(-v[0], -v[1], -v[2], q.w)
-        } else {
-            let m = glam::Mat3::from_cols(
+    /// What the map does to an instance's rotation (turning a prefab's space into the
+    /// tree's) in the output. A rotation M turns it (M·R: the prefab keeps its own space);
+    /// a mirror conjugates it (M·R·M, again a rotation, of the mirrored axis by the
+    /// opposite angle: the prefab is read in the mirrored space, as an engine imports it).
+    pub(crate) fn rotation(self) -> impl Fn(glam::Quat) -> glam::Quat {
+        let turn = (!self.mirrors()).then(|| {
+            glam::Quat::from_mat3(&glam::Mat3::from_cols(
                 glam::Vec3::from(self.apply(glam::Vec3::X)),
                 glam::Vec3::from(self.apply(glam::Vec3::Y)),
                 glam::Vec3::from(self.apply(glam::Vec3::Z)),
-            );
-            (glam::Quat::from_mat3(&m) * q).normalize()
+            ))
+        });
+        move |q| match turn {
+            Some(t) => (t * q).normalize(),
+            None => {
+                let v = self.apply(glam::Vec3::new(q.x, q.y, q.z));
+                glam::Quat::from_xyzw(-v[0], -v[1], -v[2], q.w)
+            }
         }
     }
 }

@@ -108,7 +108,20 @@ impl MeshPlan {
         indices: &mut [MaybeUninit<u32>],
         progress: ProgressFn<'_>,
     ) -> Result<MeshSize> {
-        let mut p = Progress::new(Some(progress));
+        self.write_uninit_reporting(skeleton, threads, vertices, indices, Some(progress))
+    }
+
+    /// [`write_uninit_on`](Self::write_uninit_on) with an optional callback (the C ABI's
+    /// may be NULL).
+    pub(crate) fn write_uninit_reporting(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        vertices: &mut [MaybeUninit<Vertex>],
+        indices: &mut [MaybeUninit<u32>],
+        progress: Option<ProgressFn<'_>>,
+    ) -> Result<MeshSize> {
+        let mut p = Progress::new(progress);
         self.write_on_with(skeleton, threads, vertices, indices, &mut p)
     }
 
@@ -119,28 +132,7 @@ impl MeshPlan {
         skeleton: &Skeleton,
         progress: ProgressFn<'_>,
     ) -> Result<Mesh> {
-        self.mesh_on_with_progress(skeleton, self.options.threads, progress)
-    }
-
-    /// [`mesh_with_progress`](Self::mesh_with_progress) on up to `threads` threads (as
-    /// [`MeshOptions::threads`]).
-    pub fn mesh_on_with_progress(
-        &self,
-        skeleton: &Skeleton,
-        threads: u32,
-        progress: ProgressFn<'_>,
-    ) -> Result<Mesh> {
-        let size = self.size();
-        let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
-        let mut indices = bytemuck::zeroed_vec::<u32>(size.indices);
-        let mut p = Progress::new(Some(progress));
-        self.write_on_with(skeleton, threads, &mut vertices, &mut indices, &mut p)?;
-        Ok(Mesh {
-            vertices,
-            indices,
-            topology: self.options.topology,
-            ranges: self.ranges(),
-        })
+        self.mesh_reporting(skeleton, self.options.threads, Some(progress))
     }
 
     /// The owned mesh of `skeleton` with the branch ranges.
@@ -150,10 +142,22 @@ impl MeshPlan {
 
     /// [`mesh`](Self::mesh) on up to `threads` threads (as [`MeshOptions::threads`]).
     pub fn mesh_on(&self, skeleton: &Skeleton, threads: u32) -> Result<Mesh> {
+        self.mesh_reporting(skeleton, threads, None)
+    }
+
+    /// [`mesh_on`](Self::mesh_on) with an optional callback, as
+    /// [`mesh_with_progress`](Self::mesh_with_progress).
+    pub(crate) fn mesh_reporting(
+        &self,
+        skeleton: &Skeleton,
+        threads: u32,
+        progress: Option<ProgressFn<'_>>,
+    ) -> Result<Mesh> {
         let size = self.size();
         let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
         let mut indices = bytemuck::zeroed_vec::<u32>(size.indices);
-        self.write_on(skeleton, threads, &mut vertices, &mut indices)?;
+        let mut p = Progress::new(progress);
+        self.write_on_with(skeleton, threads, &mut vertices, &mut indices, &mut p)?;
         Ok(Mesh {
             vertices,
             indices,
@@ -259,20 +263,15 @@ impl MeshPlan {
                     format!("branch {} past the {n} branches", b - 1),
                 ));
             }
-            let lay = &self.layout;
-            let end = if b < n {
-                lay.first_index[b]
-            } else {
-                size.indices as u32
-            };
-            let mut discard = vec![Discard; (end - lay.first_index[a]) as usize];
+            let ((_, first), (_, end)) = (self.starts(a), self.starts(b));
+            let mut discard = vec![Discard; end - first];
             self.write_branches(
                 skeleton,
                 a..b,
                 &mut vertices[..size.vertices],
                 0,
                 &mut discard,
-                lay.first_index[a] == 0,
+                first == 0,
                 0,
             );
         }
@@ -293,6 +292,16 @@ impl MeshPlan {
         wanted.min(self.branch_count / BRANCHES_PER_THREAD).max(1)
     }
 
+    /// Where branch `b`'s vertices and indices start; the ends of the mesh for `b` = the
+    /// branch count.
+    fn starts(&self, b: usize) -> (usize, usize) {
+        let lay = &self.layout;
+        match (lay.first_vertex.get(b), lay.first_index.get(b)) {
+            (Some(&v), Some(&i)) => (v as usize, i as usize),
+            _ => (self.plan.size.vertices, self.plan.size.indices),
+        }
+    }
+
     /// Writes every branch; with a callback, in rounds of [`progress::EVERY`] branches,
     /// reporting after each round on the calling thread and stopping when it says so.
     fn write_all<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
@@ -309,20 +318,12 @@ impl MeshPlan {
             self.write_range(skeleton, threads, 0..n, vertices, indices, 0);
             return Ok(());
         }
-        let lay = &self.layout;
-        let starts = |b: usize| {
-            if b < n {
-                (lay.first_vertex[b] as usize, lay.first_index[b] as usize)
-            } else {
-                (self.plan.size.vertices, self.plan.size.indices)
-            }
-        };
         let round = progress::EVERY.max(threads * BRANCHES_PER_THREAD);
         let (mut v_rest, mut i_rest) = (vertices, indices);
         let (mut lo, mut last) = (0, 0);
         loop {
             let hi = (lo + round).min(n);
-            let ((v_lo, i_lo), (v_hi, i_hi)) = (starts(lo), starts(hi));
+            let ((v_lo, i_lo), (v_hi, i_hi)) = (self.starts(lo), self.starts(hi));
             let (va, vb) = std::mem::take(&mut v_rest).split_at_mut(v_hi - v_lo);
             let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_hi - i_lo);
             last = self.write_range(skeleton, threads, lo..hi, va, ia, last);
@@ -346,16 +347,7 @@ impl MeshPlan {
         indices: &mut [I],
         last: u32,
     ) -> u32 {
-        let n = skeleton.len();
-        let lay = &self.layout;
-        let starts = |b: usize| {
-            if b < n {
-                (lay.first_vertex[b] as usize, lay.first_index[b] as usize)
-            } else {
-                (self.plan.size.vertices, self.plan.size.indices)
-            }
-        };
-        let (v0, i0) = starts(range.start);
+        let (v0, i0) = self.starts(range.start);
         let count = range.end - range.start;
         let threads = threads.min(count / BRANCHES_PER_THREAD).max(1);
         if threads == 1 {
@@ -371,7 +363,7 @@ impl MeshPlan {
             let mut lo = range.start;
             loop {
                 let hi = (lo + per).min(range.end);
-                let (v_to, i_to) = starts(hi);
+                let (v_to, i_to) = self.starts(hi);
                 let (va, vb) = std::mem::take(&mut v_rest).split_at_mut(v_to - v_at);
                 let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_to - i_at);
                 let (chunk, v_base, first) = (lo..hi, v_at, i_at == 0);

@@ -231,10 +231,18 @@ impl Env {
             }
         }
         pending.truncate(kept);
+        self.apply(&pending, parallel);
+        pending.clear();
+        self.pending = pending;
+    }
+
+    /// Adds the pyramids of merged `changes` to the grid: on two threads (even and odd
+    /// layers) with `parallel` and the `parallel` feature, else on this one.
+    fn apply(&mut self, changes: &[(u32, f32)], parallel: bool) {
         let layer = self.dims[0] * self.dims[2];
         let (dims, falloff) = (self.dims, &self.falloff);
         #[cfg(feature = "parallel")]
-        if parallel && pending.len() > 1024 {
+        if parallel && changes.len() > 1024 {
             let (mut even, mut odd): (Vec<&mut [f32]>, Vec<&mut [f32]>) = (Vec::new(), Vec::new());
             for (y, l) in self.shadow.chunks_mut(layer).enumerate() {
                 if y % 2 == 0 {
@@ -243,35 +251,15 @@ impl Env {
                     odd.push(l);
                 }
             }
-            let changes = &pending;
             rayon::join(
                 || apply_changes(changes, dims, falloff, &mut even, 0),
                 || apply_changes(changes, dims, falloff, &mut odd, 1),
             );
-            pending.clear();
-            self.pending = pending;
             return;
         }
         let _ = parallel;
         let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
-        apply_changes(&pending, dims, falloff, &mut all, usize::MAX);
-        pending.clear();
-        self.pending = pending;
-    }
-
-    /// The shadow pyramid of `count` buds in cell `c`: the cells q layers below, within q
-    /// cells sideways, each gain count·a·b^−q.
-    fn pyramid(&mut self, [cx, cy, cz]: [usize; 3], count: f32) {
-        let cell = self.index(cx, cy, cz) as u32;
-        let layer = self.dims[0] * self.dims[2];
-        let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
-        apply_changes(
-            &[(cell, count)],
-            self.dims,
-            &self.falloff,
-            &mut all,
-            usize::MAX,
-        );
+        apply_changes(changes, dims, falloff, &mut all, usize::MAX);
     }
 
     /// Shadow at a cell, 0 outside the grid.
@@ -415,28 +403,32 @@ impl Env {
         self.obstacles.push(*o);
         let (lo, hi) = o.bounds();
         let (lo, hi) = (self.cell_of(lo), self.cell_of(hi));
-        for y in lo[1]..=hi[1] {
-            for z in lo[2]..=hi[2] {
-                for x in lo[0]..=hi[0] {
-                    let center =
-                        self.origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * self.cell;
-                    match self.kind {
-                        Environment::Shadow => {
-                            if o.contains(center) {
-                                self.pyramid([x, y, z], 1.0);
-                                for below in 0..y {
-                                    let c = self.index(x, below, z);
-                                    self.shadow[c] += self.full_light;
-                                }
-                            }
-                        }
-                        Environment::SpaceColonization => {
-                            let c = self.index(x, y, z);
-                            for m in self.first[c] as usize..self.first[c + 1] as usize {
-                                if o.contains(self.markers[m]) {
-                                    self.alive[m] = false;
-                                }
-                            }
+        let [nx, _, nz] = self.dims;
+        let (origin, cell, full_light) = (self.origin, self.cell, self.full_light);
+        let center = |x: usize, y: usize, z: usize| {
+            origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * cell
+        };
+        let cells = (lo[1]..=hi[1]).flat_map(move |y| {
+            (lo[2]..=hi[2]).flat_map(move |z| (lo[0]..=hi[0]).map(move |x| (x, y, z)))
+        });
+        match self.kind {
+            Environment::Shadow => {
+                let (dims, falloff) = (self.dims, &self.falloff);
+                let mut layers: Vec<&mut [f32]> = self.shadow.chunks_mut(nx * nz).collect();
+                for (x, y, z) in cells.filter(|&(x, y, z)| o.contains(center(x, y, z))) {
+                    let c = ((y * nz + z) * nx + x) as u32;
+                    apply_changes(&[(c, 1.0)], dims, falloff, &mut layers, usize::MAX);
+                    for layer in &mut layers[..y] {
+                        layer[z * nx + x] += full_light;
+                    }
+                }
+            }
+            Environment::SpaceColonization => {
+                for (x, y, z) in cells {
+                    let c = self.index(x, y, z);
+                    for m in self.first[c] as usize..self.first[c + 1] as usize {
+                        if o.contains(self.markers[m]) {
+                            self.alive[m] = false;
                         }
                     }
                 }
