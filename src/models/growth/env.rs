@@ -72,6 +72,12 @@ impl Obstacle {
     }
 }
 
+/// Set in a cell word ([`Env::cell_word`]) where a bud gets no light.
+pub(crate) const DARK: u32 = 1 << 31;
+
+/// Most cells a grid may have: a cell index and the [`DARK`] bit share 32 bits.
+pub(crate) const MOST_CELLS: usize = 1 << 31;
+
 /// One bud as the environment sees it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Bud {
@@ -101,6 +107,8 @@ pub(crate) struct Env {
     max: Vec3,
     /// Shadow changes not applied yet: (cell, buds added there, negative for removed).
     pending: Vec<(u32, f32)>,
+    /// The radix sort's second buffer.
+    scratch: Vec<(u32, f32)>,
     obstacles: Vec<Obstacle>,
 }
 
@@ -127,6 +135,7 @@ impl Env {
             min,
             max,
             pending: Vec::new(),
+            scratch: Vec::new(),
             obstacles: Vec::new(),
         };
         match o.environment {
@@ -182,25 +191,35 @@ impl Env {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
 
-    /// Adds (`count` > 0) or removes (< 0) the shadow pyramids of `count` buds at `p`,
-    /// applied at the next [`flush`](Self::flush). Nothing for markers.
-    pub(crate) fn cast(&mut self, p: Vec3, count: f32) {
-        if let Some(cell) = self.shadow_cell(p) {
-            self.pending.push((cell, count));
+    /// Adds (`count` > 0) or removes (< 0) the shadow pyramids of `count` buds whose cell
+    /// word is `word` ([`cell_word`](Self::cell_word)), applied at the next
+    /// [`flush`](Self::flush). Nothing for markers.
+    pub(crate) fn cast(&mut self, word: u32, count: f32) {
+        if self.kind == Environment::Shadow {
+            self.pending.push((word & !DARK, count));
         }
     }
 
-    /// The cell whose shadow a bud at `p` changes (None in a colonization world).
+    /// The cell word of a bud at `p`, found once when its internode is made: in a shadow
+    /// world the index of the cell whose shadow it changes (clamped into the grid), with
+    /// [`DARK`] set where it gets no light (outside the box or inside an obstacle); 0 in a
+    /// colonization world.
     #[inline]
-    pub(crate) fn shadow_cell(&self, p: Vec3) -> Option<u32> {
+    pub(crate) fn cell_word(&self, p: Vec3) -> u32 {
         if self.kind != Environment::Shadow {
-            return None;
+            return 0;
         }
         let [x, y, z] = self.cell_of(p);
-        Some(self.index(x, y, z) as u32)
+        let cell = self.index(x, y, z) as u32;
+        // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
+        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+            cell | DARK
+        } else {
+            cell
+        }
     }
 
-    /// Changes recorded elsewhere ([`shadow_cell`](Self::shadow_cell)), applied at the
+    /// Changes recorded elsewhere (cells without [`DARK`]), applied at the
     /// next [`flush`](Self::flush) as if cast in this order.
     pub(crate) fn cast_cells(&mut self, changes: &[(u32, f32)]) {
         self.pending.extend_from_slice(changes);
@@ -214,7 +233,7 @@ impl Env {
     /// same order, so the grid is the same bit for bit.
     pub(crate) fn flush(&mut self, parallel: bool) {
         let mut pending = std::mem::take(&mut self.pending);
-        sort_changes(&mut pending, parallel);
+        sort_changes(&mut pending, &mut self.scratch, self.shadow.len());
         // Merge each cell's changes in place: (cell, net), nets of zero dropped.
         let mut kept = 0;
         let mut k = 0;
@@ -271,28 +290,25 @@ impl Env {
         self.shadow[self.index(x as usize, y as usize, z as usize)]
     }
 
-    /// Light at a bud of a shadow world (0 outside the box or inside an obstacle):
-    /// Q = max(C − s + a, 0) (the `+ a` takes away the bud's own shadow).
+    /// Light at a bud of a shadow world from its cell word: Q = max(C − s + a, 0) (the
+    /// `+ a` takes away the bud's own shadow), 0 where the word is [`DARK`].
     #[inline]
-    pub(crate) fn shadow_q(&self, p: Vec3) -> f32 {
-        // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
-        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+    pub(crate) fn shadow_q(&self, word: u32) -> f32 {
+        if word & DARK != 0 {
             return 0.0;
         }
-        let [cx, cy, cz] = self.cell_of(p);
-        let s = self.shadow[self.index(cx, cy, cz)];
-        (self.full_light - s + self.strength).max(0.0)
+        (self.full_light - self.shadow[word as usize] + self.strength).max(0.0)
     }
 
-    /// The optimal direction at a bud of a shadow world: V = −∇s, normalised (zero where
-    /// flat, outside the box or inside an obstacle). Asked only where a shoot grows.
-    pub(crate) fn shadow_v(&self, p: Vec3) -> Vec3 {
-        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+    /// The optimal direction at a bud of a shadow world: V = −∇s (central differences),
+    /// normalised (zero where flat or [`DARK`]). Asked only where a shoot grows.
+    pub(crate) fn shadow_v(&self, word: u32) -> Vec3 {
+        if word & DARK != 0 {
             return Vec3::ZERO;
         }
-        let [cx, cy, cz] = self.cell_of(p);
+        let c = word as usize;
+        let (cx, cy, cz) = self.coords(c);
         let [nx, ny, nz] = self.dims;
-        let c = self.index(cx, cy, cz);
         let grad = if cx > 0 && cy > 0 && cz > 0 && cx + 1 < nx && cy + 1 < ny && cz + 1 < nz {
             // Inside: neighbours at ±1, ±nx (z) and ±nx·nz (y).
             let (dz, dy) = (nx, nx * nz);
@@ -441,17 +457,41 @@ impl Env {
     }
 }
 
-/// Sorts the shadow changes by cell (on all cores with `parallel`; the order of one
-/// cell's changes does not matter, their sum is exact).
-fn sort_changes(changes: &mut [(u32, f32)], parallel: bool) {
-    #[cfg(feature = "parallel")]
-    if parallel && changes.len() > 1 << 16 {
-        use rayon::slice::ParallelSliceMut;
-        changes.par_sort_unstable_by_key(|&(c, _)| c);
+/// Sorts the shadow changes by cell, stably (each cell's changes keep the order they were
+/// made in): a least-significant-digit radix sort in at most three passes over digits of
+/// up to 13 bits of the cell index (below `cells`), through `scratch`.
+fn sort_changes(changes: &mut Vec<(u32, f32)>, scratch: &mut Vec<(u32, f32)>, cells: usize) {
+    if changes.len() < 256 {
+        changes.sort_by_key(|&(c, _)| c);
         return;
     }
-    let _ = parallel;
-    changes.sort_unstable_by_key(|&(c, _)| c);
+    let bits = usize::BITS - cells.saturating_sub(1).max(1).leading_zeros();
+    let passes = bits.div_ceil(13);
+    let digit = bits.div_ceil(passes);
+    let mask = (1u32 << digit) - 1;
+    let mut counts = vec![0u32; (passes as usize) << digit];
+    for &(c, _) in changes.iter() {
+        for p in 0..passes {
+            counts[((p as usize) << digit) + ((c >> (p * digit)) & mask) as usize] += 1;
+        }
+    }
+    scratch.clear();
+    scratch.resize(changes.len(), (0, 0.0));
+    for p in 0..passes {
+        let count = &mut counts[(p as usize) << digit..((p as usize) + 1) << digit];
+        let mut at = 0u32;
+        for c in count.iter_mut() {
+            let n = *c;
+            *c = at;
+            at += n;
+        }
+        for &change in changes.iter() {
+            let d = ((change.0 >> (p * digit)) & mask) as usize;
+            scratch[count[d] as usize] = change;
+            count[d] += 1;
+        }
+        std::mem::swap(changes, scratch);
+    }
 }
 
 /// Adds the shadow pyramids of `changes` ((cell, buds), in order) to `layers`: every

@@ -71,7 +71,8 @@ pub struct WorldOptions {
     pub shadow_depth: u32,
     /// Full exposure (`C`), > 0. Default 1.5.
     pub full_light: f32,
-    /// Most cells the grid may have (4 bytes each for shadow). Default 2^25 (128 MiB).
+    /// Most cells the grid may have (4 bytes each for shadow; never more than 2^31).
+    /// Default 2^25 (128 MiB).
     pub max_cells: usize,
     /// Growth stops with `LimitExceeded` naming `max_branches` before the world's
     /// internodes would pass this. Default 2^24.
@@ -404,11 +405,13 @@ impl WorldOptions {
             ));
         }
         let cells = self.cells();
-        if cells > self.max_cells as u128 {
+        // A cell index shares 32 bits with a flag: no grid has more than 2^31 cells.
+        let most = self.max_cells.min(env::MOST_CELLS);
+        if cells > most as u128 {
             return Err(Error::LimitExceeded {
                 limit_name: "max_cells",
                 what: "grid cells of the world box at this cell_size",
-                limit: self.max_cells as u64,
+                limit: most as u64,
                 requested: u64::try_from(cells).unwrap_or(u64::MAX),
                 step: None,
             });
@@ -484,7 +487,7 @@ impl World {
             });
         }
         self.check_branches(1)?;
-        let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle);
+        let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle, &self.env);
         tree.cast(&mut self.env, 1.0);
         self.env.flush(self.options.parallel);
         self.trees.push(tree);
@@ -496,6 +499,9 @@ impl World {
     pub fn add_obstacle(&mut self, obstacle: Obstacle) -> Result<()> {
         obstacle.validate()?;
         self.env.add_obstacle(&obstacle);
+        for t in &mut self.trees {
+            t.relight(&self.env);
+        }
         Ok(())
     }
 
@@ -551,7 +557,7 @@ impl World {
             Environment::Shadow => {
                 let env = &self.env;
                 each(&mut self.trees, parallel, |t| {
-                    t.plan_cycle(&mut ShadowLight(env), cycle)
+                    t.plan_cycle(&ShadowLight(env), cycle)
                 })
             }
             Environment::SpaceColonization => {
@@ -568,7 +574,7 @@ impl World {
                     .zip(light.iter().map(|l| l.as_slice()))
                     .collect();
                 each(&mut work, parallel, |(t, l)| {
-                    t.plan_cycle(&mut Markers { light: l, next: 0 }, cycle)
+                    t.plan_cycle(&Markers(l), cycle)
                 })
             }
         };
@@ -600,7 +606,7 @@ impl World {
                 break;
             }
             let seed = self.rng.next_u64();
-            let tree = Tree::plant(species, at, seed, cycle);
+            let tree = Tree::plant(species, at, seed, cycle, &self.env);
             tree.cast(&mut self.env, 1.0);
             self.trees.push(tree);
         }
@@ -657,30 +663,27 @@ impl World {
 struct ShadowLight<'a>(&'a Env);
 
 impl tree::Light for ShadowLight<'_> {
+    const ORDERED: bool = false;
     #[inline]
-    fn q(&mut self, at: Vec3, _: Vec3) -> f32 {
-        self.0.shadow_q(at)
+    fn q(&self, _: u32, word: u32) -> f32 {
+        self.0.shadow_q(word)
     }
-    fn v(&self, _: u32, at: Vec3) -> Vec3 {
-        self.0.shadow_v(at)
+    fn v(&self, _: u32, word: u32) -> Vec3 {
+        self.0.shadow_v(word)
     }
 }
 
 /// The light of a colonization world, found for every bud before planning (bud order).
-struct Markers<'a> {
-    light: &'a [(f32, Vec3)],
-    next: usize,
-}
+struct Markers<'a>(&'a [(f32, Vec3)]);
 
 impl tree::Light for Markers<'_> {
+    const ORDERED: bool = true;
     #[inline]
-    fn q(&mut self, _: Vec3, _: Vec3) -> f32 {
-        let q = self.light.get(self.next).map_or(0.0, |l| l.0);
-        self.next += 1;
-        q
+    fn q(&self, ordinal: u32, _: u32) -> f32 {
+        self.0.get(ordinal as usize).map_or(0.0, |l| l.0)
     }
-    fn v(&self, ordinal: u32, _: Vec3) -> Vec3 {
-        self.light.get(ordinal as usize).map_or(Vec3::ZERO, |l| l.1)
+    fn v(&self, ordinal: u32, _: u32) -> Vec3 {
+        self.0.get(ordinal as usize).map_or(Vec3::ZERO, |l| l.1)
     }
 }
 

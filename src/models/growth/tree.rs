@@ -1,7 +1,7 @@
 //! One self-organizing tree: its internodes and buds, and the passes of a growth cycle.
 
 use super::GrowthParams;
-use super::env::{Bud, Env};
+use super::env::{Bud, DARK, Env};
 use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
 use glam::Vec3;
 
@@ -22,10 +22,8 @@ struct New {
     chain: bool,
     /// Continues the parent's axis (main) or starts a lateral shoot.
     main: bool,
-    start: Vec3,
     end: Vec3,
     dir: Vec3,
-    lat_dir: Vec3,
     phyllo: f32,
     order: u32,
 }
@@ -34,10 +32,8 @@ struct New {
 #[derive(Debug, Default)]
 pub(crate) struct Plan {
     new: Vec<New>,
-    /// Some subtree is shed this cycle.
-    sheds: bool,
-    /// Per existing internode: shed this cycle (the root of a shed subtree or above one).
-    dead: Vec<bool>,
+    /// The internodes at the base of the subtrees shed this cycle.
+    shed: Vec<u32>,
     residual: f32,
     root_vigour: f32,
 }
@@ -48,26 +44,45 @@ impl Plan {
     }
 }
 
-/// Where a cycle's planning reads the environment: the light `Q` at every bud, in bud
-/// order (terminal before lateral, in internode order), and the optimal direction `V`
-/// only at the buds that grow, by the bud's ordinal in that order.
+/// Where a cycle's planning reads the environment: the light `Q` at a bud and the optimal
+/// direction `V` (asked only where a shoot grows). A bud is known by its ordinal in bud
+/// order (terminal before lateral, in internode order), counted only for a light that
+/// says it is `ORDERED`, and by its internode's cell word ([`Env::cell_word`]).
 pub(crate) trait Light {
-    fn q(&mut self, at: Vec3, dir: Vec3) -> f32;
-    fn v(&self, ordinal: u32, at: Vec3) -> Vec3;
+    const ORDERED: bool;
+    fn q(&self, ordinal: u32, word: u32) -> f32;
+    fn v(&self, ordinal: u32, word: u32) -> Vec3;
+}
+
+/// The passes' working arrays, one set per thread and reused from cycle to cycle and tree
+/// to tree, so a world's memory holds only the internodes themselves.
+#[derive(Default)]
+struct Scratch {
+    /// Ordinal of each internode's first bud in bud order (only for an ordered light).
+    ordinal: Vec<u32>,
+    /// Light gathered above each internode: [main side, lateral side].
+    split: Vec<[f32; 2]>,
+    /// Internodes at and above each internode; the new indices while shedding.
+    desc: Vec<u32>,
+    vig: Vec<f32>,
+    dead: Vec<bool>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
 /// A tree's internodes (metamers), one entry per internode in each array (structure of
 /// arrays, so each pass of a cycle streams only the fields it reads). Internode `i` ends
 /// in a node that holds a terminal bud (until the main axis grows on) and a lateral bud
-/// (until a lateral shoot grows from it).
+/// (until a lateral shoot grows from it). An internode starts where its parent ends (the
+/// root at the tree's base), and its lateral bud's direction follows from its heading
+/// and phyllotaxis angle ([`lateral`]), so neither is stored.
 #[derive(Clone, Debug, Default)]
 struct Nodes {
-    start: Vec<Vec3>,
     end: Vec<Vec3>,
     /// Unit heading.
     dir: Vec<Vec3>,
-    /// Unit direction of the lateral bud.
-    lat_dir: Vec<Vec3>,
     parent: Vec<u32>,
     /// [the internode continuing the axis, the first of the lateral shoot]: an index,
     /// [`BUD`] or [`GONE`].
@@ -78,18 +93,23 @@ struct Nodes {
     phyllo: Vec<f32>,
     /// Radius^pipe_exponent; never shrinks.
     rn: Vec<f32>,
+    /// The cell word of the end, where the buds are ([`Env::cell_word`]).
+    cell: Vec<u32>,
+    /// The shedding cost shed_multiplier·desc^shed_exponent for the descendant count in
+    /// `cost_desc` (recomputed only when the count changes).
+    cost: Vec<f32>,
+    cost_desc: Vec<u32>,
 }
 
 struct NodeInit {
-    start: Vec3,
     end: Vec3,
     dir: Vec3,
-    lat_dir: Vec3,
     parent: u32,
     birth: u32,
     order: u32,
     phyllo: f32,
     rn: f32,
+    cell: u32,
 }
 
 impl Nodes {
@@ -98,43 +118,54 @@ impl Nodes {
     }
 
     fn push(&mut self, n: NodeInit) {
-        self.start.push(n.start);
         self.end.push(n.end);
         self.dir.push(n.dir);
-        self.lat_dir.push(n.lat_dir);
         self.parent.push(n.parent);
         self.kids.push([BUD, BUD]);
         self.birth.push(n.birth);
         self.order.push(n.order);
         self.phyllo.push(n.phyllo);
         self.rn.push(n.rn);
+        self.cell.push(n.cell);
+        self.cost.push(0.0);
+        self.cost_desc.push(0);
     }
 
     /// Moves internode `from` to `to` (`to` ≤ `from`).
     fn move_to(&mut self, from: usize, to: usize) {
-        self.start[to] = self.start[from];
         self.end[to] = self.end[from];
         self.dir[to] = self.dir[from];
-        self.lat_dir[to] = self.lat_dir[from];
         self.parent[to] = self.parent[from];
         self.kids[to] = self.kids[from];
         self.birth[to] = self.birth[from];
         self.order[to] = self.order[from];
         self.phyllo[to] = self.phyllo[from];
         self.rn[to] = self.rn[from];
+        self.cell[to] = self.cell[from];
+        self.cost[to] = self.cost[from];
+        self.cost_desc[to] = self.cost_desc[from];
     }
 
+    /// Keeps the first `n` internodes; gives memory back when the arrays are mostly
+    /// empty (a tree that shed most of itself), keeping room to grow again.
     fn truncate(&mut self, n: usize) {
-        self.start.truncate(n);
-        self.end.truncate(n);
-        self.dir.truncate(n);
-        self.lat_dir.truncate(n);
-        self.parent.truncate(n);
-        self.kids.truncate(n);
-        self.birth.truncate(n);
-        self.order.truncate(n);
-        self.phyllo.truncate(n);
-        self.rn.truncate(n);
+        fn cut<T>(v: &mut Vec<T>, n: usize) {
+            v.truncate(n);
+            if v.capacity() > 256 && v.capacity() > 4 * n {
+                v.shrink_to(2 * n);
+            }
+        }
+        cut(&mut self.end, n);
+        cut(&mut self.dir, n);
+        cut(&mut self.parent, n);
+        cut(&mut self.kids, n);
+        cut(&mut self.birth, n);
+        cut(&mut self.order, n);
+        cut(&mut self.phyllo, n);
+        cut(&mut self.rn, n);
+        cut(&mut self.cell, n);
+        cut(&mut self.cost, n);
+        cut(&mut self.cost_desc, n);
     }
 }
 
@@ -150,65 +181,72 @@ pub(crate) struct Tree {
     pub(crate) residual: f32,
     /// Vigour at the base in the last cycle.
     root_vigour: f32,
-    /// Scratch of the passes, kept to avoid allocating each cycle.
-    /// Per internode: light of its [terminal, lateral] buds, then light above each side.
-    own: Vec<[f32; 2]>,
-    split: Vec<[f32; 2]>,
-    /// Ordinal of the internode's first bud in bud order.
-    ordinal: Vec<u32>,
-    q: Vec<f32>,
-    vig: Vec<f32>,
-    desc: Vec<u32>,
-    dead: Vec<bool>,
-    /// Per internode: the shedding cost shed_multiplier·desc^shed_exponent for the
-    /// descendant count in `cost_desc` (recomputed only when the count changes).
-    cost: Vec<f32>,
-    cost_desc: Vec<u32>,
     /// The shadow changes of the last [`Tree::grow`], in the order made: (cell, buds
     /// added there, negative for removed).
     pub(crate) casts: Vec<(u32, f32)>,
-    /// The new internodes' buffer, handed from plan to plan.
+    /// The plans' buffers (new internodes, shed subtrees), handed from plan to plan.
     new_buf: Vec<New>,
+    shed_buf: Vec<u32>,
 }
 
-/// Records a shadow change of `count` buds at `p` (nothing outside a shadow world).
+/// Records a shadow change of `count` buds at a cell word (nothing outside a shadow world).
 #[inline]
-fn cast(env: &Env, out: &mut Vec<(u32, f32)>, p: Vec3, count: f32) {
-    if let Some(cell) = env.shadow_cell(p) {
-        out.push((cell, count));
+fn cast(env: &Env, out: &mut Vec<(u32, f32)>, word: u32, count: f32) {
+    if env.kind() == super::Environment::Shadow {
+        out.push((word & !DARK, count));
     }
 }
 
-/// A unit vector perpendicular to unit `h`, continuous except near −Y.
+/// A unit vector perpendicular to unit `h`, continuous except near −Y: the ring basis of
+/// the mesher ([`ring_basis`](crate::geom::transport::ring_basis)), in single precision
+/// where that is exact enough (away from straight down).
+#[inline]
 fn perpendicular(h: Vec3) -> Vec3 {
-    crate::geom::transport::ring_basis(h.as_dvec3()).0.as_vec3()
+    if h.y > -0.9 {
+        let a = 1.0 / (1.0 + h.y);
+        Vec3::new(-h.z * h.x * a, -h.z, 1.0 - h.z * h.z * a)
+    } else {
+        crate::geom::transport::ring_basis(h.as_dvec3()).0.as_vec3()
+    }
 }
 
-/// The lateral bud direction of an internode heading `h`, turned `phyllo` degrees about it.
-fn lateral(h: Vec3, phyllo: f32, branch_angle: f32) -> Vec3 {
+/// The lateral bud direction of an internode heading `h`, turned `phyllo` degrees about
+/// it, at the branch angle whose (sine, cosine) is `branch`.
+#[inline]
+fn lateral(h: Vec3, phyllo: f32, (sb, cb): (f32, f32)) -> Vec3 {
     let e = perpendicular(h);
     let (s, c) = libm::sincosf(phyllo.to_radians());
     let side = e * c + h.cross(e) * s;
-    let (sb, cb) = libm::sincosf(branch_angle.to_radians());
     (h * cb + side * sb).normalize_or_zero()
+}
+
+/// (sine, cosine) of a branch angle in degrees.
+fn branch_turn(degrees: f32) -> (f32, f32) {
+    libm::sincosf(degrees.to_radians())
 }
 
 impl Tree {
     /// A new tree: one internode pointing up with a terminal and a lateral bud.
-    pub(crate) fn plant(species: GrowthParams, base: Vec3, seed: u64, cycle: u32) -> Self {
+    pub(crate) fn plant(
+        species: GrowthParams,
+        base: Vec3,
+        seed: u64,
+        cycle: u32,
+        env: &Env,
+    ) -> Self {
         let phyllo = (crate::rng::Rng::new(seed).next_f64() * 360.0) as f32;
         let dir = Vec3::Y;
+        let end = base + dir * species.internode_length;
         let mut nodes = Nodes::default();
         nodes.push(NodeInit {
-            start: base,
-            end: base + dir * species.internode_length,
+            end,
             dir,
-            lat_dir: lateral(dir, phyllo, species.branch_angle),
             parent: NO_PARENT,
             birth: cycle,
             order: 0,
             phyllo,
             rn: libm::powf(species.tip_radius, species.pipe_exponent),
+            cell: env.cell_word(end),
         });
         Tree {
             species,
@@ -218,17 +256,9 @@ impl Tree {
             shed: 0,
             residual: 0.0,
             root_vigour: 0.0,
-            own: Vec::new(),
-            split: Vec::new(),
-            ordinal: Vec::new(),
-            q: Vec::new(),
-            vig: Vec::new(),
-            desc: Vec::new(),
-            dead: Vec::new(),
-            cost: Vec::new(),
-            cost_desc: Vec::new(),
             casts: Vec::new(),
             new_buf: Vec::new(),
+            shed_buf: Vec::new(),
         }
     }
 
@@ -236,13 +266,33 @@ impl Tree {
         self.nodes.len()
     }
 
+    /// Where internode `i` starts: its parent's end, the base for the root.
+    fn start(&self, i: usize) -> Vec3 {
+        match self.nodes.parent[i] {
+            NO_PARENT => self.base,
+            p => self.nodes.end[p as usize],
+        }
+    }
+
+    /// The direction of internode `i`'s lateral bud.
+    fn lateral_dir(&self, i: usize, branch: (f32, f32)) -> Vec3 {
+        lateral(self.nodes.dir[i], self.nodes.phyllo[i], branch)
+    }
+
     /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
     pub(crate) fn cast(&self, env: &mut Env, sign: f32) {
-        for (k, end) in self.nodes.kids.iter().zip(&self.nodes.end) {
+        for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
             let buds = u8::from(k[0] == BUD) + u8::from(k[1] == BUD);
             if buds > 0 {
-                env.cast(*end, sign * buds as f32);
+                env.cast(word, sign * buds as f32);
             }
+        }
+    }
+
+    /// Finds again which buds get no light (after an obstacle was placed).
+    pub(crate) fn relight(&mut self, env: &Env) {
+        for (word, end) in self.nodes.cell.iter_mut().zip(&self.nodes.end) {
+            *word = env.cell_word(*end);
         }
     }
 
@@ -251,6 +301,7 @@ impl Tree {
     pub(crate) fn buds(&self, out: &mut Vec<Bud>) {
         out.clear();
         let n = &self.nodes;
+        let branch = branch_turn(self.species.branch_angle);
         for i in 0..n.len() {
             let [m, l] = n.kids[i];
             if m == BUD {
@@ -262,7 +313,7 @@ impl Tree {
             if l == BUD {
                 out.push(Bud {
                     position: n.end[i],
-                    direction: n.lat_dir[i],
+                    direction: self.lateral_dir(i, branch),
                 });
             }
         }
@@ -270,98 +321,95 @@ impl Tree {
 
     /// Plans one cycle from the light at every bud: the basipetal pass, the vigour split,
     /// shedding and the new shoots (which ask `light` for the optimal direction).
-    pub(crate) fn plan_cycle(&mut self, light: &mut impl Light, cycle: u32) -> Plan {
+    pub(crate) fn plan_cycle<L: Light>(&mut self, light: &L, cycle: u32) -> Plan {
+        SCRATCH.with_borrow_mut(|s| self.plan_with(light, cycle, s))
+    }
+
+    fn plan_with<L: Light>(&mut self, light: &L, cycle: u32, s: &mut Scratch) -> Plan {
         let p = self.species;
-        let nodes = &self.nodes;
+        let nodes = &mut self.nodes;
         let n = nodes.len();
-        // Light of each internode's buds, in bud order.
-        self.own.clear();
-        self.ordinal.clear();
-        let mut ordinal = 0u32;
-        for i in 0..n {
-            let [m, l] = nodes.kids[i];
-            self.ordinal.push(ordinal);
-            let mut pair = [0.0f32; 2];
-            if m == BUD {
-                pair[0] = light.q(nodes.end[i], nodes.dir[i]);
-                ordinal += 1;
+        if L::ORDERED {
+            s.ordinal.clear();
+            let mut ordinal = 0u32;
+            for [m, l] in &nodes.kids {
+                s.ordinal.push(ordinal);
+                ordinal += u32::from(*m == BUD) + u32::from(*l == BUD);
             }
-            if l == BUD {
-                pair[1] = light.q(nodes.end[i], nodes.lat_dir[i]);
-                ordinal += 1;
-            }
-            self.own.push(pair);
         }
-        // Basipetal: light above each internode, split into main and lateral, and the
-        // number of internodes at and above each.
-        self.q.clear();
-        self.q.resize(n, 0.0);
-        self.split.clear();
-        self.split.resize(n, [0.0; 2]);
-        self.desc.clear();
-        self.desc.resize(n, 1);
+        // Basipetal, with the light of each bud: light above each internode, split into
+        // main and lateral, and the number of internodes at and above each.
+        s.split.clear();
+        s.split.resize(n, [0.0; 2]);
+        s.desc.clear();
+        s.desc.resize(n, 1);
         for i in (0..n).rev() {
             let kids = nodes.kids[i];
+            let word = nodes.cell[i];
+            let mut bud = if L::ORDERED { s.ordinal[i] } else { 0 };
             let mut pair = [0.0f32; 2];
             let mut desc = 1u32;
             for k in 0..2 {
                 pair[k] = match kids[k] {
-                    BUD => self.own[i][k],
+                    BUD => {
+                        let q = light.q(bud, word);
+                        bud += 1;
+                        q
+                    }
                     GONE => 0.0,
                     c => {
-                        desc += self.desc[c as usize];
-                        self.q[c as usize]
+                        let [m, l] = s.split[c as usize];
+                        desc += s.desc[c as usize];
+                        m + l
                     }
                 };
             }
-            self.split[i] = pair;
-            self.q[i] = pair[0] + pair[1];
-            self.desc[i] = desc;
+            s.split[i] = pair;
+            s.desc[i] = desc;
         }
         // One acropetal pass: the extended Borchert–Honda split of the vigour, shedding
         // (a lateral branch whose vigour no longer pays for its size goes, with everything
         // above it) and the new shoots (a bud with vigour v grows ⌊v⌋ internodes, at most
         // max_shoot). An internode's vigour is set by its parent, before it is visited.
-        self.vig.clear();
-        self.vig.resize(n, 0.0);
-        self.vig[0] = p.vigor_multiplier * self.q[0];
-        self.cost.resize(n, 0.0);
-        self.cost_desc.resize(n, 0);
+        s.vig.clear();
+        s.vig.resize(n, 0.0);
+        s.vig[0] = p.vigor_multiplier * (s.split[0][0] + s.split[0][1]);
+        s.dead.clear();
+        s.dead.resize(n, false);
         let lambda = p.apical_control;
         let mut residual = 0.0f32;
         let mut plan = Plan {
             new: std::mem::take(&mut self.new_buf),
+            shed: std::mem::take(&mut self.shed_buf),
             ..Plan::default()
         };
-        let mut dead = std::mem::take(&mut self.dead);
-        dead.clear();
-        dead.resize(n, false);
         let up = Vec3::Y;
+        let branch = branch_turn(p.branch_angle);
         for i in 0..n {
             let kids = nodes.kids[i];
-            let v = self.vig[i];
+            let v = s.vig[i];
             // Shedding.
             if i > 0 {
                 let parent = nodes.parent[i] as usize;
-                if dead[parent] {
-                    dead[i] = true;
+                if s.dead[parent] {
+                    s.dead[i] = true;
                 } else if p.shed_multiplier > 0.0
                     && nodes.kids[parent][1] == i as u32
                     && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
                 {
-                    let d = self.desc[i];
-                    if self.cost_desc[i] != d {
-                        self.cost[i] = p.shed_multiplier * libm::powf(d as f32, p.shed_exponent);
-                        self.cost_desc[i] = d;
+                    let d = s.desc[i];
+                    if nodes.cost_desc[i] != d {
+                        nodes.cost[i] = p.shed_multiplier * libm::powf(d as f32, p.shed_exponent);
+                        nodes.cost_desc[i] = d;
                     }
-                    if v < self.cost[i] {
-                        dead[i] = true;
-                        plan.sheds = true;
+                    if v < nodes.cost[i] {
+                        s.dead[i] = true;
+                        plan.shed.push(i as u32);
                     }
                 }
             }
             // The split.
-            let [qm, ql] = self.split[i];
+            let [qm, ql] = s.split[i];
             let denom = lambda * qm + (1.0 - lambda) * ql;
             let (vm, vl) = if denom > 0.0 {
                 (v * lambda * qm / denom, v * (1.0 - lambda) * ql / denom)
@@ -374,22 +422,26 @@ impl Tree {
             for (k, share) in [vm, vl].into_iter().enumerate() {
                 let slot = kids[k];
                 if is_child(slot) {
-                    self.vig[slot as usize] = share;
+                    s.vig[slot as usize] = share;
                     continue;
                 }
                 // Shoots, from the living buds of living internodes.
-                if slot != BUD || dead[i] || share < 1.0 {
+                if slot != BUD || s.dead[i] || share < 1.0 {
                     continue;
                 }
                 let count = (share.floor() as u32).min(p.max_shoot);
                 let length = p.internode_length * (share / count as f32).min(2.0);
                 // The terminal bud comes first in bud order.
-                let bud = self.ordinal[i] + u32::from(k == 1 && kids[0] == BUD);
-                let env_dir = light.v(bud, nodes.end[i]);
+                let bud = if L::ORDERED {
+                    s.ordinal[i] + u32::from(k == 1 && kids[0] == BUD)
+                } else {
+                    0
+                };
+                let env_dir = light.v(bud, nodes.cell[i]);
                 let mut heading = if k == 0 {
                     nodes.dir[i]
                 } else {
-                    nodes.lat_dir[i]
+                    lateral(nodes.dir[i], nodes.phyllo[i], branch)
                 };
                 let mut at = nodes.end[i];
                 let mut phyllo = nodes.phyllo[i];
@@ -408,10 +460,8 @@ impl Tree {
                         },
                         chain: j > 0,
                         main: k == 0 || j > 0,
-                        start: at,
                         end,
                         dir: heading,
-                        lat_dir: lateral(heading, phyllo, p.branch_angle),
                         phyllo,
                         order,
                     });
@@ -420,8 +470,7 @@ impl Tree {
             }
         }
         plan.residual = residual;
-        plan.root_vigour = self.vig[0];
-        plan.dead = dead;
+        plan.root_vigour = s.vig[0];
         plan
     }
 
@@ -432,7 +481,7 @@ impl Tree {
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
-        let changed = !plan.new.is_empty() || plan.sheds;
+        let changed = !plan.new.is_empty() || !plan.shed.is_empty();
         // New internodes, appended in plan order (a chain's parent comes first), so the
         // k-th new one is internode base + k.
         let base = self.nodes.len() as u32;
@@ -446,31 +495,31 @@ impl Tree {
             let side = usize::from(!nw.main);
             let slot = &mut self.nodes.kids[parent as usize][side];
             if *slot == BUD {
-                cast(env, &mut self.casts, self.nodes.end[parent as usize], -1.0);
+                cast(env, &mut self.casts, self.nodes.cell[parent as usize], -1.0);
             }
             *slot = me;
+            let word = env.cell_word(nw.end);
             self.nodes.push(NodeInit {
-                start: nw.start,
                 end: nw.end,
                 dir: nw.dir,
-                lat_dir: nw.lat_dir,
                 parent,
                 birth: cycle,
                 order: nw.order,
                 phyllo: nw.phyllo,
                 rn: tip_rn,
+                cell: word,
             });
             // Its lateral bud and its terminal bud (taken away again if the chain goes on;
             // the two cancel before the grid is touched).
-            cast(env, &mut self.casts, nw.end, 2.0);
+            cast(env, &mut self.casts, word, 2.0);
         }
-        let mut dead = std::mem::take(&mut plan.dead);
-        if plan.sheds {
-            self.shed_subtrees(&mut dead, env);
+        if !plan.shed.is_empty() {
+            SCRATCH.with_borrow_mut(|s| self.shed_subtrees(&plan.shed, env, s));
         }
-        self.dead = dead;
         plan.new.clear();
+        plan.shed.clear();
         self.new_buf = plan.new;
+        self.shed_buf = plan.shed;
         // Without new or shed internodes the radii are where the last cycle left them.
         if changed {
             self.update_radii(tip_rn);
@@ -495,40 +544,45 @@ impl Tree {
         }
     }
 
-    /// Removes the internodes marked in `dead` (the plan's marks, for the internodes
-    /// that existed when it was made), taking their buds' shadow away; indices stay
-    /// parents-before-children. The internodes are compacted in place, with the scratch
-    /// of the plan (no allocation in proportion to the tree).
-    fn shed_subtrees(&mut self, dead: &mut Vec<bool>, env: &Env) {
+    /// Removes the subtrees whose base internodes are `roots` (internodes grown this
+    /// cycle never grow on a shed one), taking their buds' shadow away; indices stay
+    /// parents-before-children. The internodes are compacted in place, with the thread's
+    /// scratch (no allocation in proportion to the tree).
+    fn shed_subtrees(&mut self, roots: &[u32], env: &Env, s: &mut Scratch) {
         let n = self.nodes.len();
-        // Internodes grown this cycle never grow on a shed one.
+        let dead = &mut s.dead;
+        dead.clear();
         dead.resize(n, false);
-        let mut new_index = std::mem::take(&mut self.desc);
+        for &r in roots {
+            dead[r as usize] = true;
+        }
+        // Parents come before children: one pass marks everything above a root.
+        for i in 1..n {
+            let p = self.nodes.parent[i];
+            if p != NO_PARENT && dead[p as usize] {
+                dead[i] = true;
+            }
+        }
+        let new_index = &mut s.desc;
         new_index.clear();
         new_index.resize(n, NO_PARENT);
-        self.cost.resize(n, 0.0);
-        self.cost_desc.resize(n, 0);
         let mut kept = 0usize;
         for i in 0..n {
             if dead[i] {
                 let [m, l] = self.nodes.kids[i];
                 let buds = u8::from(m == BUD) + u8::from(l == BUD);
                 if buds > 0 {
-                    cast(env, &mut self.casts, self.nodes.end[i], -(buds as f32));
+                    cast(env, &mut self.casts, self.nodes.cell[i], -(buds as f32));
                 }
                 continue;
             }
             new_index[i] = kept as u32;
             if kept != i {
                 self.nodes.move_to(i, kept);
-                self.cost[kept] = self.cost[i];
-                self.cost_desc[kept] = self.cost_desc[i];
             }
             kept += 1;
         }
         self.nodes.truncate(kept);
-        self.cost.truncate(kept);
-        self.cost_desc.truncate(kept);
         self.shed += n - kept;
         let map = |slot: u32| {
             if is_child(slot) {
@@ -548,7 +602,6 @@ impl Tree {
             let [m, l] = self.nodes.kids[i];
             self.nodes.kids[i] = [map(m), map(l)];
         }
-        self.desc = new_index;
     }
 
     /// Seeds this tree drops this cycle: (species, position on the ground), at most
@@ -588,6 +641,7 @@ impl Tree {
         let inv = 1.0 / self.species.pipe_exponent;
         let radius = |rn: f32| libm::powf(rn, inv);
         let tip = self.species.tip_radius;
+        let branch = branch_turn(self.species.branch_angle);
         let n = &self.nodes;
         let mut parts = SkeletonParts {
             branches: Vec::with_capacity(n.len()),
@@ -602,7 +656,7 @@ impl Tree {
                 tip.min(r)
             };
             parts.branches.push(Branch {
-                start: n.start[i].to_array(),
+                start: self.start(i).to_array(),
                 end: n.end[i].to_array(),
                 start_radius: r,
                 end_radius,
@@ -611,8 +665,13 @@ impl Tree {
                 order: n.order[i],
                 flags: 0,
             });
-            for (slot, heading) in [(m, n.dir[i]), (l, n.lat_dir[i])] {
+            for (k, slot) in [m, l].into_iter().enumerate() {
                 if slot == BUD {
+                    let heading = if k == 0 {
+                        n.dir[i]
+                    } else {
+                        self.lateral_dir(i, branch)
+                    };
                     parts.leaves.push(LeafSite {
                         position: n.end[i].to_array(),
                         heading: heading.to_array(),
@@ -639,7 +698,8 @@ mod tests {
             seed_age: 1,
             ..GrowthParams::default()
         };
-        let mut t = Tree::plant(species, Vec3::ZERO, 1, 0);
+        let env = Env::new(&super::super::WorldOptions::default());
+        let mut t = Tree::plant(species, Vec3::ZERO, 1, 0, &env);
         let mut rng = crate::rng::Rng::new(3);
         for vigour in [f32::INFINITY, f32::MAX, 1e30] {
             t.root_vigour = vigour;
