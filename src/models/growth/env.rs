@@ -228,34 +228,19 @@ impl Env {
     /// Applies the pending shadow changes: buds added and removed in one cell cancel, and
     /// each changed cell's pyramid is applied once, in cell order (so the result does not
     /// depend on the order the changes came in; the counts are small integers, exact in
-    /// any order). With `parallel` (and the `parallel` feature) the even and odd layers of
-    /// the grid are updated on two threads; every cell still receives its changes in the
-    /// same order, so the grid is the same bit for bit.
+    /// any order). With `parallel` (and the `parallel` feature) the changes are sorted on
+    /// two threads (the lower and upper halves of the grid) and the even and odd layers
+    /// of the grid are updated on two threads; every cell still receives its changes in
+    /// the same order, so the grid is the same bit for bit.
     pub(crate) fn flush(&mut self, parallel: bool) {
         let mut pending = std::mem::take(&mut self.pending);
-        sort_changes(&mut pending, &mut self.scratch, self.shadow.len());
-        // Merge each cell's changes in place: (cell, net), nets of zero dropped.
-        let mut kept = 0;
-        let mut k = 0;
-        while k < pending.len() {
-            let cell = pending[k].0;
-            let mut net = 0.0;
-            while k < pending.len() && pending[k].0 == cell {
-                net += pending[k].1;
-                k += 1;
-            }
-            if net != 0.0 {
-                pending[kept] = (cell, net);
-                kept += 1;
-            }
-        }
-        pending.truncate(kept);
+        sort_changes(&mut pending, &mut self.scratch, self.shadow.len(), parallel);
         self.apply(&pending, parallel);
         pending.clear();
         self.pending = pending;
     }
 
-    /// Adds the pyramids of merged `changes` to the grid: on two threads (even and odd
+    /// Adds the pyramids of sorted `changes` to the grid: on two threads (even and odd
     /// layers) with `parallel` and the `parallel` feature, else on this one.
     fn apply(&mut self, changes: &[(u32, f32)], parallel: bool) {
         let layer = self.dims[0] * self.dims[2];
@@ -458,25 +443,64 @@ impl Env {
 }
 
 /// Sorts the shadow changes by cell, stably (each cell's changes keep the order they were
-/// made in): a least-significant-digit radix sort in at most three passes over digits of
-/// up to 13 bits of the cell index (below `cells`), through `scratch`.
-fn sort_changes(changes: &mut Vec<(u32, f32)>, scratch: &mut Vec<(u32, f32)>, cells: usize) {
+/// made in), through `scratch`: a least-significant-digit radix sort of the cell indices
+/// (below `cells`). With `parallel` (and the `parallel` feature) one pass splits them into
+/// the lower and upper halves of the grid, which are sorted on two threads.
+fn sort_changes(
+    changes: &mut Vec<(u32, f32)>,
+    scratch: &mut Vec<(u32, f32)>,
+    cells: usize,
+    parallel: bool,
+) {
     if changes.len() < 256 {
         changes.sort_by_key(|&(c, _)| c);
         return;
     }
+    scratch.clear();
+    scratch.resize(changes.len(), (0, 0.0));
+    #[cfg(feature = "parallel")]
+    if parallel && changes.len() > 1 << 15 {
+        let mid = (cells / 2) as u32;
+        let low = changes.iter().filter(|&&(c, _)| c < mid).count();
+        let (mut lo, mut hi) = (0, low);
+        for &change in changes.iter() {
+            if change.0 < mid {
+                scratch[lo] = change;
+                lo += 1;
+            } else {
+                scratch[hi] = change;
+                hi += 1;
+            }
+        }
+        // The halves sort into the same buffer (both take the same passes).
+        let (a, b) = scratch.split_at_mut(low);
+        let (ta, tb) = changes.split_at_mut(low);
+        let (in_changes, _) = rayon::join(|| radix_sort(a, ta, cells), || radix_sort(b, tb, cells));
+        if !in_changes {
+            std::mem::swap(changes, scratch);
+        }
+        return;
+    }
+    let _ = parallel;
+    if radix_sort(changes, scratch, cells) {
+        std::mem::swap(changes, scratch);
+    }
+}
+
+/// Sorts `data` by cell (below `cells`), stably, ping-ponging with `tmp` (as long): in at
+/// most three passes over digits of up to 13 bits. True when the result ends in `tmp`.
+fn radix_sort(data: &mut [(u32, f32)], tmp: &mut [(u32, f32)], cells: usize) -> bool {
     let bits = usize::BITS - cells.saturating_sub(1).max(1).leading_zeros();
     let passes = bits.div_ceil(13);
     let digit = bits.div_ceil(passes);
     let mask = (1u32 << digit) - 1;
     let mut counts = vec![0u32; (passes as usize) << digit];
-    for &(c, _) in changes.iter() {
+    for &(c, _) in data.iter() {
         for p in 0..passes {
             counts[((p as usize) << digit) + ((c >> (p * digit)) & mask) as usize] += 1;
         }
     }
-    scratch.clear();
-    scratch.resize(changes.len(), (0, 0.0));
+    let (mut from, mut to) = (data, tmp);
     for p in 0..passes {
         let count = &mut counts[(p as usize) << digit..((p as usize) + 1) << digit];
         let mut at = 0u32;
@@ -485,18 +509,20 @@ fn sort_changes(changes: &mut Vec<(u32, f32)>, scratch: &mut Vec<(u32, f32)>, ce
             *c = at;
             at += n;
         }
-        for &change in changes.iter() {
+        for &change in from.iter() {
             let d = ((change.0 >> (p * digit)) & mask) as usize;
-            scratch[count[d] as usize] = change;
+            to[count[d] as usize] = change;
             count[d] += 1;
         }
-        std::mem::swap(changes, scratch);
+        std::mem::swap(&mut from, &mut to);
     }
+    passes % 2 == 1
 }
 
-/// Adds the shadow pyramids of `changes` ((cell, buds), in order) to `layers`: every
-/// layer of the grid (`parity` = usize::MAX), or the even (0) or odd (1) ones, where
-/// `layers[k]` is layer 2k + parity. Each cell gets its changes' values in change order.
+/// Adds the shadow pyramids of `changes` ((cell, buds), sorted by cell) to `layers`:
+/// every layer of the grid (`parity` = usize::MAX), or the even (0) or odd (1) ones, where
+/// `layers[k]` is layer 2k + parity. One cell's changes are summed first (buds added and
+/// removed cancel), so each changed cell's pyramid is added once, in cell order.
 fn apply_changes(
     changes: &[(u32, f32)],
     [nx, _, nz]: [usize; 3],
@@ -504,7 +530,17 @@ fn apply_changes(
     layers: &mut [&mut [f32]],
     parity: usize,
 ) {
-    for &(cell, count) in changes {
+    let mut k = 0;
+    while k < changes.len() {
+        let cell = changes[k].0;
+        let mut count = 0.0;
+        while k < changes.len() && changes[k].0 == cell {
+            count += changes[k].1;
+            k += 1;
+        }
+        if count == 0.0 {
+            continue;
+        }
         let c = cell as usize;
         let (cx, cy, cz) = (c % nx, c / (nx * nz), (c / nx) % nz);
         for (q, &f) in falloff.iter().enumerate() {
@@ -554,6 +590,42 @@ fn add_rows<const W: usize>(slab: &mut [f32], stride: usize, add: f32) {
         if let Some(r) = row.first_chunk_mut::<W>() {
             for v in r {
                 *v += add;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The radix sort orders by cell and keeps each cell's changes in the order made, on
+    /// one thread and (with the feature) on two, for grids needing one to three passes.
+    #[test]
+    fn shadow_changes_sort_stably_by_cell() {
+        let mut rng = crate::rng::Rng::new(7);
+        for (cells, len) in [
+            (100usize, 300usize),
+            (5_000, 40_000),
+            (4_608_000, 70_000),
+            (1 << 31, 50_000),
+        ] {
+            let changes: Vec<(u32, f32)> = (0..len)
+                .map(|k| ((rng.next_u64() % cells as u64) as u32, k as f32))
+                .collect();
+            let mut expected = changes.clone();
+            expected.sort_by_key(|&(c, _)| c);
+            for parallel in [false, true] {
+                let (mut got, mut scratch) = (changes.clone(), Vec::new());
+                sort_changes(&mut got, &mut scratch, cells, parallel);
+                let same = got
+                    .iter()
+                    .zip(&expected)
+                    .all(|(a, b)| a.0 == b.0 && a.1.to_bits() == b.1.to_bits());
+                assert!(
+                    same && got.len() == len,
+                    "{cells} cells, {len} changes, parallel {parallel}"
+                );
             }
         }
     }

@@ -544,64 +544,56 @@ impl Tree {
         }
     }
 
-    /// Removes the subtrees whose base internodes are `roots` (internodes grown this
-    /// cycle never grow on a shed one), taking their buds' shadow away; indices stay
-    /// parents-before-children. The internodes are compacted in place, with the thread's
+    /// Removes the subtrees whose base internodes are `roots` (in increasing order;
+    /// internodes grown this cycle never grow on a shed one), taking their buds' shadow
+    /// away; indices stay parents-before-children. One forward pass: parents come before
+    /// children, so an internode learns from its parent's new index whether it lives, and
+    /// tells the parent its own new index (a lateral child has the next branching order,
+    /// a main child the same). The internodes are compacted in place, with the thread's
     /// scratch (no allocation in proportion to the tree).
     fn shed_subtrees(&mut self, roots: &[u32], env: &Env, s: &mut Scratch) {
         let n = self.nodes.len();
-        let dead = &mut s.dead;
-        dead.clear();
-        dead.resize(n, false);
-        for &r in roots {
-            dead[r as usize] = true;
-        }
-        // Parents come before children: one pass marks everything above a root.
-        for i in 1..n {
-            let p = self.nodes.parent[i];
-            if p != NO_PARENT && dead[p as usize] {
-                dead[i] = true;
-            }
-        }
         let new_index = &mut s.desc;
         new_index.clear();
         new_index.resize(n, NO_PARENT);
+        let nodes = &mut self.nodes;
+        let mut roots = roots.iter().copied().peekable();
         let mut kept = 0usize;
         for i in 0..n {
-            if dead[i] {
-                let [m, l] = self.nodes.kids[i];
+            let p = nodes.parent[i];
+            let parent = if p == NO_PARENT {
+                NO_PARENT
+            } else {
+                new_index[p as usize]
+            };
+            let root = roots.next_if_eq(&(i as u32)).is_some();
+            // The living parent is already at its new index (slots below `kept` are final).
+            let side =
+                usize::from(parent != NO_PARENT && nodes.order[i] != nodes.order[parent as usize]);
+            if root || (p != NO_PARENT && parent == NO_PARENT) {
+                // Shed: its buds' shadow goes; a living parent keeps an empty slot.
+                let [m, l] = nodes.kids[i];
                 let buds = u8::from(m == BUD) + u8::from(l == BUD);
                 if buds > 0 {
-                    cast(env, &mut self.casts, self.nodes.cell[i], -(buds as f32));
+                    cast(env, &mut self.casts, nodes.cell[i], -(buds as f32));
+                }
+                if parent != NO_PARENT {
+                    nodes.kids[parent as usize][side] = GONE;
                 }
                 continue;
             }
             new_index[i] = kept as u32;
             if kept != i {
-                self.nodes.move_to(i, kept);
+                nodes.move_to(i, kept);
+            }
+            nodes.parent[kept] = parent;
+            if parent != NO_PARENT {
+                nodes.kids[parent as usize][side] = kept as u32;
             }
             kept += 1;
         }
-        self.nodes.truncate(kept);
+        nodes.truncate(kept);
         self.shed += n - kept;
-        let map = |slot: u32| {
-            if is_child(slot) {
-                match new_index[slot as usize] {
-                    NO_PARENT => GONE,
-                    j => j,
-                }
-            } else {
-                slot
-            }
-        };
-        for i in 0..kept {
-            let p = self.nodes.parent[i];
-            if p != NO_PARENT {
-                self.nodes.parent[i] = new_index[p as usize];
-            }
-            let [m, l] = self.nodes.kids[i];
-            self.nodes.kids[i] = [map(m), map(l)];
-        }
     }
 
     /// Seeds this tree drops this cycle: (species, position on the ground), at most
