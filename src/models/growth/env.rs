@@ -240,30 +240,33 @@ impl Env {
         self.pending = pending;
     }
 
-    /// Adds the pyramids of sorted `changes` to the grid: on two threads (even and odd
-    /// layers) with `parallel` and the `parallel` feature, else on this one.
+    /// Adds the pyramids of sorted `changes` to the grid: with `parallel` and the
+    /// `parallel` feature on two threads, each owning a band of layers (split where half
+    /// the changes lie above) and adding the part of every pyramid that falls in it; else
+    /// on this one.
     fn apply(&mut self, changes: &[(u32, f32)], parallel: bool) {
         let layer = self.dims[0] * self.dims[2];
         let (dims, falloff) = (self.dims, &self.falloff);
         #[cfg(feature = "parallel")]
         if parallel && changes.len() > 1024 {
-            let (mut even, mut odd): (Vec<&mut [f32]>, Vec<&mut [f32]>) = (Vec::new(), Vec::new());
-            for (y, l) in self.shadow.chunks_mut(layer).enumerate() {
-                if y % 2 == 0 {
-                    even.push(l);
-                } else {
-                    odd.push(l);
-                }
-            }
+            let y_of = |c: u32| c as usize / layer;
+            let split = y_of(changes[changes.len() / 2].0).max(1);
+            // Band [0, split) takes the changes up to q_max layers above it; band
+            // [split, ny) the changes from its first layer up.
+            let below = changes.partition_point(|&(c, _)| y_of(c) < split + falloff.len());
+            let above = changes.partition_point(|&(c, _)| y_of(c) < split);
+            let (low, high) = self.shadow.split_at_mut(split * layer);
+            let mut low: Vec<&mut [f32]> = low.chunks_mut(layer).collect();
+            let mut high: Vec<&mut [f32]> = high.chunks_mut(layer).collect();
             rayon::join(
-                || apply_changes(changes, dims, falloff, &mut even, 0),
-                || apply_changes(changes, dims, falloff, &mut odd, 1),
+                || apply_changes(&changes[..below], dims, falloff, &mut low, 0),
+                || apply_changes(&changes[above..], dims, falloff, &mut high, split),
             );
             return;
         }
         let _ = parallel;
         let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
-        apply_changes(changes, dims, falloff, &mut all, usize::MAX);
+        apply_changes(changes, dims, falloff, &mut all, 0);
     }
 
     /// Shadow at a cell, 0 outside the grid.
@@ -418,7 +421,7 @@ impl Env {
                 let mut layers: Vec<&mut [f32]> = self.shadow.chunks_mut(nx * nz).collect();
                 for (x, y, z) in cells.filter(|&(x, y, z)| o.contains(center(x, y, z))) {
                     let c = ((y * nz + z) * nx + x) as u32;
-                    apply_changes(&[(c, 1.0)], dims, falloff, &mut layers, usize::MAX);
+                    apply_changes(&[(c, 1.0)], dims, falloff, &mut layers, 0);
                     for layer in &mut layers[..y] {
                         layer[z * nx + x] += full_light;
                     }
@@ -519,16 +522,16 @@ fn radix_sort(data: &mut [(u32, f32)], tmp: &mut [(u32, f32)], cells: usize) -> 
     passes % 2 == 1
 }
 
-/// Adds the shadow pyramids of `changes` ((cell, buds), sorted by cell) to `layers`:
-/// every layer of the grid (`parity` = usize::MAX), or the even (0) or odd (1) ones, where
-/// `layers[k]` is layer 2k + parity. One cell's changes are summed first (buds added and
-/// removed cancel), so each changed cell's pyramid is added once, in cell order.
+/// Adds the shadow pyramids of `changes` ((cell, buds), sorted by cell) to `layers`, the
+/// grid's layers from `first` on (the parts of pyramids outside them are left out). One
+/// cell's changes are summed first (buds added and removed cancel), so each changed
+/// cell's pyramid is added once, in cell order.
 fn apply_changes(
     changes: &[(u32, f32)],
     [nx, _, nz]: [usize; 3],
     falloff: &[f32],
     layers: &mut [&mut [f32]],
-    parity: usize,
+    first: usize,
 ) {
     let mut k = 0;
     while k < changes.len() {
@@ -544,36 +547,32 @@ fn apply_changes(
         let c = cell as usize;
         let (cx, cy, cz) = (c % nx, c / (nx * nz), (c / nx) % nz);
         for (q, &f) in falloff.iter().enumerate() {
-            if q > cy {
+            if q > cy || cy - q < first {
                 break;
             }
-            let y = cy - q;
-            let layer = match parity {
-                usize::MAX => &mut *layers[y],
-                p if y % 2 == p => &mut *layers[y / 2],
-                _ => continue,
+            let Some(layer) = layers.get_mut(cy - q - first) else {
+                continue;
             };
             let add = f * count;
             let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
             let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
-            // The layer's rows are nx apart: one slice for all of them, rows by chunks.
-            let w = x1 - x0 + 1;
-            let first = z0 * nx + x0;
-            let slab = &mut layer[first..first + (z1 - z0) * nx + w];
-            // Unclipped rows of the common widths are fixed-size arrays, which the
-            // compiler unrolls into vector adds.
-            match w {
-                1 => add_rows::<1>(slab, nx, add),
-                3 => add_rows::<3>(slab, nx, add),
-                5 => add_rows::<5>(slab, nx, add),
-                7 => add_rows::<7>(slab, nx, add),
-                9 => add_rows::<9>(slab, nx, add),
-                11 => add_rows::<11>(slab, nx, add),
-                13 => add_rows::<13>(slab, nx, add),
+            let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
+            let start = z0 * nx + x0;
+            // Unclipped squares of the common sizes have a fixed number of fixed-size rows,
+            // which the compiler unrolls into vector adds.
+            match (w == h).then_some(w) {
+                Some(1) => layer[start] += add,
+                Some(3) => add_square::<3>(layer, start, nx, add),
+                Some(5) => add_square::<5>(layer, start, nx, add),
+                Some(7) => add_square::<7>(layer, start, nx, add),
+                Some(9) => add_square::<9>(layer, start, nx, add),
+                Some(11) => add_square::<11>(layer, start, nx, add),
+                Some(13) => add_square::<13>(layer, start, nx, add),
                 _ => {
-                    for row in slab.chunks_mut(nx) {
-                        for s in &mut row[..w] {
-                            *s += add;
+                    for r in 0..h {
+                        let o = start + r * nx;
+                        for v in &mut layer[o..o + w] {
+                            *v += add;
                         }
                     }
                 }
@@ -582,13 +581,14 @@ fn apply_changes(
     }
 }
 
-/// Adds `add` to the first `W` values of every row of `slab` (rows `stride` apart; the
-/// last row may be just `W` long).
+/// Adds `add` to a `W` × `W` square of a layer whose rows are `stride` apart, from
+/// `start`.
 #[inline(always)]
-fn add_rows<const W: usize>(slab: &mut [f32], stride: usize, add: f32) {
-    for row in slab.chunks_mut(stride) {
-        if let Some(r) = row.first_chunk_mut::<W>() {
-            for v in r {
+fn add_square<const W: usize>(layer: &mut [f32], start: usize, stride: usize, add: f32) {
+    let slab = &mut layer[start..start + (W - 1) * stride + W];
+    for r in 0..W {
+        if let Some(row) = slab[r * stride..].first_chunk_mut::<W>() {
+            for v in row {
                 *v += add;
             }
         }
