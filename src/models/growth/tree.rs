@@ -66,6 +66,41 @@ struct Scratch {
     desc: Vec<u32>,
     vig: Vec<f32>,
     dead: Vec<bool>,
+    /// Shedding costs by species: ((shed_multiplier, shed_exponent) bits, the cost
+    /// multiplier·d^exponent of d internodes for d below [`COSTS`], NaN until needed).
+    costs: Vec<((u32, u32), Vec<f32>)>,
+}
+
+/// Descendant counts whose shedding cost a thread keeps (larger ones are computed).
+const COSTS: usize = 4096;
+
+impl Scratch {
+    /// The shedding cost of a branch of `d` internodes: multiplier·d^exponent, as
+    /// `libm::powf` gives it, remembered per species for small counts.
+    fn cost(&mut self, table: usize, p: &GrowthParams, d: u32) -> f32 {
+        let compute = || p.shed_multiplier * libm::powf(d as f32, p.shed_exponent);
+        let Some(slot) = self.costs[table].1.get_mut(d as usize) else {
+            return compute();
+        };
+        if slot.is_nan() {
+            *slot = compute();
+        }
+        *slot
+    }
+
+    /// The index of the cost table of `p`'s shedding parameters (made when new; a thread
+    /// keeps the tables of at most eight species).
+    fn cost_table(&mut self, p: &GrowthParams) -> usize {
+        let key = (p.shed_multiplier.to_bits(), p.shed_exponent.to_bits());
+        if let Some(k) = self.costs.iter().position(|(k, _)| *k == key) {
+            return k;
+        }
+        if self.costs.len() >= 8 {
+            self.costs.clear();
+        }
+        self.costs.push((key, vec![f32::NAN; COSTS]));
+        self.costs.len() - 1
+    }
 }
 
 thread_local! {
@@ -95,10 +130,6 @@ struct Nodes {
     rn: Vec<f32>,
     /// The cell word of the end, where the buds are ([`Env::cell_word`]).
     cell: Vec<u32>,
-    /// The shedding cost shed_multiplier·desc^shed_exponent for the descendant count in
-    /// `cost_desc` (recomputed only when the count changes).
-    cost: Vec<f32>,
-    cost_desc: Vec<u32>,
 }
 
 struct NodeInit {
@@ -127,8 +158,6 @@ impl Nodes {
         self.phyllo.push(n.phyllo);
         self.rn.push(n.rn);
         self.cell.push(n.cell);
-        self.cost.push(0.0);
-        self.cost_desc.push(0);
     }
 
     /// Moves internode `from` to `to` (`to` ≤ `from`).
@@ -142,8 +171,6 @@ impl Nodes {
         self.phyllo[to] = self.phyllo[from];
         self.rn[to] = self.rn[from];
         self.cell[to] = self.cell[from];
-        self.cost[to] = self.cost[from];
-        self.cost_desc[to] = self.cost_desc[from];
     }
 
     /// Keeps the first `n` internodes; gives memory back when the arrays are mostly
@@ -164,8 +191,6 @@ impl Nodes {
         cut(&mut self.phyllo, n);
         cut(&mut self.rn, n);
         cut(&mut self.cell, n);
-        cut(&mut self.cost, n);
-        cut(&mut self.cost_desc, n);
     }
 }
 
@@ -181,6 +206,9 @@ pub(crate) struct Tree {
     pub(crate) residual: f32,
     /// Vigour at the base in the last cycle.
     root_vigour: f32,
+    /// The last cycle grew or shed internodes and the radii do not show it yet: the
+    /// next basipetal pass (or a snapshot) brings them up to date.
+    radii_stale: bool,
     /// The shadow changes of the last [`Tree::grow`], in the order made: (cell, buds
     /// added there, negative for removed).
     pub(crate) casts: Vec<(u32, f32)>,
@@ -220,6 +248,22 @@ fn lateral(h: Vec3, phyllo: f32, (sb, cb): (f32, f32)) -> Vec3 {
     (h * cb + side * sb).normalize_or_zero()
 }
 
+/// The pipe model at internode `i` (its children already done): r^n is the sum over its
+/// children (the tip radius at a tip), and never less than it has been.
+#[inline]
+fn pipe(kids: &[[u32; 2]], rn: &mut [f32], i: usize, tip_rn: f32) {
+    let mut sum = 0.0;
+    let mut children = false;
+    for c in kids[i] {
+        if is_child(c) {
+            sum += rn[c as usize];
+            children = true;
+        }
+    }
+    let sum = if children { sum } else { tip_rn };
+    rn[i] = rn[i].max(sum);
+}
+
 /// (sine, cosine) of a branch angle in degrees.
 fn branch_turn(degrees: f32) -> (f32, f32) {
     libm::sincosf(degrees.to_radians())
@@ -256,6 +300,7 @@ impl Tree {
             shed: 0,
             residual: 0.0,
             root_vigour: 0.0,
+            radii_stale: false,
             casts: Vec::new(),
             new_buf: Vec::new(),
             shed_buf: Vec::new(),
@@ -343,7 +388,12 @@ impl Tree {
         s.split.resize(n, [0.0; 2]);
         s.desc.clear();
         s.desc.resize(n, 1);
+        let (stale, tip_rn) = (self.radii_stale, libm::powf(p.tip_radius, p.pipe_exponent));
+        self.radii_stale = false;
         for i in (0..n).rev() {
+            if stale {
+                pipe(&nodes.kids, &mut nodes.rn, i, tip_rn);
+            }
             let kids = nodes.kids[i];
             let word = nodes.cell[i];
             let mut bud = if L::ORDERED { s.ordinal[i] } else { 0 };
@@ -385,6 +435,7 @@ impl Tree {
         };
         let up = Vec3::Y;
         let branch = branch_turn(p.branch_angle);
+        let costs = s.cost_table(&p);
         for i in 0..n {
             let kids = nodes.kids[i];
             let v = s.vig[i];
@@ -396,16 +447,10 @@ impl Tree {
                 } else if p.shed_multiplier > 0.0
                     && nodes.kids[parent][1] == i as u32
                     && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
+                    && v < s.cost(costs, &p, s.desc[i])
                 {
-                    let d = s.desc[i];
-                    if nodes.cost_desc[i] != d {
-                        nodes.cost[i] = p.shed_multiplier * libm::powf(d as f32, p.shed_exponent);
-                        nodes.cost_desc[i] = d;
-                    }
-                    if v < nodes.cost[i] {
-                        s.dead[i] = true;
-                        plan.shed.push(i as u32);
-                    }
+                    s.dead[i] = true;
+                    plan.shed.push(i as u32);
                 }
             }
             // The split.
@@ -521,27 +566,7 @@ impl Tree {
         self.new_buf = plan.new;
         self.shed_buf = plan.shed;
         // Without new or shed internodes the radii are where the last cycle left them.
-        if changed {
-            self.update_radii(tip_rn);
-        }
-    }
-
-    /// The pipe model, tips to root: r^n of an internode is the sum over its children (the
-    /// tip radius at a tip), and never less than it has been.
-    fn update_radii(&mut self, tip_rn: f32) {
-        let nodes = &mut self.nodes;
-        for i in (0..nodes.len()).rev() {
-            let mut rn = 0.0;
-            let mut children = false;
-            for c in nodes.kids[i] {
-                if is_child(c) {
-                    rn += nodes.rn[c as usize];
-                    children = true;
-                }
-            }
-            let rn = if children { rn } else { tip_rn };
-            nodes.rn[i] = nodes.rn[i].max(rn);
-        }
+        self.radii_stale |= changed;
     }
 
     /// Removes the subtrees whose base internodes are `roots` (in increasing order;
@@ -635,15 +660,27 @@ impl Tree {
         let tip = self.species.tip_radius;
         let branch = branch_turn(self.species.branch_angle);
         let n = &self.nodes;
+        // Radii as the next basipetal pass will make them.
+        let mut stale_rn = Vec::new();
+        let rn: &[f32] = if self.radii_stale {
+            stale_rn.extend_from_slice(&n.rn);
+            let tip_rn = libm::powf(tip, self.species.pipe_exponent);
+            for i in (0..n.len()).rev() {
+                pipe(&n.kids, &mut stale_rn, i, tip_rn);
+            }
+            &stale_rn
+        } else {
+            &n.rn
+        };
         let mut parts = SkeletonParts {
             branches: Vec::with_capacity(n.len()),
             ..Default::default()
         };
         for i in 0..n.len() {
-            let r = radius(n.rn[i]);
+            let r = radius(rn[i]);
             let [m, l] = n.kids[i];
             let end_radius = if is_child(m) {
-                radius(n.rn[m as usize])
+                radius(rn[m as usize])
             } else {
                 tip.min(r)
             };
