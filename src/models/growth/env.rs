@@ -139,7 +139,13 @@ impl Env {
             obstacles: Vec::new(),
         };
         match o.environment {
-            Environment::Shadow => env.shadow = vec![0.0; cells],
+            Environment::Shadow => {
+                // Zeros written now: a lazily zeroed grid would be read through the
+                // shared zero page and copied on its first write, two page faults per
+                // page, taken inside the cycles' parallel passes.
+                env.shadow.reserve_exact(cells);
+                env.shadow.resize(cells, 0.0);
+            }
             Environment::SpaceColonization => {
                 // One marker per cell, jittered inside it (seeded).
                 let mut rng = crate::rng::Rng::new(o.seed ^ 0x3A2C_E125_0000_0001);
@@ -250,11 +256,21 @@ impl Env {
         #[cfg(feature = "parallel")]
         if parallel && changes.len() > 1024 {
             let y_of = |c: u32| c as usize / layer;
-            let split = y_of(changes[changes.len() / 2].0).max(1);
-            // Band [0, split) takes the changes up to q_max layers above it; band
-            // [split, ny) the changes from its first layer up.
-            let below = changes.partition_point(|&(c, _)| y_of(c) < split + falloff.len());
-            let above = changes.partition_point(|&(c, _)| y_of(c) < split);
+            // Band [0, split) takes the changes up to q_max layers above it, band
+            // [split, ny) the changes from its first layer up: split where the two take
+            // as many.
+            let bands = |split: usize| {
+                let below = changes.partition_point(|&(c, _)| y_of(c) < split + falloff.len());
+                let above = changes.partition_point(|&(c, _)| y_of(c) < split);
+                (below, above)
+            };
+            let split = (1..self.dims[1])
+                .min_by_key(|&y| {
+                    let (below, above) = bands(y);
+                    below.abs_diff(changes.len() - above)
+                })
+                .unwrap_or(1);
+            let (below, above) = bands(split);
             let (low, high) = self.shadow.split_at_mut(split * layer);
             let mut low: Vec<&mut [f32]> = low.chunks_mut(layer).collect();
             let mut high: Vec<&mut [f32]> = high.chunks_mut(layer).collect();
