@@ -314,3 +314,37 @@ fn bad_input_is_refused_by_name() {
     assert!(err.contains("max_branches"), "{err}");
     assert!(w.branch_count() <= 200);
 }
+
+/// A forest large enough that every parallel path runs (trees planned and grown on all
+/// cores, over 32,768 shadow changes a cycle sorted and applied on two threads) grows the
+/// same trees as on one thread.
+#[test]
+fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
+    let grow = |parallel: bool| {
+        let mut w = World::new(&WorldOptions {
+            min: [-30.0, 0.0, -30.0],
+            max: [30.0, 20.0, 30.0],
+            parallel,
+            ..Default::default()
+        })
+        .unwrap();
+        let species = GrowthParams {
+            seed_age: 8,
+            ..GrowthParams::preset(Species::Decurrent)
+        };
+        for i in 0..10 {
+            for j in 0..10 {
+                let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
+                w.plant(&species, at, (i * 10 + j) as u64).unwrap();
+            }
+        }
+        w.step(11).unwrap();
+        assert!(w.branch_count() > 200_000, "{} branches", w.branch_count());
+        (0..w.tree_count())
+            .map(|i| w.tree(i).unwrap())
+            .collect::<Vec<_>>()
+    };
+    let serial = grow(false);
+    assert!(serial.len() > 100, "seeding made new trees");
+    assert_eq!(serial, grow(true), "parallel = serial");
+}

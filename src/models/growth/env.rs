@@ -246,15 +246,15 @@ impl Env {
         self.pending = pending;
     }
 
-    /// Adds the pyramids of sorted `changes` to the grid: with `parallel` and the
-    /// `parallel` feature on two threads, each owning a band of layers (split where half
-    /// the changes lie above) and adding the part of every pyramid that falls in it; else
-    /// on this one.
+    /// Adds the pyramids of sorted `changes` to the grid: with `parallel`, the `parallel`
+    /// feature and enough changes to pay for waking a second thread (16,384: about half a
+    /// millisecond of work), on two threads, each owning a band of layers and adding the
+    /// part of every pyramid that falls in it; else on this one.
     fn apply(&mut self, changes: &[(u32, f32)], parallel: bool) {
         let layer = self.dims[0] * self.dims[2];
         let (dims, falloff) = (self.dims, &self.falloff);
         #[cfg(feature = "parallel")]
-        if parallel && changes.len() > 1024 {
+        if parallel && changes.len() > 1 << 14 {
             let y_of = |c: u32| c as usize / layer;
             // Band [0, split) takes the changes up to q_max layers above it, band
             // [split, ny) the changes from its first layer up: split where the two take

@@ -548,7 +548,8 @@ impl World {
 
     fn cycle_once(&mut self) -> Result<()> {
         let cycle = self.cycle + 1;
-        let parallel = self.options.parallel;
+        // Threads pay only for enough work (waking one costs tens of microseconds).
+        let parallel = self.options.parallel && self.branch_count() >= 4096;
         // 1–5: light and direction at every bud from the shared environment, then the
         // basipetal and acropetal passes, shedding and the new shoots, planned per tree
         // (in parallel with the `parallel` feature). The shadow is read where each bud
