@@ -578,18 +578,20 @@ impl Tree {
     /// scratch (no allocation in proportion to the tree).
     fn shed_subtrees(&mut self, roots: &[u32], env: &Env, s: &mut Scratch) {
         let n = self.nodes.len();
+        // Internodes before the first root keep their places (and their indices).
+        let first = roots.first().map_or(n, |&r| r as usize);
         let new_index = &mut s.desc;
         new_index.clear();
-        new_index.resize(n, NO_PARENT);
+        new_index.resize(n - first, NO_PARENT);
         let nodes = &mut self.nodes;
         let mut roots = roots.iter().copied().peekable();
-        let mut kept = 0usize;
-        for i in 0..n {
+        let mut kept = first;
+        for i in first..n {
             let p = nodes.parent[i];
-            let parent = if p == NO_PARENT {
-                NO_PARENT
-            } else {
-                new_index[p as usize]
+            let parent = match p as usize {
+                _ if p == NO_PARENT => NO_PARENT,
+                p if p < first => p as u32,
+                p => new_index[p - first],
             };
             let root = roots.next_if_eq(&(i as u32)).is_some();
             // The living parent is already at its new index (slots below `kept` are final).
@@ -607,7 +609,7 @@ impl Tree {
                 }
                 continue;
             }
-            new_index[i] = kept as u32;
+            new_index[i - first] = kept as u32;
             if kept != i {
                 nodes.move_to(i, kept);
             }
