@@ -838,8 +838,8 @@ typedef struct ArborWorldOptions {
    */
   float full_light;
   /**
-   * Most grid cells (4 bytes each): a finer box is ARBOR_STATUS_LIMIT_EXCEEDED naming
-   * max_cells. Default 33,554,432.
+   * Most grid cells (4 bytes each; never more than 2^31): a finer box is
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells. Default 33,554,432.
    */
   uint64_t max_cells;
   /**
@@ -852,8 +852,9 @@ typedef struct ArborWorldOptions {
    */
   uint32_t max_trees;
   /**
-   * 1 (default): grow the trees of a cycle on all cores when arbor is built with its
-   * `parallel` feature (the result is identical); 0: the calling thread only.
+   * 1 (default): grow the trees of a cycle and update the shadow grid on all cores
+   * when arbor is built with its `parallel` feature (the result is identical; a world
+   * under 4,096 internodes stays on the calling thread); 0: the calling thread only.
    */
   uint32_t parallel;
   /**

@@ -296,6 +296,20 @@ fn bad_input_is_refused_by_name() {
         },
         "max_cells",
     );
+    // Past 2^31 cells even a host that lifts max_cells is refused (a cell index shares
+    // 32 bits with a flag): 2^31 + 2^20 cells of one unit.
+    let err = World::new(&WorldOptions {
+        min: [0.0; 3],
+        max: [2049.0, 1024.0, 1024.0],
+        cell_size: 1.0,
+        max_cells: usize::MAX,
+        ..d
+    })
+    .unwrap_err();
+    assert!(
+        matches!(err, arbor::Error::LimitExceeded { limit_name: "max_cells", limit, .. } if limit == 1 << 31),
+        "{err}"
+    );
     // A plant outside the box.
     let mut w = world(Environment::Shadow);
     let err = w

@@ -38,16 +38,17 @@ pub struct ArborWorldOptions {
     pub shadow_depth: u32,
     /// Full exposure (C), > 0. Default 1.5.
     pub full_light: f32,
-    /// Most grid cells (4 bytes each): a finer box is ARBOR_STATUS_LIMIT_EXCEEDED naming
-    /// max_cells. Default 33,554,432.
+    /// Most grid cells (4 bytes each; never more than 2^31): a finer box is
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells. Default 33,554,432.
     pub max_cells: u64,
     /// Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
     /// this. Default 16,777,216.
     pub max_branches: u64,
     /// Most trees (seeding stops there). Default 1,024.
     pub max_trees: u32,
-    /// 1 (default): grow the trees of a cycle on all cores when arbor is built with its
-    /// `parallel` feature (the result is identical); 0: the calling thread only.
+    /// 1 (default): grow the trees of a cycle and update the shadow grid on all cores
+    /// when arbor is built with its `parallel` feature (the result is identical; a world
+    /// under 4,096 internodes stays on the calling thread); 0: the calling thread only.
     pub parallel: u32,
     /// Called by arbor_world_step() before every cycle and at the end
     /// (ARBOR_STAGE_GROWTH, the fraction of the cycles asked), on the calling thread;

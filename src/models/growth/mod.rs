@@ -79,8 +79,10 @@ pub struct WorldOptions {
     pub max_branches: usize,
     /// Most trees (seeding stops adding trees at this count). Default 1,024.
     pub max_trees: usize,
-    /// Grow the trees of one cycle on all cores with the `parallel` feature (the result is
-    /// identical to the serial path). Default true.
+    /// Grow the trees of one cycle and update the shadow grid on all cores with the
+    /// `parallel` feature (the result is identical to the serial path). A world under
+    /// 4,096 internodes runs on the calling thread: waking threads would cost more than
+    /// they give. Default true.
     pub parallel: bool,
 }
 
