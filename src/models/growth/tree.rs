@@ -66,6 +66,8 @@ struct Scratch {
     desc: Vec<u32>,
     vig: Vec<f32>,
     dead: Vec<bool>,
+    /// The buds that grow a shoot this cycle: (internode, 0 terminal / 1 lateral, vigour).
+    shoots: Vec<(u32, u32, f32)>,
     /// Shedding costs by species: ((shed_multiplier, shed_exponent) bits, the cost
     /// multiplier·d^exponent of d internodes for d below [`COSTS`], NaN until needed).
     costs: Vec<((u32, u32), Vec<f32>)>,
@@ -426,6 +428,7 @@ impl Tree {
         s.vig[0] = p.vigor_multiplier * (s.split[0][0] + s.split[0][1]);
         s.dead.clear();
         s.dead.resize(n, false);
+        s.shoots.clear();
         let lambda = p.apical_control;
         let mut residual = 0.0f32;
         let mut plan = Plan {
@@ -470,48 +473,52 @@ impl Tree {
                     s.vig[slot as usize] = share;
                     continue;
                 }
-                // Shoots, from the living buds of living internodes.
-                if slot != BUD || s.dead[i] || share < 1.0 {
-                    continue;
+                // Shoots, from the living buds of living internodes (made below, so
+                // this loop stays small).
+                if slot == BUD && !s.dead[i] && share >= 1.0 {
+                    s.shoots.push((i as u32, k as u32, share));
                 }
-                let count = (share.floor() as u32).min(p.max_shoot);
-                let length = p.internode_length * (share / count as f32).min(2.0);
-                // The terminal bud comes first in bud order.
-                let bud = if L::ORDERED {
-                    s.ordinal[i] + u32::from(k == 1 && kids[0] == BUD)
-                } else {
-                    0
-                };
-                let env_dir = light.v(bud, nodes.cell[i]);
-                let mut heading = if k == 0 {
-                    nodes.dir[i]
-                } else {
-                    lateral(nodes.dir[i], nodes.phyllo[i], branch)
-                };
-                let mut at = nodes.end[i];
-                let mut phyllo = nodes.phyllo[i];
-                let order = nodes.order[i] + k as u32;
-                for j in 0..count {
-                    heading = (heading + env_dir * p.environment_weight + up * p.tropism)
-                        .try_normalize()
-                        .unwrap_or(heading);
-                    phyllo = (phyllo + p.phyllotaxis) % 360.0;
-                    let end = at + heading * length;
-                    plan.new.push(New {
-                        parent: if j == 0 {
-                            i as u32
-                        } else {
-                            plan.new.len() as u32 - 1
-                        },
-                        chain: j > 0,
-                        main: k == 0 || j > 0,
-                        end,
-                        dir: heading,
-                        phyllo,
-                        order,
-                    });
-                    at = end;
-                }
+            }
+        }
+        for &(i, k, share) in &s.shoots {
+            let (i, kids) = (i as usize, nodes.kids[i as usize]);
+            let count = (share.floor() as u32).min(p.max_shoot);
+            let length = p.internode_length * (share / count as f32).min(2.0);
+            // The terminal bud comes first in bud order.
+            let bud = if L::ORDERED {
+                s.ordinal[i] + u32::from(k == 1 && kids[0] == BUD)
+            } else {
+                0
+            };
+            let env_dir = light.v(bud, nodes.cell[i]);
+            let mut heading = if k == 0 {
+                nodes.dir[i]
+            } else {
+                lateral(nodes.dir[i], nodes.phyllo[i], branch)
+            };
+            let mut at = nodes.end[i];
+            let mut phyllo = nodes.phyllo[i];
+            let order = nodes.order[i] + k;
+            for j in 0..count {
+                heading = (heading + env_dir * p.environment_weight + up * p.tropism)
+                    .try_normalize()
+                    .unwrap_or(heading);
+                phyllo = (phyllo + p.phyllotaxis) % 360.0;
+                let end = at + heading * length;
+                plan.new.push(New {
+                    parent: if j == 0 {
+                        i as u32
+                    } else {
+                        plan.new.len() as u32 - 1
+                    },
+                    chain: j > 0,
+                    main: k == 0 || j > 0,
+                    end,
+                    dir: heading,
+                    phyllo,
+                    order,
+                });
+                at = end;
             }
         }
         plan.residual = residual;
@@ -540,7 +547,12 @@ impl Tree {
             let side = usize::from(!nw.main);
             let slot = &mut self.nodes.kids[parent as usize][side];
             if *slot == BUD {
-                cast(env, &mut self.casts, self.nodes.cell[parent as usize], -1.0);
+                match self.casts.last_mut() {
+                    // The previous new internode's buds were the last change: one net
+                    // change per cell (its lateral bud stays, its terminal bud grew).
+                    Some(last) if nw.chain => last.1 -= 1.0,
+                    _ => cast(env, &mut self.casts, self.nodes.cell[parent as usize], -1.0),
+                }
             }
             *slot = me;
             let word = env.cell_word(nw.end);
