@@ -107,7 +107,8 @@ pub(crate) struct Env {
     max: Vec3,
     /// Shadow changes not applied yet: (cell, buds added there, negative for removed).
     pending: Vec<(u32, f32)>,
-    /// The radix sort's second buffer.
+    /// The changes of a flush, sorted, and the radix sort's second buffer.
+    sorted: Vec<(u32, f32)>,
     scratch: Vec<(u32, f32)>,
     obstacles: Vec<Obstacle>,
 }
@@ -135,6 +136,7 @@ impl Env {
             min,
             max,
             pending: Vec::new(),
+            sorted: Vec::new(),
             scratch: Vec::new(),
             obstacles: Vec::new(),
         };
@@ -225,12 +227,6 @@ impl Env {
         }
     }
 
-    /// Changes recorded elsewhere (cells without [`DARK`]), applied at the
-    /// next [`flush`](Self::flush) as if cast in this order.
-    pub(crate) fn cast_cells(&mut self, changes: &[(u32, f32)]) {
-        self.pending.extend_from_slice(changes);
-    }
-
     /// Applies the pending shadow changes: buds added and removed in one cell cancel, and
     /// each changed cell's pyramid is applied once, in cell order (so the result does not
     /// depend on the order the changes came in; the counts are small integers, exact in
@@ -239,11 +235,31 @@ impl Env {
     /// of the grid are updated on two threads; every cell still receives its changes in
     /// the same order, so the grid is the same bit for bit.
     pub(crate) fn flush(&mut self, parallel: bool) {
-        let mut pending = std::mem::take(&mut self.pending);
-        sort_changes(&mut pending, &mut self.scratch, self.shadow.len(), parallel);
-        self.apply(&pending, parallel);
-        pending.clear();
-        self.pending = pending;
+        self.flush_with(&[], parallel);
+    }
+
+    /// [`flush`](Self::flush) of the pending changes and those recorded elsewhere
+    /// (`changes`: cells without [`DARK`], such as each tree's changes of a cycle), read
+    /// where they are.
+    pub(crate) fn flush_with(&mut self, changes: &[&[(u32, f32)]], parallel: bool) {
+        let pending = std::mem::take(&mut self.pending);
+        let mut sources = changes.to_vec();
+        sources.push(&pending);
+        let (mut sorted, mut scratch) = (
+            std::mem::take(&mut self.sorted),
+            std::mem::take(&mut self.scratch),
+        );
+        sort_changes(
+            &sources,
+            &mut sorted,
+            &mut scratch,
+            self.shadow.len(),
+            parallel,
+        );
+        self.apply(&sorted, parallel);
+        drop(sources);
+        (self.sorted, self.scratch, self.pending) = (sorted, scratch, pending);
+        self.pending.clear();
     }
 
     /// Adds the pyramids of sorted `changes` to the grid: with `parallel`, the `parallel`
@@ -461,48 +477,66 @@ impl Env {
     }
 }
 
-/// Sorts the shadow changes by cell, stably (each cell's changes keep the order they were
-/// made in), through `scratch`: a least-significant-digit radix sort of the cell indices
-/// (below `cells`). With `parallel` (and the `parallel` feature) one pass splits them into
-/// the lower and upper halves of the grid, which are sorted on two threads.
+/// Sorts the shadow changes of `sources` (in that order) by cell into `sorted`, stably
+/// (each cell's changes keep the order they were made in), through `scratch`: a
+/// least-significant-digit radix sort of the cell indices (below `cells`). With
+/// `parallel` (and the `parallel` feature) two threads each gather and sort the changes
+/// of one half of the grid.
 fn sort_changes(
-    changes: &mut Vec<(u32, f32)>,
+    sources: &[&[(u32, f32)]],
+    sorted: &mut Vec<(u32, f32)>,
     scratch: &mut Vec<(u32, f32)>,
     cells: usize,
     parallel: bool,
 ) {
-    if changes.len() < 256 {
-        changes.sort_by_key(|&(c, _)| c);
-        return;
-    }
-    scratch.clear();
-    scratch.resize(changes.len(), (0, 0.0));
+    let total: usize = sources.iter().map(|s| s.len()).sum();
+    // Buffers keep their length from flush to flush: every value is written below.
+    scratch.resize(total, (0, 0.0));
     #[cfg(feature = "parallel")]
-    if parallel && changes.len() > 1 << 15 {
+    if parallel && total > 1 << 15 {
+        use rayon::prelude::*;
         let mid = (cells / 2) as u32;
-        let low = changes.iter().filter(|&&(c, _)| c < mid).count();
-        let (mut lo, mut hi) = (0, low);
-        for &change in changes.iter() {
-            if change.0 < mid {
-                scratch[lo] = change;
-                lo += 1;
-            } else {
-                scratch[hi] = change;
-                hi += 1;
+        let low: usize = sources
+            .par_iter()
+            .map(|s| s.iter().filter(|&&(c, _)| c < mid).count())
+            .sum();
+        sorted.resize(total, (0, 0.0));
+        let gather = |out: &mut [(u32, f32)], lower: bool| {
+            let mut k = 0;
+            for &change in sources.iter().flat_map(|s| s.iter()) {
+                if (change.0 < mid) == lower {
+                    out[k] = change;
+                    k += 1;
+                }
             }
-        }
+        };
         // The halves sort into the same buffer (both take the same passes).
-        let (a, b) = scratch.split_at_mut(low);
-        let (ta, tb) = changes.split_at_mut(low);
-        let (in_changes, _) = rayon::join(|| radix_sort(a, ta, cells), || radix_sort(b, tb, cells));
-        if !in_changes {
-            std::mem::swap(changes, scratch);
+        let (a, b) = sorted.split_at_mut(low);
+        let (ta, tb) = scratch.split_at_mut(low);
+        let (in_scratch, _) = rayon::join(
+            || {
+                gather(a, true);
+                radix_sort(a, ta, cells)
+            },
+            || {
+                gather(b, false);
+                radix_sort(b, tb, cells)
+            },
+        );
+        if in_scratch {
+            std::mem::swap(sorted, scratch);
         }
         return;
     }
     let _ = parallel;
-    if radix_sort(changes, scratch, cells) {
-        std::mem::swap(changes, scratch);
+    sorted.clear();
+    for s in sources {
+        sorted.extend_from_slice(s);
+    }
+    if total < 256 {
+        sorted.sort_by_key(|&(c, _)| c);
+    } else if radix_sort(sorted, scratch, cells) {
+        std::mem::swap(sorted, scratch);
     }
 }
 
@@ -632,8 +666,10 @@ mod tests {
             let mut expected = changes.clone();
             expected.sort_by_key(|&(c, _)| c);
             for parallel in [false, true] {
-                let (mut got, mut scratch) = (changes.clone(), Vec::new());
-                sort_changes(&mut got, &mut scratch, cells, parallel);
+                // As a flush gathers them: from several places, in order.
+                let (head, tail) = changes.split_at(len / 3);
+                let (mut got, mut scratch) = (vec![(9, 9.0); 5], vec![(7, 7.0); len + 9]);
+                sort_changes(&[head, &[], tail], &mut got, &mut scratch, cells, parallel);
                 let same = got
                     .iter()
                     .zip(&expected)

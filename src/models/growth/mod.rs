@@ -592,9 +592,6 @@ impl World {
             t.grow(std::mem::take(plan), env, cycle)
         });
         drop(work);
-        for t in &self.trees {
-            self.env.cast_cells(&t.casts);
-        }
         // 7: seeding.
         let mut seedlings = Vec::new();
         let most = self.options.max_trees;
@@ -613,7 +610,9 @@ impl World {
             tree.cast(&mut self.env, 1.0);
             self.trees.push(tree);
         }
-        self.env.flush(parallel);
+        // The trees' changes, in tree order, then the seedlings' buds.
+        let casts: Vec<&[(u32, f32)]> = self.trees.iter().map(|t| t.casts.as_slice()).collect();
+        self.env.flush_with(&casts, parallel);
         self.cycle = cycle;
         Ok(())
     }
