@@ -70,7 +70,14 @@ impl MeshPlan {
         vertices: &mut [Vertex],
         indices: &mut [u32],
     ) -> Result<MeshSize> {
-        self.write_checked(skeleton, vertices, indices)
+        let threads = self.options.threads;
+        self.write_on_with(
+            skeleton,
+            threads,
+            vertices,
+            indices,
+            &mut Progress::default(),
+        )
     }
 
     /// [`write`](Self::write) into uninitialised memory (a mapped GPU buffer).
@@ -80,7 +87,14 @@ impl MeshPlan {
         vertices: &mut [MaybeUninit<Vertex>],
         indices: &mut [MaybeUninit<u32>],
     ) -> Result<MeshSize> {
-        self.write_checked(skeleton, vertices, indices)
+        let threads = self.options.threads;
+        self.write_on_with(
+            skeleton,
+            threads,
+            vertices,
+            indices,
+            &mut Progress::default(),
+        )
     }
 
     /// [`write_uninit`](Self::write_uninit) on up to `threads` threads (as
@@ -93,7 +107,13 @@ impl MeshPlan {
         vertices: &mut [MaybeUninit<Vertex>],
         indices: &mut [MaybeUninit<u32>],
     ) -> Result<MeshSize> {
-        self.write_on(skeleton, threads, vertices, indices)
+        self.write_on_with(
+            skeleton,
+            threads,
+            vertices,
+            indices,
+            &mut Progress::default(),
+        )
     }
 
     /// [`write_uninit_on`](Self::write_uninit_on), reporting [`Stage::Mesh`] to
@@ -166,31 +186,8 @@ impl MeshPlan {
         })
     }
 
-    fn write_checked<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
-        &self,
-        skeleton: &Skeleton,
-        vertices: &mut [V],
-        indices: &mut [I],
-    ) -> Result<MeshSize> {
-        self.write_on(skeleton, self.options.threads, vertices, indices)
-    }
-
-    fn write_on<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
-        &self,
-        skeleton: &Skeleton,
-        threads: u32,
-        vertices: &mut [V],
-        indices: &mut [I],
-    ) -> Result<MeshSize> {
-        self.write_on_with(
-            skeleton,
-            threads,
-            vertices,
-            indices,
-            &mut Progress::default(),
-        )
-    }
-
+    /// Every write's one path: checks the skeleton and the buffers' room, then writes on
+    /// up to `threads` threads, reporting to `progress`.
     fn write_on_with<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,

@@ -203,9 +203,14 @@ impl Env {
     /// word is `word` ([`cell_word`](Self::cell_word)), applied at the next
     /// [`flush`](Self::flush). Nothing for markers.
     pub(crate) fn cast(&mut self, word: u32, count: f32) {
-        if self.kind == Environment::Shadow {
-            self.pending.push((word & !DARK, count));
-        }
+        self.pending.extend(self.change(word, count));
+    }
+
+    /// The shadow change of `count` buds (negative: removed) whose cell word is `word`,
+    /// as a flush takes it; none in a colonization world.
+    #[inline]
+    pub(crate) fn change(&self, word: u32, count: f32) -> Option<(u32, f32)> {
+        (self.kind == Environment::Shadow).then_some((word & !DARK, count))
     }
 
     /// The cell word of a bud at `p`, found once when its internode is made: in a shadow
@@ -231,9 +236,9 @@ impl Env {
     /// each changed cell's pyramid is applied once, in cell order (so the result does not
     /// depend on the order the changes came in; the counts are small integers, exact in
     /// any order). With `parallel` (and the `parallel` feature) the changes are sorted on
-    /// two threads (the lower and upper halves of the grid) and the even and odd layers
-    /// of the grid are updated on two threads; every cell still receives its changes in
-    /// the same order, so the grid is the same bit for bit.
+    /// two threads (the lower and upper halves of the grid) and the grid is updated by two
+    /// threads owning a band of layers each; every cell still receives its changes in the
+    /// same order, so the grid is the same bit for bit.
     pub(crate) fn flush(&mut self, parallel: bool) {
         self.flush_with(&[], parallel);
     }

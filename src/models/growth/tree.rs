@@ -1,7 +1,7 @@
 //! One self-organizing tree: its internodes and buds, and the passes of a growth cycle.
 
 use super::GrowthParams;
-use super::env::{Bud, DARK, Env};
+use super::env::{Bud, Env};
 use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
 use glam::Vec3;
 
@@ -219,12 +219,10 @@ pub(crate) struct Tree {
     shed_buf: Vec<u32>,
 }
 
-/// Records a shadow change of `count` buds at a cell word (nothing outside a shadow world).
+/// Living buds of an internode with these children.
 #[inline]
-fn cast(env: &Env, out: &mut Vec<(u32, f32)>, word: u32, count: f32) {
-    if env.kind() == super::Environment::Shadow {
-        out.push((word & !DARK, count));
-    }
+fn buds([m, l]: [u32; 2]) -> u32 {
+    u32::from(m == BUD) + u32::from(l == BUD)
 }
 
 /// A unit vector perpendicular to unit `h`, continuous except near −Y: the ring basis of
@@ -329,7 +327,7 @@ impl Tree {
     /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
     pub(crate) fn cast(&self, env: &mut Env, sign: f32) {
         for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
-            let buds = u8::from(k[0] == BUD) + u8::from(k[1] == BUD);
+            let buds = buds(*k);
             if buds > 0 {
                 env.cast(word, sign * buds as f32);
             }
@@ -379,9 +377,9 @@ impl Tree {
         if L::ORDERED {
             s.ordinal.clear();
             let mut ordinal = 0u32;
-            for [m, l] in &nodes.kids {
+            for &kids in &nodes.kids {
                 s.ordinal.push(ordinal);
-                ordinal += u32::from(*m == BUD) + u32::from(*l == BUD);
+                ordinal += buds(kids);
             }
         }
         // Basipetal, with the light of each bud: light above each internode, split into
@@ -551,7 +549,9 @@ impl Tree {
                     // The previous new internode's buds were the last change: one net
                     // change per cell (its lateral bud stays, its terminal bud grew).
                     Some(last) if nw.chain => last.1 -= 1.0,
-                    _ => cast(env, &mut self.casts, self.nodes.cell[parent as usize], -1.0),
+                    _ => self
+                        .casts
+                        .extend(env.change(self.nodes.cell[parent as usize], -1.0)),
                 }
             }
             *slot = me;
@@ -568,7 +568,7 @@ impl Tree {
             });
             // Its lateral bud and its terminal bud (taken away again if the chain goes on;
             // the two cancel before the grid is touched).
-            cast(env, &mut self.casts, word, 2.0);
+            self.casts.extend(env.change(word, 2.0));
         }
         if !plan.shed.is_empty() {
             SCRATCH.with_borrow_mut(|s| self.shed_subtrees(&plan.shed, env, s));
@@ -600,10 +600,10 @@ impl Tree {
         let mut kept = first;
         for i in first..n {
             let p = nodes.parent[i];
-            let parent = match p as usize {
-                _ if p == NO_PARENT => NO_PARENT,
-                p if p < first => p as u32,
-                p => new_index[p - first],
+            let parent = if p == NO_PARENT || (p as usize) < first {
+                p
+            } else {
+                new_index[p as usize - first]
             };
             let root = roots.next_if_eq(&(i as u32)).is_some();
             // The living parent is already at its new index (slots below `kept` are final).
@@ -611,10 +611,9 @@ impl Tree {
                 usize::from(parent != NO_PARENT && nodes.order[i] != nodes.order[parent as usize]);
             if root || (p != NO_PARENT && parent == NO_PARENT) {
                 // Shed: its buds' shadow goes; a living parent keeps an empty slot.
-                let [m, l] = nodes.kids[i];
-                let buds = u8::from(m == BUD) + u8::from(l == BUD);
+                let buds = buds(nodes.kids[i]);
                 if buds > 0 {
-                    cast(env, &mut self.casts, nodes.cell[i], -(buds as f32));
+                    self.casts.extend(env.change(nodes.cell[i], -(buds as f32)));
                 }
                 if parent != NO_PARENT {
                     nodes.kids[parent as usize][side] = GONE;
