@@ -4,6 +4,8 @@
 //! the signed volume of consecutive branch directions along tree g's axes, read from the
 //! mesh each preset writes.
 
+use arbor::export;
+use arbor::forest::{Item, Placed, Source};
 use arbor::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, UpAxis, Winding};
 use arbor::models::honda::{self, HondaParams};
 use arbor::skeleton::{NO_PARENT, Skeleton};
@@ -268,5 +270,35 @@ fn presets_refuse_conflicting_options_by_name() {
     ] {
         let e = mesh::tubes(&s, &o).unwrap_err().to_string();
         assert!(e.contains(field), "{e}");
+        // glTF writes its own conventions, but refuses what the mesh writer refuses, with
+        // the same error: one set of options, one verdict.
+        let leaves = LeafOptions::default();
+        let p = HondaParams::preset('a').unwrap();
+        let placed = [Placed {
+            item: Item {
+                source: Source::Honda(p),
+                seed: 0,
+            },
+            position: [0.0; 3],
+            rotation: 0.0,
+            scale: 1.0,
+        }];
+        for binary in [true, false] {
+            let got = [
+                export::gltf_bytes(&s, &o, None, binary),
+                export::gltf_bytes(&s, &o, Some(&leaves), binary),
+                export::gltf_bytes_instanced(&s, &o, &leaves, binary),
+                export::gltf_forest_bytes(&placed, &o, binary),
+                export::gltf_forest_nodes_bytes(&placed, &o, binary),
+            ];
+            for (k, g) in got.into_iter().enumerate() {
+                let g = g.err().map(|g| g.to_string());
+                assert_eq!(
+                    g.as_deref(),
+                    Some(e.as_str()),
+                    "glTF writer {k}, binary {binary}"
+                );
+            }
+        }
     }
 }

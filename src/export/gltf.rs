@@ -7,8 +7,8 @@
 //! uv; stride 32) as arbor writes them; indices are 32-bit triangle lists (glTF has no
 //! restart index). glTF is right-handed, Y up, counter-clockwise: the mesh options'
 //! topology, winding and up axis are overridden to that, whatever they ask; their scale,
-//! sides, joints, tips and curve rings stand. The generator's settings are in
-//! `asset.extras`.
+//! sides, joints, tips and curve rings stand. Options the mesh writer refuses are refused
+//! here too, with its error. The generator's settings are in `asset.extras`.
 
 use crate::error::{Error, Result};
 use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
@@ -44,15 +44,18 @@ impl Material {
     }
 }
 
-/// The options glTF needs: triangle lists, counter-clockwise, Y up.
-fn gltf_options(options: &MeshOptions) -> MeshOptions {
-    MeshOptions {
+/// The options glTF needs: triangle lists, counter-clockwise, Y up. The options are
+/// checked as given first, so a set the mesh writer refuses (an engine preset with another
+/// up axis, say) is refused here too, with the same error.
+fn gltf_options(options: &MeshOptions) -> Result<MeshOptions> {
+    mesh::check_options(options)?;
+    Ok(MeshOptions {
         topology: Topology::TriangleList,
         winding: Winding::CounterClockwise,
         up_axis: UpAxis::Y,
         axes: Axes::Arbor,
         ..*options
-    }
+    })
 }
 
 /// The meshes a glTF file of `skeleton` holds. The bark's mesh and animation stream come
@@ -63,7 +66,7 @@ fn primitives(
     leaves: Option<&LeafOptions>,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
-    let o = gltf_options(options);
+    let o = gltf_options(options)?;
     let plan = mesh::MeshPlan::new(skeleton, &o)?;
     let bark = plan.mesh_reporting(skeleton, o.threads, progress)?;
     let mut out = vec![Primitive {
@@ -180,7 +183,7 @@ pub fn gltf_forest_bytes(
     options: &MeshOptions,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let o = gltf_options(options);
+    let o = gltf_options(options)?;
     let m = crate::forest::merged(placed, &o)?;
     let extras = format!(
         "{{\"generator\":\"arbor\",\"trees\":{},\"radial_segments\":{},\"scale\":{}}}",
@@ -210,7 +213,7 @@ pub fn gltf_forest_nodes_bytes(
     options: &MeshOptions,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let o = gltf_options(options);
+    let o = gltf_options(options)?;
     let (meshes, which) = crate::forest::instanced(placed, &o)?;
     let trees: Vec<Vec<Primitive>> = meshes
         .into_iter()
