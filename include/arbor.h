@@ -1302,8 +1302,9 @@ enum ArborStatus arbor_export_obj(const struct ArborTree *tree,
  * Writes bark (and leaves, when `leaf_options` is not NULL) as glTF 2.0: binary `.glb`,
  * or `.gltf` JSON with the buffer embedded, by the path's extension. Triangle lists,
  * counter-clockwise, Y up, whatever `mesh_options` asks (its sides, scale, tips and curve
- * rings stand; options `arbor_mesh_size` refuses are refused with its error); the settings
- * in `asset.extras`.
+ * rings stand; options that contradict themselves, such as an engine preset with another
+ * up axis or winding, are refused with `arbor_mesh_size`'s error; the f32 range of
+ * positions is checked in the space written); the settings in `asset.extras`.
  *
  * # Safety
  * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or

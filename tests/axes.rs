@@ -242,6 +242,35 @@ fn leaf_instances_land_where_the_baked_leaves_do_in_every_preset() {
 #[test]
 fn presets_refuse_conflicting_options_by_name() {
     let s = tree('a');
+    let leaves = LeafOptions::default();
+    let placed = [Placed {
+        item: Item {
+            source: Source::Honda(HondaParams::preset('a').unwrap()),
+            seed: 0,
+        },
+        position: [0.0; 3],
+        rotation: 0.0,
+        scale: 1.0,
+    }];
+    // What every glTF writer (tree, baked and instanced leaves, merged forest, forest nodes;
+    // binary and JSON) says of a set of options: its errors, or None where it writes.
+    let gltf = |o: &MeshOptions| -> Vec<Option<String>> {
+        [true, false]
+            .into_iter()
+            .flat_map(|binary| {
+                [
+                    export::gltf_bytes(&s, o, None, binary).err(),
+                    export::gltf_bytes(&s, o, Some(&leaves), binary).err(),
+                    export::gltf_bytes_instanced(&s, o, &leaves, binary).err(),
+                    export::gltf_forest_bytes(&placed, o, binary).err(),
+                    export::gltf_forest_nodes_bytes(&placed, o, binary).err(),
+                ]
+            })
+            .map(|e| e.map(|e| e.to_string()))
+            .collect()
+    };
+    // A preset with its own up axis or winding contradicts itself: glTF, which writes its
+    // own conventions, refuses it too, with the same error.
     for (o, field) in [
         (
             MeshOptions {
@@ -259,46 +288,34 @@ fn presets_refuse_conflicting_options_by_name() {
             },
             "up_axis",
         ),
-        (
-            MeshOptions {
-                axes: Axes::Unreal,
-                scale: 1e37,
-                ..Default::default()
-            },
-            "scale",
-        ),
     ] {
         let e = mesh::tubes(&s, &o).unwrap_err().to_string();
         assert!(e.contains(field), "{e}");
-        // glTF writes its own conventions, but refuses what the mesh writer refuses, with
-        // the same error: one set of options, one verdict.
-        let leaves = LeafOptions::default();
-        let p = HondaParams::preset('a').unwrap();
-        let placed = [Placed {
-            item: Item {
-                source: Source::Honda(p),
-                seed: 0,
-            },
-            position: [0.0; 3],
-            rotation: 0.0,
-            scale: 1.0,
-        }];
-        for binary in [true, false] {
-            let got = [
-                export::gltf_bytes(&s, &o, None, binary),
-                export::gltf_bytes(&s, &o, Some(&leaves), binary),
-                export::gltf_bytes_instanced(&s, &o, &leaves, binary),
-                export::gltf_forest_bytes(&placed, &o, binary),
-                export::gltf_forest_nodes_bytes(&placed, &o, binary),
-            ];
-            for (k, g) in got.into_iter().enumerate() {
-                let g = g.err().map(|g| g.to_string());
-                assert_eq!(
-                    g.as_deref(),
-                    Some(e.as_str()),
-                    "glTF writer {k}, binary {binary}"
-                );
-            }
+        for (k, g) in gltf(&o).into_iter().enumerate() {
+            assert_eq!(g.as_deref(), Some(e.as_str()), "glTF writer {k}");
+        }
+    }
+    // A scale that leaves the f32 range only in the preset's units (Unreal's centimetres):
+    // the mesh writer refuses it by name; glTF, written in arbor's units, writes.
+    // 1e37 leaves the range in either space (as a number in Unreal's units, and at the
+    // tree's 364 units in arbor's); 1e34 only at the tree's extent in Unreal's.
+    for (scale, gltf_writes) in [(1e37, false), (1e34, true)] {
+        let o = MeshOptions {
+            axes: Axes::Unreal,
+            scale,
+            ..Default::default()
+        };
+        let e = mesh::tubes(&s, &o).unwrap_err().to_string();
+        assert!(e.contains("scale"), "{e}");
+        let g = gltf(&o);
+        if gltf_writes {
+            assert!(g.iter().all(Option::is_none), "{g:?}");
+        } else {
+            assert!(
+                g.iter()
+                    .all(|e| e.as_ref().is_some_and(|e| e.contains("`scale`"))),
+                "{g:?}"
+            );
         }
     }
 }

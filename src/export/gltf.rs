@@ -7,8 +7,10 @@
 //! uv; stride 32) as arbor writes them; indices are 32-bit triangle lists (glTF has no
 //! restart index). glTF is right-handed, Y up, counter-clockwise: the mesh options'
 //! topology, winding and up axis are overridden to that, whatever they ask; their scale,
-//! sides, joints, tips and curve rings stand. Options the mesh writer refuses are refused
-//! here too, with its error. The generator's settings are in `asset.extras`.
+//! sides, joints, tips and curve rings stand. Options that contradict themselves (an engine
+//! preset with another up axis or winding) are refused with the mesh writer's error; the
+//! f32 range of positions is checked in the space written. The generator's settings are in
+//! `asset.extras`.
 
 use crate::error::{Error, Result};
 use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
@@ -44,11 +46,13 @@ impl Material {
     }
 }
 
-/// The options glTF needs: triangle lists, counter-clockwise, Y up. The options are
-/// checked as given first, so a set the mesh writer refuses (an engine preset with another
-/// up axis, say) is refused here too, with the same error.
+/// The options glTF needs: triangle lists, counter-clockwise, Y up, arbor's axes. Each
+/// field is checked as given first, so a set that contradicts itself (an engine preset with
+/// another up axis, say) is refused with the mesh writer's error; the limits that depend
+/// on the output space (positions in the f32 range) are those of the space glTF is written
+/// in.
 fn gltf_options(options: &MeshOptions) -> Result<MeshOptions> {
-    mesh::check_options(options)?;
+    mesh::check_fields(options)?;
     Ok(MeshOptions {
         topology: Topology::TriangleList,
         winding: Winding::CounterClockwise,

@@ -33,7 +33,7 @@ pub use leaves::{
     leaf_mesh_size, write_leaf_mesh,
 };
 pub use lod::{LodLevel, mesh_lods};
-pub(crate) use plan::check_options;
+pub(crate) use plan::check_fields;
 pub use plan::{BranchRange, MeshPlan};
 pub use records::{CurveGrowthRecord, CurveRecord, curve_growth_records, curve_records};
 pub(crate) use strips::Slot;

@@ -63,6 +63,23 @@ pub(crate) struct Plan {
 }
 
 pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
+    check_fields(o)?;
+    if !o.out().scale.is_finite() {
+        return Err(Error::invalid(
+            "scale",
+            format!(
+                "{}; in {:?}'s units it leaves the f32 range",
+                o.scale, o.axes
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Each field in its range, and no field that contradicts an engine preset: what the
+/// options say, whatever space they are written in (glTF checks these, then writes its
+/// own conventions).
+pub(crate) fn check_fields(o: &MeshOptions) -> Result<()> {
     let s = o.radial_segments;
     if !(MIN_RADIAL_SEGMENTS..=MAX_RADIAL_SEGMENTS).contains(&s) {
         return Err(Error::invalid(
@@ -118,15 +135,6 @@ pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
                      itself, so leave up_axis and winding at their defaults (Y, \
                      CounterClockwise)",
                     o.axes
-                ),
-            ));
-        }
-        if !o.out().scale.is_finite() {
-            return Err(Error::invalid(
-                "scale",
-                format!(
-                    "{}; in {:?}'s units it leaves the f32 range",
-                    o.scale, o.axes
                 ),
             ));
         }
