@@ -24,8 +24,10 @@ real="libarbor.so.$version"
 # tests/packaging.rs fails when the committed list drifts).
 static_libs=$(cat "$root/packaging/native-static-libs.txt")
 
-mkdir -p "$prefix/include" "$prefix/lib/pkgconfig" "$prefix/lib/cmake/arbor"
+mkdir -p "$prefix/include" "$prefix/lib/pkgconfig" "$prefix/lib/cmake/arbor" "$prefix/share/arbor"
 cp "$root/include/arbor.h" "$root/include/arbor.hpp" "$prefix/include/"
+# For hosts that run valgrind on a `parallel` build (its worker threads outlive main).
+cp "$root/ffi-tests/valgrind.supp" "$prefix/share/arbor/"
 cp "$build/libarbor.a" "$prefix/lib/"
 # The shared library under its full version, with the SONAME and development links.
 cp "$build/libarbor.so" "$prefix/lib/$real"

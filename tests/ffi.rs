@@ -104,6 +104,14 @@ fn run_test_program(exe: &Path) {
                 "--errors-for-leak-kinds=definite,indirect,possible",
                 "--quiet",
             ])
+            // With `parallel`, the worker pool's threads outlive main (the file says why;
+            // hosts use it too).
+            .arg(format!(
+                "--suppressions={}",
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("ffi-tests/valgrind.supp")
+                    .display()
+            ))
             .arg(exe)
             .arg(out_dir())),
         None => run(Command::new(exe).arg(out_dir())),

@@ -47,6 +47,8 @@ fn pkg_config_and_cmake_find_the_installed_library() {
     let (work, prefix) = setup_in("packaging");
     let pc = std::fs::read_to_string(prefix.join("lib/pkgconfig/arbor.pc")).unwrap();
     assert!(pc.contains(&format!("Version: {}", env!("CARGO_PKG_VERSION"))));
+    let supp = std::fs::read_to_string(prefix.join("share/arbor/valgrind.supp")).unwrap();
+    assert!(supp.contains("Memcheck:Leak"), "{supp}");
     if have("pkg-config") {
         let flags = run(Command::new("pkg-config")
             .args(["--cflags", "--libs", "arbor"])
