@@ -87,14 +87,7 @@ impl MeshPlan {
         vertices: &mut [MaybeUninit<Vertex>],
         indices: &mut [MaybeUninit<u32>],
     ) -> Result<MeshSize> {
-        let threads = self.options.threads;
-        self.write_on_with(
-            skeleton,
-            threads,
-            vertices,
-            indices,
-            &mut Progress::default(),
-        )
+        self.write_uninit_on(skeleton, self.options.threads, vertices, indices)
     }
 
     /// [`write_uninit`](Self::write_uninit) on up to `threads` threads (as
