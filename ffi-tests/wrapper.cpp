@@ -2,6 +2,8 @@
 // CreateMeshSection arrays (Z up, centimetres, clockwise) from the triangle list.
 #include "arbor.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -191,6 +193,33 @@ int main(int argc, char **argv) {
     EXPECT(false, "no exception for a cancelled mesh");
   } catch (const arbor::Error &e) {
     EXPECT(e.status() == ARBOR_STATUS_CANCELLED, "status %d", (int)e.status());
+  }
+
+  // A model read through the host's asset system: arbor opens no file, and a model that
+  // names a file outside its folder is refused without the host being asked.
+  {
+    std::vector<std::string> asked;
+    auto read = [&asked](std::string_view path) -> std::optional<std::string> {
+      asked.emplace_back(path);
+      if (path == "m/tree.l") return std::string("#include \"defs.h\"\nderivation length: N\nAxiom: A\nA --> F[+A][-A]\n");
+      if (path == "m/defs.h") return std::string("#define N 3\n");
+      if (path == "m/esc.l") return std::string("#include \"../secret.h\"\nAxiom: F\n");
+      if (path == "secret.h") return std::string("#define S hunter2\n");
+      return std::nullopt;
+    };
+    ArborLsystemOptions fo = arbor::lsystem_options();
+    arbor::set_file_reader(fo, read);
+    arbor::Tree hosted = arbor::Tree::lsystem_file("m/tree.l", &fo);
+    EXPECT(hosted.branch_count() == 7, "host-read model: %zu branches", hosted.branch_count());
+    EXPECT(std::find(asked.begin(), asked.end(), "m/defs.h") != asked.end(), "include asked of the host");
+    try {
+      arbor::Tree::lsystem_file("m/esc.l", &fo);
+      EXPECT(false, "no exception for an include leaving the model's folder");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_IO_ERROR && std::string(e.what()).find("hunter2") == std::string::npos,
+             "status %d: %s", (int)e.status(), e.what());
+    }
+    EXPECT(std::find(asked.begin(), asked.end(), "secret.h") == asked.end(), "the secret was never asked for");
   }
 
   std::printf("wrapper: %d passed, %d failed\n", passed, failed);

@@ -116,6 +116,12 @@
 #define ARBOR_STAGE_MESH 3
 
 /**
+ * ArborProgressFn stage: reading and preprocessing a model's files (fraction: the part of
+ * `max_file_bytes` read so far; 1 when loaded).
+ */
+#define ARBOR_STAGE_LOAD 4
+
+/**
  * ArborOrgan.kind of a sphere (`@O`).
  */
 #define ARBOR_ORGAN_SPHERE 0
@@ -124,6 +130,22 @@
  * ArborOrgan.kind of a disc facing the heading (`@o`, `@c`).
  */
 #define ARBOR_ORGAN_DISC 1
+
+/**
+ * The budget of one load by default: 64 MiB over all its files.
+ */
+#define DEFAULT_MAX_FILE_BYTES (64 << 20)
+
+/**
+ * How many `function:`/`function set:` functions, `curve:` curves and `surface:`
+ * surfaces one view file may bring (each kind counted on its own).
+ */
+#define MAX_COMPANIONS 1024
+
+/**
+ * Most obstacles a world may hold.
+ */
+#define MAX_OBSTACLES (1 << 20)
 
 /**
  * Result of every fallible function. The numbers are fixed forever and never reused.
@@ -167,6 +189,11 @@ typedef enum ArborStatus {
    * A progress callback asked to stop; no out-parameter was written.
    */
   ARBOR_STATUS_CANCELLED = 8,
+  /**
+   * An allocation in proportion to the input failed (the message names what was being
+   * allocated); nothing was built and the host keeps running.
+   */
+  ARBOR_STATUS_OUT_OF_MEMORY = 9,
 } ArborStatus;
 
 /**
@@ -385,6 +412,32 @@ typedef enum ArborSpecies {
    */
   ARBOR_SPECIES_WEEPING = 4,
 } ArborSpecies;
+
+/**
+ * Which files a model (its `#include`s, its view file's `function:`, `curve:` and
+ * `surface:` files, a leaf prefab) may read: the `file_access` field of
+ * ArborLsystemOptions and ArborLeafOptions. Files the host names itself (the model's
+ * path, `view_path`, `prefab_obj_path`) are read under every policy.
+ */
+typedef enum ArborFileAccess {
+  /**
+   * The default: the model's own folder and below, canonicalised, regular files only,
+   * no symbolic link leaving it; absolute paths and `..` leaving it are refused by name.
+   */
+  ARBOR_FILE_ACCESS_BUNDLE = 0,
+  /**
+   * Nothing beyond the one file named (or the text given); not even the `.v` beside it.
+   */
+  ARBOR_FILE_ACCESS_NONE = 1,
+  /**
+   * Explicit opt-in: any regular file the process can read.
+   */
+  ARBOR_FILE_ACCESS_ANY = 2,
+  /**
+   * Every read goes through `read_file`; arbor opens nothing.
+   */
+  ARBOR_FILE_ACCESS_HOST = 3,
+} ArborFileAccess;
 
 /**
  * A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
@@ -629,6 +682,20 @@ typedef struct ArborMeshOptions {
 } ArborMeshOptions;
 
 /**
+ * The host's reader (ARBOR_FILE_ACCESS_HOST). Asked for `path` (as the model names it,
+ * resolved against the model's folder, NUL-terminated UTF-8, `/`-separated on Unix):
+ * write at most `capacity` bytes to `buffer` and the file's full size to `*size`; return
+ * 0, or non-zero for "no such file" (arbor reports the path, never content). Called again
+ * with a larger buffer when `*size > capacity` (`buffer` may be NULL when `capacity` is 0:
+ * a question whether the file exists). Called on the calling thread only.
+ */
+typedef int32_t (*ArborReadFileFn)(void *user_data,
+                                   const char *path,
+                                   uint8_t *buffer,
+                                   size_t capacity,
+                                   size_t *size);
+
+/**
  * Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
  * README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
  */
@@ -690,6 +757,27 @@ typedef struct ArborLeafOptions {
    * Default 16,777,216. (Added after the first layout.)
    */
   uint64_t max_leaves;
+  /**
+   * How `prefab_obj_path` is read (ArborFileAccess): ARBOR_FILE_ACCESS_HOST reads it
+   * through `read_file`; every other policy reads it from disk as a regular file (never
+   * a device or FIFO), its `mtllib` never. Default ARBOR_FILE_ACCESS_BUNDLE. (Added
+   * after the first layout.)
+   */
+  uint32_t file_access;
+  /**
+   * The host's reader for ARBOR_FILE_ACCESS_HOST; NULL (default) otherwise. (Added
+   * after the first layout.)
+   */
+  ArborReadFileFn read_file;
+  /**
+   * Passed to `read_file`. (Added after the first layout.)
+   */
+  void *read_file_user_data;
+  /**
+   * Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming
+   * max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
+   */
+  uint64_t max_file_bytes;
 } ArborLeafOptions;
 
 /**
@@ -1066,6 +1154,28 @@ typedef struct ArborLsystemOptions {
    * Passed to `progress`. (Added after the first layout.)
    */
   void *progress_user_data;
+  /**
+   * Which files the model may read (ArborFileAccess): arbor_tree_from_lsystem_file()'s
+   * `#include`s, the `.v` beside the grammar and the view file's `function:`,
+   * `function set:`, `curve:` and `surface:` files. Default ARBOR_FILE_ACCESS_BUNDLE
+   * (the model's folder). (Added after the first layout.)
+   */
+  uint32_t file_access;
+  /**
+   * The host's reader for ARBOR_FILE_ACCESS_HOST (then it also reads the model file and
+   * `view_path`); NULL (default) otherwise. (Added after the first layout.)
+   */
+  ArborReadFileFn read_file;
+  /**
+   * Passed to `read_file`. (Added after the first layout.)
+   */
+  void *read_file_user_data;
+  /**
+   * Bytes read over all files of one load; past it the load stops with
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes. Default 67,108,864 (64 MiB).
+   * (Added after the first layout.)
+   */
+  uint64_t max_file_bytes;
 } ArborLsystemOptions;
 
 /**
@@ -1429,6 +1539,11 @@ enum ArborStatus arbor_world_plant(struct ArborWorld *world,
 
 /**
  * Adds an axis-aligned box obstacle (min <= max) that casts shadow or removes markers.
+ * Its cost is in proportion to the cells it covers (and the columns below them), never to
+ * the obstacles already there; the world's progress callback (ArborWorldOptions.progress,
+ * ARBOR_STAGE_GROWTH) is called per layer and may cancel (ARBOR_STATUS_CANCELLED, the
+ * world unchanged). A world holds at most 1,048,576 obstacles
+ * (ARBOR_STATUS_LIMIT_EXCEEDED naming MAX_OBSTACLES).
  *
  * # Safety
  * `world` is NULL or live (not used elsewhere meanwhile); `min` and `max` are NULL or
@@ -1437,7 +1552,8 @@ enum ArborStatus arbor_world_plant(struct ArborWorld *world,
 enum ArborStatus arbor_world_add_box(struct ArborWorld *world, const float *min, const float *max);
 
 /**
- * Adds a sphere obstacle (radius > 0) that casts shadow or removes markers.
+ * Adds a sphere obstacle (radius > 0) that casts shadow or removes markers; cost,
+ * progress and limit as arbor_world_add_box().
  *
  * # Safety
  * `world` is NULL or live (not used elsewhere meanwhile); `center` is NULL or readable

@@ -12,7 +12,10 @@
 
 #include "arbor.h"
 
+#include <algorithm>
 #include <cstddef>
+#include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -309,6 +312,24 @@ template <class Options, class F> void set_progress(Options &options, F &f) {
     return (*static_cast<F *>(user))(stage, fraction) ? 0 : 1;
   };
   options.progress_user_data = &f;
+}
+
+/// Serves every file of a model from the host (ARBOR_FILE_ACCESS_HOST) through `read`,
+/// called as `read(path)` with the path as the model names it (resolved against the
+/// model's folder) and returning `std::optional<std::string>` (std::nullopt: no such
+/// file); arbor opens nothing. For ArborLsystemOptions and ArborLeafOptions. `read` must
+/// outlive the call and must not throw.
+template <class Options, class F> void set_file_reader(Options &options, F &read) {
+  options.file_access = ARBOR_FILE_ACCESS_HOST;
+  options.read_file = [](void *user, const char *path, uint8_t *buffer, size_t capacity,
+                         size_t *size) -> int32_t {
+    auto bytes = (*static_cast<F *>(user))(std::string_view(path));
+    if (!bytes) return 1;
+    *size = bytes->size();
+    if (capacity > 0) std::memcpy(buffer, bytes->data(), std::min(capacity, bytes->size()));
+    return 0;
+  };
+  options.read_file_user_data = &read;
 }
 
 }  // namespace arbor

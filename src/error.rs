@@ -64,6 +64,37 @@ pub enum Error {
     /// Reading or writing a file or stream failed.
     #[error("I/O error: {0}")]
     Io(#[from] std::io::Error),
+    /// A model named a file it may not read, or one that cannot be read; the message
+    /// names the path and why, never the file's content.
+    #[error("file `{path}` not read: {reason}")]
+    FileAccess {
+        /// The path as the model (or the host) named it.
+        path: String,
+        /// Why: the file access policy that refuses it, or the system's error.
+        reason: String,
+    },
+    /// The files of one load would pass their byte budget (`max_file_bytes`); reading
+    /// stopped there.
+    #[error(
+        "limit exceeded: reading the {what} `{path}` would bring the files of this load to \
+         {requested} bytes, the limit `max_file_bytes` is {limit}"
+    )]
+    FileBudget {
+        /// The file being read.
+        path: String,
+        /// What it is for (`"#include"`, `"view file"`, ...).
+        what: String,
+        /// The budget.
+        limit: u64,
+        /// Bytes the load would have read (a lower bound).
+        requested: u64,
+    },
+    /// An allocation in proportion to the input failed; nothing was built.
+    #[error("out of memory: allocating {what} failed")]
+    OutOfMemory {
+        /// What was being allocated, with its size where known.
+        what: String,
+    },
     /// A progress callback asked to stop; nothing was built.
     #[error("cancelled by the progress callback during {stage}")]
     Cancelled {

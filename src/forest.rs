@@ -215,8 +215,8 @@ pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<MeshS
 pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
     let (planned, size) = grow_and_plan(placed, options)?;
     let meshes = each(&planned, |(s, plan)| plan.mesh(s))?;
-    let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
-    let mut indices = vec![0u32; size.indices];
+    let mut vertices = crate::limits::try_zeroed::<Vertex>(size.vertices, "the forest's vertices")?;
+    let mut indices = crate::limits::try_zeroed::<u32>(size.indices, "the forest's indices")?;
     place(placed, &meshes, options, &mut vertices, &mut indices);
     Ok(Mesh {
         vertices,

@@ -42,6 +42,7 @@ pub mod error;
 pub mod export;
 #[allow(unsafe_code)]
 pub mod ffi;
+pub mod files;
 pub mod forest;
 pub mod geom;
 pub mod limits;

@@ -20,3 +20,18 @@ pub const DEFAULT_MAX_VERTICES: usize = u32::MAX as usize;
 /// seconds of work): a string that stays large for many steps stops here instead of
 /// running for hours.
 pub const DEFAULT_MAX_WORK: usize = 1 << 28;
+
+/// `n` zeroed values (calloc: pages are touched only when written), or
+/// [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what` when the allocation
+/// fails, instead of aborting the process.
+pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(n: usize, what: &str) -> crate::Result<Vec<T>> {
+    bytemuck::allocation::try_zeroed_slice_box::<T>(n)
+        .map(Vec::from)
+        .map_err(|()| crate::Error::OutOfMemory {
+            what: format!(
+                "{what} ({n} × {} bytes = {} bytes)",
+                std::mem::size_of::<T>(),
+                n.saturating_mul(std::mem::size_of::<T>())
+            ),
+        })
+}

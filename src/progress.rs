@@ -30,6 +30,9 @@ pub enum Stage {
     Growth = 2,
     /// Writing a mesh (fraction: branches written).
     Mesh = 3,
+    /// Reading a model's files and preprocessing them (fraction: the part of the load's
+    /// byte budget, `max_file_bytes`, read so far; 1 when the load is done).
+    Load = 4,
 }
 
 impl Stage {
@@ -40,6 +43,7 @@ impl Stage {
             Stage::Interpretation => "interpretation",
             Stage::Growth => "growth",
             Stage::Mesh => "mesh",
+            Stage::Load => "loading",
         }
     }
 }

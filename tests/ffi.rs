@@ -176,6 +176,23 @@ fn c_curves_smoothing_edits_and_records() {
 }
 
 #[test]
+fn c_untrusted_model_files() {
+    check_program("files.c", "c11");
+}
+
+/// Run natively under `ulimit -v` (1 GiB of address space): valgrind and the sanitizers
+/// reserve more than that themselves.
+#[test]
+fn c_allocation_failures_are_statuses() {
+    let exe = build("out_of_memory.c", "c11");
+    let text = run(Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v 1048576 && exec '{}'", exe.display())));
+    assert!(text.contains(" 0 failed"), "{text}");
+    println!("{text}");
+}
+
+#[test]
 fn header_compiles_as_cpp17() {
     check_program("header_cpp.cpp", "c++17");
 }

@@ -233,8 +233,7 @@ fn run() -> Result<(), String> {
                 if !binary && !lower.ends_with(".gltf") {
                     return Err(format!("{out}: expected a .glb, .gltf or .obj file name"));
                 }
-                arbor::export::gltf_bytes_instanced(&skeleton, &o, &LeafOptions::default(), binary)
-                    .and_then(|b| std::fs::write(out, b).map_err(arbor::Error::Io))
+                arbor::export::save_gltf_instanced(&skeleton, &o, &LeafOptions::default(), out)
             } else {
                 arbor::export::save_gltf(&skeleton, &o, leaves.as_ref(), out)
             };

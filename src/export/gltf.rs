@@ -151,6 +151,19 @@ fn gltf_bytes_with(
     encode(one_tree(prims), &extras, binary, NO_INSTANCES)
 }
 
+/// [`gltf_bytes_instanced`] saved to `path` (`.glb` or `.gltf` by the extension), whole or
+/// not at all.
+pub fn save_gltf_instanced(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: &LeafOptions,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    save(path.as_ref(), |binary| {
+        gltf_bytes_instanced(skeleton, options, leaves, binary)
+    })
+}
+
 /// [`gltf_bytes`] with the leaves as instances of one leaf mesh (the leaf options'
 /// prefab, else the quad) through `EXT_mesh_gpu_instancing`, declared used, not required:
 /// engines that draw instances get one small mesh and a transform per leaf; a viewer
@@ -588,11 +601,14 @@ fn binary_by_extension(path: &Path) -> Result<bool> {
 }
 
 fn write(path: &Path, bytes: Vec<u8>) -> Result<()> {
-    std::fs::write(path, bytes).map_err(|e| {
-        Error::Io(std::io::Error::new(
-            e.kind(),
-            format!("cannot write {}: {e}", path.display()),
-        ))
+    super::atomic::write_atomic(path, |w| {
+        use std::io::Write;
+        w.write_all(&bytes).map_err(|e| {
+            Error::Io(std::io::Error::new(
+                e.kind(),
+                format!("cannot write {}: {e}", path.display()),
+            ))
+        })
     })
 }
 

@@ -53,12 +53,23 @@ pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> 
     Ok(())
 }
 
-/// Writes `mesh` as OBJ to the file at `path`, creating or truncating it.
+/// Writes `mesh` as OBJ to the file at `path`, whole or not at all (an existing file is
+/// replaced only when the new one is complete).
 pub fn save_obj(mesh: &Mesh, path: impl AsRef<Path>) -> Result<()> {
-    write_obj(mesh, std::fs::File::create(path)?)
+    save_obj_parts(&[("arbor", mesh)], path)
 }
 
-/// Writes several named meshes as one OBJ file at `path` (see [`write_obj_parts`]).
+/// Writes several named meshes as one OBJ file at `path` (see [`write_obj_parts`]), whole
+/// or not at all; errors name the path.
 pub fn save_obj_parts(parts: &[(&str, &Mesh)], path: impl AsRef<Path>) -> Result<()> {
-    write_obj_parts(parts, std::fs::File::create(path)?)
+    let path = path.as_ref();
+    super::atomic::write_atomic(path, |w| {
+        write_obj_parts(parts, w).map_err(|e| match e {
+            crate::Error::Io(e) => crate::Error::Io(std::io::Error::new(
+                e.kind(),
+                format!("cannot write {}: {e}", path.display()),
+            )),
+            other => other,
+        })
+    })
 }

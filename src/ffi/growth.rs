@@ -415,6 +415,11 @@ pub unsafe extern "C" fn arbor_world_plant(
 }
 
 /// Adds an axis-aligned box obstacle (min <= max) that casts shadow or removes markers.
+/// Its cost is in proportion to the cells it covers (and the columns below them), never to
+/// the obstacles already there; the world's progress callback (ArborWorldOptions.progress,
+/// ARBOR_STAGE_GROWTH) is called per layer and may cancel (ARBOR_STATUS_CANCELLED, the
+/// world unchanged). A world holds at most 1,048,576 obstacles
+/// (ARBOR_STATUS_LIMIT_EXCEEDED naming MAX_OBSTACLES).
 ///
 /// # Safety
 /// `world` is NULL or live (not used elsewhere meanwhile); `min` and `max` are NULL or
@@ -426,19 +431,35 @@ pub unsafe extern "C" fn arbor_world_add_box(
     max: *const f32,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: as the caller promises.
-        let world = unsafe { world_mut(world) }?;
+        if world.is_null() {
+            return Err(FfiError::null("world"));
+        }
+        // SAFETY: non-null; the caller promises it is live and unshared for the call.
+        let world = unsafe { &mut *world };
         // SAFETY: the caller promises three readable floats each.
         let (a, b) = unsafe { (in_slice(min, 3, "min")?, in_slice(max, 3, "max")?) };
-        world.add_obstacle(Obstacle::Box {
-            min: [a[0], a[1], a[2]],
-            max: [b[0], b[1], b[2]],
-        })?;
+        add_obstacle(
+            world,
+            Obstacle::Box {
+                min: [a[0], a[1], a[2]],
+                max: [b[0], b[1], b[2]],
+            },
+        )?;
         Ok(())
     })
 }
 
-/// Adds a sphere obstacle (radius > 0) that casts shadow or removes markers.
+/// Adds an obstacle, reporting to the world's progress callback (which may cancel: then
+/// the world is unchanged).
+fn add_obstacle(w: &mut ArborWorld, o: Obstacle) -> crate::Result<()> {
+    match progress_closure(w.progress, w.progress_user_data) {
+        Some(mut f) => w.world.add_obstacle_with_progress(o, &mut f),
+        None => w.world.add_obstacle(o),
+    }
+}
+
+/// Adds a sphere obstacle (radius > 0) that casts shadow or removes markers; cost,
+/// progress and limit as arbor_world_add_box().
 ///
 /// # Safety
 /// `world` is NULL or live (not used elsewhere meanwhile); `center` is NULL or readable
@@ -450,14 +471,20 @@ pub unsafe extern "C" fn arbor_world_add_sphere(
     radius: f32,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: as the caller promises.
-        let world = unsafe { world_mut(world) }?;
+        if world.is_null() {
+            return Err(FfiError::null("world"));
+        }
+        // SAFETY: non-null; the caller promises it is live and unshared for the call.
+        let world = unsafe { &mut *world };
         // SAFETY: the caller promises three readable floats.
         let c = unsafe { in_slice(center, 3, "center") }?;
-        world.add_obstacle(Obstacle::Sphere {
-            center: [c[0], c[1], c[2]],
-            radius,
-        })?;
+        add_obstacle(
+            world,
+            Obstacle::Sphere {
+                center: [c[0], c[1], c[2]],
+                radius,
+            },
+        )?;
         Ok(())
     })
 }

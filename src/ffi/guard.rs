@@ -46,6 +46,9 @@ impl From<Error> for FfiError {
             Error::Eval { .. } => ArborStatus::InvalidArgument,
             Error::Io(_) => ArborStatus::IoError,
             Error::Cancelled { .. } => ArborStatus::Cancelled,
+            Error::FileAccess { .. } => ArborStatus::IoError,
+            Error::FileBudget { .. } => ArborStatus::LimitExceeded,
+            Error::OutOfMemory { .. } => ArborStatus::OutOfMemory,
         };
         FfiError {
             status,

@@ -5,7 +5,7 @@ use super::*;
 /// Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
 /// README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct ArborLeafOptions {
     /// sizeof(ArborLeafOptions) as the host was compiled; set by arbor_leaf_options_init().
     pub struct_size: u32,
@@ -38,6 +38,19 @@ pub struct ArborLeafOptions {
     /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
     /// Default 16,777,216. (Added after the first layout.)
     pub max_leaves: u64,
+    /// How `prefab_obj_path` is read (ArborFileAccess): ARBOR_FILE_ACCESS_HOST reads it
+    /// through `read_file`; every other policy reads it from disk as a regular file (never
+    /// a device or FIFO), its `mtllib` never. Default ARBOR_FILE_ACCESS_BUNDLE. (Added
+    /// after the first layout.)
+    pub file_access: u32,
+    /// The host's reader for ARBOR_FILE_ACCESS_HOST; NULL (default) otherwise. (Added
+    /// after the first layout.)
+    pub read_file: ArborReadFileFn,
+    /// Passed to `read_file`. (Added after the first layout.)
+    pub read_file_user_data: *mut c_void,
+    /// Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming
+    /// max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
+    pub max_file_bytes: u64,
 }
 
 /// sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
@@ -66,6 +79,10 @@ impl Growing for ArborLeafOptions {
             seed: d.seed,
             prefab_obj_path: std::ptr::null(),
             max_leaves: d.max_leaves as u64,
+            file_access: ArborFileAccess::Bundle as u32,
+            read_file: None,
+            read_file_user_data: std::ptr::null_mut(),
+            max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
         }
     }
 }
@@ -126,13 +143,19 @@ pub(crate) unsafe fn read_leaf_options(
     // was handled above.
     let o = &unsafe { read_growing(options, "leaf_options") }?;
     let boolean = [(false, "false"), (true, "true")];
+    let files = file_options(
+        o.file_access,
+        o.read_file,
+        o.read_file_user_data,
+        o.max_file_bytes,
+    )?;
     let prefab = if load_prefab && !o.prefab_obj_path.is_null() {
         // SAFETY: the caller promises a non-NULL path is NUL-terminated.
         let path = unsafe { CStr::from_ptr(o.prefab_obj_path) };
         let path = path
             .to_str()
             .map_err(|_| crate::Error::invalid("prefab_obj_path", "the path is not UTF-8"))?;
-        Some(LeafPrefab::from_obj(path)?)
+        Some(LeafPrefab::from_obj_with(path, &files)?)
     } else {
         None
     };

@@ -65,6 +65,20 @@ pub struct ArborLsystemOptions {
     pub progress: ArborProgressFn,
     /// Passed to `progress`. (Added after the first layout.)
     pub progress_user_data: *mut c_void,
+    /// Which files the model may read (ArborFileAccess): arbor_tree_from_lsystem_file()'s
+    /// `#include`s, the `.v` beside the grammar and the view file's `function:`,
+    /// `function set:`, `curve:` and `surface:` files. Default ARBOR_FILE_ACCESS_BUNDLE
+    /// (the model's folder). (Added after the first layout.)
+    pub file_access: u32,
+    /// The host's reader for ARBOR_FILE_ACCESS_HOST (then it also reads the model file and
+    /// `view_path`); NULL (default) otherwise. (Added after the first layout.)
+    pub read_file: ArborReadFileFn,
+    /// Passed to `read_file`. (Added after the first layout.)
+    pub read_file_user_data: *mut c_void,
+    /// Bytes read over all files of one load; past it the load stops with
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes. Default 67,108,864 (64 MiB).
+    /// (Added after the first layout.)
+    pub max_file_bytes: u64,
 }
 
 impl ArborLsystemOptions {
@@ -131,6 +145,10 @@ impl Growing for ArborLsystemOptions {
             view_text: std::ptr::null(),
             progress: None,
             progress_user_data: std::ptr::null_mut(),
+            file_access: ArborFileAccess::Bundle as u32,
+            read_file: None,
+            read_file_user_data: std::ptr::null_mut(),
+            max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
         }
     }
 }
@@ -213,7 +231,15 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
         let Some(path) = (unsafe { c_string(path, "path") })? else {
             return Err(FfiError::null("path"));
         };
-        let grammar = LSystem::from_file(path, view.as_deref())?;
+        let files = file_options(
+            raw.file_access,
+            raw.read_file,
+            raw.read_file_user_data,
+            raw.max_file_bytes,
+        )?;
+        let mut progress = progress_closure(raw.progress, raw.progress_user_data);
+        let grammar =
+            LSystem::from_file_with(path, view.as_deref(), &files, as_progress(&mut progress))?;
         let skeleton = grow(&grammar, &options, &raw)?;
         *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
         Ok(())
@@ -272,6 +298,14 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
         let (raw, options) = unsafe { read_options(options) }?;
         // SAFETY: the caller promises `view_text` is NULL or NUL-terminated.
         let view = unsafe { c_string(raw.view_text, "view_text") }?;
+        // Text has no folder: its `#include`s and companions are refused under every
+        // policy; the fields are still checked.
+        file_options(
+            raw.file_access,
+            raw.read_file,
+            raw.read_file_user_data,
+            raw.max_file_bytes,
+        )?;
         if source_len > MAX_SOURCE_BYTES {
             return Err(crate::Error::invalid(
                 "source_len",

@@ -9,6 +9,7 @@
 
 mod curves;
 mod export;
+mod files;
 mod forest;
 mod growth;
 mod guard;
@@ -22,6 +23,7 @@ mod tree;
 
 pub use curves::*;
 pub use export::*;
+pub use files::*;
 pub use forest::*;
 pub use growth::*;
 pub use layout::*;

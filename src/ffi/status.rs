@@ -43,6 +43,9 @@ pub enum ArborStatus {
     Panic = 7,
     /// A progress callback asked to stop; no out-parameter was written.
     Cancelled = 8,
+    /// An allocation in proportion to the input failed (the message names what was being
+    /// allocated); nothing was built and the host keeps running.
+    OutOfMemory = 9,
 }
 
 /// ArborProgressFn stage: rewriting the string.
@@ -53,6 +56,9 @@ pub const ARBOR_STAGE_INTERPRETATION: u32 = 1;
 pub const ARBOR_STAGE_GROWTH: u32 = 2;
 /// ArborProgressFn stage: writing a mesh (or the meshes of an export or a forest).
 pub const ARBOR_STAGE_MESH: u32 = 3;
+/// ArborProgressFn stage: reading and preprocessing a model's files (fraction: the part of
+/// `max_file_bytes` read so far; 1 when loaded).
+pub const ARBOR_STAGE_LOAD: u32 = 4;
 
 /// A progress callback (see "Progress and cancellation" in the README): called on the
 /// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
@@ -102,6 +108,7 @@ pub extern "C" fn arbor_status_str(status: u32) -> *const c_char {
         6 => c"I/O error",
         7 => c"internal error (panic)",
         8 => c"cancelled",
+        9 => c"out of memory",
         _ => c"unknown status",
     };
     s.as_ptr()

@@ -137,7 +137,8 @@ fn value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
 
 /// Reads functions: one `.func` file (`fver` or the older `range:` form) or a `.fset`
 /// gallery (`funcgalleryver`, `items: n`, then n functions).
-pub(crate) fn parse(text: &str, name: &str) -> Result<Vec<Function>, String> {
+/// At most `max` functions are read (each takes 8 KiB of samples): one more is an error.
+pub(crate) fn parse(text: &str, name: &str, max: usize) -> Result<Vec<Function>, String> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty()).peekable();
     let mut out = Vec::new();
     let mut default_name = name.trim_end_matches(".func").to_string();
@@ -168,6 +169,12 @@ pub(crate) fn parse(text: &str, name: &str) -> Result<Vec<Function>, String> {
             let count: usize = n
                 .parse()
                 .map_err(|_| format!("`points: {n}` is not a count"))?;
+            if out.len() >= max {
+                return Err(format!(
+                    "more functions than the {max} a view file may bring \
+                     (arbor::files::MAX_COMPANIONS, less those listed before)"
+                ));
+            }
             let p = points(&mut lines, count)?;
             out.push(Function::from_points(std::mem::take(&mut default_name), &p));
             continue;
@@ -300,6 +307,7 @@ mod tests {
         let f = parse(
             "fver 1 1\nname: ramp\nsamples: 10\nflip: off\npoints: 4\n0 0 1\n0.333 0.333 1\n0.667 0.667 1\n1 1 1\n",
             "ramp.func",
+            16,
         )
         .unwrap();
         assert_eq!(f.len(), 1);
@@ -312,21 +320,31 @@ mod tests {
         assert_eq!(f.eval(-1.0), 0.0);
         assert_eq!(f.eval(2.0), 1.0);
         // The older form, and a gallery of two.
-        let old = parse("range: 0.0 1.0\npoints: 2\n0 1\n1 3\n", "old.func").unwrap();
+        let old = parse("range: 0.0 1.0\npoints: 2\n0 1\n1 3\n", "old.func", 16).unwrap();
         assert!((old[0].eval(0.5) - 2.0).abs() < 1e-12);
         let set = parse(
             "funcgalleryver 1 1\nitems: 2\nfver 1 1\nname: A\nsamples: 5\nflip: off\npoints: 2\n0 0\n1 1\nfver 1 1\nname: B\nsamples: 5\nflip: off\npoints: 2\n0 2\n1 2\n",
             "set.fset",
+            16,
         )
         .unwrap();
         assert_eq!(set.len(), 2);
         assert_eq!(set[1].eval(0.3), 2.0);
-        assert!(parse("points: 3\n0 0\n", "bad.func").is_err());
+        assert!(parse("points: 3\n0 0\n", "bad.func", 16).is_err());
         // A straight contour: arc length and points by fraction of it.
         let c = parse_curve("version: 1.4\npoints: 2\ntype: bspline\n0 0 0 1\n3 4 0 1\n").unwrap();
         assert!((c.length() - 5.0).abs() < 1e-12);
         assert!((c.at(0.5, 0) - 1.5).abs() < 1e-12 && (c.at(0.5, 1) - 2.0).abs() < 1e-12);
         assert!(parse_curve("points: 1\n0 0 0\n").is_err());
-        assert!(parse("hello\n", "bad.func").is_err());
+        assert!(parse("hello\n", "bad.func", 16).is_err());
+        // A set with more functions than allowed stops at the bound, naming it.
+        let two = "funcgalleryver 1 1\nitems: 2\nfver 1 1\nname: A\npoints: 2\n0 0\n1 1\n\
+                   fver 1 1\nname: B\npoints: 2\n0 0\n1 1\n";
+        assert_eq!(parse(two, "two.fset", 2).unwrap().len(), 2);
+        assert!(
+            parse(two, "two.fset", 1)
+                .unwrap_err()
+                .contains("more functions than the 1")
+        );
     }
 }

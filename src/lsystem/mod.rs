@@ -212,11 +212,37 @@ impl LSystem {
     /// Reads an L-system file as cpfg does: preprocessed (`#include` relative to its
     /// folder), with its view file: `view` if given, else the `.v` file beside it with the
     /// same stem, else none. Errors name the file and line.
+    ///
+    /// The model may read the files of its own folder, at most
+    /// [`DEFAULT_MAX_FILE_BYTES`](crate::files::DEFAULT_MAX_FILE_BYTES) in all
+    /// ([`FileAccess::Bundle`](crate::files::FileAccess::Bundle)); see
+    /// [`from_file_with`](Self::from_file_with) for other policies.
     pub fn from_file(
         path: impl AsRef<std::path::Path>,
         view: Option<&std::path::Path>,
     ) -> Result<Self> {
-        parse::parse_file(path.as_ref(), view)
+        parse::parse_file(
+            path.as_ref(),
+            view,
+            &crate::files::FileOptions::default(),
+            None,
+        )
+    }
+
+    /// [`from_file`](Self::from_file) under a file policy and byte budget (see
+    /// [`crate::files`]), reporting [`Stage::Load`](crate::progress::Stage::Load) while it
+    /// reads and preprocesses (the callback may cancel). The host names `path` and
+    /// `view`, so they are read under every policy (through the host's reader under
+    /// [`FileAccess::Host`](crate::files::FileAccess::Host)); what they name
+    /// (`#include`, `function:`, `curve:`, `surface:`, the `.v` file beside the grammar)
+    /// is read only as the policy allows.
+    pub fn from_file_with(
+        path: impl AsRef<std::path::Path>,
+        view: Option<&std::path::Path>,
+        files: &crate::files::FileOptions,
+        progress: Option<crate::progress::ProgressFn<'_>>,
+    ) -> Result<Self> {
+        parse::parse_file(path.as_ref(), view, files, progress)
     }
 
     /// Parses grammar text with the text of its view file (`.v`): the view file's

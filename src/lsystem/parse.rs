@@ -90,7 +90,7 @@ pub fn parse(source: &str) -> Result<LSystem> {
 
 /// Preprocesses `source` (named `name` in messages, its includes found by `includes`),
 /// then parses it; errors point into the original files.
-pub(crate) fn parse_with(source: &str, name: &str, includes: Includes) -> Result<LSystem> {
+pub(crate) fn parse_with(source: &str, name: &str, includes: Includes<'_>) -> Result<LSystem> {
     parse_named(source, name, includes, &[])
 }
 
@@ -98,7 +98,7 @@ pub(crate) fn parse_with(source: &str, name: &str, includes: Includes) -> Result
 fn parse_named(
     source: &str,
     name: &str,
-    includes: Includes,
+    includes: Includes<'_>,
     names: &[(String, f64)],
 ) -> Result<LSystem> {
     check_size(source)?;
@@ -267,38 +267,36 @@ pub(crate) fn merge_view(grammar: &mut ViewSettings, view: &ViewSettings) {
     grammar.color_increment = view.color_increment;
 }
 
-/// Reads a grammar file with its view file (see [`LSystem::from_file`]).
+/// Reads a grammar file with its view file (see [`LSystem::from_file_with`]).
 pub(crate) fn parse_file(
     path: &std::path::Path,
     view: Option<&std::path::Path>,
+    files: &crate::files::FileOptions,
+    progress: Option<crate::progress::ProgressFn<'_>>,
 ) -> Result<LSystem> {
+    let loader = crate::files::Loader::new(files, progress);
     let read = |p: &std::path::Path, what: &str| -> Result<String> {
-        let meta = std::fs::metadata(p).map_err(|e| {
-            Error::invalid(
-                "path",
-                format!("cannot open the {what} `{}`: {e}", p.display()),
-            )
+        // The host names these two files: what goes wrong is a bad argument, as before.
+        let loaded = loader.read_named(p, what).map_err(|e| match e {
+            Error::FileAccess { path, reason } => {
+                Error::invalid("path", format!("`{path}`: {reason}"))
+            }
+            other => other,
         })?;
-        if meta.len() as usize > MAX_SOURCE_BYTES {
+        if loaded.bytes.len() > MAX_SOURCE_BYTES {
             return Err(Error::Parse {
                 line: 1,
                 column: 1,
                 message: format!(
                     "the {what} `{}` is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
                     p.display(),
-                    meta.len()
+                    loaded.bytes.len()
                 ),
             });
         }
-        let bytes = std::fs::read(p).map_err(|e| {
-            Error::invalid(
-                "path",
-                format!("cannot read the {what} `{}`: {e}", p.display()),
-            )
-        })?;
         // cpfg reads bytes: a file that is not UTF-8 (Latin-1 comments in older models)
         // is read as Latin-1.
-        Ok(String::from_utf8(bytes)
+        Ok(String::from_utf8(loaded.bytes)
             .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
     };
     let text = read(path, "grammar file")?;
@@ -308,7 +306,7 @@ pub(crate) fn parse_file(
         Some(v) => Some(v.to_path_buf()),
         None => {
             let beside = path.with_extension("v");
-            beside.is_file().then_some(beside)
+            loader.exists(&beside).then_some(beside)
         }
     };
     let mut settings = ViewSettings::default();
@@ -336,7 +334,7 @@ pub(crate) fn parse_file(
             .map(std::path::Path::to_path_buf)
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or_else(|| dir.clone());
-        extras = super::view::apply(&mut settings, &text, &vname, Includes::Dir(vdir))?;
+        extras = super::view::apply(&mut settings, &text, &vname, Includes::Dir(vdir, &loader))?;
         view_seen = true;
     }
     let names: Vec<(String, f64)> = extras
@@ -346,7 +344,8 @@ pub(crate) fn parse_file(
         .filter(|(_, f)| !f.name.is_empty())
         .map(|(i, f)| (format!("{}{}", expr::FUNCTION_NAME, f.name), (i + 1) as f64))
         .collect();
-    let mut ls = parse_named(&text, &name, Includes::Dir(dir), &names)?;
+    let mut ls = parse_named(&text, &name, Includes::Dir(dir, &loader), &names)?;
+    loader.finish()?;
     if view_seen {
         // The grammar's own directives stand; the view file's settings fill in what it
         // leaves at the defaults (cpfg reads the angle and widths only from the view).

@@ -18,6 +18,7 @@
 //!   conditional nesting all have limits whose errors say which was passed.
 
 use crate::error::{Error, Result};
+use crate::files::Source;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -87,12 +88,12 @@ impl Preprocessed {
 }
 
 /// Where `#include` looks for files.
-#[derive(Clone, Debug)]
-pub(crate) enum Includes {
+#[derive(Clone)]
+pub(crate) enum Includes<'l> {
     /// Text in memory: `#include` is refused with an error that says so.
     None,
-    /// The folder of the main file.
-    Dir(PathBuf),
+    /// The folder of the main file, and the load's reads (policy, budget, progress).
+    Dir(PathBuf, &'l dyn Source),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -190,15 +191,26 @@ impl HideSets {
     }
 }
 
-struct Pre {
+struct Pre<'l> {
     hides: HideSets,
     macros: HashMap<String, std::rc::Rc<Macro>>,
     next_id: u32,
     names: Vec<String>,
     out: Preprocessed,
     tokens: usize,
-    includes: Includes,
+    includes: Includes<'l>,
     stack: Vec<PathBuf>,
+    /// Lines preprocessed, for progress every [`crate::progress::EVERY`].
+    lines_done: usize,
+}
+
+/// "line 3 of `a.h`", or "line 3" in the main text.
+fn place(file: &str, line: u32) -> String {
+    if file.is_empty() {
+        format!("line {line}")
+    } else {
+        format!("line {line} of `{file}`")
+    }
 }
 
 fn perr(file: &str, line: u32, message: String) -> Error {
@@ -215,7 +227,7 @@ fn perr(file: &str, line: u32, message: String) -> Error {
 
 /// Preprocesses `text` (the main grammar or view file, named `name` in messages; empty
 /// for text in memory).
-pub(crate) fn preprocess(text: &str, name: &str, includes: Includes) -> Result<Preprocessed> {
+pub(crate) fn preprocess(text: &str, name: &str, includes: Includes<'_>) -> Result<Preprocessed> {
     let mut p = Pre {
         hides: HideSets::new(),
         macros: HashMap::new(),
@@ -228,6 +240,7 @@ pub(crate) fn preprocess(text: &str, name: &str, includes: Includes) -> Result<P
         tokens: 0,
         includes,
         stack: Vec::new(),
+        lines_done: 0,
     };
     p.file(text, 0, "")?;
     Ok(p.out)
@@ -399,12 +412,18 @@ fn join(tokens: &[Tok]) -> String {
     tokens.iter().map(|t| t.text.as_str()).collect()
 }
 
-impl Pre {
+impl Pre<'_> {
     fn file(&mut self, text: &str, file_idx: u32, file: &str) -> Result<()> {
         let lines = logical_lines(text, file)?;
         let mut frames: Vec<Frame> = Vec::new();
         let mut i = 0;
         while i < lines.len() {
+            self.lines_done += 1;
+            if self.lines_done % crate::progress::EVERY == 0 {
+                if let Includes::Dir(_, source) = &self.includes {
+                    source.tick()?;
+                }
+            }
             let (line_no, line) = (&lines[i].0, &lines[i].1);
             let line_no = *line_no;
             let active = frames.last().is_none_or(|f| f.active);
@@ -619,31 +638,39 @@ impl Pre {
                 "a file name after #include (`\"file\"` or `<file>`), not `{args}`"
             )));
         };
-        let dir = match &self.includes {
+        let (dir, source) = match &self.includes {
             Includes::None => {
                 return Err(err(format!(
                     "#include \"{target}\" needs the grammar's folder: read it from a file \
                      (arbor_tree_from_lsystem_file / LSystem::from_file)"
                 )));
             }
-            Includes::Dir(d) => self
-                .stack
-                .last()
-                .and_then(|p| p.parent().map(Path::to_path_buf))
-                .unwrap_or_else(|| d.clone()),
+            Includes::Dir(d, source) => (
+                self.stack
+                    .last()
+                    .and_then(|p| p.parent().map(Path::to_path_buf))
+                    .unwrap_or_else(|| d.clone()),
+                *source,
+            ),
         };
-        let path = dir.join(target);
         if self.stack.len() >= MAX_INCLUDE_DEPTH {
             return Err(err(format!(
                 "#include \"{target}\" nests deeper than {MAX_INCLUDE_DEPTH} files"
             )));
         }
-        let canonical = std::fs::canonicalize(&path).map_err(|e| {
-            err(format!(
+        let loaded = source.read(&dir, target, "#include").map_err(|e| match e {
+            // A missing file is an error of the text, at its line.
+            e if crate::files::is_missing(&e) => err(format!(
                 "#include \"{target}\": cannot open `{}` ({e})",
-                path.display()
-            ))
+                dir.join(target).display()
+            )),
+            Error::FileAccess { path, reason } => Error::FileAccess {
+                path,
+                reason: format!("{reason} (`#include` at {})", place(file, line)),
+            },
+            other => other,
         })?;
+        let canonical = loaded.key;
         if self.stack.contains(&canonical) {
             let chain: Vec<String> = self
                 .stack
@@ -659,17 +686,13 @@ impl Pre {
                 chain.join(" → ")
             )));
         }
-        let meta = std::fs::metadata(&canonical)
-            .map_err(|e| err(format!("#include \"{target}\": {e}")))?;
-        if meta.len() as usize > MAX_OUTPUT_BYTES {
+        if loaded.bytes.len() > MAX_OUTPUT_BYTES {
             return Err(err(format!(
                 "#include \"{target}\" is {} bytes; at most {MAX_OUTPUT_BYTES} are accepted",
-                meta.len()
+                loaded.bytes.len()
             )));
         }
-        let bytes = std::fs::read(&canonical)
-            .map_err(|e| err(format!("#include \"{target}\": cannot read it ({e})")))?;
-        let text = String::from_utf8(bytes)
+        let text = String::from_utf8(loaded.bytes)
             .map_err(|_| err(format!("#include \"{target}\" is not UTF-8 text")))?;
         let idx = self.out.files.len() as u32;
         self.out.files.push(target.to_string());

@@ -13,6 +13,7 @@ use super::funcs::Function;
 use super::grammar::{OldTropism, ViewSettings};
 use super::preprocess::{Includes, preprocess};
 use crate::error::{Error, Result};
+use crate::files::MAX_COMPANIONS;
 use glam::DVec3;
 
 /// What a view file brings besides settings: the functions it lists (`function:` and
@@ -28,22 +29,60 @@ pub(crate) struct Extras {
     pub(crate) curves: Vec<super::funcs::Curve>,
 }
 
-/// Reads a companion file the view file names, from `inc`'s folder.
-fn companion(inc: &Includes, file: &str) -> std::result::Result<String, String> {
-    let Includes::Dir(dir) = inc else {
-        return Err(
-            "the view file's folder to read it from: read the grammar with \
-                    LSystem::from_file / arbor_tree_from_lsystem_file"
-                .into(),
-        );
+/// Reads a companion file the view file names, from `inc`'s folder, under the load's
+/// file policy and budget.
+fn companion(inc: &Includes<'_>, file: &str, what: &str) -> Result<String> {
+    let Includes::Dir(dir, source) = inc else {
+        return Err(Error::FileAccess {
+            path: file.to_string(),
+            reason: format!(
+                "the {what} needs the view file's folder: read the grammar with \
+                 LSystem::from_file / arbor_tree_from_lsystem_file"
+            ),
+        });
     };
-    let path = dir.join(file);
-    let bytes = std::fs::read(&path).map_err(|e| format!("`{}`: {e}", path.display()))?;
-    if bytes.len() > 4 << 20 {
-        return Err(format!("`{file}` is larger than 4 MiB"));
+    let loaded = source.read(dir, file, what)?;
+    if loaded.bytes.len() > 4 << 20 {
+        return Err(Error::FileAccess {
+            path: file.to_string(),
+            reason: format!("the {what} is larger than 4 MiB"),
+        });
     }
-    Ok(String::from_utf8(bytes)
+    Ok(String::from_utf8(loaded.bytes)
         .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+}
+
+/// Refuses a view file's `count + 1`-th function, curve or surface.
+fn bounded(count: usize, what: &str) -> Result<()> {
+    if count >= MAX_COMPANIONS {
+        return Err(Error::LimitExceeded {
+            limit_name: "MAX_COMPANIONS",
+            what: match what {
+                "curve" => "curves of a view file",
+                "surface" => "surfaces of a view file",
+                _ => "functions of a view file",
+            },
+            limit: MAX_COMPANIONS as u64,
+            requested: count as u64 + 1,
+            step: None,
+        });
+    }
+    Ok(())
+}
+
+/// A companion's error with the view file's line it was named on (a missing file is
+/// the view file's error: `fail`).
+fn with_line(e: Error, line: u32, fail: impl Fn(&str) -> Error) -> Error {
+    if crate::files::is_missing(&e) {
+        return fail(&format!("a readable file ({e})"));
+    }
+    match e {
+        Error::FileAccess { path, reason } => Error::FileAccess {
+            path,
+            reason: format!("{reason} (view file line {line})"),
+        },
+        other => other,
+    }
 }
 
 /// Applies view-file text to `view`; `name` names the file in messages.
@@ -51,7 +90,7 @@ pub(crate) fn apply(
     view: &mut ViewSettings,
     text: &str,
     name: &str,
-    inc: Includes,
+    inc: Includes<'_>,
 ) -> Result<Extras> {
     super::parse::check_size(text)?;
     let pre = preprocess(text, name, inc.clone())?;
@@ -159,8 +198,19 @@ pub(crate) fn apply(
                 let div = |k: usize| num(k).map_or(0, |v| v.clamp(0.0, 32.0) as usize);
                 // A surface file that cannot be read leaves its `~x` a plain leaf site
                 // (cpfg reports it and draws on).
-                let text = match companion(&inc, file) {
+                if !surfaces
+                    .iter()
+                    .any(|x: &super::surface::Surface| x.name == letter)
+                {
+                    bounded(surfaces.len(), "surface")?;
+                }
+                let text = match companion(&inc, file, "surface file") {
                     Ok(t) => t,
+                    Err(
+                        e @ (Error::Cancelled { .. }
+                        | Error::FileBudget { .. }
+                        | Error::OutOfMemory { .. }),
+                    ) => return Err(e),
                     Err(e) => {
                         let (_, line) = pre.origin(k as u32 + 1);
                         warnings.push(format!(
@@ -176,8 +226,10 @@ pub(crate) fn apply(
             }
             "curve" => {
                 let file = value.split_whitespace().next().unwrap_or("");
-                let text = companion(&inc, file)
-                    .map_err(|e| fail(&format!("a readable curve file ({e})")))?;
+                let (_, at) = pre.origin(k as u32 + 1);
+                bounded(curves.len(), "curve")?;
+                let text =
+                    companion(&inc, file, "curve file").map_err(|e| with_line(e, at, fail))?;
                 curves.push(
                     super::funcs::parse_curve(&text).map_err(|e| {
                         fail(&format!("a curve file cpfg can read (`{file}`: {e})"))
@@ -186,9 +238,11 @@ pub(crate) fn apply(
             }
             "function" | "function set" | "functions" => {
                 let file = value.split_whitespace().next().unwrap_or("");
-                let text = companion(&inc, file)
-                    .map_err(|e| fail(&format!("a readable function file ({e})")))?;
-                let read = super::funcs::parse(&text, file)
+                let (_, at) = pre.origin(k as u32 + 1);
+                bounded(functions.len(), "function")?;
+                let text =
+                    companion(&inc, file, "function file").map_err(|e| with_line(e, at, fail))?;
+                let read = super::funcs::parse(&text, file, MAX_COMPANIONS - functions.len())
                     .map_err(|e| fail(&format!("a function file cpfg can read (`{file}`: {e})")))?;
                 functions.extend(read);
             }

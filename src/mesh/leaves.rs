@@ -64,10 +64,27 @@ impl LeafPrefab {
     }
 
     /// Loads every model of an OBJ file (triangulated; normals computed flat-per-vertex
-    /// where the file has none; uv (0, 0) where it has none).
+    /// where the file has none; uv (0, 0) where it has none), as a regular file of at
+    /// most [`DEFAULT_MAX_FILE_BYTES`](crate::files::DEFAULT_MAX_FILE_BYTES); its
+    /// materials (`mtllib`) are not read.
     pub fn from_obj(path: impl AsRef<Path>) -> Result<Self> {
+        Self::from_obj_with(path, &crate::files::FileOptions::default())
+    }
+
+    /// [`from_obj`](Self::from_obj) under a file policy and byte budget: the host names
+    /// the file, so every policy reads it ([`FileAccess::Host`](crate::files::FileAccess::Host)
+    /// through the host's reader), and only a regular file of at most `files.max_bytes`.
+    pub fn from_obj_with(
+        path: impl AsRef<Path>,
+        files: &crate::files::FileOptions,
+    ) -> Result<Self> {
         let path = path.as_ref();
-        let (models, _) = tobj::load_obj(path, &tobj::GPU_LOAD_OPTIONS).map_err(|e| {
+        let loaded = crate::files::Loader::new(files, None).read_named(path, "leaf prefab")?;
+        let mut reader = std::io::BufReader::new(loaded.bytes.as_slice());
+        let (models, _) = tobj::load_obj_buf(&mut reader, &tobj::GPU_LOAD_OPTIONS, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| {
             Error::Io(std::io::Error::other(format!(
                 "cannot load leaf prefab {}: {e}",
                 path.display()
@@ -503,8 +520,10 @@ pub fn leaf_mesh_size(
 /// The baked leaf mesh as owned buffers.
 pub fn leaf_mesh(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<Mesh> {
     let plan = leaf_plan(skeleton, leaves, mesh)?;
-    let mut vertices = bytemuck::zeroed_vec::<Vertex>(plan.size.vertices);
-    let mut indices = bytemuck::zeroed_vec::<u32>(plan.size.indices);
+    let mut vertices =
+        crate::limits::try_zeroed::<Vertex>(plan.size.vertices, "the leaf mesh's vertices")?;
+    let mut indices =
+        crate::limits::try_zeroed::<u32>(plan.size.indices, "the leaf mesh's indices")?;
     write_leaves(skeleton, mesh, &plan, &mut vertices, &mut indices);
     Ok(Mesh {
         vertices,

@@ -167,8 +167,9 @@ impl MeshPlan {
         progress: Option<ProgressFn<'_>>,
     ) -> Result<Mesh> {
         let size = self.size();
-        let mut vertices = bytemuck::zeroed_vec::<Vertex>(size.vertices);
-        let mut indices = bytemuck::zeroed_vec::<u32>(size.indices);
+        let mut vertices =
+            crate::limits::try_zeroed::<Vertex>(size.vertices, "the mesh's vertices")?;
+        let mut indices = crate::limits::try_zeroed::<u32>(size.indices, "the mesh's indices")?;
         let mut p = Progress::new(progress);
         self.write_on_with(skeleton, threads, &mut vertices, &mut indices, &mut p)?;
         Ok(Mesh {

@@ -29,7 +29,17 @@ namespace Arbor
     {
         Ok = 0, NullArgument = 1, InvalidArgument = 2, ParseError = 3,
         LimitExceeded = 4, BufferTooSmall = 5, IoError = 6, Panic = 7, Cancelled = 8,
+        OutOfMemory = 9,
     }
+
+    /// ArborFileAccess: which files a model may read (its includes, its view file's
+    /// functions, curves and surfaces, a leaf prefab).
+    public enum FileAccess : uint { Bundle = 0, None = 1, Any = 2, Host = 3 }
+
+    /// ArborReadFileFn: write at most `capacity` bytes of `path` to `buffer` and its full size
+    /// to `size`; non-zero for "no such file".
+    [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
+    public delegate int ReadFileFn(IntPtr userData, IntPtr path, IntPtr buffer, UIntPtr capacity, out UIntPtr size);
 
     /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth, 3 mesh), fraction in
     /// [0, 1]; non-zero cancels.
@@ -120,6 +130,13 @@ namespace Arbor
         /// An ArborProgressFn (Marshal.GetFunctionPointerForDelegate) and its user data;
         /// Tree.FromLsystem(source, progress) fills them.
         public IntPtr Progress, ProgressUserData;
+        /// A FileAccess (default Bundle: the model's folder and below).
+        public uint FileAccess;
+        /// A ReadFileFn (Marshal.GetFunctionPointerForDelegate) and its user data, for
+        /// FileAccess.Host; Tree.FromLsystemFile(path, read) fills them.
+        public IntPtr ReadFile, ReadFileUserData;
+        /// Bytes read over all files of one load (default 64 MiB).
+        public ulong MaxFileBytes;
 
         public static LsystemOptions Default()
         {
@@ -138,6 +155,11 @@ namespace Arbor
         public ulong Seed;
         public IntPtr PrefabObjPath;
         public ulong MaxLeaves;
+        /// How PrefabObjPath is read: FileAccess.Host through ReadFile, else from disk as a
+        /// regular file.
+        public uint FileAccess;
+        public IntPtr ReadFile, ReadFileUserData;
+        public ulong MaxFileBytes;
 
         public static LeafOptions Default()
         {
@@ -443,7 +465,63 @@ namespace Arbor
         /// else the .v beside it).
         public static Tree FromLsystemFile(string path, string viewPath = null)
         {
+            return FromLsystemFile(path, Arbor.FileAccess.Bundle, viewPath);
+        }
+
+        // One static reader for every call (IL2CPP-safe); the managed reader travels in a
+        // GCHandle as user data.
+        static readonly ReadFileFn readTrampoline = ReadTrampoline;
+
+        [AOT.MonoPInvokeCallback(typeof(ReadFileFn))]
+        static int ReadTrampoline(IntPtr user, IntPtr path, IntPtr buffer, UIntPtr capacity, out UIntPtr size)
+        {
+            size = UIntPtr.Zero;
+            try
+            {
+                var read = (Func<string, byte[]>)GCHandle.FromIntPtr(user).Target;
+                int n = 0;
+                while (Marshal.ReadByte(path, n) != 0) n++;
+                byte[] name = new byte[n];
+                Marshal.Copy(path, name, 0, n);
+                byte[] bytes = read(Encoding.UTF8.GetString(name));
+                if (bytes == null) return 1;
+                size = (UIntPtr)bytes.Length;
+                int copy = (int)Math.Min((ulong)bytes.Length, (ulong)capacity);
+                if (copy > 0) Marshal.Copy(bytes, 0, buffer, copy);
+                return 0;
+            }
+            catch (Exception) { return 1; } // an exception never crosses into native code
+        }
+
+        /// A model read entirely through `read(path)` (FileAccess.Host): the grammar, its
+        /// view file and everything they name come from the host (StreamingAssets,
+        /// Addressables, a pak file); return null for "no such file". arbor opens nothing.
+        public static Tree FromLsystemFile(string path, Func<string, byte[]> read)
+        {
             var o = LsystemOptions.Default();
+            var handle = GCHandle.Alloc(read);
+            o.FileAccess = (uint)Arbor.FileAccess.Host;
+            o.ReadFile = Marshal.GetFunctionPointerForDelegate(readTrampoline);
+            o.ReadFileUserData = GCHandle.ToIntPtr(handle);
+            IntPtr p = Utf8(path);
+            try
+            {
+                IntPtr t;
+                ArborException.Check(Native.arbor_tree_from_lsystem_file(p, ref o, out t));
+                return new Tree(t);
+            }
+            finally
+            {
+                Marshal.FreeHGlobal(p);
+                handle.Free();
+            }
+        }
+
+        /// A model file under a file policy (FileAccess.Bundle by default: its own folder).
+        public static Tree FromLsystemFile(string path, FileAccess access, string viewPath = null)
+        {
+            var o = LsystemOptions.Default();
+            o.FileAccess = (uint)access;
             IntPtr p = Utf8(path);
             o.ViewPath = viewPath == null ? IntPtr.Zero : Utf8(viewPath);
             try

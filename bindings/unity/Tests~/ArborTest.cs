@@ -1,6 +1,7 @@
 // Runs the Unity binding under Mono against the built library: layouts, trees a-i, the
 // Unity mesh arrays, leaves and an error message.
 using System;
+using System.Text;
 using System.Runtime.InteropServices;
 using Arbor;
 
@@ -44,6 +45,36 @@ static class ArborTest
             bool same = bv.Length == fv.Length;
             for (int k = 0; same && k < bv.Length; k++) same = bv[k].PX == fv[k].PX && bv[k].PY == fv[k].PY && bv[k].NZ == fv[k].NZ;
             Expect(same, "rewrite after an edit equals a full write");
+        }
+        {
+            // A model served by the host's asset system: arbor opens no file.
+            var assets = new System.Collections.Generic.Dictionary<string, string>
+            {
+                { "m/tree.l", "#include \"defs.h\"\nderivation length: N\nAxiom: A\nA --> F[+A][-A]\n" },
+                { "m/defs.h", "#define N 3\n" },
+                { "m/esc.l", "#include \"../secret.h\"\nAxiom: F\n" },
+                { "secret.h", "#define S hunter2\n" },
+            };
+            var asked = new System.Collections.Generic.List<string>();
+            Func<string, byte[]> read = p =>
+            {
+                asked.Add(p);
+                string text;
+                return assets.TryGetValue(p, out text) ? Encoding.UTF8.GetBytes(text) : null;
+            };
+            using (var t = Tree.FromLsystemFile("m/tree.l", read))
+                Expect(t.BranchCount == 7, "a host-read model: " + t.BranchCount);
+            Expect(asked.Contains("m/defs.h"), "the include came from the host");
+            try
+            {
+                Tree.FromLsystemFile("m/esc.l", read).Dispose();
+                Expect(false, "an include leaving the model's folder is refused");
+            }
+            catch (ArborException e)
+            {
+                Expect(e.Status == Status.IoError && !e.Message.Contains("hunter2"), "refused by name: " + e.Message);
+            }
+            Expect(!asked.Contains("secret.h"), "the host was never asked for the secret");
         }
         using (var world = new World(WorldOptions.Default()))
         {

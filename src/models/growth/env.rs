@@ -50,7 +50,7 @@ impl Obstacle {
         Ok(())
     }
 
-    fn contains(&self, p: Vec3) -> bool {
+    pub(crate) fn contains(&self, p: Vec3) -> bool {
         match *self {
             Obstacle::Box { min, max } => {
                 p.cmpge(Vec3::from(min)).all() && p.cmple(Vec3::from(max)).all()
@@ -71,6 +71,16 @@ impl Obstacle {
         }
     }
 }
+
+fn oom(what: String) -> Error {
+    Error::OutOfMemory { what }
+}
+
+/// Most obstacles a world may hold.
+pub const MAX_OBSTACLES: usize = 1 << 20;
+
+/// Edge, in cells, of the buckets that list the obstacles overlapping them.
+const BUCKET: usize = 8;
 
 /// Set in a cell word ([`Env::cell_word`]) where a bud gets no light.
 pub(crate) const DARK: u32 = 1 << 31;
@@ -111,10 +121,13 @@ pub(crate) struct Env {
     sorted: Vec<(u32, f32)>,
     scratch: Vec<(u32, f32)>,
     obstacles: Vec<Obstacle>,
+    /// The obstacles whose bounds overlap each bucket of [`BUCKET`]³ cells (made with the
+    /// first obstacle), so a point is tested only against those near it.
+    buckets: Vec<Vec<u32>>,
 }
 
 impl Env {
-    pub(crate) fn new(o: &WorldOptions) -> Self {
+    pub(crate) fn new(o: &WorldOptions) -> Result<Self> {
         let (min, max) = (Vec3::from(o.min), Vec3::from(o.max));
         let dims = [0, 1, 2].map(|k| (((max[k] - min[k]) / o.cell_size).ceil() as usize).max(1));
         let cells = dims[0] * dims[1] * dims[2];
@@ -139,20 +152,29 @@ impl Env {
             sorted: Vec::new(),
             scratch: Vec::new(),
             obstacles: Vec::new(),
+            buckets: Vec::new(),
         };
         match o.environment {
             Environment::Shadow => {
                 // Zeros written now: a lazily zeroed grid would be read through the
                 // shared zero page and copied on its first write, two page faults per
                 // page, taken inside the cycles' parallel passes.
-                env.shadow.reserve_exact(cells);
+                env.shadow.try_reserve_exact(cells).map_err(|_| {
+                    oom(format!(
+                        "the shadow grid ({cells} cells, {} bytes)",
+                        cells * 4
+                    ))
+                })?;
                 env.shadow.resize(cells, 0.0);
             }
             Environment::SpaceColonization => {
                 // One marker per cell, jittered inside it (seeded).
                 let mut rng = crate::rng::Rng::new(o.seed ^ 0x3A2C_E125_0000_0001);
-                env.first = Vec::with_capacity(cells + 1);
-                env.markers = Vec::with_capacity(cells);
+                let bytes = cells * (4 + 12 + 1);
+                let what = || oom(format!("the markers ({cells} cells, {bytes} bytes)"));
+                env.first.try_reserve_exact(cells + 1).map_err(|_| what())?;
+                env.markers.try_reserve_exact(cells).map_err(|_| what())?;
+                env.alive.try_reserve_exact(cells).map_err(|_| what())?;
                 for c in 0..cells {
                     env.first.push(c as u32);
                     let (x, y, z) = env.coords(c);
@@ -165,10 +187,29 @@ impl Env {
                     env.markers.push(p.min(max));
                 }
                 env.first.push(cells as u32);
-                env.alive = vec![true; cells];
+                env.alive.resize(cells, true);
             }
         }
-        env
+        Ok(env)
+    }
+
+    fn bucket_dims(&self) -> [usize; 3] {
+        self.dims.map(|d| d.div_ceil(BUCKET))
+    }
+
+    fn bucket_of(&self, [x, y, z]: [usize; 3]) -> usize {
+        let [bx, _, bz] = self.bucket_dims();
+        ((y / BUCKET) * bz + z / BUCKET) * bx + x / BUCKET
+    }
+
+    /// Whether `p` is inside an obstacle: only those listed in its bucket are tested.
+    fn in_obstacle(&self, p: Vec3) -> bool {
+        if self.obstacles.is_empty() {
+            return false;
+        }
+        self.buckets[self.bucket_of(self.cell_of(p))]
+            .iter()
+            .any(|&i| self.obstacles[i as usize].contains(p))
     }
 
     fn coords(&self, c: usize) -> (usize, usize, usize) {
@@ -225,7 +266,7 @@ impl Env {
         let [x, y, z] = self.cell_of(p);
         let cell = self.index(x, y, z) as u32;
         // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
-        if !self.inside(p) || self.obstacles.iter().any(|o| o.contains(p)) {
+        if !self.inside(p) || self.in_obstacle(p) {
             cell | DARK
         } else {
             cell
@@ -440,41 +481,193 @@ impl Env {
     /// opaque: every cell straight below it gets full exposure's worth of shadow (C), and
     /// its pyramid spreads a bud's shadow around that; buds inside it get no light. In a
     /// colonization world the markers inside it are removed.
-    pub(crate) fn add_obstacle(&mut self, o: &Obstacle) {
-        self.obstacles.push(*o);
+    ///
+    /// Cost in proportion to the cells of its bounds (times the pyramid's depth) and the
+    /// columns below them; `progress` (Stage::Growth, layers done) may cancel, and then
+    /// nothing has changed. At most [`MAX_OBSTACLES`].
+    pub(crate) fn add_obstacle(
+        &mut self,
+        o: &Obstacle,
+        progress: &mut crate::progress::Progress<'_>,
+    ) -> Result<()> {
+        if self.obstacles.len() >= MAX_OBSTACLES {
+            return Err(Error::LimitExceeded {
+                limit_name: "MAX_OBSTACLES",
+                what: "obstacles of the world",
+                limit: MAX_OBSTACLES as u64,
+                requested: self.obstacles.len() as u64 + 1,
+                step: None,
+            });
+        }
         let (lo, hi) = o.bounds();
         let (lo, hi) = (self.cell_of(lo), self.cell_of(hi));
-        let [nx, _, nz] = self.dims;
-        let (origin, cell, full_light) = (self.origin, self.cell, self.full_light);
-        let center = |x: usize, y: usize, z: usize| {
-            origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * cell
-        };
-        let cells = (lo[1]..=hi[1]).flat_map(move |y| {
-            (lo[2]..=hi[2]).flat_map(move |z| (lo[0]..=hi[0]).map(move |x| (x, y, z)))
-        });
+        // The buckets the obstacle overlaps list it (made with the first obstacle).
+        let [bx, by, bz] = self.bucket_dims();
+        if self.buckets.is_empty() {
+            let n = bx * by * bz;
+            self.buckets
+                .try_reserve_exact(n)
+                .map_err(|_| oom(format!("the obstacle buckets ({n})")))?;
+            self.buckets.resize_with(n, Vec::new);
+        }
         match self.kind {
             Environment::Shadow => {
-                let (dims, falloff) = (self.dims, &self.falloff);
-                let mut layers: Vec<&mut [f32]> = self.shadow.chunks_mut(nx * nz).collect();
-                for (x, y, z) in cells.filter(|&(x, y, z)| o.contains(center(x, y, z))) {
-                    let c = ((y * nz + z) * nx + x) as u32;
-                    apply_changes(&[(c, 1.0)], dims, falloff, &mut layers, 0);
-                    for layer in &mut layers[..y] {
-                        layer[z * nx + x] += full_light;
+                let (region, delta) = self.obstacle_shadow(o, lo, hi, progress)?;
+                let [nx, _, nz] = self.dims;
+                let ([x0, z0], [w, h]) = region;
+                for (y, layer) in delta.chunks_exact(w * h).enumerate() {
+                    for (r, row) in layer.chunks_exact(w).enumerate() {
+                        let at = (y * nz + z0 + r) * nx + x0;
+                        for (v, d) in self.shadow[at..at + w].iter_mut().zip(row) {
+                            *v += d;
+                        }
                     }
                 }
             }
             Environment::SpaceColonization => {
-                for (x, y, z) in cells {
-                    let c = self.index(x, y, z);
-                    for m in self.first[c] as usize..self.first[c + 1] as usize {
-                        if o.contains(self.markers[m]) {
-                            self.alive[m] = false;
+                // The markers inside are found first (a cancel changes nothing).
+                let mut inside = Vec::new();
+                for y in lo[1]..=hi[1] {
+                    progress.report(
+                        crate::progress::Stage::Growth,
+                        (y - lo[1]) as f64 / (hi[1] - lo[1] + 1) as f64,
+                    )?;
+                    for z in lo[2]..=hi[2] {
+                        for x in lo[0]..=hi[0] {
+                            let c = self.index(x, y, z);
+                            for m in self.first[c] as usize..self.first[c + 1] as usize {
+                                if o.contains(self.markers[m]) {
+                                    inside.push(m);
+                                }
+                            }
+                        }
+                    }
+                }
+                for m in inside {
+                    self.alive[m] = false;
+                }
+            }
+        }
+        let id = self.obstacles.len() as u32;
+        let (b0, b1) = (self.bucket_of(lo), self.bucket_of(hi));
+        let ([x0, y0, z0], [x1, y1, z1]) = (
+            [b0 % bx, b0 / (bx * bz), (b0 / bx) % bz],
+            [b1 % bx, b1 / (bx * bz), (b1 / bx) % bz],
+        );
+        for y in y0..=y1 {
+            for z in z0..=z1 {
+                for x in x0..=x1 {
+                    self.buckets[(y * bz + z) * bx + x].push(id);
+                }
+            }
+        }
+        self.obstacles.push(*o);
+        Ok(())
+    }
+
+    /// The shadow an obstacle adds, as a block of the grid: x from `region.0[0]`, z from
+    /// `region.0[1]`, `region.1` wide and deep, layers from 0 up to the obstacle's top.
+    ///
+    /// Each opaque cell adds what a bud's shadow change of 1 adds (its pyramid), and full
+    /// exposure (C) to every cell below it. Per source layer a summed-area table of its
+    /// opaque cells gives every target cell's count within each pyramid level's square
+    /// in constant time, so the cost is the bounds' layers × the pyramid's depth × the
+    /// area around them, not the opaque cells × the pyramid's cells.
+    #[allow(clippy::type_complexity)]
+    fn obstacle_shadow(
+        &self,
+        o: &Obstacle,
+        lo: [usize; 3],
+        hi: [usize; 3],
+        progress: &mut crate::progress::Progress<'_>,
+    ) -> Result<(([usize; 2], [usize; 2]), Vec<f32>)> {
+        let [nx, _, nz] = self.dims;
+        let qmax = self.falloff.len().saturating_sub(1);
+        let (bw, bh) = (hi[0] - lo[0] + 1, hi[2] - lo[2] + 1);
+        let (rx0, rx1) = (lo[0].saturating_sub(qmax), (hi[0] + qmax).min(nx - 1));
+        let (rz0, rz1) = (lo[2].saturating_sub(qmax), (hi[2] + qmax).min(nz - 1));
+        let (rw, rh) = (rx1 - rx0 + 1, rz1 - rz0 + 1);
+        let layers = hi[1] + 1;
+        let total = layers * rw * rh;
+        let mut delta: Vec<f32> = Vec::new();
+        delta
+            .try_reserve_exact(total)
+            .map_err(|_| oom(format!("an obstacle's shadow ({total} cells)")))?;
+        delta.resize(total, 0.0);
+        let mut sat = vec![0u32; (bw + 1) * (bh + 1)];
+        let mut above = vec![0u32; bw * bh];
+        let (origin, cell) = (self.origin, self.cell);
+        let center = |x: usize, y: usize, z: usize| {
+            origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * cell
+        };
+        let full_light = self.full_light;
+        for y in (0..=hi[1]).rev() {
+            progress.report(
+                crate::progress::Stage::Growth,
+                (hi[1] - y) as f64 / layers as f64,
+            )?;
+            let target = &mut delta[y * rw * rh..(y + 1) * rw * rh];
+            // Full exposure below every opaque cell above this layer.
+            for (k, &n) in above.iter().enumerate() {
+                if n > 0 {
+                    let (x, z) = (lo[0] + k % bw, lo[2] + k / bw);
+                    target[(z - rz0) * rw + x - rx0] += full_light * n as f32;
+                }
+            }
+            if y < lo[1] {
+                continue;
+            }
+            // This layer's opaque cells, as a summed-area table.
+            let mut any = false;
+            for z in 0..bh {
+                let mut run = 0u32;
+                for x in 0..bw {
+                    let opaque = o.contains(center(lo[0] + x, y, lo[2] + z));
+                    run += opaque as u32;
+                    above[z * bw + x] += opaque as u32;
+                    any |= opaque;
+                    sat[(z + 1) * (bw + 1) + x + 1] = sat[z * (bw + 1) + x + 1] + run;
+                }
+            }
+            if !any {
+                continue;
+            }
+            let count = |xa: usize, xb: usize, za: usize, zb: usize| {
+                // Opaque cells in bounds-relative [xa, xb) × [za, zb).
+                sat[zb * (bw + 1) + xb] + sat[za * (bw + 1) + xa]
+                    - sat[za * (bw + 1) + xb]
+                    - sat[zb * (bw + 1) + xa]
+            };
+            for (q, &f) in self.falloff.iter().enumerate() {
+                if q > y {
+                    break;
+                }
+                let t = y - q;
+                let target = &mut delta[t * rw * rh..(t + 1) * rw * rh];
+                let (tz0, tz1) = (lo[2].saturating_sub(q).max(rz0), (hi[2] + q).min(rz1));
+                let (tx0, tx1) = (lo[0].saturating_sub(q).max(rx0), (hi[0] + q).min(rx1));
+                for z in tz0..=tz1 {
+                    let za = z.saturating_sub(q).max(lo[2]) - lo[2];
+                    let zb = (z + q).min(hi[2]) + 1 - lo[2];
+                    if za >= zb {
+                        continue;
+                    }
+                    let row = &mut target[(z - rz0) * rw..(z - rz0 + 1) * rw];
+                    for x in tx0..=tx1 {
+                        let xa = x.saturating_sub(q).max(lo[0]) - lo[0];
+                        let xb = (x + q).min(hi[0]) + 1 - lo[0];
+                        if xa >= xb {
+                            continue;
+                        }
+                        let n = count(xa, xb, za, zb);
+                        if n > 0 {
+                            row[x - rx0] += f * n as f32;
                         }
                     }
                 }
             }
         }
+        Ok((([rx0, rz0], [rw, rh]), delta))
     }
 
     pub(crate) fn kind(&self) -> Environment {
@@ -653,6 +846,120 @@ fn add_square<const W: usize>(layer: &mut [f32], start: usize, stride: usize, ad
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shadow obstacles add, from summed-area tables, equals adding each opaque cell's
+    /// pyramid and column one by one (the definition), for shapes clipped by the grid's
+    /// sides and floor, overlapping, on a small grid; cancelling leaves the grid as it was.
+    #[test]
+    fn obstacle_shadow_is_each_opaque_cells_pyramid_and_column() {
+        let options = WorldOptions {
+            min: [-3.0, 0.0, -2.5],
+            max: [3.0, 4.0, 2.5],
+            cell_size: 0.25,
+            ..WorldOptions::default()
+        };
+        let shapes = [
+            Obstacle::Sphere {
+                center: [0.3, 2.0, -0.2],
+                radius: 0.9,
+            },
+            Obstacle::Box {
+                min: [-4.0, 1.0, 1.5],
+                max: [-1.8, 1.6, 4.0],
+            },
+            Obstacle::Sphere {
+                center: [2.8, 0.3, 2.4],
+                radius: 0.7,
+            },
+            Obstacle::Box {
+                min: [-1.0, 3.1, -1.0],
+                max: [1.0, 3.9, 1.0],
+            },
+        ];
+        let mut fast = Env::new(&options).unwrap();
+        let mut slow = Env::new(&options).unwrap();
+        let [nx, _, nz] = slow.dims;
+        for o in &shapes {
+            fast.add_obstacle(o, &mut crate::progress::Progress::new(None))
+                .unwrap();
+            let (lo, hi) = o.bounds();
+            let (lo, hi) = (slow.cell_of(lo), slow.cell_of(hi));
+            let (dims, falloff, full) = (slow.dims, slow.falloff.clone(), slow.full_light);
+            let mut opaque = 0;
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    for x in lo[0]..=hi[0] {
+                        let c = slow.origin
+                            + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * slow.cell;
+                        if !o.contains(c) {
+                            continue;
+                        }
+                        opaque += 1;
+                        let mut layers: Vec<&mut [f32]> = slow.shadow.chunks_mut(nx * nz).collect();
+                        let cell = ((y * nz + z) * nx + x) as u32;
+                        apply_changes(&[(cell, 1.0)], dims, &falloff, &mut layers, 0);
+                        for layer in &mut layers[..y] {
+                            layer[z * nx + x] += full;
+                        }
+                    }
+                }
+            }
+            assert!(opaque > 4, "{o:?} covers {opaque} cell centers");
+        }
+        let mut worst = 0.0f32;
+        for (a, b) in fast.shadow.iter().zip(&slow.shadow) {
+            worst = worst.max((a - b).abs() / b.abs().max(1.0));
+        }
+        assert!(worst < 1e-5, "largest relative difference {worst}");
+        assert!(slow.shadow.iter().filter(|&&v| v > 0.0).count() > 1000);
+
+        // Buds inside an obstacle are dark; beside it they are not.
+        assert!(fast.cell_word(Vec3::new(0.3, 2.0, -0.2)) & DARK != 0);
+        assert!(fast.cell_word(Vec3::new(-2.0, 1.3, 2.0)) & DARK != 0);
+        assert!(fast.cell_word(Vec3::new(0.3, 3.0, -2.0)) & DARK == 0);
+
+        // A callback that stops at its second report: cancelled, nothing changed.
+        let before = fast.shadow.clone();
+        let mut calls = 0;
+        let mut stop = |_: crate::progress::Stage, _: f32| {
+            calls += 1;
+            calls < 2
+        };
+        let big = Obstacle::Box {
+            min: [-3.0, 0.0, -2.5],
+            max: [3.0, 4.0, 2.5],
+        };
+        let r = fast.add_obstacle(&big, &mut crate::progress::Progress::new(Some(&mut stop)));
+        assert!(matches!(r, Err(Error::Cancelled { .. })), "{r:?}");
+        assert!(
+            fast.shadow == before,
+            "a cancelled obstacle changed the shadow"
+        );
+        assert_eq!(fast.obstacles.len(), shapes.len());
+        assert!(fast.cell_word(Vec3::new(0.3, 3.0, -2.0)) & DARK == 0);
+    }
+
+    /// A world holds at most MAX_OBSTACLES; the next is refused by name.
+    #[test]
+    fn obstacles_are_counted() {
+        let options = WorldOptions {
+            min: [0.0, 0.0, 0.0],
+            max: [1.0, 1.0, 1.0],
+            cell_size: 1.0,
+            ..WorldOptions::default()
+        };
+        let mut env = Env::new(&options).unwrap();
+        let o = Obstacle::Sphere {
+            center: [0.5, 0.5, 0.5],
+            radius: 0.1,
+        };
+        let mut none = crate::progress::Progress::new(None);
+        for _ in 0..MAX_OBSTACLES {
+            env.add_obstacle(&o, &mut none).unwrap();
+        }
+        let e = env.add_obstacle(&o, &mut none).unwrap_err();
+        assert!(e.to_string().contains("MAX_OBSTACLES"), "{e}");
+    }
 
     /// The radix sort orders by cell and keeps each cell's changes in the order made, on
     /// one thread and (with the feature) on two, for grids needing one to three passes.

@@ -34,7 +34,7 @@ use env::Env;
 use glam::Vec3;
 use tree::Tree;
 
-pub use env::Obstacle;
+pub use env::{MAX_OBSTACLES, Obstacle};
 
 /// How a world's trees perceive light and space. The numbers are those of the C enum
 /// `ArborEnvironment`.
@@ -453,7 +453,7 @@ impl World {
         options.validate()?;
         Ok(World {
             options: *options,
-            env: Env::new(options),
+            env: Env::new(options)?,
             trees: Vec::new(),
             cycle: 0,
             rng: crate::rng::Rng::new(options.seed ^ 0x5EED_F0E5_7000_0001),
@@ -498,13 +498,37 @@ impl World {
 
     /// Adds an obstacle: it casts shadow (shadow worlds) or removes the markers inside it
     /// (space colonization).
+    ///
+    /// Its cost is in proportion to the cells its bounds cover (and the columns below
+    /// them), not to the obstacles already there; a world holds at most
+    /// [`MAX_OBSTACLES`] (then `LimitExceeded`).
     pub fn add_obstacle(&mut self, obstacle: Obstacle) -> Result<()> {
+        self.add_obstacle_reporting(obstacle, None)
+    }
+
+    /// [`add_obstacle`](Self::add_obstacle), reporting [`Stage::Growth`](crate::progress::Stage)
+    /// as it goes through the obstacle's layers; `false` from `progress` stops with
+    /// `Cancelled` and the world is as it was.
+    pub fn add_obstacle_with_progress(
+        &mut self,
+        obstacle: Obstacle,
+        progress: crate::progress::ProgressFn<'_>,
+    ) -> Result<()> {
+        self.add_obstacle_reporting(obstacle, Some(progress))
+    }
+
+    fn add_obstacle_reporting(
+        &mut self,
+        obstacle: Obstacle,
+        progress: Option<crate::progress::ProgressFn<'_>>,
+    ) -> Result<()> {
         obstacle.validate()?;
-        self.env.add_obstacle(&obstacle);
+        let mut p = crate::progress::Progress::new(progress);
+        self.env.add_obstacle(&obstacle, &mut p)?;
         for t in &mut self.trees {
-            t.relight(&self.env);
+            t.darken(&obstacle);
         }
-        Ok(())
+        p.report(crate::progress::Stage::Growth, 1.0)
     }
 
     fn check_branches(&self, more: usize) -> Result<()> {

@@ -335,9 +335,12 @@ impl Tree {
     }
 
     /// Finds again which buds get no light (after an obstacle was placed).
-    pub(crate) fn relight(&mut self, env: &Env) {
+    /// Buds inside a new obstacle get no light (their cells stay).
+    pub(crate) fn darken(&mut self, o: &super::Obstacle) {
         for (word, end) in self.nodes.cell.iter_mut().zip(&self.nodes.end) {
-            *word = env.cell_word(*end);
+            if o.contains(*end) {
+                *word |= super::env::DARK;
+            }
         }
     }
 
@@ -740,7 +743,7 @@ mod tests {
             seed_age: 1,
             ..GrowthParams::default()
         };
-        let env = Env::new(&super::super::WorldOptions::default());
+        let env = Env::new(&super::super::WorldOptions::default()).unwrap();
         let mut t = Tree::plant(species, Vec3::ZERO, 1, 0, &env);
         let mut rng = crate::rng::Rng::new(3);
         for vigour in [f32::INFINITY, f32::MAX, 1e30] {
