@@ -5,11 +5,89 @@
 #include "check.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 static float dist(const float a[3], const float b[3]) {
   float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
   return sqrtf(dx * dx + dy * dy + dz * dz);
+}
+
+/* A host's copy of the mesh: written in full once, then only rewritten. */
+typedef struct Copy {
+  const ArborTree *tree;
+  const ArborMeshOptions *mo;
+  ArborVertex *v;
+  uint32_t *ix;
+  size_t nv, ni, branch;
+  ArborStatus status;
+} Copy;
+
+static void *rewrite_copy(void *arg) {
+  Copy *c = arg;
+  c->status = arbor_mesh_rewrite_branch(c->tree, c->mo, c->branch, c->v, c->nv, c->ix, c->ni);
+  return NULL;
+}
+
+/* Two buffers (A and B, as a double-buffered upload keeps them), both written in full
+   before an edit, then rewritten one after the other, and then on two threads at once:
+   each equals a full write. */
+static void rewrites_of_several_buffers(void) {
+  ArborHondaParams g;
+  arbor_honda_preset('g', &g);
+  g.steps = 10;
+  ArborTree *tree = NULL;
+  CHECK_STATUS(arbor_tree_from_honda(&g, &tree), ARBOR_STATUS_OK);
+  ArborMeshOptions mo = arbor_mesh_options_default();
+  mo.curve_rings = 1;
+  size_t nv = 0, ni = 0, nb = arbor_tree_branch_count(tree);
+  CHECK_STATUS(arbor_mesh_size(tree, &mo, &nv, &ni), ARBOR_STATUS_OK);
+  Copy c[2];
+  for (int k = 0; k < 2; k++) {
+    c[k].tree = tree;
+    c[k].mo = &mo;
+    c[k].nv = nv;
+    c[k].ni = ni;
+    c[k].v = malloc(nv * sizeof(ArborVertex));
+    c[k].ix = malloc(ni * sizeof(uint32_t));
+    CHECK_STATUS(arbor_mesh_write(tree, &mo, c[k].v, nv, c[k].ix, ni), ARBOR_STATUS_OK);
+  }
+  ArborVertex *fresh_v = malloc(nv * sizeof *fresh_v);
+  uint32_t *fresh_i = malloc(ni * sizeof *fresh_i);
+  ArborCurve *cs = malloc(nb * sizeof *cs);
+  size_t edits[3] = {nb - 1, 7, nb / 2};
+  for (int round = 0; round < 3; round++) {
+    CHECK_STATUS(arbor_tree_copy_curves(tree, cs, nb), ARBOR_STATUS_OK);
+    ArborCurve e = cs[edits[round]];
+    e.p3[0] += 0.4f;
+    e.p1[1] += 0.2f;
+    CHECK_STATUS(arbor_tree_set_curve(tree, edits[round], &e), ARBOR_STATUS_OK);
+    for (int k = 0; k < 2; k++) c[k].branch = edits[round];
+    if (round < 2) {
+      /* One after the other (the second round: B first). */
+      for (int j = 0; j < 2; j++) rewrite_copy(&c[round == 0 ? j : 1 - j]);
+    } else {
+      pthread_t th[2];
+      for (int k = 0; k < 2; k++) pthread_create(&th[k], NULL, rewrite_copy, &c[k]);
+      for (int k = 0; k < 2; k++) pthread_join(th[k], NULL);
+    }
+    CHECK_STATUS(arbor_mesh_write(tree, &mo, fresh_v, nv, fresh_i, ni), ARBOR_STATUS_OK);
+    for (int k = 0; k < 2; k++) {
+      CHECK(c[k].status == ARBOR_STATUS_OK, "round %d buffer %d: status %d", round, k, (int)c[k].status);
+      CHECK(memcmp(c[k].v, fresh_v, nv * sizeof *fresh_v) == 0,
+            "round %d buffer %c: vertices equal a full write", round, 'A' + k);
+      CHECK(memcmp(c[k].ix, fresh_i, ni * sizeof *fresh_i) == 0, "round %d buffer %c: indices",
+            round, 'A' + k);
+    }
+  }
+  for (int k = 0; k < 2; k++) {
+    free(c[k].v);
+    free(c[k].ix);
+  }
+  free(fresh_v);
+  free(fresh_i);
+  free(cs);
+  arbor_tree_free(tree);
 }
 
 int main(void) {
@@ -164,5 +242,6 @@ int main(void) {
     free(cs);
     arbor_tree_free(tree);
   }
+  rewrites_of_several_buffers();
   return check_report("curves");
 }

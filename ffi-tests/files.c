@@ -6,7 +6,10 @@
 #include "check.h"
 
 #include <stdint.h>
+#include <dirent.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
@@ -363,11 +366,102 @@ static void host_reader_serves_every_file(void) {
   CHECK(t == NULL, "out written on failure");
 }
 
+/* Files in root/sub whose names hold `part`. */
+static int count_files(const char *sub, const char *part) {
+  char p[2048];
+  path_of(p, sizeof p, sub);
+  DIR *d = opendir(p);
+  if (!d) return -1;
+  int n = 0;
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) n += strstr(e->d_name, part) != NULL;
+  closedir(d);
+  return n;
+}
+
+static char *slurp(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  char *b = malloc(1 << 20);
+  *n = b ? fread(b, 1, 1 << 20, f) : 0;
+  fclose(f);
+  return b;
+}
+
+static int32_t stop_now(void *user, uint32_t stage, float fraction) {
+  (void)user;
+  (void)stage;
+  (void)fraction;
+  return 1;
+}
+
+/* Exports are whole or nothing: a failure or a cancel leaves the old file as it was and no
+   temporary file; a device is never written through. */
+static void exports_are_atomic(void) {
+  ArborHondaParams p;
+  arbor_honda_preset('b', &p);
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_honda(&p, &t), ARBOR_STATUS_OK);
+  char glb[2048], obj[2048];
+  path_of(glb, sizeof glb, "export/tree.glb");
+  path_of(obj, sizeof obj, "export/tree.obj");
+  CHECK_STATUS(arbor_export_gltf(t, NULL, NULL, glb), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_export_obj(t, NULL, NULL, obj), ARBOR_STATUS_OK);
+  size_t n0 = 0, n1 = 0;
+  char *before = slurp(glb, &n0);
+  /* A cancel: the old file stays, no partial file. */
+  ArborMeshOptions o = arbor_mesh_options_default();
+  o.progress = stop_now;
+  o.radial_segments = 12;
+  CHECK_STATUS(arbor_export_gltf(t, &o, NULL, glb), ARBOR_STATUS_CANCELLED);
+  CHECK_STATUS(arbor_export_obj(t, &o, NULL, obj), ARBOR_STATUS_CANCELLED);
+  char *after = slurp(glb, &n1);
+  CHECK(before && after && n0 == n1 && memcmp(before, after, n0) == 0, "cancel kept the old file");
+  free(after);
+  /* A write that fails midway (the file-size limit: EFBIG, as a full disk gives ENOSPC). */
+  struct rlimit old, small;
+  getrlimit(RLIMIT_FSIZE, &old);
+  small = old;
+  small.rlim_cur = 4096;
+  void (*was)(int) = signal(SIGXFSZ, SIG_IGN);
+  setrlimit(RLIMIT_FSIZE, &small);
+  o = arbor_mesh_options_default();
+  o.radial_segments = 12;
+  ArborStatus sg = arbor_export_gltf(t, &o, NULL, glb);
+  ArborStatus so = arbor_export_obj(t, &o, NULL, obj);
+  setrlimit(RLIMIT_FSIZE, &old);
+  signal(SIGXFSZ, was);
+  CHECK(sg == ARBOR_STATUS_IO_ERROR && so == ARBOR_STATUS_IO_ERROR, "too large: %d %d", (int)sg,
+        (int)so);
+  message_contains("tree.obj");
+  after = slurp(glb, &n1);
+  CHECK(after && n0 == n1 && memcmp(before, after, n0) == 0, "a failed write kept the old file");
+  free(after);
+  free(before);
+  CHECK(count_files("export", ".tmp") == 0, "no temporary file left: %d", count_files("export", ".tmp"));
+  CHECK(count_files("export", "tree.") == 2, "two files: %d", count_files("export", "tree."));
+  /* A device is never written through, nor replaced. */
+  CHECK_STATUS(arbor_export_obj(t, NULL, NULL, "/dev/full"), ARBOR_STATUS_IO_ERROR);
+  message_contains("not a regular file");
+  struct stat st;
+  CHECK(stat("/dev/full", &st) == 0 && S_ISCHR(st.st_mode), "/dev/full is still a device");
+  /* A folder that cannot be written (not for root, whom permissions do not stop). */
+  if (geteuid() != 0) {
+    char ro[1900], in[2048];
+    snprintf(ro, sizeof ro, "%.1800s/export/ro", root);
+    mkdir(ro, 0500);
+    snprintf(in, sizeof in, "%s/tree.glb", ro);
+    CHECK_STATUS(arbor_export_gltf(t, NULL, NULL, in), ARBOR_STATUS_IO_ERROR);
+    chmod(ro, 0700);
+  }
+  arbor_tree_free(t);
+}
+
 int main(int argc, char **argv) {
   const char *dir = argc > 1 ? argv[1] : ".";
   snprintf(root, sizeof root, "%s/files_models", dir);
   mkdir(root, 0700);
-  const char *subs[] = {"bundle", "bundle/sub", "dev", "budget", "progress"};
+  const char *subs[] = {"bundle", "bundle/sub", "dev", "budget", "progress", "export"};
   for (size_t k = 0; k < sizeof subs / sizeof subs[0]; k++) {
     char p[2048];
     path_of(p, sizeof p, subs[k]);
@@ -378,5 +472,6 @@ int main(int argc, char **argv) {
   one_budget_over_all_files();
   progress_while_loading();
   host_reader_serves_every_file();
+  exports_are_atomic();
   return check_report("files");
 }

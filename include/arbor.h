@@ -1784,8 +1784,12 @@ enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
 /**
  * Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`
  * (`vertex_count` / `index_count`: their full sizes, those of arbor_mesh_size()), only
- * what the edits since (arbor_tree_set_curve() of `branch`, or others) changed: the
- * result equals a full arbor_mesh_write() byte for byte. Branch ranges stay as they were
+ * what the edits (arbor_tree_set_curve() of `branch`, or others) changed: the result
+ * equals a full arbor_mesh_write() byte for byte, for every buffer that holds a full
+ * write made at any time since the tree's plan for `options` was made (each rewrite
+ * covers every branch edited since then, so two buffers, or two threads each with their
+ * own, are all brought up to date; the work grows with the edits, never past a full
+ * write). Branch ranges stay as they were
  * (an edit that would change them drops the plan; then, and when no plan for `options`
  * is kept, this writes the whole mesh, still correctly). For a twig of a large tree this
  * is thousands of times faster than a full write; rewrite the vertex range from

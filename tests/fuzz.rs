@@ -6,7 +6,7 @@
 
 use arbor::Error;
 use arbor::lsystem::{LSystem, LsystemOptions};
-use arbor::mesh::{self, MeshOptions, Tip, Topology};
+use arbor::mesh::{self, Axes, LeafOptions, MeshOptions, Tip, Topology};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 
@@ -97,6 +97,34 @@ fn check_inner(text: &str) -> Result<(), TestCaseError> {
         }
         let n = m.vertices.len() as u32;
         prop_assert!(m.indices.iter().all(|&i| i < n || i == u32::MAX));
+        unit_normals(&m, "bark")?;
+        // The baked leaves (prefab quads at sites and tips, polygons, organs), in arbor's
+        // space and an engine's.
+        for axes in [Axes::Arbor, Axes::Unity, Axes::Unreal] {
+            let o = MeshOptions { axes, ..o };
+            let leaves = LeafOptions {
+                tips: true,
+                ..LeafOptions::default()
+            };
+            match mesh::leaf_mesh(&skeleton, &leaves, &o) {
+                Ok(m) => unit_normals(&m, "leaves")?,
+                Err(Error::LimitExceeded { .. } | Error::InvalidArgument { .. }) => {}
+                Err(e) => return Err(TestCaseError::fail(format!("leaf mesh gave {e}"))),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every normal of `m` is unit length (within 1e-3).
+fn unit_normals(m: &mesh::Mesh, what: &str) -> Result<(), TestCaseError> {
+    for (k, v) in m.vertices.iter().enumerate() {
+        let l = v.normal.iter().map(|x| x * x).sum::<f32>().sqrt();
+        prop_assert!(
+            (l - 1.0).abs() < 1e-3,
+            "{what} vertex {k}: normal {:?} of length {l}",
+            v.normal
+        );
     }
     Ok(())
 }

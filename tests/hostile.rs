@@ -257,3 +257,92 @@ fn huge_curve_edits_are_refused() {
     }
     assert_eq!(s, before);
 }
+
+/// round3/leaf_mesh_normal_not_unit.l: every normal of the baked leaf mesh (prefab
+/// instances, polygons, organs) is unit length, in every mesh path.
+#[test]
+fn leaf_mesh_normals_are_unit() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/fuzz-findings/round3/leaf_mesh_normal_not_unit.l"),
+    );
+    let Ok(text) = text else { return };
+    let s = LSystem::parse(&text)
+        .unwrap()
+        .skeleton(&LsystemOptions {
+            seed: 7,
+            ..LsystemOptions::default()
+        })
+        .unwrap();
+    let o = MeshOptions {
+        radial_segments: 9,
+        topology: mesh::Topology::TriangleStripRestart,
+        ..Default::default()
+    };
+    let m = mesh::leaf_mesh(&s, &LeafOptions::default(), &o).unwrap();
+    eprintln!("{} leaf vertices", m.vertices.len());
+    for (k, v) in m.vertices.iter().enumerate() {
+        let n = Vec3::from(v.normal).length();
+        assert!(
+            (n - 1.0).abs() < 1e-3,
+            "vertex {k} of {}: normal {:?}",
+            m.vertices.len(),
+            v.normal
+        );
+    }
+}
+
+/// round3/error_column_past_line_end.l: a parse error's column lies within the line it
+/// names, counted in the file's own text (not the macro-expanded one).
+#[test]
+fn error_columns_are_in_the_files_own_text() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/fuzz-findings/round3/error_column_past_line_end.l");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return;
+    };
+    let cases = [
+        text.clone(),
+        // A macro that lengthens the line before the error.
+        "#define LONGNAME_EXPANDS_TO_MUCH 1+1+1+1+1+1+1+1+1+1+1+1+1+1+1\nAxiom: F(LONGNAME_EXPANDS_TO_MUCH) ) $$\n".to_string(),
+    ];
+    for t in &cases {
+        let e = match LSystem::parse(t).and_then(|l| l.skeleton(&LsystemOptions::default())) {
+            Err(arbor::Error::Parse {
+                line,
+                column,
+                message,
+            }) => (line, column, message),
+            other => panic!("expected a parse error, got {other:?}"),
+        };
+        let (line, column, message) = e;
+        let len = t
+            .lines()
+            .nth(line as usize - 1)
+            .map_or(0, |l| l.chars().count()) as u32;
+        assert!(
+            column >= 1 && column <= len + 1,
+            "line {line} has {len} characters, column {column}: {message}"
+        );
+    }
+}
+
+/// A leaf of size 3.4e38 with a denormal mesh scale: the product of the two is small, but
+/// the leaf's own size would overflow f32 as it is formed (an infinite instance scale).
+#[test]
+fn leaf_size_products_are_checked_as_formed() {
+    let s = grow("Lsystem: 1\nAxiom: F(1)~\nendlsystem");
+    let leaves = LeafOptions {
+        size: 3.4e38,
+        ..LeafOptions::default()
+    };
+    let o = MeshOptions {
+        scale: 1e-40,
+        ..Default::default()
+    };
+    match mesh::leaf_instances(&s, &leaves, &o) {
+        Ok(inst) => assert!(inst.iter().all(|l| l.scale.is_finite()), "{inst:?}"),
+        Err(e) => assert!(e.to_string().contains("size"), "{e}"),
+    }
+    assert!(mesh::leaf_instances(&s, &leaves, &o).is_err());
+}

@@ -38,6 +38,16 @@ pub(crate) fn write_atomic(
     path: &Path,
     fill: impl FnOnce(&mut std::io::BufWriter<&std::fs::File>) -> Result<()>,
 ) -> Result<()> {
+    // A device, FIFO or folder of that name is never replaced (nor written through).
+    if let Ok(meta) = std::fs::symlink_metadata(path) {
+        if !meta.is_file() {
+            return Err(io(
+                path,
+                "write",
+                std::io::Error::other("it exists and is not a regular file"),
+            ));
+        }
+    }
     let tmp = temporary(path);
     let file = std::fs::OpenOptions::new()
         .write(true)

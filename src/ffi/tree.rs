@@ -14,8 +14,8 @@ pub struct ArborTree {
     plans: std::sync::Mutex<Vec<Kept>>,
 }
 
-/// A mesh plan a tree keeps, with the branches whose vertices edits changed since then
-/// (what arbor_mesh_rewrite_branch() rewrites).
+/// A mesh plan a tree keeps, with the branches whose vertices edits changed since it was
+/// made (what arbor_mesh_rewrite_branch() rewrites; sorted, each once).
 struct Kept {
     plan: std::sync::Arc<crate::mesh::MeshPlan>,
     pending: Vec<u32>,
@@ -61,6 +61,8 @@ impl ArborTree {
             match std::sync::Arc::make_mut(&mut k.plan).update_after_edit(skeleton, i) {
                 Ok(changed) => {
                     k.pending.extend(changed);
+                    k.pending.sort_unstable();
+                    k.pending.dedup();
                     true
                 }
                 Err(_) => false,
@@ -98,25 +100,16 @@ impl ArborTree {
         Ok(plan)
     }
 
-    /// A full write with `plan` leaves nothing to rewrite for it.
-    pub(crate) fn written(&self, options: &MeshOptions) {
-        if let Some(k) = self.lock().iter_mut().find(|k| k.plan.serves(options)) {
-            k.pending.clear();
-        }
-    }
-
-    /// The kept plan for `options` and the branches edits changed since it was last
-    /// written (sorted, each once), taken: a rewrite clears them.
-    pub(crate) fn take_pending(
+    /// The kept plan for `options` and every branch edits changed since the plan was
+    /// made (sorted, each once). Not cleared by writes or rewrites: any buffer holding a
+    /// full write made with this plan, whenever, is correct after rewriting them.
+    pub(crate) fn pending(
         &self,
         options: &MeshOptions,
     ) -> Option<(std::sync::Arc<crate::mesh::MeshPlan>, Vec<u32>)> {
-        let mut plans = self.lock();
-        let k = plans.iter_mut().find(|k| k.plan.serves(options))?;
-        let mut pending = std::mem::take(&mut k.pending);
-        pending.sort_unstable();
-        pending.dedup();
-        Some((k.plan.clone(), pending))
+        let plans = self.lock();
+        let k = plans.iter().find(|k| k.plan.serves(options))?;
+        Some((k.plan.clone(), k.pending.clone()))
     }
 }
 

@@ -52,6 +52,35 @@ pub(crate) struct Preprocessed {
     pub(crate) origins: Vec<Origin>,
     /// Names of the files read (the main one first), as written or as found.
     pub(crate) files: Vec<String>,
+    /// The original text of the output lines macro expansion changed (0-based output
+    /// line), so error columns are told in the file's own text.
+    pub(crate) changed: HashMap<u32, String>,
+}
+
+/// Column `column` (1-based, in characters) of `expanded`, as a column of `original`,
+/// the line it was expanded from: the same where the two agree (before the first and
+/// after the last character expansion changed), else where the changed part starts (the
+/// macro's name) in the original.
+fn original_column(original: &str, expanded: &str, column: u32) -> u32 {
+    let (o, e): (Vec<char>, Vec<char>) = (original.chars().collect(), expanded.chars().collect());
+    let prefix = o.iter().zip(&e).take_while(|(a, b)| a == b).count();
+    let room = o.len().min(e.len()) - prefix;
+    let suffix = o
+        .iter()
+        .rev()
+        .zip(e.iter().rev())
+        .take(room)
+        .take_while(|(a, b)| a == b)
+        .count();
+    let c = column.saturating_sub(1) as usize;
+    let mapped = if c < prefix {
+        c
+    } else if c >= e.len() - suffix {
+        (o.len() - (e.len() - c).min(o.len())).min(o.len())
+    } else {
+        prefix
+    };
+    mapped as u32 + 1
 }
 
 impl Preprocessed {
@@ -72,6 +101,13 @@ impl Preprocessed {
                 column,
                 message,
             } => {
+                let column = match self.changed.get(&line.saturating_sub(1)) {
+                    Some(original) => {
+                        let expanded = self.text.lines().nth(line as usize - 1).unwrap_or("");
+                        original_column(original, expanded, column)
+                    }
+                    None => column,
+                };
                 let (file, line) = self.origin(line);
                 Error::Parse {
                     line,
@@ -542,6 +578,10 @@ impl Pre<'_> {
                     }
                 }
             };
+            if expanded != text {
+                let at = self.out.origins.len() as u32;
+                self.out.changed.insert(at, text);
+            }
             self.push_line(&expanded, file_idx, line_no)?;
             for k in 1..used {
                 self.push_line("", file_idx, lines[i + k].0)?;

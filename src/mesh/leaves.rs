@@ -273,7 +273,20 @@ fn place_on(
                 .fold(0.0f64, |a, x| a.max(x.abs() as f64))
         })
         .max(1.0);
-    let largest = o.size as f64 * (1.0 + o.size_jitter as f64) * mesh.out().scale as f64 * extent;
+    // Every product is checked as it is formed: a leaf's own size (before the mesh's
+    // scale, which may be tiny) is an f32 too.
+    let own = o.size as f64 * (1.0 + o.size_jitter as f64) * extent;
+    if own > f32::MAX as f64 / 16.0 {
+        return Err(Error::invalid(
+            "size",
+            format!(
+                "{}; a leaf would be {own:e} units before the mesh's scale (size x (1 + \
+                 size_jitter) x the prefab's extent), past the f32 range",
+                o.size
+            ),
+        ));
+    }
+    let largest = own * mesh.out().scale as f64;
     let far = skeleton
         .bounds()
         .map_or(0.0, |(lo, hi)| lo.abs().max(hi.abs()).max_element() as f64)
