@@ -129,38 +129,40 @@ pub(crate) struct Loader<'p> {
     max: u64,
     used: Cell<u64>,
     progress: RefCell<Option<ProgressFn<'p>>>,
-    ticks: Cell<u64>,
 }
 
 /// Reads files named by a model (an `#include`, a view file's companions).
 pub(crate) trait Source {
     /// Reads `name`, named by a file in `dir`; `what` says what it is for messages.
-    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Loaded>;
+    /// `None` when there is no such file: an error of the model's text, which its reader
+    /// reports at its line.
+    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Option<Loaded>>;
     /// Called every so often by long work while loading: reports progress, may cancel.
     fn tick(&self) -> Result<()>;
 }
 
-/// How the reason of a file that does not exist starts (see [`is_missing`]).
-const MISSING: &str = "no such file";
-
-/// Whether `e` says a file does not exist (as opposed to a file refused or unreadable):
-/// a model that names a missing file has an error in its text.
-pub(crate) fn is_missing(e: &Error) -> bool {
-    matches!(e, Error::FileAccess { reason, .. } if reason.starts_with(MISSING))
-}
-
-/// A file that does not exist: `cause` from the system or the host.
-fn missing(path: impl std::fmt::Display, cause: impl std::fmt::Display) -> Error {
-    refused(path, format!("{MISSING} ({cause})"))
-}
-
-/// The error of a failed canonicalisation: missing, or unreadable.
-fn open_error(path: impl std::fmt::Display, what: &str, e: std::io::Error) -> Error {
-    if e.kind() == std::io::ErrorKind::NotFound {
-        missing(path, format!("the {what}: {e}"))
-    } else {
-        refused(path, format!("cannot open the {what}: {e}"))
+/// A failed canonicalisation: `None` for a file that does not exist, else an error.
+fn canonical(path: &Path, shown: impl std::fmt::Display, what: &str) -> Result<Option<PathBuf>> {
+    match std::fs::canonicalize(path) {
+        Ok(c) => Ok(Some(c)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(refused(shown, format!("cannot open the {what}: {e}"))),
     }
+}
+
+fn not_regular(shown: &str, what: &str) -> Error {
+    refused(
+        shown,
+        format!("the {what} is not a regular file (a folder, device or FIFO is never read)"),
+    )
+}
+
+/// The path a host's reader is asked for: `path` with `.` and `..` applied.
+fn host_path(path: &Path) -> String {
+    lexical(path)
+        .unwrap_or_else(|| path.to_path_buf())
+        .to_string_lossy()
+        .into_owned()
 }
 
 fn refused(path: impl std::fmt::Display, reason: impl Into<String>) -> Error {
@@ -212,7 +214,6 @@ impl<'p> Loader<'p> {
             max: options.max_bytes,
             used: Cell::new(0),
             progress: RefCell::new(progress),
-            ticks: Cell::new(0),
         }
     }
 
@@ -246,31 +247,24 @@ impl<'p> Loader<'p> {
     /// policy reads it (Host through the host's function), and under Bundle its folder
     /// becomes a root files it names may come from.
     pub(crate) fn read_named(&self, path: &Path, what: &str) -> Result<Loaded> {
-        let loaded = match &self.access {
+        let absent = || refused(path.display(), format!("no such file (the {what})"));
+        match &self.access {
             FileAccess::Host(f) => {
-                let shown = lexical(path)
-                    .unwrap_or_else(|| path.to_path_buf())
-                    .to_string_lossy()
-                    .into_owned();
-                let loaded = self.host_read(f, &shown, what)?;
-                let dir = Path::new(&shown)
-                    .parent()
-                    .map(Path::to_path_buf)
-                    .unwrap_or_default();
-                self.roots.borrow_mut().push(dir);
-                loaded
+                let shown = host_path(path);
+                let loaded = self.host_read(f, &shown, what)?.ok_or_else(absent)?;
+                let dir = Path::new(&shown).parent().unwrap_or(Path::new(""));
+                self.roots.borrow_mut().push(dir.to_path_buf());
+                Ok(loaded)
             }
             _ => {
-                let canonical =
-                    std::fs::canonicalize(path).map_err(|e| open_error(path.display(), what, e))?;
+                let canonical = canonical(path, path.display(), what)?.ok_or_else(absent)?;
                 let loaded = self.disk_read(&canonical, &path.display().to_string(), what)?;
                 if let Some(dir) = canonical.parent() {
                     self.roots.borrow_mut().push(dir.to_path_buf());
                 }
-                loaded
+                Ok(loaded)
             }
-        };
-        Ok(loaded)
+        }
     }
 
     /// Whether the host-named optional file exists (the `.v` beside a grammar): under
@@ -278,13 +272,7 @@ impl<'p> Loader<'p> {
     pub(crate) fn exists(&self, path: &Path) -> bool {
         match &self.access {
             FileAccess::None => false,
-            FileAccess::Host(f) => {
-                let shown = lexical(path)
-                    .unwrap_or_else(|| path.to_path_buf())
-                    .to_string_lossy()
-                    .into_owned();
-                f(&shown, &mut []).is_some()
-            }
+            FileAccess::Host(f) => f(&host_path(path), &mut []).is_some(),
             _ => path.is_file(),
         }
     }
@@ -294,12 +282,7 @@ impl<'p> Loader<'p> {
         let meta = std::fs::metadata(canonical)
             .map_err(|e| refused(shown, format!("cannot open the {what}: {e}")))?;
         if !meta.is_file() {
-            return Err(refused(
-                shown,
-                format!(
-                    "the {what} is not a regular file (a folder, device or FIFO is never read)"
-                ),
-            ));
+            return Err(not_regular(shown, what));
         }
         let mut open = std::fs::OpenOptions::new();
         open.read(true);
@@ -316,12 +299,7 @@ impl<'p> Loader<'p> {
             .metadata()
             .map_err(|e| refused(shown, format!("cannot read the {what}: {e}")))?;
         if !meta.is_file() {
-            return Err(refused(
-                shown,
-                format!(
-                    "the {what} is not a regular file (a folder, device or FIFO is never read)"
-                ),
-            ));
+            return Err(not_regular(shown, what));
         }
         let left = self.max.saturating_sub(self.used.get());
         let mut bytes = Vec::new();
@@ -365,7 +343,8 @@ impl<'p> Loader<'p> {
         }
     }
 
-    fn host_read(&self, f: &Arc<ReadFileFn>, shown: &str, what: &str) -> Result<Loaded> {
+    /// Reads through the host's reader; `None` when it has no such file.
+    fn host_read(&self, f: &Arc<ReadFileFn>, shown: &str, what: &str) -> Result<Option<Loaded>> {
         let left = self.max.saturating_sub(self.used.get());
         self.report(self.spent())?;
         let first = left.min(64 << 10);
@@ -376,8 +355,9 @@ impl<'p> Loader<'p> {
                 what: format!("the {what} `{shown}`"),
             })?;
         buffer.resize(first as usize, 0);
-        let size = f(shown, &mut buffer)
-            .ok_or_else(|| missing(shown, format!("the {what}: the host's read_file has none")))?;
+        let Some(size) = f(shown, &mut buffer) else {
+            return Ok(None);
+        };
         if size > left {
             return Err(self.over_budget(shown, what, size));
         }
@@ -389,13 +369,9 @@ impl<'p> Loader<'p> {
                     what: format!("the {what} `{shown}` ({size} bytes)"),
                 })?;
             buffer.resize(n, 0);
-            let again = f(shown, &mut buffer).ok_or_else(|| {
-                refused(
-                    shown,
-                    format!("the host's read_file has no such file (the {what})"),
-                )
-            })?;
-            if again != size {
+            let again = f(shown, &mut buffer);
+            if again != Some(size) {
+                let again = again.map_or_else(|| "no such file".into(), |n| format!("{n} bytes"));
                 return Err(refused(
                     shown,
                     format!("the host's read_file said {size} bytes, then {again}"),
@@ -405,15 +381,15 @@ impl<'p> Loader<'p> {
         buffer.truncate(size as usize);
         self.used.set(self.used.get() + size);
         self.report(self.spent())?;
-        Ok(Loaded {
+        Ok(Some(Loaded {
             key: PathBuf::from(shown),
             bytes: buffer,
-        })
+        }))
     }
 }
 
 impl Source for Loader<'_> {
-    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Loaded> {
+    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Option<Loaded>> {
         let policy = self.access.name();
         match &self.access {
             FileAccess::None => {
@@ -426,10 +402,10 @@ impl Source for Loader<'_> {
                 ));
             }
             FileAccess::Any => {
-                let path = dir.join(name);
-                let canonical =
-                    std::fs::canonicalize(&path).map_err(|e| open_error(name, what, e))?;
-                return self.disk_read(&canonical, name, what);
+                return match canonical(&dir.join(name), name, what)? {
+                    Some(c) => self.disk_read(&c, name, what).map(Some),
+                    None => Ok(None),
+                };
             }
             FileAccess::Bundle | FileAccess::Host(_) => {}
         }
@@ -465,8 +441,9 @@ impl Source for Loader<'_> {
                 self.host_read(f, &shown, what)
             }
             _ => {
-                let canonical =
-                    std::fs::canonicalize(&joined).map_err(|e| open_error(name, what, e))?;
+                let Some(canonical) = canonical(&joined, name, what)? else {
+                    return Ok(None);
+                };
                 if !inside(&canonical) {
                     return Err(refused(
                         name,
@@ -476,14 +453,12 @@ impl Source for Loader<'_> {
                         ),
                     ));
                 }
-                self.disk_read(&canonical, name, what)
+                self.disk_read(&canonical, name, what).map(Some)
             }
         }
     }
 
     fn tick(&self) -> Result<()> {
-        let t = self.ticks.get() + 1;
-        self.ticks.set(t);
         self.report(self.spent())
     }
 }

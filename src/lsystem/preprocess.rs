@@ -698,18 +698,22 @@ impl Pre<'_> {
                 "#include \"{target}\" nests deeper than {MAX_INCLUDE_DEPTH} files"
             )));
         }
-        let loaded = source.read(&dir, target, "#include").map_err(|e| match e {
+        let loaded = source
+            .read(&dir, target, "#include")
+            .map_err(|e| match e {
+                Error::FileAccess { path, reason } => Error::FileAccess {
+                    path,
+                    reason: format!("{reason} (`#include` at {})", place(file, line)),
+                },
+                other => other,
+            })?
             // A missing file is an error of the text, at its line.
-            e if crate::files::is_missing(&e) => err(format!(
-                "#include \"{target}\": cannot open `{}` ({e})",
-                dir.join(target).display()
-            )),
-            Error::FileAccess { path, reason } => Error::FileAccess {
-                path,
-                reason: format!("{reason} (`#include` at {})", place(file, line)),
-            },
-            other => other,
-        })?;
+            .ok_or_else(|| {
+                err(format!(
+                    "#include \"{target}\": cannot open `{}` (no such file)",
+                    dir.join(target).display()
+                ))
+            })?;
         let canonical = loaded.key;
         if self.stack.contains(&canonical) {
             let chain: Vec<String> = self

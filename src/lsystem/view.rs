@@ -30,8 +30,8 @@ pub(crate) struct Extras {
 }
 
 /// Reads a companion file the view file names, from `inc`'s folder, under the load's
-/// file policy and budget.
-fn companion(inc: &Includes<'_>, file: &str, what: &str) -> Result<String> {
+/// file policy and budget; `None` when there is no such file.
+fn companion(inc: &Includes<'_>, file: &str, what: &str) -> Result<Option<String>> {
     let Includes::Dir(dir, source) = inc else {
         return Err(Error::FileAccess {
             path: file.to_string(),
@@ -41,27 +41,26 @@ fn companion(inc: &Includes<'_>, file: &str, what: &str) -> Result<String> {
             ),
         });
     };
-    let loaded = source.read(dir, file, what)?;
+    let Some(loaded) = source.read(dir, file, what)? else {
+        return Ok(None);
+    };
     if loaded.bytes.len() > 4 << 20 {
         return Err(Error::FileAccess {
             path: file.to_string(),
             reason: format!("the {what} is larger than 4 MiB"),
         });
     }
-    Ok(String::from_utf8(loaded.bytes)
-        .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+    Ok(Some(String::from_utf8(loaded.bytes).unwrap_or_else(|e| {
+        e.into_bytes().iter().map(|&b| b as char).collect()
+    })))
 }
 
-/// Refuses a view file's `count + 1`-th function, curve or surface.
-fn bounded(count: usize, what: &str) -> Result<()> {
+/// Refuses a view file's `count + 1`-th function, curve or surface (`what`, plural).
+fn bounded(count: usize, what: &'static str) -> Result<()> {
     if count >= MAX_COMPANIONS {
         return Err(Error::LimitExceeded {
             limit_name: "MAX_COMPANIONS",
-            what: match what {
-                "curve" => "curves of a view file",
-                "surface" => "surfaces of a view file",
-                _ => "functions of a view file",
-            },
+            what,
             limit: MAX_COMPANIONS as u64,
             requested: count as u64 + 1,
             step: None,
@@ -70,12 +69,8 @@ fn bounded(count: usize, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// A companion's error with the view file's line it was named on (a missing file is
-/// the view file's error: `fail`).
-fn with_line(e: Error, line: u32, fail: impl Fn(&str) -> Error) -> Error {
-    if crate::files::is_missing(&e) {
-        return fail(&format!("a readable file ({e})"));
-    }
+/// A companion's refusal with the view file's line it was named on.
+fn with_line(e: Error, line: u32) -> Error {
     match e {
         Error::FileAccess { path, reason } => Error::FileAccess {
             path,
@@ -202,10 +197,18 @@ pub(crate) fn apply(
                     .iter()
                     .any(|x: &super::surface::Surface| x.name == letter)
                 {
-                    bounded(surfaces.len(), "surface")?;
+                    bounded(surfaces.len(), "surfaces of a view file")?;
                 }
                 let text = match companion(&inc, file, "surface file") {
-                    Ok(t) => t,
+                    Ok(Some(t)) => t,
+                    Ok(None) => {
+                        let (_, line) = pre.origin(k as u32 + 1);
+                        warnings.push(format!(
+                            "view file line {line}: surface `{letter}` not loaded: `{file}`: no \
+                             such file"
+                        ));
+                        continue;
+                    }
                     Err(
                         e @ (Error::Cancelled { .. }
                         | Error::FileBudget { .. }
@@ -227,9 +230,12 @@ pub(crate) fn apply(
             "curve" => {
                 let file = value.split_whitespace().next().unwrap_or("");
                 let (_, at) = pre.origin(k as u32 + 1);
-                bounded(curves.len(), "curve")?;
-                let text =
-                    companion(&inc, file, "curve file").map_err(|e| with_line(e, at, fail))?;
+                bounded(curves.len(), "curves of a view file")?;
+                let text = companion(&inc, file, "curve file")
+                    .map_err(|e| with_line(e, at))?
+                    .ok_or_else(|| {
+                        fail(&format!("a readable curve file (`{file}`: no such file)"))
+                    })?;
                 curves.push(
                     super::funcs::parse_curve(&text).map_err(|e| {
                         fail(&format!("a curve file cpfg can read (`{file}`: {e})"))
@@ -239,9 +245,14 @@ pub(crate) fn apply(
             "function" | "function set" | "functions" => {
                 let file = value.split_whitespace().next().unwrap_or("");
                 let (_, at) = pre.origin(k as u32 + 1);
-                bounded(functions.len(), "function")?;
-                let text =
-                    companion(&inc, file, "function file").map_err(|e| with_line(e, at, fail))?;
+                bounded(functions.len(), "functions of a view file")?;
+                let text = companion(&inc, file, "function file")
+                    .map_err(|e| with_line(e, at))?
+                    .ok_or_else(|| {
+                        fail(&format!(
+                            "a readable function file (`{file}`: no such file)"
+                        ))
+                    })?;
                 let read = super::funcs::parse(&text, file, MAX_COMPANIONS - functions.len())
                     .map_err(|e| fail(&format!("a function file cpfg can read (`{file}`: {e})")))?;
                 functions.extend(read);

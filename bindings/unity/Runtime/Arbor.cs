@@ -503,18 +503,8 @@ namespace Arbor
             o.FileAccess = (uint)Arbor.FileAccess.Host;
             o.ReadFile = Marshal.GetFunctionPointerForDelegate(readTrampoline);
             o.ReadFileUserData = GCHandle.ToIntPtr(handle);
-            IntPtr p = Utf8(path);
-            try
-            {
-                IntPtr t;
-                ArborException.Check(Native.arbor_tree_from_lsystem_file(p, ref o, out t));
-                return new Tree(t);
-            }
-            finally
-            {
-                Marshal.FreeHGlobal(p);
-                handle.Free();
-            }
+            try { return LoadFile(path, null, o); }
+            finally { handle.Free(); }
         }
 
         /// A model file under a file policy (FileAccess.Bundle by default: its own folder).
@@ -522,6 +512,13 @@ namespace Arbor
         {
             var o = LsystemOptions.Default();
             o.FileAccess = (uint)access;
+            return LoadFile(path, viewPath, o);
+        }
+
+        /// The one call behind the public overloads: `path` and `viewPath` as UTF-8 for the
+        /// call's duration, with options the overload filled.
+        static Tree LoadFile(string path, string viewPath, LsystemOptions o)
+        {
             IntPtr p = Utf8(path);
             o.ViewPath = viewPath == null ? IntPtr.Zero : Utf8(viewPath);
             try
