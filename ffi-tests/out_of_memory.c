@@ -26,6 +26,24 @@ int main(void) {
   arbor_last_error_message(m, sizeof m);
   CHECK(strstr(m, "markers") != NULL, "message '%s' names the markers", m);
 
+  /* The 1996 model at n = 24: 16,777,215 branches (within max_branches), 1.1 GB of them. */
+  ArborHondaParams big;
+  CHECK_STATUS(arbor_honda_preset('a', &big), ARBOR_STATUS_OK);
+  big.steps = 24;
+  ArborTree *bt = NULL;
+  CHECK_STATUS(arbor_tree_from_honda(&big, &bt), ARBOR_STATUS_OUT_OF_MEMORY);
+  CHECK(bt == NULL, "out written on failure");
+  arbor_last_error_message(m, sizeof m);
+  CHECK(strstr(m, "branches") != NULL, "message '%s' names the branches", m);
+
+  /* A grammar whose string fits (16 M modules, within max_modules) and whose skeleton,
+     16 M branches, does not. */
+  const char *g = "derivation length: 24\nAxiom: F(1)\nF(x) --> F(x)F(x)\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), NULL, &bt), ARBOR_STATUS_OUT_OF_MEMORY);
+  CHECK(bt == NULL, "out written on failure");
+  arbor_last_error_message(m, sizeof m);
+  CHECK(strstr(m, "out of memory") != NULL, "message '%s'", m);
+
   /* A mesh arbor owns, larger than the address space left: tree a at n = 20 (610 MiB as
      a list of 8-sided tubes, more with 32 sides). */
   ArborHondaParams p;

@@ -122,6 +122,12 @@
 #define ARBOR_STAGE_LOAD 4
 
 /**
+ * ArborProgressFn stage: writing an export's file (fraction: written so far; 1 just before
+ * it replaces the target, the last moment a cancel leaves the old file as it was).
+ */
+#define ARBOR_STAGE_WRITE 5
+
+/**
  * ArborOrgan.kind of a sphere (`@O`).
  */
 #define ARBOR_ORGAN_SPHERE 0
@@ -1397,7 +1403,11 @@ enum ArborStatus arbor_tree_curve_growth_records_write(const struct ArborTree *t
 /**
  * Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
  * baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
- * creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+ * whole or not at all: written to a temporary file beside it and renamed over it only
+ * when complete (a failure or a cancel leaves an existing file as it was; a device or
+ * folder of that name is never written). The mesh options' progress callback sees
+ * ARBOR_STAGE_MESH, then ARBOR_STAGE_WRITE. ARBOR_STATUS_IO_ERROR names the path on
+ * failure.
  *
  * # Safety
  * `tree` is NULL or live; the options are NULL or readable; `path` is NULL or

@@ -35,3 +35,16 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(n: usize, what: &str) -> crate::
             ),
         })
 }
+
+/// Asks for `bytes` once, fallibly, and gives them back: work that then builds several
+/// arrays of that total size (a mesh plan) finds the address space there, and a process
+/// short of memory gets [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what`
+/// before any of it is built, instead of an abort halfway.
+pub(crate) fn check_available(bytes: usize, what: &str) -> crate::Result<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(bytes)
+        .map_err(|_| crate::Error::OutOfMemory {
+            what: format!("{what} ({bytes} bytes)"),
+        })
+}

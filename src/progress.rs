@@ -33,6 +33,9 @@ pub enum Stage {
     /// Reading a model's files and preprocessing them (fraction: the part of the load's
     /// byte budget, `max_file_bytes`, read so far; 1 when the load is done).
     Load = 4,
+    /// Writing a file of an export (fraction: its lines or bytes written; 1 just before
+    /// it replaces the target, the last moment a cancel leaves the old file).
+    Write = 5,
 }
 
 impl Stage {
@@ -44,6 +47,7 @@ impl Stage {
             Stage::Growth => "growth",
             Stage::Mesh => "mesh",
             Stage::Load => "loading",
+            Stage::Write => "writing",
         }
     }
 }

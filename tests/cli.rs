@@ -87,3 +87,87 @@ fn errors_are_one_line_and_a_failure_exit() {
     let (ok, _, _) = arbor(&["export", "a"]);
     assert!(!ok, "a missing -o is a usage error");
 }
+
+/// Files in `dir` other than `keep`.
+fn others(dir: &Path, keep: &str) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != keep)
+        .collect()
+}
+
+/// Starts a long OBJ export over an existing file and sends `signal` to it after a while;
+/// returns the exit status.
+#[cfg(unix)]
+fn export_then_signal(dir: &Path, signal: &str) -> std::process::ExitStatus {
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir).unwrap();
+    let target = dir.join("tree.obj");
+    std::fs::write(&target, "old\n").unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args([
+            "export",
+            "a",
+            "--steps",
+            "16",
+            "--radial-segments",
+            "16",
+            "-o",
+        ])
+        .arg(&target)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the export ended before the signal; make it longer"
+    );
+    let sent = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    child.wait().unwrap()
+}
+
+/// Ctrl-C (SIGINT) during an export: exit 130, the old file as it was, no temporary file.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_leaves_the_old_file_and_nothing_else() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_interrupt");
+    let status = export_then_signal(&dir, "-INT");
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("tree.obj")).unwrap(),
+        "old\n"
+    );
+    assert!(
+        others(&dir, "tree.obj").is_empty(),
+        "{:?}",
+        others(&dir, "tree.obj")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A killed process (SIGKILL) can leave only its temporary file, named so a user
+/// recognises it, and the old file as it was.
+#[cfg(unix)]
+#[test]
+fn a_killed_export_leaves_the_old_file() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_killed");
+    let status = export_then_signal(&dir, "-KILL");
+    assert!(!status.success());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("tree.obj")).unwrap(),
+        "old\n"
+    );
+    for name in others(&dir, "tree.obj") {
+        assert!(
+            name.starts_with(".tree.obj.arbor-") && name.ends_with(".tmp"),
+            "{name}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

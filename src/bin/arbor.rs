@@ -17,7 +17,13 @@ use arbor::progress::Stage;
 use arbor::skeleton::Skeleton;
 use clap::{Arg, ArgAction, ArgMatches, Command, value_parser};
 use std::io::{IsTerminal, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
+
+/// Set by Ctrl-C: every progress callback then answers "stop", so the work ends with
+/// `Cancelled` and an export removes its temporary file, leaving the target as it was. A
+/// second Ctrl-C ends the process at once.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 fn cli() -> Command {
     let source = Arg::new("source")
@@ -102,7 +108,11 @@ impl Bar {
         }
     }
 
+    /// Draws the bar; false (stop) once Ctrl-C was pressed.
     fn show(&mut self, stage: Stage, fraction: f32) -> bool {
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            return false;
+        }
         let pct = (fraction * 100.0) as u32;
         if self.on && (stage, pct) != self.last {
             self.last = (stage, pct);
@@ -218,25 +228,55 @@ fn run() -> Result<(), String> {
             let leaves = m.get_flag("leaves").then(LeafOptions::default);
             let lower = out.to_ascii_lowercase();
             let t1 = Instant::now();
+            let mut bar = Bar::new();
+            let mut show = |s: Stage, f: f32| bar.show(s, f);
             let r = if lower.ends_with(".obj") {
-                let bark = arbor::mesh::tubes(&skeleton, &o).map_err(|e| e.to_string())?;
+                let bark = arbor::mesh::MeshPlan::new(&skeleton, &o)
+                    .and_then(|plan| plan.mesh_with_progress(&skeleton, &mut show))
+                    .map_err(|e| e.to_string())?;
                 match &leaves {
                     Some(l) => {
                         let lm =
                             arbor::mesh::leaf_mesh(&skeleton, l, &o).map_err(|e| e.to_string())?;
-                        arbor::export::save_obj_parts(&[("bark", &bark), ("leaves", &lm)], out)
+                        arbor::export::save_obj_parts_with_progress(
+                            &[("bark", &bark), ("leaves", &lm)],
+                            out,
+                            &mut show,
+                        )
                     }
-                    None => arbor::export::save_obj_parts(&[("bark", &bark)], out),
+                    None => arbor::export::save_obj_parts_with_progress(
+                        &[("bark", &bark)],
+                        out,
+                        &mut show,
+                    ),
                 }
             } else if m.get_flag("instanced-leaves") {
                 let binary = lower.ends_with(".glb");
                 if !binary && !lower.ends_with(".gltf") {
                     return Err(format!("{out}: expected a .glb, .gltf or .obj file name"));
                 }
-                arbor::export::save_gltf_instanced(&skeleton, &o, &LeafOptions::default(), out)
+                arbor::export::save_gltf_instanced_with_progress(
+                    &skeleton,
+                    &o,
+                    &LeafOptions::default(),
+                    out,
+                    &mut show,
+                )
             } else {
-                arbor::export::save_gltf(&skeleton, &o, leaves.as_ref(), out)
+                arbor::export::save_gltf_with_progress(
+                    &skeleton,
+                    &o,
+                    leaves.as_ref(),
+                    out,
+                    &mut show,
+                )
             };
+            bar.done();
+            if INTERRUPTED.load(Ordering::SeqCst) && r.is_err() {
+                return Err(format!(
+                    "interrupted; {out} was not written (an existing file is as it was)"
+                ));
+            }
             r.map_err(|e| format!("{out}: {e}"))?;
             eprintln!(
                 "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
@@ -281,8 +321,20 @@ fn run() -> Result<(), String> {
 }
 
 fn main() {
+    // Without a handler (where one cannot be installed) Ctrl-C ends the process as before:
+    // an export then leaves the target as it was and at most its `.arbor-*.tmp` file.
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
     if let Err(e) = run() {
         eprintln!("arbor: {e}");
-        std::process::exit(1);
+        // 130: ended by Ctrl-C (SIGINT), as shells report it.
+        std::process::exit(if INTERRUPTED.load(Ordering::SeqCst) {
+            130
+        } else {
+            1
+        });
     }
 }

@@ -5,6 +5,7 @@
 //! `.NAME.arbor-PID-N.tmp` so a user recognises it.
 
 use crate::error::{Error, Result};
+use crate::progress::{Progress, ProgressFn, Stage};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -24,7 +25,8 @@ fn temporary(path: &Path) -> PathBuf {
     }
 }
 
-fn io(path: &Path, doing: &str, e: std::io::Error) -> Error {
+/// An I/O error that names `path`.
+pub(crate) fn io(path: &Path, doing: &str, e: std::io::Error) -> Error {
     Error::Io(std::io::Error::new(
         e.kind(),
         format!("cannot {doing} {}: {e}", path.display()),
@@ -32,12 +34,16 @@ fn io(path: &Path, doing: &str, e: std::io::Error) -> Error {
 }
 
 /// Writes `path` through `fill`, atomically: `fill` writes into a temporary file in the
-/// same folder; on success it is flushed, synced and renamed over `path`; on any error
-/// (from `fill`, a cancel included) it is removed and `path` is untouched.
+/// same folder (reporting [`Stage::Write`] through the progress it is given, if it likes);
+/// on success it is flushed, `progress` is asked once more (`Stage::Write`, 1) and the
+/// file is synced and renamed over `path`; on any error or cancel it is removed and
+/// `path` is untouched.
 pub(crate) fn write_atomic(
     path: &Path,
-    fill: impl FnOnce(&mut std::io::BufWriter<&std::fs::File>) -> Result<()>,
+    progress: Option<ProgressFn<'_>>,
+    fill: impl FnOnce(&mut std::io::BufWriter<&std::fs::File>, &mut Progress<'_>) -> Result<()>,
 ) -> Result<()> {
+    let mut progress = Progress::new(progress);
     // A device, FIFO or folder of that name is never replaced (nor written through).
     if let Ok(meta) = std::fs::symlink_metadata(path) {
         if !meta.is_file() {
@@ -56,9 +62,10 @@ pub(crate) fn write_atomic(
         .map_err(|e| io(path, "write", e))?;
     let result = (|| {
         let mut w = std::io::BufWriter::with_capacity(1 << 16, &file);
-        fill(&mut w)?;
+        fill(&mut w, &mut progress)?;
         w.flush().map_err(|e| io(path, "write", e))?;
         drop(w);
+        progress.report(Stage::Write, 1.0)?;
         file.sync_all().map_err(|e| io(path, "write", e))?;
         std::fs::rename(&tmp, path).map_err(|e| io(path, "replace", e))
     })();
@@ -79,13 +86,20 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let target = dir.join("tree.obj");
         std::fs::write(&target, "old").unwrap();
-        let r = write_atomic(&target, |w| {
+        let r = write_atomic(&target, None, |w, _| {
             w.write_all(b"half of a new fi").unwrap();
             Err(Error::Cancelled { stage: "mesh" })
         });
         assert!(matches!(r, Err(Error::Cancelled { .. })));
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
-        write_atomic(&target, |w| {
+        // A whole file, cancelled at the last moment before it replaces the target.
+        let mut stop = |_: Stage, _: f32| false;
+        let r = write_atomic(&target, Some(&mut stop), |w, _| {
+            w.write_all(b"new").map_err(Error::Io)
+        });
+        assert!(matches!(r, Err(Error::Cancelled { .. })));
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
+        write_atomic(&target, None, |w, _| {
             w.write_all(b"new").map_err(Error::Io)?;
             Ok(())
         })

@@ -159,7 +159,30 @@ pub fn save_gltf_instanced(
     leaves: &LeafOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save(path.as_ref(), |binary| {
+    save_gltf_instanced_reporting(skeleton, options, leaves, path, None)
+}
+
+/// [`save_gltf_instanced`], reporting [`Stage::Write`](crate::progress::Stage::Write) as
+/// it writes the file; `false` from `progress` stops with `Cancelled` and leaves an
+/// existing file as it was.
+pub fn save_gltf_instanced_with_progress(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: &LeafOptions,
+    path: impl AsRef<Path>,
+    progress: ProgressFn<'_>,
+) -> Result<()> {
+    save_gltf_instanced_reporting(skeleton, options, leaves, path, Some(progress))
+}
+
+fn save_gltf_instanced_reporting(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: &LeafOptions,
+    path: impl AsRef<Path>,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<()> {
+    save(path.as_ref(), progress, |binary, _| {
         gltf_bytes_instanced(skeleton, options, leaves, binary)
     })
 }
@@ -271,7 +294,7 @@ pub fn save_gltf_forest_nodes(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save(path.as_ref(), |binary| {
+    save(path.as_ref(), None, |binary, _| {
         gltf_forest_nodes_bytes(placed, options, binary)
     })
 }
@@ -383,6 +406,29 @@ fn encode(
     instanced: Option<Instanced>,
 ) -> Result<Vec<u8>> {
     let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
+    // The buffer and the file are made from it: ask for their memory once, fallibly,
+    // before building them (binary: the buffer and the .glb; JSON: the buffer, its base64
+    // text and the copies that make the file).
+    let meshes_bytes: usize = trees
+        .iter()
+        .flatten()
+        .map(|p| {
+            std::mem::size_of_val(p.mesh.vertices.as_slice())
+                + std::mem::size_of_val(p.mesh.indices.as_slice())
+                + p.anim
+                    .as_ref()
+                    .map_or(0, |a| std::mem::size_of_val(a.as_slice()))
+        })
+        .sum::<usize>()
+        + instanced.as_ref().map_or(0, |(m, i)| {
+            std::mem::size_of_val(m.vertices.as_slice())
+                + std::mem::size_of_val(m.indices.as_slice())
+                + i.len() * 40
+        });
+    crate::limits::check_available(
+        meshes_bytes.saturating_mul(if binary { 2 } else { 6 }),
+        "the glTF buffer and file",
+    )?;
     // Only the materials in use, bark first.
     let mut materials: Vec<Material> = Vec::new();
     for m in trees
@@ -573,16 +619,30 @@ pub fn save_gltf_forest(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save(path.as_ref(), |binary| {
+    save(path.as_ref(), None, |binary, _| {
         gltf_forest_bytes(placed, options, binary)
     })
 }
 
 /// Writes the bytes `make` gives for the form `path`'s extension asks (binary or not); a
-/// bad extension fails before anything is made.
-fn save(path: &Path, make: impl FnOnce(bool) -> Result<Vec<u8>>) -> Result<()> {
-    let bytes = make(binary_by_extension(path)?)?;
-    write(path, bytes)
+/// bad extension fails before anything is made. `progress` goes to `make` (mesh writes)
+/// and then to the file's write.
+fn save(
+    path: &Path,
+    mut progress: Option<ProgressFn<'_>>,
+    make: impl FnOnce(bool, Option<ProgressFn<'_>>) -> Result<Vec<u8>>,
+) -> Result<()> {
+    let binary = binary_by_extension(path)?;
+    let bytes = make(
+        binary,
+        progress.as_mut().map(|f| &mut **f as ProgressFn<'_>),
+    )?;
+    super::atomic::write_atomic(path, progress, |w, p| {
+        p.report(crate::progress::Stage::Write, 0.0)?;
+        use std::io::Write;
+        w.write_all(&bytes)
+            .map_err(|e| super::atomic::io(path, "write", e))
+    })
 }
 
 fn binary_by_extension(path: &Path) -> Result<bool> {
@@ -598,18 +658,6 @@ fn binary_by_extension(path: &Path) -> Result<bool> {
             format!("`{}`: expected a .glb or .gltf file name", path.display()),
         )),
     }
-}
-
-fn write(path: &Path, bytes: Vec<u8>) -> Result<()> {
-    super::atomic::write_atomic(path, |w| {
-        use std::io::Write;
-        w.write_all(&bytes).map_err(|e| {
-            Error::Io(std::io::Error::new(
-                e.kind(),
-                format!("cannot write {}: {e}", path.display()),
-            ))
-        })
-    })
 }
 
 /// Writes `skeleton` as glTF 2.0 to `path`: `.glb` binary, `.gltf` JSON with the buffer
@@ -646,7 +694,7 @@ pub(crate) fn save_gltf_reporting(
     path: impl AsRef<Path>,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<()> {
-    save(path.as_ref(), |binary| {
+    save(path.as_ref(), progress, |binary, progress| {
         gltf_bytes_with(skeleton, options, leaves, binary, progress)
     })
 }

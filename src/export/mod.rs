@@ -11,6 +11,8 @@ mod obj;
 pub(crate) use gltf::save_gltf_reporting;
 pub use gltf::{
     gltf_bytes, gltf_bytes_instanced, gltf_forest_bytes, gltf_forest_nodes_bytes, save_gltf,
-    save_gltf_forest, save_gltf_forest_nodes, save_gltf_instanced, save_gltf_with_progress,
+    save_gltf_forest, save_gltf_forest_nodes, save_gltf_instanced,
+    save_gltf_instanced_with_progress, save_gltf_with_progress,
 };
-pub use obj::{save_obj, save_obj_parts, write_obj, write_obj_parts};
+pub(crate) use obj::save_obj_parts_reporting;
+pub use obj::{save_obj, save_obj_parts, save_obj_parts_with_progress, write_obj, write_obj_parts};

@@ -1,7 +1,8 @@
 //! Wavefront OBJ: positions, texture coordinates, normals and triangles, one group per part.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::progress::{EVERY, Progress, ProgressFn, Stage};
 use std::io::Write;
 use std::path::Path;
 
@@ -17,6 +18,14 @@ pub fn write_obj<W: Write>(mesh: &Mesh, out: W) -> Result<()> {
 /// degenerate joins skipped, winding kept). The writer is buffered internally.
 pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> {
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
+    write_lines(parts, &mut w, &mut Progress::new(None))?;
+    w.flush()?;
+    Ok(())
+}
+
+/// The lines of [`write_obj_parts`], reporting [`Stage::Write`] (lines written) every
+/// [`EVERY`] lines.
+fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Progress<'_>) -> Result<()> {
     let vertices: usize = parts.iter().map(|(_, m)| m.vertices.len()).sum();
     let triangles: usize = parts.iter().map(|(_, m)| m.triangles().count()).sum();
     writeln!(
@@ -24,6 +33,16 @@ pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> 
         "# arbor {}: {vertices} vertices, {triangles} triangles",
         env!("CARGO_PKG_VERSION"),
     )?;
+    let total = (3 * vertices + triangles).max(1) as f64;
+    let mut lines = 0usize;
+    let mut tick = |p: &mut Progress<'_>| {
+        lines += 1;
+        if lines % EVERY == 0 && p.active() {
+            p.report(Stage::Write, lines as f64 / total)
+        } else {
+            Ok(())
+        }
+    };
     let mut base = 1u64;
     for (name, mesh) in parts {
         let name: String = name
@@ -34,22 +53,25 @@ pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> 
         for v in &mesh.vertices {
             let [x, y, z] = v.position;
             writeln!(w, "v {x} {y} {z}")?;
+            tick(p)?;
         }
         for v in &mesh.vertices {
             let [s, t] = v.uv;
             writeln!(w, "vt {s} {t}")?;
+            tick(p)?;
         }
         for v in &mesh.vertices {
             let [x, y, z] = v.normal;
             writeln!(w, "vn {x} {y} {z}")?;
+            tick(p)?;
         }
         for [a, b, c] in mesh.triangles() {
             let (a, b, c) = (a as u64 + base, b as u64 + base, c as u64 + base);
             writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?;
+            tick(p)?;
         }
         base += mesh.vertices.len() as u64;
     }
-    w.flush()?;
     Ok(())
 }
 
@@ -62,13 +84,28 @@ pub fn save_obj(mesh: &Mesh, path: impl AsRef<Path>) -> Result<()> {
 /// Writes several named meshes as one OBJ file at `path` (see [`write_obj_parts`]), whole
 /// or not at all; errors name the path.
 pub fn save_obj_parts(parts: &[(&str, &Mesh)], path: impl AsRef<Path>) -> Result<()> {
+    save_obj_parts_reporting(parts, path, None)
+}
+
+/// [`save_obj_parts`], reporting [`Stage::Write`] (lines written, every 65,536); `false`
+/// from `progress` stops with `Cancelled` and leaves an existing file as it was.
+pub fn save_obj_parts_with_progress(
+    parts: &[(&str, &Mesh)],
+    path: impl AsRef<Path>,
+    progress: ProgressFn<'_>,
+) -> Result<()> {
+    save_obj_parts_reporting(parts, path, Some(progress))
+}
+
+pub(crate) fn save_obj_parts_reporting(
+    parts: &[(&str, &Mesh)],
+    path: impl AsRef<Path>,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<()> {
     let path = path.as_ref();
-    super::atomic::write_atomic(path, |w| {
-        write_obj_parts(parts, w).map_err(|e| match e {
-            crate::Error::Io(e) => crate::Error::Io(std::io::Error::new(
-                e.kind(),
-                format!("cannot write {}: {e}", path.display()),
-            )),
+    super::atomic::write_atomic(path, progress, |w, p| {
+        write_lines(parts, w, p).map_err(|e| match e {
+            Error::Io(e) => super::atomic::io(path, "write", e),
             other => other,
         })
     })

@@ -37,7 +37,11 @@ type ExportArgs<'a> = (
 
 /// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
 /// baked leaves (group `leaves`) as a Wavefront OBJ file at `path` (NUL-terminated UTF-8),
-/// creating or truncating it. ARBOR_STATUS_IO_ERROR names the path on failure.
+/// whole or not at all: written to a temporary file beside it and renamed over it only
+/// when complete (a failure or a cancel leaves an existing file as it was; a device or
+/// folder of that name is never written). The mesh options' progress callback sees
+/// ARBOR_STAGE_MESH, then ARBOR_STAGE_WRITE. ARBOR_STATUS_IO_ERROR names the path on
+/// failure.
 ///
 /// # Safety
 /// `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
@@ -58,21 +62,18 @@ pub unsafe extern "C" fn arbor_export_obj(
             mo.threads,
             as_progress(&mut f),
         )?;
-        let result = if leaf_options.is_null() {
-            crate::export::save_obj_parts(&[("bark", &bark)], path)
+        if leaf_options.is_null() {
+            crate::export::save_obj_parts_reporting(&[("bark", &bark)], path, as_progress(&mut f))?;
         } else {
             // SAFETY: the caller promises `leaf_options` is readable.
             let lo = unsafe { read_leaf_options(leaf_options, true) }?;
             let leaves = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
-            crate::export::save_obj_parts(&[("bark", &bark), ("leaves", &leaves)], path)
-        };
-        result.map_err(|e| match e {
-            crate::Error::Io(io) => crate::Error::Io(std::io::Error::new(
-                io.kind(),
-                format!("cannot write {path}: {io}"),
-            )),
-            other => other,
-        })?;
+            crate::export::save_obj_parts_reporting(
+                &[("bark", &bark), ("leaves", &leaves)],
+                path,
+                as_progress(&mut f),
+            )?;
+        }
         Ok(())
     })
 }

@@ -59,6 +59,9 @@ pub const ARBOR_STAGE_MESH: u32 = 3;
 /// ArborProgressFn stage: reading and preprocessing a model's files (fraction: the part of
 /// `max_file_bytes` read so far; 1 when loaded).
 pub const ARBOR_STAGE_LOAD: u32 = 4;
+/// ArborProgressFn stage: writing an export's file (fraction: written so far; 1 just before
+/// it replaces the target, the last moment a cancel leaves the old file as it was).
+pub const ARBOR_STAGE_WRITE: u32 = 5;
 
 /// A progress callback (see "Progress and cancellation" in the README): called on the
 /// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a

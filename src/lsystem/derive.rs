@@ -125,9 +125,10 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    /// Checks that `out` can take `modules` more modules and `params` more values.
+    /// Checks that `out` can take `modules` more modules and `params` more values, within
+    /// the limits and the memory there is (it grows `out` fallibly where it must).
     #[inline]
-    pub(crate) fn room(&self, out: &ModuleString, modules: usize, params: usize) -> Result<()> {
+    pub(crate) fn room(&self, out: &mut ModuleString, modules: usize, params: usize) -> Result<()> {
         if out.len() + modules > self.max_modules {
             return Err(self.limit(
                 "max_modules",
@@ -144,7 +145,7 @@ impl<'a> Ctx<'a> {
                 out.params.len() + params,
             ));
         }
-        Ok(())
+        out.try_room(modules, params)
     }
 }
 
@@ -289,8 +290,7 @@ impl D0l {
             }
             next.syms.clear();
             next.births.clear();
-            next.syms.reserve_exact(len);
-            next.births.reserve_exact(len);
+            next.try_exact(len)?;
             let birth = step as u16;
             let n = cur.syms.len();
             let chunk = if ctx.progress.active() {
@@ -394,7 +394,7 @@ fn derive_string<'a>(
         next.reserve(
             want(cur.len(), growth.0, ctx.max_modules),
             want(cur.params.len(), growth.1, ctx.max_params),
-        );
+        )?;
         let before = (cur.len().max(1) as f64, cur.params.len().max(1) as f64);
         if ls.has_context {
             links.build(ls, &cur);

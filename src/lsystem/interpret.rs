@@ -140,6 +140,24 @@ fn v3(v: DVec3) -> [f32; 3] {
 }
 
 impl Turtle {
+    /// Room for more branches (as many again, at least 1,024) in the per-branch arrays, or
+    /// `OutOfMemory` instead of an abort.
+    #[cold]
+    fn grow_branches(&mut self) -> Result<()> {
+        let more = self.branches.len().max(1024);
+        let ok = self.branches.try_reserve(more).is_ok()
+            && self.cos_to_parent.try_reserve(more).is_ok()
+            && self.ups.try_reserve(more).is_ok()
+            && self.colors.try_reserve(more).is_ok();
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::OutOfMemory {
+                what: format!("the skeleton's branches ({} and more)", self.branches.len()),
+            })
+        }
+    }
+
     #[inline]
     fn cos_sin(&mut self, degrees: f64) -> (f64, f64) {
         let bits = degrees.to_bits();
@@ -216,6 +234,9 @@ impl Turtle {
                             requested: self.branches.len() as u64 + 1,
                             step: Some(step),
                         });
+                    }
+                    if self.branches.len() == self.branches.capacity() {
+                        self.grow_branches()?;
                     }
                     let radius = (self
                         .state
@@ -572,8 +593,15 @@ fn interpret_answering(
         .filter(|&&s| t.ops[s as usize] == Op::Draw)
         .count()
         .min(options.max_branches);
-    t.branches.reserve(draws);
-    t.cos_to_parent.reserve(draws);
+    let ok = t.branches.try_reserve_exact(draws).is_ok()
+        && t.cos_to_parent.try_reserve_exact(draws).is_ok()
+        && t.ups.try_reserve_exact(draws).is_ok()
+        && t.colors.try_reserve_exact(draws).is_ok();
+    if !ok {
+        return Err(Error::OutOfMemory {
+            what: format!("the skeleton's branches ({draws})"),
+        });
+    }
     if table.is_empty() {
         for i in 0..string.len() {
             if i % crate::progress::EVERY == 0 {

@@ -430,15 +430,51 @@ impl ModuleString {
         }
     }
 
-    /// Makes room for `modules` modules and `params` values in total.
-    pub(crate) fn reserve(&mut self, modules: usize, params: usize) {
-        self.syms.reserve(modules.saturating_sub(self.syms.len()));
-        self.births
-            .reserve(modules.saturating_sub(self.births.len()));
-        self.offsets
-            .reserve((modules + 1).saturating_sub(self.offsets.len()));
-        self.params
-            .reserve(params.saturating_sub(self.params.len()));
+    /// Makes room for `modules` modules and `params` values in total (a guess of the next
+    /// step's size), or `OutOfMemory`.
+    pub(crate) fn reserve(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+        self.try_room(
+            modules.saturating_sub(self.len()),
+            params.saturating_sub(self.params.len()),
+        )
+    }
+
+    /// Makes room for `modules` more modules and `params` more values (growing as `push`
+    /// would, amortized), or `OutOfMemory` naming the string's size, instead of aborting.
+    #[inline]
+    pub(crate) fn try_room(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+        let ok = self.syms.try_reserve(modules).is_ok()
+            && self.births.try_reserve(modules).is_ok()
+            && self.offsets.try_reserve(modules).is_ok()
+            && self.params.try_reserve(params).is_ok();
+        if ok {
+            Ok(())
+        } else {
+            Err(self.out_of_memory(modules, params))
+        }
+    }
+
+    /// Room for exactly `modules` more modules without parameters (bracketed strings), or
+    /// `OutOfMemory`.
+    pub(crate) fn try_exact(&mut self, modules: usize) -> crate::Result<()> {
+        let ok = self.syms.try_reserve_exact(modules).is_ok()
+            && self.births.try_reserve_exact(modules).is_ok();
+        if ok {
+            Ok(())
+        } else {
+            Err(self.out_of_memory(modules, 0))
+        }
+    }
+
+    #[cold]
+    fn out_of_memory(&self, modules: usize, params: usize) -> crate::Error {
+        crate::Error::OutOfMemory {
+            what: format!(
+                "the module string ({} modules, {} parameter values)",
+                self.len().saturating_add(modules),
+                self.params.len().saturating_add(params)
+            ),
+        }
     }
 
     pub(crate) fn clear(&mut self) {

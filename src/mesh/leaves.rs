@@ -321,6 +321,12 @@ fn place_on(
         if out.len() >= o.max_leaves {
             return Err(too_many());
         }
+        if out.len() == out.capacity() {
+            out.try_reserve(out.len().max(256))
+                .map_err(|_| Error::OutOfMemory {
+                    what: format!("the leaf instances ({} and more)", out.len()),
+                })?;
+        }
         let heading = heading.try_normalize().unwrap_or(Vec3::Y);
         let up = (up - heading * up.dot(heading))
             .try_normalize()

@@ -523,6 +523,11 @@ impl MeshPlan {
     /// when the vertices or indices could not all be addressed with 32 bits
     /// ([`RESTART_INDEX`] is reserved).
     pub fn new(skeleton: &Skeleton, options: &MeshOptions) -> Result<Self> {
+        // Per branch: the plan's segments, flags, continuation and direction (18 bytes),
+        // the layout's offsets, frame and texture end (28), with inner rings two tangents
+        // and an end frame (36), and the builder's temporaries (16).
+        let per_branch = 18 + 28 + 16 + if options.curve_rings > 0 { 36 } else { 0 };
+        crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
         let plan = plan(skeleton, options)?;
         let layout = layout(skeleton, options, &plan);
         let mut tables: Vec<Vec<(f32, f32, f32)>> =

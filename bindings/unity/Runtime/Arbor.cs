@@ -41,8 +41,8 @@ namespace Arbor
     [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
     public delegate int ReadFileFn(IntPtr userData, IntPtr path, IntPtr buffer, UIntPtr capacity, out UIntPtr size);
 
-    /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth, 3 mesh), fraction in
-    /// [0, 1]; non-zero cancels.
+    /// ArborProgressFn: stage (0 derivation, 1 interpretation, 2 growth, 3 mesh, 4 loading,
+    /// 5 writing a file), fraction in [0, 1]; non-zero cancels.
     [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
     public delegate int ProgressFn(IntPtr userData, uint stage, float fraction);
 
