@@ -180,7 +180,28 @@ static void status_strings(void) {
   CHECK(strcmp(arbor_status_str(999), "unknown status") == 0, "unknown string");
 }
 
+/* The outside fuzzer's third round: a leaf size whose product with a denormal scale is
+   small but which overflows on its own, and a parse-error column counted in the file's
+   own text (not the macro-expanded one). */
+static void round_three(void) {
+  const char *g = "Lsystem: 1\nAxiom: F(1)~\nendlsystem\n";
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_tree_from_lsystem(g, strlen(g), NULL, &t), ARBOR_STATUS_OK);
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  lo.size = 3.4e38f;
+  ArborMeshOptions mo = arbor_mesh_options_default();
+  mo.scale = 1e-40f;
+  size_t n = 0;
+  CHECK_STATUS(arbor_leaf_instance_count(t, &lo, &mo, &n), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("`size`");
+  arbor_tree_free(t);
+  const char *m = "#define LONG 1+1+1+1+1+1+1+1+1+1+1+1+1+1+1\nAxiom: F(LONG) ) $$\n";
+  CHECK_STATUS(arbor_tree_from_lsystem(m, strlen(m), NULL, &t), ARBOR_STATUS_PARSE_ERROR);
+  message_contains("line 2, column 16");
+}
+
 int main(void) {
+  round_three();
   nulls();
   bad_values();
   every_capacity();

@@ -445,7 +445,11 @@ static void exports_are_atomic(void) {
   message_contains("not a regular file");
   struct stat st;
   CHECK(stat("/dev/full", &st) == 0 && S_ISCHR(st.st_mode), "/dev/full is still a device");
-  /* A folder that cannot be written (not for root, whom permissions do not stop). */
+  /* A folder no one can write files in, root included. */
+  CHECK_STATUS(arbor_export_gltf(t, NULL, NULL, "/proc/arbor_export_test.glb"), ARBOR_STATUS_IO_ERROR);
+  message_contains("/proc/arbor_export_test.glb");
+  CHECK(access("/proc/arbor_export_test.glb", F_OK) != 0, "nothing made in /proc");
+  /* A folder without write permission (for users other than root). */
   if (geteuid() != 0) {
     char ro[1900], in[2048];
     snprintf(ro, sizeof ro, "%.1800s/export/ro", root);

@@ -66,8 +66,60 @@ static void cancelled_growth(void) {
   arbor_world_free(plain);
 }
 
+static int32_t stop_second(void *user, uint32_t stage, float fraction) {
+  int *calls = user;
+  (void)stage;
+  (void)fraction;
+  return ++*calls >= 2;
+}
+
+/* An obstacle reports per layer through the world's callback: stopped, the world is as it
+   was (a tree grown on equals one grown without the obstacle); added, it shades the tree. */
+static void cancelled_obstacle(void) {
+  int calls = 0;
+  ArborWorldOptions o = arbor_world_options_default();
+  o.progress = stop_second;
+  o.progress_user_data = &calls;
+  ArborWorld *w = NULL, *plain = NULL, *shaded = NULL;
+  CHECK_STATUS(arbor_world_create(&o, &w), ARBOR_STATUS_OK);
+  ArborWorldOptions p = arbor_world_options_default();
+  CHECK_STATUS(arbor_world_create(&p, &plain), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_create(&p, &shaded), ARBOR_STATUS_OK);
+  float at[3] = {0, 0, 0};
+  /* A slab over the tree, as wide as the world. */
+  float lo[3] = {o.min[0], 3.0f, o.min[2]}, hi[3] = {o.max[0], 4.0f, o.max[2]};
+  CHECK_STATUS(arbor_world_add_box(w, lo, hi), ARBOR_STATUS_CANCELLED);
+  CHECK(calls == 2, "%d calls", calls);
+  CHECK_STATUS(arbor_world_add_box(shaded, lo, hi), ARBOR_STATUS_OK);
+  ArborWorld *all[3] = {w, plain, shaded};
+  for (int k = 0; k < 3; k++) {
+    CHECK_STATUS(arbor_world_plant(all[k], NULL, at, 1, NULL), ARBOR_STATUS_OK);
+  }
+  calls = -1000000; /* the first world keeps its callback: let it run */
+  for (int k = 0; k < 3; k++) CHECK_STATUS(arbor_world_step(all[k], 8), ARBOR_STATUS_OK);
+  size_t n[3];
+  for (int k = 0; k < 3; k++) n[k] = arbor_world_branch_count(all[k]);
+  ArborTree *a = NULL, *b = NULL;
+  CHECK_STATUS(arbor_world_tree(w, 0, &a), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_tree(plain, 0, &b), ARBOR_STATUS_OK);
+  ArborBranch *ba = malloc(n[0] * sizeof *ba), *bb = malloc(n[1] * sizeof *bb);
+  CHECK(n[0] == n[1], "a cancelled obstacle changed growth: %zu vs %zu branches", n[0], n[1]);
+  if (n[0] == n[1] && ba && bb) {
+    CHECK_STATUS(arbor_tree_copy_branches(a, ba, n[0]), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_tree_copy_branches(b, bb, n[1]), ARBOR_STATUS_OK);
+    CHECK(memcmp(ba, bb, n[0] * sizeof *ba) == 0, "the same branches");
+  }
+  CHECK(n[2] != n[1], "the slab shades the tree: %zu vs %zu branches", n[2], n[1]);
+  free(ba);
+  free(bb);
+  arbor_tree_free(a);
+  arbor_tree_free(b);
+  for (int k = 0; k < 3; k++) arbor_world_free(all[k]);
+}
+
 int main(void) {
   cancelled_growth();
+  cancelled_obstacle();
   ArborWorld *w = forest(7, 1);
   CHECK(arbor_world_tree_count(w) == 5, "5 trees");
   CHECK(arbor_world_branch_count(w) > 500, "%zu branches", arbor_world_branch_count(w));
