@@ -48,3 +48,35 @@ pub(crate) fn check_available(bytes: usize, what: &str) -> crate::Result<()> {
             what: format!("{what} ({bytes} bytes)"),
         })
 }
+
+/// A growable array whose room can be asked for fallibly (see [`try_room`]).
+pub(crate) trait Room {
+    /// Room for `n` more elements: exactly, or amortized as `push` grows; false when the
+    /// memory cannot be had.
+    fn room(&mut self, n: usize, exact: bool) -> bool;
+}
+
+impl<T> Room for Vec<T> {
+    fn room(&mut self, n: usize, exact: bool) -> bool {
+        if exact {
+            self.try_reserve_exact(n).is_ok()
+        } else {
+            self.try_reserve(n).is_ok()
+        }
+    }
+}
+
+/// Room for `n` more elements in each of `arrays` (parallel arrays of one thing), or
+/// [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what()`.
+pub(crate) fn try_room(
+    arrays: &mut [&mut dyn Room],
+    n: usize,
+    exact: bool,
+    what: impl FnOnce() -> String,
+) -> crate::Result<()> {
+    if arrays.iter_mut().all(|a| a.room(n, exact)) {
+        Ok(())
+    } else {
+        Err(crate::Error::OutOfMemory { what: what() })
+    }
+}

@@ -144,18 +144,18 @@ impl Turtle {
     /// `OutOfMemory` instead of an abort.
     #[cold]
     fn grow_branches(&mut self) -> Result<()> {
-        let more = self.branches.len().max(1024);
-        let ok = self.branches.try_reserve(more).is_ok()
-            && self.cos_to_parent.try_reserve(more).is_ok()
-            && self.ups.try_reserve(more).is_ok()
-            && self.colors.try_reserve(more).is_ok();
-        if ok {
-            Ok(())
-        } else {
-            Err(Error::OutOfMemory {
-                what: format!("the skeleton's branches ({} and more)", self.branches.len()),
-            })
-        }
+        let (n, more) = (self.branches.len(), self.branches.len().max(1024));
+        crate::limits::try_room(
+            &mut [
+                &mut self.branches,
+                &mut self.cos_to_parent,
+                &mut self.ups,
+                &mut self.colors,
+            ],
+            more,
+            false,
+            || format!("the skeleton's branches ({n} and more)"),
+        )
     }
 
     #[inline]
@@ -593,15 +593,17 @@ fn interpret_answering(
         .filter(|&&s| t.ops[s as usize] == Op::Draw)
         .count()
         .min(options.max_branches);
-    let ok = t.branches.try_reserve_exact(draws).is_ok()
-        && t.cos_to_parent.try_reserve_exact(draws).is_ok()
-        && t.ups.try_reserve_exact(draws).is_ok()
-        && t.colors.try_reserve_exact(draws).is_ok();
-    if !ok {
-        return Err(Error::OutOfMemory {
-            what: format!("the skeleton's branches ({draws})"),
-        });
-    }
+    crate::limits::try_room(
+        &mut [
+            &mut t.branches,
+            &mut t.cos_to_parent,
+            &mut t.ups,
+            &mut t.colors,
+        ],
+        draws,
+        true,
+        || format!("the skeleton's branches ({draws})"),
+    )?;
     if table.is_empty() {
         for i in 0..string.len() {
             if i % crate::progress::EVERY == 0 {

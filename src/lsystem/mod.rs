@@ -443,10 +443,11 @@ impl ModuleString {
     /// would, amortized), or `OutOfMemory` naming the string's size, instead of aborting.
     #[inline]
     pub(crate) fn try_room(&mut self, modules: usize, params: usize) -> crate::Result<()> {
-        let ok = self.syms.try_reserve(modules).is_ok()
-            && self.births.try_reserve(modules).is_ok()
-            && self.offsets.try_reserve(modules).is_ok()
-            && self.params.try_reserve(params).is_ok();
+        use crate::limits::Room;
+        let ok = self.syms.room(modules, false)
+            && self.births.room(modules, false)
+            && self.offsets.room(modules, false)
+            && self.params.room(params, false);
         if ok {
             Ok(())
         } else {
@@ -457,24 +458,27 @@ impl ModuleString {
     /// Room for exactly `modules` more modules without parameters (bracketed strings), or
     /// `OutOfMemory`.
     pub(crate) fn try_exact(&mut self, modules: usize) -> crate::Result<()> {
-        let ok = self.syms.try_reserve_exact(modules).is_ok()
-            && self.births.try_reserve_exact(modules).is_ok();
-        if ok {
-            Ok(())
-        } else {
-            Err(self.out_of_memory(modules, 0))
-        }
+        let (len, params) = (self.len(), self.params.len());
+        crate::limits::try_room(
+            &mut [&mut self.syms, &mut self.births],
+            modules,
+            true,
+            || Self::describe(len + modules, params),
+        )
     }
 
     #[cold]
     fn out_of_memory(&self, modules: usize, params: usize) -> crate::Error {
         crate::Error::OutOfMemory {
-            what: format!(
-                "the module string ({} modules, {} parameter values)",
+            what: Self::describe(
                 self.len().saturating_add(modules),
-                self.params.len().saturating_add(params)
+                self.params.len().saturating_add(params),
             ),
         }
+    }
+
+    fn describe(modules: usize, params: usize) -> String {
+        format!("the module string ({modules} modules, {params} parameter values)")
     }
 
     pub(crate) fn clear(&mut self) {

@@ -321,14 +321,12 @@ fn grow(
     let n = count as usize;
     let (mut branches, mut cos_to_parent, mut ups): (Vec<Branch>, Vec<f64>, Vec<[f32; 3]>) =
         (Vec::new(), Vec::new(), Vec::new());
-    let ok = branches.try_reserve_exact(n).is_ok()
-        && cos_to_parent.try_reserve_exact(n).is_ok()
-        && ups.try_reserve_exact(n).is_ok();
-    if !ok {
-        return Err(crate::Error::OutOfMemory {
-            what: format!("the tree's {n} branches"),
-        });
-    }
+    crate::limits::try_room(
+        &mut [&mut branches, &mut cos_to_parent, &mut ups],
+        n,
+        true,
+        || format!("the tree's {n} branches"),
+    )?;
     let mut stack = Vec::with_capacity(p.steps as usize + 1);
     stack.push(Apex {
         frame: Frame::default(),
