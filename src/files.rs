@@ -136,7 +136,7 @@ pub(crate) trait Source {
     /// Reads `name`, named by a file in `dir`; `what` says what it is for messages.
     /// `None` when there is no such file: an error of the model's text, which its reader
     /// reports at its line.
-    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Option<Loaded>>;
+    fn read(&self, dir: &Path, name: &str, what: &'static str) -> Result<Option<Loaded>>;
     /// Called every so often by long work while loading: reports progress, may cancel.
     fn tick(&self) -> Result<()>;
 }
@@ -246,7 +246,7 @@ impl<'p> Loader<'p> {
     /// Reads a file the host named (the model file, or a view file it chose): any
     /// policy reads it (Host through the host's function), and under Bundle its folder
     /// becomes a root files it names may come from.
-    pub(crate) fn read_named(&self, path: &Path, what: &str) -> Result<Loaded> {
+    pub(crate) fn read_named(&self, path: &Path, what: &'static str) -> Result<Loaded> {
         let absent = || refused(path.display(), format!("no such file (the {what})"));
         match &self.access {
             FileAccess::Host(f) => {
@@ -278,7 +278,7 @@ impl<'p> Loader<'p> {
     }
 
     /// Reads at most the budget plus one byte of a regular file.
-    fn disk_read(&self, canonical: &Path, shown: &str, what: &str) -> Result<Loaded> {
+    fn disk_read(&self, canonical: &Path, shown: &str, what: &'static str) -> Result<Loaded> {
         let meta = std::fs::metadata(canonical)
             .map_err(|e| refused(shown, format!("cannot open the {what}: {e}")))?;
         if !meta.is_file() {
@@ -336,15 +336,19 @@ impl<'p> Loader<'p> {
 
     fn over_budget(&self, shown: &str, what: &str, requested: u64) -> Error {
         Error::FileBudget {
-            path: shown.to_string(),
-            what: what.to_string(),
+            file: format!("the {what} `{shown}`"),
             limit: self.max,
             requested: self.used.get().saturating_add(requested),
         }
     }
 
     /// Reads through the host's reader; `None` when it has no such file.
-    fn host_read(&self, f: &Arc<ReadFileFn>, shown: &str, what: &str) -> Result<Option<Loaded>> {
+    fn host_read(
+        &self,
+        f: &Arc<ReadFileFn>,
+        shown: &str,
+        what: &'static str,
+    ) -> Result<Option<Loaded>> {
         let left = self.max.saturating_sub(self.used.get());
         self.report(self.spent())?;
         let first = left.min(64 << 10);
@@ -389,7 +393,7 @@ impl<'p> Loader<'p> {
 }
 
 impl Source for Loader<'_> {
-    fn read(&self, dir: &Path, name: &str, what: &str) -> Result<Option<Loaded>> {
+    fn read(&self, dir: &Path, name: &str, what: &'static str) -> Result<Option<Loaded>> {
         let policy = self.access.name();
         match &self.access {
             FileAccess::None => {

@@ -384,3 +384,72 @@ fn query_modules_learn_where_the_turtle_is() {
     let s = ls.skeleton(&Default::default()).unwrap();
     assert_eq!(s.len(), 4);
 }
+
+/// The file policies from Rust: Bundle refuses what leaves the folder (naming it, never
+/// quoting it), None reads only the file named, Any opts in, Host serves every file from
+/// the host's reader (here a map in memory) and reports loading progress.
+#[test]
+fn file_policies_from_rust() {
+    use arbor::files::{FileAccess, FileOptions};
+    use arbor::progress::Stage;
+    let dir = folder("policies");
+    write(&dir, "secret.txt", "TOKEN=hunter2\n");
+    let up = write(
+        &dir,
+        "model/up.l",
+        "#include \"../secret.txt\"\nderivation length: 1\nAxiom: F\n",
+    );
+    let with = |access: FileAccess| FileOptions {
+        access,
+        ..FileOptions::default()
+    };
+    match LSystem::from_file_with(&up, None, &with(FileAccess::Bundle), None) {
+        Err(Error::FileAccess { path, reason }) => {
+            assert_eq!(path, "../secret.txt");
+            assert!(reason.contains("leaves the model's folder"), "{reason}");
+            assert!(!reason.contains("hunter2"), "{reason}");
+        }
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+    let e = LSystem::from_file_with(&up, None, &with(FileAccess::None), None).unwrap_err();
+    assert!(e.to_string().contains("`none`"), "{e}");
+    // Any reads it (and it is not a grammar).
+    let e = LSystem::from_file_with(&up, None, &with(FileAccess::Any), None).unwrap_err();
+    assert!(matches!(e, Error::Parse { .. }), "{e}");
+
+    let files: std::collections::HashMap<String, Vec<u8>> = [
+        (
+            "m/tree.l",
+            "#include \"defs.h\"\nderivation length: N\nAxiom: A\nA --> F[+A][-A]\n",
+        ),
+        ("m/defs.h", "#define N 3\n"),
+        ("m/tree.v", "angle factor: 8\n"),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v.as_bytes().to_vec()))
+    .collect();
+    let mut stages = Vec::new();
+    let mut progress = |s: Stage, f: f32| {
+        stages.push((s, f));
+        true
+    };
+    let ls = LSystem::from_file_with(
+        "m/tree.l",
+        None,
+        &with(FileAccess::from_map(files)),
+        Some(&mut progress),
+    )
+    .unwrap();
+    assert_eq!(ls.view().angle_increment, 45.0);
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert_eq!(s.len(), 7);
+    assert!(stages.iter().all(|&(s, _)| s == Stage::Load));
+    assert_eq!(stages.last().map(|&(_, f)| f), Some(1.0));
+    // A budget smaller than the model.
+    let tiny = FileOptions {
+        max_bytes: 16,
+        ..with(FileAccess::Any)
+    };
+    let e = LSystem::from_file_with(&up, None, &tiny, None).unwrap_err();
+    assert!(matches!(e, Error::FileBudget { .. }), "{e}");
+}

@@ -143,6 +143,7 @@ impl Turtle {
     /// Room for more branches (as many again, at least 1,024) in the per-branch arrays, or
     /// `OutOfMemory` instead of an abort.
     #[cold]
+    #[inline(never)]
     fn grow_branches(&mut self) -> Result<()> {
         let (n, more) = (self.branches.len(), self.branches.len().max(1024));
         crate::limits::try_room(
@@ -234,9 +235,6 @@ impl Turtle {
                             requested: self.branches.len() as u64 + 1,
                             step: Some(step),
                         });
-                    }
-                    if self.branches.len() == self.branches.capacity() {
-                        self.grow_branches()?;
                     }
                     let radius = (self
                         .state
@@ -586,7 +584,8 @@ fn interpret_answering(
     debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
     debug_assert_eq!(t.ops[POP as usize], Op::Pop);
     let table = &ls.homomorphism;
-    // Without interpretation rules every F and G is one branch: size the arrays once.
+    // Without interpretation rules every F and G is one branch: size the arrays once (the
+    // turtle never pushes past this; with rules, the sink below makes room as it goes).
     let draws = string
         .syms
         .iter()
@@ -642,6 +641,11 @@ fn interpret_answering(
                         requested: read as u64,
                         step: None,
                     });
+                }
+                // Interpretation rules draw an unknown number of branches: room is made
+                // here, fallibly (without them, the arrays were sized exactly above).
+                if t.branches.len() == t.branches.capacity() {
+                    t.grow_branches()?;
                 }
                 t.module(sym, params, birth, birth)
             };

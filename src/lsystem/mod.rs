@@ -443,6 +443,21 @@ impl ModuleString {
     /// would, amortized), or `OutOfMemory` naming the string's size, instead of aborting.
     #[inline]
     pub(crate) fn try_room(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+        // The common case, inline: there is room already.
+        let spare = |cap: usize, len: usize| cap - len;
+        if spare(self.syms.capacity(), self.syms.len()) >= modules
+            && spare(self.births.capacity(), self.births.len()) >= modules
+            && spare(self.offsets.capacity(), self.offsets.len()) >= modules
+            && spare(self.params.capacity(), self.params.len()) >= params
+        {
+            return Ok(());
+        }
+        self.grow(modules, params)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self, modules: usize, params: usize) -> crate::Result<()> {
         use crate::limits::Room;
         let ok = self.syms.room(modules, false)
             && self.births.room(modules, false)

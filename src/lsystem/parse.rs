@@ -275,7 +275,7 @@ pub(crate) fn parse_file(
     progress: Option<crate::progress::ProgressFn<'_>>,
 ) -> Result<LSystem> {
     let loader = crate::files::Loader::new(files, progress);
-    let read = |p: &std::path::Path, what: &str| -> Result<String> {
+    let read = |p: &std::path::Path, what: &'static str| -> Result<String> {
         // The host names these two files: what goes wrong is a bad argument, as before.
         let loaded = loader.read_named(p, what).map_err(|e| match e {
             Error::FileAccess { path, reason } => {

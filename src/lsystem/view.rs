@@ -31,7 +31,7 @@ pub(crate) struct Extras {
 
 /// Reads a companion file the view file names, from `inc`'s folder, under the load's
 /// file policy and budget; `None` when there is no such file.
-fn companion(inc: &Includes<'_>, file: &str, what: &str) -> Result<Option<String>> {
+fn companion(inc: &Includes<'_>, file: &str, what: &'static str) -> Result<Option<String>> {
     let Includes::Dir(dir, source) = inc else {
         return Err(Error::FileAccess {
             path: file.to_string(),
