@@ -124,8 +124,10 @@ fn export_then_signal(dir: &Path, signal: &str) -> std::process::ExitStatus {
         child.try_wait().unwrap().is_none(),
         "the export ended before the signal; make it longer"
     );
-    let sent = Command::new("kill")
-        .args([signal, &child.id().to_string()])
+    // The shell's own `kill` (no procps needed on a fresh machine).
+    let sent = Command::new("sh")
+        .arg("-c")
+        .arg(format!("kill {signal} {}", child.id()))
         .status()
         .unwrap();
     assert!(sent.success());
