@@ -17,6 +17,30 @@ fn main() {
             format!("libarbor.so.{major}")
         };
         println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,{soname}");
+        link_soname_in_build_folder(&soname);
     }
     println!("cargo:rerun-if-changed=build.rs");
+}
+
+/// A program linked against `target/<profile>/libarbor.so` records the SONAME and looks
+/// for that name when it starts, so the build folder gets `libarbor.so.0.<minor>` as a
+/// link to `libarbor.so` (dangling until the library is linked, a moment later). Cargo's
+/// output folder is three levels above this script's OUT_DIR
+/// (`target/<profile>/build/arbor-<hash>/out`).
+fn link_soname_in_build_folder(soname: &str) {
+    let Some(out) = std::env::var_os("OUT_DIR") else {
+        return;
+    };
+    let Some(folder) = std::path::Path::new(&out).ancestors().nth(3) else {
+        return;
+    };
+    let link = folder.join(soname);
+    if std::fs::read_link(&link).is_ok_and(|to| to == std::path::Path::new("libarbor.so")) {
+        return;
+    }
+    let _ = std::fs::remove_file(&link);
+    #[cfg(unix)]
+    if let Err(e) = std::os::unix::fs::symlink("libarbor.so", &link) {
+        println!("cargo:warning=cannot link {}: {e}", link.display());
+    }
 }

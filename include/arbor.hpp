@@ -10,6 +10,10 @@
 #ifndef ARBOR_HPP
 #define ARBOR_HPP
 
+#if defined(_MSVC_LANG) ? _MSVC_LANG < 201703L : __cplusplus < 201703L
+#error "arbor.hpp needs C++17 or later (-std=c++17, /std:c++17, or CMake's cxx_std_17; the arbor::arbor CMake targets ask for it)"
+#endif
+
 #include "arbor.h"
 
 #include <algorithm>

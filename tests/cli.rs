@@ -71,6 +71,105 @@ fn info_prints_counts_as_text_and_json() {
     assert!(ok && help.contains("export") && help.contains("info"));
 }
 
+/// `--leaves` on a tree without leaf sites (the 1996 trees) puts leaves at the tips, and
+/// says so; the file holds them (OBJ group, glTF primitive and `extras.leaves`).
+#[test]
+fn leaves_appear_when_asked() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_leaves");
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("g.obj");
+    let (ok, _, err) = arbor(&["export", "g", "-o", obj.to_str().unwrap(), "--leaves"]);
+    assert!(ok, "{err}");
+    assert!(err.contains("at the tips"), "{err}");
+    let text = std::fs::read_to_string(&obj).unwrap();
+    let leaves = text.split("\ng leaves\n").nth(1).expect("a leaves group");
+    let faces = leaves.lines().filter(|l| l.starts_with("f ")).count();
+    assert!(faces >= 1000, "{faces} leaf faces");
+
+    let glb = dir.join("g.gltf");
+    let (ok, _, err) = arbor(&["export", "g", "-o", glb.to_str().unwrap(), "--leaves"]);
+    assert!(ok, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&glb).unwrap()).unwrap();
+    assert_eq!(json["asset"]["extras"]["leaves"], true, "{}", json["asset"]);
+    assert_eq!(json["meshes"][0]["primitives"].as_array().unwrap().len(), 2);
+    // Without leaves the flag says false.
+    let (ok, _, err) = arbor(&["export", "g", "-o", glb.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&glb).unwrap()).unwrap();
+    assert_eq!(json["asset"]["extras"]["leaves"], false);
+
+    // A grammar with leaf sites: auto keeps to its sites; tips may be asked for.
+    let grammar = dir.join("plant.l");
+    std::fs::write(
+        &grammar,
+        "derivation length: 3\nAxiom: A\nA --> F[+A~][-A]\n",
+    )
+    .unwrap();
+    let (ok, _, err) = arbor(&[
+        "export",
+        grammar.to_str().unwrap(),
+        "-o",
+        obj.to_str().unwrap(),
+        "--leaves",
+    ]);
+    assert!(ok && err.contains("at the model's leaf sites"), "{err}");
+    let (ok, _, err) = arbor(&[
+        "export",
+        grammar.to_str().unwrap(),
+        "-o",
+        obj.to_str().unwrap(),
+        "--leaves=tips",
+    ]);
+    assert!(ok && err.contains("at the tips"), "{err}");
+    // Sites on a tree without any is an error that names the way out.
+    let (ok, _, err) = arbor(&["export", "g", "-o", obj.to_str().unwrap(), "--leaves=sites"]);
+    assert!(!ok && err.contains("--leaves=tips"), "{err}");
+}
+
+/// Options that cannot apply to the chosen output are errors, not silently dropped.
+#[test]
+fn options_that_do_nothing_are_errors() {
+    let (ok, _, err) = arbor(&["export", "g", "-o", "x.obj", "--instanced-leaves"]);
+    assert!(
+        !ok && err.contains("--instanced-leaves is for glTF"),
+        "{err}"
+    );
+    let (ok, _, err) = arbor(&["export", "g", "-o", "x.glb", "--leaf-size", "2"]);
+    assert!(!ok && err.contains("--leaf-size needs --leaves"), "{err}");
+    let (ok, _, err) = arbor(&["export", "g", "-o", "x.fbx"]);
+    assert!(!ok && err.contains(".glb, .gltf or .obj"), "{err}");
+    assert!(!Path::new("x.fbx").exists() && !Path::new("x.obj").exists());
+}
+
+/// `--help` names every species; `info --json` is JSON even for a path with control
+/// characters and quotes.
+#[test]
+fn help_lists_species_and_json_is_json() {
+    let (ok, help, _) = arbor(&["--help"]);
+    assert!(ok);
+    for s in arbor::models::growth::Species::ALL {
+        assert!(
+            help.contains(s.name()),
+            "{} missing from --help:\n{help}",
+            s.name()
+        );
+    }
+    let (_, export_help, _) = arbor(&["export", "--help"]);
+    assert!(export_help.contains("weeping"), "{export_help}");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_json");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("odd\t\u{1}\"name\\.l");
+    std::fs::write(&path, "derivation length: 2\nAxiom: A\nA --> F[+A][-A]\n").unwrap();
+    let source = path.to_str().unwrap();
+    let (ok, json, err) = arbor(&["info", source, "--json"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(json.trim()).expect("valid JSON");
+    assert_eq!(v["source"], source);
+    assert_eq!(v["branches"], 3);
+}
+
 #[test]
 fn errors_are_one_line_and_a_failure_exit() {
     for args in [

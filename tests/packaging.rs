@@ -4,7 +4,7 @@
 //! `CI` is set.
 
 mod common;
-use common::{have, lib_dir, run};
+use common::{lib_dir, require, run};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -49,7 +49,8 @@ fn pkg_config_and_cmake_find_the_installed_library() {
     assert!(pc.contains(&format!("Version: {}", env!("CARGO_PKG_VERSION"))));
     let supp = std::fs::read_to_string(prefix.join("share/arbor/valgrind.supp")).unwrap();
     assert!(supp.contains("Memcheck:Leak"), "{supp}");
-    if have("pkg-config") {
+    require("pkg-config");
+    {
         let flags = run(Command::new("pkg-config")
             .args(["--cflags", "--libs", "arbor"])
             .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
@@ -62,7 +63,8 @@ fn pkg_config_and_cmake_find_the_installed_library() {
         let out = run(Command::new(&exe).env("LD_LIBRARY_PATH", prefix.join("lib")));
         assert!(out.contains(" 1023"), "{out}");
     }
-    if have("cmake") {
+    require("cmake");
+    {
         let project = work.join("cmake");
         std::fs::create_dir_all(&project).unwrap();
         std::fs::copy(work.join("app.c"), project.join("app.c")).unwrap();
@@ -114,7 +116,8 @@ fn the_shared_library_has_a_soname_and_versioned_links() {
         std::fs::read_link(lib.join("libarbor.so")).unwrap(),
         Path::new(&soname)
     );
-    if have("readelf") {
+    require("readelf");
+    {
         let dynamic = run(Command::new("readelf").arg("-d").arg(lib.join(&real)));
         assert!(
             dynamic.contains(&format!("Library soname: [{soname}]")),
@@ -123,34 +126,122 @@ fn the_shared_library_has_a_soname_and_versioned_links() {
     }
 }
 
-/// A C program linked statically with `pkg-config --static`: Libs.private names every
-/// system library the static library needs.
+/// A C program linked statically with the documented line,
+/// `cc app.c $(pkg-config --cflags --libs arbor-static)`: no libarbor at run time.
 #[test]
 fn a_static_link_with_pkg_config_works() {
-    if !have("pkg-config") {
-        assert!(std::env::var_os("CI").is_none(), "CI has pkg-config");
-        return;
-    }
+    require("pkg-config");
     let (work, prefix) = setup_in("packaging_static");
-    let flags = run(Command::new("pkg-config")
-        .args(["--static", "--cflags", "--libs", "arbor"])
-        .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
     let exe = work.join("app_static_pc");
-    // The static archive, not the shared one: name it ahead of -larbor.
-    run(Command::new("cc")
-        .arg(work.join("app.c"))
-        .arg(prefix.join("lib/libarbor.a"))
-        .args(flags.split_whitespace())
-        .arg("-o")
-        .arg(&exe));
+    run(Command::new("sh")
+        .arg("-c")
+        .arg("cc app.c $(pkg-config --cflags --libs arbor-static) -o app_static_pc")
+        .current_dir(&work)
+        .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
     let out = run(Command::new(&exe).env_remove("LD_LIBRARY_PATH"));
     assert!(out.contains(" 1023"), "{out}");
-    if have("readelf") {
-        let dynamic = run(Command::new("readelf").arg("-d").arg(&exe));
-        assert!(
-            !dynamic.contains("libarbor"),
-            "linked statically: {dynamic}"
-        );
+    let dynamic = run(Command::new("readelf").arg("-d").arg(&exe));
+    assert!(
+        !dynamic.contains("libarbor"),
+        "linked statically: {dynamic}"
+    );
+}
+
+/// A program linked against the build folder's `libarbor.so` (the README's first C
+/// command) starts: the build folder has the SONAME's file too.
+#[test]
+fn a_program_linked_in_the_build_folder_starts() {
+    let (work, _) = setup_in("packaging_build_folder");
+    let dir = lib_dir();
+    // Cargo's output folder (target/<profile>), where the README links from.
+    let folder = if dir.ends_with("deps") {
+        dir.parent().unwrap().to_path_buf()
+    } else {
+        dir
+    };
+    let soname = soname();
+    assert_eq!(
+        std::fs::read_link(folder.join(&soname)).unwrap(),
+        Path::new("libarbor.so"),
+        "{}",
+        folder.display()
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let exe = work.join("app_build_folder");
+    run(Command::new("cc")
+        .arg(work.join("app.c"))
+        .arg(format!("-I{}", root.join("include").display()))
+        .arg(format!("-L{}", folder.display()))
+        .arg("-larbor")
+        .arg(format!("-Wl,-rpath,{}", folder.display()))
+        .arg("-o")
+        .arg(&exe));
+    let needed = run(Command::new("readelf").arg("-d").arg(&exe));
+    assert!(needed.contains(&format!("[{soname}]")), "{needed}");
+    let out = run(Command::new(&exe).env_remove("LD_LIBRARY_PATH"));
+    assert!(out.contains(" 1023"), "{out}");
+}
+
+/// Installed libraries carry no debug info or bitcode: the archive is well under the
+/// 36 MB it was, and the shared library has no .debug sections.
+#[test]
+fn installed_libraries_are_lean() {
+    let (_, prefix) = setup_in("packaging_lean");
+    let lib = prefix.join("lib");
+    let archive = std::fs::metadata(lib.join("libarbor.a")).unwrap().len();
+    assert!(archive < 12 << 20, "libarbor.a is {archive} bytes");
+    let sections = run(Command::new("readelf")
+        .arg("-S")
+        .arg(lib.join("libarbor.a")));
+    assert!(!sections.contains(".llvmbc"), "bitcode left in the archive");
+    assert!(
+        !sections.contains(".debug_info"),
+        "debug info left in the archive"
+    );
+}
+
+/// A C++14 CMake project that links arbor::arbor and includes arbor.hpp builds: the
+/// target asks for C++17 itself.
+#[test]
+fn cmake_targets_carry_cxx17() {
+    require("cmake");
+    let (work, prefix) = setup_in("packaging_cxx17");
+    let project = work.join("cxx");
+    std::fs::create_dir_all(&project).unwrap();
+    std::fs::write(
+        project.join("app.cpp"),
+        "#include <arbor.hpp>\n#include <cstdio>\nint main() { auto t = arbor::Tree::honda('a');\n\
+         std::printf(\"%zu\\n\", t.branch_count()); return t.branch_count() == 1023 ? 0 : 1; }\n",
+    )
+    .unwrap();
+    std::fs::write(
+        project.join("CMakeLists.txt"),
+        "cmake_minimum_required(VERSION 3.16)\nproject(app CXX)\nset(CMAKE_CXX_STANDARD 14)\n\
+         find_package(arbor 0.2 CONFIG REQUIRED)\n\
+         add_executable(app app.cpp)\ntarget_link_libraries(app PRIVATE arbor::arbor_static)\n",
+    )
+    .unwrap();
+    let build = project.join("build");
+    run(Command::new("cmake")
+        .arg("-S")
+        .arg(&project)
+        .arg("-B")
+        .arg(&build)
+        .arg(format!("-DCMAKE_PREFIX_PATH={}", prefix.display())));
+    run(Command::new("cmake").arg("--build").arg(&build));
+    let out = run(&mut Command::new(build.join("app")));
+    assert!(out.contains("1023"), "{out}");
+}
+
+fn soname() -> String {
+    let (major, minor) = (
+        env!("CARGO_PKG_VERSION_MAJOR"),
+        env!("CARGO_PKG_VERSION_MINOR"),
+    );
+    if major == "0" {
+        format!("libarbor.so.0.{minor}")
+    } else {
+        format!("libarbor.so.{major}")
     }
 }
 

@@ -2,10 +2,10 @@
 //! Mono's `mcs` and run with `mono` against the shared library cargo built for this test
 //! run; its Unity-only helpers and sample compiled with `UNITY_5_3_OR_NEWER` against
 //! stand-ins of the UnityEngine types they use, and run; the package's files checked.
-//! Required when `CI` is set; skipped with a note elsewhere if Mono is missing.
+//! Mono is required: without it the tests fail with its install line.
 
 mod common;
-use common::{have, lib_dir, run};
+use common::{lib_dir, require, run};
 
 use std::path::Path;
 use std::process::Command;
@@ -14,9 +14,7 @@ use std::process::Command;
 fn unity_binding_runs_under_mono() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let lib_dir = lib_dir();
-    if !have("mcs") {
-        return;
-    }
+    require("mcs");
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ArborTest.exe");
     run(Command::new("mcs")
         .arg(format!("-out:{}", exe.display()))
@@ -33,9 +31,7 @@ fn unity_binding_runs_under_mono() {
 fn unity_helpers_compile_against_unityengine_and_fill_a_mesh() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let lib_dir = lib_dir();
-    if !have("mcs") {
-        return;
-    }
+    require("mcs");
     let u = root.join("bindings/unity");
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("UnityHelpersTest.exe");
     run(Command::new("mcs")
@@ -151,9 +147,8 @@ fn header_structs(header: &str) -> Vec<(String, Vec<String>)> {
 #[test]
 fn unity_struct_offsets_match_the_c_compiler() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    if !have("mcs") || !have("cc") {
-        return;
-    }
+    require("mcs");
+    require("cc");
     let header = std::fs::read_to_string(root.join("include/arbor.h")).unwrap();
     let structs = header_structs(&header);
     assert!(

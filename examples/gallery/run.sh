@@ -8,31 +8,9 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 cd "$here/../.."
 
-packages="gcc pkg-config libglfw3-dev libpng-dev libgl-dev libgl1-mesa-dri xvfb xauth"
-missing=""
-command -v cc >/dev/null 2>&1 || missing="yes"
-command -v pkg-config >/dev/null 2>&1 || missing="yes"
-if [ -z "$missing" ]; then
-  pkg-config --exists glfw3 libpng 2>/dev/null || missing="yes"
-fi
-if [ -z "${DISPLAY:-}" ] && [ -z "${WAYLAND_DISPLAY:-}" ]; then
-  command -v xvfb-run >/dev/null 2>&1 || missing="yes"
-fi
-if [ -n "$missing" ]; then
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-    echo "installing: $packages"
-    DEBIAN_FRONTEND=noninteractive apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $packages
-  elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null && command -v apt-get >/dev/null 2>&1; then
-    echo "installing: $packages"
-    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq
-    sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $packages
-  else
-    echo "the gallery needs GLFW, libpng, a C compiler, pkg-config and (without a display) xvfb:" >&2
-    echo "  sudo apt-get install $packages" >&2
-    exit 1
-  fi
-fi
+# What it needs (tools/deps.txt, group gallery): installed when it may (root, or sudo
+# without a password), otherwise it stops with the one line to run.
+"$here/../../tools/deps" gallery
 
 cargo build --release --lib
 make -s -C "$here" gallery

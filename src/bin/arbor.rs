@@ -2,7 +2,8 @@
 //! self-organizing species, and write it as glTF or OBJ, or print what it is.
 //!
 //! ```text
-//! arbor export SOURCE -o OUT.{glb,gltf,obj} [--steps N] [--seed S] [--leaves]
+//! arbor export SOURCE -o OUT.{glb,gltf,obj} [--steps N] [--seed S]
+//!              [--leaves[=auto|sites|tips]] [--leaf-size S] [--instanced-leaves]
 //!              [--radial-segments K] [--curve-rings K]
 //! arbor info SOURCE [--steps N] [--seed S] [--json]
 //! ```
@@ -25,10 +26,17 @@ use std::time::Instant;
 /// second Ctrl-C ends the process at once.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
+/// The species names, as `growth:NAME` takes them.
+fn species_names() -> String {
+    Species::ALL.map(Species::name).join(", ")
+}
+
 fn cli() -> Command {
-    let source = Arg::new("source")
-        .required(true)
-        .help("a–i (the 1996 trees), FILE.l (a cpfg file), or growth:SPECIES");
+    let source = Arg::new("source").required(true).help(format!(
+        "a–i (the 1996 trees), FILE.l (a cpfg file), or growth:SPECIES (a self-organizing \
+         tree: {})",
+        species_names()
+    ));
     let steps = Arg::new("steps")
         .long("steps")
         .value_parser(value_parser!(u32))
@@ -40,6 +48,13 @@ fn cli() -> Command {
     Command::new("arbor")
         .version(env!("CARGO_PKG_VERSION"))
         .about("Grow 3-D trees from L-systems and turn them into meshes")
+        .after_help(format!(
+            "SOURCE: a–i (the nine trees of the 1996 paper), FILE.l (a cpfg L-system, read \
+             with its view file), or growth:SPECIES with SPECIES one of {}.\n\
+             Examples:\n  arbor export g -o tree_g.glb --leaves\n  \
+             arbor export growth:weeping --steps 30 -o weeping.obj\n  arbor info a --json",
+            species_names()
+        ))
         .subcommand_required(true)
         .subcommand(
             Command::new("export")
@@ -57,14 +72,27 @@ fn cli() -> Command {
                 .arg(
                     Arg::new("leaves")
                         .long("leaves")
-                        .action(ArgAction::SetTrue)
-                        .help("bake leaves (and polygons, spheres, surfaces) into the file"),
+                        .num_args(0..=1)
+                        .require_equals(true)
+                        .default_missing_value("auto")
+                        .value_parser(["auto", "sites", "tips"])
+                        .help(
+                            "bake leaves into the file: at the model's leaf sites (~, with its \
+                             polygons, spheres and surfaces), at the tips of the youngest \
+                             branches, or auto (sites when the model has any, else tips)",
+                        ),
+                )
+                .arg(
+                    Arg::new("leaf-size")
+                        .long("leaf-size")
+                        .value_parser(value_parser!(f32))
+                        .help("leaf size in model units (default: 1 at sites, 4% of the tree's size at tips)"),
                 )
                 .arg(
                     Arg::new("instanced-leaves")
                         .long("instanced-leaves")
                         .action(ArgAction::SetTrue)
-                        .help("glTF: one leaf mesh drawn per leaf site (EXT_mesh_gpu_instancing)"),
+                        .help("glTF only: one leaf mesh drawn per leaf (EXT_mesh_gpu_instancing); placed as --leaves says (auto)"),
                 )
                 .arg(
                     Arg::new("radial-segments")
@@ -142,23 +170,19 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     let seed = m.get_one::<u64>("seed").copied().unwrap_or(0);
     let err = |e: arbor::Error| format!("{source}: {e}");
     if let Some(species) = source.strip_prefix("growth:") {
-        let k = ["excurrent", "decurrent", "columnar", "bush", "weeping"]
-            .iter()
-            .position(|n| n.eq_ignore_ascii_case(species))
-            .ok_or_else(|| {
-                format!("{source}: unknown species; expected excurrent, decurrent, columnar, bush or weeping")
-            })?;
+        let kind = Species::from_name(species).ok_or_else(|| {
+            format!(
+                "{source}: unknown species; expected one of {}",
+                species_names()
+            )
+        })?;
         let mut w = World::new(&WorldOptions {
             seed,
             ..Default::default()
         })
         .map_err(err)?;
-        w.plant(
-            &GrowthParams::preset(Species::ALL[k]),
-            [0.0, 0.0, 0.0],
-            seed,
-        )
-        .map_err(err)?;
+        w.plant(&GrowthParams::preset(kind), [0.0, 0.0, 0.0], seed)
+            .map_err(err)?;
         let cycles = steps.unwrap_or(12);
         w.step_with_progress(cycles, &mut |s, f| bar.show(s, f))
             .map_err(err)?;
@@ -206,6 +230,74 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     Ok((s, format!("cpfg file, {n} steps")))
 }
 
+/// Where `--leaves=PLACE` puts leaves on this skeleton, and a note that says so.
+fn leaf_options(
+    skeleton: &Skeleton,
+    place: &str,
+    size: Option<f32>,
+    source: &str,
+) -> Result<(LeafOptions, String), String> {
+    let has_sites = !skeleton.leaves().is_empty()
+        || !skeleton.polygons().is_empty()
+        || !skeleton.organs().is_empty();
+    if let Some(s) = size
+        && !(s.is_finite() && s > 0.0)
+    {
+        return Err(format!("--leaf-size {s}: expected a finite size above 0"));
+    }
+    let tips = match place {
+        "sites" if !has_sites => {
+            return Err(format!(
+                "{source}: the model has no leaf sites (~) or organs; --leaves=tips puts \
+                 leaves at the branch tips"
+            ));
+        }
+        "sites" => false,
+        "tips" => true,
+        _ => !has_sites,
+    };
+    if !tips {
+        let l = LeafOptions {
+            size: size.unwrap_or(1.0),
+            ..LeafOptions::default()
+        };
+        return Ok((l, "at the model's leaf sites".to_string()));
+    }
+    // Tips of the branches born in the last three steps (or cycles), two leaves each on
+    // average, sized to the tree.
+    let last = skeleton
+        .branches()
+        .iter()
+        .map(|b| b.birth)
+        .max()
+        .unwrap_or(0);
+    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+    for b in skeleton.branches() {
+        for p in [b.start, b.end] {
+            for c in 0..3 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+    }
+    let extent = (0..3).map(|c| hi[c] - lo[c]).fold(0.0f32, f32::max);
+    let l = LeafOptions {
+        sites: false,
+        polygons: false,
+        tips: true,
+        min_birth: last.saturating_sub(2),
+        density: 2.0,
+        size: size.unwrap_or(if extent > 0.0 { 0.04 * extent } else { 1.0 }),
+        ..LeafOptions::default()
+    };
+    let why = if place == "tips" {
+        "at the tips of the youngest branches"
+    } else {
+        "at the tips of the youngest branches (the model has no leaf sites)"
+    };
+    Ok((l, why.to_string()))
+}
+
 fn run() -> Result<(), String> {
     let matches = cli().get_matches();
     let (name, m) = matches.subcommand().expect("a subcommand is required");
@@ -225,8 +317,48 @@ fn run() -> Result<(), String> {
             if let Some(&k) = m.get_one::<u32>("curve-rings") {
                 o.curve_rings = k;
             }
-            let leaves = m.get_flag("leaves").then(LeafOptions::default);
             let lower = out.to_ascii_lowercase();
+            let format = [".glb", ".gltf", ".obj"]
+                .into_iter()
+                .find(|e| lower.ends_with(e))
+                .ok_or_else(|| format!("{out}: expected a .glb, .gltf or .obj file name"))?;
+            let instanced = m.get_flag("instanced-leaves");
+            if instanced && format == ".obj" {
+                return Err(format!(
+                    "{out}: --instanced-leaves is for glTF (EXT_mesh_gpu_instancing); OBJ has \
+                     no instancing, use --leaves to bake them"
+                ));
+            }
+            let placement = m
+                .get_one::<String>("leaves")
+                .map(String::as_str)
+                .or(instanced.then_some("auto"));
+            if m.get_one::<f32>("leaf-size").is_some() && placement.is_none() {
+                return Err("--leaf-size needs --leaves or --instanced-leaves".to_string());
+            }
+            let leaves = match placement {
+                Some(place) => {
+                    let size = m.get_one::<f32>("leaf-size").copied();
+                    let source: &String = m.get_one("source").expect("required");
+                    let (l, note) = leaf_options(&skeleton, place, size, source)?;
+                    let o = MeshOptions::default();
+                    let n = arbor::mesh::leaf_instances(&skeleton, &l, &o)
+                        .map_err(|e| e.to_string())?
+                        .len();
+                    let polygons = if l.sites {
+                        skeleton.polygons().len()
+                    } else {
+                        0
+                    };
+                    if n == 0 && polygons == 0 {
+                        eprintln!("warning: {source}: no leaves were placed ({note})");
+                    } else {
+                        eprintln!("leaves: {n} {note}");
+                    }
+                    Some(l)
+                }
+                None => None,
+            };
             let t1 = Instant::now();
             let mut bar = Bar::new();
             let mut show = |s: Stage, f: f32| bar.show(s, f);
@@ -250,15 +382,11 @@ fn run() -> Result<(), String> {
                         &mut show,
                     ),
                 }
-            } else if m.get_flag("instanced-leaves") {
-                let binary = lower.ends_with(".glb");
-                if !binary && !lower.ends_with(".gltf") {
-                    return Err(format!("{out}: expected a .glb, .gltf or .obj file name"));
-                }
+            } else if instanced {
                 arbor::export::save_gltf_instanced_with_progress(
                     &skeleton,
                     &o,
-                    &LeafOptions::default(),
+                    leaves.as_ref().expect("instanced leaves are placed"),
                     out,
                     &mut show,
                 )
@@ -296,15 +424,19 @@ fn run() -> Result<(), String> {
                 skeleton.organs().len(),
             );
             if m.get_flag("json") {
-                println!(
-                    "{{\"source\":{:?},\"what\":{:?},\"branches\":{branches},\"leaf_sites\":{leaves},\
-                     \"polygons\":{polygons},\"organs\":{organs},\"vertices\":{},\"indices\":{},\
-                     \"grow_ms\":{grow_ms:.3},\"mesh_size_ms\":{mesh_ms:.3}}}",
-                    m.get_one::<String>("source").expect("required"),
-                    what,
-                    size.vertices,
-                    size.indices
-                );
+                let json = serde_json::json!({
+                    "source": m.get_one::<String>("source").expect("required"),
+                    "what": what,
+                    "branches": branches,
+                    "leaf_sites": leaves,
+                    "polygons": polygons,
+                    "organs": organs,
+                    "vertices": size.vertices,
+                    "indices": size.indices,
+                    "grow_ms": grow_ms,
+                    "mesh_size_ms": mesh_ms,
+                });
+                println!("{json}");
             } else {
                 println!("{what}");
                 println!("branches    {branches}");

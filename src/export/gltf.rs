@@ -146,7 +146,8 @@ fn gltf_bytes_with(
         o.radial_segments,
         o.curve_rings,
         num(o.scale),
-        leaves.is_some()
+        // Whether the file holds leaf geometry (asked for and found somewhere to go).
+        prims.iter().any(|p| matches!(p.material, Material::Leaves))
     );
     encode(one_tree(prims), &extras, binary, NO_INSTANCES)
 }

@@ -31,16 +31,34 @@ pub fn lib_dir() -> PathBuf {
     }
 }
 
-/// Whether `tool` runs; a missing tool fails the test when `CI` is set and is skipped
-/// with a note otherwise.
-pub fn have(tool: &str) -> bool {
-    let found = Command::new(tool).arg("--version").output().is_ok();
-    if !found {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but {tool} is not installed"
-        );
-        eprintln!("note: {tool} not installed; skipped");
+/// Fails the test when `tool` does not run: every suite runs, none is skipped. The
+/// message says how to get it (the test command, `tools/test`, installs everything in
+/// `tools/deps.txt`).
+pub fn require(tool: &str) {
+    if Command::new(tool).arg("--version").output().is_err() {
+        missing(tool);
     }
-    found
+}
+
+/// Fails the test: `what` is not installed, with the line that installs it.
+pub fn missing(what: &str) -> ! {
+    panic!(
+        "{what} is not installed, so this suite cannot run. `tools/test` installs everything \
+         the tests need, or run: {}",
+        install_line()
+    );
+}
+
+/// The apt-get line for everything in `tools/deps.txt` (what `tools/deps --line` prints).
+pub fn install_line() -> String {
+    let list = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/deps.txt"),
+    )
+    .unwrap_or_default();
+    let packages: Vec<&str> = list
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| l.split_whitespace().nth(1))
+        .collect();
+    format!("sudo apt-get install -y {}", packages.join(" "))
 }

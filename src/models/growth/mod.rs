@@ -203,6 +203,24 @@ impl Species {
         Species::Bush,
         Species::Weeping,
     ];
+
+    /// The species' name in lower case, as the CLI and documentation spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Species::Excurrent => "excurrent",
+            Species::Decurrent => "decurrent",
+            Species::Columnar => "columnar",
+            Species::Bush => "bush",
+            Species::Weeping => "weeping",
+        }
+    }
+
+    /// The species of that name (any case), if there is one.
+    pub fn from_name(name: &str) -> Option<Species> {
+        Species::ALL
+            .into_iter()
+            .find(|s| s.name().eq_ignore_ascii_case(name))
+    }
 }
 
 impl GrowthParams {
