@@ -97,6 +97,150 @@ fn the_unity_package_is_complete() {
     }
 }
 
+/// How regular a GUID's hex digits are: neighbours equal or counting up, or every other
+/// digit counting up (`1a2b3c4d…`). Random GUIDs score about 6; hand-typed patterns 20+.
+fn regularity(guid: &str) -> usize {
+    let d: Vec<u32> = guid.chars().map(|c| c.to_digit(16).unwrap()).collect();
+    (0..d.len() - 1)
+        .filter(|&i| {
+            d[i + 1] == (d[i] + 1) % 16
+                || d[i + 1] == d[i]
+                || (i + 2 < d.len() && d[i + 2] == (d[i] + 1) % 16)
+        })
+        .count()
+}
+
+/// Every GUID in the package is random (Unity identifies assets by them across every
+/// project: a hand-typed pattern invites collisions), hex, and lower case.
+#[test]
+fn unity_guids_are_random() {
+    let u = Path::new(env!("CARGO_MANIFEST_DIR")).join("bindings/unity");
+    let mut stack = vec![u];
+    let mut seen = 0;
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "meta") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                let guid = text.lines().find_map(|l| l.strip_prefix("guid: ")).unwrap();
+                assert!(
+                    guid.len() == 32
+                        && guid
+                            .chars()
+                            .all(|c| c.is_ascii_hexdigit() && !c.is_ascii_uppercase()),
+                    "{}: {guid}",
+                    p.display()
+                );
+                assert!(
+                    regularity(guid) < 14,
+                    "{}: GUID {guid} looks hand-typed (regularity {})",
+                    p.display(),
+                    regularity(guid)
+                );
+                seen += 1;
+            }
+        }
+    }
+    assert!(seen >= 10, "{seen} .meta files");
+    assert!(regularity("1a2b3c4d5e6f40718293a4b5c6d7e8f9") >= 14);
+}
+
+/// Plugin binaries copied into the package are ignored by git (only their .meta files
+/// are committed).
+#[test]
+fn copied_plugins_are_ignored_by_git() {
+    require("git");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // A scratch repository with the project's .gitignore, so this holds in a tarball too.
+    let scratch = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gitignore");
+    let _ = std::fs::remove_dir_all(&scratch);
+    std::fs::create_dir_all(&scratch).unwrap();
+    std::fs::copy(root.join(".gitignore"), scratch.join(".gitignore")).unwrap();
+    run(Command::new("git")
+        .arg("init")
+        .arg("-q")
+        .current_dir(&scratch));
+    for plugin in [
+        "Linux/x86_64/libarbor.so",
+        "Windows/x86_64/arbor.dll",
+        "macOS/libarbor.dylib",
+    ] {
+        let path = format!("bindings/unity/Runtime/Plugins/{plugin}");
+        run(Command::new("git")
+            .args(["check-ignore", "-q", &path])
+            .current_dir(&scratch));
+        let meta = format!("{path}.meta");
+        let kept = Command::new("git")
+            .args(["check-ignore", "-q", &meta])
+            .current_dir(&scratch)
+            .status()
+            .unwrap();
+        assert!(!kept.success(), "{meta} must stay committed");
+    }
+}
+
+/// The Windows plugin cross-builds from Linux with the package's script (mingw-w64), and
+/// the DLL exports every function of arbor.h and needs only Windows' own DLLs.
+#[test]
+fn the_windows_plugin_cross_builds() {
+    require("x86_64-w64-mingw32-gcc");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("unity-windows");
+    run(Command::new("bash")
+        .arg(root.join("bindings/unity/build-plugins.sh"))
+        .arg("windows")
+        .env("CARGO_TARGET_DIR", &target));
+    let dll = root.join("bindings/unity/Runtime/Plugins/Windows/x86_64/arbor.dll");
+    let dump = run(Command::new("x86_64-w64-mingw32-objdump")
+        .arg("-p")
+        .arg(&dll));
+    let header = std::fs::read_to_string(root.join("include/arbor.h")).unwrap();
+    let mut functions = 0;
+    for line in header.lines() {
+        // Declarations only: not comments, and not the header's own `static inline` helpers.
+        if line.trim_start().starts_with('*') || line.contains("static inline") {
+            continue;
+        }
+        let Some(i) = line.find(" arbor_") else {
+            continue;
+        };
+        let name: String = line[i + 1..]
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        if line[i + 1 + name.len()..].starts_with('(') {
+            functions += 1;
+            assert!(
+                dump.contains(&format!(" {name}\n")),
+                "arbor.dll does not export {name}"
+            );
+        }
+    }
+    assert!(functions > 50, "{functions} functions found in arbor.h");
+    for dep in dump
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("DLL Name: "))
+    {
+        let dep = dep.to_ascii_lowercase();
+        assert!(
+            [
+                "kernel32",
+                "ntdll",
+                "msvcrt",
+                "userenv",
+                "ws2_32",
+                "bcryptprimitives",
+                "api-ms-win-"
+            ]
+            .iter()
+            .any(|s| dep.starts_with(s)),
+            "arbor.dll needs {dep}, which Windows does not have"
+        );
+    }
+}
+
 /// The C header's structs as members: (struct name without `Arbor`, member names).
 fn header_structs(header: &str) -> Vec<(String, Vec<String>)> {
     // Comments out first.
