@@ -580,7 +580,7 @@ typedef struct ArborCurveGrowthRecord {
 } ArborCurveGrowthRecord;
 
 /**
- * A progress callback (see "Progress and cancellation" in the README): called on the
+ * A progress callback (see "Progress and cancellation" in docs/c-api.md): called on the
  * calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
  * non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
  * out-parameter and leaks nothing.
@@ -588,8 +588,8 @@ typedef struct ArborCurveGrowthRecord {
 typedef int32_t (*ArborProgressFn)(void *user_data, uint32_t stage, float fraction);
 
 /**
- * Options of the tube mesher: a struct that grows (see "Structs that grow" in the
- * README). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
+ * Options of the tube mesher: a struct that grows (see "Structs that grow" in
+ * docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
  * change what you need. Enum-like fields are validated (unknown values give
  * ARBOR_STATUS_INVALID_ARGUMENT naming the field).
  */
@@ -702,8 +702,8 @@ typedef int32_t (*ArborReadFileFn)(void *user_data,
                                    size_t *size);
 
 /**
- * Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
- * README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
+ * Where leaves go and how they vary: a struct that grows (see "Structs that grow" in
+ * docs/c-api.md). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
  */
 typedef struct ArborLeafOptions {
   /**
@@ -887,7 +887,7 @@ typedef struct ArborVertex {
 } ArborVertex;
 
 /**
- * Options of a world: a struct that grows (see "Structs that grow" in the README).
+ * Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md).
  * Start from arbor_world_options_default() (or arbor_world_options_init()).
  */
 typedef struct ArborWorldOptions {
@@ -966,7 +966,7 @@ typedef struct ArborWorldOptions {
 } ArborWorldOptions;
 
 /**
- * One species: a struct that grows (see "Structs that grow" in the README). Start from
+ * One species: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
  * arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
  * angles in degrees; the ranges are those of the Rust `GrowthParams`.
  */
@@ -1072,7 +1072,7 @@ typedef struct ArborLeafInstance {
 
 /**
  * Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
- * the README). Start from arbor_lsystem_options_default() (or
+ * docs/c-api.md). Start from arbor_lsystem_options_default() (or
  * arbor_lsystem_options_init()) and change what you need.
  */
 typedef struct ArborLsystemOptions {
@@ -2110,7 +2110,7 @@ enum ArborStatus arbor_tree_prune_collisions(const struct ArborTree *tree,
 #define ARBOR_H_DEFAULTS
 
 /* Defaults of the structs that grow, at the size this header declares (see "Structs that
-   grow" in the README): arbor fills exactly sizeof the host's struct, so a host built
+   grow" in docs/c-api.md): arbor fills exactly sizeof the host's struct, so a host built
    against this header keeps working with a newer library. */
 static inline ArborMeshOptions arbor_mesh_options_default(void) {
   ArborMeshOptions o;

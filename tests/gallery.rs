@@ -354,4 +354,24 @@ fn gallery_draws_lsystem_files_with_their_organs() {
         ],
     );
     assert_eq!(differing_pixels(&a, &again), 0);
+    // A mistyped file is an error that names it, not another file of the folder drawn.
+    let typo = dir.join("typo.l");
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("lsystem_typo.ppm");
+    let _ = std::fs::remove_file(&shot);
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x1024x24"])
+        .arg(&exe)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--frames", "1", "--lsystem"])
+        .arg(&typo)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("typo.l") && err.contains("No such file"),
+        "{err}"
+    );
+    assert!(!shot.exists(), "nothing drawn");
 }

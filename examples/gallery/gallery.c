@@ -28,6 +28,8 @@
 #include "arbor.h"
 
 #include <dirent.h>
+#include <errno.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -659,22 +661,41 @@ static void list_folder(const char *dir, int deep) {
   free(names);
 }
 
-/* --lsystem PATH: a file (and its neighbours) or a folder. */
+/* --lsystem PATH: a file (and its neighbours) or a folder. A path that is neither, or a
+   folder without .l files, is an error: the gallery says so and exits 1. */
 static void open_lsystems(const char *path) {
-  DIR *d = opendir(path);
-  if (d) {
-    closedir(d);
+  struct stat info;
+  if (stat(path, &info) != 0) {
+    fprintf(stderr, "gallery: --lsystem %s: %s (expected a .l file or a folder of them)\n", path,
+            strerror(errno));
+    exit(1);
+  }
+  if (S_ISDIR(info.st_mode)) {
     list_folder(path, 1);
+    if (st.lsys_count == 0) {
+      fprintf(stderr, "gallery: --lsystem %s: the folder has no .l files\n", path);
+      exit(1);
+    }
   } else {
     char dir[4096];
     snprintf(dir, sizeof dir, "%s", path);
     char *slash = strrchr(dir, '/');
     if (slash) *slash = 0;
     else snprintf(dir, sizeof dir, ".");
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     list_folder(dir, 0);
-    for (int i = 0; i < st.lsys_count; i++)
-      if (has_suffix(st.lsys_files[i], strrchr(path, '/') ? strrchr(path, '/') : path)) st.lsys_index = i;
-    if (st.lsys_count == 0) add_file(path);
+    st.lsys_index = -1;
+    for (int i = 0; i < st.lsys_count; i++) {
+      const char *name = strrchr(st.lsys_files[i], '/') + 1;
+      if (!strcmp(name, base)) st.lsys_index = i;
+    }
+    /* Not among its folder's .l files (another extension): that file alone. */
+    if (st.lsys_index < 0) {
+      for (int i = 0; i < st.lsys_count; i++) free(st.lsys_files[i]);
+      st.lsys_count = 0;
+      add_file(path);
+      st.lsys_index = 0;
+    }
   }
   st.lsys_mode = 1;
 }

@@ -13,7 +13,7 @@ pub enum ArborEnvironment {
     SpaceColonization = 1,
 }
 
-/// Options of a world: a struct that grows (see "Structs that grow" in the README).
+/// Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md).
 /// Start from arbor_world_options_default() (or arbor_world_options_init()).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -121,7 +121,7 @@ impl TryFrom<&ArborWorldOptions> for WorldOptions {
     }
 }
 
-/// One species: a struct that grows (see "Structs that grow" in the README). Start from
+/// One species: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
 /// arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
 /// angles in degrees; the ranges are those of the Rust `GrowthParams`.
 #[repr(C)]

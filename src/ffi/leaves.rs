@@ -2,8 +2,8 @@
 
 use super::*;
 
-/// Where leaves go and how they vary: a struct that grows (see "Structs that grow" in the
-/// README). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
+/// Where leaves go and how they vary: a struct that grows (see "Structs that grow" in
+/// docs/c-api.md). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct ArborLeafOptions {

@@ -10,7 +10,7 @@ pub const ARBOR_OVERRIDE_INITIAL_WIDTH: u32 = 2;
 pub const ARBOR_OVERRIDE_WIDTH_INCREMENT: u32 = 4;
 
 /// Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
-/// the README). Start from arbor_lsystem_options_default() (or
+/// docs/c-api.md). Start from arbor_lsystem_options_default() (or
 /// arbor_lsystem_options_init()) and change what you need.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]

@@ -87,8 +87,8 @@ pub enum ArborAxes {
     Unreal = 2,
 }
 
-/// Options of the tube mesher: a struct that grows (see "Structs that grow" in the
-/// README). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
+/// Options of the tube mesher: a struct that grows (see "Structs that grow" in
+/// docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
 /// change what you need. Enum-like fields are validated (unknown values give
 /// ARBOR_STATUS_INVALID_ARGUMENT naming the field).
 #[repr(C)]

@@ -63,7 +63,7 @@ pub const ARBOR_STAGE_LOAD: u32 = 4;
 /// it replaces the target, the last moment a cancel leaves the old file as it was).
 pub const ARBOR_STAGE_WRITE: u32 = 5;
 
-/// A progress callback (see "Progress and cancellation" in the README): called on the
+/// A progress callback (see "Progress and cancellation" in docs/c-api.md): called on the
 /// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
 /// non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
 /// out-parameter and leaks nothing.
