@@ -35,6 +35,7 @@ fn build_with(source: &str, std: &str, sanitize: bool) -> PathBuf {
         (false, true) => "clang",
         (true, true) => "clang++",
     };
+    require(compiler);
     let mut cmd = Command::new(compiler);
     cmd.arg(format!("-std={std}"))
         .args(WARNINGS)

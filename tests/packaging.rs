@@ -286,3 +286,85 @@ fn libs_private_match_rustc_native_static_libs() {
         "{pc}"
     );
 }
+
+/// The linking blocks of docs/hosts.md run as printed (their `cargo build` lines aside:
+/// cargo already built this run's library, which stands in for `target/release`), in a
+/// scratch folder that mirrors the checkout, with a scratch HOME, and the README's C quick
+/// start as `app.c`. tools/fresh-clone runs them all, cargo included, on a fresh clone.
+#[test]
+fn the_documented_link_lines_work() {
+    require("pkg-config");
+    require("cmake");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("documented_links");
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(work.join("target")).unwrap();
+    std::fs::create_dir_all(work.join("home")).unwrap();
+    for name in ["include", "packaging", "ffi-tests", "Cargo.toml"] {
+        std::os::unix::fs::symlink(root.join(name), work.join(name)).unwrap();
+    }
+    // target/release: this run's libraries, with the SONAME link the build folder has.
+    let release = work.join("target/release");
+    std::fs::create_dir_all(&release).unwrap();
+    for name in ["libarbor.a", "libarbor.so"] {
+        std::fs::copy(lib_dir().join(name), release.join(name)).unwrap();
+    }
+    std::os::unix::fs::symlink("libarbor.so", release.join(soname())).unwrap();
+    let extract = |doc: &str, out: &str| {
+        let dir = work.join(out);
+        run(Command::new("bash")
+            .arg(root.join("tools/readme-blocks"))
+            .arg(root.join(doc))
+            .arg(&dir));
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        files.sort();
+        files
+    };
+    // The README's app.c.
+    for f in extract("README.md", "readme-blocks") {
+        let text = std::fs::read_to_string(&f).unwrap();
+        if let Some(body) = text.strip_prefix("app.c\n") {
+            std::fs::write(work.join("app.c"), body).unwrap();
+        }
+    }
+    assert!(work.join("app.c").is_file(), "the README writes app.c");
+    let mut ran = 0;
+    for f in extract("docs/hosts.md", "hosts-blocks") {
+        let text = std::fs::read_to_string(&f).unwrap();
+        if f.extension().is_some_and(|x| x == "file") {
+            let (path, body) = text.split_once('\n').unwrap();
+            let path = work.join(path);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, body).unwrap();
+            continue;
+        }
+        let script: String = text
+            .lines()
+            .filter(|l| !l.starts_with("cargo "))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let out = run(Command::new("bash")
+            .args(["-euo", "pipefail", "-c", &script])
+            .current_dir(&work)
+            .env("HOME", work.join("home"))
+            .env_remove("PKG_CONFIG_PATH")
+            .env_remove("LD_LIBRARY_PATH"));
+        assert!(out.contains("tree g: 1023 branches"), "{script}: {out}");
+        ran += 1;
+    }
+    assert!(ran >= 3, "{ran} linking blocks in docs/hosts.md");
+    // Shared from the build folder, shared and static installed, CMake both ways.
+    for (exe, shared) in [
+        ("app", true),
+        ("app_shared", true),
+        ("app_static", false),
+        ("cmake-app/build/app_shared", true),
+        ("cmake-app/build/app_static", false),
+    ] {
+        let dynamic = run(Command::new("readelf").arg("-d").arg(work.join(exe)));
+        assert_eq!(dynamic.contains(&soname()), shared, "{exe}: {dynamic}");
+    }
+}

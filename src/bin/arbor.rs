@@ -345,13 +345,17 @@ fn run() -> Result<(), String> {
                     let n = arbor::mesh::leaf_instances(&skeleton, &l, &o)
                         .map_err(|e| e.to_string())?
                         .len();
-                    let polygons = if l.sites {
-                        skeleton.polygons().len()
+                    let (polygons, organs) = if l.sites {
+                        (skeleton.polygons().len(), skeleton.organs().len())
                     } else {
-                        0
+                        (0, 0)
                     };
-                    if n == 0 && polygons == 0 {
+                    if n + polygons + organs == 0 {
                         eprintln!("warning: {source}: no leaves were placed ({note})");
+                    } else if l.sites {
+                        eprintln!(
+                            "leaves: {n} {note}, with its {polygons} polygons and {organs} organs"
+                        );
                     } else {
                         eprintln!("leaves: {n} {note}");
                     }
