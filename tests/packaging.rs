@@ -368,3 +368,22 @@ fn the_documented_link_lines_work() {
         assert_eq!(dynamic.contains(&soname()), shared, "{exe}: {dynamic}");
     }
 }
+
+/// The library alone (`default-features = false`, as an engine embeds it) depends on no
+/// command-line crates: clap, ctrlc and serde_json come only with the `cli` feature.
+#[test]
+fn the_library_alone_has_no_cli_dependencies() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tree = |features: &[&str]| {
+        run(Command::new(env!("CARGO"))
+            .current_dir(root)
+            .args(["tree", "--edges", "normal", "--prefix", "none", "--offline"])
+            .args(features))
+    };
+    let lean = tree(&["--no-default-features"]);
+    for name in ["clap ", "ctrlc ", "serde_json "] {
+        assert!(!lean.contains(name), "{name}in the library's tree:\n{lean}");
+    }
+    let cli = tree(&[]);
+    assert!(cli.contains("clap "), "the cli feature brings clap:\n{cli}");
+}

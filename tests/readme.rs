@@ -107,7 +107,7 @@ fn the_readme_is_short_and_links_every_chapter() {
         .take_while(|l| !l.starts_with('!'))
         .filter(|l| !l.trim().is_empty())
         .collect();
-    assert!(intro.len() <= 7, "intro of {} lines", intro.len());
+    assert!(intro.len() <= 5, "intro of {} lines", intro.len());
     for needle in [
         "examples/gallery/run.sh",
         "tools/test",
