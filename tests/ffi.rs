@@ -71,14 +71,12 @@ fn check_program(source: &str, std: &str) {
         "clang"
     };
     require(clang);
-    {
-        let exe = build_with(source, std, true);
-        let text = run(Command::new(&exe)
-            .arg(out_dir())
-            .env("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
-            .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1"));
-        assert!(text.contains(" 0 failed"), "{text}");
-    }
+    let exe = build_with(source, std, true);
+    let text = run(Command::new(&exe)
+        .arg(out_dir())
+        .env("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
+        .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1"));
+    assert!(text.contains(" 0 failed"), "{text}");
 }
 
 fn valgrind() -> Option<PathBuf> {

@@ -50,44 +50,33 @@ fn pkg_config_and_cmake_find_the_installed_library() {
     let supp = std::fs::read_to_string(prefix.join("share/arbor/valgrind.supp")).unwrap();
     assert!(supp.contains("Memcheck:Leak"), "{supp}");
     require("pkg-config");
-    {
-        let flags = run(Command::new("pkg-config")
-            .args(["--cflags", "--libs", "arbor"])
-            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
-        let exe = work.join("app_pkgconfig");
-        run(Command::new("cc")
-            .arg(work.join("app.c"))
-            .args(flags.split_whitespace())
-            .arg("-o")
-            .arg(&exe));
-        let out = run(Command::new(&exe).env("LD_LIBRARY_PATH", prefix.join("lib")));
-        assert!(out.contains(" 1023"), "{out}");
-    }
+    let flags = run(Command::new("pkg-config")
+        .args(["--cflags", "--libs", "arbor"])
+        .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")));
+    let exe = work.join("app_pkgconfig");
+    run(Command::new("cc")
+        .arg(work.join("app.c"))
+        .args(flags.split_whitespace())
+        .arg("-o")
+        .arg(&exe));
+    let out = run(Command::new(&exe).env("LD_LIBRARY_PATH", prefix.join("lib")));
+    assert!(out.contains(" 1023"), "{out}");
     require("cmake");
-    {
-        let project = work.join("cmake");
-        std::fs::create_dir_all(&project).unwrap();
-        std::fs::copy(work.join("app.c"), project.join("app.c")).unwrap();
-        std::fs::write(
-            project.join("CMakeLists.txt"),
-            "cmake_minimum_required(VERSION 3.16)\nproject(app C)\n\
-             find_package(arbor 0.2 CONFIG REQUIRED)\n\
-             add_executable(app_shared app.c)\ntarget_link_libraries(app_shared PRIVATE arbor::arbor)\n\
-             add_executable(app_static app.c)\ntarget_link_libraries(app_static PRIVATE arbor::arbor_static)\n",
-        )
-        .unwrap();
-        let build = project.join("build");
-        run(Command::new("cmake")
-            .arg("-S")
-            .arg(&project)
-            .arg("-B")
-            .arg(&build)
-            .arg(format!("-DCMAKE_PREFIX_PATH={}", prefix.display())));
-        run(Command::new("cmake").arg("--build").arg(&build));
-        for exe in ["app_shared", "app_static"] {
-            let out = run(&mut Command::new(build.join(exe)));
-            assert!(out.contains(" 1023"), "{exe}: {out}");
-        }
+    let project = work.join("cmake");
+    std::fs::create_dir_all(&project).unwrap();
+    std::fs::copy(work.join("app.c"), project.join("app.c")).unwrap();
+    std::fs::write(
+        project.join("CMakeLists.txt"),
+        "cmake_minimum_required(VERSION 3.16)\nproject(app C)\n\
+         find_package(arbor 0.2 CONFIG REQUIRED)\n\
+         add_executable(app_shared app.c)\ntarget_link_libraries(app_shared PRIVATE arbor::arbor)\n\
+         add_executable(app_static app.c)\ntarget_link_libraries(app_static PRIVATE arbor::arbor_static)\n",
+    )
+    .unwrap();
+    let build = cmake_build(&project, &prefix);
+    for exe in ["app_shared", "app_static"] {
+        let out = run(&mut Command::new(build.join(exe)));
+        assert!(out.contains(" 1023"), "{exe}: {out}");
     }
 }
 
@@ -117,13 +106,11 @@ fn the_shared_library_has_a_soname_and_versioned_links() {
         Path::new(&soname)
     );
     require("readelf");
-    {
-        let dynamic = run(Command::new("readelf").arg("-d").arg(lib.join(&real)));
-        assert!(
-            dynamic.contains(&format!("Library soname: [{soname}]")),
-            "{dynamic}"
-        );
-    }
+    let dynamic = run(Command::new("readelf").arg("-d").arg(lib.join(&real)));
+    assert!(
+        dynamic.contains(&format!("Library soname: [{soname}]")),
+        "{dynamic}"
+    );
 }
 
 /// A C program linked statically with the documented line,
@@ -221,16 +208,23 @@ fn cmake_targets_carry_cxx17() {
          add_executable(app app.cpp)\ntarget_link_libraries(app PRIVATE arbor::arbor_static)\n",
     )
     .unwrap();
+    let build = cmake_build(&project, &prefix);
+    let out = run(&mut Command::new(build.join("app")));
+    assert!(out.contains("1023"), "{out}");
+}
+
+/// Configures and builds the CMake project in `project` against the arbor installed in
+/// `prefix`; returns its build folder.
+fn cmake_build(project: &Path, prefix: &Path) -> PathBuf {
     let build = project.join("build");
     run(Command::new("cmake")
         .arg("-S")
-        .arg(&project)
+        .arg(project)
         .arg("-B")
         .arg(&build)
         .arg(format!("-DCMAKE_PREFIX_PATH={}", prefix.display())));
     run(Command::new("cmake").arg("--build").arg(&build));
-    let out = run(&mut Command::new(build.join("app")));
-    assert!(out.contains("1023"), "{out}");
+    build
 }
 
 fn soname() -> String {
@@ -310,35 +304,19 @@ fn the_documented_link_lines_work() {
         std::fs::copy(lib_dir().join(name), release.join(name)).unwrap();
     }
     std::os::unix::fs::symlink("libarbor.so", release.join(soname())).unwrap();
-    let extract = |doc: &str, out: &str| {
-        let dir = work.join(out);
-        run(Command::new("bash")
-            .arg(root.join("tools/readme-blocks"))
-            .arg(root.join(doc))
-            .arg(&dir));
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        files.sort();
-        files
-    };
     // The README's app.c.
-    for f in extract("README.md", "readme-blocks") {
-        let text = std::fs::read_to_string(&f).unwrap();
-        if let Some(body) = text.strip_prefix("app.c\n") {
-            std::fs::write(work.join("app.c"), body).unwrap();
-        }
-    }
-    assert!(work.join("app.c").is_file(), "the README writes app.c");
+    let readme = common::runnable_blocks("README.md", &work.join("readme-blocks"));
+    let (_, app) = readme
+        .iter()
+        .find(|(path, _)| path.as_deref() == Some("app.c"))
+        .expect("the README writes app.c");
+    std::fs::write(work.join("app.c"), app).unwrap();
     let mut ran = 0;
-    for f in extract("docs/hosts.md", "hosts-blocks") {
-        let text = std::fs::read_to_string(&f).unwrap();
-        if f.extension().is_some_and(|x| x == "file") {
-            let (path, body) = text.split_once('\n').unwrap();
+    for (path, text) in common::runnable_blocks("docs/hosts.md", &work.join("hosts-blocks")) {
+        if let Some(path) = path {
             let path = work.join(path);
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-            std::fs::write(path, body).unwrap();
+            std::fs::write(path, text).unwrap();
             continue;
         }
         let script: String = text

@@ -129,32 +129,10 @@ fn the_readme_is_short_and_links_every_chapter() {
     }
 }
 
-/// The runnable blocks as `tools/readme-blocks` finds them: (path or None, text).
 fn blocks(doc: &str) -> Vec<(Option<String>, String)> {
     let out =
         Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("blocks-{}", doc.replace('/', "_")));
-    let _ = std::fs::remove_dir_all(&out);
-    run(Command::new("bash")
-        .arg(root().join("tools/readme-blocks"))
-        .arg(root().join(doc))
-        .arg(&out));
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .map(|p| {
-            let text = std::fs::read_to_string(&p).unwrap();
-            if p.extension().is_some_and(|x| x == "file") {
-                let (path, body) = text.split_once('\n').unwrap();
-                (Some(path.to_string()), body.to_string())
-            } else {
-                (None, text)
-            }
-        })
-        .collect()
+    common::runnable_blocks(doc, &out)
 }
 
 /// The C quick start: its program, compiled as printed against this run's library, runs

@@ -62,3 +62,32 @@ pub fn install_line() -> String {
         .collect();
     format!("sudo apt-get install -y {}", packages.join(" "))
 }
+
+/// The runnable blocks of a document (relative to the checkout) as `tools/readme-blocks`
+/// finds them, in order: `(Some(path), text)` for a file to write, `(None, script)` for a
+/// shell block. `out` is a scratch folder.
+pub fn runnable_blocks(doc: &str, out: &std::path::Path) -> Vec<(Option<String>, String)> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let _ = std::fs::remove_dir_all(out);
+    run(Command::new("bash")
+        .arg(root.join("tools/readme-blocks"))
+        .arg(root.join(doc))
+        .arg(out));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            if p.extension().is_some_and(|x| x == "file") {
+                let (path, body) = text.split_once('\n').unwrap();
+                (Some(path.to_string()), body.to_string())
+            } else {
+                (None, text)
+            }
+        })
+        .collect()
+}
