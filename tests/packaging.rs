@@ -135,17 +135,28 @@ fn a_static_link_with_pkg_config_works() {
 }
 
 /// A program linked against the build folder's `libarbor.so` (the README's first C
-/// command) starts: the build folder has the SONAME's file too.
+/// command) starts: the build folder has the SONAME's file too. `cargo test` leaves the
+/// shared library in `deps/` only, so the test runs `cargo build --lib` itself, into a
+/// target folder of its own (the test's own folder is locked while tests run).
 #[test]
 fn a_program_linked_in_the_build_folder_starts() {
     let (work, _) = setup_in("packaging_build_folder");
-    let dir = lib_dir();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("packaging_cargo_build");
+    run(Command::new(env!("CARGO"))
+        .args([
+            "build",
+            "--lib",
+            "--no-default-features",
+            "--offline",
+            "--quiet",
+        ])
+        .arg("--target-dir")
+        .arg(&target)
+        .current_dir(root));
     // Cargo's output folder (target/<profile>), where the README links from.
-    let folder = if dir.ends_with("deps") {
-        dir.parent().unwrap().to_path_buf()
-    } else {
-        dir
-    };
+    let folder = target.join("debug");
+    assert!(folder.join("libarbor.so").is_file(), "{}", folder.display());
     let soname = soname();
     assert_eq!(
         std::fs::read_link(folder.join(&soname)).unwrap(),
@@ -153,7 +164,6 @@ fn a_program_linked_in_the_build_folder_starts() {
         "{}",
         folder.display()
     );
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let exe = work.join("app_build_folder");
     run(Command::new("cc")
         .arg(work.join("app.c"))
