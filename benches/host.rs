@@ -7,11 +7,12 @@
 //! g with n = 18 (restart strips). The ratio memset time / mesh time is the fraction of
 //! memset bandwidth a host gets.
 
+// The C types ArborHondaParams, ArborTopology and ArborVertex are these Rust types.
 use arbor::ffi::{
-    ArborHondaParams, ArborMeshOptions, ArborStatus, ArborTopology, ArborTree, ArborVertex,
-    arbor_honda_preset, arbor_mesh_options_init, arbor_mesh_size, arbor_mesh_write,
-    arbor_tree_free, arbor_tree_from_honda,
+    ArborMeshOptions, ArborStatus, ArborTree, arbor_honda_preset, arbor_mesh_options_init,
+    arbor_mesh_size, arbor_mesh_write, arbor_tree_free, arbor_tree_from_honda,
 };
+use arbor::{HondaParams as ArborHondaParams, Topology as ArborTopology, Vertex as ArborVertex};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::mem::size_of;

@@ -85,73 +85,37 @@
 #define ARBOR_ABI_VERSION 200
 
 /**
- * Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
- * GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
+ * Index that separates strips in triangle-strip-restart output (ARBOR_RESTART_INDEX in
+ * C): OpenGL's GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices.
  */
 #define ARBOR_RESTART_INDEX UINT32_MAX
 
 /**
- * `ArborBranch.parent` of a root branch.
+ * Fewest sides a branch may have (`radial_segments`, `min_radial_segments`).
+ */
+#define ARBOR_MIN_RADIAL_SEGMENTS 3
+
+/**
+ * Most sides a branch may have (`radial_segments`).
+ */
+#define ARBOR_MAX_RADIAL_SEGMENTS 64
+
+/**
+ * The `parent` of a branch that grows from nothing (a root), and the `branch` of a leaf
+ * site or organ on no branch (ARBOR_NO_PARENT in C).
  */
 #define ARBOR_NO_PARENT UINT32_MAX
 
 /**
- * ArborProgressFn stage: rewriting the string.
- */
-#define ARBOR_STAGE_DERIVATION 0
-
-/**
- * ArborProgressFn stage: the turtle reading the string.
- */
-#define ARBOR_STAGE_INTERPRETATION 1
-
-/**
- * ArborProgressFn stage: growth cycles of a world.
- */
-#define ARBOR_STAGE_GROWTH 2
-
-/**
- * ArborProgressFn stage: writing a mesh (or the meshes of an export or a forest).
- */
-#define ARBOR_STAGE_MESH 3
-
-/**
- * ArborProgressFn stage: reading and preprocessing a model's files (fraction: the part of
- * `max_file_bytes` read so far; 1 when loaded).
- */
-#define ARBOR_STAGE_LOAD 4
-
-/**
- * ArborProgressFn stage: writing an export's file (fraction: written so far; 1 just before
- * it replaces the target, the last moment a cancel leaves the old file as it was).
- */
-#define ARBOR_STAGE_WRITE 5
-
-/**
- * ArborOrgan.kind of a sphere (`@O`).
+ * The `kind` of an organ that is a sphere (`@O(d)`; ARBOR_ORGAN_SPHERE in C).
  */
 #define ARBOR_ORGAN_SPHERE 0
 
 /**
- * ArborOrgan.kind of a disc facing the heading (`@o`, `@c`).
+ * The `kind` of an organ that is a disc facing the turtle's heading (`@o(d)`, `@c(d)`;
+ * ARBOR_ORGAN_DISC in C).
  */
 #define ARBOR_ORGAN_DISC 1
-
-/**
- * The budget of one load by default: 64 MiB over all its files.
- */
-#define DEFAULT_MAX_FILE_BYTES (64 << 20)
-
-/**
- * How many `function:`/`function set:` functions, `curve:` curves and `surface:`
- * surfaces one view file may bring (each kind counted on its own).
- */
-#define MAX_COMPANIONS 1024
-
-/**
- * Most obstacles a world may hold.
- */
-#define MAX_OBSTACLES (1 << 20)
 
 /**
  * Result of every fallible function. The numbers are fixed forever and never reused.
@@ -203,45 +167,74 @@ typedef enum ArborStatus {
 } ArborStatus;
 
 /**
- * How indices string triangles together; passed as `uint32_t` in ArborMeshOptions.
+ * How the index buffer strings triangles together (C: ArborTopology, in
+ * ArborMeshOptions.topology).
  */
-typedef enum ArborTopology {
+enum ArborTopology
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)).
+   * Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)). The
+   * default.
    */
   ARBOR_TOPOLOGY_TRIANGLE_LIST = 0,
   /**
-   * One strip per branch, strips separated by ARBOR_RESTART_INDEX; draw with
-   * GL_TRIANGLE_STRIP and glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX).
+   * One strip per branch, strips separated by the restart index (ARBOR_RESTART_INDEX);
+   * draw with GL_TRIANGLE_STRIP and GL_PRIMITIVE_RESTART_FIXED_INDEX enabled.
    */
   ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART = 1,
   /**
    * One strip for the whole mesh, branches joined by degenerate triangles.
    */
   ARBOR_TOPOLOGY_TRIANGLE_STRIP_DEGENERATE = 2,
-} ArborTopology;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborTopology ArborTopology;
+#else
+typedef uint32_t ArborTopology;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * Joints between a branch and the one it continues; ArborMeshOptions.joints.
+ * How a branch meets the branch it continues (C: ArborJoints, in
+ * ArborMeshOptions.joints).
  */
-typedef enum ArborJoints {
+enum ArborJoints
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Every branch has its own two rings.
+   * Every branch has its own two rings (cracks show at bends).
    */
   ARBOR_JOINTS_SEPARATE = 0,
   /**
-   * A continuing branch shares its parent's end ring, in the bisecting plane
+   * A continuing branch shares its parent's end ring, placed in the bisecting plane
    * (watertight axes). The default.
    */
   ARBOR_JOINTS_MITRED = 1,
-} ArborJoints;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborJoints ArborJoints;
+#else
+typedef uint32_t ArborJoints;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * How the last branch of an axis ends; ArborMeshOptions.tip.
+ * How the last branch of an axis ends (C: ArborTip, in ArborMeshOptions.tip).
  */
-typedef enum ArborTip {
+enum ArborTip
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Open tube (default).
+   * Open tube. The default.
    */
   ARBOR_TIP_OPEN = 0,
   /**
@@ -252,58 +245,148 @@ typedef enum ArborTip {
    * A cone closing to a point one radius beyond the end.
    */
   ARBOR_TIP_POINT = 2,
-} ArborTip;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborTip ArborTip;
+#else
+typedef uint32_t ArborTip;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * Front-face winding seen from outside; ArborMeshOptions.winding.
+ * Which way front faces wind, seen from outside (C: ArborWinding, in
+ * ArborMeshOptions.winding).
  */
-typedef enum ArborWinding {
+enum ArborWinding
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Counter-clockwise (OpenGL; the default).
+   * Counter-clockwise (OpenGL, glTF). The default.
    */
   ARBOR_WINDING_COUNTER_CLOCKWISE = 0,
   /**
-   * Clockwise (Unity, Direct3D).
+   * Clockwise (Unity, Direct3D defaults).
    */
   ARBOR_WINDING_CLOCKWISE = 1,
-} ArborWinding;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborWinding ArborWinding;
+#else
+typedef uint32_t ArborWinding;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * Up axis of the output; ArborMeshOptions.up_axis.
+ * Which axis points up in the output (C: ArborUpAxis, in ArborMeshOptions.up_axis).
  */
-typedef enum ArborUpAxis {
+enum ArborUpAxis
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Y up (default).
+   * Y up, as arbor computes (OpenGL, Unity). The default.
    */
   ARBOR_UP_AXIS_Y = 0,
   /**
-   * Z up: (x, y, z) becomes (x, -z, y), a rotation that keeps the winding (and the
-   * handedness: for Unreal, which is left-handed, use ARBOR_AXES_UNREAL).
+   * Z up (Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which keeps
+   * handedness and winding. Unreal is left-handed: use the Unreal axes there.
    */
   ARBOR_UP_AXIS_Z = 1,
-} ArborUpAxis;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborUpAxis ArborUpAxis;
+#else
+typedef uint32_t ArborUpAxis;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * Engine conventions of the output; ArborMeshOptions.axes. The presets convert as the
- * engines' own importers do: a mirror into their left-handed space (never a rotation),
- * so trees keep their handedness.
+ * Engine conventions of the output: the axes, handedness, units and winding a host's
+ * engine uses, converted as that engine's own glTF importer converts (a mirror into a
+ * left-handed space, never a rotation, so a tree keeps its handedness: trees g, h and i
+ * spiral the same way in every engine). C: ArborAxes, in ArborMeshOptions.axes.
  */
-typedef enum ArborAxes {
+enum ArborAxes
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * arbor's right-handed space with up_axis, winding and scale as given (default).
+   * arbor's own right-handed space, with the options' `up_axis`, `winding` and `scale`
+   * as given (OpenGL, glTF, Vulkan). The default.
    */
   ARBOR_AXES_ARBOR = 0,
   /**
-   * Unity: left-handed, Y up, metres: (x, y, z) becomes (-x, y, z) as Unity's glTF
-   * importers do, front faces clockwise in Unity's space.
+   * Unity: left-handed, Y up, metres (one model unit = one metre, as in glTF):
+   * (x, y, z) → (−x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
+   * faces wind clockwise seen from outside in Unity's space, so the cross product of a
+   * triangle's edges points out, as `Mesh.RecalculateNormals` expects.
    */
   ARBOR_AXES_UNITY = 1,
   /**
-   * Unreal: left-handed, Z up, centimetres: (x, y, z) becomes (100x, 100z, 100y), the
-   * inverse of Unreal's glTF exporter, front faces as Unreal culls them.
+   * Unreal: left-handed, Z up, centimetres: (x, y, z) → (100x, 100z, 100y), the
+   * inverse of Unreal's own glTF exporter; front faces as Unreal's renderer culls them
+   * (the cross product of a triangle's edges points in, as Epic documents for its
+   * clockwise convention).
    */
   ARBOR_AXES_UNREAL = 2,
-} ArborAxes;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborAxes ArborAxes;
+#else
+typedef uint32_t ArborAxes;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * What is being reported (C: ArborStage, the `stage` a progress callback receives).
+ */
+enum ArborStage
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  /**
+   * Rewriting the string (fraction: steps done, and modules within a step).
+   */
+  ARBOR_STAGE_DERIVATION = 0,
+  /**
+   * The turtle reading the string (fraction: modules read).
+   */
+  ARBOR_STAGE_INTERPRETATION = 1,
+  /**
+   * Growth cycles of a self-organizing world (fraction: cycles done).
+   */
+  ARBOR_STAGE_GROWTH = 2,
+  /**
+   * Writing a mesh (fraction: branches written).
+   */
+  ARBOR_STAGE_MESH = 3,
+  /**
+   * Reading a model's files and preprocessing them (fraction: the part of the load's
+   * byte budget, `max_file_bytes`, read so far; 1 when the load is done).
+   */
+  ARBOR_STAGE_LOAD = 4,
+  /**
+   * Writing a file of an export (fraction: its lines or bytes written; 1 just before
+   * it replaces the target, the last moment a cancel leaves the old file).
+   */
+  ARBOR_STAGE_WRITE = 5,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborStage ArborStage;
+#else
+typedef uint32_t ArborStage;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
  * Identifies a struct of this header for arbor_struct_size().
@@ -380,44 +463,69 @@ typedef enum ArborStructId {
 } ArborStructId;
 
 /**
- * How a world's trees perceive light and space; ArborWorldOptions.environment.
+ * How a world's trees perceive light and space (C: ArborEnvironment, in
+ * ArborWorldOptions.environment).
  */
-typedef enum ArborEnvironment {
+enum ArborEnvironment
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Shadow propagation in a voxel grid (the default).
+   * Shadow propagation in a voxel grid: every bud casts a pyramid of shadow below it.
+   * The default.
    */
   ARBOR_ENVIRONMENT_SHADOW = 0,
   /**
-   * Space colonization with attraction markers.
+   * Space colonization: buds compete for attraction markers scattered in the box.
    */
   ARBOR_ENVIRONMENT_SPACE_COLONIZATION = 1,
-} ArborEnvironment;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborEnvironment ArborEnvironment;
+#else
+typedef uint32_t ArborEnvironment;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
- * Named species for arbor_growth_params_preset().
+ * Named species with documented parameter values (C: ArborSpecies, for
+ * arbor_growth_params_preset(); Rust: `GrowthParams::preset`).
  */
-typedef enum ArborSpecies {
+enum ArborSpecies
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   /**
-   * Conifer-like, a strong leader.
+   * A conifer-like tree with a strong leader: λ 0.58, branch angle 65°.
    */
   ARBOR_SPECIES_EXCURRENT = 0,
   /**
-   * A broad, spreading crown.
+   * A broad, spreading crown: λ 0.46, α 2.2, branch angle 45°.
    */
   ARBOR_SPECIES_DECURRENT = 1,
   /**
-   * A narrow column.
+   * A narrow column: λ 0.54, branch angle 30°, tropism 0.25.
    */
   ARBOR_SPECIES_COLUMNAR = 2,
   /**
-   * A shrub.
+   * A shrub: λ 0.42, short internodes, branch angle 55°, little shedding.
    */
   ARBOR_SPECIES_BUSH = 3,
   /**
-   * Drooping shoots.
+   * Drooping shoots: λ 0.5, tropism −0.25 (shoots bend down).
    */
   ARBOR_SPECIES_WEEPING = 4,
-} ArborSpecies;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborSpecies ArborSpecies;
+#else
+typedef uint32_t ArborSpecies;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
  * Which files a model (its `#include`s, its view file's `function:`, `curve:` and
@@ -502,12 +610,17 @@ typedef struct ArborCurve {
 } ArborCurve;
 
 /**
- * One branch for a shader (std430-ready, 80 bytes): see CurveRecord in the Rust docs.
- * texture v at curve fraction s of the arc is v0 + length * s; u starts at u_offset.
+ * One branch for a shader, 80 bytes, every vec4 16-byte aligned (std430 `struct { vec4
+ * p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
+ * parent; uint birth; }`). C: ArborCurveRecord.
+ *
+ * A point at curve parameter t has texture v = `v0 + length · s(t)` (s the fraction of
+ * the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
+ * plus its angle around the curve / 2π.
  */
 typedef struct ArborCurveRecord {
   /**
-   * Start.
+   * Start (the branch's start).
    */
   float p0[3];
   /**
@@ -531,15 +644,16 @@ typedef struct ArborCurveRecord {
    */
   float v0;
   /**
-   * End.
+   * End (the branch's end).
    */
   float p3[3];
   /**
-   * Arc length of the curve, model units.
+   * Arc length of the curve, model units (from 32 chords).
    */
   float length;
   /**
-   * Turn of the texture about the curve, 0..1.
+   * Turn of the texture about the curve, 0..1: inherited along an axis, a per-branch
+   * phase where a lateral starts.
    */
   float u_offset;
   /**
@@ -547,18 +661,19 @@ typedef struct ArborCurveRecord {
    */
   uint32_t order;
   /**
-   * Parent branch, or ARBOR_NO_PARENT.
+   * Parent branch, or NO_PARENT (ARBOR_NO_PARENT).
    */
   uint32_t parent;
   /**
-   * Birth step or growth cycle.
+   * Birth (rewriting step or growth cycle).
    */
   uint32_t birth;
 } ArborCurveRecord;
 
 /**
- * An ArborCurveRecord with growth bounds (96 bytes): the branch grows from grow_start to
- * grow_end, 0..1, as the animation stream's growth times.
+ * A curve record with its growth bounds for animated growth, 96 bytes: the branch grows
+ * from `grow_start` to `grow_end` (0..1, the animation stream's growth times). C:
+ * ArborCurveGrowthRecord.
  */
 typedef struct ArborCurveGrowthRecord {
   /**
@@ -566,15 +681,15 @@ typedef struct ArborCurveGrowthRecord {
    */
   struct ArborCurveRecord curve;
   /**
-   * When it starts to grow.
+   * When it starts to grow, 0..1.
    */
   float grow_start;
   /**
-   * When it is fully grown.
+   * When it is fully grown, 0..1.
    */
   float grow_end;
   /**
-   * Zero.
+   * Zero (std430 padding to 16 bytes).
    */
   float reserved[2];
 } ArborCurveGrowthRecord;
@@ -787,56 +902,60 @@ typedef struct ArborLeafOptions {
 } ArborLeafOptions;
 
 /**
- * Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
- * Lengths in model units, widths are diameters, angles in degrees.
+ * Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch (trees
+ * a–i); C: ArborHondaParams.
+ *
+ * Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
+ * diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
  */
 typedef struct ArborHondaParams {
   /**
-   * s0: trunk length (100 in the paper); finite, > 0.
+   * s0: length of the trunk (100 in the paper). Finite, > 0.
    */
   float trunk_length;
   /**
-   * w0: trunk width, a diameter; finite, > 0.
+   * w0: width (diameter) of the trunk. Finite, > 0.
    */
   float trunk_width;
   /**
-   * Length ratio of the first child; finite, > 0.
+   * r1: length ratio of the first child. Finite, > 0.
    */
   float r1;
   /**
-   * Length ratio of the second child; finite, > 0.
+   * r2: length ratio of the second child. Finite, > 0.
    */
   float r2;
   /**
-   * Branching angle of the first child (turtle `+`), degrees; finite.
+   * α1: branching angle of the first child (`+`). Finite.
    */
   float alpha1;
   /**
-   * Branching angle of the second child (turtle `+`), degrees; finite.
+   * α2: branching angle of the second child (`+`). Finite.
    */
   float alpha2;
   /**
-   * Divergence angle of the first child (turtle `/`), degrees; finite.
+   * φ1: divergence angle of the first child (`/`). Finite.
    */
   float phi1;
   /**
-   * Divergence angle of the second child (turtle `/`), degrees; finite.
+   * φ2: divergence angle of the second child (`/`). Finite.
    */
   float phi2;
   /**
-   * Width share of the first child, 0 <= q <= 1.
+   * q: share of the width that goes to the first child, in [0, 1].
    */
   float q;
   /**
-   * Width exponent, finite, >= 0: children widths are w*q^e and w*(1-q)^e.
+   * e: width exponent, finite, >= 0. Children widths are w·q^e and w·(1−q)^e.
    */
   float e;
   /**
-   * An apex grows only while its length s >= min_length; finite, >= 0.
+   * min: an apex grows only while its length s >= min. Finite, >= 0.
    */
   float min_length;
   /**
-   * Derivation length n (the axiom is step 0), at most 1024.
+   * n: derivation length (rewriting steps; the axiom is step 0), at most 1024
+   * (`MAX_STEPS`).
    */
   uint32_t steps;
 } ArborHondaParams;
@@ -869,11 +988,12 @@ typedef struct ArborForestTree {
 } ArborForestTree;
 
 /**
- * One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
+ * One mesh vertex (C: ArborVertex), 32 bytes, interleaved: position at offset 0, normal
+ * at 12, uv at 24; stride 32.
  */
 typedef struct ArborVertex {
   /**
-   * Position in model units.
+   * Position in the skeleton's units.
    */
   float position[3];
   /**
@@ -881,7 +1001,9 @@ typedef struct ArborVertex {
    */
   float normal[3];
   /**
-   * u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
+   * u around the branch (0..1, the seam vertex duplicated); v along it: the arc length
+   * from the root divided by the mesh options' `texture_scale` (so v grows past 1 on
+   * any branch longer than `texture_scale`: tree a reaches about 400 at scale 1).
    */
   float uv[2];
 } ArborVertex;
@@ -1051,21 +1173,24 @@ typedef struct ArborGrowthParams {
 } ArborGrowthParams;
 
 /**
- * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
- * space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
- * moved to `position`.
+ * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes; C: ArborLeafInstance.
+ *
+ * The leaf's own space has +Y along the blade (stem to tip), +Z its face normal and +X
+ * across; `rotation` (a unit quaternion x, y, z, w) turns that space into the tree's, then
+ * `scale` and `position` apply. The output conventions of the mesh options (up axis,
+ * uniform scale) are applied too.
  */
 typedef struct ArborLeafInstance {
   /**
-   * Where the stem attaches.
+   * Where the leaf's stem attaches.
    */
   float position[3];
   /**
-   * Unit quaternion (x, y, z, w).
+   * Unit quaternion (x, y, z, w) from leaf space to model space.
    */
   float rotation[4];
   /**
-   * Uniform scale.
+   * Uniform scale of the leaf shape.
    */
   float scale;
 } ArborLeafInstance;
@@ -1185,7 +1310,10 @@ typedef struct ArborLsystemOptions {
 } ArborLsystemOptions;
 
 /**
- * The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
+ * The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
+ * and `first_index..first_index + index_count`. Ranges of consecutive branches are
+ * consecutive; a dropped branch has empty ranges. A branch that shares its parent's ring
+ * indexes vertices of its parent. C: ArborBranchRange (see arbor_mesh_branch_ranges()).
  */
 typedef struct ArborBranchRange {
   /**
@@ -1197,7 +1325,7 @@ typedef struct ArborBranchRange {
    */
   uint32_t vertex_count;
   /**
-   * First index it owns (restart or join indices before its strips included).
+   * First index it owns (joins and restarts before its strips included).
    */
   uint32_t first_index;
   /**
@@ -1207,42 +1335,50 @@ typedef struct ArborBranchRange {
 } ArborBranchRange;
 
 /**
- * Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
- * options: for growth and wind shaders, as a second vertex stream.
+ * Per-vertex animation data for a host's growth and wind shaders: an optional second
+ * vertex stream, one element per vertex of the mesh of the same tree and options (16
+ * bytes; C: ArborAnimationVertex).
  */
 typedef struct ArborAnimationVertex {
   /**
-   * When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
+   * When the vertex appears as the tree grows, 0..=1: (start + along) / total, where a
+   * branch starts at its birth (counted from the earliest) but not before its parent
+   * has finished, and each branch takes one unit. Never smaller on a child than on its
+   * parent. Draw vertices with `growth <= t` and move t from 0 to 1.
    */
   float growth;
   /**
-   * Branching order of its branch (0 on the trunk axis).
+   * Branching order of the branch (0 on the trunk axis), for wind stiffness.
    */
   float order;
   /**
-   * 0 at its branch's base, 1 at the tip.
+   * Position along the branch, 0 at its base and 1 at its tip.
    */
   float along;
   /**
-   * Per-branch phase in [0, 1).
+   * A per-branch phase in [0, 1), so branches sway out of step.
    */
   float phase;
 } ArborAnimationVertex;
 
 /**
- * One internode (one turtle F), 48 bytes.
+ * One internode (one `F` of the turtle): a truncated cone from `start` to `end`.
+ *
+ * 48 bytes; C: ArborBranch, whose field `depth` is `birth` here.
+ * Positions are in the model's units (the 1996 presets use a trunk of 100 units), Y up.
+ *
  */
 typedef struct ArborBranch {
   /**
-   * Start point (x, y, z), Y up; equal to the parent's `end`.
+   * Where the branch starts (at its parent's `end` for a non-root).
    */
   float start[3];
   /**
-   * End point (x, y, z).
+   * Where the branch ends.
    */
   float end[3];
   /**
-   * Radius at `start` (half the turtle width).
+   * Radius at `start` (half the turtle's width `!(w)`).
    */
   float start_radius;
   /**
@@ -1250,16 +1386,19 @@ typedef struct ArborBranch {
    */
   float end_radius;
   /**
-   * Index of the branch it grows from (always smaller than its own index);
-   * ARBOR_NO_PARENT for a root.
+   * Index of the branch it grows from, always smaller than its own index; NO_PARENT
+   * (ARBOR_NO_PARENT) for a root.
    */
   uint32_t parent;
   /**
-   * The rewriting step that produced it; axiom modules are 0, so the 1996 trunk has 1.
+   * Its birth: the rewriting step that produced the branch's `F` (axiom modules are step
+   * 0, so the trunk of the 1996 model, made by step 1, has birth 1); for a
+   * self-organized tree, the growth cycle. Not the distance from the root (Rust:
+   * `Adjacency::depth`). Named `depth` in C.
    */
   uint32_t depth;
   /**
-   * Branching order: 0 on the trunk axis, +1 per lateral branch.
+   * Branching order: 0 on the trunk axis, +1 for each lateral branch on the way.
    */
   uint32_t order;
   /**
@@ -1269,7 +1408,9 @@ typedef struct ArborBranch {
 } ArborBranch;
 
 /**
- * A place where the turtle met `~` in a grammar (44 bytes).
+ * A place where the turtle met `~`: where a leaf (or another organ) goes. 44 bytes; C:
+ * ArborLeafSite, whose field `depth` is `birth` here.
+ *
  */
 typedef struct ArborLeafSite {
   /**
@@ -1277,39 +1418,40 @@ typedef struct ArborLeafSite {
    */
   float position[3];
   /**
-   * Its heading (unit).
+   * The turtle's heading H there (unit).
    */
   float heading[3];
   /**
-   * Its up vector (unit).
+   * The turtle's up vector U there (unit).
    */
   float up[3];
   /**
-   * The branch the site sits on, or ARBOR_NO_PARENT.
+   * The branch the site sits on (the last one drawn on the turtle's axis), or
+   * NO_PARENT (ARBOR_NO_PARENT).
    */
   uint32_t branch;
   /**
-   * The rewriting step that produced the `~`.
+   * The rewriting step that produced the `~` (the C field `depth`).
    */
   uint32_t depth;
 } ArborLeafSite;
 
 /**
- * A sphere or disc the turtle placed (`@O(d)`, `@o(d)`, `@c(d)`), 56 bytes. The baked
- * leaf mesh (arbor_leaf_mesh_write) holds one per organ when ArborLeafOptions.polygons
- * is set.
+ * A sphere or disc the turtle placed (`@O`, `@o`, `@c`): 56 bytes; C: ArborOrgan, whose
+ * field `depth` is `birth` here.
+ *
  */
 typedef struct ArborOrgan {
   /**
-   * Centre: where the turtle stood.
+   * Its centre: where the turtle stood.
    */
   float position[3];
   /**
-   * The turtle's heading there (unit): a disc's normal.
+   * The turtle's heading H there (unit): a disc's normal.
    */
   float heading[3];
   /**
-   * The turtle's up vector there (unit).
+   * The turtle's up vector U there (unit).
    */
   float up[3];
   /**
@@ -1317,11 +1459,11 @@ typedef struct ArborOrgan {
    */
   float size;
   /**
-   * ARBOR_ORGAN_SPHERE or ARBOR_ORGAN_DISC.
+   * ORGAN_SPHERE or ORGAN_DISC (ARBOR_ORGAN_SPHERE, ARBOR_ORGAN_DISC).
    */
   uint32_t kind;
   /**
-   * The branch it sits on, or ARBOR_NO_PARENT.
+   * The branch it sits on, or NO_PARENT (ARBOR_NO_PARENT).
    */
   uint32_t branch;
   /**
@@ -1329,14 +1471,10 @@ typedef struct ArborOrgan {
    */
   uint32_t depth;
   /**
-   * The turtle's colour index there (`;` `,`).
+   * The turtle's colour index there (`;` and `,`).
    */
   uint32_t color;
 } ArborOrgan;
-
-
-
-
 
 #ifdef __cplusplus
 extern "C" {
@@ -1510,6 +1648,14 @@ void arbor_growth_params_init(struct ArborGrowthParams *params, size_t struct_si
 enum ArborStatus arbor_growth_params_preset(uint32_t species,
                                             struct ArborGrowthParams *params,
                                             size_t struct_size);
+
+/**
+ * The name of species `species` in lower case ("excurrent", "decurrent", "columnar",
+ * "bush", "weeping": what the command-line tool's `--species` takes), as a static
+ * NUL-terminated string; NULL for a number past the last species, so a host lists every
+ * species by counting up from 0 until NULL.
+ */
+const char *arbor_species_name(uint32_t species);
 
 /**
  * Makes an empty world. `options` NULL: the defaults. Writes the world to `*out` on

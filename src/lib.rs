@@ -38,6 +38,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod enums;
 pub mod error;
 pub mod export;
 #[allow(unsafe_code)]

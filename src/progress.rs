@@ -18,7 +18,7 @@
 
 use crate::error::{Error, Result};
 
-/// What is being reported. The numbers are those of the C enum `ArborStage`.
+/// What is being reported (C: ArborStage, the `stage` a progress callback receives).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Stage {
@@ -38,19 +38,14 @@ pub enum Stage {
     Write = 5,
 }
 
-impl Stage {
-    /// The stage's name, for messages.
-    pub fn name(self) -> &'static str {
-        match self {
-            Stage::Derivation => "derivation",
-            Stage::Interpretation => "interpretation",
-            Stage::Growth => "growth",
-            Stage::Mesh => "mesh",
-            Stage::Load => "loading",
-            Stage::Write => "writing",
-        }
-    }
-}
+crate::enums::numbered!(Stage as "ArborStage" {
+    Derivation = "derivation",
+    Interpretation = "interpretation",
+    Growth = "growth",
+    Mesh = "mesh",
+    Load = "loading",
+    Write = "writing",
+});
 
 /// A progress callback: called with the stage and a fraction in [0, 1]; `false` stops the
 /// work, which then returns [`Error::Cancelled`] and builds nothing.

@@ -357,3 +357,68 @@ fn unity_struct_offsets_match_the_c_compiler() {
     }
     assert!(compared >= 12, "{compared} structs compared");
 }
+
+/// Every enum of the binding is the header's enum of that name (`Topology` is
+/// `ArborTopology`): the same members, spelled as the C enumerators (`TriangleList` is
+/// `ARBOR_TOPOLOGY_TRIANGLE_LIST`), with the same values, none missing. The header's enums
+/// are generated from the Rust ones, so the binding is checked against the one definition.
+#[test]
+fn the_bindings_enums_are_the_headers() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(root.join("include/arbor.h")).unwrap();
+    let cs = std::fs::read_to_string(root.join("bindings/unity/Runtime/Arbor.cs")).unwrap();
+    let snake = |s: &str| {
+        let mut out = String::new();
+        for (i, c) in s.chars().enumerate() {
+            if c.is_ascii_uppercase() && i > 0 {
+                out.push('_');
+            }
+            out.push(c.to_ascii_uppercase());
+        }
+        out
+    };
+    // Members `NAME = value` between the braces that follow `at`.
+    let members = |text: &str, at: usize| -> Vec<(String, u32)> {
+        let open = at + text[at..].find('{').unwrap();
+        let close = open + text[open..].find('}').unwrap();
+        let mut body = text[open + 1..close].to_string();
+        while let Some(a) = body.find("/*") {
+            let b = a + body[a..].find("*/").unwrap() + 2;
+            body.replace_range(a..b, "");
+        }
+        body.lines()
+            .map(|l| l.split("//").next().unwrap())
+            .collect::<String>()
+            .split(',')
+            .filter_map(|m| {
+                let (name, value) = m.split_once('=')?;
+                Some((name.trim().to_string(), value.trim().parse().ok()?))
+            })
+            .collect()
+    };
+    let mut checked = 0;
+    let mut rest = 0;
+    while let Some(i) = cs[rest..].find("public enum ") {
+        let at = rest + i;
+        rest = at + 12;
+        let name = cs[rest..].split([' ', ':']).next().unwrap();
+        let c_name = format!("Arbor{name}");
+        let h = header
+            .find(&format!("enum {c_name}\n"))
+            .or_else(|| header.find(&format!("enum {c_name} {{")))
+            .unwrap_or_else(|| panic!("the header has no enum {c_name}"));
+        let mut want = members(&header, h);
+        let mut have: Vec<(String, u32)> = members(&cs, at)
+            .into_iter()
+            .map(|(m, v)| (format!("{}_{}", snake(&c_name), snake(&m)), v))
+            .collect();
+        want.sort();
+        have.sort();
+        assert_eq!(
+            have, want,
+            "Arbor.cs enum {name} against the header's {c_name}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} enums found in Arbor.cs");
+}

@@ -4,7 +4,7 @@
  * mapped OpenGL buffers.
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
- *           [--smooth] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1..4]]
+ *           [--smooth] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
@@ -542,7 +542,12 @@ static void build_forest(float spacing) {
  * environment; st.world_cycles cycles are grown (stepping on from the current world when
  * it has fewer), every tree snapshotted and meshed, and the meshes concatenated into one
  * triangle list for one draw call. */
-static const char *species_names[5] = {"excurrent", "decurrent", "columnar", "bush", "weeping"};
+/* How many species arbor names (arbor_species_name() is NULL past the last). */
+static uint32_t species_count(void) {
+  uint32_t n = 0;
+  while (arbor_species_name(n) != NULL) n++;
+  return n;
+}
 
 static void reset_world(void) {
   arbor_world_free(world);
@@ -557,7 +562,7 @@ static void reset_world(void) {
                                  {-1.1f, -2.6f}, {2.2f, -2.2f}, {-2.7f, -1.4f}};
   for (int k = 0; k < 7; k++) {
     ArborGrowthParams p;
-    uint32_t species = st.world_species >= 0 ? (uint32_t)st.world_species : (uint32_t)(k % 5);
+    uint32_t species = st.world_species >= 0 ? (uint32_t)st.world_species : (uint32_t)k % species_count();
     if (arbor_growth_params_preset(species, &p, sizeof p) != ARBOR_STATUS_OK) fail("preset");
     float pos[3] = {at[k][0], 0, at[k][1]};
     if (arbor_world_plant(world, &p, pos, (uint64_t)k + 1, NULL) != ARBOR_STATUS_OK) fail("plant");
@@ -625,7 +630,7 @@ static void build_world(void) {
   printf("world (%s, %s): %zu trees, %zu branches after %d cycles, %zu vertices; %.2f ms to grow, "
          "%.2f ms to mesh + upload\n",
          st.world_env ? "space colonization" : "shadow",
-         st.world_species >= 0 ? species_names[st.world_species] : "mixed species", trees_n,
+         st.world_species >= 0 ? arbor_species_name((uint32_t)st.world_species) : "mixed species", trees_n,
          arbor_world_branch_count(world), st.world_cycles, nv, grow_ms, now_ms() - t0 - grow_ms);
 }
 
@@ -1032,7 +1037,7 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   else if (k == GLFW_KEY_R && st.world_mode) { st.world_cycles = 0; arbor_world_free(world); world = NULL; st.dirty = 1; }
   else if (k == GLFW_KEY_E && st.world_mode) { st.world_env = !st.world_env; arbor_world_free(world); world = NULL; st.dirty = 1; }
   else if (k == GLFW_KEY_K && st.world_mode) {
-    st.world_species = st.world_species >= 4 ? -1 : st.world_species + 1;
+    st.world_species = st.world_species + 1 >= (int)species_count() ? -1 : st.world_species + 1;
     arbor_world_free(world);
     world = NULL;
     st.dirty = 1;
@@ -1095,7 +1100,18 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--edit") && i + 1 < argc) st.edits = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
     else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
-    else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) st.world_species = atoi(argv[++i]);
+    else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) {
+      /* A species' number or name (arbor_species_name); -1 a mix. */
+      const char *a = argv[++i];
+      st.world_species = atoi(a);
+      for (uint32_t n = 0; arbor_species_name(n) != NULL; n++)
+        if (!strcmp(a, arbor_species_name(n))) st.world_species = (int)n;
+      if (st.world_species < -1 || st.world_species >= (int)species_count()) {
+        fprintf(stderr, "--world-species %s: expected -1 (a mix), 0..%u or a species name\n", a,
+                species_count() - 1);
+        return 2;
+      }
+    }
     else if (!strcmp(argv[i], "--depth") && i + 1 < argc) depth = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--wind")) st.wind = 1;
     else if (!strcmp(argv[i], "--lsystem") && i + 1 < argc) open_lsystems(argv[++i]);

@@ -24,52 +24,6 @@ pub struct ArborCurve {
 
 const _: () = assert!(std::mem::size_of::<ArborCurve>() == 56);
 
-/// One branch for a shader (std430-ready, 80 bytes): see CurveRecord in the Rust docs.
-/// texture v at curve fraction s of the arc is v0 + length * s; u starts at u_offset.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborCurveRecord {
-    /// Start.
-    pub p0: [f32; 3],
-    /// Radius at p0.
-    pub r0: f32,
-    /// First inner control point.
-    pub p1: [f32; 3],
-    /// Radius at p3.
-    pub r1: f32,
-    /// Second inner control point.
-    pub p2: [f32; 3],
-    /// Arc length from the root to p0, model units.
-    pub v0: f32,
-    /// End.
-    pub p3: [f32; 3],
-    /// Arc length of the curve, model units.
-    pub length: f32,
-    /// Turn of the texture about the curve, 0..1.
-    pub u_offset: f32,
-    /// Branching order.
-    pub order: u32,
-    /// Parent branch, or ARBOR_NO_PARENT.
-    pub parent: u32,
-    /// Birth step or growth cycle.
-    pub birth: u32,
-}
-
-/// An ArborCurveRecord with growth bounds (96 bytes): the branch grows from grow_start to
-/// grow_end, 0..1, as the animation stream's growth times.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborCurveGrowthRecord {
-    /// The branch.
-    pub curve: ArborCurveRecord,
-    /// When it starts to grow.
-    pub grow_start: f32,
-    /// When it is fully grown.
-    pub grow_end: f32,
-    /// Zero.
-    pub reserved: [f32; 2],
-}
-
 /// Copies the curve of every branch of `tree` (branch order) into `out`: `capacity`
 /// elements, at least arbor_tree_branch_count(), else ARBOR_STATUS_BUFFER_TOO_SMALL and
 /// nothing written. Straight branches have their inner points at the thirds.
@@ -166,7 +120,7 @@ pub unsafe extern "C" fn arbor_tree_smooth(tree: *mut ArborTree, tension: f32) -
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_curve_records_write(
     tree: *const ArborTree,
-    out: *mut ArborCurveRecord,
+    out: *mut CurveRecord,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -193,7 +147,7 @@ pub unsafe extern "C" fn arbor_tree_curve_records_write(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_curve_growth_records_write(
     tree: *const ArborTree,
-    out: *mut ArborCurveGrowthRecord,
+    out: *mut CurveGrowthRecord,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {

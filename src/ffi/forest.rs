@@ -5,10 +5,10 @@ use super::*;
 /// One tree of a forest: the 1996 model's parameters, a variation seed (0: none) and its
 /// placement (position of its root, turn about the up axis in degrees, uniform scale).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArborForestTree {
     /// The model's parameters.
-    pub params: ArborHondaParams,
+    pub params: HondaParams,
     /// Variation seed, as arbor_tree_from_honda_varied(); 0 for none.
     pub seed: u64,
     /// Where the root stands, in the output space of the mesh options.
@@ -60,7 +60,7 @@ pub(crate) unsafe fn read_forest<'a>(
         .iter()
         .map(|t| crate::forest::Placed {
             item: crate::forest::Item {
-                source: crate::forest::Source::Honda(t.params.into()),
+                source: crate::forest::Source::Honda(t.params),
                 seed: t.seed,
             },
             position: t.position,
@@ -111,7 +111,7 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
     trees: *const ArborForestTree,
     count: usize,
     options: *const ArborMeshOptions,
-    vertices: *mut ArborVertex,
+    vertices: *mut Vertex,
     vertex_capacity: usize,
     indices: *mut u32,
     index_capacity: usize,

@@ -1,17 +1,8 @@
 //! Self-organizing growth: worlds of trees that grow toward light and space.
 
 use super::*;
-use crate::models::growth::{Environment, GrowthParams, Obstacle, Species, World, WorldOptions};
-
-/// How a world's trees perceive light and space; ArborWorldOptions.environment.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborEnvironment {
-    /// Shadow propagation in a voxel grid (the default).
-    Shadow = 0,
-    /// Space colonization with attraction markers.
-    SpaceColonization = 1,
-}
+use crate::enums::Numbered;
+use crate::models::growth::{GrowthParams, Obstacle, Species, World, WorldOptions};
 
 /// Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md).
 /// Start from arbor_world_options_default() (or arbor_world_options_init()).
@@ -70,56 +61,19 @@ impl Growing for ArborWorldOptions {
     const NAME: &'static str = "ArborWorldOptions";
     const MIN_SIZE: usize = ARBOR_WORLD_OPTIONS_MIN_SIZE;
     fn defaults() -> Self {
-        let d = WorldOptions::default();
-        ArborWorldOptions {
-            struct_size: std::mem::size_of::<ArborWorldOptions>() as u32,
-            environment: d.environment as u32,
-            min: d.min,
-            max: d.max,
-            cell_size: d.cell_size,
-            seed: d.seed,
-            shadow_strength: d.shadow_strength,
-            shadow_falloff: d.shadow_falloff,
-            shadow_depth: d.shadow_depth,
-            full_light: d.full_light,
-            max_cells: d.max_cells as u64,
-            max_branches: d.max_branches as u64,
-            max_trees: d.max_trees as u32,
-            parallel: d.parallel as u32,
-            progress: None,
-            progress_user_data: std::ptr::null_mut(),
-        }
+        Self::from_rust(&WorldOptions::default())
     }
 }
 
-impl TryFrom<&ArborWorldOptions> for WorldOptions {
-    type Error = crate::Error;
-    fn try_from(o: &ArborWorldOptions) -> crate::Result<Self> {
-        let size = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
-        Ok(WorldOptions {
-            environment: enum_field(
-                "environment",
-                o.environment,
-                &[
-                    (Environment::Shadow, "SHADOW"),
-                    (Environment::SpaceColonization, "SPACE_COLONIZATION"),
-                ],
-            )?,
-            min: o.min,
-            max: o.max,
-            cell_size: o.cell_size,
-            seed: o.seed,
-            shadow_strength: o.shadow_strength,
-            shadow_falloff: o.shadow_falloff,
-            shadow_depth: o.shadow_depth,
-            full_light: o.full_light,
-            max_cells: size(o.max_cells),
-            max_branches: size(o.max_branches),
-            max_trees: o.max_trees as usize,
-            parallel: enum_field("parallel", o.parallel, &[(false, "false"), (true, "true")])?,
-        })
+mirror!(ArborWorldOptions => WorldOptions {
+    same {
+        environment, min, max, cell_size, seed, shadow_strength, shadow_falloff,
+        shadow_depth, full_light, max_cells, max_branches, max_trees, parallel,
     }
-}
+    renamed {}
+    c_only { progress: None, progress_user_data: std::ptr::null_mut() }
+    rust_only {}
+});
 
 /// One species: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
 /// arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
@@ -173,79 +127,24 @@ pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
 
 const _: () = assert!(std::mem::size_of::<ArborGrowthParams>() == ARBOR_GROWTH_PARAMS_MIN_SIZE);
 
-impl From<GrowthParams> for ArborGrowthParams {
-    fn from(p: GrowthParams) -> Self {
-        ArborGrowthParams {
-            struct_size: std::mem::size_of::<ArborGrowthParams>() as u32,
-            apical_control: p.apical_control,
-            vigor_multiplier: p.vigor_multiplier,
-            internode_length: p.internode_length,
-            branch_angle: p.branch_angle,
-            phyllotaxis: p.phyllotaxis,
-            tropism: p.tropism,
-            environment_weight: p.environment_weight,
-            pipe_exponent: p.pipe_exponent,
-            tip_radius: p.tip_radius,
-            shed_multiplier: p.shed_multiplier,
-            shed_exponent: p.shed_exponent,
-            shed_delay: p.shed_delay,
-            seed_age: p.seed_age,
-            seed_spread: p.seed_spread,
-            perception_angle: p.perception_angle,
-            perception_reach: p.perception_reach,
-            occupancy_reach: p.occupancy_reach,
-            max_shoot: p.max_shoot,
-        }
+mirror!(ArborGrowthParams => GrowthParams {
+    same {
+        apical_control, vigor_multiplier, internode_length, branch_angle, phyllotaxis,
+        tropism, environment_weight, pipe_exponent, tip_radius, shed_multiplier,
+        shed_exponent, shed_delay, seed_age, seed_spread, perception_angle,
+        perception_reach, occupancy_reach, max_shoot,
     }
-}
-
-impl From<&ArborGrowthParams> for GrowthParams {
-    fn from(p: &ArborGrowthParams) -> Self {
-        GrowthParams {
-            apical_control: p.apical_control,
-            vigor_multiplier: p.vigor_multiplier,
-            internode_length: p.internode_length,
-            branch_angle: p.branch_angle,
-            phyllotaxis: p.phyllotaxis,
-            tropism: p.tropism,
-            environment_weight: p.environment_weight,
-            pipe_exponent: p.pipe_exponent,
-            tip_radius: p.tip_radius,
-            shed_multiplier: p.shed_multiplier,
-            shed_exponent: p.shed_exponent,
-            shed_delay: p.shed_delay,
-            seed_age: p.seed_age,
-            seed_spread: p.seed_spread,
-            perception_angle: p.perception_angle,
-            perception_reach: p.perception_reach,
-            occupancy_reach: p.occupancy_reach,
-            max_shoot: p.max_shoot,
-        }
-    }
-}
+    renamed {}
+    c_only {}
+    rust_only {}
+});
 
 impl Growing for ArborGrowthParams {
     const NAME: &'static str = "ArborGrowthParams";
     const MIN_SIZE: usize = ARBOR_GROWTH_PARAMS_MIN_SIZE;
     fn defaults() -> Self {
-        GrowthParams::default().into()
+        Self::from_rust(&GrowthParams::default())
     }
-}
-
-/// Named species for arbor_growth_params_preset().
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborSpecies {
-    /// Conifer-like, a strong leader.
-    Excurrent = 0,
-    /// A broad, spreading crown.
-    Decurrent = 1,
-    /// A narrow column.
-    Columnar = 2,
-    /// A shrub.
-    Bush = 3,
-    /// Drooping shoots.
-    Weeping = 4,
 }
 
 /// A world of trees growing together (see arbor_world_create()). Opaque; free with
@@ -304,19 +203,25 @@ pub unsafe extern "C" fn arbor_growth_params_preset(
     struct_size: usize,
 ) -> ArborStatus {
     guard(|| {
-        let species = *Species::ALL.get(species as usize).ok_or_else(|| {
-            crate::Error::invalid(
-                "species",
-                format!("{species}; expected 0..=4 (an ArborSpecies)"),
-            )
-        })?;
+        let species = Species::from_field("species", species)?;
         if params.is_null() {
             return Err(FfiError::null("params"));
         }
-        let value: ArborGrowthParams = GrowthParams::preset(species).into();
+        let value = ArborGrowthParams::from_rust(&GrowthParams::preset(species));
         // SAFETY: the caller promises `struct_size` writable bytes at `params`.
         unsafe { write_growing(params, struct_size, &value) };
         Ok(())
+    })
+}
+
+/// The name of species `species` in lower case ("excurrent", "decurrent", "columnar",
+/// "bush", "weeping": what the command-line tool's `--species` takes), as a static
+/// NUL-terminated string; NULL for a number past the last species, so a host lists every
+/// species by counting up from 0 until NULL.
+#[unsafe(no_mangle)]
+pub extern "C" fn arbor_species_name(species: u32) -> *const c_char {
+    guard_value(std::ptr::null(), || {
+        Species::from_u32(species).map_or(std::ptr::null(), |s| s.name_nul().as_ptr().cast())
     })
 }
 
@@ -341,7 +246,7 @@ pub unsafe extern "C" fn arbor_world_create(
             // SAFETY: the caller promises `options` is readable for its struct_size.
             unsafe { read_growing(options, "options") }?
         };
-        let world = World::new(&WorldOptions::try_from(&raw)?)?;
+        let world = World::new(&raw.to_rust()?)?;
         *out = Box::into_raw(Box::new(ArborWorld {
             world,
             progress: raw.progress,
@@ -401,7 +306,7 @@ pub unsafe extern "C" fn arbor_world_plant(
             GrowthParams::default()
         } else {
             // SAFETY: the caller promises `species` is readable for its struct_size.
-            GrowthParams::from(&unsafe { read_growing(species, "species") }?)
+            unsafe { read_growing(species, "species") }?.to_rust()?
         };
         // SAFETY: the caller promises three readable floats.
         let at = unsafe { in_slice(position, 3, "position") }?;

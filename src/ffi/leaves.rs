@@ -64,28 +64,25 @@ impl Growing for ArborLeafOptions {
     const NAME: &'static str = "ArborLeafOptions";
     const MIN_SIZE: usize = ARBOR_LEAF_OPTIONS_MIN_SIZE;
     fn defaults() -> Self {
-        let d = LeafOptions::default();
-        ArborLeafOptions {
-            struct_size: std::mem::size_of::<ArborLeafOptions>() as u32,
-            sites: d.sites as u32,
-            polygons: d.polygons as u32,
-            tips: d.tips as u32,
-            min_depth: d.min_birth,
-            density: d.density,
-            size: d.size,
-            size_jitter: d.size_jitter,
-            rotation_jitter: d.rotation_jitter,
-            tilt: d.tilt,
-            seed: d.seed,
-            prefab_obj_path: std::ptr::null(),
-            max_leaves: d.max_leaves as u64,
-            file_access: ArborFileAccess::Bundle as u32,
-            read_file: None,
-            read_file_user_data: std::ptr::null_mut(),
-            max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
-        }
+        Self::from_rust(&LeafOptions::default())
     }
 }
+
+mirror!(ArborLeafOptions => LeafOptions {
+    same {
+        sites, polygons, tips, density, size, size_jitter, rotation_jitter, tilt, seed,
+        max_leaves,
+    }
+    renamed { min_depth = min_birth }
+    c_only {
+        prefab_obj_path: std::ptr::null(),
+        file_access: ArborFileAccess::Bundle as u32,
+        read_file: None,
+        read_file_user_data: std::ptr::null_mut(),
+        max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
+    }
+    rust_only { prefab: None }
+});
 
 impl Default for ArborLeafOptions {
     /// What arbor_leaf_options_init() writes for this library's size.
@@ -94,21 +91,7 @@ impl Default for ArborLeafOptions {
     }
 }
 
-/// One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes: the leaf shape's
-/// space (+Y along the blade, +Z its face) is rotated by `rotation`, scaled by `scale` and
-/// moved to `position`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborLeafInstance {
-    /// Where the stem attaches.
-    pub position: [f32; 3],
-    /// Unit quaternion (x, y, z, w).
-    pub rotation: [f32; 4],
-    /// Uniform scale.
-    pub scale: f32,
-}
-
-const _: () = assert!(std::mem::size_of::<ArborLeafInstance>() == 32);
+const _: () = assert!(std::mem::size_of::<LeafInstance>() == 32);
 
 /// Writes the default leaf options into the first `struct_size` bytes at `options`
 /// (pass `sizeof(ArborLeafOptions)`), with `options->struct_size = struct_size`, and
@@ -142,7 +125,6 @@ pub(crate) unsafe fn read_leaf_options(
     // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
     // was handled above.
     let o = &unsafe { read_growing(options, "leaf_options") }?;
-    let boolean = [(false, "false"), (true, "true")];
     let files = file_options(
         o.file_access,
         o.read_file,
@@ -160,18 +142,8 @@ pub(crate) unsafe fn read_leaf_options(
         None
     };
     Ok(LeafOptions {
-        sites: enum_field("sites", o.sites, &boolean)?,
-        polygons: enum_field("polygons", o.polygons, &boolean)?,
-        tips: enum_field("tips", o.tips, &boolean)?,
-        min_birth: o.min_depth,
-        max_leaves: usize::try_from(o.max_leaves).unwrap_or(usize::MAX),
-        density: o.density,
-        size: o.size,
-        size_jitter: o.size_jitter,
-        rotation_jitter: o.rotation_jitter,
-        tilt: o.tilt,
-        seed: o.seed,
         prefab,
+        ..o.to_rust()?
     })
 }
 
@@ -212,7 +184,7 @@ pub unsafe extern "C" fn arbor_leaf_instances_write(
     tree: *const ArborTree,
     leaf_options: *const ArborLeafOptions,
     mesh_options: *const ArborMeshOptions,
-    out: *mut ArborLeafInstance,
+    out: *mut LeafInstance,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -275,7 +247,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_write(
     tree: *const ArborTree,
     leaf_options: *const ArborLeafOptions,
     mesh_options: *const ArborMeshOptions,
-    vertices: *mut ArborVertex,
+    vertices: *mut Vertex,
     vertex_capacity: usize,
     indices: *mut u32,
     index_capacity: usize,

@@ -2,91 +2,6 @@
 
 use super::*;
 
-/// How indices string triangles together; passed as `uint32_t` in ArborMeshOptions.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborTopology {
-    /// Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)).
-    TriangleList = 0,
-    /// One strip per branch, strips separated by ARBOR_RESTART_INDEX; draw with
-    /// GL_TRIANGLE_STRIP and glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX).
-    TriangleStripRestart = 1,
-    /// One strip for the whole mesh, branches joined by degenerate triangles.
-    TriangleStripDegenerate = 2,
-}
-
-/// One mesh vertex, 32 bytes, interleaved: position at offset 0, normal at 12, uv at 24.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborVertex {
-    /// Position in model units.
-    pub position: [f32; 3],
-    /// Unit outward normal.
-    pub normal: [f32; 3],
-    /// u around the branch (0..1, seam vertex duplicated), v along it (0 at start, 1 at end).
-    pub uv: [f32; 2],
-}
-
-/// Joints between a branch and the one it continues; ArborMeshOptions.joints.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborJoints {
-    /// Every branch has its own two rings.
-    Separate = 0,
-    /// A continuing branch shares its parent's end ring, in the bisecting plane
-    /// (watertight axes). The default.
-    Mitred = 1,
-}
-
-/// How the last branch of an axis ends; ArborMeshOptions.tip.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborTip {
-    /// Open tube (default).
-    Open = 0,
-    /// A flat disc.
-    Cap = 1,
-    /// A cone closing to a point one radius beyond the end.
-    Point = 2,
-}
-
-/// Front-face winding seen from outside; ArborMeshOptions.winding.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborWinding {
-    /// Counter-clockwise (OpenGL; the default).
-    CounterClockwise = 0,
-    /// Clockwise (Unity, Direct3D).
-    Clockwise = 1,
-}
-
-/// Up axis of the output; ArborMeshOptions.up_axis.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborUpAxis {
-    /// Y up (default).
-    Y = 0,
-    /// Z up: (x, y, z) becomes (x, -z, y), a rotation that keeps the winding (and the
-    /// handedness: for Unreal, which is left-handed, use ARBOR_AXES_UNREAL).
-    Z = 1,
-}
-
-/// Engine conventions of the output; ArborMeshOptions.axes. The presets convert as the
-/// engines' own importers do: a mirror into their left-handed space (never a rotation),
-/// so trees keep their handedness.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArborAxes {
-    /// arbor's right-handed space with up_axis, winding and scale as given (default).
-    Arbor = 0,
-    /// Unity: left-handed, Y up, metres: (x, y, z) becomes (-x, y, z) as Unity's glTF
-    /// importers do, front faces clockwise in Unity's space.
-    Unity = 1,
-    /// Unreal: left-handed, Z up, centimetres: (x, y, z) becomes (100x, 100z, 100y), the
-    /// inverse of Unreal's glTF exporter, front faces as Unreal culls them.
-    Unreal = 2,
-}
-
 /// Options of the tube mesher: a struct that grows (see "Structs that grow" in
 /// docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
 /// change what you need. Enum-like fields are validated (unknown values give
@@ -160,7 +75,7 @@ impl Growing for ArborMeshOptions {
     const NAME: &'static str = "ArborMeshOptions";
     const MIN_SIZE: usize = ARBOR_MESH_OPTIONS_MIN_SIZE;
     fn defaults() -> Self {
-        MeshOptions::default().into()
+        Self::from_rust(&MeshOptions::default())
     }
 }
 
@@ -171,109 +86,16 @@ impl Default for ArborMeshOptions {
     }
 }
 
-/// The vertices and indices one branch owns in a mesh (see arbor_mesh_branch_ranges()).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ArborBranchRange {
-    /// First vertex the branch owns.
-    pub first_vertex: u32,
-    /// Number of vertices it owns (0 for a culled branch).
-    pub vertex_count: u32,
-    /// First index it owns (restart or join indices before its strips included).
-    pub first_index: u32,
-    /// Number of indices it owns.
-    pub index_count: u32,
-}
-
-impl TryFrom<&ArborMeshOptions> for MeshOptions {
-    type Error = crate::Error;
-    fn try_from(o: &ArborMeshOptions) -> crate::Result<Self> {
-        use crate::mesh::{Axes, Joints, Tip, UpAxis, Winding};
-        let boolean = [(false, "false"), (true, "true")];
-        Ok(MeshOptions {
-            radial_segments: o.radial_segments,
-            topology: enum_field(
-                "topology",
-                o.topology,
-                &[
-                    (Topology::TriangleList, "TRIANGLE_LIST"),
-                    (Topology::TriangleStripRestart, "TRIANGLE_STRIP_RESTART"),
-                    (
-                        Topology::TriangleStripDegenerate,
-                        "TRIANGLE_STRIP_DEGENERATE",
-                    ),
-                ],
-            )?,
-            min_radial_segments: o.min_radial_segments,
-            cull_radius: o.cull_radius,
-            joints: enum_field(
-                "joints",
-                o.joints,
-                &[(Joints::Separate, "SEPARATE"), (Joints::Mitred, "MITRED")],
-            )?,
-            smooth_taper: enum_field("smooth_taper", o.smooth_taper, &boolean)?,
-            base_cap: enum_field("base_cap", o.base_cap, &boolean)?,
-            tip: enum_field(
-                "tip",
-                o.tip,
-                &[
-                    (Tip::Open, "OPEN"),
-                    (Tip::Cap, "CAP"),
-                    (Tip::Point, "POINT"),
-                ],
-            )?,
-            texture_scale: o.texture_scale,
-            winding: enum_field(
-                "winding",
-                o.winding,
-                &[
-                    (Winding::CounterClockwise, "COUNTER_CLOCKWISE"),
-                    (Winding::Clockwise, "CLOCKWISE"),
-                ],
-            )?,
-            up_axis: enum_field("up_axis", o.up_axis, &[(UpAxis::Y, "Y"), (UpAxis::Z, "Z")])?,
-            scale: o.scale,
-            axes: enum_field(
-                "axes",
-                o.axes,
-                &[
-                    (Axes::Arbor, "ARBOR"),
-                    (Axes::Unity, "UNITY"),
-                    (Axes::Unreal, "UNREAL"),
-                ],
-            )?,
-            threads: o.threads,
-            max_vertices: usize::try_from(o.max_vertices).unwrap_or(usize::MAX),
-            curve_rings: o.curve_rings,
-        })
+mirror!(ArborMeshOptions => MeshOptions {
+    same {
+        radial_segments, topology, min_radial_segments, cull_radius, joints, smooth_taper,
+        base_cap, tip, texture_scale, winding, up_axis, scale, threads, max_vertices,
+        curve_rings, axes,
     }
-}
-
-impl From<MeshOptions> for ArborMeshOptions {
-    fn from(o: MeshOptions) -> Self {
-        ArborMeshOptions {
-            struct_size: std::mem::size_of::<ArborMeshOptions>() as u32,
-            radial_segments: o.radial_segments,
-            topology: o.topology as u32,
-            min_radial_segments: o.min_radial_segments,
-            cull_radius: o.cull_radius,
-            joints: o.joints as u32,
-            smooth_taper: o.smooth_taper as u32,
-            base_cap: o.base_cap as u32,
-            tip: o.tip as u32,
-            texture_scale: o.texture_scale,
-            winding: o.winding as u32,
-            up_axis: o.up_axis as u32,
-            scale: o.scale,
-            threads: o.threads,
-            max_vertices: o.max_vertices as u64,
-            curve_rings: o.curve_rings,
-            progress: None,
-            progress_user_data: std::ptr::null_mut(),
-            axes: o.axes as u32,
-        }
-    }
-}
+    renamed {}
+    c_only { progress: None, progress_user_data: std::ptr::null_mut() }
+    rust_only {}
+});
 
 /// Writes the default mesh options (see ArborMeshOptions for each default) into the first
 /// `struct_size` bytes at `options`, with `options->struct_size = struct_size`, and
@@ -317,7 +139,7 @@ pub(crate) unsafe fn read_mesh_options_with_progress(
     // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
     // was handled above.
     let o = unsafe { read_growing(options, "options") }?;
-    Ok((MeshOptions::try_from(&o)?, o.progress, o.progress_user_data))
+    Ok((o.to_rust()?, o.progress, o.progress_user_data))
 }
 
 /// The `count` mesh options of a host's array: its elements are the host's
@@ -349,7 +171,7 @@ pub(crate) unsafe fn read_mesh_options_array(
             let p = unsafe { levels.cast::<u8>().add(k * stride) }.cast::<ArborMeshOptions>();
             // SAFETY: the caller promises element k is readable.
             let o = unsafe { read_growing(p, &name) }?;
-            MeshOptions::try_from(&o).map_err(|e| FfiError::from(e).at_level(k))
+            o.to_rust().map_err(|e| FfiError::from(e).at_level(k))
         })
         .collect()
 }
@@ -396,7 +218,7 @@ pub unsafe extern "C" fn arbor_mesh_size(
 pub unsafe extern "C" fn arbor_mesh_write(
     tree: *const ArborTree,
     options: *const ArborMeshOptions,
-    vertices: *mut ArborVertex,
+    vertices: *mut Vertex,
     vertex_capacity: usize,
     indices: *mut u32,
     index_capacity: usize,
@@ -449,7 +271,7 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
     tree: *const ArborTree,
     options: *const ArborMeshOptions,
     branch: usize,
-    vertices: *mut ArborVertex,
+    vertices: *mut Vertex,
     vertex_count: usize,
     indices: *mut u32,
     index_count: usize,
@@ -517,7 +339,7 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
 pub unsafe extern "C" fn arbor_mesh_branch_ranges(
     tree: *const ArborTree,
     options: *const ArborMeshOptions,
-    out: *mut ArborBranchRange,
+    out: *mut BranchRange,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -587,7 +409,7 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
     tree: *const ArborTree,
     levels: *const ArborMeshOptions,
     level_count: usize,
-    vertices: *const *mut ArborVertex,
+    vertices: *const *mut Vertex,
     vertex_capacities: *const usize,
     indices: *const *mut u32,
     index_capacities: *const usize,
@@ -671,7 +493,7 @@ pub unsafe extern "C" fn arbor_mesh_create(
 pub unsafe extern "C" fn arbor_mesh_vertices(
     mesh: *const ArborMesh,
     count: *mut usize,
-) -> *const ArborVertex {
+) -> *const Vertex {
     guard_value(std::ptr::null(), || {
         // SAFETY: the caller promises `mesh` is NULL or live.
         let m = unsafe { arg_ref(mesh, "mesh") }.ok();
@@ -743,21 +565,6 @@ pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
     })
 }
 
-/// Per-vertex animation data (16 bytes), one per vertex of the mesh of the same tree and
-/// options: for growth and wind shaders, as a second vertex stream.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborAnimationVertex {
-    /// When the vertex appears as the tree grows, 0..1: draw vertices with growth <= t.
-    pub growth: f32,
-    /// Branching order of its branch (0 on the trunk axis).
-    pub order: f32,
-    /// 0 at its branch's base, 1 at the tip.
-    pub along: f32,
-    /// Per-branch phase in [0, 1).
-    pub phase: f32,
-}
-
 /// Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
 /// defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
 ///
@@ -768,7 +575,7 @@ pub struct ArborAnimationVertex {
 pub unsafe extern "C" fn arbor_mesh_animation_write(
     tree: *const ArborTree,
     options: *const ArborMeshOptions,
-    out: *mut ArborAnimationVertex,
+    out: *mut AnimationVertex,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {

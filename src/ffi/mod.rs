@@ -36,10 +36,11 @@ pub use tree::*;
 
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
 use crate::mesh::{
-    self, BranchRange, LeafInstance, LeafOptions, LeafPrefab, MeshOptions, Topology, Vertex,
+    self, AnimationVertex, BranchRange, CurveGrowthRecord, CurveRecord, LeafInstance, LeafOptions,
+    LeafPrefab, MeshOptions, Vertex,
 };
 use crate::models::honda::{self, HondaParams};
-use crate::skeleton::{Branch, Skeleton};
+use crate::skeleton::{Branch, LeafSite, Organ, Skeleton};
 use bytemuck::{Pod, Zeroable};
 use guard::{
     FfiError, arg_ref, copy_out, guard, guard_value, in_slice, out_ref, out_slice, with_last_error,

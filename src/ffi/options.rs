@@ -138,17 +138,112 @@ fn init_name<T: Growing>() -> String {
     s + "_init()"
 }
 
-pub(crate) fn enum_field<T: Copy>(
-    field: &'static str,
-    value: u32,
-    all: &[(T, &str)],
-) -> crate::Result<T> {
-    all.get(value as usize).map(|&(v, _)| v).ok_or_else(|| {
-        let names: Vec<String> = all
-            .iter()
-            .enumerate()
-            .map(|(i, (_, n))| format!("{i} ({n})"))
-            .collect();
-        crate::Error::invalid(field, format!("{value}; expected {}", names.join(", ")))
-    })
+/// How a field of a C struct carries a field of the Rust struct it mirrors: the same type
+/// as it is, a [`Numbered`](crate::enums::Numbered) enum or a flag as `uint32_t`, a count
+/// as a fixed-width integer.
+pub(crate) trait CField<R>: Sized {
+    /// The Rust value, or an error naming `field` when the C value has no meaning.
+    fn c_to_rust(self, field: &'static str) -> crate::Result<R>;
+    /// The C value of a Rust value.
+    fn c_from_rust(value: R) -> Self;
 }
+
+impl<T> CField<T> for T {
+    fn c_to_rust(self, _: &'static str) -> crate::Result<T> {
+        Ok(self)
+    }
+    fn c_from_rust(value: T) -> Self {
+        value
+    }
+}
+
+impl<E: crate::enums::Numbered> CField<E> for u32 {
+    fn c_to_rust(self, field: &'static str) -> crate::Result<E> {
+        E::from_field(field, self)
+    }
+    fn c_from_rust(value: E) -> Self {
+        E::ALL
+            .iter()
+            .position(|&v| v.variant() == value.variant())
+            .unwrap_or(0) as u32
+    }
+}
+
+impl CField<bool> for u32 {
+    fn c_to_rust(self, field: &'static str) -> crate::Result<bool> {
+        match self {
+            0 => Ok(false),
+            1 => Ok(true),
+            _ => Err(crate::Error::invalid(
+                field,
+                format!("{self}; expected 0 (false) or 1 (true)"),
+            )),
+        }
+    }
+    fn c_from_rust(value: bool) -> Self {
+        value as u32
+    }
+}
+
+/// A count: saturates on a platform whose `size_t` is narrower.
+impl CField<usize> for u64 {
+    fn c_to_rust(self, _: &'static str) -> crate::Result<usize> {
+        Ok(usize::try_from(self).unwrap_or(usize::MAX))
+    }
+    fn c_from_rust(value: usize) -> Self {
+        value as u64
+    }
+}
+
+/// A count kept in 32 bits.
+impl CField<usize> for u32 {
+    fn c_to_rust(self, _: &'static str) -> crate::Result<usize> {
+        Ok(self as usize)
+    }
+    fn c_from_rust(value: usize) -> Self {
+        u32::try_from(value).unwrap_or(u32::MAX)
+    }
+}
+
+/// The one field list of a growing C struct and the Rust struct it mirrors, from which
+/// both conversions come: `to_rust` (validating, naming the C field in errors) and
+/// `from_rust` (with `struct_size` this library's size). Both are struct literals, so a
+/// field added to either struct and not listed here does not compile.
+///
+/// - `same { a, b }`: fields of one name (the types convert by [`CField`]);
+/// - `renamed { c_name = rust_name }`: fields whose names differ;
+/// - `c_only { field: value }`: C fields the Rust struct lacks, and what `from_rust` writes;
+/// - `rust_only { field: value }`: Rust fields the C struct lacks, and what `to_rust` gives
+///   (the caller fills them in).
+macro_rules! mirror {
+    ($c:ident => $rust:ident {
+        same { $($f:ident),* $(,)? }
+        renamed { $($cf:ident = $rf:ident),* $(,)? }
+        c_only { $($co:ident: $cov:expr),* $(,)? }
+        rust_only { $($ro:ident: $rov:expr),* $(,)? }
+    }) => {
+        impl $c {
+            /// The Rust value this means; an error names the first field out of range.
+            pub(crate) fn to_rust(self) -> crate::Result<$rust> {
+                use $crate::ffi::options::CField;
+                Ok($rust {
+                    $($f: CField::c_to_rust(self.$f, stringify!($f))?,)*
+                    $($rf: CField::c_to_rust(self.$cf, stringify!($cf))?,)*
+                    $($ro: $rov,)*
+                })
+            }
+
+            /// The C value of `r`, with `struct_size` this library's size.
+            pub(crate) fn from_rust(r: &$rust) -> Self {
+                use $crate::ffi::options::CField;
+                $c {
+                    struct_size: std::mem::size_of::<$c>() as u32,
+                    $($f: CField::c_from_rust(r.$f),)*
+                    $($cf: CField::c_from_rust(r.$rf),)*
+                    $($co: $cov,)*
+                }
+            }
+        }
+    };
+}
+pub(crate) use mirror;

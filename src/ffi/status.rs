@@ -13,12 +13,6 @@ pub const ARBOR_VERSION_PATCH: u32 = 0;
 /// `arbor_abi_version()` >= N. 200 is the one break: option structs gained `struct_size`
 /// first (hosts built against 100 must be rebuilt).
 pub const ARBOR_ABI_VERSION: u32 = 200;
-/// Index that separates strips in ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART output (OpenGL's
-/// GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices).
-pub const ARBOR_RESTART_INDEX: u32 = u32::MAX;
-/// `ArborBranch.parent` of a root branch.
-pub const ARBOR_NO_PARENT: u32 = u32::MAX;
-
 /// Result of every fallible function. The numbers are fixed forever and never reused.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,21 +41,6 @@ pub enum ArborStatus {
     /// allocated); nothing was built and the host keeps running.
     OutOfMemory = 9,
 }
-
-/// ArborProgressFn stage: rewriting the string.
-pub const ARBOR_STAGE_DERIVATION: u32 = 0;
-/// ArborProgressFn stage: the turtle reading the string.
-pub const ARBOR_STAGE_INTERPRETATION: u32 = 1;
-/// ArborProgressFn stage: growth cycles of a world.
-pub const ARBOR_STAGE_GROWTH: u32 = 2;
-/// ArborProgressFn stage: writing a mesh (or the meshes of an export or a forest).
-pub const ARBOR_STAGE_MESH: u32 = 3;
-/// ArborProgressFn stage: reading and preprocessing a model's files (fraction: the part of
-/// `max_file_bytes` read so far; 1 when loaded).
-pub const ARBOR_STAGE_LOAD: u32 = 4;
-/// ArborProgressFn stage: writing an export's file (fraction: written so far; 1 just before
-/// it replaces the target, the last moment a cancel leaves the old file as it was).
-pub const ARBOR_STAGE_WRITE: u32 = 5;
 
 /// A progress callback (see "Progress and cancellation" in docs/c-api.md): called on the
 /// calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a

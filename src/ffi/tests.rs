@@ -61,20 +61,6 @@ fn versions_match_cargo_toml() {
 }
 
 #[test]
-fn enums_match_the_rust_api() {
-    for t in Topology::ALL {
-        let c = match t {
-            Topology::TriangleList => ArborTopology::TriangleList,
-            Topology::TriangleStripRestart => ArborTopology::TriangleStripRestart,
-            Topology::TriangleStripDegenerate => ArborTopology::TriangleStripDegenerate,
-        };
-        assert_eq!(c as u32, t as u32);
-    }
-    assert_eq!(ARBOR_RESTART_INDEX, mesh::RESTART_INDEX);
-    assert_eq!(ARBOR_NO_PARENT, crate::skeleton::NO_PARENT);
-}
-
-#[test]
 fn status_strings_are_distinct_and_static() {
     let mut seen = std::collections::HashSet::new();
     for s in 0..=8u32 {
@@ -118,9 +104,9 @@ fn last_error_message_is_cut_at_capacity() {
 #[test]
 fn options_round_trip_and_unknown_topology_is_rejected() {
     let d = ArborMeshOptions::default();
-    assert_eq!(MeshOptions::try_from(&d).ok(), Some(MeshOptions::default()));
+    assert_eq!(d.to_rust().ok(), Some(MeshOptions::default()));
     let bad = ArborMeshOptions { topology: 3, ..d };
-    let err = MeshOptions::try_from(&bad).unwrap_err();
+    let err = bad.to_rust().unwrap_err();
     assert!(matches!(
         err,
         crate::Error::InvalidArgument {
@@ -128,7 +114,12 @@ fn options_round_trip_and_unknown_topology_is_rejected() {
             ..
         }
     ));
-    assert!(err.to_string().contains("expected 0"), "{err}");
+    assert!(
+        err.to_string().contains(
+            "expected 0 (ARBOR_TOPOLOGY_TRIANGLE_LIST), 1 (ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART)"
+        ),
+        "{err}"
+    );
 }
 
 /// Runs `arbor_tree_from_lsystem` on raw bytes and returns the status and message.
@@ -175,6 +166,7 @@ fn errors_read_the_same_through_rust_and_c() {
 mod fuzz {
     use super::*;
     use crate::ffi::options::Growing;
+    use crate::mesh::{Axes, Topology, UpAxis, Winding};
     use proptest::prelude::*;
 
     proptest! {
@@ -248,7 +240,7 @@ mod fuzz {
             }
             // SAFETY: `tree` is live.
             let n = unsafe { arbor_tree_branch_count(tree) };
-            let mut b = vec![ArborBranch::default(); n];
+            let mut b = vec![Branch::default(); n];
             // SAFETY: `b` holds `n` branches.
             prop_assert_eq!(unsafe { arbor_tree_copy_branches(tree, b.as_mut_ptr(), n) }, ArborStatus::Ok);
             for x in &b {
@@ -287,7 +279,7 @@ mod fuzz {
                 progress_user_data: std::ptr::null_mut(),
                 axes: (fields[1] / 5) % 4,
             };
-            let mut p = ArborHondaParams::default();
+            let mut p = HondaParams::zeroed();
             // SAFETY: `p` is a local struct.
             prop_assert_eq!(unsafe { arbor_honda_preset('c' as u32, &mut p) }, ArborStatus::Ok);
             p.steps = 5;
@@ -304,10 +296,10 @@ mod fuzz {
             // range of positions in the given space (a contradiction or a bad field is
             // refused whatever the space).
             let as_gltf = ArborMeshOptions {
-                topology: ArborTopology::TriangleList as u32,
-                winding: ArborWinding::CounterClockwise as u32,
-                up_axis: ArborUpAxis::Y as u32,
-                axes: ArborAxes::Arbor as u32,
+                topology: Topology::TriangleList as u32,
+                winding: Winding::CounterClockwise as u32,
+                up_axis: UpAxis::Y as u32,
+                axes: Axes::Arbor as u32,
                 ..o
             };
             let (mut gv, mut gi) = (0usize, 0usize);
@@ -316,7 +308,7 @@ mod fuzz {
             let gltf_expected = gltf_space == ArborStatus::Ok
                 && (status == ArborStatus::Ok || size_error.starts_with("invalid argument `scale`"));
             if status == ArborStatus::Ok {
-                let mut v = vec![ArborVertex::default(); nv];
+                let mut v = vec![Vertex::default(); nv];
                 let mut i = vec![0u32; ni];
                 // SAFETY: the buffers hold exactly the sizes asked for.
                 let w = unsafe { arbor_mesh_write(tree, &o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
@@ -441,7 +433,7 @@ mod fuzz {
                 // SAFETY: `tree` is live; NULL options are the defaults.
                 let sized = unsafe { arbor_mesh_size(tree, std::ptr::null(), &mut nv, &mut ni) };
                 prop_assert_eq!(sized, ArborStatus::Ok, "{}", last_error());
-                let mut v = vec![ArborVertex::default(); nv];
+                let mut v = vec![Vertex::default(); nv];
                 let mut i = vec![0u32; ni];
                 // SAFETY: the buffers hold exactly the sizes asked for.
                 let w = unsafe {
@@ -488,7 +480,7 @@ mod fuzz {
                 max_leaves: 100_000,
                 ..<ArborLeafOptions as Growing>::defaults()
             };
-            let mut p = ArborHondaParams::default();
+            let mut p = HondaParams::zeroed();
             // SAFETY: `p` is a local struct.
             prop_assert_eq!(unsafe { arbor_honda_preset('c' as u32, &mut p) }, ArborStatus::Ok);
             p.steps = 5;
@@ -504,7 +496,7 @@ mod fuzz {
             let status = unsafe { arbor_leaf_instance_count(tree, &o, std::ptr::null(), &mut count) };
             prop_assert!(status == ArborStatus::Ok || (refused(status) && !last_error().is_empty()), "{status:?}");
             if status == ArborStatus::Ok {
-                let mut out = vec![ArborLeafInstance::default(); count];
+                let mut out = vec![LeafInstance::default(); count];
                 // SAFETY: `out` holds exactly `count` instances.
                 let w = unsafe { arbor_leaf_instances_write(tree, &o, std::ptr::null(), out.as_mut_ptr(), count) };
                 prop_assert_eq!(w, ArborStatus::Ok);
@@ -519,7 +511,7 @@ mod fuzz {
             let status = unsafe { arbor_leaf_mesh_size(tree, &o, std::ptr::null(), &mut nv, &mut ni) };
             prop_assert!(status == ArborStatus::Ok || (refused(status) && !last_error().is_empty()), "{status:?}");
             if status == ArborStatus::Ok {
-                let mut v = vec![ArborVertex::default(); nv];
+                let mut v = vec![Vertex::default(); nv];
                 let mut i = vec![0u32; ni];
                 // SAFETY: the buffers hold exactly the sizes asked for.
                 let w = unsafe { arbor_leaf_mesh_write(tree, &o, std::ptr::null(), v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
@@ -542,7 +534,7 @@ mod fuzz {
             let r = |k: usize, lo: f32, hi: f32| lo + u[k] * (hi - lo);
             let trees: Vec<ArborForestTree> = (0..count)
                 .map(|t| {
-                    let mut params = ArborHondaParams::default();
+                    let mut params = HondaParams::zeroed();
                     let name = b"abcdefghiz"[ints[3 * t] as usize % 10] as u32;
                     // SAFETY: `params` is a local struct; an unknown name leaves it zeroed.
                     let _ = unsafe { arbor_honda_preset(name, &mut params) };
@@ -569,7 +561,7 @@ mod fuzz {
                 prop_assert!(!last_error().is_empty());
                 return Ok(());
             }
-            let mut v = vec![ArborVertex::default(); nv];
+            let mut v = vec![Vertex::default(); nv];
             let mut i = vec![0u32; ni];
             // SAFETY: the buffers hold exactly the sizes asked for.
             let w = unsafe {
@@ -587,7 +579,7 @@ mod fuzz {
             u in prop::collection::vec(prop_oneof![12 => -1.0f32..1.0, 1 => any::<f32>()], 16),
             ints in prop::collection::vec(any::<u32>(), 4),
         ) {
-            let mut p = ArborHondaParams::default();
+            let mut p = HondaParams::zeroed();
             // SAFETY: `p` is a local struct.
             prop_assert_eq!(unsafe { arbor_honda_preset('a' as u32, &mut p) }, ArborStatus::Ok);
             p.steps = 4;
@@ -632,7 +624,7 @@ mod fuzz {
             let size = unsafe { arbor_mesh_size(tree, &o, &mut nv, &mut ni) };
             prop_assert!(size == ArborStatus::Ok || !last_error().is_empty(), "{size:?}");
             if size == ArborStatus::Ok {
-                let mut v = vec![ArborVertex::default(); nv];
+                let mut v = vec![Vertex::default(); nv];
                 let mut i = vec![0u32; ni];
                 // SAFETY: the buffers hold exactly the sizes asked for.
                 prop_assert_eq!(unsafe { arbor_mesh_write(tree, &o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) }, ArborStatus::Ok);
@@ -653,42 +645,4 @@ mod fuzz {
             unsafe { arbor_tree_free(tree) };
         }
     }
-}
-
-#[test]
-fn honda_params_convert_field_by_field() {
-    // The conversion is a cast: the fields must line up by name, not only by size.
-    let p = crate::models::honda::HondaParams {
-        trunk_length: 1.0,
-        trunk_width: 2.0,
-        r1: 3.0,
-        r2: 4.0,
-        alpha1: 5.0,
-        alpha2: 6.0,
-        phi1: 7.0,
-        phi2: 8.0,
-        q: 9.0,
-        e: 10.0,
-        min_length: 11.0,
-        steps: 12,
-    };
-    let c = ArborHondaParams::from(p);
-    assert_eq!(
-        [
-            c.trunk_length,
-            c.trunk_width,
-            c.r1,
-            c.r2,
-            c.alpha1,
-            c.alpha2,
-            c.phi1,
-            c.phi2,
-            c.q,
-            c.e,
-            c.min_length
-        ],
-        [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0]
-    );
-    assert_eq!(c.steps, 12);
-    assert_eq!(crate::models::honda::HondaParams::from(c), p);
 }

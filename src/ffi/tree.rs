@@ -113,73 +113,6 @@ impl ArborTree {
     }
 }
 
-/// Parameters of the 1996 Prusinkiewicz, Hammel, Hanan & Mech branching model (trees a-i).
-/// Lengths in model units, widths are diameters, angles in degrees.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborHondaParams {
-    /// s0: trunk length (100 in the paper); finite, > 0.
-    pub trunk_length: f32,
-    /// w0: trunk width, a diameter; finite, > 0.
-    pub trunk_width: f32,
-    /// Length ratio of the first child; finite, > 0.
-    pub r1: f32,
-    /// Length ratio of the second child; finite, > 0.
-    pub r2: f32,
-    /// Branching angle of the first child (turtle `+`), degrees; finite.
-    pub alpha1: f32,
-    /// Branching angle of the second child (turtle `+`), degrees; finite.
-    pub alpha2: f32,
-    /// Divergence angle of the first child (turtle `/`), degrees; finite.
-    pub phi1: f32,
-    /// Divergence angle of the second child (turtle `/`), degrees; finite.
-    pub phi2: f32,
-    /// Width share of the first child, 0 <= q <= 1.
-    pub q: f32,
-    /// Width exponent, finite, >= 0: children widths are w*q^e and w*(1-q)^e.
-    pub e: f32,
-    /// An apex grows only while its length s >= min_length; finite, >= 0.
-    pub min_length: f32,
-    /// Derivation length n (the axiom is step 0), at most 1024.
-    pub steps: u32,
-}
-
-// The two structs share one layout (asserted below), so they convert by a plain cast.
-impl From<ArborHondaParams> for HondaParams {
-    fn from(p: ArborHondaParams) -> Self {
-        bytemuck::cast(p)
-    }
-}
-
-impl From<HondaParams> for ArborHondaParams {
-    fn from(p: HondaParams) -> Self {
-        bytemuck::cast(p)
-    }
-}
-
-/// One internode (one turtle F), 48 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborBranch {
-    /// Start point (x, y, z), Y up; equal to the parent's `end`.
-    pub start: [f32; 3],
-    /// End point (x, y, z).
-    pub end: [f32; 3],
-    /// Radius at `start` (half the turtle width).
-    pub start_radius: f32,
-    /// Radius at `end`.
-    pub end_radius: f32,
-    /// Index of the branch it grows from (always smaller than its own index);
-    /// ARBOR_NO_PARENT for a root.
-    pub parent: u32,
-    /// The rewriting step that produced it; axiom modules are 0, so the 1996 trunk has 1.
-    pub depth: u32,
-    /// Branching order: 0 on the trunk axis, +1 per lateral branch.
-    pub order: u32,
-    /// Reserved, 0.
-    pub flags: u32,
-}
-
 /// Writes the parameters of the paper's tree `name` ('a'..'i', upper case accepted) to
 /// `*out`. Unknown name: ARBOR_STATUS_INVALID_ARGUMENT; `out` NULL:
 /// ARBOR_STATUS_NULL_ARGUMENT.
@@ -187,7 +120,7 @@ pub struct ArborBranch {
 /// # Safety
 /// `out` is NULL or valid for writes of one ArborHondaParams.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut ArborHondaParams) -> ArborStatus {
+pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut HondaParams) -> ArborStatus {
     guard(|| {
         let params = char::from_u32(name)
             .and_then(HondaParams::preset)
@@ -197,7 +130,7 @@ pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut ArborHondaParam
                 ))
             })?;
         // SAFETY: the caller promises `out` is NULL or writable.
-        *unsafe { out_ref(out, "out") }? = params.into();
+        *unsafe { out_ref(out, "out") }? = params;
         Ok(())
     })
 }
@@ -211,12 +144,12 @@ pub unsafe extern "C" fn arbor_honda_preset(name: u32, out: *mut ArborHondaParam
 /// `params` is NULL or points to an ArborHondaParams; `out` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_from_honda(
-    params: *const ArborHondaParams,
+    params: *const HondaParams,
     out: *mut *mut ArborTree,
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: the caller promises `params` is NULL or readable.
-        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        let params: HondaParams = *unsafe { arg_ref(params, "params") }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let skeleton = honda::build(&params)?;
@@ -239,7 +172,7 @@ pub unsafe extern "C" fn arbor_tree_from_honda(
 /// `branches` is NULL or readable for `count` elements; `out` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_from_branches(
-    branches: *const ArborBranch,
+    branches: *const Branch,
     count: usize,
     out: *mut *mut ArborTree,
 ) -> ArborStatus {
@@ -302,7 +235,7 @@ pub unsafe extern "C" fn arbor_tree_branch_count(tree: *const ArborTree) -> usiz
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_copy_branches(
     tree: *const ArborTree,
-    out: *mut ArborBranch,
+    out: *mut Branch,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -313,22 +246,6 @@ pub unsafe extern "C" fn arbor_tree_copy_branches(
         // (ArborBranch and Branch share one layout, asserted in layout.rs).
         unsafe { copy_out(src, out.cast::<Branch>(), capacity, "out") }
     })
-}
-
-/// A place where the turtle met `~` in a grammar (44 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ArborLeafSite {
-    /// Where the turtle stood.
-    pub position: [f32; 3],
-    /// Its heading (unit).
-    pub heading: [f32; 3],
-    /// Its up vector (unit).
-    pub up: [f32; 3],
-    /// The branch the site sits on, or ARBOR_NO_PARENT.
-    pub branch: u32,
-    /// The rewriting step that produced the `~`.
-    pub depth: u32,
 }
 
 /// Number of `~` leaf sites of `tree`; 0 for NULL.
@@ -351,7 +268,7 @@ pub unsafe extern "C" fn arbor_tree_leaf_site_count(tree: *const ArborTree) -> u
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
     tree: *const ArborTree,
-    out: *mut ArborLeafSite,
+    out: *mut LeafSite,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -369,35 +286,6 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
             )
         }
     })
-}
-
-/// ArborOrgan.kind of a sphere (`@O`).
-pub const ARBOR_ORGAN_SPHERE: u32 = 0;
-/// ArborOrgan.kind of a disc facing the heading (`@o`, `@c`).
-pub const ARBOR_ORGAN_DISC: u32 = 1;
-
-/// A sphere or disc the turtle placed (`@O(d)`, `@o(d)`, `@c(d)`), 56 bytes. The baked
-/// leaf mesh (arbor_leaf_mesh_write) holds one per organ when ArborLeafOptions.polygons
-/// is set.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ArborOrgan {
-    /// Centre: where the turtle stood.
-    pub position: [f32; 3],
-    /// The turtle's heading there (unit): a disc's normal.
-    pub heading: [f32; 3],
-    /// The turtle's up vector there (unit).
-    pub up: [f32; 3],
-    /// Diameter.
-    pub size: f32,
-    /// ARBOR_ORGAN_SPHERE or ARBOR_ORGAN_DISC.
-    pub kind: u32,
-    /// The branch it sits on, or ARBOR_NO_PARENT.
-    pub branch: u32,
-    /// The rewriting step that produced it.
-    pub depth: u32,
-    /// The turtle's colour index there (`;` `,`).
-    pub color: u32,
 }
 
 /// Number of spheres and discs of `tree`; 0 for NULL.
@@ -420,7 +308,7 @@ pub unsafe extern "C" fn arbor_tree_organ_count(tree: *const ArborTree) -> usize
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_copy_organs(
     tree: *const ArborTree,
-    out: *mut ArborOrgan,
+    out: *mut Organ,
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -467,13 +355,13 @@ pub unsafe extern "C" fn arbor_tree_copy_branch_colors(
 /// `params` is NULL or readable; `out` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_from_honda_varied(
-    params: *const ArborHondaParams,
+    params: *const HondaParams,
     seed: u64,
     out: *mut *mut ArborTree,
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: the caller promises `params` is NULL or readable.
-        let params: HondaParams = (*unsafe { arg_ref(params, "params") }?).into();
+        let params: HondaParams = *unsafe { arg_ref(params, "params") }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let variation = honda::Variation {

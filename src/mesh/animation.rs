@@ -7,8 +7,8 @@ use crate::error::Result;
 use crate::skeleton::Skeleton;
 
 /// Per-vertex animation data for a host's growth and wind shaders: an optional second
-/// vertex stream, one element per vertex of [`tubes`](super::tubes()) with the same options (16 bytes; the
-/// layout of the C type `ArborAnimationVertex`).
+/// vertex stream, one element per vertex of the mesh of the same tree and options (16
+/// bytes; C: ArborAnimationVertex).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct AnimationVertex {

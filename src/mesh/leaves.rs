@@ -15,7 +15,7 @@ use glam::{Mat3, Quat, Vec3};
 use std::mem::MaybeUninit;
 use std::path::Path;
 
-/// One leaf for instanced drawing: 32 bytes, the layout of the C type `ArborLeafInstance`.
+/// One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes; C: ArborLeafInstance.
 ///
 /// The leaf's own space has +Y along the blade (stem to tip), +Z its face normal and +X
 /// across; `rotation` (a unit quaternion x, y, z, w) turns that space into the tree's, then

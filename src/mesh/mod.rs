@@ -42,18 +42,17 @@ pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};
 
 use bytemuck::{Pod, Zeroable};
 
-/// Index that separates strips in [`Topology::TriangleStripRestart`] output: OpenGL's
-/// `GL_PRIMITIVE_RESTART_FIXED_INDEX` for 32-bit indices.
+/// Index that separates strips in triangle-strip-restart output (ARBOR_RESTART_INDEX in
+/// C): OpenGL's GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices.
 pub const RESTART_INDEX: u32 = u32::MAX;
 
-/// Fewest sides a branch may have.
+/// Fewest sides a branch may have (`radial_segments`, `min_radial_segments`).
 pub const MIN_RADIAL_SEGMENTS: u32 = 3;
-/// Most sides a branch may have.
+/// Most sides a branch may have (`radial_segments`).
 pub const MAX_RADIAL_SEGMENTS: u32 = 64;
 
-/// One vertex: 32 bytes, interleaved, the layout of the C type `ArborVertex`.
-///
-/// Attribute offsets: position 0, normal 12, uv 24; stride 32.
+/// One mesh vertex (C: ArborVertex), 32 bytes, interleaved: position at offset 0, normal
+/// at 12, uv at 24; stride 32.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
@@ -61,8 +60,9 @@ pub struct Vertex {
     pub position: [f32; 3],
     /// Unit outward normal.
     pub normal: [f32; 3],
-    /// `u` around the circumference (0..=1, seam duplicated), `v` along the branch (arc
-    /// length from the root / texture scale).
+    /// u around the branch (0..1, the seam vertex duplicated); v along it: the arc length
+    /// from the root divided by the mesh options' `texture_scale` (so v grows past 1 on
+    /// any branch longer than `texture_scale`: tree a reaches about 400 at scale 1).
     pub uv: [f32; 2],
 }
 
@@ -73,51 +73,48 @@ const _: () = {
     assert!(std::mem::offset_of!(Vertex, uv) == 24);
 };
 
-/// How the index buffer strings triangles together. The numbers are those of the C enum
-/// `ArborTopology`.
+/// How the index buffer strings triangles together (C: ArborTopology, in
+/// ArborMeshOptions.topology).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Topology {
-    /// Three indices per triangle (what Unity and Unreal take).
+    /// Three indices per triangle (Unity, Unreal, glDrawElements(GL_TRIANGLES)). The
+    /// default.
     #[default]
     TriangleList = 0,
-    /// One strip per branch, strips separated by [`RESTART_INDEX`] (OpenGL
-    /// `GL_PRIMITIVE_RESTART_FIXED_INDEX`).
+    /// One strip per branch, strips separated by the restart index (ARBOR_RESTART_INDEX);
+    /// draw with GL_TRIANGLE_STRIP and GL_PRIMITIVE_RESTART_FIXED_INDEX enabled.
     TriangleStripRestart = 1,
     /// One strip for the whole mesh, branches joined by degenerate triangles.
     TriangleStripDegenerate = 2,
 }
 
-impl Topology {
-    /// All topologies, in their numeric order.
-    pub const ALL: [Topology; 3] = [
-        Topology::TriangleList,
-        Topology::TriangleStripRestart,
-        Topology::TriangleStripDegenerate,
-    ];
+crate::enums::numbered!(Topology as "ArborTopology" {
+    TriangleList = "triangle-list",
+    TriangleStripRestart = "triangle-strip-restart",
+    TriangleStripDegenerate = "triangle-strip-degenerate",
+});
 
-    /// The topology with C number `value`, `None` for an unknown number.
-    pub fn from_u32(value: u32) -> Option<Self> {
-        Self::ALL.get(value as usize).copied()
-    }
-}
-
-/// How a branch meets the branch it continues.
+/// How a branch meets the branch it continues (C: ArborJoints, in
+/// ArborMeshOptions.joints).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Joints {
     /// Every branch has its own two rings (cracks show at bends).
     Separate = 0,
-    /// A continuing branch shares its parent's end ring, placed in the bisecting plane.
+    /// A continuing branch shares its parent's end ring, placed in the bisecting plane
+    /// (watertight axes). The default.
     #[default]
     Mitred = 1,
 }
 
-/// How the last branch of an axis ends.
+crate::enums::numbered!(Joints as "ArborJoints" { Separate = "separate", Mitred = "mitred" });
+
+/// How the last branch of an axis ends (C: ArborTip, in ArborMeshOptions.tip).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Tip {
-    /// Open tube.
+    /// Open tube. The default.
     #[default]
     Open = 0,
     /// A flat disc.
@@ -126,38 +123,48 @@ pub enum Tip {
     Point = 2,
 }
 
-/// Which way front faces wind, seen from outside.
+crate::enums::numbered!(Tip as "ArborTip" { Open = "open", Cap = "cap", Point = "point" });
+
+/// Which way front faces wind, seen from outside (C: ArborWinding, in
+/// ArborMeshOptions.winding).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Winding {
-    /// Counter-clockwise (OpenGL, glTF).
+    /// Counter-clockwise (OpenGL, glTF). The default.
     #[default]
     CounterClockwise = 0,
     /// Clockwise (Unity, Direct3D defaults).
     Clockwise = 1,
 }
 
-/// Which axis points up in the output.
+crate::enums::numbered!(Winding as "ArborWinding" {
+    CounterClockwise = "counter-clockwise",
+    Clockwise = "clockwise",
+});
+
+/// Which axis points up in the output (C: ArborUpAxis, in ArborMeshOptions.up_axis).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum UpAxis {
-    /// Y up, as arbor computes (OpenGL, Unity).
+    /// Y up, as arbor computes (OpenGL, Unity). The default.
     #[default]
     Y = 0,
     /// Z up (Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which keeps
-    /// handedness and winding. Unreal is left-handed: use [`Axes::Unreal`] there.
+    /// handedness and winding. Unreal is left-handed: use the Unreal axes there.
     Z = 1,
 }
+
+crate::enums::numbered!(UpAxis as "ArborUpAxis" { Y = "y", Z = "z" });
 
 /// Engine conventions of the output: the axes, handedness, units and winding a host's
 /// engine uses, converted as that engine's own glTF importer converts (a mirror into a
 /// left-handed space, never a rotation, so a tree keeps its handedness: trees g, h and i
-/// spiral the same way in every engine).
+/// spiral the same way in every engine). C: ArborAxes, in ArborMeshOptions.axes.
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Axes {
-    /// arbor's own right-handed space, with [`MeshOptions::up_axis`],
-    /// [`MeshOptions::winding`] and [`MeshOptions::scale`] as given (OpenGL, glTF, Vulkan).
+    /// arbor's own right-handed space, with the options' `up_axis`, `winding` and `scale`
+    /// as given (OpenGL, glTF, Vulkan). The default.
     #[default]
     Arbor = 0,
     /// Unity: left-handed, Y up, metres (one model unit = one metre, as in glTF):
@@ -171,6 +178,8 @@ pub enum Axes {
     /// clockwise convention).
     Unreal = 2,
 }
+
+crate::enums::numbered!(Axes as "ArborAxes" { Arbor = "arbor", Unity = "unity", Unreal = "unreal" });
 
 /// Options of the tube mesher. Plain data; `Default` gives the documented defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]

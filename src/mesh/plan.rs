@@ -18,13 +18,13 @@ use glam::Vec3;
 /// The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
 /// and `first_index..first_index + index_count`. Ranges of consecutive branches are
 /// consecutive; a dropped branch has empty ranges. A branch that shares its parent's ring
-/// indexes vertices of its parent. Same layout as the C type `ArborBranchRange`.
+/// indexes vertices of its parent. C: ArborBranchRange (see arbor_mesh_branch_ranges()).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct BranchRange {
     /// First vertex the branch owns.
     pub first_vertex: u32,
-    /// Number of vertices it owns.
+    /// Number of vertices it owns (0 for a culled branch).
     pub vertex_count: u32,
     /// First index it owns (joins and restarts before its strips included).
     pub first_index: u32,

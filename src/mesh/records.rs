@@ -8,7 +8,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// One branch for a shader, 80 bytes, every vec4 16-byte aligned (std430 `struct { vec4
 /// p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
-/// parent; uint birth; }`). The layout of the C type `ArborCurveRecord`.
+/// parent; uint birth; }`). C: ArborCurveRecord.
 ///
 /// A point at curve parameter t has texture v = `v0 + length · s(t)` (s the fraction of
 /// the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
@@ -37,15 +37,15 @@ pub struct CurveRecord {
     pub u_offset: f32,
     /// Branching order.
     pub order: u32,
-    /// Parent branch, or `NO_PARENT`.
+    /// Parent branch, or NO_PARENT (ARBOR_NO_PARENT).
     pub parent: u32,
     /// Birth (rewriting step or growth cycle).
     pub birth: u32,
 }
 
-/// A [`CurveRecord`] with its growth bounds for animated growth, 96 bytes: the branch
-/// grows from `grow_start` to `grow_end` (0..1, the animation stream's growth times).
-/// The layout of the C type `ArborCurveGrowthRecord`.
+/// A curve record with its growth bounds for animated growth, 96 bytes: the branch grows
+/// from `grow_start` to `grow_end` (0..1, the animation stream's growth times). C:
+/// ArborCurveGrowthRecord.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct CurveGrowthRecord {

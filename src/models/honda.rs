@@ -28,7 +28,8 @@ pub const MAX_STEPS: u32 = 1024;
 /// The names of the presets, in the paper's order.
 pub const PRESET_NAMES: [char; 9] = ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'];
 
-/// Parameters of the model; the same fields and layout as the C type `ArborHondaParams`.
+/// Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch (trees
+/// a–i); C: ArborHondaParams.
 ///
 /// Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
 /// diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
@@ -57,7 +58,8 @@ pub struct HondaParams {
     pub e: f32,
     /// min: an apex grows only while its length s >= min. Finite, >= 0.
     pub min_length: f32,
-    /// n: derivation length (rewriting steps; the axiom is step 0), at most [`MAX_STEPS`].
+    /// n: derivation length (rewriting steps; the axiom is step 0), at most 1024
+    /// (`MAX_STEPS`).
     pub steps: u32,
 }
 

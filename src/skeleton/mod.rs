@@ -11,13 +11,16 @@ use crate::geom::Curve;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-/// `parent` value of a branch that grows from nothing (a root).
+/// The `parent` of a branch that grows from nothing (a root), and the `branch` of a leaf
+/// site or organ on no branch (ARBOR_NO_PARENT in C).
 pub const NO_PARENT: u32 = u32::MAX;
 
 /// One internode (one `F` of the turtle): a truncated cone from `start` to `end`.
 ///
-/// 48 bytes, `#[repr(C)]`, with exactly the layout of the C type `ArborBranch`.
+/// 48 bytes; C: ArborBranch, whose field `depth` is `birth` here.
 /// Positions are in the model's units (the 1996 presets use a trunk of 100 units), Y up.
+///
+/// cbindgen:field-names=[start, end, start_radius, end_radius, parent, depth, order, flags]
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Branch {
@@ -29,13 +32,13 @@ pub struct Branch {
     pub start_radius: f32,
     /// Radius at `end`.
     pub end_radius: f32,
-    /// Index of the branch it grows from, always smaller than its own index; [`NO_PARENT`]
-    /// for a root.
+    /// Index of the branch it grows from, always smaller than its own index; NO_PARENT
+    /// (ARBOR_NO_PARENT) for a root.
     pub parent: u32,
     /// Its birth: the rewriting step that produced the branch's `F` (axiom modules are step
     /// 0, so the trunk of the 1996 model, made by step 1, has birth 1); for a
-    /// self-organized tree, the growth cycle. Not the distance from the root (see
-    /// [`Adjacency::depth`]). The C field `ArborBranch.depth` holds the same value.
+    /// self-organized tree, the growth cycle. Not the distance from the root (Rust:
+    /// `Adjacency::depth`). Named `depth` in C.
     pub birth: u32,
     /// Branching order: 0 on the trunk axis, +1 for each lateral branch on the way.
     pub order: u32,
@@ -68,8 +71,10 @@ impl Branch {
     }
 }
 
-/// A place where the turtle met `~`: where a leaf (or another organ) goes. 44 bytes,
-/// `#[repr(C)]`, the layout of the C type `ArborLeafSite`.
+/// A place where the turtle met `~`: where a leaf (or another organ) goes. 44 bytes; C:
+/// ArborLeafSite, whose field `depth` is `birth` here.
+///
+/// cbindgen:field-names=[position, heading, up, branch, depth]
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct LeafSite {
@@ -80,19 +85,22 @@ pub struct LeafSite {
     /// The turtle's up vector U there (unit).
     pub up: [f32; 3],
     /// The branch the site sits on (the last one drawn on the turtle's axis), or
-    /// [`NO_PARENT`].
+    /// NO_PARENT (ARBOR_NO_PARENT).
     pub branch: u32,
     /// The rewriting step that produced the `~` (the C field `depth`).
     pub birth: u32,
 }
 
-/// [`Organ::kind`] of a sphere (`@O(d)`).
+/// The `kind` of an organ that is a sphere (`@O(d)`; ARBOR_ORGAN_SPHERE in C).
 pub const ORGAN_SPHERE: u32 = 0;
-/// [`Organ::kind`] of a disc facing the turtle's heading (`@o(d)`, `@c(d)`).
+/// The `kind` of an organ that is a disc facing the turtle's heading (`@o(d)`, `@c(d)`;
+/// ARBOR_ORGAN_DISC in C).
 pub const ORGAN_DISC: u32 = 1;
 
-/// A sphere or disc the turtle placed (`@O`, `@o`, `@c`): 56 bytes, `#[repr(C)]`, the
-/// layout of the C type `ArborOrgan`.
+/// A sphere or disc the turtle placed (`@O`, `@o`, `@c`): 56 bytes; C: ArborOrgan, whose
+/// field `depth` is `birth` here.
+///
+/// cbindgen:field-names=[position, heading, up, size, kind, branch, depth, color]
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Organ {
@@ -104,9 +112,9 @@ pub struct Organ {
     pub up: [f32; 3],
     /// Diameter.
     pub size: f32,
-    /// [`ORGAN_SPHERE`] or [`ORGAN_DISC`].
+    /// ORGAN_SPHERE or ORGAN_DISC (ARBOR_ORGAN_SPHERE, ARBOR_ORGAN_DISC).
     pub kind: u32,
-    /// The branch it sits on, or [`NO_PARENT`].
+    /// The branch it sits on, or NO_PARENT (ARBOR_NO_PARENT).
     pub branch: u32,
     /// The rewriting step that produced it.
     pub birth: u32,

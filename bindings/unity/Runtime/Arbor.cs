@@ -59,7 +59,7 @@ namespace Arbor
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
-        Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15,
+        Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16,
     }
 
     [StructLayout(LayoutKind.Sequential)]

@@ -36,17 +36,23 @@ use tree::Tree;
 
 pub use env::{MAX_OBSTACLES, Obstacle};
 
-/// How a world's trees perceive light and space. The numbers are those of the C enum
-/// `ArborEnvironment`.
+/// How a world's trees perceive light and space (C: ArborEnvironment, in
+/// ArborWorldOptions.environment).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Environment {
     /// Shadow propagation in a voxel grid: every bud casts a pyramid of shadow below it.
+    /// The default.
     #[default]
     Shadow = 0,
     /// Space colonization: buds compete for attraction markers scattered in the box.
     SpaceColonization = 1,
 }
+
+crate::enums::numbered!(Environment as "ArborEnvironment" {
+    Shadow = "shadow",
+    SpaceColonization = "space-colonization",
+});
 
 /// The world: its box, its environment and its limits. Plain data; `Default` gives the
 /// documented defaults.
@@ -141,13 +147,14 @@ pub struct GrowthParams {
     pub seed_age: u32,
     /// Seeds land within ln(root vigour) · seed_spread of the base, ≥ 0. Default 2.
     pub seed_spread: f32,
-    /// Space colonization: half-angle of a bud's perception cone, 0..=180. Default 90.
+    /// Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180].
+    /// Default 90.
     pub perception_angle: f32,
-    /// Space colonization: reach of the perception cone, in internode lengths, > 0.
-    /// Default 4.
+    /// Space colonization: reach of the perception cone, in internode lengths, in
+    /// (0, 64]. Default 4.
     pub perception_reach: f32,
     /// Space colonization: markers closer than this many internode lengths to a bud are
-    /// removed (occupied), ≥ 0. Default 2.
+    /// removed (occupied), 0..=64. Default 2.
     pub occupancy_reach: f32,
     /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
     pub max_shoot: u32,
@@ -178,7 +185,8 @@ impl Default for GrowthParams {
     }
 }
 
-/// Named species with documented parameter values (see [`GrowthParams::preset`]).
+/// Named species with documented parameter values (C: ArborSpecies, for
+/// arbor_growth_params_preset(); Rust: `GrowthParams::preset`).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Species {
@@ -194,34 +202,13 @@ pub enum Species {
     Weeping = 4,
 }
 
-impl Species {
-    /// Every species, in their numeric order.
-    pub const ALL: [Species; 5] = [
-        Species::Excurrent,
-        Species::Decurrent,
-        Species::Columnar,
-        Species::Bush,
-        Species::Weeping,
-    ];
-
-    /// The species' name in lower case, as the CLI and documentation spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Species::Excurrent => "excurrent",
-            Species::Decurrent => "decurrent",
-            Species::Columnar => "columnar",
-            Species::Bush => "bush",
-            Species::Weeping => "weeping",
-        }
-    }
-
-    /// The species of that name (any case), if there is one.
-    pub fn from_name(name: &str) -> Option<Species> {
-        Species::ALL
-            .into_iter()
-            .find(|s| s.name().eq_ignore_ascii_case(name))
-    }
-}
+crate::enums::numbered!(Species as "ArborSpecies" {
+    Excurrent = "excurrent",
+    Decurrent = "decurrent",
+    Columnar = "columnar",
+    Bush = "bush",
+    Weeping = "weeping",
+});
 
 impl GrowthParams {
     /// The parameters of a named species. Values (the rest as [`Default`]):
