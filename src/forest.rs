@@ -139,7 +139,7 @@ fn check_placed(placed: &[Placed<'_>]) -> Result<()> {
             .all(|v| v.is_finite() && v.abs() <= MAX_PLACEMENT_POSITION)
             && p.rotation.is_finite();
         if !(finite && p.scale.is_finite() && p.scale > 0.0 && p.scale <= MAX_PLACEMENT_SCALE) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 "placement",
                 format!(
                     "tree {i}: position {:?}, rotation {}, scale {}; expected finite values, \
@@ -188,7 +188,7 @@ fn total(sizes: impl Iterator<Item = MeshSize>, options: &MeshOptions) -> Result
                 indices,
             )
         };
-        return Err(crate::Error::LimitExceeded {
+        return Err(crate::error::Error::LimitExceeded {
             limit_name,
             what,
             limit,
@@ -250,7 +250,7 @@ pub fn write_merged_uninit(
 
 /// [`write_merged_uninit`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) to
 /// `progress` (the fraction of the trees meshed) on the calling thread after each tree;
-/// `false` stops with [`Error::Cancelled`](crate::Error::Cancelled) before anything is
+/// `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled) before anything is
 /// written into the buffers.
 pub fn write_merged_uninit_with_progress(
     placed: &[Placed<'_>],

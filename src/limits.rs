@@ -1,5 +1,5 @@
 //! Limits on what one call may produce. Every generator checks its limit before the memory
-//! is spent and stops with [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming it.
+//! is spent and stops with [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming it.
 
 /// Most branches a generator makes by default (2^24).
 pub const DEFAULT_MAX_BRANCHES: usize = 1 << 24;
@@ -22,12 +22,15 @@ pub const DEFAULT_MAX_VERTICES: usize = u32::MAX as usize;
 pub const DEFAULT_MAX_WORK: usize = 1 << 28;
 
 /// `n` zeroed values (calloc: pages are touched only when written), or
-/// [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what` when the allocation
+/// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what` when the allocation
 /// fails, instead of aborting the process.
-pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(n: usize, what: &str) -> crate::Result<Vec<T>> {
+pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
+    n: usize,
+    what: &str,
+) -> crate::error::Result<Vec<T>> {
     bytemuck::allocation::try_zeroed_slice_box::<T>(n)
         .map(Vec::from)
-        .map_err(|()| crate::Error::OutOfMemory {
+        .map_err(|()| crate::error::Error::OutOfMemory {
             what: format!(
                 "{what} ({n} × {} bytes = {} bytes)",
                 std::mem::size_of::<T>(),
@@ -38,13 +41,13 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(n: usize, what: &str) -> crate::
 
 /// Asks for `bytes` once, fallibly, and gives them back: work that then builds several
 /// arrays of that total size (a mesh plan) finds the address space there, and a process
-/// short of memory gets [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what`
+/// short of memory gets [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what`
 /// before any of it is built, instead of an abort halfway.
-pub(crate) fn check_available(bytes: usize, what: &str) -> crate::Result<()> {
+pub(crate) fn check_available(bytes: usize, what: &str) -> crate::error::Result<()> {
     let mut probe: Vec<u8> = Vec::new();
     probe
         .try_reserve_exact(bytes)
-        .map_err(|_| crate::Error::OutOfMemory {
+        .map_err(|_| crate::error::Error::OutOfMemory {
             what: format!("{what} ({bytes} bytes)"),
         })
 }
@@ -67,16 +70,16 @@ impl<T> Room for Vec<T> {
 }
 
 /// Room for `n` more elements in each of `arrays` (parallel arrays of one thing), or
-/// [`Error::OutOfMemory`](crate::Error::OutOfMemory) naming `what()`.
+/// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what()`.
 pub(crate) fn try_room(
     arrays: &mut [&mut dyn Room],
     n: usize,
     exact: bool,
     what: impl FnOnce() -> String,
-) -> crate::Result<()> {
+) -> crate::error::Result<()> {
     if arrays.iter_mut().all(|a| a.room(n, exact)) {
         Ok(())
     } else {
-        Err(crate::Error::OutOfMemory { what: what() })
+        Err(crate::error::Error::OutOfMemory { what: what() })
     }
 }

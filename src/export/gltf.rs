@@ -675,7 +675,7 @@ pub fn save_gltf(
 
 /// [`save_gltf`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) while the bark
 /// is meshed (as [`MeshPlan::write_uninit_with_progress`](crate::mesh::MeshPlan::write_uninit_with_progress));
-/// `false` stops with [`Error::Cancelled`](crate::Error::Cancelled) and no file is
+/// `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled) and no file is
 /// created.
 pub fn save_gltf_with_progress(
     skeleton: &Skeleton,

@@ -3,8 +3,10 @@
 
 use crate::error::{Error, Result};
 use crate::geom::{Frame, cos_sin_deg};
-use crate::lsystem::derive::{Ctx, Expander, select_multi, successor_of};
+use crate::lsystem::ctx::Ctx;
 use crate::lsystem::grammar::{POP, PUSH};
+use crate::lsystem::query::Asked;
+use crate::lsystem::rewrite::{Expander, select_multi, successor_of};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
 use crate::progress::{Progress, Stage};
 use crate::skeleton::{
@@ -458,17 +460,6 @@ pub(crate) fn interpret_with(
     interpret_answering(ls, string, options, None, progress)
 }
 
-/// What a query module asks the turtle: `?P` its position, `?H` heading, `?U` up, `?L`
-/// left.
-fn query_kind(name: &str) -> Option<usize> {
-    ["?P", "?H", "?U", "?L"].iter().position(|q| *q == name)
-}
-
-/// Whether the grammar has query modules (`?P`, `?H`, `?U`, `?L`).
-pub(crate) fn has_queries(ls: &LSystem) -> bool {
-    ls.symbols.names.iter().any(|n| query_kind(n).is_some())
-}
-
 /// cpfg's query modules: the turtle reads `string` and each `?P(x,y[,z])` (and `?H`,
 /// `?U`, `?L`) gets the position (heading, up, left) the turtle has there, in as many of
 /// its parameters as it has. Run after every derivation step, as cpfg does, so the next
@@ -478,14 +469,9 @@ pub(crate) fn answer_queries(
     string: &mut ModuleString,
     options: &LsystemOptions,
 ) -> Result<()> {
-    let mut answers = Vec::new();
-    interpret_answering(ls, string, options, Some(&mut answers), Default::default())?;
-    for (i, v) in answers {
-        let (a, b) = (string.offsets[i] as usize, string.offsets[i + 1] as usize);
-        for (slot, x) in string.params[a..b].iter_mut().zip(v) {
-            *slot = x;
-        }
-    }
+    let mut asked = Asked::new(ls);
+    interpret_answering(ls, string, options, Some(&mut asked), Default::default())?;
+    asked.answer(string);
     Ok(())
 }
 
@@ -493,22 +479,14 @@ fn interpret_answering(
     ls: &LSystem,
     string: &ModuleString,
     options: &LsystemOptions,
-    mut answers: Option<&mut Vec<(usize, [f32; 3])>>,
+    mut asked: Option<&mut Asked>,
     mut progress: Progress<'_>,
 ) -> Result<Skeleton> {
     let n = string.len().max(1) as f64;
-    let queries: Vec<Option<usize>> = match answers {
-        Some(_) => ls.symbols.names.iter().map(|n| query_kind(n)).collect(),
-        None => Vec::new(),
-    };
+    let answering = asked.is_some();
     let mut ask = |i: usize, frame: &Frame| {
-        if let (Some(out), Some(&Some(kind))) =
-            (answers.as_deref_mut(), queries.get(string.syms[i] as usize))
-        {
-            if !string.offsets.is_empty() {
-                let v = [frame.position, frame.heading, frame.up, frame.left][kind];
-                out.push((i, v.as_vec3().to_array()));
-            }
+        if let Some(asked) = asked.as_deref_mut() {
+            asked.ask(string, i, frame);
         }
     };
     let view = ls.view;
@@ -676,7 +654,7 @@ fn interpret_answering(
         }
     }
     progress.report(Stage::Interpretation, 1.0)?;
-    if !queries.is_empty() {
+    if answering {
         // Answering queries wants the turtle's walk, not a skeleton.
         return Ok(Skeleton::default());
     }

@@ -15,6 +15,8 @@
 //! # Ok::<(), arbor::Error>(())
 //! ```
 
+mod ctx;
+mod d0l;
 pub(crate) mod derive;
 mod expr;
 mod funcs;
@@ -22,13 +24,15 @@ pub(crate) mod grammar;
 mod interpret;
 mod parse;
 pub(crate) mod preprocess;
+mod query;
+mod rewrite;
 mod stmt;
 pub(crate) mod surface;
 mod syntax;
 mod view;
 
 pub use grammar::{OldTropism, ViewSettings};
-pub use parse::MAX_SOURCE_BYTES;
+pub use syntax::MAX_SOURCE_BYTES;
 
 use crate::error::Result;
 use crate::skeleton::Skeleton;
@@ -112,7 +116,7 @@ pub struct LSystem {
     pub(crate) has_cut: bool,
     /// The lookup table of a grammar without parameters, contexts, conditions,
     /// probabilities, cuts or decomposition.
-    pub(crate) d0l: Option<derive::D0l>,
+    pub(crate) d0l: Option<d0l::D0l>,
     /// Which grammar this is (unique per parse; clones keep it): the strings it derives
     /// carry it, so one is never read with another grammar's symbol table.
     pub(crate) id: u64,
@@ -171,7 +175,7 @@ impl LSystem {
         let d0l = if has_statements || !globals.init.is_empty() {
             None
         } else {
-            derive::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len())
+            d0l::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len())
         };
         LSystem {
             d0l,
@@ -204,7 +208,7 @@ impl LSystem {
     }
 
     /// Parses grammar text in the cpfg language (see `GRAMMAR.md`). Errors are
-    /// [`crate::Error::Parse`] with line, column and what was expected.
+    /// [`crate::error::Error::Parse`] with line, column and what was expected.
     pub fn parse(source: &str) -> Result<Self> {
         parse::parse(source)
     }
@@ -298,7 +302,7 @@ impl LSystem {
 
     /// [`derive`](Self::derive), reporting [`Stage::Derivation`](crate::progress::Stage)
     /// to `progress` (at every step and every 65,536 modules within one); `false` from it
-    /// stops with [`Error::Cancelled`](crate::Error::Cancelled).
+    /// stops with [`Error::Cancelled`](crate::error::Error::Cancelled).
     pub fn derive_with_progress(
         &self,
         options: &LsystemOptions,
@@ -320,7 +324,7 @@ impl LSystem {
         progress: crate::progress::ProgressFn<'_>,
     ) -> Result<Skeleton> {
         if string.grammar != self.id {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 "string",
                 "derived from another grammar; interpret a string with the grammar that derived it",
             ));
@@ -347,10 +351,10 @@ impl LSystem {
     ///
     /// `string` must come from [`derive`](Self::derive) of this grammar (or a clone of
     /// it): its symbols are numbers in this grammar's table, so a string of another
-    /// grammar is refused with [`Error::InvalidArgument`](crate::Error::InvalidArgument).
+    /// grammar is refused with [`Error::InvalidArgument`](crate::error::Error::InvalidArgument).
     pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
         if string.grammar != self.id {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 "string",
                 "derived from another grammar; interpret a string with the grammar that derived it",
             ));
@@ -432,7 +436,7 @@ impl ModuleString {
 
     /// Makes room for `modules` modules and `params` values in total (a guess of the next
     /// step's size), or `OutOfMemory`.
-    pub(crate) fn reserve(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+    pub(crate) fn reserve(&mut self, modules: usize, params: usize) -> crate::error::Result<()> {
         self.try_room(
             modules.saturating_sub(self.len()),
             params.saturating_sub(self.params.len()),
@@ -442,7 +446,7 @@ impl ModuleString {
     /// Makes room for `modules` more modules and `params` more values (growing as `push`
     /// would, amortized), or `OutOfMemory` naming the string's size, instead of aborting.
     #[inline]
-    pub(crate) fn try_room(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+    pub(crate) fn try_room(&mut self, modules: usize, params: usize) -> crate::error::Result<()> {
         // The common case, inline: there is room already.
         let spare = |cap: usize, len: usize| cap - len;
         if spare(self.syms.capacity(), self.syms.len()) >= modules
@@ -457,7 +461,7 @@ impl ModuleString {
 
     #[cold]
     #[inline(never)]
-    fn grow(&mut self, modules: usize, params: usize) -> crate::Result<()> {
+    fn grow(&mut self, modules: usize, params: usize) -> crate::error::Result<()> {
         use crate::limits::Room;
         let ok = self.syms.room(modules, false)
             && self.births.room(modules, false)
@@ -472,7 +476,7 @@ impl ModuleString {
 
     /// Room for exactly `modules` more modules without parameters (bracketed strings), or
     /// `OutOfMemory`.
-    pub(crate) fn try_exact(&mut self, modules: usize) -> crate::Result<()> {
+    pub(crate) fn try_exact(&mut self, modules: usize) -> crate::error::Result<()> {
         let (len, params) = (self.len(), self.params.len());
         crate::limits::try_room(
             &mut [&mut self.syms, &mut self.births],
@@ -483,8 +487,8 @@ impl ModuleString {
     }
 
     #[cold]
-    fn out_of_memory(&self, modules: usize, params: usize) -> crate::Error {
-        crate::Error::OutOfMemory {
+    fn out_of_memory(&self, modules: usize, params: usize) -> crate::error::Error {
+        crate::error::Error::OutOfMemory {
             what: Self::describe(
                 self.len().saturating_add(modules),
                 self.params.len().saturating_add(params),

@@ -8,14 +8,11 @@ use super::grammar::{
 };
 use super::preprocess::{Includes, preprocess};
 use super::stmt::{self, Stmt};
-use super::syntax::{Cursor, PErr, PResult, line_col};
+use super::syntax::{Cursor, MAX_SOURCE_BYTES, PErr, PResult, check_size, line_col};
 use crate::error::{Error, Result};
 use glam::DVec3;
 use std::cell::RefCell;
 use std::collections::HashMap;
-
-/// Longest accepted grammar text (16 MiB).
-pub const MAX_SOURCE_BYTES: usize = 16 << 20;
 
 /// Replaces comments by spaces (newlines kept) so that byte offsets stay those of the
 /// source.
@@ -106,32 +103,9 @@ fn parse_named(
     parse_text(&pre.text, names).map_err(|e| pre.map_error(e))
 }
 
-pub(crate) fn check_size(source: &str) -> Result<()> {
-    if source.len() > MAX_SOURCE_BYTES {
-        return Err(Error::Parse {
-            line: 1,
-            column: 1,
-            message: format!(
-                "the grammar is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
-                source.len()
-            ),
-        });
-    }
-    Ok(())
-}
-
 /// Parses preprocessed text.
 fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
-    if source.len() > MAX_SOURCE_BYTES {
-        return Err(Error::Parse {
-            line: 1,
-            column: 1,
-            message: format!(
-                "the grammar is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
-                source.len()
-            ),
-        });
-    }
+    check_size(source)?;
     let to_error = |e: PErr| {
         let (line, column) = line_col(source, e.pos);
         let message = if e.found.is_empty() {

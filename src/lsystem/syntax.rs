@@ -1,4 +1,25 @@
-//! A cursor over grammar text and the positioned errors the parser raises.
+//! A cursor over grammar text, the positioned errors the parser raises, and the size
+//! limit of any text a model brings.
+
+use crate::error::{Error, Result};
+
+/// Longest accepted grammar text (16 MiB).
+pub const MAX_SOURCE_BYTES: usize = 16 << 20;
+
+/// Refuses a text over [`MAX_SOURCE_BYTES`] before it is parsed.
+pub(crate) fn check_size(source: &str) -> Result<()> {
+    if source.len() > MAX_SOURCE_BYTES {
+        return Err(Error::Parse {
+            line: 1,
+            column: 1,
+            message: format!(
+                "the grammar is {} bytes; at most {MAX_SOURCE_BYTES} are accepted",
+                source.len()
+            ),
+        });
+    }
+    Ok(())
+}
 
 /// A parse error at a byte offset of the source; turned into line and column at the end.
 #[derive(Debug, Clone, PartialEq)]

@@ -87,7 +87,7 @@ pub(crate) fn apply(
     name: &str,
     inc: Includes<'_>,
 ) -> Result<Extras> {
-    super::parse::check_size(text)?;
+    super::syntax::check_size(text)?;
     let pre = preprocess(text, name, inc.clone())?;
     let mut functions = Vec::new();
     let mut surfaces = Vec::new();

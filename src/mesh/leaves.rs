@@ -183,7 +183,7 @@ pub struct LeafOptions {
     /// The baked shape; `None` is [`LeafPrefab::quad`].
     pub prefab: Option<LeafPrefab>,
     /// Placing more leaves than this fails with
-    /// [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming `max_leaves`, before
+    /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_leaves`, before
     /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
     pub max_leaves: usize,
 }

@@ -1,4 +1,4 @@
-//! Meshes: every branch of a [`Skeleton`](crate::Skeleton) as a truncated cone, in GPU-ready buffers.
+//! Meshes: every branch of a [`Skeleton`](crate::skeleton::Skeleton) as a truncated cone, in GPU-ready buffers.
 //!
 //! Size first ([`mesh_size`], exact counts), then write into caller slices
 //! ([`write_mesh`]), so a host can fill a mapped GPU buffer directly; or [`tubes`] for owned
@@ -221,7 +221,7 @@ pub struct MeshOptions {
     /// The output is the same byte for byte whatever the count.
     pub threads: u32,
     /// Sizing or writing a mesh of more vertices than this fails with
-    /// [`Error::LimitExceeded`](crate::Error::LimitExceeded) naming `max_vertices`, before
+    /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_vertices`, before
     /// any buffer is allocated. Default [`DEFAULT_MAX_VERTICES`](crate::limits::DEFAULT_MAX_VERTICES).
     pub max_vertices: usize,
     /// Extra rings inside every branch, placed along its curve (a sweep), 0..=64: 0 (the
@@ -297,15 +297,15 @@ pub struct MeshSize {
 }
 
 impl MeshSize {
-    /// [`Error::BufferTooSmall`](crate::Error::BufferTooSmall) naming the first buffer
+    /// [`Error::BufferTooSmall`](crate::error::Error::BufferTooSmall) naming the first buffer
     /// whose capacity is below this size.
-    pub fn check_capacity(&self, vertices: usize, indices: usize) -> crate::Result<()> {
+    pub fn check_capacity(&self, vertices: usize, indices: usize) -> crate::error::Result<()> {
         for (buffer, required, capacity) in [
             ("vertices", self.vertices, vertices),
             ("indices", self.indices, indices),
         ] {
             if capacity < required {
-                return Err(crate::Error::BufferTooSmall {
+                return Err(crate::error::Error::BufferTooSmall {
                     buffer,
                     required,
                     capacity,

@@ -12,8 +12,8 @@ use std::mem::MaybeUninit;
 
 /// The exact vertex and index counts [`write_mesh`] needs for `skeleton`.
 ///
-/// Fails with [`Error::InvalidArgument`](crate::Error::InvalidArgument) for bad options and
-/// [`Error::LimitExceeded`](crate::Error::LimitExceeded) when the vertices or indices could
+/// Fails with [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) for bad options and
+/// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) when the vertices or indices could
 /// not all be addressed with 32 bits ([`RESTART_INDEX`](super::RESTART_INDEX) is reserved).
 /// To size and write the same tree more than once, make a [`MeshPlan`] and keep it.
 pub fn mesh_size(skeleton: &Skeleton, options: &MeshOptions) -> Result<MeshSize> {
@@ -34,7 +34,7 @@ pub fn tubes(skeleton: &Skeleton, options: &MeshOptions) -> Result<Mesh> {
 /// Writes the mesh of `skeleton` into `vertices` and `indices` and returns the counts
 /// written (those of [`mesh_size`]). Longer slices are fine; only the prefix is written.
 ///
-/// A slice shorter than needed gives [`Error::BufferTooSmall`](crate::Error::BufferTooSmall)
+/// A slice shorter than needed gives [`Error::BufferTooSmall`](crate::error::Error::BufferTooSmall)
 /// and nothing is written.
 pub fn write_mesh(
     skeleton: &Skeleton,
@@ -111,7 +111,7 @@ impl MeshPlan {
 
     /// [`write_uninit_on`](Self::write_uninit_on), reporting [`Stage::Mesh`] to
     /// `progress` after every 65,536 branches (and at the end) on the calling thread; when
-    /// it returns `false` the write stops with [`Error::Cancelled`](crate::Error::Cancelled)
+    /// it returns `false` the write stops with [`Error::Cancelled`](crate::error::Error::Cancelled)
     /// and the buffers hold a partial mesh, not to be drawn.
     pub fn write_uninit_with_progress(
         &self,
@@ -249,7 +249,7 @@ impl MeshPlan {
                 k += 1;
             }
             if a >= n || b > n {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     "branches",
                     format!("branch {} past the {n} branches", b - 1),
                 ));

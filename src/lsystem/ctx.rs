@@ -1,0 +1,209 @@
+//! What a derivation step needs besides the strings: the grammar, the random stream and
+//! globals, the limits and the budget, and the evaluation of successors into a string.
+
+use super::expr::Env;
+use super::grammar::ModuleList;
+use super::stmt::{self, Effects, Stmt};
+use super::{LSystem, LsystemOptions, ModuleString};
+use crate::error::{Error, Result};
+
+/// Everything a step needs besides the strings.
+pub(crate) struct Ctx<'a> {
+    pub(crate) ls: &'a LSystem,
+    /// The random stream and the global variables.
+    pub(crate) env: Env,
+    /// The statements' budget, log and `stop()`.
+    pub(crate) fx: Effects,
+    /// The line of the production whose statements are running (for messages).
+    pub(super) line: u32,
+    /// The caller's progress callback.
+    pub(crate) progress: crate::progress::Progress<'a>,
+    /// Steps of the derivation (for the fraction reported).
+    pub(super) steps: u32,
+    pub(crate) max_modules: usize,
+    pub(crate) max_params: usize,
+    /// Most modules all steps together may rewrite (`LsystemOptions::max_work`).
+    pub(crate) max_work: u64,
+    /// Modules rewritten so far.
+    pub(crate) work: u64,
+    pub(crate) step: u32,
+    /// Bound parameter values of the production being tried.
+    pub(super) args: Vec<f64>,
+    /// Stochastic candidates: (production index, offset of its args in `cand_args`,
+    /// weight).
+    pub(super) cands: Vec<(u32, usize, f64)>,
+    pub(super) cand_args: Vec<f64>,
+}
+
+impl<'a> Ctx<'a> {
+    pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
+        let mut env = Env::new(
+            ls.effective_seed(options),
+            &ls.globals,
+            ls.functions.clone(),
+        );
+        env.curves = ls.curves.clone();
+        Ctx {
+            ls,
+            env,
+            fx: Effects {
+                budget: options.max_work as u64,
+                ..Default::default()
+            },
+            line: 0,
+            progress: Default::default(),
+            steps: 0,
+            max_modules: options.max_modules,
+            max_params: options.max_params.min(u32::MAX as usize),
+            max_work: options.max_work as u64,
+            work: 0,
+            step: 0,
+            args: Vec::new(),
+            cands: Vec::new(),
+            cand_args: Vec::new(),
+        }
+    }
+
+    /// Counts a step that rewrites `modules` modules against `max_work`, before it runs.
+    pub(crate) fn spend(&mut self, modules: usize) -> Result<()> {
+        self.work = self.work.saturating_add(modules as u64);
+        if self.work > self.max_work {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_work",
+                what: "modules rewritten by all steps together",
+                limit: self.max_work,
+                requested: self.work,
+                step: Some(self.step),
+            });
+        }
+        Ok(())
+    }
+
+    /// Runs a block of statements without parameters (`Start:` and the like).
+    pub(crate) fn run_block(&mut self, stmts: &[Stmt], what: &str) -> Result<()> {
+        if stmts.is_empty() {
+            return Ok(());
+        }
+        stmt::exec(stmts, &mut [], &mut self.env, &mut self.fx);
+        self.check(what)
+    }
+
+    /// Turns a fault the statements or expressions noted into an error.
+    pub(crate) fn check(&mut self, what: &str) -> Result<()> {
+        let Some(fault) = self.env.fault.take() else {
+            return Ok(());
+        };
+        if fault.contains("max_work") {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_work",
+                what: "statements executed (max_work)",
+                limit: self.max_work,
+                requested: self.max_work.saturating_add(1),
+                step: Some(self.step),
+            });
+        }
+        let place = if self.line > 0 {
+            format!("the production at line {}", self.line)
+        } else {
+            what.to_string()
+        };
+        Err(Error::Eval {
+            step: self.step,
+            message: format!("in {place}: {fault}"),
+        })
+    }
+
+    pub(super) fn limit(
+        &self,
+        name: &'static str,
+        what: &'static str,
+        limit: usize,
+        need: usize,
+    ) -> Error {
+        Error::LimitExceeded {
+            limit_name: name,
+            what,
+            limit: limit as u64,
+            requested: need as u64,
+            step: Some(self.step),
+        }
+    }
+
+    /// Checks that `out` can take `modules` more modules and `params` more values, within
+    /// the limits and the memory there is (it grows `out` fallibly where it must).
+    #[inline]
+    pub(crate) fn room(&self, out: &mut ModuleString, modules: usize, params: usize) -> Result<()> {
+        if out.len() + modules > self.max_modules {
+            return Err(self.limit(
+                "max_modules",
+                "modules",
+                self.max_modules,
+                out.len() + modules,
+            ));
+        }
+        if out.params.len() + params > self.max_params {
+            return Err(self.limit(
+                "max_params",
+                "parameter values",
+                self.max_params,
+                out.params.len() + params,
+            ));
+        }
+        out.try_room(modules, params)
+    }
+}
+
+/// Evaluates `list` with bound `args` and appends it to `out` with birth `birth`: the
+/// symbols, births and offsets in bulk, then the parameter values in text order.
+#[inline]
+pub(super) fn emit(
+    ctx: &mut Ctx<'_>,
+    list: &ModuleList,
+    args: &[f64],
+    birth: u16,
+    out: &mut ModuleString,
+) -> Result<()> {
+    let n = list.syms.len();
+    ctx.room(out, n, list.exprs.len())?;
+    out.syms.extend_from_slice(&list.syms);
+    out.births.extend(std::iter::repeat_n(birth, n));
+    let base = out.params.len();
+    out.offsets
+        .extend(list.param_ends.iter().map(|&e| base as u32 + e));
+    out.params.resize(base + list.exprs.len(), 0.0);
+    let mut bad = None;
+    for (k, (slot, e)) in out.params[base..].iter_mut().zip(&list.exprs).enumerate() {
+        let v = e.eval(args, &mut ctx.env);
+        let stored = v as f32;
+        if !stored.is_finite() && bad.is_none() {
+            bad = Some((k, v));
+        }
+        *slot = stored;
+    }
+    if let Some((k, v)) = bad {
+        let m = list
+            .modules
+            .iter()
+            .find(|m| (m.first + m.count) as usize > k)
+            .expect("every parameter belongs to a module");
+        return Err(non_finite(ctx, m.sym, v, list.line));
+    }
+    Ok(())
+}
+
+pub(super) fn non_finite(ctx: &Ctx<'_>, sym: u16, v: f64, line: u32) -> Error {
+    let place = if line > 0 {
+        format!(" (written at line {line} of the grammar)")
+    } else {
+        String::new()
+    };
+    Error::Eval {
+        step: ctx.step,
+        message: format!(
+            "a parameter of module `{}` evaluated to {v}{place}; expected a finite number \
+             within the f32 range (look for a division by zero, log or sqrt of a negative \
+             number, or overflow)",
+            ctx.ls.symbol_name(sym)
+        ),
+    }
+}

@@ -1,0 +1,513 @@
+//! One parallel rewriting step: production selection (conditions, contexts, chance),
+//! successors emitted into the next string, and decomposition and homomorphism expansion.
+
+use super::ctx::{Ctx, emit, non_finite};
+use super::grammar::{POP, PUSH, Pattern, Production, ProductionTable};
+use super::stmt;
+use super::{LSystem, ModuleString};
+use crate::error::Result;
+use crate::progress::Stage;
+
+/// What context matching needs of a string, computed once per step so that matching a
+/// context costs time proportional to the context, not to the string: each bracket's
+/// partner, the next module not skipped by `ignore:`/`consider:`, and the `]` that closes
+/// the branch each module is in (`u32::MAX` for none).
+#[derive(Default)]
+pub(crate) struct Links {
+    pub(crate) partner: Vec<u32>,
+    pub(super) next: Vec<u32>,
+    pub(super) close: Vec<u32>,
+}
+
+impl Links {
+    pub(crate) fn build(&mut self, ls: &LSystem, s: &ModuleString) {
+        brackets(s, &mut self.partner);
+        let n = s.len();
+        self.next.clear();
+        self.next.resize(n + 1, n as u32);
+        for j in (0..n).rev() {
+            let sym = s.syms[j];
+            // Brackets are never skipped: they are the string's structure.
+            self.next[j] = if sym != PUSH && sym != POP && ls.skip[sym as usize] {
+                self.next[j + 1]
+            } else {
+                j as u32
+            };
+        }
+        // close[j]: the first `]` at or after j that closes the branch j is in (j itself
+        // at a `]`), as scanning forward with a depth count finds it; from the right with a
+        // stack of the `]`s not yet matched.
+        self.close.clear();
+        self.close.resize(n + 1, u32::MAX);
+        let mut unmatched: Vec<u32> = Vec::new();
+        for j in (0..n).rev() {
+            match s.syms[j] {
+                POP => unmatched.push(j as u32),
+                PUSH => {
+                    unmatched.pop();
+                }
+                _ => {}
+            }
+            self.close[j] = unmatched.last().copied().unwrap_or(u32::MAX);
+        }
+    }
+}
+
+/// For each bracket, the index of its partner (`u32::MAX` for none).
+pub(crate) fn brackets(s: &ModuleString, partner: &mut Vec<u32>) {
+    partner.clear();
+    partner.resize(s.len(), u32::MAX);
+    let mut stack: Vec<u32> = Vec::new();
+    for (i, &sym) in s.syms.iter().enumerate() {
+        if sym == PUSH {
+            stack.push(i as u32);
+        } else if sym == POP {
+            if let Some(open) = stack.pop() {
+                partner[open as usize] = i as u32;
+                partner[i] = open;
+            }
+        }
+    }
+}
+
+pub(super) fn rewrite(
+    ctx: &mut Ctx<'_>,
+    cur: &ModuleString,
+    links: &Links,
+    next: &mut ModuleString,
+) -> Result<()> {
+    let table = &ctx.ls.productions;
+    let birth = ctx.step as u16;
+    let n = cur.len();
+    let has_rules = &table.has_rules[..];
+    let mut i = 0;
+    let mut report_at = crate::progress::EVERY;
+    while i < n {
+        if i >= report_at && ctx.progress.active() {
+            report_at = i + crate::progress::EVERY;
+            let done = (ctx.step - 1) as f64 + i as f64 / n as f64;
+            ctx.progress
+                .report(Stage::Derivation, done / ctx.steps.max(1) as f64)?;
+        }
+        let sym = cur.syms[i];
+        if !has_rules[sym as usize] {
+            // Copy the whole run of modules without productions at once.
+            let j = cur.syms[i + 1..]
+                .iter()
+                .position(|&s| has_rules[s as usize])
+                .map_or(n, |k| i + 1 + k);
+            copy_run(ctx, cur, i, j, next)?;
+            i = j;
+            continue;
+        }
+        let chosen = select(ctx, table, cur, links, i);
+        if ctx.env.fault.is_some() {
+            return ctx.check("a production");
+        }
+        match chosen {
+            Some(p) => {
+                let prod = emit_production(ctx, table, p, birth, next, "a production")?;
+                i += prod.pred_rest.len();
+            }
+            None => copy_run(ctx, cur, i, i + 1, next)?,
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+/// Appends modules `i..j` of `cur` to `next` unchanged.
+fn copy_run(
+    ctx: &Ctx<'_>,
+    cur: &ModuleString,
+    i: usize,
+    j: usize,
+    next: &mut ModuleString,
+) -> Result<()> {
+    let (p0, p1) = (cur.offsets[i] as usize, cur.offsets[j] as usize);
+    ctx.room(next, j - i, p1 - p0)?;
+    next.syms.extend_from_slice(&cur.syms[i..j]);
+    next.births.extend_from_slice(&cur.births[i..j]);
+    let base = next.params.len() as u32;
+    next.params.extend_from_slice(&cur.params[p0..p1]);
+    let shift = base.wrapping_sub(p0 as u32);
+    next.offsets.extend(
+        cur.offsets[i + 1..=j]
+            .iter()
+            .map(|&o| o.wrapping_add(shift)),
+    );
+    Ok(())
+}
+
+/// Binds the predecessor's parameters; `false` when the arity differs.
+#[inline]
+fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f32]) -> bool {
+    if p.pred.arity as usize != params.len() {
+        return false;
+    }
+    args.clear();
+    args.resize(p.slots, 0.0);
+    bind(args, p.pred.slot, params);
+    true
+}
+
+/// The production that applies to module `i` of `s`, with its bound parameters left in
+/// `ctx.args`; `None` when none applies.
+fn select(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    s: &ModuleString,
+    links: &Links,
+    i: usize,
+) -> Option<u32> {
+    let ls = ctx.ls;
+    select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
+        (p.pred_rest.is_empty() || match_rest(s, i, p, args))
+            && (p.left.is_empty() || match_left(ls, s, links, i, p, args))
+            && (p.right.is_empty() || match_right(ls, s, links, i + p.pred_rest.len(), p, args))
+    })
+}
+
+/// In a table of context-free rules (interpretation, decomposition): the production with
+/// a predecessor of several modules that matches at module `i` of `s`, its bound
+/// parameters left in `ctx.args`. Such productions are tried before those of one module.
+pub(crate) fn select_multi(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    s: &ModuleString,
+    i: usize,
+) -> Option<u32> {
+    if !table.multi[s.syms[i] as usize] {
+        return None;
+    }
+    select_with(ctx, table, s.syms[i], s.params(i), |p, args| {
+        !p.pred_rest.is_empty() && match_rest(s, i, p, args)
+    })
+}
+
+/// The successor of production `p` of `table` (its arguments in `ctx.args`) as modules
+/// in `out` (cleared first).
+pub(crate) fn successor_of(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    p: u32,
+    birth: u16,
+    out: &mut ModuleString,
+) -> Result<()> {
+    out.clear();
+    emit_production(ctx, table, p, birth, out, "a rule").map(|_| ())
+}
+
+/// Appends the successor of production `p` (its predecessor's arguments in `ctx.args`)
+/// to `out`, then reports a fault of its statements as an error about `what`.
+fn emit_production<'t>(
+    ctx: &mut Ctx<'_>,
+    table: &'t ProductionTable,
+    p: u32,
+    birth: u16,
+    out: &mut ModuleString,
+    what: &str,
+) -> Result<&'t Production> {
+    let prod = &table.productions[p as usize];
+    let args = std::mem::take(&mut ctx.args);
+    let r = emit(ctx, &prod.successor, &args, birth, out);
+    ctx.args = args;
+    r?;
+    ctx.line = prod.line;
+    ctx.check(what)?;
+    Ok(prod)
+}
+
+/// The modules after the first of a predecessor of several, one after another.
+fn match_rest(s: &ModuleString, i: usize, p: &Production, args: &mut [f64]) -> bool {
+    if i + p.pred_rest.len() >= s.len() {
+        return false;
+    }
+    p.pred_rest
+        .iter()
+        .enumerate()
+        .all(|(k, pat)| bind_module(s, i + 1 + k, pat, args))
+}
+
+/// Chooses among the productions of `sym` whose arity, context (`context`) and condition
+/// hold. The first that holds decides: a deterministic one applies at once; if it has a
+/// probability, one of all the applicable stochastic productions is drawn by weight.
+fn select_with(
+    ctx: &mut Ctx<'_>,
+    table: &ProductionTable,
+    sym: u16,
+    params: &[f32],
+    mut context: impl FnMut(&Production, &mut [f64]) -> bool,
+) -> Option<u32> {
+    ctx.cands.clear();
+    ctx.cand_args.clear();
+    let mut total = 0.0;
+    for &pi in table.candidates(sym) {
+        let p = &table.productions[pi as usize];
+        let mut args = std::mem::take(&mut ctx.args);
+        let mut ok = bind_pred(&mut args, p, params) && context(p, &mut args);
+        if ok && !p.pre.is_empty() {
+            ctx.line = p.line;
+            ok = stmt::exec(&p.pre, &mut args, &mut ctx.env, &mut ctx.fx);
+        }
+        ok = ok
+            && p.condition
+                .as_ref()
+                .is_none_or(|c| c.eval(&args, &mut ctx.env) != 0.0);
+        if ok && !p.post.is_empty() {
+            ctx.line = p.line;
+            ok = stmt::exec(&p.post, &mut args, &mut ctx.env, &mut ctx.fx);
+        }
+        if ctx.env.fault.is_some() {
+            ctx.args = args;
+            return None;
+        }
+        if ok {
+            match &p.probability {
+                None if ctx.cands.is_empty() => {
+                    ctx.args = args;
+                    return Some(pi);
+                }
+                None => {}
+                Some(w) => {
+                    let w = w.eval(&args, &mut ctx.env);
+                    if w.is_finite() && w > 0.0 {
+                        ctx.cands.push((pi, ctx.cand_args.len(), w));
+                        ctx.cand_args.extend_from_slice(&args);
+                        total += w;
+                    }
+                }
+            }
+        }
+        ctx.args = args;
+    }
+    if ctx.cands.is_empty() {
+        return None;
+    }
+    let mut r = ctx.env.rng.next_f64() * total;
+    let mut chosen = ctx.cands[ctx.cands.len() - 1];
+    for &c in &ctx.cands {
+        if r < c.2 {
+            chosen = c;
+            break;
+        }
+        r -= c.2;
+    }
+    let slots = table.productions[chosen.0 as usize].slots;
+    ctx.args.clear();
+    ctx.args
+        .extend_from_slice(&ctx.cand_args[chosen.1..chosen.1 + slots]);
+    Some(chosen.0)
+}
+
+#[inline]
+fn bind(args: &mut [f64], slot: u16, params: &[f32]) {
+    let s = slot as usize;
+    for (a, &v) in args[s..s + params.len()].iter_mut().zip(params) {
+        *a = v as f64;
+    }
+}
+
+/// Whether module `j` of `s` is `pat` (symbol and arity); if so its parameters are bound.
+#[inline]
+fn bind_module(s: &ModuleString, j: usize, pat: &Pattern, args: &mut [f64]) -> bool {
+    let params = s.params(j);
+    if s.syms[j] != pat.sym || params.len() != pat.arity as usize {
+        return false;
+    }
+    bind(args, pat.slot, params);
+    true
+}
+
+/// Bracket-aware left context: walking back, a completed branch `[...]` is skipped whole
+/// and a `[` leads to the module the branch grows from.
+fn match_left(
+    ls: &LSystem,
+    s: &ModuleString,
+    links: &Links,
+    i: usize,
+    p: &Production,
+    args: &mut [f64],
+) -> bool {
+    let mut j = i;
+    // A ring L-system's string closes on itself: before the first module is the last.
+    let mut wrapped = !ls.ring;
+    for pat in p.left.iter().rev() {
+        loop {
+            if j == 0 {
+                if wrapped || s.is_empty() {
+                    return false;
+                }
+                wrapped = true;
+                j = s.len();
+            }
+            j -= 1;
+            let sym = s.syms[j];
+            if sym == POP {
+                let open = links.partner[j];
+                if open == u32::MAX {
+                    return false;
+                }
+                j = open as usize;
+                continue;
+            }
+            if sym == PUSH || ls.skip[sym as usize] {
+                continue;
+            }
+            break;
+        }
+        if !bind_module(s, j, pat, args) {
+            return false;
+        }
+    }
+    true
+}
+
+/// Bracket-aware right context: a branch in the string is skipped unless the context
+/// itself has a `[` there; a `]` in the context skips to the end of the current branch.
+fn match_right(
+    ls: &LSystem,
+    s: &ModuleString,
+    links: &Links,
+    i: usize,
+    p: &Production,
+    args: &mut [f64],
+) -> bool {
+    let n = s.len();
+    let mut j = i + 1;
+    let mut wrapped = !ls.ring;
+    for pat in &p.right {
+        if pat.sym == PUSH {
+            j = links.next[j.min(n)] as usize;
+            if j >= n || s.syms[j] != PUSH {
+                return false;
+            }
+            j += 1;
+            continue;
+        }
+        if pat.sym == POP {
+            // The `]` that closes the branch j is in (or, at a `]`, that one).
+            let close = links.close[j.min(n)];
+            if close == u32::MAX {
+                return false;
+            }
+            j = close as usize + 1;
+            continue;
+        }
+        loop {
+            j = links.next[j.min(n)] as usize;
+            if j >= n {
+                // A ring L-system's string closes on itself: after the last is the first.
+                if wrapped || n == 0 {
+                    return false;
+                }
+                wrapped = true;
+                j = links.next[0] as usize;
+                if j >= n {
+                    return false;
+                }
+            }
+            let sym = s.syms[j];
+            if sym == PUSH {
+                let close = links.partner[j];
+                if close == u32::MAX {
+                    return false;
+                }
+                j = close as usize + 1;
+                continue;
+            }
+            if sym == POP {
+                return false;
+            }
+            break;
+        }
+        if !bind_module(s, j, pat, args) {
+            return false;
+        }
+        j += 1;
+    }
+    true
+}
+
+/// Recursive application of context-free rules (interpretation and decomposition) with
+/// an explicit stack, at most `max_depth` levels deep.
+#[derive(Default)]
+pub(crate) struct Expander {
+    /// Pending modules: (symbol, depth, number of parameters on `arena`).
+    stack: Vec<(u16, u32, u32)>,
+    arena: Vec<f32>,
+    produced: Vec<(u16, u32, u32)>,
+    produced_params: Vec<f32>,
+}
+
+impl Expander {
+    /// Expands one module and hands every resulting module to `sink` in order.
+    pub(crate) fn expand<F>(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        table: &ProductionTable,
+        sym: u16,
+        params: &[f32],
+        mut sink: F,
+    ) -> Result<()>
+    where
+        F: FnMut(&mut Ctx<'_>, u16, &[f32], bool) -> Result<()>,
+    {
+        if table.candidates(sym).is_empty() {
+            return sink(ctx, sym, params, false);
+        }
+        self.stack.clear();
+        self.arena.clear();
+        self.stack.push((sym, 0, params.len() as u32));
+        self.arena.extend_from_slice(params);
+        while let Some((sym, depth, n)) = self.stack.pop() {
+            let base = self.arena.len() - n as usize;
+            let chosen = if depth < table.max_depth && !table.candidates(sym).is_empty() {
+                select_with(ctx, table, sym, &self.arena[base..], |_, _| true)
+            } else {
+                None
+            };
+            if ctx.env.fault.is_some() {
+                return ctx.check("an interpretation or decomposition rule");
+            }
+            let Some(pi) = chosen else {
+                sink(ctx, sym, &self.arena[base..], depth > 0)?;
+                self.arena.truncate(base);
+                continue;
+            };
+            self.arena.truncate(base);
+            let succ = &table.productions[pi as usize].successor;
+            self.produced.clear();
+            self.produced_params.clear();
+            let args = std::mem::take(&mut ctx.args);
+            for m in &succ.modules {
+                let first = self.produced_params.len() as u32;
+                for e in succ.params(m) {
+                    let v = e.eval(&args, &mut ctx.env);
+                    if !(v as f32).is_finite() {
+                        ctx.args = args;
+                        return Err(non_finite(ctx, m.sym, v, succ.line));
+                    }
+                    self.produced_params.push(v as f32);
+                }
+                self.produced.push((m.sym, first, m.count));
+            }
+            ctx.args = args;
+            if self.stack.len() + self.produced.len() > ctx.max_modules {
+                return Err(ctx.limit(
+                    "max_modules",
+                    "pending modules of interpretation or decomposition rules",
+                    ctx.max_modules,
+                    self.stack.len() + self.produced.len(),
+                ));
+            }
+            for &(s, first, count) in self.produced.iter().rev() {
+                let f = first as usize;
+                self.arena
+                    .extend_from_slice(&self.produced_params[f..f + count as usize]);
+                self.stack.push((s, depth + 1, count));
+            }
+        }
+        Ok(())
+    }
+}
