@@ -3,6 +3,7 @@
 
 use super::scan::{find_arrow, skip_string, top_level, top_level_last};
 use super::*;
+use crate::lsystem::expr::Expr;
 
 impl Parser<'_> {
     /// A symbol: one character, or `@` and a letter (`@M`, `@R`, `@v`, ...).
@@ -245,39 +246,10 @@ impl Parser<'_> {
             ));
         }
         let mut scope_names = names.clone();
-        let (mut pre, mut post, mut condition) = (Vec::new(), Vec::new(), None);
-        if let Some(c) = colon {
-            let mut cur = Cursor::range(self.text, c + 1, arrow);
-            cur.skip_ws();
-            if cur.peek_str("{") {
-                pre = self.statements(&mut cur, &scope_names)?;
-                cur.skip_ws();
-            }
-            let star = cur.peek_str("*") && {
-                let mut probe = cur.clone();
-                probe.eat("*");
-                probe.skip_ws();
-                probe.at_end() || probe.peek_str("{")
-            };
-            if star {
-                cur.eat("*");
-            } else if !cur.at_end() && !cur.peek_str("{") {
-                let scope = Scope {
-                    params: &scope_names,
-                    defines: &self.defines,
-                    globals: Some(&self.globals),
-                };
-                condition = Some(expr::compile(&mut cur, &scope)?);
-            }
-            cur.skip_ws();
-            if cur.peek_str("{") {
-                post = self.statements(&mut cur, &scope_names)?;
-                cur.skip_ws();
-            }
-            if !cur.at_end() {
-                return Err(cur.error("`-->` after the condition"));
-            }
-        }
+        let (pre, post, condition) = match colon {
+            Some(c) => self.guard(c + 1, arrow, &scope_names)?,
+            None => (Vec::new(), Vec::new(), None),
+        };
         scope_names.truncate(names.len());
         let mut cur = Cursor::range(self.text, after, end);
         // Interpretation rules feed only the turtle, so they may open or close a branch
@@ -287,28 +259,7 @@ impl Parser<'_> {
         let mut successor = self.module_list(&mut cur, &scope_names, true, !interpretation)?;
         let line = crate::lsystem::syntax::line_col(self.text, start).0;
         successor.line = crate::lsystem::syntax::line_col(self.text, successor_at).0;
-        let probability = if cur.eat(":") {
-            let scope = Scope {
-                params: &scope_names,
-                defines: &self.defines,
-                globals: Some(&self.globals),
-            };
-            cur.skip_ws();
-            let at = cur.pos();
-            let e = expr::compile(&mut cur, &scope)?;
-            cur.skip_ws();
-            if !cur.at_end() {
-                return Err(cur.error("the end of the production after its probability"));
-            }
-            if let Some(v) = e.as_const() {
-                if !(v.is_finite() && v >= 0.0) {
-                    return Err(self.err(at, "a finite probability >= 0"));
-                }
-            }
-            Some(e)
-        } else {
-            None
-        };
+        let probability = self.probability(&mut cur, &scope_names)?;
         if self.section != Section::Productions && (!left_ctx.is_empty() || !right_ctx.is_empty()) {
             return Err(self.msg(
                 start,
@@ -334,6 +285,77 @@ impl Parser<'_> {
             Section::Decomposition => self.decomposition.productions.push(production),
         }
         Ok(())
+    }
+
+    /// What stands between a production's `:` (at `from`) and its arrow: statements
+    /// before, the condition (none for `*`), statements after.
+    fn guard(
+        &self,
+        from: usize,
+        arrow: usize,
+        scope_names: &[(String, u16)],
+    ) -> PResult<(Vec<Stmt>, Vec<Stmt>, Option<Expr>)> {
+        let (mut pre, mut post, mut condition) = (Vec::new(), Vec::new(), None);
+        let mut cur = Cursor::range(self.text, from, arrow);
+        cur.skip_ws();
+        if cur.peek_str("{") {
+            pre = self.statements(&mut cur, scope_names)?;
+            cur.skip_ws();
+        }
+        let star = cur.peek_str("*") && {
+            let mut probe = cur.clone();
+            probe.eat("*");
+            probe.skip_ws();
+            probe.at_end() || probe.peek_str("{")
+        };
+        if star {
+            cur.eat("*");
+        } else if !cur.at_end() && !cur.peek_str("{") {
+            let scope = Scope {
+                params: scope_names,
+                defines: &self.defines,
+                globals: Some(&self.globals),
+            };
+            condition = Some(expr::compile(&mut cur, &scope)?);
+        }
+        cur.skip_ws();
+        if cur.peek_str("{") {
+            post = self.statements(&mut cur, scope_names)?;
+            cur.skip_ws();
+        }
+        if !cur.at_end() {
+            return Err(cur.error("`-->` after the condition"));
+        }
+        Ok((pre, post, condition))
+    }
+
+    /// The probability after a successor's `:`, if it has one.
+    fn probability(
+        &self,
+        cur: &mut Cursor<'_>,
+        scope_names: &[(String, u16)],
+    ) -> PResult<Option<Expr>> {
+        if !cur.eat(":") {
+            return Ok(None);
+        }
+        let scope = Scope {
+            params: scope_names,
+            defines: &self.defines,
+            globals: Some(&self.globals),
+        };
+        cur.skip_ws();
+        let at = cur.pos();
+        let e = expr::compile(cur, &scope)?;
+        cur.skip_ws();
+        if !cur.at_end() {
+            return Err(cur.error("the end of the production after its probability"));
+        }
+        if let Some(v) = e.as_const() {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(self.err(at, "a finite probability >= 0"));
+            }
+        }
+        Ok(Some(e))
     }
 
     pub(super) fn statements(
