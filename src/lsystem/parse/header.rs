@@ -265,54 +265,9 @@ impl Parser<'_> {
                 drop(g);
                 cur.skip_ws();
                 if cur.eat("=") {
-                    // Initial values, flat or nested in braces, in row-major order.
-                    let mut values = Vec::new();
-                    let mut depth = 0usize;
-                    loop {
-                        cur.skip_ws();
-                        if cur.eat("{") {
-                            depth += 1;
-                            if depth > 16 {
-                                return Err(cur.error("initial values nested at most 16 deep"));
-                            }
-                            continue;
-                        }
-                        if cur.eat("}") {
-                            if depth == 0 {
-                                return Err(cur.error("a value"));
-                            }
-                            depth -= 1;
-                            if depth == 0 {
-                                break;
-                            }
-                            continue;
-                        }
-                        if cur.eat(",") {
-                            continue;
-                        }
-                        let at = cur.pos();
-                        let scope = Scope {
-                            params: &[],
-                            defines: &self.defines,
-                            globals: None,
-                        };
-                        let v = expr::compile(&mut cur, &scope)?
-                            .as_const()
-                            .ok_or_else(|| self.err(at, "a constant initial value"))?;
-                        values.push(v);
-                        if depth == 0 {
-                            break;
-                        }
-                    }
-                    if values.len() > total {
-                        return Err(self.err(
-                            name_at,
-                            &format!("at most {total} initial values for this array"),
-                        ));
-                    }
-                    let mut g = self.globals.borrow_mut();
+                    let values = self.initial_values(&mut cur, name_at, total)?;
                     let o = offset as usize;
-                    g.init[o..o + values.len()].copy_from_slice(&values);
+                    self.globals.borrow_mut().init[o..o + values.len()].copy_from_slice(&values);
                 }
                 cur.skip_ws();
                 if cur.eat(",") {
@@ -330,6 +285,61 @@ impl Parser<'_> {
             return Err(cur.error("the end of the line after the `define:` block"));
         }
         Ok(())
+    }
+
+    /// The initial values after an array's `=`, flat or nested in braces, in row-major
+    /// order: at most `total` of them.
+    fn initial_values(
+        &self,
+        cur: &mut Cursor<'_>,
+        name_at: usize,
+        total: usize,
+    ) -> PResult<Vec<f64>> {
+        let mut values = Vec::new();
+        let mut depth = 0usize;
+        loop {
+            cur.skip_ws();
+            if cur.eat("{") {
+                depth += 1;
+                if depth > 16 {
+                    return Err(cur.error("initial values nested at most 16 deep"));
+                }
+                continue;
+            }
+            if cur.eat("}") {
+                if depth == 0 {
+                    return Err(cur.error("a value"));
+                }
+                depth -= 1;
+                if depth == 0 {
+                    break;
+                }
+                continue;
+            }
+            if cur.eat(",") {
+                continue;
+            }
+            let at = cur.pos();
+            let scope = Scope {
+                params: &[],
+                defines: &self.defines,
+                globals: None,
+            };
+            let v = expr::compile(cur, &scope)?
+                .as_const()
+                .ok_or_else(|| self.err(at, "a constant initial value"))?;
+            values.push(v);
+            if depth == 0 {
+                break;
+            }
+        }
+        if values.len() > total {
+            return Err(self.err(
+                name_at,
+                &format!("at most {total} initial values for this array"),
+            ));
+        }
+        Ok(values)
     }
 
     pub(super) fn const_expr(&self, pos: usize, end: usize, what: &str) -> PResult<f64> {
