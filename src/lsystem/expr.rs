@@ -8,6 +8,9 @@
 //! cpfg. A name that is neither a parameter of the production nor an array is a global
 //! variable (0 until a statement assigns it).
 
+use super::builtins::{
+    Arity, BUILTINS, Func1, Func2, Special, beta, binomial, builtin_names, unsupported,
+};
 use super::syntax::{Cursor, PResult};
 use crate::rng::Rng;
 use std::cell::RefCell;
@@ -75,9 +78,9 @@ pub(crate) struct Env {
     pub(crate) vars: Vec<f64>,
     pub(crate) arrays: std::sync::Arc<[ArrayDecl]>,
     /// The view file's functions, read by `func(id, x)` (id from 1).
-    pub(crate) functions: std::sync::Arc<[super::funcs::Function]>,
+    pub(crate) functions: std::sync::Arc<[super::function_files::Function]>,
     /// The view file's curves (`curve:`), read by `curveX/Y/Z` and `curveGAL`.
-    pub(crate) curves: std::sync::Arc<[super::funcs::Curve]>,
+    pub(crate) curves: std::sync::Arc<[super::function_files::Curve]>,
     pub(crate) fault: Option<String>,
 }
 
@@ -85,7 +88,7 @@ impl Env {
     pub(crate) fn new(
         seed: u64,
         globals: &Globals,
-        functions: std::sync::Arc<[super::funcs::Function]>,
+        functions: std::sync::Arc<[super::function_files::Function]>,
     ) -> Self {
         Env {
             rng: Rng::new(seed),
@@ -110,7 +113,7 @@ impl Env {
     }
 
     /// Curve `id` (from 1) of the view file, or `None` with a fault noted.
-    fn curve(&mut self, id: f64) -> Option<&super::funcs::Curve> {
+    fn curve(&mut self, id: f64) -> Option<&super::function_files::Curve> {
         let n = self.curves.len();
         if id >= 1.0 && id < n as f64 + 1.0 {
             return Some(&self.curves[id as usize - 1]);
@@ -153,49 +156,6 @@ pub(crate) const MAX_NESTING: usize = 100;
 pub(crate) const MAX_STACK: usize = 256;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Func1 {
-    Sin,
-    Cos,
-    Tan,
-    Asin,
-    Acos,
-    Atan,
-    Exp,
-    Log,
-    Sqrt,
-    Fabs,
-    Floor,
-    Ceil,
-    Trunc,
-    Sign,
-}
-
-/// Functions of three or more values, and those that change the environment.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Special {
-    /// `srand(s)`: restarts the random stream; its value is 0.
-    Srand,
-    /// `bran(a, b)`: a draw from the beta distribution.
-    Bran,
-    /// `biran(n, p)`: a draw from the binomial distribution.
-    Biran,
-    /// `func(id, x)`: function `id` of the view file at x.
-    Func,
-    /// `curveX/Y/Z(id, t)`: a coordinate of curve `id` at fraction t of its length.
-    Curve(u8),
-    /// `curveGAL(id)`: the arc length of curve `id`.
-    CurveLength,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Func2 {
-    Atan2,
-    Min,
-    Max,
-    Pow,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Op {
     Const(f64),
     Param(u16),
@@ -231,46 +191,6 @@ pub(crate) enum Op {
 
 fn b(v: bool) -> f64 {
     if v { 1.0 } else { 0.0 }
-}
-
-impl Func1 {
-    fn apply(self, x: f64) -> f64 {
-        match self {
-            Func1::Sin => libm::sin(x.to_radians()),
-            Func1::Cos => libm::cos(x.to_radians()),
-            Func1::Tan => libm::tan(x.to_radians()),
-            Func1::Asin => libm::asin(x).to_degrees(),
-            Func1::Acos => libm::acos(x).to_degrees(),
-            Func1::Atan => libm::atan(x).to_degrees(),
-            Func1::Exp => libm::exp(x),
-            Func1::Log => libm::log(x),
-            Func1::Sqrt => x.sqrt(),
-            Func1::Fabs => x.abs(),
-            Func1::Floor => x.floor(),
-            Func1::Ceil => x.ceil(),
-            Func1::Trunc => (x + 0.5).floor(),
-            Func1::Sign => {
-                if x > 0.0 {
-                    1.0
-                } else if x < 0.0 {
-                    -1.0
-                } else {
-                    0.0
-                }
-            }
-        }
-    }
-}
-
-impl Func2 {
-    fn apply(self, x: f64, y: f64) -> f64 {
-        match self {
-            Func2::Atan2 => libm::atan2(x, y).to_degrees(),
-            Func2::Min => x.min(y),
-            Func2::Max => x.max(y),
-            Func2::Pow => libm::pow(x, y),
-        }
-    }
 }
 
 fn is_binary(op: Op) -> bool {
@@ -493,29 +413,6 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
     }
     debug_assert_eq!(sp, 1);
     stack[0]
-}
-
-/// A draw from Beta(a, b) (Jöhnk's method, at most 1,000 tries, then the mean).
-fn beta(rng: &mut Rng, a: f64, b: f64) -> f64 {
-    if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
-        return f64::NAN;
-    }
-    for _ in 0..1000 {
-        let x = rng.next_f64().powf(1.0 / a);
-        let y = rng.next_f64().powf(1.0 / b);
-        if x + y <= 1.0 && x + y > 0.0 {
-            return x / (x + y);
-        }
-    }
-    a / (a + b)
-}
-
-/// A draw from Binomial(n, p) by counting trials (n at most 100,000).
-fn binomial(rng: &mut Rng, n: f64, p: f64) -> f64 {
-    if !(n.is_finite() && (0.0..=100_000.0).contains(&n) && (0.0..=1.0).contains(&p)) {
-        return f64::NAN;
-    }
-    (0..n as u32).filter(|_| rng.next_f64() < p).count() as f64
 }
 
 /// What names mean while compiling: formal parameters (slots), `#define`d constants
@@ -832,63 +729,22 @@ impl Compiler<'_, '_, '_> {
     }
 
     fn call(&mut self, name: &str, at: usize) -> PResult<()> {
-        enum F {
-            One(Op),
-            Two(Op),
-            Atan,
+        if name == "fopen" {
+            return self.fopen(at);
         }
-        let f = match name {
-            "sin" => F::One(Op::F1(Func1::Sin)),
-            "cos" => F::One(Op::F1(Func1::Cos)),
-            "tan" => F::One(Op::F1(Func1::Tan)),
-            "asin" => F::One(Op::F1(Func1::Asin)),
-            "acos" => F::One(Op::F1(Func1::Acos)),
-            "atan" => F::Atan,
-            "exp" => F::One(Op::F1(Func1::Exp)),
-            "log" => F::One(Op::F1(Func1::Log)),
-            "sqrt" => F::One(Op::F1(Func1::Sqrt)),
-            "fabs" | "abs" => F::One(Op::F1(Func1::Fabs)),
-            "floor" => F::One(Op::F1(Func1::Floor)),
-            "ceil" => F::One(Op::F1(Func1::Ceil)),
-            "trunc" => F::One(Op::F1(Func1::Trunc)),
-            "sign" => F::One(Op::F1(Func1::Sign)),
-            "ran" => F::One(Op::Ran),
-            "min" => F::Two(Op::F2(Func2::Min)),
-            "max" => F::Two(Op::F2(Func2::Max)),
-            "pow" => F::Two(Op::F2(Func2::Pow)),
-            "nran" => F::Two(Op::Nran),
-            "atan2" => F::Two(Op::F2(Func2::Atan2)),
-            "srand" => F::One(Op::Special(Special::Srand)),
-            "bran" => F::Two(Op::Special(Special::Bran)),
-            "biran" => F::Two(Op::Special(Special::Biran)),
-            "func" => F::Two(Op::Special(Special::Func)),
-            "fopen" => return self.fopen(at),
-            "curveX" => F::Two(Op::Special(Special::Curve(0))),
-            "curveY" => F::Two(Op::Special(Special::Curve(1))),
-            "curveZ" => F::Two(Op::Special(Special::Curve(2))),
-            "curveGAL" => F::One(Op::Special(Special::CurveLength)),
-            "play" | "inblob" | "fclose" | "fflush" | "fscanf" | "fprintf" | "vvXmin"
-            | "vvXmax" | "vvYmin" | "vvYmax" | "vvZmin" | "vvZmax" | "vvScale" | "Display" => {
-                let what = match name {
-                    "fscanf" => "data files read by the grammar",
-                    "fclose" | "fflush" | "fprintf" => "a file handle used as a value",
-                    _ => "cpfg's viewer",
-                };
-                return Err(self.cur.message_at(
-                    at,
-                    &format!(
-                        "`{name}()` needs {what}, which arbor does not have; the grammar \
-                         cannot run without it"
-                    ),
-                ));
-            }
-            _ => {
-                return Err(self.cur.error_at(
-                    at,
-                    "a function: sin cos tan asin acos atan atan2 exp log sqrt fabs floor \
-                     ceil trunc sign min max pow ran nran bran biran srand",
-                ));
-            }
+        if let Some(what) = unsupported(name) {
+            return Err(self.cur.message_at(
+                at,
+                &format!(
+                    "`{name}()` needs {what}, which arbor does not have; the grammar cannot \
+                     run without it"
+                ),
+            ));
+        }
+        let Some(builtin) = BUILTINS.iter().find(|b| b.name == name) else {
+            return Err(self
+                .cur
+                .error_at(at, &format!("a function: {}", builtin_names())));
         };
         self.cur.eat("(");
         self.nest()?;
@@ -922,29 +778,18 @@ impl Compiler<'_, '_, '_> {
             return Err(self.cur.error("`,` or `)` in a function call"));
         }
         self.nesting -= 1;
-        let arity_error = |c: &mut Self, n: &str| {
-            Err(c
-                .cur
-                .error_at(at, &format!("{n} argument(s) to `{name}`, not {args}")))
-        };
-        match f {
-            F::One(op) => {
-                if args != 1 {
-                    return arity_error(self, "1");
-                }
-                self.emit_unary(op, start);
+        match (builtin.arity, args) {
+            (Arity::One(op), 1) | (Arity::OneOrTwo(op, _), 1) => self.emit_unary(op, start),
+            (Arity::Two(op), 2) | (Arity::OneOrTwo(_, op), 2) => self.push_two(op, start),
+            _ => {
+                return Err(self.cur.error_at(
+                    at,
+                    &format!(
+                        "{} argument(s) to `{name}`, not {args}",
+                        builtin.arity.count()
+                    ),
+                ));
             }
-            F::Two(op) => {
-                if args != 2 {
-                    return arity_error(self, "2");
-                }
-                self.push_two(op, start);
-            }
-            F::Atan => match args {
-                1 => self.emit_unary(Op::F1(Func1::Atan), start),
-                2 => self.push_two(Op::F2(Func2::Atan2), start),
-                _ => return arity_error(self, "1 or 2"),
-            },
         }
         Ok(())
     }

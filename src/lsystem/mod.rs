@@ -15,11 +15,12 @@
 //! # Ok::<(), arbor::Error>(())
 //! ```
 
+mod builtins;
 mod ctx;
 mod d0l;
 pub(crate) mod derive;
 mod expr;
-mod funcs;
+mod function_files;
 pub(crate) mod grammar;
 mod interpret;
 mod parse;
@@ -124,7 +125,7 @@ pub struct LSystem {
     pub(crate) globals: expr::Globals,
     pub(crate) blocks: grammar::Blocks,
     /// The view file's functions (`func(id, x)`).
-    pub(crate) functions: std::sync::Arc<[funcs::Function]>,
+    pub(crate) functions: std::sync::Arc<[function_files::Function]>,
     /// The view file's surfaces (`~x`).
     pub(crate) surfaces: std::sync::Arc<[surface::Surface]>,
     /// What reading the files skipped (a surface file that is missing, ...).
@@ -132,7 +133,7 @@ pub struct LSystem {
     /// `ring lsystem`: context wraps from the string's end to its start.
     pub(crate) ring: bool,
     /// The view file's curves (`curveX(id, t)` and the like).
-    pub(crate) curves: std::sync::Arc<[funcs::Curve]>,
+    pub(crate) curves: std::sync::Arc<[function_files::Curve]>,
 }
 
 /// Ids of parsed grammars (0 is no grammar).

@@ -9,7 +9,7 @@
 //! no meaning for a mesh and is accepted without effect; a line that is not `key: value`
 //! is also skipped, as cpfg does.
 
-use super::funcs::Function;
+use super::function_files::Function;
 use super::grammar::{OldTropism, ViewSettings};
 use super::preprocess::{Includes, preprocess};
 use crate::error::{Error, Result};
@@ -26,7 +26,7 @@ pub(crate) struct Extras {
     /// What was skipped, for the grammar's warnings.
     pub(crate) warnings: Vec<String>,
     /// The curves (`curve:` files), numbered from 1 in order.
-    pub(crate) curves: Vec<super::funcs::Curve>,
+    pub(crate) curves: Vec<super::function_files::Curve>,
 }
 
 /// Reads a companion file the view file names, from `inc`'s folder, under the load's
@@ -237,7 +237,7 @@ pub(crate) fn apply(
                         fail(&format!("a readable curve file (`{file}`: no such file)"))
                     })?;
                 curves.push(
-                    super::funcs::parse_curve(&text).map_err(|e| {
+                    super::function_files::parse_curve(&text).map_err(|e| {
                         fail(&format!("a curve file cpfg can read (`{file}`: {e})"))
                     })?,
                 );
@@ -253,8 +253,11 @@ pub(crate) fn apply(
                             "a readable function file (`{file}`: no such file)"
                         ))
                     })?;
-                let read = super::funcs::parse(&text, file, MAX_COMPANIONS - functions.len())
-                    .map_err(|e| fail(&format!("a function file cpfg can read (`{file}`: {e})")))?;
+                let read =
+                    super::function_files::parse(&text, file, MAX_COMPANIONS - functions.len())
+                        .map_err(|e| {
+                            fail(&format!("a function file cpfg can read (`{file}`: {e})"))
+                        })?;
                 functions.extend(read);
             }
             "tropism" => {
