@@ -24,7 +24,9 @@ mod plan;
 mod records;
 mod rings;
 mod strips;
+mod sweep;
 mod topology;
+mod tube;
 mod tubes;
 
 pub use animation::{AnimationVertex, animation};

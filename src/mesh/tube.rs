@@ -1,0 +1,299 @@
+//! One kept branch's tube as the writer sees it, and the writing of its rings, caps and
+//! indices.
+
+use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP};
+use super::rings::{Affine, Out, to_f32};
+use super::strips::{Slot, StripWriter, zigzag};
+use super::{MeshOptions, Tip, Vertex};
+use crate::skeleton::{NO_PARENT, Skeleton};
+use glam::Vec3;
+
+impl MeshPlan {
+    /// Everything the writer needs of kept branch `i`, in output space.
+    #[inline(always)]
+    pub(super) fn tube(&self, skeleton: &Skeleton, i: usize) -> Tube<'_> {
+        let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
+        let out = o.out();
+        // The output conventions are linear: apply them to each branch's centers and frame
+        // vectors once, so the per-vertex loops are a few multiply-adds.
+        let rot = |v: Vec3| Vec3::from_array(out.dir(v));
+        let b = &skeleton.branches()[i];
+        let s = plan.segs[i] as usize;
+        let (d, p) = (plan.dir[i], lay.frame_p[i]);
+        let (r0, r1, _) = self.drawn(skeleton, i);
+        let (nc, na) = self.slope(skeleton, i);
+        let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
+        Tube {
+            i,
+            segments: s,
+            table: &self.tables[s],
+            flags: plan.flags[i],
+            out,
+            po: rot(p),
+            qo: rot(d.cross(p)),
+            d_o: rot(d),
+            d,
+            nc,
+            na,
+            r0,
+            r1,
+            v0: parent.map_or(0.0, |p| lay.v_end[p]),
+            v1: lay.v_end[i],
+            // In f64: a tiny texture scale must not turn v infinite.
+            inv_ts: 1.0 / o.texture_scale as f64,
+            first_vertex: lay.first_vertex[i],
+            end_ring: lay.end_ring[i],
+            shared_start: parent
+                .filter(|_| plan.flags[i] & SHARES_START != 0)
+                .map(|p| lay.end_ring[p]),
+            sink: parent.map_or(0.0, |p| skeleton.branches()[p].end_radius),
+            start: b.start(),
+            end: b.end(),
+        }
+    }
+}
+
+/// One kept branch's tube as the writer sees it: frame and centers in output space, the
+/// cone's slope, radii, texture v and where its rings go.
+pub(super) struct Tube<'a> {
+    pub(super) i: usize,
+    pub(super) segments: usize,
+    /// The unit circle: (cos, sin, u) per vertex of a ring.
+    pub(super) table: &'a [(f32, f32, f32)],
+    pub(super) flags: u8,
+    pub(super) out: Out,
+    /// Ring frame and axis in output space.
+    pub(super) po: Vec3,
+    pub(super) qo: Vec3,
+    pub(super) d_o: Vec3,
+    /// The axis in model space.
+    pub(super) d: Vec3,
+    /// Radial and axial parts of the cone's unit normal.
+    pub(super) nc: f32,
+    pub(super) na: f32,
+    /// Radii as drawn (model units).
+    pub(super) r0: f32,
+    pub(super) r1: f32,
+    pub(super) v0: f32,
+    pub(super) v1: f32,
+    pub(super) inv_ts: f64,
+    pub(super) first_vertex: u32,
+    pub(super) end_ring: u32,
+    /// The parent's end ring, when this branch starts on it.
+    pub(super) shared_start: Option<u32>,
+    /// How far an own start ring sinks into the parent.
+    pub(super) sink: f32,
+    pub(super) start: Vec3,
+    pub(super) end: Vec3,
+}
+
+/// First vertex of each part of a tube's vertices: (start ring, base cap, tip).
+type Firsts = (u32, u32, u32);
+
+impl Tube<'_> {
+    #[inline(always)]
+    pub(super) fn pos(&self, v: Vec3) -> Vec3 {
+        Vec3::from_array(self.out.pos(v))
+    }
+
+    /// A ring of the cone: radial·r around the center, normal radial·nc + axis·na.
+    #[inline(always)]
+    pub(super) fn cone(&self, center: Vec3, r: f32, v: f32) -> Affine {
+        Affine::new(
+            center,
+            self.po * r,
+            self.qo * r,
+            self.d_o * self.na,
+            self.po * self.nc,
+            self.qo * self.nc,
+            [0.0, v],
+            [0.0; 2],
+            [0.0; 2],
+            [1.0, 0.0],
+        )
+    }
+
+    /// A disc of radius r facing `normal`, uv a unit disc around (0.5, 0.5) (`flip`
+    /// mirrors v, so a base cap seen from below is not mirrored).
+    #[inline(always)]
+    pub(super) fn disc(&self, center: Vec3, r: f32, normal: Vec3, flip: bool) -> Affine {
+        Affine::new(
+            center,
+            self.po * r,
+            self.qo * r,
+            normal,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            [0.5, 0.5],
+            [0.5, 0.0],
+            [0.0, if flip { -0.5 } else { 0.5 }],
+            [0.0; 2],
+        )
+    }
+
+    /// The end ring shared with the continuing branch `c`, in the plane bisecting the bend.
+    /// Each point of the circle slides along d onto that plane: the position gives up
+    /// `slide · (radial · m)`. The point lies on a generator line of both cones (this
+    /// branch's, and the continuing branch's at the transported angle), along which each
+    /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
+    /// vertex.
+    pub(super) fn mitre(&self, plan: &MeshPlan, skeleton: &Skeleton, c: usize) -> Affine {
+        self.mitre_with(
+            plan,
+            skeleton,
+            c,
+            (self.po, self.qo),
+            self.d,
+            plan.plan.dir[c],
+        )
+    }
+
+    /// [`mitre`](Self::mitre) with the end ring's frame (output space) and the two axes at
+    /// the joint (model space) given: this branch's at its end, the continuation's at its
+    /// start (the curves' tangents in a sweep).
+    pub(super) fn mitre_with(
+        &self,
+        plan: &MeshPlan,
+        skeleton: &Skeleton,
+        c: usize,
+        (po, qo): (Vec3, Vec3),
+        d: Vec3,
+        dc: Vec3,
+    ) -> Affine {
+        let rot = |v: Vec3| Vec3::from_array(self.out.dir(v));
+        let d_o = rot(d);
+        let r1s = self.r1 * self.out.scale;
+        let m = rot((d + dc).normalize());
+        let slide = d_o * (r1s / d_o.dot(m));
+        let (pm, qm) = (po.dot(m), qo.dot(m));
+        let (nc_c, na_c) = plan.slope(skeleton, c);
+        // The cross product in arbor's space, then mapped: a mirror flips one taken after.
+        let p_c = plan.layout.frame_p[c];
+        let (pc, qc, dc) = (rot(p_c), rot(dc.cross(p_c)), rot(dc));
+        Affine::new(
+            self.pos(self.end),
+            po * r1s - slide * pm,
+            qo * r1s - slide * qm,
+            (d_o * self.na + dc * na_c) * 0.5,
+            (po * self.nc + pc * nc_c) * 0.5,
+            (qo * self.nc + qc * nc_c) * 0.5,
+            [0.0, self.v1],
+            [0.0; 2],
+            [0.0; 2],
+            [1.0, 0.0],
+        )
+    }
+
+    /// Writes the tube's own vertices (`out` holds exactly them): its start ring unless
+    /// shared, its end ring, a base cap, a tip. Returns where each part starts.
+    #[inline(always)]
+    pub(super) fn write_vertices<V: Slot<Vertex>>(
+        &self,
+        plan: &MeshPlan,
+        skeleton: &Skeleton,
+        out: &mut [V],
+    ) -> Firsts {
+        let (s, ring, table, f) = (self.segments, self.segments + 1, self.table, self.flags);
+        let scale = self.out.scale;
+        let mut pos = 0;
+        let start_center = match self.shared_start {
+            Some(_) => self.start,
+            None => {
+                let c0 = self.start - self.d * self.sink;
+                let v = to_f32(self.v0 as f64 - self.sink as f64 * self.inv_ts);
+                self.cone(self.pos(c0), self.r0 * scale, v)
+                    .put(&mut out[..ring], table);
+                pos += ring;
+                c0
+            }
+        };
+        let start_ring = self.shared_start.unwrap_or(self.first_vertex);
+        debug_assert_eq!(self.first_vertex + pos as u32, self.end_ring);
+        let ring_out = &mut out[pos..pos + ring];
+        if f & MITRE_END != 0 {
+            let c = plan.plan.cont[self.i] as usize;
+            self.mitre(plan, skeleton, c)
+                .put_normalized(ring_out, table);
+        } else {
+            self.cone(self.pos(self.end), self.r1 * scale, self.v1)
+                .put(ring_out, table);
+        }
+        pos += ring;
+        let base_first = self.first_vertex + pos as u32;
+        if f & BASE_CAP != 0 {
+            self.disc(self.pos(start_center), self.r0 * scale, -self.d_o, true)
+                .put(&mut out[pos..pos + s], table);
+            pos += s;
+        }
+        let tip_first = self.first_vertex + pos as u32;
+        if f & TIP != 0 {
+            let tip = &mut out[pos..pos + s];
+            match plan.options.tip {
+                Tip::Cap => self
+                    .disc(self.pos(self.end), self.r1 * scale, self.d_o, false)
+                    .put(tip, table),
+                _ => self.point_tip(tip),
+            }
+            pos += s;
+        }
+        debug_assert_eq!(pos, out.len());
+        (start_ring, base_first, tip_first)
+    }
+
+    /// The apexes of a cone one radius beyond the end, one per side (each with the
+    /// normal of its facet's middle).
+    pub(super) fn point_tip<V: Slot<Vertex>>(&self, out: &mut [V]) {
+        let apex = self.pos(self.end + self.d * self.r1);
+        let v = to_f32(self.v1 as f64 + self.r1 as f64 * self.inv_ts);
+        for (j, slot) in out.iter_mut().enumerate() {
+            let (c0, s0, u0) = self.table[j];
+            let (c1, s1, u1) = self.table[j + 1];
+            let radial = (self.po * (c0 + c1) + self.qo * (s0 + s1)).normalize_or_zero();
+            slot.put(Vertex {
+                position: apex.to_array(),
+                normal: (radial + self.d_o).normalize().to_array(),
+                uv: [0.5 * (u0 + u1), v],
+            });
+        }
+    }
+
+    /// Writes the tube's indices: the tube between its rings, then the caps.
+    #[inline(always)]
+    pub(super) fn write_indices<I: Slot<u32>>(
+        &self,
+        o: &MeshOptions,
+        (start_ring, base_first, tip_first): Firsts,
+        writer: &mut StripWriter<'_, I>,
+        strip: &mut Vec<u32>,
+    ) {
+        writer.tube(self.end_ring, start_ring, self.segments as u32 + 1);
+        self.write_indices_caps(o, base_first, tip_first, writer, strip);
+    }
+
+    /// The caps' indices (base cap, then tip).
+    #[inline(always)]
+    pub(super) fn write_indices_caps<I: Slot<u32>>(
+        &self,
+        o: &MeshOptions,
+        base_first: u32,
+        tip_first: u32,
+        writer: &mut StripWriter<'_, I>,
+        strip: &mut Vec<u32>,
+    ) {
+        let s = self.segments;
+        if self.flags & BASE_CAP != 0 {
+            zigzag(s, |k| base_first + ((s - k) % s) as u32, strip);
+            writer.strip(strip);
+        }
+        if self.flags & TIP != 0 {
+            if o.tip == Tip::Cap {
+                zigzag(s, |k| tip_first + k as u32, strip);
+                writer.strip(strip);
+            } else {
+                for j in 0..s as u32 {
+                    writer.strip(&[tip_first + j, self.end_ring + j, self.end_ring + j + 1]);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,169 @@
+//! Shadow changes sorted by cell (a radix sort) and applied to the grid.
+
+/// Sorts the shadow changes of `sources` (in that order) by cell into `sorted`, stably
+/// (each cell's changes keep the order they were made in), through `scratch`: a
+/// least-significant-digit radix sort of the cell indices (below `cells`). With
+/// `parallel` (and the `parallel` feature) two threads each gather and sort the changes
+/// of one half of the grid.
+pub(super) fn sort_changes(
+    sources: &[&[(u32, f32)]],
+    sorted: &mut Vec<(u32, f32)>,
+    scratch: &mut Vec<(u32, f32)>,
+    cells: usize,
+    parallel: bool,
+) {
+    let total: usize = sources.iter().map(|s| s.len()).sum();
+    // Buffers keep their length from flush to flush: every value is written below.
+    scratch.resize(total, (0, 0.0));
+    #[cfg(feature = "parallel")]
+    if parallel && total > 1 << 15 {
+        use rayon::prelude::*;
+        let mid = (cells / 2) as u32;
+        let low: usize = sources
+            .par_iter()
+            .map(|s| s.iter().filter(|&&(c, _)| c < mid).count())
+            .sum();
+        sorted.resize(total, (0, 0.0));
+        let gather = |out: &mut [(u32, f32)], lower: bool| {
+            let mut k = 0;
+            for &change in sources.iter().flat_map(|s| s.iter()) {
+                if (change.0 < mid) == lower {
+                    out[k] = change;
+                    k += 1;
+                }
+            }
+        };
+        // The halves sort into the same buffer (both take the same passes).
+        let (a, b) = sorted.split_at_mut(low);
+        let (ta, tb) = scratch.split_at_mut(low);
+        let (in_scratch, _) = rayon::join(
+            || {
+                gather(a, true);
+                radix_sort(a, ta, cells)
+            },
+            || {
+                gather(b, false);
+                radix_sort(b, tb, cells)
+            },
+        );
+        if in_scratch {
+            std::mem::swap(sorted, scratch);
+        }
+        return;
+    }
+    let _ = parallel;
+    sorted.clear();
+    for s in sources {
+        sorted.extend_from_slice(s);
+    }
+    if total < 256 {
+        sorted.sort_by_key(|&(c, _)| c);
+    } else if radix_sort(sorted, scratch, cells) {
+        std::mem::swap(sorted, scratch);
+    }
+}
+
+/// Sorts `data` by cell (below `cells`), stably, ping-ponging with `tmp` (as long): in at
+/// most three passes over digits of up to 13 bits. True when the result ends in `tmp`.
+pub(super) fn radix_sort(data: &mut [(u32, f32)], tmp: &mut [(u32, f32)], cells: usize) -> bool {
+    let bits = usize::BITS - cells.saturating_sub(1).max(1).leading_zeros();
+    let passes = bits.div_ceil(13);
+    let digit = bits.div_ceil(passes);
+    let mask = (1u32 << digit) - 1;
+    let mut counts = vec![0u32; (passes as usize) << digit];
+    for &(c, _) in data.iter() {
+        for p in 0..passes {
+            counts[((p as usize) << digit) + ((c >> (p * digit)) & mask) as usize] += 1;
+        }
+    }
+    let (mut from, mut to) = (data, tmp);
+    for p in 0..passes {
+        let count = &mut counts[(p as usize) << digit..((p as usize) + 1) << digit];
+        let mut at = 0u32;
+        for c in count.iter_mut() {
+            let n = *c;
+            *c = at;
+            at += n;
+        }
+        for &change in from.iter() {
+            let d = ((change.0 >> (p * digit)) & mask) as usize;
+            to[count[d] as usize] = change;
+            count[d] += 1;
+        }
+        std::mem::swap(&mut from, &mut to);
+    }
+    passes % 2 == 1
+}
+
+/// Adds the shadow pyramids of `changes` ((cell, buds), sorted by cell) to `layers`, the
+/// grid's layers from `first` on (the parts of pyramids outside them are left out). One
+/// cell's changes are summed first (buds added and removed cancel), so each changed
+/// cell's pyramid is added once, in cell order.
+pub(super) fn apply_changes(
+    changes: &[(u32, f32)],
+    [nx, _, nz]: [usize; 3],
+    falloff: &[f32],
+    layers: &mut [&mut [f32]],
+    first: usize,
+) {
+    let mut k = 0;
+    while k < changes.len() {
+        let cell = changes[k].0;
+        let mut count = 0.0;
+        while k < changes.len() && changes[k].0 == cell {
+            count += changes[k].1;
+            k += 1;
+        }
+        if count == 0.0 {
+            continue;
+        }
+        let c = cell as usize;
+        let (cx, cy, cz) = (c % nx, c / (nx * nz), (c / nx) % nz);
+        for (q, &f) in falloff.iter().enumerate() {
+            if q > cy || cy - q < first {
+                break;
+            }
+            let Some(layer) = layers.get_mut(cy - q - first) else {
+                continue;
+            };
+            let add = f * count;
+            let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
+            let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
+            let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
+            let start = z0 * nx + x0;
+            // Unclipped squares of the common sizes have a fixed number of fixed-size rows,
+            // which the compiler unrolls into vector adds.
+            match (w == h).then_some(w) {
+                Some(1) => layer[start] += add,
+                Some(3) => add_square::<3>(layer, start, nx, add),
+                Some(5) => add_square::<5>(layer, start, nx, add),
+                Some(7) => add_square::<7>(layer, start, nx, add),
+                Some(9) => add_square::<9>(layer, start, nx, add),
+                Some(11) => add_square::<11>(layer, start, nx, add),
+                Some(13) => add_square::<13>(layer, start, nx, add),
+                _ => {
+                    for r in 0..h {
+                        let o = start + r * nx;
+                        for v in &mut layer[o..o + w] {
+                            *v += add;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Adds `add` to a `W` × `W` square of a layer whose rows are `stride` apart, from
+/// `start`.
+#[inline(always)]
+fn add_square<const W: usize>(layer: &mut [f32], start: usize, stride: usize, add: f32) {
+    let slab = &mut layer[start..start + (W - 1) * stride + W];
+    for r in 0..W {
+        if let Some(row) = slab[r * stride..].first_chunk_mut::<W>() {
+            for v in row {
+                *v += add;
+            }
+        }
+    }
+}
