@@ -39,7 +39,7 @@ pub unsafe extern "C" fn arbor_tree_copy_curves(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let s = &tree.skeleton;
+        let s = tree.skeleton();
         // SAFETY: the caller promises `out` holds `capacity` writable curves.
         let dst = unsafe { out_slice(out, capacity, s.len(), "out") }?;
         for (i, d) in dst.iter_mut().enumerate() {
@@ -126,13 +126,13 @@ pub unsafe extern "C" fn arbor_tree_curve_records_write(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let n = tree.skeleton.len();
+        let n = tree.skeleton().len();
         // SAFETY: the caller promises `out` holds `capacity` writable records (the two
         // record types share one layout, checked in layout.rs).
         let dst = unsafe { out_slice(out.cast::<CurveRecord>(), capacity, n, "out") }?;
         for (d, r) in dst
             .iter_mut()
-            .zip(crate::mesh::curve_records(&tree.skeleton))
+            .zip(crate::mesh::curve_records(tree.skeleton()))
         {
             d.write(r);
         }
@@ -153,12 +153,12 @@ pub unsafe extern "C" fn arbor_tree_curve_growth_records_write(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let n = tree.skeleton.len();
+        let n = tree.skeleton().len();
         // SAFETY: as above (layouts checked in layout.rs).
         let dst = unsafe { out_slice(out.cast::<CurveGrowthRecord>(), capacity, n, "out") }?;
         for (d, r) in dst
             .iter_mut()
-            .zip(crate::mesh::curve_growth_records(&tree.skeleton))
+            .zip(crate::mesh::curve_growth_records(tree.skeleton()))
         {
             d.write(r);
         }

@@ -57,8 +57,8 @@ pub unsafe extern "C" fn arbor_export_obj(
         // SAFETY: as the caller promises (see the function's # Safety).
         let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
         let mut f = progress_closure(progress, user);
-        let bark = mesh::MeshPlan::new(&tree.skeleton, &mo)?.mesh_reporting(
-            &tree.skeleton,
+        let bark = mesh::MeshPlan::new(tree.skeleton(), &mo)?.mesh_reporting(
+            tree.skeleton(),
             mo.threads,
             as_progress(&mut f),
         )?;
@@ -67,7 +67,7 @@ pub unsafe extern "C" fn arbor_export_obj(
         } else {
             // SAFETY: the caller promises `leaf_options` is readable.
             let lo = unsafe { read_leaf_options(leaf_options, true) }?;
-            let leaves = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+            let leaves = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;
             crate::export::save_obj_parts_reporting(
                 &[("bark", &bark), ("leaves", &leaves)],
                 path,
@@ -106,7 +106,7 @@ pub unsafe extern "C" fn arbor_export_gltf(
         };
         let mut f = progress_closure(progress, user);
         crate::export::save_gltf_reporting(
-            &tree.skeleton,
+            tree.skeleton(),
             &mo,
             leaves.as_ref(),
             path,

@@ -168,7 +168,7 @@ pub unsafe extern "C" fn arbor_leaf_instance_count(
         let mo = unsafe { read_mesh_options(mesh_options) }?;
         // SAFETY: the caller promises `count` is NULL or writable.
         let count = unsafe { out_ref(count, "count") }?;
-        *count = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?.len();
+        *count = mesh::leaf_instances(tree.skeleton(), &lo, &mo)?.len();
         Ok(())
     })
 }
@@ -194,7 +194,7 @@ pub unsafe extern "C" fn arbor_leaf_instances_write(
         let lo = unsafe { read_leaf_options(leaf_options, false) }?;
         // SAFETY: the caller promises `mesh_options` is NULL or readable.
         let mo = unsafe { read_mesh_options(mesh_options) }?;
-        let leaves = mesh::leaf_instances(&tree.skeleton, &lo, &mo)?;
+        let leaves = mesh::leaf_instances(tree.skeleton(), &lo, &mo)?;
         // SAFETY: the caller promises `out` holds `capacity` writable instances.
         let dst = unsafe { out_slice(out.cast::<LeafInstance>(), capacity, leaves.len(), "out") }?;
         for (d, l) in dst.iter_mut().zip(leaves) {
@@ -229,7 +229,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_size(
         let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
         // SAFETY: as above.
         let ic = unsafe { out_ref(index_count, "index_count") }?;
-        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        let size = mesh::leaf_mesh_size(tree.skeleton(), &lo, &mo)?;
         *vc = size.vertices;
         *ic = size.indices;
         Ok(())
@@ -259,7 +259,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_write(
         let lo = unsafe { read_leaf_options(leaf_options, true) }?;
         // SAFETY: the caller promises `mesh_options` is NULL or readable.
         let mo = unsafe { read_mesh_options(mesh_options) }?;
-        let size = mesh::leaf_mesh_size(&tree.skeleton, &lo, &mo)?;
+        let size = mesh::leaf_mesh_size(tree.skeleton(), &lo, &mo)?;
         // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
         let v = unsafe {
             out_slice(
@@ -271,7 +271,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_write(
         }?;
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
-        mesh::write_leaf_mesh(&tree.skeleton, &lo, &mo, v, i)?;
+        mesh::write_leaf_mesh(tree.skeleton(), &lo, &mo, v, i)?;
         Ok(())
     })
 }
@@ -296,7 +296,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_create(
         let mo = unsafe { read_mesh_options(mesh_options) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let mesh = mesh::leaf_mesh(&tree.skeleton, &lo, &mo)?;
+        let mesh = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })

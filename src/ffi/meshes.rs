@@ -243,7 +243,7 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
         let mut f = progress_closure(progress, user);
-        plan.write_uninit_reporting(&tree.skeleton, options.threads, v, i, as_progress(&mut f))?;
+        plan.write_uninit_reporting(tree.skeleton(), options.threads, v, i, as_progress(&mut f))?;
         Ok(())
     })
 }
@@ -281,7 +281,7 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
         let options = unsafe { read_mesh_options(options) }?;
-        let n = tree.skeleton.len();
+        let n = tree.skeleton().len();
         if branch >= n {
             return Err(crate::Error::invalid(
                 "branch",
@@ -319,10 +319,10 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
             // No plan was kept through the edits: write everything (the indices too).
             // SAFETY: the caller promises `indices` holds `index_count` indices.
             let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-            plan.write_uninit_on(&tree.skeleton, options.threads, v, i)?;
+            plan.write_uninit_on(tree.skeleton(), options.threads, v, i)?;
             return Ok(());
         }
-        plan.rewrite_uninit(&tree.skeleton, &pending, v)?;
+        plan.rewrite_uninit(tree.skeleton(), &pending, v)?;
         Ok(())
     })
 }
@@ -347,7 +347,7 @@ pub unsafe extern "C" fn arbor_mesh_branch_ranges(
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
         let options = unsafe { read_mesh_options(options) }?;
-        let n = tree.skeleton.len();
+        let n = tree.skeleton().len();
         // SAFETY: the caller promises `out` holds `capacity` writable elements.
         let dst = unsafe { out_slice(out.cast::<BranchRange>(), capacity, n, "out") }?;
         let ranges = tree.plan(&options)?.ranges();
@@ -443,7 +443,7 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
             // SAFETY: as above.
             let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
                 .map_err(|e| e.at_level(k))?;
-            plan.write_uninit_on(&tree.skeleton, levels[k].threads, v, i)?;
+            plan.write_uninit_on(tree.skeleton(), levels[k].threads, v, i)?;
         }
         Ok(())
     })
@@ -478,7 +478,7 @@ pub unsafe extern "C" fn arbor_mesh_create(
         let out = unsafe { out_ref(out, "out") }?;
         let plan = tree.plan(&options)?;
         let mut f = progress_closure(progress, user);
-        let mesh = plan.mesh_reporting(&tree.skeleton, options.threads, as_progress(&mut f))?;
+        let mesh = plan.mesh_reporting(tree.skeleton(), options.threads, as_progress(&mut f))?;
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })
@@ -583,7 +583,7 @@ pub unsafe extern "C" fn arbor_mesh_animation_write(
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
         let options = unsafe { read_mesh_options(options) }?;
-        let data = tree.plan(&options)?.animation(&tree.skeleton)?;
+        let data = tree.plan(&options)?.animation(tree.skeleton())?;
         // SAFETY: the caller promises `out` holds `capacity` writable elements.
         let dst = unsafe {
             out_slice(

@@ -9,107 +9,24 @@ use super::*;
 /// The tree keeps the mesh plans (layout of every branch) of the last few mesh options it
 /// was sized or written with, so arbor_mesh_size() followed by arbor_mesh_write(), or a
 /// re-upload, computes the layout once and allocates nothing in proportion to the tree.
-pub struct ArborTree {
-    pub(crate) skeleton: Skeleton,
-    plans: std::sync::Mutex<Vec<Kept>>,
-}
-
-/// A mesh plan a tree keeps, with the branches whose vertices edits changed since it was
-/// made (what arbor_mesh_rewrite_branch() rewrites; sorted, each once).
-struct Kept {
-    plan: std::sync::Arc<crate::mesh::MeshPlan>,
-    pending: Vec<u32>,
-}
-
-/// Mesh plans a tree keeps (one per distinct set of options, most recent first).
-const KEPT_PLANS: usize = 4;
+pub struct ArborTree(pub(crate) crate::mesh::PlanCache);
 
 impl ArborTree {
     pub(crate) fn new(skeleton: Skeleton) -> Self {
-        ArborTree {
-            skeleton,
-            plans: std::sync::Mutex::new(Vec::new()),
-        }
+        ArborTree(crate::mesh::PlanCache::new(skeleton))
     }
+}
 
-    /// Changes the skeleton with `f` (nothing if it fails) and drops the kept plans, which
-    /// were made for the old one.
-    pub(crate) fn edit(
-        &mut self,
-        f: impl FnOnce(&mut Skeleton) -> crate::Result<()>,
-    ) -> crate::Result<()> {
-        f(&mut self.skeleton)?;
-        self.plans
-            .get_mut()
-            .unwrap_or_else(|e| e.into_inner())
-            .clear();
-        Ok(())
+impl std::ops::Deref for ArborTree {
+    type Target = crate::mesh::PlanCache;
+    fn deref(&self) -> &Self::Target {
+        &self.0
     }
+}
 
-    /// Edits branch `i`'s curve with `f`; every kept plan is brought up to date (in time
-    /// proportional to the branch's subtree) and remembers the branches to rewrite; a plan
-    /// whose branch ranges the edit would change is dropped.
-    pub(crate) fn edit_branch(
-        &mut self,
-        i: usize,
-        f: impl FnOnce(&mut Skeleton) -> crate::Result<()>,
-    ) -> crate::Result<()> {
-        f(&mut self.skeleton)?;
-        let skeleton = &self.skeleton;
-        let plans = self.plans.get_mut().unwrap_or_else(|e| e.into_inner());
-        plans.retain_mut(|k| {
-            match std::sync::Arc::make_mut(&mut k.plan).update_after_edit(skeleton, i) {
-                Ok(changed) => {
-                    k.pending.extend(changed);
-                    k.pending.sort_unstable();
-                    k.pending.dedup();
-                    true
-                }
-                Err(_) => false,
-            }
-        });
-        Ok(())
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Kept>> {
-        // A poisoned lock only means another thread panicked while holding it; the list
-        // itself is always valid.
-        self.plans.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    /// The mesh plan for `options`: kept from an earlier call, or made now and kept.
-    pub(crate) fn plan(
-        &self,
-        options: &MeshOptions,
-    ) -> crate::Result<std::sync::Arc<crate::mesh::MeshPlan>> {
-        if let Some(k) = self.lock().iter().find(|k| k.plan.serves(options)) {
-            return Ok(k.plan.clone());
-        }
-        // Made outside the lock, so other threads keep meshing meanwhile.
-        let plan = std::sync::Arc::new(crate::mesh::MeshPlan::new(&self.skeleton, options)?);
-        let mut plans = self.lock();
-        plans.retain(|k| !k.plan.serves(options));
-        plans.insert(
-            0,
-            Kept {
-                plan: plan.clone(),
-                pending: Vec::new(),
-            },
-        );
-        plans.truncate(KEPT_PLANS);
-        Ok(plan)
-    }
-
-    /// The kept plan for `options` and every branch edits changed since the plan was
-    /// made (sorted, each once). Not cleared by writes or rewrites: any buffer holding a
-    /// full write made with this plan, whenever, is correct after rewriting them.
-    pub(crate) fn pending(
-        &self,
-        options: &MeshOptions,
-    ) -> Option<(std::sync::Arc<crate::mesh::MeshPlan>, Vec<u32>)> {
-        let plans = self.lock();
-        let k = plans.iter().find(|k| k.plan.serves(options))?;
-        Some((k.plan.clone(), k.pending.clone()))
+impl std::ops::DerefMut for ArborTree {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
     }
 }
 
@@ -222,7 +139,7 @@ pub unsafe extern "C" fn arbor_tree_free(tree: *mut ArborTree) {
 pub unsafe extern "C" fn arbor_tree_branch_count(tree: *const ArborTree) -> usize {
     guard_value(0, || {
         // SAFETY: the caller promises `tree` is NULL or live.
-        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.len())
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton().len())
     })
 }
 
@@ -241,7 +158,7 @@ pub unsafe extern "C" fn arbor_tree_copy_branches(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let src = tree.skeleton.branches();
+        let src = tree.skeleton().branches();
         // SAFETY: the caller promises `out` holds `capacity` writable branches
         // (ArborBranch and Branch share one layout, asserted in layout.rs).
         unsafe { copy_out(src, out.cast::<Branch>(), capacity, "out") }
@@ -256,7 +173,7 @@ pub unsafe extern "C" fn arbor_tree_copy_branches(
 pub unsafe extern "C" fn arbor_tree_leaf_site_count(tree: *const ArborTree) -> usize {
     guard_value(0, || {
         // SAFETY: the caller promises `tree` is NULL or live.
-        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.leaves().len())
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton().leaves().len())
     })
 }
 
@@ -274,7 +191,7 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let src = tree.skeleton.leaves();
+        let src = tree.skeleton().leaves();
         // SAFETY: the caller promises `out` holds `capacity` writable sites (one layout,
         // asserted in layout.rs).
         unsafe {
@@ -296,7 +213,7 @@ pub unsafe extern "C" fn arbor_tree_copy_leaf_sites(
 pub unsafe extern "C" fn arbor_tree_organ_count(tree: *const ArborTree) -> usize {
     guard_value(0, || {
         // SAFETY: the caller promises `tree` is NULL or live.
-        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton.organs().len())
+        unsafe { arg_ref(tree, "tree") }.map_or(0, |t| t.skeleton().organs().len())
     })
 }
 
@@ -314,7 +231,7 @@ pub unsafe extern "C" fn arbor_tree_copy_organs(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let src = tree.skeleton.organs();
+        let src = tree.skeleton().organs();
         // SAFETY: the caller promises `out` holds `capacity` writable organs (one layout,
         // asserted in layout.rs).
         unsafe { copy_out(src, out.cast::<crate::skeleton::Organ>(), capacity, "out") }
@@ -336,10 +253,10 @@ pub unsafe extern "C" fn arbor_tree_copy_branch_colors(
     guard(|| {
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let n = tree.skeleton.len();
+        let n = tree.skeleton().len();
         // SAFETY: the caller promises `out` holds `capacity` writable values.
         let dst = unsafe { out_slice(out, capacity, n, "out") }?;
-        let colors = tree.skeleton.colors();
+        let colors = tree.skeleton().colors();
         for (k, d) in dst.iter_mut().enumerate() {
             d.write(colors.get(k).copied().unwrap_or(0));
         }
@@ -392,7 +309,7 @@ pub unsafe extern "C" fn arbor_tree_prune_collisions(
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let pruned = crate::skeleton::prune::prune_collisions(&tree.skeleton);
+        let pruned = crate::skeleton::prune::prune_collisions(tree.skeleton());
         if !removed.is_null() {
             // SAFETY: the caller promises a non-NULL `removed` is writable.
             *unsafe { out_ref(removed, "removed") }? = pruned.removed;

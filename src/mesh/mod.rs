@@ -18,6 +18,7 @@
 //! a point, for the last branch of an axis, if asked); indices follow the same order.
 
 mod animation;
+mod cache;
 mod leaves;
 mod lod;
 mod plan;
@@ -30,6 +31,7 @@ mod tube;
 mod tubes;
 
 pub use animation::{AnimationVertex, animation};
+pub use cache::PlanCache;
 pub use leaves::{
     LeafInstance, LeafOptions, LeafPrefab, leaf_animation, leaf_instances, leaf_mesh,
     leaf_mesh_size, write_leaf_mesh,
