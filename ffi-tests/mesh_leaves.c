@@ -239,6 +239,38 @@ static void leaves(const char *dir) {
   lo.prefab_obj_path = path;
   CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, NULL, &nv, &ni), ARBOR_STATUS_OK);
   CHECK(nv == count * 6 && ni == count * 6, "prefab: %zu %zu", nv, ni);
+  {
+    /* The same shape loaded once into a handle: the same mesh, and the file is not read
+       again (it is gone before the calls). */
+    ArborVertex *v1 = malloc(nv * sizeof *v1), *v2 = malloc(nv * sizeof *v2);
+    uint32_t *i1 = malloc(ni * sizeof *i1), *i2 = malloc(ni * sizeof *i2);
+    CHECK_STATUS(arbor_leaf_mesh_write(t, &lo, NULL, v1, nv, i1, ni), ARBOR_STATUS_OK);
+    ArborLeafPrefab *prefab = NULL;
+    CHECK_STATUS(arbor_leaf_prefab_load(path, NULL, &prefab), ARBOR_STATUS_OK);
+    CHECK(arbor_leaf_prefab_triangle_count(prefab) == 2, "two blades");
+    CHECK(arbor_leaf_prefab_triangle_count(NULL) == 0, "NULL prefab");
+    CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, NULL, &nv, &ni), ARBOR_STATUS_OK);
+    lo.prefab = prefab;
+    CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, NULL, &nv, &ni), ARBOR_STATUS_INVALID_ARGUMENT);
+    message_contains("prefab_obj_path");
+    lo.prefab_obj_path = NULL;
+    remove(path);
+    size_t nv2 = 0, ni2 = 0;
+    CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, NULL, &nv2, &ni2), ARBOR_STATUS_OK);
+    CHECK(nv2 == nv && ni2 == ni, "handle: %zu %zu", nv2, ni2);
+    CHECK_STATUS(arbor_leaf_mesh_write(t, &lo, NULL, v2, nv, i2, ni), ARBOR_STATUS_OK);
+    CHECK(memcmp(v1, v2, nv * sizeof *v1) == 0 && memcmp(i1, i2, ni * sizeof *i1) == 0,
+          "a handle's mesh equals the file's");
+    lo.prefab = NULL;
+    arbor_leaf_prefab_free(prefab);
+    arbor_leaf_prefab_free(NULL);
+    CHECK_STATUS(arbor_leaf_prefab_load("/nonexistent/leaf.obj", NULL, &prefab), ARBOR_STATUS_IO_ERROR);
+    CHECK_STATUS(arbor_leaf_prefab_load(NULL, NULL, &prefab), ARBOR_STATUS_NULL_ARGUMENT);
+    free(v1);
+    free(v2);
+    free(i1);
+    free(i2);
+  }
   lo.prefab_obj_path = "/nonexistent/leaf.obj";
   CHECK_STATUS(arbor_leaf_mesh_size(t, &lo, NULL, &nv, &ni), ARBOR_STATUS_IO_ERROR);
   message_contains("/nonexistent/leaf.obj");

@@ -554,6 +554,13 @@ typedef enum ArborFileAccess {
 } ArborFileAccess;
 
 /**
+ * A leaf shape loaded once (see arbor_leaf_prefab_load()). Opaque; free with
+ * arbor_leaf_prefab_free(). A `const ArborLeafPrefab *` may be used from several threads
+ * at once.
+ */
+typedef struct ArborLeafPrefab ArborLeafPrefab;
+
+/**
  * A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
  * arbor_forest_mesh_create()): for hosts that prefer to read buffers in place and copy
  * them where they like. Opaque; free with arbor_mesh_free(). A
@@ -868,8 +875,9 @@ typedef struct ArborLeafOptions {
   uint64_t seed;
   /**
    * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
-   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
-   * leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by each
+   * leaf-mesh call (to read it once, load it into `prefab` instead);
+   * ARBOR_STATUS_IO_ERROR if it cannot be loaded.
    */
   const char *prefab_obj_path;
   /**
@@ -899,6 +907,12 @@ typedef struct ArborLeafOptions {
    * max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
    */
   uint64_t max_file_bytes;
+  /**
+   * A leaf shape loaded once with arbor_leaf_prefab_load(), used by every call without
+   * reading its file again (set this or `prefab_obj_path`, not both); it must outlive
+   * the calls. NULL (default): none. (Added after the first layout.)
+   */
+  const struct ArborLeafPrefab *prefab;
 } ArborLeafOptions;
 
 /**
@@ -1765,6 +1779,38 @@ enum ArborStatus arbor_world_tree(const struct ArborWorld *world,
  * unknown id.
  */
 size_t arbor_struct_size(uint32_t id);
+
+/**
+ * Loads the OBJ file at `obj_path` (NUL-terminated UTF-8) as a leaf shape, read under the
+ * file policy of `options` (its `file_access`, `read_file` and `max_file_bytes`; NULL: the
+ * defaults; its `prefab_obj_path` and `prefab` are not read), and writes the handle to
+ * `*out`. Set it as ArborLeafOptions.prefab so that sizing and writing leaf meshes do not
+ * read the file again. ARBOR_STATUS_IO_ERROR if it cannot be read, PARSE_ERROR if it is
+ * not an OBJ with triangles.
+ *
+ * # Safety
+ * `obj_path` is NULL or NUL-terminated; `options` is NULL or readable; `out` is NULL or
+ * writable.
+ */
+enum ArborStatus arbor_leaf_prefab_load(const char *obj_path,
+                                        const struct ArborLeafOptions *options,
+                                        struct ArborLeafPrefab **out);
+
+/**
+ * The number of triangles of a loaded leaf shape; 0 for NULL.
+ *
+ * # Safety
+ * `prefab` is NULL or live.
+ */
+size_t arbor_leaf_prefab_triangle_count(const struct ArborLeafPrefab *prefab);
+
+/**
+ * Frees a leaf shape; NULL does nothing. Options that point to it must not be used after.
+ *
+ * # Safety
+ * `prefab` is NULL or a live handle from arbor_leaf_prefab_load(), freed once.
+ */
+void arbor_leaf_prefab_free(struct ArborLeafPrefab *prefab);
 
 /**
  * Writes the default leaf options into the first `struct_size` bytes at `options`

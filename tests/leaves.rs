@@ -203,7 +203,7 @@ fn a_prefab_from_an_obj_file_is_baked_per_leaf() {
     let s = tree('c');
     let o = LeafOptions {
         tips: true,
-        prefab: Some(prefab.clone()),
+        prefab: Some(std::sync::Arc::new(prefab.clone())),
         ..Default::default()
     };
     let m = MeshOptions::default();

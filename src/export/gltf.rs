@@ -201,7 +201,10 @@ pub fn gltf_bytes_instanced(
 ) -> Result<Vec<u8>> {
     let (o, prims) = primitives(skeleton, options, None, None)?;
     let instances = mesh::leaf_instances(skeleton, leaves, &o)?;
-    let prefab = leaves.prefab.clone().unwrap_or_else(mesh::LeafPrefab::quad);
+    let prefab = leaves
+        .prefab
+        .clone()
+        .unwrap_or_else(|| std::sync::Arc::new(mesh::LeafPrefab::quad()));
     let quad = Mesh {
         vertices: prefab.vertices.clone(),
         indices: prefab.triangles.iter().flatten().copied().collect(),

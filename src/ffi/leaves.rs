@@ -31,8 +31,9 @@ pub struct ArborLeafOptions {
     /// Seed of the variation. Default 0.
     pub seed: u64,
     /// NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
-    /// (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by the
-    /// leaf-mesh functions; ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+    /// (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by each
+    /// leaf-mesh call (to read it once, load it into `prefab` instead);
+    /// ARBOR_STATUS_IO_ERROR if it cannot be loaded.
     pub prefab_obj_path: *const c_char,
     /// Making more leaves than this (instances, or copies in the baked mesh) stops with
     /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
@@ -51,6 +52,83 @@ pub struct ArborLeafOptions {
     /// Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming
     /// max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
     pub max_file_bytes: u64,
+    /// A leaf shape loaded once with arbor_leaf_prefab_load(), used by every call without
+    /// reading its file again (set this or `prefab_obj_path`, not both); it must outlive
+    /// the calls. NULL (default): none. (Added after the first layout.)
+    pub prefab: *const ArborLeafPrefab,
+}
+
+/// A leaf shape loaded once (see arbor_leaf_prefab_load()). Opaque; free with
+/// arbor_leaf_prefab_free(). A `const ArborLeafPrefab *` may be used from several threads
+/// at once.
+pub struct ArborLeafPrefab(std::sync::Arc<LeafPrefab>);
+
+/// Loads the OBJ file at `obj_path` (NUL-terminated UTF-8) as a leaf shape, read under the
+/// file policy of `options` (its `file_access`, `read_file` and `max_file_bytes`; NULL: the
+/// defaults; its `prefab_obj_path` and `prefab` are not read), and writes the handle to
+/// `*out`. Set it as ArborLeafOptions.prefab so that sizing and writing leaf meshes do not
+/// read the file again. ARBOR_STATUS_IO_ERROR if it cannot be read, PARSE_ERROR if it is
+/// not an OBJ with triangles.
+///
+/// # Safety
+/// `obj_path` is NULL or NUL-terminated; `options` is NULL or readable; `out` is NULL or
+/// writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_prefab_load(
+    obj_path: *const c_char,
+    options: *const ArborLeafOptions,
+    out: *mut *mut ArborLeafPrefab,
+) -> ArborStatus {
+    guard(|| {
+        if obj_path.is_null() {
+            return Err(FfiError::null("obj_path"));
+        }
+        // SAFETY: the caller promises a NUL-terminated path.
+        let path = unsafe { CStr::from_ptr(obj_path) }
+            .to_str()
+            .map_err(|_| crate::Error::invalid("obj_path", "the path is not UTF-8"))?;
+        let o = if options.is_null() {
+            ArborLeafOptions::default()
+        } else {
+            // SAFETY: the caller promises `options` is readable for its struct_size bytes.
+            unsafe { read_growing(options, "options") }?
+        };
+        let files = file_options(
+            o.file_access,
+            o.read_file,
+            o.read_file_user_data,
+            o.max_file_bytes,
+        )?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let prefab = LeafPrefab::from_obj_with(path, &files)?;
+        *out = Box::into_raw(Box::new(ArborLeafPrefab(std::sync::Arc::new(prefab))));
+        Ok(())
+    })
+}
+
+/// The number of triangles of a loaded leaf shape; 0 for NULL.
+///
+/// # Safety
+/// `prefab` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_prefab_triangle_count(prefab: *const ArborLeafPrefab) -> usize {
+    // SAFETY: the caller promises `prefab` is NULL or live.
+    guard_value(0, || {
+        unsafe { prefab.as_ref() }.map_or(0, |p| p.0.triangles.len())
+    })
+}
+
+/// Frees a leaf shape; NULL does nothing. Options that point to it must not be used after.
+///
+/// # Safety
+/// `prefab` is NULL or a live handle from arbor_leaf_prefab_load(), freed once.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_prefab_free(prefab: *mut ArborLeafPrefab) {
+    if !prefab.is_null() {
+        // SAFETY: the caller passes a live handle from Box::into_raw, freed once.
+        guard_value((), || drop(unsafe { Box::from_raw(prefab) }));
+    }
 }
 
 /// sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
@@ -80,6 +158,7 @@ mirror!(ArborLeafOptions => LeafOptions {
         read_file: None,
         read_file_user_data: std::ptr::null_mut(),
         max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
+        prefab: std::ptr::null(),
     }
     rust_only { prefab: None }
 });
@@ -114,7 +193,8 @@ pub unsafe extern "C" fn arbor_leaf_options_init(
 /// The leaf options behind `options` (NULL: the defaults); `load_prefab` reads the OBJ.
 ///
 /// # Safety
-/// `options` is NULL or readable, and its `prefab_obj_path` NULL or NUL-terminated.
+/// `options` is NULL or readable, its `prefab_obj_path` NULL or NUL-terminated and its
+/// `prefab` NULL or live.
 pub(crate) unsafe fn read_leaf_options(
     options: *const ArborLeafOptions,
     load_prefab: bool,
@@ -131,13 +211,25 @@ pub(crate) unsafe fn read_leaf_options(
         o.read_file_user_data,
         o.max_file_bytes,
     )?;
-    let prefab = if load_prefab && !o.prefab_obj_path.is_null() {
+    if !o.prefab.is_null() && !o.prefab_obj_path.is_null() {
+        return Err(crate::Error::invalid(
+            "prefab",
+            "set together with prefab_obj_path; expected one of them",
+        )
+        .into());
+    }
+    // SAFETY: the caller promises a non-NULL `prefab` is a live handle.
+    let prefab = if let Some(handle) = unsafe { o.prefab.as_ref() } {
+        Some(handle.0.clone())
+    } else if load_prefab && !o.prefab_obj_path.is_null() {
         // SAFETY: the caller promises a non-NULL path is NUL-terminated.
         let path = unsafe { CStr::from_ptr(o.prefab_obj_path) };
         let path = path
             .to_str()
             .map_err(|_| crate::Error::invalid("prefab_obj_path", "the path is not UTF-8"))?;
-        Some(LeafPrefab::from_obj_with(path, &files)?)
+        Some(std::sync::Arc::new(LeafPrefab::from_obj_with(
+            path, &files,
+        )?))
     } else {
         None
     };

@@ -180,8 +180,9 @@ pub struct LeafOptions {
     pub tilt: f32,
     /// Seed of the variation. Default 0.
     pub seed: u64,
-    /// The baked shape; `None` is [`LeafPrefab::quad`].
-    pub prefab: Option<LeafPrefab>,
+    /// The baked shape, loaded once and shared by every call that uses it; `None` is
+    /// [`LeafPrefab::quad`].
+    pub prefab: Option<std::sync::Arc<LeafPrefab>>,
     /// Placing more leaves than this fails with
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_leaves`, before
     /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
@@ -439,7 +440,7 @@ pub fn leaf_animation(
 /// What the baked leaf mesh holds.
 struct LeafPlan {
     instances: Vec<LeafInstance>,
-    prefab: LeafPrefab,
+    prefab: std::sync::Arc<LeafPrefab>,
     /// Polygons to triangulate: (first point, count).
     polygons: Vec<(usize, usize)>,
     /// Whether the skeleton's spheres and discs are in the mesh.
@@ -454,7 +455,10 @@ struct LeafPlan {
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
     let instances = place(skeleton, leaves, mesh)?;
-    let prefab = leaves.prefab.clone().unwrap_or_else(LeafPrefab::quad);
+    let prefab = leaves
+        .prefab
+        .clone()
+        .unwrap_or_else(|| std::sync::Arc::new(LeafPrefab::quad()));
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
             .polygons()

@@ -160,6 +160,9 @@ namespace Arbor
         public uint FileAccess;
         public IntPtr ReadFile, ReadFileUserData;
         public ulong MaxFileBytes;
+        /// An ArborLeafPrefab from Native.arbor_leaf_prefab_load (the file read once);
+        /// IntPtr.Zero for none. Set this or PrefabObjPath, not both.
+        public IntPtr Prefab;
 
         public static LeafOptions Default()
         {
@@ -286,6 +289,12 @@ namespace Arbor
         public static extern void arbor_lsystem_options_init(ref LsystemOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_leaf_options_init(ref LeafOptions options, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_leaf_prefab_load([MarshalAs(UnmanagedType.LPUTF8Str)] string objPath, IntPtr options, out IntPtr prefab);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_leaf_prefab_triangle_count(IntPtr prefab);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_leaf_prefab_free(IntPtr prefab);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_size(IntPtr tree, ref MeshOptions options, out UIntPtr vertexCount, out UIntPtr indexCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
