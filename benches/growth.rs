@@ -7,11 +7,13 @@
 //!
 //! `cargo bench --bench growth` (add `--features parallel` for the parallel rows).
 
+// The C type ArborGrowthParams is this Rust type.
 use arbor::ffi::{
-    ArborGrowthParams, ArborStatus, ArborWorld, ArborWorldOptions, arbor_growth_params_init,
+    ArborStatus, ArborWorld, ArborWorldOptions, arbor_growth_params_init,
     arbor_growth_params_preset, arbor_world_branch_count, arbor_world_create, arbor_world_free,
     arbor_world_options_init, arbor_world_plant, arbor_world_step,
 };
+use arbor::models::growth::GrowthParams as ArborGrowthParams;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::mem::{MaybeUninit, size_of};
@@ -87,10 +89,8 @@ fn one_tree(parallel: bool) -> HostWorld {
 fn forest(parallel: bool, cycles: u32) -> HostWorld {
     let mut w = HostWorld::new([-30.0, 0.0, -30.0], [30.0, 20.0, 30.0], parallel);
     // ARBOR_SPECIES_DECURRENT, seeding from age 20.
-    let species = ArborGrowthParams {
-        seed_age: 20,
-        ..params(Some(1))
-    };
+    let mut species = params(Some(1));
+    species.seed_age = 20;
     for i in 0..10 {
         for j in 0..10 {
             let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];

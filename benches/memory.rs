@@ -112,10 +112,8 @@ fn growth(quick: bool) {
             .product();
         let mut w = World::new(&o).unwrap();
         if forest {
-            let species = GrowthParams {
-                seed_age: 20,
-                ..GrowthParams::preset(Species::Decurrent)
-            };
+            let mut species = GrowthParams::preset(Species::Decurrent);
+            species.seed_age = 20;
             for i in 0..10 {
                 for j in 0..10 {
                     let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];

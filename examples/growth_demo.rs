@@ -49,10 +49,8 @@ fn forest(cycles: u32) -> Result<(), arbor::Error> {
         max: [30.0, 20.0, 30.0],
         ..Default::default()
     })?;
-    let species = GrowthParams {
-        seed_age: 20,
-        ..GrowthParams::preset(Species::Decurrent)
-    };
+    let mut species = GrowthParams::preset(Species::Decurrent);
+    species.seed_age = 20;
     for i in 0..10 {
         for j in 0..10 {
             w.plant(

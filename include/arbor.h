@@ -293,7 +293,7 @@ enum ArborUpAxis
    */
   ARBOR_UP_AXIS_Y = 0,
   /**
-   * Z up (Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which keeps
+   * Z up (Blender): a rotation of +90 degrees about X, (x, y, z) -> (x, -z, y), which keeps
    * handedness and winding. Unreal is left-handed: use the Unreal axes there.
    */
   ARBOR_UP_AXIS_Z = 1,
@@ -324,13 +324,13 @@ enum ArborAxes
   ARBOR_AXES_ARBOR = 0,
   /**
    * Unity: left-handed, Y up, metres (one model unit = one metre, as in glTF):
-   * (x, y, z) → (−x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
+   * (x, y, z) -> (-x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
    * faces wind clockwise seen from outside in Unity's space, so the cross product of a
    * triangle's edges points out, as `Mesh.RecalculateNormals` expects.
    */
   ARBOR_AXES_UNITY = 1,
   /**
-   * Unreal: left-handed, Z up, centimetres: (x, y, z) → (100x, 100z, 100y), the
+   * Unreal: left-handed, Z up, centimetres: (x, y, z) -> (100x, 100z, 100y), the
    * inverse of Unreal's own glTF exporter; front faces as Unreal's renderer culls them
    * (the cross product of a triangle's edges points in, as Epic documents for its
    * clockwise convention).
@@ -499,23 +499,23 @@ enum ArborSpecies
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
   /**
-   * A conifer-like tree with a strong leader: λ 0.58, branch angle 65°.
+   * A conifer-like tree with a strong leader: lambda 0.58, branch angle 65 degrees.
    */
   ARBOR_SPECIES_EXCURRENT = 0,
   /**
-   * A broad, spreading crown: λ 0.46, α 2.2, branch angle 45°.
+   * A broad, spreading crown: lambda 0.46, alpha 2.2, branch angle 45 degrees.
    */
   ARBOR_SPECIES_DECURRENT = 1,
   /**
-   * A narrow column: λ 0.54, branch angle 30°, tropism 0.25.
+   * A narrow column: lambda 0.54, branch angle 30 degrees, tropism 0.25.
    */
   ARBOR_SPECIES_COLUMNAR = 2,
   /**
-   * A shrub: λ 0.42, short internodes, branch angle 55°, little shedding.
+   * A shrub: lambda 0.42, short internodes, branch angle 55 degrees, little shedding.
    */
   ARBOR_SPECIES_BUSH = 3,
   /**
-   * Drooping shoots: λ 0.5, tropism −0.25 (shoots bend down).
+   * Drooping shoots: lambda 0.5, tropism -0.25 (shoots bend down).
    */
   ARBOR_SPECIES_WEEPING = 4,
 };
@@ -621,9 +621,9 @@ typedef struct ArborCurve {
  * p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
  * parent; uint birth; }`). C: ArborCurveRecord.
  *
- * A point at curve parameter t has texture v = `v0 + length · s(t)` (s the fraction of
+ * A point at curve parameter t has texture v = `v0 + length * s(t)` (s the fraction of
  * the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
- * plus its angle around the curve / 2π.
+ * plus its angle around the curve / 2 pi.
  */
 typedef struct ArborCurveRecord {
   /**
@@ -916,8 +916,8 @@ typedef struct ArborLeafOptions {
 } ArborLeafOptions;
 
 /**
- * Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch (trees
- * a–i); C: ArborHondaParams.
+ * Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Mech (trees
+ * a-i); C: ArborHondaParams.
  *
  * Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
  * diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
@@ -940,19 +940,19 @@ typedef struct ArborHondaParams {
    */
   float r2;
   /**
-   * α1: branching angle of the first child (`+`). Finite.
+   * alpha1: branching angle of the first child (`+`). Finite.
    */
   float alpha1;
   /**
-   * α2: branching angle of the second child (`+`). Finite.
+   * alpha2: branching angle of the second child (`+`). Finite.
    */
   float alpha2;
   /**
-   * φ1: divergence angle of the first child (`/`). Finite.
+   * phi1: divergence angle of the first child (`/`). Finite.
    */
   float phi1;
   /**
-   * φ2: divergence angle of the second child (`/`). Finite.
+   * phi2: divergence angle of the second child (`/`). Finite.
    */
   float phi2;
   /**
@@ -960,7 +960,7 @@ typedef struct ArborHondaParams {
    */
   float q;
   /**
-   * e: width exponent, finite, >= 0. Children widths are w·q^e and w·(1−q)^e.
+   * e: width exponent, finite, >= 0. Children widths are w*q^e and w*(1-q)^e.
    */
   float e;
   /**
@@ -1102,37 +1102,43 @@ typedef struct ArborWorldOptions {
 } ArborWorldOptions;
 
 /**
- * One species: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
- * arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
- * angles in degrees; the ranges are those of the Rust `GrowthParams`.
+ * One species: how a tree grows. `Default` is the excurrent species' values with neutral
+ * apical control; start from it (or `preset`) and change the fields you need. Lengths are
+ * world units, angles degrees.
+ *
+ * C: ArborGrowthParams, a struct that grows (see "Structs that grow" in docs/c-api.md):
+ * start from arbor_growth_params_default() or arbor_growth_params_preset().
  */
 typedef struct ArborGrowthParams {
   /**
-   * sizeof(ArborGrowthParams) as the host was compiled.
+   * sizeof(ArborGrowthParams) as the host was compiled (C only; Rust keeps it at its own
+   * size).
    */
   uint32_t struct_size;
   /**
-   * lambda in [0, 1]; 0.5 neutral, > 0.5 favours the main axis. Default 0.5.
+   * lambda in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
+   * laterals (decurrent). Default 0.5.
    */
   float apical_control;
   /**
-   * alpha > 0. Default 2.
+   * alpha > 0: vigour at the base = alpha * light gathered. Default 2.
    */
   float vigor_multiplier;
   /**
-   * World units, in (0, 10000]. Default 0.25.
+   * Length of an internode at vigour 1, in (0, 10000]. Default 0.25.
    */
   float internode_length;
   /**
-   * Degrees between a lateral bud and its internode's heading, 0..=180. Default 45.
+   * Angle between a lateral bud and its internode's heading, 0..=180. Default 45.
    */
   float branch_angle;
   /**
-   * Degrees between successive lateral buds about the heading. Default 137.5.
+   * Turn about the heading from one lateral bud to the next, finite. Default 137.5.
    */
   float phyllotaxis;
   /**
-   * eta: weight of up in a shoot's heading, -1..=1 (negative bends down). Default 0.1.
+   * eta: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
+   * -1..=1. Default 0.1.
    */
   float tropism;
   /**
@@ -1140,16 +1146,16 @@ typedef struct ArborGrowthParams {
    */
   float environment_weight;
   /**
-   * n in [1, 4]: r^n = sum of the children's r^n. Default 2.5.
+   * n in [1, 4]: a parent's r^n is the sum of its children's. Default 2.5.
    */
   float pipe_exponent;
   /**
-   * Radius of a tip, world units, in (0, 10000]. Default 0.01.
+   * Radius of a branch tip, in (0, 10000]. Default 0.01.
    */
   float tip_radius;
   /**
-   * A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent;
-   * >= 0 (0: never). Default 0.03.
+   * A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent
+   * (its internodes counted with everything above it). >= 0 (0: never). Default 0.03.
    */
   float shed_multiplier;
   /**
@@ -1157,11 +1163,11 @@ typedef struct ArborGrowthParams {
    */
   float shed_exponent;
   /**
-   * Branches younger than this many cycles are never shed. Default 4.
+   * A branch younger than this many cycles is never shed. Default 4.
    */
   uint32_t shed_delay;
   /**
-   * Trees older than this many cycles drop seeds; 0 (default): never.
+   * A tree older than this many cycles drops seeds each cycle; 0 (default): never.
    */
   uint32_t seed_age;
   /**
@@ -1169,15 +1175,18 @@ typedef struct ArborGrowthParams {
    */
   float seed_spread;
   /**
-   * Colonization: perception half-angle, degrees, (0, 180]. Default 90.
+   * Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180].
+   * Default 90.
    */
   float perception_angle;
   /**
-   * Colonization: perception reach in internode lengths, (0, 64]. Default 4.
+   * Space colonization: reach of the perception cone, in internode lengths, in
+   * (0, 64]. Default 4.
    */
   float perception_reach;
   /**
-   * Colonization: occupancy reach in internode lengths, 0..=64. Default 2.
+   * Space colonization: markers closer than this many internode lengths to a bud are
+   * removed (occupied), 0..=64. Default 2.
    */
   float occupancy_reach;
   /**
@@ -2029,7 +2038,7 @@ enum ArborStatus arbor_mesh_branch_ranges(const struct ArborTree *tree,
 /**
  * Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
  * options (for example growing cull_radius, fewer radial_segments), all initialised with
- * the same struct_size (element k is read at byte k × `levels[0].struct_size`); the counts
+ * the same struct_size (element k is read at byte k x `levels[0].struct_size`); the counts
  * of level k go to `vertex_counts[k]` and `index_counts[k]`.
  *
  * # Safety

@@ -70,10 +70,8 @@ fn every_species_grows_a_connected_tree_in_both_environments() {
 fn more_apical_control_gives_a_taller_narrower_crown() {
     let mut last = 0.0;
     for lambda in [0.44, 0.50, 0.58] {
-        let p = GrowthParams {
-            apical_control: lambda,
-            ..GrowthParams::default()
-        };
+        let mut p = GrowthParams::default();
+        p.apical_control = lambda;
         let (_, s) = grown(Environment::Shadow, &p, 12);
         let (lo, hi) = s.bounds().unwrap();
         let ratio = (hi.y - lo.y) / (hi.x - lo.x).max(hi.z - lo.z);
@@ -215,10 +213,8 @@ fn the_same_world_grows_the_same_forest() {
 
 #[test]
 fn old_trees_seed_new_ones_around_them() {
-    let p = GrowthParams {
-        seed_age: 5,
-        ..GrowthParams::preset(Species::Decurrent)
-    };
+    let mut p = GrowthParams::preset(Species::Decurrent);
+    p.seed_age = 5;
     let mut w = world(Environment::Shadow);
     w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
     w.step(12).unwrap();
@@ -342,10 +338,8 @@ fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
             ..Default::default()
         })
         .unwrap();
-        let species = GrowthParams {
-            seed_age: 8,
-            ..GrowthParams::preset(Species::Decurrent)
-        };
+        let mut species = GrowthParams::preset(Species::Decurrent);
+        species.seed_age = 8;
         for i in 0..10 {
             for j in 0..10 {
                 let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];

@@ -26,3 +26,23 @@ fn committed_header_matches_cbindgen() {
          and commit the result"
     );
 }
+
+/// The header is ASCII: a compiler reading it in a legacy code page (MSVC without
+/// `/utf-8`) sees exactly what arbor wrote. Its text comes from the Rust docs of the types
+/// it declares, so those docs keep to ASCII too.
+#[test]
+fn the_header_is_ascii() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(root.join("include/arbor.h")).unwrap();
+    let bad: Vec<String> = header
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.is_ascii())
+        .map(|(i, l)| format!("{}: {l}", i + 1))
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "non-ASCII lines in include/arbor.h:\n{}",
+        bad.join("\n")
+    );
+}

@@ -75,75 +75,16 @@ mirror!(ArborWorldOptions => WorldOptions {
     rust_only {}
 });
 
-/// One species: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
-/// arbor_growth_params_default() or arbor_growth_params_preset(). Lengths in world units,
-/// angles in degrees; the ranges are those of the Rust `GrowthParams`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ArborGrowthParams {
-    /// sizeof(ArborGrowthParams) as the host was compiled.
-    pub struct_size: u32,
-    /// lambda in [0, 1]; 0.5 neutral, > 0.5 favours the main axis. Default 0.5.
-    pub apical_control: f32,
-    /// alpha > 0. Default 2.
-    pub vigor_multiplier: f32,
-    /// World units, in (0, 10000]. Default 0.25.
-    pub internode_length: f32,
-    /// Degrees between a lateral bud and its internode's heading, 0..=180. Default 45.
-    pub branch_angle: f32,
-    /// Degrees between successive lateral buds about the heading. Default 137.5.
-    pub phyllotaxis: f32,
-    /// eta: weight of up in a shoot's heading, -1..=1 (negative bends down). Default 0.1.
-    pub tropism: f32,
-    /// xi >= 0: weight of the environment's optimal direction. Default 0.25.
-    pub environment_weight: f32,
-    /// n in [1, 4]: r^n = sum of the children's r^n. Default 2.5.
-    pub pipe_exponent: f32,
-    /// Radius of a tip, world units, in (0, 10000]. Default 0.01.
-    pub tip_radius: f32,
-    /// A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent;
-    /// >= 0 (0: never). Default 0.03.
-    pub shed_multiplier: f32,
-    /// 0..=8. Default 1.3.
-    pub shed_exponent: f32,
-    /// Branches younger than this many cycles are never shed. Default 4.
-    pub shed_delay: u32,
-    /// Trees older than this many cycles drop seeds; 0 (default): never.
-    pub seed_age: u32,
-    /// Seeds land within ln(root vigour) * seed_spread of the base, >= 0. Default 2.
-    pub seed_spread: f32,
-    /// Colonization: perception half-angle, degrees, (0, 180]. Default 90.
-    pub perception_angle: f32,
-    /// Colonization: perception reach in internode lengths, (0, 64]. Default 4.
-    pub perception_reach: f32,
-    /// Colonization: occupancy reach in internode lengths, 0..=64. Default 2.
-    pub occupancy_reach: f32,
-    /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
-    pub max_shoot: u32,
-}
-
 /// sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
 
-const _: () = assert!(std::mem::size_of::<ArborGrowthParams>() == ARBOR_GROWTH_PARAMS_MIN_SIZE);
+const _: () = assert!(std::mem::size_of::<GrowthParams>() == ARBOR_GROWTH_PARAMS_MIN_SIZE);
 
-mirror!(ArborGrowthParams => GrowthParams {
-    same {
-        apical_control, vigor_multiplier, internode_length, branch_angle, phyllotaxis,
-        tropism, environment_weight, pipe_exponent, tip_radius, shed_multiplier,
-        shed_exponent, shed_delay, seed_age, seed_spread, perception_angle,
-        perception_reach, occupancy_reach, max_shoot,
-    }
-    renamed {}
-    c_only {}
-    rust_only {}
-});
-
-impl Growing for ArborGrowthParams {
+impl Growing for GrowthParams {
     const NAME: &'static str = "ArborGrowthParams";
     const MIN_SIZE: usize = ARBOR_GROWTH_PARAMS_MIN_SIZE;
     fn defaults() -> Self {
-        Self::from_rust(&GrowthParams::default())
+        GrowthParams::default()
     }
 }
 
@@ -180,10 +121,7 @@ pub unsafe extern "C" fn arbor_world_options_init(
 /// # Safety
 /// `params` is NULL or writable for `struct_size` bytes.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_growth_params_init(
-    params: *mut ArborGrowthParams,
-    struct_size: usize,
-) {
+pub unsafe extern "C" fn arbor_growth_params_init(params: *mut GrowthParams, struct_size: usize) {
     guard_value((), || {
         // SAFETY: the caller promises `struct_size` writable bytes at `params`.
         unsafe { init_growing(params, struct_size) }
@@ -199,7 +137,7 @@ pub unsafe extern "C" fn arbor_growth_params_init(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_growth_params_preset(
     species: u32,
-    params: *mut ArborGrowthParams,
+    params: *mut GrowthParams,
     struct_size: usize,
 ) -> ArborStatus {
     guard(|| {
@@ -207,7 +145,7 @@ pub unsafe extern "C" fn arbor_growth_params_preset(
         if params.is_null() {
             return Err(FfiError::null("params"));
         }
-        let value = ArborGrowthParams::from_rust(&GrowthParams::preset(species));
+        let value = GrowthParams::preset(species);
         // SAFETY: the caller promises `struct_size` writable bytes at `params`.
         unsafe { write_growing(params, struct_size, &value) };
         Ok(())
@@ -294,7 +232,7 @@ unsafe fn world_mut<'a>(world: *mut ArborWorld) -> Result<&'a mut World, FfiErro
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_world_plant(
     world: *mut ArborWorld,
-    species: *const ArborGrowthParams,
+    species: *const GrowthParams,
     position: *const f32,
     seed: u64,
     tree_id: *mut u32,
@@ -306,7 +244,9 @@ pub unsafe extern "C" fn arbor_world_plant(
             GrowthParams::default()
         } else {
             // SAFETY: the caller promises `species` is readable for its struct_size.
-            unsafe { read_growing(species, "species") }?.to_rust()?
+            let mut p = unsafe { read_growing(species, "species") }?;
+            p.struct_size = std::mem::size_of::<GrowthParams>() as u32;
+            p
         };
         // SAFETY: the caller promises three readable floats.
         let at = unsafe { in_slice(position, 3, "position") }?;

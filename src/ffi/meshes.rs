@@ -144,7 +144,7 @@ pub(crate) unsafe fn read_mesh_options_with_progress(
 
 /// The `count` mesh options of a host's array: its elements are the host's
 /// ArborMeshOptions, all of the first one's `struct_size`, so element k starts at byte
-/// k × `levels[0].struct_size`.
+/// k x `levels[0].struct_size`.
 ///
 /// # Safety
 /// `levels` is NULL (only with `count` 0) or readable for `count` elements of the host's
@@ -360,7 +360,7 @@ pub unsafe extern "C" fn arbor_mesh_branch_ranges(
 
 /// Sizes of several levels of detail in one call: `levels` holds `level_count` mesh
 /// options (for example growing cull_radius, fewer radial_segments), all initialised with
-/// the same struct_size (element k is read at byte k × `levels[0].struct_size`); the counts
+/// the same struct_size (element k is read at byte k x `levels[0].struct_size`); the counts
 /// of level k go to `vertex_counts[k]` and `index_counts[k]`.
 ///
 /// # Safety

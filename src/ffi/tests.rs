@@ -167,6 +167,7 @@ mod fuzz {
     use super::*;
     use crate::ffi::options::Growing;
     use crate::mesh::{Axes, Topology, UpAxis, Winding};
+    use crate::models::growth::GrowthParams;
     use proptest::prelude::*;
 
     proptest! {
@@ -386,7 +387,7 @@ mod fuzz {
                 prop_assert!(world.is_null());
                 return Ok(());
             }
-            let species = ArborGrowthParams {
+            let species = GrowthParams {
                 apical_control: r(10, 0.0, 1.0),
                 vigor_multiplier: r(11, 0.5, 4.0),
                 internode_length: r(12, 0.05, 1.0),
@@ -405,7 +406,7 @@ mod fuzz {
                 perception_reach: r(23, 1.0, 10.0),
                 occupancy_reach: r(24, 0.5, 3.0),
                 max_shoot: ints[6] % 6,
-                ..<ArborGrowthParams as Growing>::defaults()
+                ..<GrowthParams as Growing>::defaults()
             };
             let at = [r(25, -5.0, 5.0), r(26, 0.0, 0.5), r(27, -5.0, 5.0)];
             // SAFETY: `world` is live; the species and position are locals.

@@ -180,6 +180,179 @@ impl Turtle {
         }
     }
 
+    /// `F`/`G` (`draw`) or `f`/`g`: a step of `length` (the step size if none).
+    fn draw(&mut self, draw: bool, length: Option<f64>, birth: u32, step: u32) -> Result<()> {
+        let length = length.unwrap_or(self.step_size);
+        if let Some((t, e)) = self.tropism {
+            if draw {
+                self.state.frame.bend(t, e);
+            }
+        }
+        let start = self.state.frame.position;
+        let end = self.state.frame.forward(length);
+        if let (Some(t), true) = (self.old_tropism, draw) {
+            self.state
+                .frame
+                .bend_old_style(t.direction, self.state.elasticity);
+        }
+        let bound = crate::limits::MAX_COORDINATE as f64;
+        if !end.is_finite() || end.abs().max_element() > bound {
+            return Err(Error::Eval {
+                step,
+                message: format!("the turtle left the f32 range (at {end}); shorten the steps"),
+            });
+        }
+        if !self.polygons.is_empty() {
+            // Inside `{ }` a move only traces the polygon: the turtle has left the
+            // end of its last branch, so what is drawn next starts a new root.
+            self.polygon_point();
+            self.state.parent = NO_PARENT;
+        } else if draw {
+            if self.branches.len() >= self.max_branches {
+                return Err(Error::LimitExceeded {
+                    limit_name: "max_branches",
+                    what: "branches",
+                    limit: self.max_branches as u64,
+                    requested: self.branches.len() as u64 + 1,
+                    step: Some(step),
+                });
+            }
+            let radius = (self
+                .state
+                .width
+                .clamp(0.0, crate::limits::MAX_COORDINATE as f64)
+                * 0.5) as f32;
+            self.branches.push(Branch {
+                start: v3(start),
+                end: v3(end),
+                start_radius: radius,
+                end_radius: radius,
+                parent: self.state.parent,
+                birth,
+                order: 0,
+                flags: 0,
+            });
+            let heading = self.state.frame.heading;
+            self.ups.push(self.state.frame.up.as_vec3().to_array());
+            self.colors.push(self.state.color);
+            if self.state.cylinder != NO_PARENT {
+                let b = (self.branches.len() - 1) as u32;
+                self.cylinders[self.state.cylinder as usize].push(b);
+            }
+            self.cos_to_parent
+                .push(heading.dot(self.state.parent_heading));
+            self.state.parent = (self.branches.len() - 1) as u32;
+            self.state.parent_heading = heading;
+        } else {
+            self.state.parent = NO_PARENT;
+        }
+
+        Ok(())
+    }
+
+    /// `@M(x, y, z)`: moves the turtle without drawing (a missing coordinate stays).
+    fn move_to(&mut self, at: [Option<f64>; 3], step: u32) -> Result<()> {
+        let p = self.state.frame.position;
+        let to = DVec3::new(
+            at[0].unwrap_or(p.x),
+            at[1].unwrap_or(p.y),
+            at[2].unwrap_or(p.z),
+        );
+        if to.abs().max_element() > crate::limits::MAX_COORDINATE as f64 {
+            return Err(Error::Eval {
+                step,
+                message: format!("@M moves the turtle to {to}, past 1e15 units; shorten the moves"),
+            });
+        }
+        self.state.frame.position = to;
+        self.state.parent = NO_PARENT;
+        if !self.polygons.is_empty() {
+            self.polygon_point();
+        }
+
+        Ok(())
+    }
+
+    /// `@O(d)`, `@o(d)`, `@c(d)`: a sphere or disc of diameter `size` (the width if none).
+    fn organ(&mut self, kind: u32, size: Option<f64>, birth: u32, step: u32) -> Result<()> {
+        let size = size.unwrap_or(self.state.width);
+        if !(size.is_finite() && size >= 0.0 && size <= crate::limits::MAX_COORDINATE as f64) {
+            return Err(Error::Eval {
+                step,
+                message: format!(
+                    "a sphere or disc of diameter {size}; expected a finite size >= 0"
+                ),
+            });
+        }
+        self.organs.push(crate::skeleton::Organ {
+            position: v3(self.state.frame.position),
+            heading: v3(self.state.frame.heading),
+            up: v3(self.state.frame.up),
+            size: size as f32,
+            kind,
+            branch: self.state.parent,
+            birth,
+            color: self.state.color,
+        });
+
+        Ok(())
+    }
+
+    /// `~x(s)`: the view file's surface `k`, scaled by `scale`, as triangles.
+    fn surface(&mut self, k: usize, scale: Option<f64>, birth: u32, step: u32) -> Result<()> {
+        let s = &self.surfaces[k];
+        let scale = s.scale * scale.unwrap_or(1.0);
+        let f = self.state.frame;
+        if self.closed.len() + s.triangles.len() > self.max_branches {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_branches",
+                what: "branches and surface triangles",
+                limit: self.max_branches as u64,
+                requested: (self.closed.len() + s.triangles.len()) as u64,
+                step: Some(step),
+            });
+        }
+        for tri in &s.triangles {
+            let pts =
+                tri.map(|p| f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale);
+            if pts.iter().any(|p| {
+                !p.is_finite() || p.abs().max_element() > crate::limits::MAX_COORDINATE as f64
+            }) {
+                return Err(Error::Eval {
+                    step,
+                    message: format!(
+                        "surface `~{}` scaled by {scale} leaves the f32 range",
+                        s.name
+                    ),
+                });
+            }
+            self.closed.push(Polygon {
+                first: self.points.len() as u32,
+                count: 3,
+                branch: self.state.parent,
+                birth,
+            });
+            self.points.extend(pts.iter().map(|&p| v3(p)));
+        }
+
+        Ok(())
+    }
+
+    /// `}`: closes the innermost polygon (kept when it has three points or more).
+    fn close_polygon(&mut self) {
+        if let Some((points, branch, birth)) = self.polygons.pop() {
+            if points.len() >= 3 {
+                self.closed.push(Polygon {
+                    first: self.points.len() as u32,
+                    count: points.len() as u32,
+                    branch,
+                    birth,
+                });
+                self.points.extend_from_slice(&points);
+            }
+        }
+    }
+
     fn module(&mut self, sym: u16, params: &[f32], birth: u32, step: u32) -> Result<()> {
         let op = self.ops[sym as usize];
         if let Some(depth) = self.cutting.as_mut() {
@@ -200,74 +373,7 @@ impl Turtle {
         }
         match op {
             Op::Ignore => {}
-            Op::Draw | Op::Move => {
-                let length = arg(0).unwrap_or(self.step_size);
-                if let Some((t, e)) = self.tropism {
-                    if op == Op::Draw {
-                        self.state.frame.bend(t, e);
-                    }
-                }
-                let start = self.state.frame.position;
-                let end = self.state.frame.forward(length);
-                if let (Some(t), Op::Draw) = (self.old_tropism, op) {
-                    self.state
-                        .frame
-                        .bend_old_style(t.direction, self.state.elasticity);
-                }
-                let bound = crate::limits::MAX_COORDINATE as f64;
-                if !end.is_finite() || end.abs().max_element() > bound {
-                    return Err(Error::Eval {
-                        step,
-                        message: format!(
-                            "the turtle left the f32 range (at {end}); shorten the steps"
-                        ),
-                    });
-                }
-                if !self.polygons.is_empty() {
-                    // Inside `{ }` a move only traces the polygon: the turtle has left the
-                    // end of its last branch, so what is drawn next starts a new root.
-                    self.polygon_point();
-                    self.state.parent = NO_PARENT;
-                } else if op == Op::Draw {
-                    if self.branches.len() >= self.max_branches {
-                        return Err(Error::LimitExceeded {
-                            limit_name: "max_branches",
-                            what: "branches",
-                            limit: self.max_branches as u64,
-                            requested: self.branches.len() as u64 + 1,
-                            step: Some(step),
-                        });
-                    }
-                    let radius = (self
-                        .state
-                        .width
-                        .clamp(0.0, crate::limits::MAX_COORDINATE as f64)
-                        * 0.5) as f32;
-                    self.branches.push(Branch {
-                        start: v3(start),
-                        end: v3(end),
-                        start_radius: radius,
-                        end_radius: radius,
-                        parent: self.state.parent,
-                        birth,
-                        order: 0,
-                        flags: 0,
-                    });
-                    let heading = self.state.frame.heading;
-                    self.ups.push(self.state.frame.up.as_vec3().to_array());
-                    self.colors.push(self.state.color);
-                    if self.state.cylinder != NO_PARENT {
-                        let b = (self.branches.len() - 1) as u32;
-                        self.cylinders[self.state.cylinder as usize].push(b);
-                    }
-                    self.cos_to_parent
-                        .push(heading.dot(self.state.parent_heading));
-                    self.state.parent = (self.branches.len() - 1) as u32;
-                    self.state.parent_heading = heading;
-                } else {
-                    self.state.parent = NO_PARENT;
-                }
-            }
+            Op::Draw | Op::Move => self.draw(op == Op::Draw, arg(0), birth, step)?,
             Op::Turn(s) => {
                 let cs = self.cos_sin(angle * s);
                 self.state.frame.turn(cs)
@@ -282,27 +388,7 @@ impl Turtle {
             }
             Op::TurnAround => self.state.frame.turn_around(),
             Op::RollHorizontal => self.state.frame.roll_horizontal(),
-            Op::MoveTo => {
-                let p = self.state.frame.position;
-                let to = DVec3::new(
-                    arg(0).unwrap_or(p.x),
-                    arg(1).unwrap_or(p.y),
-                    arg(2).unwrap_or(p.z),
-                );
-                if to.abs().max_element() > crate::limits::MAX_COORDINATE as f64 {
-                    return Err(Error::Eval {
-                        step,
-                        message: format!(
-                            "@M moves the turtle to {to}, past 1e15 units; shorten the moves"
-                        ),
-                    });
-                }
-                self.state.frame.position = to;
-                self.state.parent = NO_PARENT;
-                if !self.polygons.is_empty() {
-                    self.polygon_point();
-                }
-            }
+            Op::MoveTo => self.move_to([arg(0), arg(1), arg(2)], step)?,
             Op::SetHeading => {
                 if params.len() >= 3 {
                     let v = |k: usize| params[k] as f64;
@@ -318,68 +404,8 @@ impl Turtle {
                 }
             }
             Op::Push => self.stack.push(self.state),
-            Op::Organ(kind) => {
-                let size = arg(0).unwrap_or(self.state.width);
-                if !(size.is_finite()
-                    && size >= 0.0
-                    && size <= crate::limits::MAX_COORDINATE as f64)
-                {
-                    return Err(Error::Eval {
-                        step,
-                        message: format!(
-                            "a sphere or disc of diameter {size}; expected a finite size >= 0"
-                        ),
-                    });
-                }
-                self.organs.push(crate::skeleton::Organ {
-                    position: v3(self.state.frame.position),
-                    heading: v3(self.state.frame.heading),
-                    up: v3(self.state.frame.up),
-                    size: size as f32,
-                    kind,
-                    branch: self.state.parent,
-                    birth,
-                    color: self.state.color,
-                });
-            }
-            Op::Surface(k) => {
-                let s = &self.surfaces[k as usize];
-                let scale = s.scale * arg(0).unwrap_or(1.0);
-                let f = self.state.frame;
-                if self.closed.len() + s.triangles.len() > self.max_branches {
-                    return Err(Error::LimitExceeded {
-                        limit_name: "max_branches",
-                        what: "branches and surface triangles",
-                        limit: self.max_branches as u64,
-                        requested: (self.closed.len() + s.triangles.len()) as u64,
-                        step: Some(step),
-                    });
-                }
-                for tri in &s.triangles {
-                    let pts = tri.map(|p| {
-                        f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale
-                    });
-                    if pts.iter().any(|p| {
-                        !p.is_finite()
-                            || p.abs().max_element() > crate::limits::MAX_COORDINATE as f64
-                    }) {
-                        return Err(Error::Eval {
-                            step,
-                            message: format!(
-                                "surface `~{}` scaled by {scale} leaves the f32 range",
-                                s.name
-                            ),
-                        });
-                    }
-                    self.closed.push(Polygon {
-                        first: self.points.len() as u32,
-                        count: 3,
-                        branch: self.state.parent,
-                        birth,
-                    });
-                    self.points.extend(pts.iter().map(|&p| v3(p)));
-                }
-            }
+            Op::Organ(kind) => self.organ(kind, arg(0), birth, step)?,
+            Op::Surface(k) => self.surface(k as usize, arg(0), birth, step)?,
             Op::Color(sign) => {
                 self.colored = true;
                 self.state.color = match arg(0) {
@@ -413,19 +439,7 @@ impl Turtle {
                 self.polygon_point();
             }
             Op::PolygonVertex => self.polygon_point(),
-            Op::PolygonEnd => {
-                if let Some((points, branch, birth)) = self.polygons.pop() {
-                    if points.len() >= 3 {
-                        self.closed.push(Polygon {
-                            first: self.points.len() as u32,
-                            count: points.len() as u32,
-                            branch,
-                            birth,
-                        });
-                        self.points.extend_from_slice(&points);
-                    }
-                }
-            }
+            Op::PolygonEnd => self.close_polygon(),
             Op::Leaf => self.leaves.push(LeafSite {
                 position: v3(self.state.frame.position),
                 heading: v3(self.state.frame.heading),
@@ -489,8 +503,51 @@ fn interpret_answering(
             asked.ask(string, i, frame);
         }
     };
-    let view = ls.view;
-    let initial_width = options.initial_width.unwrap_or(view.initial_width);
+    check_options(options)?;
+    let mut t = Turtle::new(ls, options);
+    debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
+    debug_assert_eq!(t.ops[POP as usize], Op::Pop);
+    // Without interpretation rules every F and G is one branch: size the arrays once (the
+    // turtle never pushes past this; with rules, the sink below makes room as it goes).
+    let draws = string
+        .syms
+        .iter()
+        .filter(|&&s| t.ops[s as usize] == Op::Draw)
+        .count()
+        .min(options.max_branches);
+    crate::limits::try_room(
+        &mut [
+            &mut t.branches,
+            &mut t.cos_to_parent,
+            &mut t.ups,
+            &mut t.colors,
+        ],
+        draws,
+        true,
+        || format!("the skeleton's branches ({draws})"),
+    )?;
+    if ls.homomorphism.is_empty() {
+        for i in 0..string.len() {
+            if i % crate::progress::EVERY == 0 {
+                progress.report(Stage::Interpretation, i as f64 / n)?;
+            }
+            let birth = string.birth(i);
+            ask(i, &t.state.frame);
+            t.module(string.symbol(i), string.params(i), birth, birth)?;
+        }
+    } else {
+        walk_with_rules(&mut t, ls, string, options, &mut progress, &mut ask)?;
+    }
+    progress.report(Stage::Interpretation, 1.0)?;
+    if answering {
+        // Answering queries wants the turtle's walk, not a skeleton.
+        return Ok(Skeleton::default());
+    }
+    Ok(t.into_skeleton())
+}
+
+/// Refuses options the turtle cannot use, naming the first.
+fn check_options(options: &LsystemOptions) -> Result<()> {
     if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
         return Err(Error::invalid(
             "turn_jitter",
@@ -511,166 +568,158 @@ fn interpret_answering(
             }
         }
     }
-    let mut t = Turtle {
-        ops: ls.symbols.names.iter().map(|n| op_of(n)).collect(),
-        angle: options.angle_increment.unwrap_or(view.angle_increment),
-        width_increment: options.width_increment.unwrap_or(view.width_increment),
-        step_size: view.step_size,
-        tropism: view.tropism,
-        old_tropism: view.old_tropism,
-        past_cut: view.interpretation_past_cut,
-        max_branches: options.max_branches,
-        // NaN bits never equal an angle's, so every slot starts empty.
-        trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
-        jitter: options.turn_jitter,
-        // A stream of its own, so jitter does not change what derivation draws.
-        rng: crate::rng::Rng::new(ls.effective_seed(options) ^ 0x005E_ED7A_110F_7EE5),
-        state: State {
-            frame: Frame::default(),
-            width: initial_width,
-            parent: NO_PARENT,
-            parent_heading: DVec3::Y,
-            cylinder: NO_PARENT,
-            elasticity: view.old_tropism.map_or(0.0, |t| t.elasticity),
-            color: view.initial_color,
-        },
-        stack: Vec::new(),
-        cutting: None,
-        polygons: Vec::new(),
-        branches: Vec::new(),
-        cos_to_parent: Vec::new(),
-        ups: Vec::new(),
-        cylinders: Vec::new(),
-        leaves: Vec::new(),
-        closed: Vec::new(),
-        points: Vec::new(),
-        organs: Vec::new(),
-        surfaces: ls.surfaces.clone(),
-        colors: Vec::new(),
-        colored: false,
-        color_increment: view.color_increment,
-    };
-    // `~x` with a surface from the view file draws the surface.
-    for (sym, name) in ls.symbols.names.iter().enumerate() {
-        let mut c = name.chars();
-        if let (Some('~'), Some(x), None) = (c.next(), c.next(), c.next()) {
-            if let Some(k) = ls.surfaces.iter().position(|s| s.name == x) {
-                t.ops[sym] = Op::Surface(k as u32);
-            }
-        }
-    }
-    debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
-    debug_assert_eq!(t.ops[POP as usize], Op::Pop);
+    Ok(())
+}
+
+/// The turtle walks `string` through the grammar's interpretation rules (`homomorphism`):
+/// each module is expanded, and the turtle reads what the rules produce.
+fn walk_with_rules(
+    t: &mut Turtle,
+    ls: &LSystem,
+    string: &ModuleString,
+    options: &LsystemOptions,
+    progress: &mut Progress<'_>,
+    ask: &mut dyn FnMut(usize, &Frame),
+) -> Result<()> {
+    let n = string.len().max(1) as f64;
     let table = &ls.homomorphism;
-    // Without interpretation rules every F and G is one branch: size the arrays once (the
-    // turtle never pushes past this; with rules, the sink below makes room as it goes).
-    let draws = string
-        .syms
-        .iter()
-        .filter(|&&s| t.ops[s as usize] == Op::Draw)
-        .count()
-        .min(options.max_branches);
-    crate::limits::try_room(
-        &mut [
-            &mut t.branches,
-            &mut t.cos_to_parent,
-            &mut t.ups,
-            &mut t.colors,
-        ],
-        draws,
-        true,
-        || format!("the skeleton's branches ({draws})"),
-    )?;
-    if table.is_empty() {
-        for i in 0..string.len() {
-            if i % crate::progress::EVERY == 0 {
-                progress.report(Stage::Interpretation, i as f64 / n)?;
-            }
-            let birth = string.birth(i);
-            ask(i, &t.state.frame);
-            t.module(string.symbol(i), string.params(i), birth, birth)?;
-        }
-    } else {
-        let mut ctx = Ctx::new(ls, options);
-        if string.globals.len() == ctx.env.vars.len() {
-            // Interpretation rules read the variables as the derivation left them.
-            ctx.env.vars.clone_from(&string.globals);
-        }
-        let mut expander = Expander::default();
-        let mut read = 0usize;
-        let mut produced = ModuleString::new();
-        let mut i = 0;
-        let mut report_at = 0;
-        while i < string.len() {
-            if i >= report_at {
-                report_at = i + crate::progress::EVERY;
-                progress.report(Stage::Interpretation, i as f64 / n)?;
-            }
-            let birth = string.birth(i);
-            ctx.step = birth;
-            ask(i, &t.state.frame);
-            let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
-                read += 1;
-                if read > ctx.max_modules {
-                    return Err(Error::LimitExceeded {
-                        limit_name: "max_modules",
-                        what: "modules read by the turtle after interpretation rules",
-                        limit: ctx.max_modules as u64,
-                        requested: read as u64,
-                        step: None,
-                    });
-                }
-                // Interpretation rules draw an unknown number of branches: room is made
-                // here, fallibly (without them, the arrays were sized exactly above).
-                if t.branches.len() == t.branches.capacity() {
-                    t.grow_branches()?;
-                }
-                t.module(sym, params, birth, birth)
-            };
-            // A rule whose predecessor is several modules replaces them all.
-            if let Some(p) = select_multi(&mut ctx, table, string, i) {
-                successor_of(&mut ctx, table, p, birth as u16, &mut produced)?;
-                for k in 0..produced.len() {
-                    expander.expand(
-                        &mut ctx,
-                        table,
-                        produced.symbol(k),
-                        produced.params(k),
-                        &mut sink,
-                    )?;
-                }
-                i += 1 + table.productions[p as usize].pred_rest.len();
-                continue;
-            }
-            ctx.check("an interpretation rule")?;
-            expander.expand(
-                &mut ctx,
-                table,
-                string.symbol(i),
-                string.params(i),
-                &mut sink,
-            )?;
-            i += 1;
-        }
+    let mut ctx = Ctx::new(ls, options);
+    if string.globals.len() == ctx.env.vars.len() {
+        // Interpretation rules read the variables as the derivation left them.
+        ctx.env.vars.clone_from(&string.globals);
     }
-    progress.report(Stage::Interpretation, 1.0)?;
-    if answering {
-        // Answering queries wants the turtle's walk, not a skeleton.
-        return Ok(Skeleton::default());
+    let mut expander = Expander::default();
+    let mut read = 0usize;
+    let mut produced = ModuleString::new();
+    let mut i = 0;
+    let mut report_at = 0;
+    while i < string.len() {
+        if i >= report_at {
+            report_at = i + crate::progress::EVERY;
+            progress.report(Stage::Interpretation, i as f64 / n)?;
+        }
+        let birth = string.birth(i);
+        ctx.step = birth;
+        ask(i, &t.state.frame);
+        let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
+            read += 1;
+            if read > ctx.max_modules {
+                return Err(Error::LimitExceeded {
+                    limit_name: "max_modules",
+                    what: "modules read by the turtle after interpretation rules",
+                    limit: ctx.max_modules as u64,
+                    requested: read as u64,
+                    step: None,
+                });
+            }
+            // Interpretation rules draw an unknown number of branches: room is made
+            // here, fallibly (without them, the arrays were sized exactly above).
+            if t.branches.len() == t.branches.capacity() {
+                t.grow_branches()?;
+            }
+            t.module(sym, params, birth, birth)
+        };
+        // A rule whose predecessor is several modules replaces them all.
+        if let Some(p) = select_multi(&mut ctx, table, string, i) {
+            successor_of(&mut ctx, table, p, birth as u16, &mut produced)?;
+            for k in 0..produced.len() {
+                expander.expand(
+                    &mut ctx,
+                    table,
+                    produced.symbol(k),
+                    produced.params(k),
+                    &mut sink,
+                )?;
+            }
+            i += 1 + table.productions[p as usize].pred_rest.len();
+            continue;
+        }
+        ctx.check("an interpretation rule")?;
+        expander.expand(
+            &mut ctx,
+            table,
+            string.symbol(i),
+            string.params(i),
+            &mut sink,
+        )?;
+        i += 1;
     }
-    assign_axis_orders(&mut t.branches, &t.cos_to_parent);
-    // Every point was checked to be finite and within the f32 range as it was made.
-    let curves = cylinder_curves(&t.branches, &t.cylinders);
-    Ok(Skeleton::from_trusted(SkeletonParts {
-        branches: t.branches,
-        leaves: t.leaves,
-        polygons: t.closed,
-        polygon_points: t.points,
-        ups: t.ups,
-        curves,
-        organs: t.organs,
-        colors: if t.colored { t.colors } else { Vec::new() },
-    }))
+    Ok(())
+}
+
+impl Turtle {
+    /// A turtle at the origin, heading up, with the grammar's view settings and `options`.
+    fn new(ls: &LSystem, options: &LsystemOptions) -> Turtle {
+        let view = ls.view;
+        let initial_width = options.initial_width.unwrap_or(view.initial_width);
+        let mut t = Turtle {
+            ops: ls.symbols.names.iter().map(|n| op_of(n)).collect(),
+            angle: options.angle_increment.unwrap_or(view.angle_increment),
+            width_increment: options.width_increment.unwrap_or(view.width_increment),
+            step_size: view.step_size,
+            tropism: view.tropism,
+            old_tropism: view.old_tropism,
+            past_cut: view.interpretation_past_cut,
+            max_branches: options.max_branches,
+            // NaN bits never equal an angle's, so every slot starts empty.
+            trig: [(f64::NAN.to_bits(), (1.0, 0.0)); 8],
+            jitter: options.turn_jitter,
+            // A stream of its own, so jitter does not change what derivation draws.
+            rng: crate::rng::Rng::new(ls.effective_seed(options) ^ 0x005E_ED7A_110F_7EE5),
+            state: State {
+                frame: Frame::default(),
+                width: initial_width,
+                parent: NO_PARENT,
+                parent_heading: DVec3::Y,
+                cylinder: NO_PARENT,
+                elasticity: view.old_tropism.map_or(0.0, |t| t.elasticity),
+                color: view.initial_color,
+            },
+            stack: Vec::new(),
+            cutting: None,
+            polygons: Vec::new(),
+            branches: Vec::new(),
+            cos_to_parent: Vec::new(),
+            ups: Vec::new(),
+            cylinders: Vec::new(),
+            leaves: Vec::new(),
+            closed: Vec::new(),
+            points: Vec::new(),
+            organs: Vec::new(),
+            surfaces: ls.surfaces.clone(),
+            colors: Vec::new(),
+            colored: false,
+            color_increment: view.color_increment,
+        };
+        // `~x` with a surface from the view file draws the surface.
+        for (sym, name) in ls.symbols.names.iter().enumerate() {
+            let mut c = name.chars();
+            if let (Some('~'), Some(x), None) = (c.next(), c.next(), c.next()) {
+                if let Some(k) = ls.surfaces.iter().position(|s| s.name == x) {
+                    t.ops[sym] = Op::Surface(k as u32);
+                }
+            }
+        }
+        t
+    }
+
+    /// The skeleton the walk drew.
+    fn into_skeleton(self) -> Skeleton {
+        let mut t = self;
+        assign_axis_orders(&mut t.branches, &t.cos_to_parent);
+        // Every point was checked to be finite and within the f32 range as it was made.
+        let curves = cylinder_curves(&t.branches, &t.cylinders);
+        Skeleton::from_trusted(SkeletonParts {
+            branches: t.branches,
+            leaves: t.leaves,
+            polygons: t.closed,
+            polygon_points: t.points,
+            ups: t.ups,
+            curves,
+            organs: t.organs,
+            colors: if t.colored { t.colors } else { Vec::new() },
+        })
+    }
 }
 
 /// The curves of a grammar's generalized cylinders (`@Gs` … `@Ge`): the internodes drawn

@@ -11,7 +11,7 @@
 
 use super::function_files::Function;
 use super::grammar::{OldTropism, ViewSettings};
-use super::preprocess::{Includes, preprocess};
+use super::preprocess::{Includes, Preprocessed, preprocess};
 use crate::error::{Error, Result};
 use crate::files::MAX_COMPANIONS;
 use glam::DVec3;
@@ -89,13 +89,15 @@ pub(crate) fn apply(
 ) -> Result<Extras> {
     super::syntax::check_size(text)?;
     let pre = preprocess(text, name, inc.clone())?;
-    let mut functions = Vec::new();
-    let mut surfaces = Vec::new();
-    let mut warnings = Vec::new();
-    let mut curves = Vec::new();
-    let mut direction: Option<DVec3> = None;
-    let mut elasticity = 0.0;
-    let mut increment = 0.0;
+    let mut reader = Reader {
+        pre: &pre,
+        name,
+        inc: &inc,
+        extras: Extras::default(),
+        direction: None,
+        elasticity: 0.0,
+        increment: 0.0,
+    };
     for (k, line) in pre.text.lines().enumerate() {
         let Some((key, value)) = line.split_once(':') else {
             continue;
@@ -105,185 +107,221 @@ pub(crate) fn apply(
             .collect::<Vec<_>>()
             .join(" ")
             .to_ascii_lowercase();
-        let value = value.trim();
-        let fail = |what: &str| {
-            let (file, line) = pre.origin(k as u32 + 1);
-            let place = file.map_or_else(
-                || {
-                    if name.is_empty() {
-                        "the view file".to_string()
-                    } else {
-                        format!("`{name}`")
-                    }
-                },
-                |f| format!("`{f}`"),
-            );
-            Error::Parse {
-                line,
-                column: 1,
-                message: format!("in {place}: `{key}:` needs {what}, found `{value}`"),
-            }
+        let at = Line {
+            k,
+            key: &key,
+            value: value.trim(),
+            text: line,
         };
-        let numbers = |value: &str| -> Vec<Option<f64>> {
-            value
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|s| !s.is_empty())
-                .map(|s| s.parse::<f64>().ok().filter(|v| v.is_finite()))
-                .collect()
-        };
-        let first = || numbers(value).first().copied().flatten();
-        match key.as_str() {
+        reader.line(view, &at)?;
+    }
+    if let Some(d) = reader.direction {
+        if d.length_squared() > 0.0 {
+            view.old_tropism = Some(OldTropism {
+                direction: d.normalize(),
+                elasticity: reader.elasticity,
+                increment: reader.increment,
+            });
+        }
+    }
+    Ok(reader.extras)
+}
+
+/// One `key: value` line of a view file (`k` counts from 0; `key` in lower case with
+/// single spaces).
+struct Line<'t> {
+    k: usize,
+    key: &'t str,
+    value: &'t str,
+    text: &'t str,
+}
+
+/// A view file being read: what it brings besides settings, and the older tropism's parts.
+struct Reader<'a, 'l> {
+    pre: &'a Preprocessed,
+    name: &'a str,
+    inc: &'a Includes<'l>,
+    extras: Extras,
+    direction: Option<DVec3>,
+    elasticity: f64,
+    increment: f64,
+}
+
+/// The numbers of a value (separated by commas or blanks); `None` for one that is not a
+/// finite number.
+fn numbers(value: &str) -> Vec<Option<f64>> {
+    value
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect()
+}
+
+impl Reader<'_, '_> {
+    /// The error of line `at`: `key:` needs `what`.
+    fn fail(&self, at: &Line<'_>, what: &str) -> Error {
+        let (file, line) = self.pre.origin(at.k as u32 + 1);
+        let place = file.map_or_else(
+            || {
+                if self.name.is_empty() {
+                    "the view file".to_string()
+                } else {
+                    format!("`{}`", self.name)
+                }
+            },
+            |f| format!("`{f}`"),
+        );
+        Error::Parse {
+            line,
+            column: 1,
+            message: format!(
+                "in {place}: `{}:` needs {what}, found `{}`",
+                at.key, at.value
+            ),
+        }
+    }
+
+    /// The view file's line number of line `at`.
+    fn line_no(&self, at: &Line<'_>) -> u32 {
+        self.pre.origin(at.k as u32 + 1).1
+    }
+
+    fn line(&mut self, view: &mut ViewSettings, at: &Line<'_>) -> Result<()> {
+        let first = || numbers(at.value).first().copied().flatten();
+        let width = || first().filter(|&w| w >= 0.0);
+        let color = || first().filter(|&c| (0.0..=65535.0).contains(&c));
+        match at.key {
             "angle factor" => {
                 let n = first()
                     .filter(|&n| n > 0.0)
-                    .ok_or_else(|| fail("a number > 0"))?;
+                    .ok_or_else(|| self.fail(at, "a number > 0"))?;
                 view.angle_increment = 360.0 / n;
             }
             "angle increment" => {
-                view.angle_increment = first().ok_or_else(|| fail("a number of degrees"))?;
+                view.angle_increment =
+                    first().ok_or_else(|| self.fail(at, "a number of degrees"))?;
             }
             "initial line width" => {
-                view.initial_width = first()
-                    .filter(|&w| w >= 0.0)
-                    .ok_or_else(|| fail("a width >= 0"))?;
+                view.initial_width = width().ok_or_else(|| self.fail(at, "a width >= 0"))?;
             }
             "line width increment" => {
-                view.width_increment = first()
-                    .filter(|&w| w >= 0.0)
-                    .ok_or_else(|| fail("a width >= 0"))?;
+                view.width_increment = width().ok_or_else(|| self.fail(at, "a width >= 0"))?;
             }
-            "tropism direction" => {
-                let v = numbers(value);
-                match v.as_slice() {
-                    [Some(x), Some(y), Some(z), ..] => direction = Some(DVec3::new(*x, *y, *z)),
-                    _ => return Err(fail("three numbers x, y, z")),
-                }
-            }
+            "tropism direction" => match numbers(at.value).as_slice() {
+                [Some(x), Some(y), Some(z), ..] => self.direction = Some(DVec3::new(*x, *y, *z)),
+                _ => return Err(self.fail(at, "three numbers x, y, z")),
+            },
             "initial color" | "initial colour" => {
-                let c = first().filter(|&c| (0.0..=65535.0).contains(&c));
-                view.initial_color =
-                    c.ok_or_else(|| fail("a colour index from 0 to 65535"))? as u32;
+                let c = color().ok_or_else(|| self.fail(at, "a colour index from 0 to 65535"))?;
+                view.initial_color = c as u32;
             }
             "color increment" | "colour increment" => {
-                let c = first().filter(|&c| (0.0..=65535.0).contains(&c));
-                view.color_increment =
-                    c.ok_or_else(|| fail("a colour step from 0 to 65535"))? as u32;
+                let c = color().ok_or_else(|| self.fail(at, "a colour step from 0 to 65535"))?;
+                view.color_increment = c as u32;
             }
             "interpretation past %" => {
-                view.interpretation_past_cut = !value.to_ascii_lowercase().starts_with("off");
+                view.interpretation_past_cut = !at.value.to_ascii_lowercase().starts_with("off");
             }
             "initial elasticity" => {
-                elasticity = first().ok_or_else(|| fail("a number"))?;
+                self.elasticity = first().ok_or_else(|| self.fail(at, "a number"))?;
             }
             "elasticity increment" => {
-                increment = first().ok_or_else(|| fail("a number"))?;
+                self.increment = first().ok_or_else(|| self.fail(at, "a number"))?;
             }
-            "surface" => {
-                // `surface: x file.s [scale [s t]]`
-                let w: Vec<&str> = value.split_whitespace().collect();
-                let (Some(id), Some(file)) = (w.first(), w.get(1)) else {
-                    return Err(fail("a surface letter and its .s file"));
-                };
-                let mut chars = id.chars();
-                let (Some(letter), None) = (chars.next(), chars.next()) else {
-                    return Err(fail("a one-character surface name"));
-                };
-                let num = |k: usize| w.get(k).and_then(|v| v.parse::<f64>().ok());
-                let scale = num(2).unwrap_or(1.0);
-                let div = |k: usize| num(k).map_or(0, |v| v.clamp(0.0, 32.0) as usize);
-                // A surface file that cannot be read leaves its `~x` a plain leaf site
-                // (cpfg reports it and draws on).
-                if !surfaces
-                    .iter()
-                    .any(|x: &super::surface::Surface| x.name == letter)
-                {
-                    bounded(surfaces.len(), "surfaces of a view file")?;
-                }
-                let text = match companion(&inc, file, "surface file") {
-                    Ok(Some(t)) => t,
-                    Ok(None) => {
-                        let (_, line) = pre.origin(k as u32 + 1);
-                        warnings.push(format!(
-                            "view file line {line}: surface `{letter}` not loaded: `{file}`: no \
-                             such file"
-                        ));
-                        continue;
-                    }
-                    Err(
-                        e @ (Error::Cancelled { .. }
-                        | Error::FileBudget { .. }
-                        | Error::OutOfMemory { .. }),
-                    ) => return Err(e),
-                    Err(e) => {
-                        let (_, line) = pre.origin(k as u32 + 1);
-                        warnings.push(format!(
-                            "view file line {line}: surface `{letter}` not loaded: {e}"
-                        ));
-                        continue;
-                    }
-                };
-                let s = super::surface::parse(&text, letter, scale, (div(3), div(4)))
-                    .map_err(|e| fail(&format!("a surface file cpfg can read (`{file}`: {e})")))?;
-                surfaces.retain(|x: &super::surface::Surface| x.name != letter);
-                surfaces.push(s);
-            }
-            "curve" => {
-                let file = value.split_whitespace().next().unwrap_or("");
-                let (_, at) = pre.origin(k as u32 + 1);
-                bounded(curves.len(), "curves of a view file")?;
-                let text = companion(&inc, file, "curve file")
-                    .map_err(|e| with_line(e, at))?
-                    .ok_or_else(|| {
-                        fail(&format!("a readable curve file (`{file}`: no such file)"))
-                    })?;
-                curves.push(
-                    super::function_files::parse_curve(&text).map_err(|e| {
-                        fail(&format!("a curve file cpfg can read (`{file}`: {e})"))
-                    })?,
-                );
-            }
-            "function" | "function set" | "functions" => {
-                let file = value.split_whitespace().next().unwrap_or("");
-                let (_, at) = pre.origin(k as u32 + 1);
-                bounded(functions.len(), "functions of a view file")?;
-                let text = companion(&inc, file, "function file")
-                    .map_err(|e| with_line(e, at))?
-                    .ok_or_else(|| {
-                        fail(&format!(
-                            "a readable function file (`{file}`: no such file)"
-                        ))
-                    })?;
-                let read =
-                    super::function_files::parse(&text, file, MAX_COMPANIONS - functions.len())
-                        .map_err(|e| {
-                            fail(&format!("a function file cpfg can read (`{file}`: {e})"))
-                        })?;
-                functions.extend(read);
-            }
+            "surface" => self.surface(at)?,
+            "curve" => self.curve(at)?,
+            "function" | "function set" | "functions" => self.function(at)?,
             "tropism" => {
                 // `tropism: T: x,y,z, A: angle, I: intensity, E: elasticity, S: step`
-                if let Some((t, e)) = new_style_tropism(line) {
+                if let Some((t, e)) = new_style_tropism(at.text) {
                     view.tropism = Some((t, e));
                 }
             }
             _ => {}
         }
+        Ok(())
     }
-    if let Some(d) = direction {
-        if d.length_squared() > 0.0 {
-            view.old_tropism = Some(OldTropism {
-                direction: d.normalize(),
-                elasticity,
-                increment,
-            });
+
+    /// `surface: x file.s [scale [s t]]`. A surface file that cannot be read leaves its
+    /// `~x` a plain leaf site (cpfg reports it and draws on): a warning, not an error.
+    fn surface(&mut self, at: &Line<'_>) -> Result<()> {
+        let w: Vec<&str> = at.value.split_whitespace().collect();
+        let (Some(id), Some(file)) = (w.first(), w.get(1)) else {
+            return Err(self.fail(at, "a surface letter and its .s file"));
+        };
+        let mut chars = id.chars();
+        let (Some(letter), None) = (chars.next(), chars.next()) else {
+            return Err(self.fail(at, "a one-character surface name"));
+        };
+        let num = |k: usize| w.get(k).and_then(|v| v.parse::<f64>().ok());
+        let scale = num(2).unwrap_or(1.0);
+        let div = |k: usize| num(k).map_or(0, |v| v.clamp(0.0, 32.0) as usize);
+        let surfaces = &self.extras.surfaces;
+        if !surfaces.iter().any(|x| x.name == letter) {
+            bounded(surfaces.len(), "surfaces of a view file")?;
         }
+        let text = match companion(self.inc, file, "surface file") {
+            Ok(Some(t)) => t,
+            Ok(None) => {
+                let line = self.line_no(at);
+                self.extras.warnings.push(format!(
+                    "view file line {line}: surface `{letter}` not loaded: `{file}`: no such file"
+                ));
+                return Ok(());
+            }
+            Err(
+                e
+                @ (Error::Cancelled { .. } | Error::FileBudget { .. } | Error::OutOfMemory { .. }),
+            ) => return Err(e),
+            Err(e) => {
+                let line = self.line_no(at);
+                self.extras.warnings.push(format!(
+                    "view file line {line}: surface `{letter}` not loaded: {e}"
+                ));
+                return Ok(());
+            }
+        };
+        let s = super::surface::parse(&text, letter, scale, (div(3), div(4)))
+            .map_err(|e| self.fail(at, &format!("a surface file cpfg can read (`{file}`: {e})")))?;
+        self.extras.surfaces.retain(|x| x.name != letter);
+        self.extras.surfaces.push(s);
+        Ok(())
     }
-    Ok(Extras {
-        functions,
-        surfaces,
-        warnings,
-        curves,
-    })
+
+    /// The text of the companion file `line` names, read from the view file's folder.
+    fn companion_text(&self, at: &Line<'_>, what: &'static str) -> Result<(String, String)> {
+        let file = at.value.split_whitespace().next().unwrap_or("").to_string();
+        let text = companion(self.inc, &file, what)
+            .map_err(|e| with_line(e, self.line_no(at)))?
+            .ok_or_else(|| self.fail(at, &format!("a readable {what} (`{file}`: no such file)")))?;
+        Ok((file, text))
+    }
+
+    /// `curve: file.con`.
+    fn curve(&mut self, at: &Line<'_>) -> Result<()> {
+        bounded(self.extras.curves.len(), "curves of a view file")?;
+        let (file, text) = self.companion_text(at, "curve file")?;
+        let curve = super::function_files::parse_curve(&text)
+            .map_err(|e| self.fail(at, &format!("a curve file cpfg can read (`{file}`: {e})")))?;
+        self.extras.curves.push(curve);
+        Ok(())
+    }
+
+    /// `function: file.func [samples]` or `function set: file.fset`.
+    fn function(&mut self, at: &Line<'_>) -> Result<()> {
+        let functions = &self.extras.functions;
+        bounded(functions.len(), "functions of a view file")?;
+        let (file, text) = self.companion_text(at, "function file")?;
+        let read = super::function_files::parse(&text, &file, MAX_COMPANIONS - functions.len())
+            .map_err(|e| {
+                self.fail(
+                    at,
+                    &format!("a function file cpfg can read (`{file}`: {e})"),
+                )
+            })?;
+        self.extras.functions.extend(read);
+        Ok(())
+    }
 }
 
 /// The T and E of a new-style `tropism:` line, when both are there.

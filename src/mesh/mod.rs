@@ -153,7 +153,7 @@ pub enum UpAxis {
     /// Y up, as arbor computes (OpenGL, Unity). The default.
     #[default]
     Y = 0,
-    /// Z up (Blender): a rotation of +90° about X, (x, y, z) → (x, −z, y), which keeps
+    /// Z up (Blender): a rotation of +90 degrees about X, (x, y, z) -> (x, -z, y), which keeps
     /// handedness and winding. Unreal is left-handed: use the Unreal axes there.
     Z = 1,
 }
@@ -172,11 +172,11 @@ pub enum Axes {
     #[default]
     Arbor = 0,
     /// Unity: left-handed, Y up, metres (one model unit = one metre, as in glTF):
-    /// (x, y, z) → (−x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
+    /// (x, y, z) -> (-x, y, z), as Unity's glTF importers (glTFast, UnityGLTF) do; front
     /// faces wind clockwise seen from outside in Unity's space, so the cross product of a
     /// triangle's edges points out, as `Mesh.RecalculateNormals` expects.
     Unity = 1,
-    /// Unreal: left-handed, Z up, centimetres: (x, y, z) → (100x, 100z, 100y), the
+    /// Unreal: left-handed, Z up, centimetres: (x, y, z) -> (100x, 100z, 100y), the
     /// inverse of Unreal's own glTF exporter; front faces as Unreal's renderer culls them
     /// (the cross product of a triangle's edges points in, as Epic documents for its
     /// clockwise convention).
@@ -193,7 +193,7 @@ pub struct MeshOptions {
     /// Index buffer layout. Default [`Topology::TriangleList`].
     pub topology: Topology,
     /// LOD by radius: 0 (default) gives every branch `radial_segments`; otherwise a branch
-    /// gets ⌈radial_segments · r / r_max⌉ sides clamped to `min_radial_segments..=
+    /// gets ⌈radial_segments * r / r_max⌉ sides clamped to `min_radial_segments..=
     /// radial_segments`, where r is its larger radius and r_max the tree's largest.
     pub min_radial_segments: u32,
     /// Branches whose larger radius is below this are dropped with their whole subtree.
@@ -230,7 +230,7 @@ pub struct MeshOptions {
     pub max_vertices: usize,
     /// Extra rings inside every branch, placed along its curve (a sweep), 0..=64: 0 (the
     /// default) draws each branch as one truncated cone between its end rings, exactly as
-    /// without curves; k ≥ 1 adds k rings at equal curve parameters, framed by rotation-
+    /// without curves; k >= 1 adds k rings at equal curve parameters, framed by rotation-
     /// minimising frames continuous across joints, with radii interpolated and v by arc
     /// length.
     pub curve_rings: u32,

@@ -37,8 +37,8 @@ pub(crate) const MITRE_END: u8 = 2;
 pub(crate) const BASE_CAP: u8 = 4;
 pub(crate) const TIP: u8 = 8;
 
-/// A joint is mitred only while the bend is below 90° (cos > 0): the shared ring stretches
-/// by 1 / cos(bend / 2) (at most √2) and its normals smooth a crease of at most 90°.
+/// A joint is mitred only while the bend is below 90 degrees (cos > 0): the shared ring stretches
+/// by 1 / cos(bend / 2) (at most √2) and its normals smooth a crease of at most 90 degrees.
 /// Sharper bends get separate rings, the continuing branch's sunk into its parent.
 const MITRE_MIN_COS: f32 = 0.0;
 

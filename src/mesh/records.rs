@@ -10,9 +10,9 @@ use bytemuck::{Pod, Zeroable};
 /// p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
 /// parent; uint birth; }`). C: ArborCurveRecord.
 ///
-/// A point at curve parameter t has texture v = `v0 + length · s(t)` (s the fraction of
+/// A point at curve parameter t has texture v = `v0 + length * s(t)` (s the fraction of
 /// the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
-/// plus its angle around the curve / 2π.
+/// plus its angle around the curve / 2 pi.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct CurveRecord {

@@ -28,8 +28,8 @@ pub const MAX_STEPS: u32 = 1024;
 /// The names of the presets, in the paper's order.
 pub const PRESET_NAMES: [char; 9] = ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'];
 
-/// Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Měch (trees
-/// a–i); C: ArborHondaParams.
+/// Parameters of the 1996 branching model of Prusinkiewicz, Hammel, Hanan & Mech (trees
+/// a-i); C: ArborHondaParams.
 ///
 /// Lengths and widths are in the model's units (the paper's trunk is 100 long); widths are
 /// diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
@@ -44,17 +44,17 @@ pub struct HondaParams {
     pub r1: f32,
     /// r2: length ratio of the second child. Finite, > 0.
     pub r2: f32,
-    /// α1: branching angle of the first child (`+`). Finite.
+    /// alpha1: branching angle of the first child (`+`). Finite.
     pub alpha1: f32,
-    /// α2: branching angle of the second child (`+`). Finite.
+    /// alpha2: branching angle of the second child (`+`). Finite.
     pub alpha2: f32,
-    /// φ1: divergence angle of the first child (`/`). Finite.
+    /// phi1: divergence angle of the first child (`/`). Finite.
     pub phi1: f32,
-    /// φ2: divergence angle of the second child (`/`). Finite.
+    /// phi2: divergence angle of the second child (`/`). Finite.
     pub phi2: f32,
     /// q: share of the width that goes to the first child, in [0, 1].
     pub q: f32,
-    /// e: width exponent, finite, >= 0. Children widths are w·q^e and w·(1−q)^e.
+    /// e: width exponent, finite, >= 0. Children widths are w*q^e and w*(1-q)^e.
     pub e: f32,
     /// min: an apex grows only while its length s >= min. Finite, >= 0.
     pub min_length: f32,
@@ -153,7 +153,7 @@ impl HondaParams {
     /// without building: O(steps²) time, O(steps) memory.
     ///
     /// An apex with `k1` first-child and `k2` second-child choices on its path has length
-    /// s0·r1^k1·r2^k2, so whether it grows depends only on `(k1, k2)`, and the number of
+    /// s0*r1^k1*r2^k2, so whether it grows depends only on `(k1, k2)`, and the number of
     /// growing paths to each `(k1, k2)` is the sum over its two predecessors.
     pub fn branch_count(&self) -> u64 {
         self.count_until(u64::MAX).0

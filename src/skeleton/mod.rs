@@ -139,7 +139,7 @@ pub struct Polygon {
 
 /// A tree as a flat array of branches, parents before children, with the leaf sites and
 /// polygons the turtle recorded, the turtle's frame per branch where the generator had
-/// one, one cubic Bézier curve per branch, and the children and axes of every branch
+/// one, one cubic Bezier curve per branch, and the children and axes of every branch
 /// (built once, on first use, and shared by every stage that needs them).
 ///
 /// Invariants (checked by [`SkeletonParts::build`], kept by every generator): every
@@ -195,7 +195,7 @@ pub struct SkeletonParts {
     /// the mesher starts its rings' seams there.
     pub ups: Vec<[f32; 3]>,
     /// Empty (every branch straight), or the inner control points (p1, p2) of each
-    /// branch's cubic Bézier curve from `start` to `end`.
+    /// branch's cubic Bezier curve from `start` to `end`.
     pub curves: Vec<[[f32; 3]; 2]>,
     /// Spheres and discs; each `branch` is [`NO_PARENT`] or a branch index.
     pub organs: Vec<Organ>,
@@ -429,7 +429,7 @@ impl Skeleton {
         !self.ups.is_empty()
     }
 
-    /// Branch `i`'s curve: a cubic Bézier from its start to its end (straight, control
+    /// Branch `i`'s curve: a cubic Bezier from its start to its end (straight, control
     /// points at the thirds, unless a generator or an edit bent it).
     pub fn curve(&self, i: usize) -> Curve {
         let b = &self.branches[i];
@@ -515,7 +515,7 @@ impl Skeleton {
 ///
 /// For the 1996 model this is "the child with the smaller branching angle continues the
 /// axis"; for a grammar, `F F` continues an axis and `[+F]` leaves it. Generators pass the
-/// cosines of their exact (`f64`) headings, so ties such as ±35° are not broken by the
+/// cosines of their exact (`f64`) headings, so ties such as ±35 degrees are not broken by the
 /// rounding of stored `f32` coordinates.
 pub fn assign_axis_orders(branches: &mut [Branch], cos_to_parent: &[f64]) {
     assert_eq!(branches.len(), cos_to_parent.len());

@@ -60,7 +60,7 @@ crate::enums::numbered!(Environment as "ArborEnvironment" {
 pub struct WorldOptions {
     /// Shadow (default) or space colonization.
     pub environment: Environment,
-    /// Lower corner of the box trees grow in (world units, Y up). Default (−10, 0, −10).
+    /// Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
     pub min: [f32; 3],
     /// Upper corner. Default (10, 20, 10).
     pub max: [f32; 3],
@@ -71,7 +71,7 @@ pub struct WorldOptions {
     pub seed: u64,
     /// Shadow a bud casts into its own cell and the layer below (`a`), > 0. Default 0.2.
     pub shadow_strength: f32,
-    /// Falloff per layer (`b` > 1: layer q gets a·b^−q). Default 2.
+    /// Falloff per layer (`b` > 1: layer q gets a*b^-q). Default 2.
     pub shadow_falloff: f32,
     /// Layers of the shadow pyramid below a bud (`q_max`), 0..=16. Default 5.
     pub shadow_depth: u32,
@@ -112,14 +112,22 @@ impl Default for WorldOptions {
     }
 }
 
-/// One species: how a tree grows. Plain data; `Default` is [`Species::Excurrent`]'s values
-/// with neutral apical control. Lengths are world units, angles degrees.
+/// One species: how a tree grows. `Default` is the excurrent species' values with neutral
+/// apical control; start from it (or `preset`) and change the fields you need. Lengths are
+/// world units, angles degrees.
+///
+/// C: ArborGrowthParams, a struct that grows (see "Structs that grow" in docs/c-api.md):
+/// start from arbor_growth_params_default() or arbor_growth_params_preset().
+#[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GrowthParams {
-    /// λ in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
+    /// sizeof(ArborGrowthParams) as the host was compiled (C only; Rust keeps it at its own
+    /// size).
+    pub(crate) struct_size: u32,
+    /// lambda in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
     /// laterals (decurrent). Default 0.5.
     pub apical_control: f32,
-    /// α > 0: vigour at the base = α · light gathered. Default 2.
+    /// alpha > 0: vigour at the base = alpha * light gathered. Default 2.
     pub vigor_multiplier: f32,
     /// Length of an internode at vigour 1, in (0, 10000]. Default 0.25.
     pub internode_length: f32,
@@ -127,17 +135,17 @@ pub struct GrowthParams {
     pub branch_angle: f32,
     /// Turn about the heading from one lateral bud to the next, finite. Default 137.5.
     pub phyllotaxis: f32,
-    /// η: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
-    /// −1..=1. Default 0.1.
+    /// eta: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
+    /// -1..=1. Default 0.1.
     pub tropism: f32,
-    /// ξ ≥ 0: weight of the environment's optimal direction. Default 0.25.
+    /// xi >= 0: weight of the environment's optimal direction. Default 0.25.
     pub environment_weight: f32,
     /// n in [1, 4]: a parent's r^n is the sum of its children's. Default 2.5.
     pub pipe_exponent: f32,
     /// Radius of a branch tip, in (0, 10000]. Default 0.01.
     pub tip_radius: f32,
-    /// A lateral branch is shed when its vigour < shed_multiplier · internodes^shed_exponent
-    /// (its internodes counted with everything above it). ≥ 0 (0: never). Default 0.03.
+    /// A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent
+    /// (its internodes counted with everything above it). >= 0 (0: never). Default 0.03.
     pub shed_multiplier: f32,
     /// 0..=8. Default 1.3.
     pub shed_exponent: f32,
@@ -145,7 +153,7 @@ pub struct GrowthParams {
     pub shed_delay: u32,
     /// A tree older than this many cycles drops seeds each cycle; 0 (default): never.
     pub seed_age: u32,
-    /// Seeds land within ln(root vigour) · seed_spread of the base, ≥ 0. Default 2.
+    /// Seeds land within ln(root vigour) * seed_spread of the base, >= 0. Default 2.
     pub seed_spread: f32,
     /// Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180].
     /// Default 90.
@@ -163,6 +171,7 @@ pub struct GrowthParams {
 impl Default for GrowthParams {
     fn default() -> Self {
         GrowthParams {
+            struct_size: std::mem::size_of::<GrowthParams>() as u32,
             apical_control: 0.5,
             vigor_multiplier: 2.0,
             internode_length: 0.25,
@@ -190,15 +199,15 @@ impl Default for GrowthParams {
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Species {
-    /// A conifer-like tree with a strong leader: λ 0.58, branch angle 65°.
+    /// A conifer-like tree with a strong leader: lambda 0.58, branch angle 65 degrees.
     Excurrent = 0,
-    /// A broad, spreading crown: λ 0.46, α 2.2, branch angle 45°.
+    /// A broad, spreading crown: lambda 0.46, alpha 2.2, branch angle 45 degrees.
     Decurrent = 1,
-    /// A narrow column: λ 0.54, branch angle 30°, tropism 0.25.
+    /// A narrow column: lambda 0.54, branch angle 30 degrees, tropism 0.25.
     Columnar = 2,
-    /// A shrub: λ 0.42, short internodes, branch angle 55°, little shedding.
+    /// A shrub: lambda 0.42, short internodes, branch angle 55 degrees, little shedding.
     Bush = 3,
-    /// Drooping shoots: λ 0.5, tropism −0.25 (shoots bend down).
+    /// Drooping shoots: lambda 0.5, tropism -0.25 (shoots bend down).
     Weeping = 4,
 }
 
@@ -213,13 +222,13 @@ crate::enums::numbered!(Species as "ArborSpecies" {
 impl GrowthParams {
     /// The parameters of a named species. Values (the rest as [`Default`]):
     ///
-    /// | species | λ | α | internode | branch angle | tropism | ξ | shed multiplier |
+    /// | species | lambda | alpha | internode | branch angle | tropism | xi | shed multiplier |
     /// |---|---|---|---|---|---|---|---|
     /// | excurrent | 0.58 | 2 | 0.25 | 65 | 0.15 | 0.2 | 0.03 |
     /// | decurrent | 0.46 | 2.2 | 0.25 | 45 | 0.05 | 0.3 | 0.03 |
     /// | columnar | 0.54 | 2 | 0.25 | 30 | 0.25 | 0.15 | 0.03 |
     /// | bush | 0.42 | 2.4 | 0.15 | 55 | 0.05 | 0.3 | 0.015 |
-    /// | weeping | 0.5 | 2 | 0.25 | 50 | −0.25 | 0.2 | 0.03 |
+    /// | weeping | 0.5 | 2 | 0.25 | 50 | -0.25 | 0.2 | 0.03 |
     pub fn preset(species: Species) -> Self {
         let d = GrowthParams::default();
         match species {
@@ -683,8 +692,8 @@ impl World {
     }
 
     /// The largest relative vigour residual of the last cycle's splits over every
-    /// branching point of every tree: |v − v_main − v_lateral| / v (0 up to rounding: the
-    /// extended Borchert–Honda split conserves vigour).
+    /// branching point of every tree: |v - v_main - v_lateral| / v (0 up to rounding: the
+    /// extended Borchert-Honda split conserves vigour).
     pub fn vigour_residual(&self) -> f32 {
         self.trees.iter().map(|t| t.residual).fold(0.0, f32::max)
     }
