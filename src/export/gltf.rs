@@ -403,17 +403,9 @@ fn one_tree(prims: Vec<Primitive>) -> (Vec<Vec<Primitive>>, Vec<Node>) {
     (vec![prims], vec![node])
 }
 
-fn encode(
-    (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
-    extras: &str,
-    binary: bool,
-    instanced: Option<Instanced>,
-) -> Result<Vec<u8>> {
-    let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
-    // The buffer and the file are made from it: ask for their memory once, fallibly,
-    // before building them (binary: the buffer and the .glb; JSON: the buffer, its base64
-    // text and the copies that make the file).
-    let meshes_bytes: usize = trees
+/// Bytes of the buffer the meshes and instances make (what the file is made from).
+fn buffer_bytes(trees: &[Vec<Primitive>], instanced: Option<&Instanced>) -> usize {
+    trees
         .iter()
         .flatten()
         .map(|p| {
@@ -428,24 +420,107 @@ fn encode(
             std::mem::size_of_val(m.vertices.as_slice())
                 + std::mem::size_of_val(m.indices.as_slice())
                 + i.len() * 40
-        });
-    crate::limits::check_available(
-        meshes_bytes.saturating_mul(if binary { 2 } else { 6 }),
-        "the glTF buffer and file",
-    )?;
-    // Only the materials in use, bark first.
+        })
+}
+
+/// The materials in use, bark first.
+fn materials_in_use(trees: &[Vec<Primitive>], leaves: bool) -> Vec<Material> {
     let mut materials: Vec<Material> = Vec::new();
     for m in trees
         .iter()
         .flatten()
         .map(|p| p.material)
-        .chain(instanced.as_ref().map(|_| Material::Leaves))
+        .chain(leaves.then_some(Material::Leaves))
     {
         if !materials.contains(&m) {
             materials.push(m);
         }
     }
     materials.sort_by_key(|m| *m == Material::Leaves);
+    materials
+}
+
+/// A node's JSON: its name, its mesh (none for a tree without triangles) and placement.
+fn node_json(n: &Node, mesh: Option<usize>) -> String {
+    let mut node = format!("{{\"name\":\"{}\"", n.name);
+    if let Some(m) = mesh {
+        let _ = write!(node, ",\"mesh\":{m}");
+    }
+    if let Some((t, r, sc)) = n.trs {
+        let _ = write!(
+            node,
+            ",\"translation\":[{},{},{}],\"rotation\":[{},{},{},{}],\"scale\":[{},{},{}]",
+            num(t[0]),
+            num(t[1]),
+            num(t[2]),
+            num(r[0]),
+            num(r[1]),
+            num(r[2]),
+            num(r[3]),
+            num(sc),
+            num(sc),
+            num(sc)
+        );
+    }
+    node.push('}');
+    node
+}
+
+/// The instanced leaves: the prefab as a mesh of its own (number `mesh`, material
+/// `material`), and a node that draws it per instance with its translation, rotation and
+/// scale (tightly packed, as EXT_mesh_gpu_instancing reads them). Returns the node's JSON
+/// and the mesh's.
+fn instanced_leaves(
+    b: &mut Buffers,
+    m: &Mesh,
+    instances: &[mesh::LeafInstance],
+    mesh: usize,
+    material: usize,
+) -> (String, String) {
+    // The prefab as a mesh of its own, and per instance its translation, rotation and
+    // scale (tightly packed, as the extension reads them).
+    let (attributes, _) = b.mesh(m);
+    let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
+    let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
+    let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
+    let k = instances.len();
+    let mut per_instance = |bytes: &[u8], ty: &str| {
+        let v = b.view(bytes, "");
+        b.accessors.push(format!(
+            "{{\"bufferView\":{v},\"componentType\":5126,\"count\":{k},\"type\":\"{ty}\"}}"
+        ));
+        b.accessors.len() - 1
+    };
+    let (ta, ra, sa) = (
+        per_instance(bytemuck::cast_slice(&t), "VEC3"),
+        per_instance(bytemuck::cast_slice(&r), "VEC4"),
+        per_instance(bytemuck::cast_slice(&sc), "VEC3"),
+    );
+    let node = format!(
+        "{{\"name\":\"leaves\",\"mesh\":{mesh},\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{ta},\"ROTATION\":{ra},\"SCALE\":{sa}}}}}}}}}"
+    );
+    let mesh = format!(
+        "{{\"name\":\"leaf\",\"primitives\":[{{{attributes},\"material\":{material},\"mode\":4}}]}}"
+    );
+    (node, mesh)
+}
+
+fn encode(
+    (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
+    extras: &str,
+    binary: bool,
+    instanced: Option<Instanced>,
+) -> Result<Vec<u8>> {
+    let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
+    // The buffer and the file are made from it: ask for their memory once, fallibly,
+    // before building them (binary: the buffer and the .glb; JSON: the buffer, its base64
+    // text and the copies that make the file).
+    let meshes_bytes = buffer_bytes(&trees, instanced.as_ref());
+    crate::limits::check_available(
+        meshes_bytes.saturating_mul(if binary { 2 } else { 6 }),
+        "the glTF buffer and file",
+    )?;
+    let materials = materials_in_use(&trees, instanced.is_some());
     let material = |m: Material| {
         materials
             .iter()
@@ -491,58 +566,14 @@ fn encode(
     }
     let mut nodes = Vec::new();
     for n in &placements {
-        let mut node = format!("{{\"name\":\"{}\"", n.name);
-        if let Some(m) = mesh_of.get(n.mesh).copied().flatten() {
-            let _ = write!(node, ",\"mesh\":{m}");
-        }
-        if let Some((t, r, sc)) = n.trs {
-            let _ = write!(
-                node,
-                ",\"translation\":[{},{},{}],\"rotation\":[{},{},{},{}],\"scale\":[{},{},{}]",
-                num(t[0]),
-                num(t[1]),
-                num(t[2]),
-                num(r[0]),
-                num(r[1]),
-                num(r[2]),
-                num(r[3]),
-                num(sc),
-                num(sc),
-                num(sc)
-            );
-        }
-        node.push('}');
-        nodes.push(node);
+        nodes.push(node_json(n, mesh_of.get(n.mesh).copied().flatten()));
     }
     let mut used = String::new();
     if let Some((m, instances)) = &instanced {
-        // The prefab as a mesh of its own, and per instance its translation, rotation and
-        // scale (tightly packed, as the extension reads them).
-        let (attributes, _) = b.mesh(m);
-        let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
-        let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
-        let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
-        let k = instances.len();
-        let mut per_instance = |bytes: &[u8], ty: &str| {
-            let v = b.view(bytes, "");
-            b.accessors.push(format!(
-                "{{\"bufferView\":{v},\"componentType\":5126,\"count\":{k},\"type\":\"{ty}\"}}"
-            ));
-            b.accessors.len() - 1
-        };
-        let (ta, ra, sa) = (
-            per_instance(bytemuck::cast_slice(&t), "VEC3"),
-            per_instance(bytemuck::cast_slice(&r), "VEC4"),
-            per_instance(bytemuck::cast_slice(&sc), "VEC3"),
-        );
-        nodes.push(format!(
-            "{{\"name\":\"leaves\",\"mesh\":{},\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{ta},\"ROTATION\":{ra},\"SCALE\":{sa}}}}}}}}}",
-            meshes.len()
-        ));
-        meshes.push(format!(
-            "{{\"name\":\"leaf\",\"primitives\":[{{{attributes},\"material\":{},\"mode\":4}}]}}",
-            material(Material::Leaves)
-        ));
+        let leaf = material(Material::Leaves);
+        let (node, mesh) = instanced_leaves(&mut b, m, instances, meshes.len(), leaf);
+        nodes.push(node);
+        meshes.push(mesh);
         // Used, not required: a viewer without the extension draws one leaf at the
         // node; export baked leaves (save_gltf) for such viewers.
         used = ",\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"]".into();
