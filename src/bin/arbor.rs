@@ -308,150 +308,147 @@ fn run() -> Result<(), String> {
     let (skeleton, what) = grown?;
     let grow_ms = t0.elapsed().as_secs_f64() * 1e3;
     match name {
-        "export" => {
-            let out: &String = m.get_one("out").expect("required");
-            let mut o = MeshOptions::default();
-            if let Some(&k) = m.get_one::<u32>("radial-segments") {
-                o.radial_segments = k;
-            }
-            if let Some(&k) = m.get_one::<u32>("curve-rings") {
-                o.curve_rings = k;
-            }
-            let lower = out.to_ascii_lowercase();
-            let format = [".glb", ".gltf", ".obj"]
-                .into_iter()
-                .find(|e| lower.ends_with(e))
-                .ok_or_else(|| format!("{out}: expected a .glb, .gltf or .obj file name"))?;
-            let instanced = m.get_flag("instanced-leaves");
-            if instanced && format == ".obj" {
-                return Err(format!(
-                    "{out}: --instanced-leaves is for glTF (EXT_mesh_gpu_instancing); OBJ has \
-                     no instancing, use --leaves to bake them"
-                ));
-            }
-            let placement = m
-                .get_one::<String>("leaves")
-                .map(String::as_str)
-                .or(instanced.then_some("auto"));
-            if m.get_one::<f32>("leaf-size").is_some() && placement.is_none() {
-                return Err("--leaf-size needs --leaves or --instanced-leaves".to_string());
-            }
-            let leaves = match placement {
-                Some(place) => {
-                    let size = m.get_one::<f32>("leaf-size").copied();
-                    let source: &String = m.get_one("source").expect("required");
-                    let (l, note) = leaf_options(&skeleton, place, size, source)?;
-                    let o = MeshOptions::default();
-                    let n = arbor::mesh::leaf_instances(&skeleton, &l, &o)
-                        .map_err(|e| e.to_string())?
-                        .len();
-                    let (polygons, organs) = if l.sites {
-                        (skeleton.polygons().len(), skeleton.organs().len())
-                    } else {
-                        (0, 0)
-                    };
-                    if n + polygons + organs == 0 {
-                        eprintln!("warning: {source}: no leaves were placed ({note})");
-                    } else if l.sites {
-                        eprintln!(
-                            "leaves: {n} {note}, with its {polygons} polygons and {organs} organs"
-                        );
-                    } else {
-                        eprintln!("leaves: {n} {note}");
-                    }
-                    Some(l)
-                }
-                None => None,
-            };
-            let t1 = Instant::now();
-            let mut bar = Bar::new();
-            let mut show = |s: Stage, f: f32| bar.show(s, f);
-            let r = if lower.ends_with(".obj") {
-                let bark = arbor::mesh::MeshPlan::new(&skeleton, &o)
-                    .and_then(|plan| plan.mesh_with_progress(&skeleton, &mut show))
-                    .map_err(|e| e.to_string())?;
-                match &leaves {
-                    Some(l) => {
-                        let lm =
-                            arbor::mesh::leaf_mesh(&skeleton, l, &o).map_err(|e| e.to_string())?;
-                        arbor::export::save_obj_parts_with_progress(
-                            &[("bark", &bark), ("leaves", &lm)],
-                            out,
-                            &mut show,
-                        )
-                    }
-                    None => arbor::export::save_obj_parts_with_progress(
-                        &[("bark", &bark)],
-                        out,
-                        &mut show,
-                    ),
-                }
-            } else if instanced {
-                arbor::export::save_gltf_instanced_with_progress(
-                    &skeleton,
-                    &o,
-                    leaves.as_ref().expect("instanced leaves are placed"),
+        "export" => export(m, &skeleton, &what, grow_ms),
+        _ => info(m, &skeleton, &what, grow_ms),
+    }
+}
+
+/// `arbor export`: writes the tree (and its leaves) as glTF, GLB or OBJ.
+fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<(), String> {
+    let out: &String = m.get_one("out").expect("required");
+    let mut o = MeshOptions::default();
+    if let Some(&k) = m.get_one::<u32>("radial-segments") {
+        o.radial_segments = k;
+    }
+    if let Some(&k) = m.get_one::<u32>("curve-rings") {
+        o.curve_rings = k;
+    }
+    let lower = out.to_ascii_lowercase();
+    let format = [".glb", ".gltf", ".obj"]
+        .into_iter()
+        .find(|e| lower.ends_with(e))
+        .ok_or_else(|| format!("{out}: expected a .glb, .gltf or .obj file name"))?;
+    let instanced = m.get_flag("instanced-leaves");
+    if instanced && format == ".obj" {
+        return Err(format!(
+            "{out}: --instanced-leaves is for glTF (EXT_mesh_gpu_instancing); OBJ has \
+             no instancing, use --leaves to bake them"
+        ));
+    }
+    let placement = m
+        .get_one::<String>("leaves")
+        .map(String::as_str)
+        .or(instanced.then_some("auto"));
+    if m.get_one::<f32>("leaf-size").is_some() && placement.is_none() {
+        return Err("--leaf-size needs --leaves or --instanced-leaves".to_string());
+    }
+    let leaves = match placement {
+        Some(place) => Some(placed_leaves(m, skeleton, place)?),
+        None => None,
+    };
+    let t1 = Instant::now();
+    let mut bar = Bar::new();
+    let mut show = |s: Stage, f: f32| bar.show(s, f);
+    let r = if lower.ends_with(".obj") {
+        let bark = arbor::mesh::MeshPlan::new(skeleton, &o)
+            .and_then(|plan| plan.mesh_with_progress(skeleton, &mut show))
+            .map_err(|e| e.to_string())?;
+        match &leaves {
+            Some(l) => {
+                let lm = arbor::mesh::leaf_mesh(skeleton, l, &o).map_err(|e| e.to_string())?;
+                arbor::export::save_obj_parts_with_progress(
+                    &[("bark", &bark), ("leaves", &lm)],
                     out,
                     &mut show,
                 )
-            } else {
-                arbor::export::save_gltf_with_progress(
-                    &skeleton,
-                    &o,
-                    leaves.as_ref(),
-                    out,
-                    &mut show,
-                )
-            };
-            bar.done();
-            if INTERRUPTED.load(Ordering::SeqCst) && r.is_err() {
-                return Err(format!(
-                    "interrupted; {out} was not written (an existing file is as it was)"
-                ));
             }
-            r.map_err(|e| format!("{out}: {e}"))?;
-            eprintln!(
-                "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
-                skeleton.len(),
-                t1.elapsed().as_secs_f64() * 1e3
-            );
+            None => arbor::export::save_obj_parts_with_progress(&[("bark", &bark)], out, &mut show),
         }
-        _ => {
-            let o = MeshOptions::default();
-            let t1 = Instant::now();
-            let size = arbor::mesh::mesh_size(&skeleton, &o).map_err(|e| e.to_string())?;
-            let mesh_ms = t1.elapsed().as_secs_f64() * 1e3;
-            let (branches, leaves, polygons, organs) = (
-                skeleton.len(),
-                skeleton.leaves().len(),
-                skeleton.polygons().len(),
-                skeleton.organs().len(),
-            );
-            if m.get_flag("json") {
-                let json = serde_json::json!({
-                    "source": m.get_one::<String>("source").expect("required"),
-                    "what": what,
-                    "branches": branches,
-                    "leaf_sites": leaves,
-                    "polygons": polygons,
-                    "organs": organs,
-                    "vertices": size.vertices,
-                    "indices": size.indices,
-                    "grow_ms": grow_ms,
-                    "mesh_size_ms": mesh_ms,
-                });
-                println!("{json}");
-            } else {
-                println!("{what}");
-                println!("branches    {branches}");
-                println!("leaf sites  {leaves}");
-                println!("polygons    {polygons}");
-                println!("organs      {organs}");
-                println!("vertices    {} (default mesh options)", size.vertices);
-                println!("indices     {}", size.indices);
-                println!("grown in    {grow_ms:.2} ms");
-            }
-        }
+    } else if instanced {
+        arbor::export::save_gltf_instanced_with_progress(
+            skeleton,
+            &o,
+            leaves.as_ref().expect("instanced leaves are placed"),
+            out,
+            &mut show,
+        )
+    } else {
+        arbor::export::save_gltf_with_progress(skeleton, &o, leaves.as_ref(), out, &mut show)
+    };
+    bar.done();
+    if INTERRUPTED.load(Ordering::SeqCst) && r.is_err() {
+        return Err(format!(
+            "interrupted; {out} was not written (an existing file is as it was)"
+        ));
+    }
+    r.map_err(|e| format!("{out}: {e}"))?;
+    eprintln!(
+        "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
+        skeleton.len(),
+        t1.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+/// The leaves `--leaves PLACE` (or `--instanced-leaves`) places, reported on stderr.
+fn placed_leaves(m: &ArgMatches, skeleton: &Skeleton, place: &str) -> Result<LeafOptions, String> {
+    let size = m.get_one::<f32>("leaf-size").copied();
+    let source: &String = m.get_one("source").expect("required");
+    let (l, note) = leaf_options(skeleton, place, size, source)?;
+    let o = MeshOptions::default();
+    let n = arbor::mesh::leaf_instances(skeleton, &l, &o)
+        .map_err(|e| e.to_string())?
+        .len();
+    let (polygons, organs) = if l.sites {
+        (skeleton.polygons().len(), skeleton.organs().len())
+    } else {
+        (0, 0)
+    };
+    if n + polygons + organs == 0 {
+        eprintln!("warning: {source}: no leaves were placed ({note})");
+    } else if l.sites {
+        eprintln!("leaves: {n} {note}, with its {polygons} polygons and {organs} organs");
+    } else {
+        eprintln!("leaves: {n} {note}");
+    }
+    Ok(l)
+}
+
+/// `arbor info`: counts and sizes, as text or JSON.
+fn info(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<(), String> {
+    let o = MeshOptions::default();
+    let t1 = Instant::now();
+    let size = arbor::mesh::mesh_size(skeleton, &o).map_err(|e| e.to_string())?;
+    let mesh_ms = t1.elapsed().as_secs_f64() * 1e3;
+    let (branches, leaves, polygons, organs) = (
+        skeleton.len(),
+        skeleton.leaves().len(),
+        skeleton.polygons().len(),
+        skeleton.organs().len(),
+    );
+    if m.get_flag("json") {
+        let json = serde_json::json!({
+            "source": m.get_one::<String>("source").expect("required"),
+            "what": what,
+            "branches": branches,
+            "leaf_sites": leaves,
+            "polygons": polygons,
+            "organs": organs,
+            "vertices": size.vertices,
+            "indices": size.indices,
+            "grow_ms": grow_ms,
+            "mesh_size_ms": mesh_ms,
+        });
+        println!("{json}");
+    } else {
+        println!("{what}");
+        println!("branches    {branches}");
+        println!("leaf sites  {leaves}");
+        println!("polygons    {polygons}");
+        println!("organs      {organs}");
+        println!("vertices    {} (default mesh options)", size.vertices);
+        println!("indices     {}", size.indices);
+        println!("grown in    {grow_ms:.2} ms");
     }
     Ok(())
 }
