@@ -374,6 +374,23 @@ impl Tree {
     }
 
     fn plan_with<L: Light>(&mut self, light: &L, cycle: u32, s: &mut Scratch) -> Plan {
+        self.light_pass(light, s);
+        let mut plan = Plan {
+            new: std::mem::take(&mut self.new_buf),
+            shed: std::mem::take(&mut self.shed_buf),
+            ..Plan::default()
+        };
+        plan.residual = self.vigour_pass(cycle, s, &mut plan);
+        self.grow_shoots(light, s, &mut plan);
+        plan.root_vigour = s.vig[0];
+        plan
+    }
+
+    /// Basipetal, with the light of each bud: light above each internode, split into main
+    /// and lateral, and the number of internodes at and above each (and the pipe model's
+    /// radii, when they are stale).
+    #[inline]
+    fn light_pass<L: Light>(&mut self, light: &L, s: &mut Scratch) {
         let p = self.species;
         let nodes = &mut self.nodes;
         let n = nodes.len();
@@ -420,6 +437,16 @@ impl Tree {
             s.split[i] = pair;
             s.desc[i] = desc;
         }
+    }
+
+    /// One acropetal pass: the extended Borchert-Honda split of the vigour, shedding into
+    /// `plan` and the shoots to grow (in `s.shoots`); returns the largest relative
+    /// residual of the split.
+    #[inline]
+    fn vigour_pass(&self, cycle: u32, s: &mut Scratch, plan: &mut Plan) -> f32 {
+        let p = self.species;
+        let nodes = &self.nodes;
+        let n = nodes.len();
         // One acropetal pass: the extended Borchert–Honda split of the vigour, shedding
         // (a lateral branch whose vigour no longer pays for its size goes, with everything
         // above it) and the new shoots (a bud with vigour v grows ⌊v⌋ internodes, at most
@@ -432,13 +459,6 @@ impl Tree {
         s.shoots.clear();
         let lambda = p.apical_control;
         let mut residual = 0.0f32;
-        let mut plan = Plan {
-            new: std::mem::take(&mut self.new_buf),
-            shed: std::mem::take(&mut self.shed_buf),
-            ..Plan::default()
-        };
-        let up = Vec3::Y;
-        let branch = branch_turn(p.branch_angle);
         let costs = s.cost_table(&p);
         for i in 0..n {
             let kids = nodes.kids[i];
@@ -481,6 +501,17 @@ impl Tree {
                 }
             }
         }
+        residual
+    }
+
+    /// The new shoots: a bud with vigour v grows floor(v) internodes (at most max_shoot),
+    /// bent toward the environment's optimal direction and up.
+    #[inline]
+    fn grow_shoots<L: Light>(&self, light: &L, s: &Scratch, plan: &mut Plan) {
+        let p = self.species;
+        let nodes = &self.nodes;
+        let up = Vec3::Y;
+        let branch = branch_turn(p.branch_angle);
         for &(i, k, share) in &s.shoots {
             let (i, kids) = (i as usize, nodes.kids[i as usize]);
             let count = (share.floor() as u32).min(p.max_shoot);
@@ -522,9 +553,6 @@ impl Tree {
                 at = end;
             }
         }
-        plan.residual = residual;
-        plan.root_vigour = s.vig[0];
-        plan
     }
 
     /// Carries out a plan: buds that grew or were shed take their shadow away, new buds
