@@ -185,6 +185,14 @@ fn errors_are_one_line_and_a_failure_exit() {
     }
     let (ok, _, _) = arbor(&["export", "a"]);
     assert!(!ok, "a missing -o is a usage error");
+    // Write errors name the file, for every format.
+    for out in ["/no/such/dir/x.obj", "/no/such/dir/x.glb"] {
+        let (ok, _, err) = arbor(&["export", "a", "-o", out]);
+        assert!(!ok, "{out}");
+        assert!(err.contains(&format!("cannot write {out}")), "{out}: {err}");
+    }
+    let (_, _, err) = arbor(&["export", "a", "-o", "x.fbx"]);
+    assert!(err.contains(".glb, .gltf or .obj"), "{err}");
 }
 
 /// Files in `dir` other than `keep`.
