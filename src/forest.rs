@@ -12,7 +12,7 @@ use crate::lsystem::{LSystem, LsystemOptions};
 use crate::mesh::Slot;
 use crate::mesh::{self, Mesh, MeshOptions, MeshPlan, MeshSize, RESTART_INDEX, Topology, Vertex};
 use crate::models::honda::{self, HondaParams};
-use crate::progress::Progress;
+use crate::progress::Run;
 use crate::skeleton::Skeleton;
 
 /// What one tree of the forest grows from.
@@ -235,7 +235,7 @@ pub fn write_merged(
     vertices: &mut [Vertex],
     indices: &mut [u32],
 ) -> Result<MeshSize> {
-    write_merged_into(placed, options, vertices, indices, &mut Progress::default())
+    write_merged_into(placed, options, vertices, indices, &mut Run::default())
 }
 
 /// [`write_merged`] into uninitialised memory (a mapped GPU buffer).
@@ -245,38 +245,22 @@ pub fn write_merged_uninit(
     vertices: &mut [std::mem::MaybeUninit<Vertex>],
     indices: &mut [std::mem::MaybeUninit<u32>],
 ) -> Result<MeshSize> {
-    write_merged_into(placed, options, vertices, indices, &mut Progress::default())
+    write_merged_into(placed, options, vertices, indices, &mut Run::default())
 }
 
-/// [`write_merged_uninit`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) to
-/// `progress` (the fraction of the trees meshed) on the calling thread after each tree;
-/// `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled) before anything is
-/// written into the buffers.
-pub fn write_merged_uninit_with_progress(
+/// [`write_merged_uninit`] in `run`: each tree meshed on the run's threads (or the
+/// options'), reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) (the fraction of the
+/// trees meshed) on the calling thread after each tree; `false` stops with
+/// [`Error::Cancelled`](crate::error::Error::Cancelled) before anything is written into the
+/// buffers.
+pub fn write_merged_uninit_in(
     placed: &[Placed<'_>],
     options: &MeshOptions,
     vertices: &mut [std::mem::MaybeUninit<Vertex>],
     indices: &mut [std::mem::MaybeUninit<u32>],
-    progress: crate::progress::ProgressFn<'_>,
+    run: &mut Run<'_>,
 ) -> Result<MeshSize> {
-    write_merged_uninit_reporting(placed, options, vertices, indices, Some(progress))
-}
-
-/// [`write_merged_uninit`] with an optional callback (the C ABI's may be NULL).
-pub(crate) fn write_merged_uninit_reporting(
-    placed: &[Placed<'_>],
-    options: &MeshOptions,
-    vertices: &mut [std::mem::MaybeUninit<Vertex>],
-    indices: &mut [std::mem::MaybeUninit<u32>],
-    progress: Option<crate::progress::ProgressFn<'_>>,
-) -> Result<MeshSize> {
-    write_merged_into(
-        placed,
-        options,
-        vertices,
-        indices,
-        &mut Progress::new(progress),
-    )
+    write_merged_into(placed, options, vertices, indices, run)
 }
 
 fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
@@ -284,23 +268,26 @@ fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
     options: &MeshOptions,
     vertices: &mut [V],
     indices: &mut [I],
-    progress: &mut Progress<'_>,
+    run: &mut Run<'_>,
 ) -> Result<MeshSize> {
     let (planned, size) = grow_and_plan(placed, options)?;
+    let threads = run.threads_or(options.threads);
+    let mesh =
+        |(s, plan): &(Skeleton, MeshPlan)| plan.mesh_in(s, &mut Run::default().threads(threads));
     size.check_capacity(vertices.len(), indices.len())?;
-    let meshes = if progress.active() {
+    let meshes = if run.active() {
         // One tree at a time, so the calling thread can report between them.
         let mut meshes = Vec::with_capacity(planned.len());
-        for (k, (s, plan)) in planned.iter().enumerate() {
-            meshes.push(plan.mesh(s)?);
-            progress.report(
+        for (k, item) in planned.iter().enumerate() {
+            meshes.push(mesh(item)?);
+            run.report(
                 crate::progress::Stage::Mesh,
                 (k + 1) as f64 / planned.len() as f64,
             )?;
         }
         meshes
     } else {
-        each(&planned, |(s, plan)| plan.mesh(s))?
+        each(&planned, mesh)?
     };
     place(
         placed,

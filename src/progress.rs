@@ -1,9 +1,30 @@
-//! Progress and cancellation of long work: derivation, interpretation and growth report
-//! how far they are, on the calling thread, and stop when the caller says so.
+//! How long work runs: [`Run`], one context of threads, progress and cancellation that
+//! every long operation of arbor takes the same way.
+//!
+//! Each long operation has a plain form, which runs quietly with the options' own thread
+//! count, and an `_in` form that takes a `&mut Run`:
+//!
+//! | work | plain | in a run |
+//! | --- | --- | --- |
+//! | reading a model | [`LSystem::from_file`](crate::lsystem::LSystem::from_file) | [`LSystem::from_file_with`](crate::lsystem::LSystem::from_file_with) (with file options) |
+//! | rewriting | [`LSystem::derive`](crate::lsystem::LSystem::derive) | [`LSystem::derive_in`](crate::lsystem::LSystem::derive_in) |
+//! | the turtle | [`LSystem::interpret`](crate::lsystem::LSystem::interpret) | [`LSystem::interpret_in`](crate::lsystem::LSystem::interpret_in) |
+//! | both | [`LSystem::skeleton`](crate::lsystem::LSystem::skeleton) | [`LSystem::skeleton_in`](crate::lsystem::LSystem::skeleton_in) |
+//! | growth | [`World::step`](crate::models::growth::World::step) | [`World::step_in`](crate::models::growth::World::step_in) |
+//! | obstacles | [`World::add_obstacle`](crate::models::growth::World::add_obstacle) | [`World::add_obstacle_in`](crate::models::growth::World::add_obstacle_in) |
+//! | a mesh | [`MeshPlan::mesh`](crate::mesh::MeshPlan::mesh) | [`MeshPlan::mesh_in`](crate::mesh::MeshPlan::mesh_in) |
+//! | into buffers | [`MeshPlan::write_uninit`](crate::mesh::MeshPlan::write_uninit) | [`MeshPlan::write_uninit_in`](crate::mesh::MeshPlan::write_uninit_in) |
+//! | a forest | [`forest::write_merged_uninit`](crate::forest::write_merged_uninit) | [`forest::write_merged_uninit_in`](crate::forest::write_merged_uninit_in) |
+//! | glTF | [`export::save_gltf`](crate::export::save_gltf) | [`export::save_gltf_in`](crate::export::save_gltf_in) |
+//! | instanced glTF | [`export::save_gltf_instanced`](crate::export::save_gltf_instanced) | [`export::save_gltf_instanced_in`](crate::export::save_gltf_instanced_in) |
+//! | OBJ | [`export::save_obj_parts`](crate::export::save_obj_parts) | [`export::save_obj_parts_in`](crate::export::save_obj_parts_in) |
+//!
+//! The C ABI carries the same context in the options struct of each long stage:
+//! `progress` and `progress_user_data` (and `threads` in `ArborMeshOptions`).
 //!
 //! ```
 //! use arbor::lsystem::{LSystem, LsystemOptions};
-//! use arbor::progress::Stage;
+//! use arbor::progress::{Run, Stage};
 //!
 //! let ls = LSystem::parse("derivation length: 12\nAxiom: F\nF --> F[+F]F")?;
 //! let mut calls = 0;
@@ -11,7 +32,7 @@
 //!     calls += 1;
 //!     fraction < 0.5 // keep going until half way
 //! };
-//! let r = ls.derive_with_progress(&LsystemOptions::default(), &mut stop_early);
+//! let r = ls.derive_in(&LsystemOptions::default(), &mut Run::reporting(&mut stop_early));
 //! assert!(matches!(r, Err(arbor::Error::Cancelled { .. })));
 //! # Ok::<(), arbor::Error>(())
 //! ```
@@ -54,15 +75,58 @@ pub type ProgressFn<'a> = &'a mut dyn FnMut(Stage, f32) -> bool;
 /// How often work between its natural steps reports: every this many modules.
 pub(crate) const EVERY: usize = 1 << 16;
 
-/// An optional callback, with the cancellation it may ask for.
+/// One context for a long piece of work: how many threads it may use and the callback
+/// that hears its progress and may cancel it. `Run::default()` is quiet and uses each
+/// stage's own thread setting.
 #[derive(Default)]
-pub(crate) struct Progress<'a> {
+pub struct Run<'a> {
+    threads: Option<u32>,
     f: Option<ProgressFn<'a>>,
 }
 
-impl<'a> Progress<'a> {
+impl std::fmt::Debug for Run<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Run")
+            .field("threads", &self.threads)
+            .field("progress", &self.f.is_some())
+            .finish()
+    }
+}
+
+impl<'a> Run<'a> {
+    /// A run that reports to `progress`: called on the calling thread with the stage and
+    /// a fraction in [0, 1]; `false` stops the work with [`Error::Cancelled`].
+    pub fn reporting(progress: ProgressFn<'a>) -> Self {
+        Run {
+            threads: None,
+            f: Some(progress),
+        }
+    }
+
+    /// The same run on up to `threads` threads (0: one per core), in place of the
+    /// stage's own setting ([`MeshOptions::threads`](crate::mesh::MeshOptions::threads)
+    /// for meshes and exports). Growth runs on the calling thread when `threads` is 1 and
+    /// otherwise as [`WorldOptions::parallel`](crate::models::growth::WorldOptions::parallel)
+    /// says; the L-system stages run on the calling thread.
+    pub fn threads(mut self, threads: u32) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// A run reporting to `f` when there is one (the C ABI's callback may be NULL).
     pub(crate) fn new(f: Option<ProgressFn<'a>>) -> Self {
-        Progress { f }
+        Run { threads: None, f }
+    }
+
+    /// The run's thread count, or `default` (the stage's own) when it sets none.
+    #[inline]
+    pub(crate) fn threads_or(&self, default: u32) -> u32 {
+        self.threads.unwrap_or(default)
+    }
+
+    /// The callback, reborrowed (for work that keeps it for a while).
+    pub(crate) fn callback(&mut self) -> Option<ProgressFn<'_>> {
+        self.f.as_mut().map(|f| &mut **f as ProgressFn<'_>)
     }
 
     /// Whether there is a callback.

@@ -3,6 +3,7 @@
 
 use arbor::Error;
 use arbor::lsystem::{LSystem, LsystemOptions};
+use arbor::progress::Run;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -403,7 +404,7 @@ fn file_policies_from_rust() {
         access,
         ..FileOptions::default()
     };
-    match LSystem::from_file_with(&up, None, &with(FileAccess::Bundle), None) {
+    match LSystem::from_file_with(&up, None, &with(FileAccess::Bundle), &mut Run::default()) {
         Err(Error::FileAccess { path, reason }) => {
             assert_eq!(path, "../secret.txt");
             assert!(reason.contains("leaves the model's folder"), "{reason}");
@@ -411,10 +412,12 @@ fn file_policies_from_rust() {
         }
         other => panic!("expected a refusal, got {other:?}"),
     }
-    let e = LSystem::from_file_with(&up, None, &with(FileAccess::None), None).unwrap_err();
+    let e = LSystem::from_file_with(&up, None, &with(FileAccess::None), &mut Run::default())
+        .unwrap_err();
     assert!(e.to_string().contains("`none`"), "{e}");
     // Any reads it (and it is not a grammar).
-    let e = LSystem::from_file_with(&up, None, &with(FileAccess::Any), None).unwrap_err();
+    let e = LSystem::from_file_with(&up, None, &with(FileAccess::Any), &mut Run::default())
+        .unwrap_err();
     assert!(matches!(e, Error::Parse { .. }), "{e}");
 
     let files: std::collections::HashMap<String, Vec<u8>> = [
@@ -437,7 +440,7 @@ fn file_policies_from_rust() {
         "m/tree.l",
         None,
         &with(FileAccess::from_map(files)),
-        Some(&mut progress),
+        &mut Run::reporting(&mut progress),
     )
     .unwrap();
     assert_eq!(ls.view().angle_increment, 45.0);
@@ -450,6 +453,6 @@ fn file_policies_from_rust() {
         max_bytes: 16,
         ..with(FileAccess::Any)
     };
-    let e = LSystem::from_file_with(&up, None, &tiny, None).unwrap_err();
+    let e = LSystem::from_file_with(&up, None, &tiny, &mut Run::default()).unwrap_err();
     assert!(matches!(e, Error::FileBudget { .. }), "{e}");
 }

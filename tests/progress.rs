@@ -5,7 +5,7 @@
 use arbor::Error;
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::models::growth::{GrowthParams, World, WorldOptions};
-use arbor::progress::Stage;
+use arbor::progress::{Run, Stage};
 
 #[test]
 fn derivation_and_interpretation_report_and_stop() {
@@ -17,7 +17,9 @@ fn derivation_and_interpretation_report_and_stop() {
         seen.push((stage, f));
         true
     };
-    let with = ls.skeleton_with_progress(&options, &mut record).unwrap();
+    let with = ls
+        .skeleton_in(&options, &mut Run::reporting(&mut record))
+        .unwrap();
     assert_eq!(
         with,
         ls.skeleton(&options).unwrap(),
@@ -59,7 +61,7 @@ fn derivation_and_interpretation_report_and_stop() {
             calls += 1;
             calls < stop
         };
-        match ls.skeleton_with_progress(&options, &mut cancel) {
+        match ls.skeleton_in(&options, &mut Run::reporting(&mut cancel)) {
             Err(Error::Cancelled { stage }) => {
                 let expect = if stop <= derivation.len() {
                     "derivation"
@@ -86,12 +88,13 @@ fn growth_reports_every_cycle_and_stops_between_cycles() {
     plain.step(6).unwrap();
     let mut reported = make();
     let mut fractions = Vec::new();
+    let mut record = |stage, f| {
+        assert_eq!(stage, Stage::Growth);
+        fractions.push(f);
+        true
+    };
     reported
-        .step_with_progress(6, &mut |stage, f| {
-            assert_eq!(stage, Stage::Growth);
-            fractions.push(f);
-            true
-        })
+        .step_in(6, &mut Run::reporting(&mut record))
         .unwrap();
     assert_eq!(fractions.len(), 7);
     assert_eq!(fractions.last(), Some(&1.0));
@@ -101,12 +104,17 @@ fn growth_reports_every_cycle_and_stops_between_cycles() {
     three.step(3).unwrap();
     let mut stopped = make();
     let mut calls = 0;
-    let r = stopped.step_with_progress(6, &mut |_, _| {
+    let mut stop = |_, _| {
         calls += 1;
         calls <= 3
-    });
+    };
+    let r = stopped.step_in(6, &mut Run::reporting(&mut stop));
     assert!(matches!(r, Err(Error::Cancelled { stage: "growth" })));
     assert_eq!(stopped.branch_count(), three.branch_count());
+    // A run on one thread grows the same world.
+    let mut one = make();
+    one.step_in(6, &mut Run::default().threads(1)).unwrap();
+    assert_eq!(one.tree(0).unwrap(), plain.tree(0).unwrap());
 }
 
 #[test]
@@ -134,12 +142,19 @@ fn mesh_writes_report_and_stop() {
                 seen.push((stage, f));
                 true
             };
-            let with = plan.mesh_with_progress(&s, &mut record).unwrap();
+            let with = plan.mesh_in(&s, &mut Run::reporting(&mut record)).unwrap();
             assert!(
                 with == plain,
                 "{topology:?} on {threads}: progress changes nothing"
             );
             assert!(seen.iter().all(|x| x.0 == Stage::Mesh));
+            // The run's thread count stands in for the plan's, and changes nothing.
+            let other = plan.mesh_in(&s, &mut Run::default().threads(3 - threads));
+            assert!(
+                other.unwrap() == plain,
+                "{topology:?} on {} threads",
+                3 - threads
+            );
             // One report per round of 65,536 branches (1 or 2 threads keep that round).
             assert_eq!(seen.len(), s.len().div_ceil(65_536), "{seen:?}");
             assert!(seen.windows(2).all(|w| w[0].1 < w[1].1));
@@ -149,7 +164,9 @@ fn mesh_writes_report_and_stop() {
                 calls += 1;
                 false
             };
-            let e = plan.mesh_with_progress(&s, &mut stop).unwrap_err();
+            let e = plan
+                .mesh_in(&s, &mut Run::reporting(&mut stop))
+                .unwrap_err();
             assert!(matches!(e, Error::Cancelled { stage: "mesh" }), "{e}");
             assert_eq!(calls, 1, "stops at the first report");
         }
@@ -157,9 +174,9 @@ fn mesh_writes_report_and_stop() {
     // An export that is cancelled creates no file.
     let path = std::env::temp_dir().join(format!("arbor-cancel-{}.glb", std::process::id()));
     let mut stop = |_: Stage, _: f32| false;
-    let e =
-        arbor::export::save_gltf_with_progress(&s, &MeshOptions::default(), None, &path, &mut stop)
-            .unwrap_err();
+    let mut run = Run::reporting(&mut stop);
+    let e = arbor::export::save_gltf_in(&s, &MeshOptions::default(), None, &path, &mut run)
+        .unwrap_err();
     assert!(matches!(e, Error::Cancelled { .. }));
     assert!(!path.exists());
 }

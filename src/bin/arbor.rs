@@ -14,7 +14,7 @@ use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{LeafOptions, MeshOptions};
 use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
 use arbor::models::honda::{self, HondaParams};
-use arbor::progress::Stage;
+use arbor::progress::{Run, Stage};
 use arbor::skeleton::Skeleton;
 use clap::{Arg, ArgAction, ArgMatches, Command, value_parser};
 use std::io::{IsTerminal, Write};
@@ -184,7 +184,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
         w.plant(&GrowthParams::preset(kind), [0.0, 0.0, 0.0], seed)
             .map_err(err)?;
         let cycles = steps.unwrap_or(12);
-        w.step_with_progress(cycles, &mut |s, f| bar.show(s, f))
+        w.step_in(cycles, &mut Run::reporting(&mut |s, f| bar.show(s, f)))
             .map_err(err)?;
         let s = w.tree(0).map_err(err)?;
         return Ok((s, format!("{species}, {cycles} growth cycles")));
@@ -224,7 +224,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
         ..Default::default()
     };
     let s = ls
-        .skeleton_with_progress(&options, &mut |st, f| bar.show(st, f))
+        .skeleton_in(&options, &mut Run::reporting(&mut |st, f| bar.show(st, f)))
         .map_err(err)?;
     let n = steps.unwrap_or(ls.derivation_length());
     Ok((s, format!("cpfg file, {n} steps")))
@@ -349,31 +349,24 @@ fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
     let t1 = Instant::now();
     let mut bar = Bar::new();
     let mut show = |s: Stage, f: f32| bar.show(s, f);
+    let mut run = Run::reporting(&mut show);
     let r = if lower.ends_with(".obj") {
         let bark = arbor::mesh::MeshPlan::new(skeleton, &o)
-            .and_then(|plan| plan.mesh_with_progress(skeleton, &mut show))
+            .and_then(|plan| plan.mesh_in(skeleton, &mut run))
             .map_err(|e| e.to_string())?;
         match &leaves {
             Some(l) => {
                 let lm = arbor::mesh::leaf_mesh(skeleton, l, &o).map_err(|e| e.to_string())?;
-                arbor::export::save_obj_parts_with_progress(
-                    &[("bark", &bark), ("leaves", &lm)],
-                    out,
-                    &mut show,
-                )
+                let parts = [("bark", &bark), ("leaves", &lm)];
+                arbor::export::save_obj_parts_in(&parts, out, &mut run)
             }
-            None => arbor::export::save_obj_parts_with_progress(&[("bark", &bark)], out, &mut show),
+            None => arbor::export::save_obj_parts_in(&[("bark", &bark)], out, &mut run),
         }
     } else if instanced {
-        arbor::export::save_gltf_instanced_with_progress(
-            skeleton,
-            &o,
-            leaves.as_ref().expect("instanced leaves are placed"),
-            out,
-            &mut show,
-        )
+        let l = leaves.as_ref().expect("instanced leaves are placed");
+        arbor::export::save_gltf_instanced_in(skeleton, &o, l, out, &mut run)
     } else {
-        arbor::export::save_gltf_with_progress(skeleton, &o, leaves.as_ref(), out, &mut show)
+        arbor::export::save_gltf_in(skeleton, &o, leaves.as_ref(), out, &mut run)
     };
     bar.done();
     if INTERRUPTED.load(Ordering::SeqCst) && r.is_err() {

@@ -5,7 +5,7 @@
 //! `.NAME.arbor-PID-N.tmp` so a user recognises it.
 
 use crate::error::{Error, Result};
-use crate::progress::{Progress, ProgressFn, Stage};
+use crate::progress::{Run, Stage};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -40,10 +40,9 @@ pub(crate) fn io(path: &Path, doing: &str, e: std::io::Error) -> Error {
 /// `path` is untouched.
 pub(crate) fn write_atomic(
     path: &Path,
-    progress: Option<ProgressFn<'_>>,
-    fill: impl FnOnce(&mut std::io::BufWriter<&std::fs::File>, &mut Progress<'_>) -> Result<()>,
+    progress: &mut Run<'_>,
+    fill: impl FnOnce(&mut std::io::BufWriter<&std::fs::File>, &mut Run<'_>) -> Result<()>,
 ) -> Result<()> {
-    let mut progress = Progress::new(progress);
     // A device, FIFO or folder of that name is never replaced (nor written through).
     if let Ok(meta) = std::fs::symlink_metadata(path) {
         if !meta.is_file() {
@@ -62,7 +61,7 @@ pub(crate) fn write_atomic(
         .map_err(|e| io(path, "write", e))?;
     let result = (|| {
         let mut w = std::io::BufWriter::with_capacity(1 << 16, &file);
-        fill(&mut w, &mut progress)?;
+        fill(&mut w, progress)?;
         w.flush().map_err(|e| io(path, "write", e))?;
         drop(w);
         progress.report(Stage::Write, 1.0)?;
@@ -86,7 +85,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let target = dir.join("tree.obj");
         std::fs::write(&target, "old").unwrap();
-        let r = write_atomic(&target, None, |w, _| {
+        let r = write_atomic(&target, &mut Run::default(), |w, _| {
             w.write_all(b"half of a new fi").unwrap();
             Err(Error::Cancelled { stage: "mesh" })
         });
@@ -94,12 +93,12 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
         // A whole file, cancelled at the last moment before it replaces the target.
         let mut stop = |_: Stage, _: f32| false;
-        let r = write_atomic(&target, Some(&mut stop), |w, _| {
+        let r = write_atomic(&target, &mut Run::reporting(&mut stop), |w, _| {
             w.write_all(b"new").map_err(Error::Io)
         });
         assert!(matches!(r, Err(Error::Cancelled { .. })));
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
-        write_atomic(&target, None, |w, _| {
+        write_atomic(&target, &mut Run::default(), |w, _| {
             w.write_all(b"new").map_err(Error::Io)?;
             Ok(())
         })

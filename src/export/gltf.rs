@@ -14,7 +14,7 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
-use crate::progress::ProgressFn;
+use crate::progress::Run;
 use crate::skeleton::Skeleton;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -68,11 +68,11 @@ fn primitives(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
-    progress: Option<ProgressFn<'_>>,
+    run: &mut Run<'_>,
 ) -> Result<(MeshOptions, Vec<Primitive>)> {
     let o = gltf_options(options)?;
     let plan = mesh::MeshPlan::new(skeleton, &o)?;
-    let bark = plan.mesh_reporting(skeleton, o.threads, progress)?;
+    let bark = plan.mesh_in(skeleton, run)?;
     let mut out = vec![Primitive {
         mesh: bark,
         material: Material::Bark,
@@ -129,7 +129,7 @@ pub fn gltf_bytes(
     leaves: Option<&LeafOptions>,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    gltf_bytes_with(skeleton, options, leaves, binary, None)
+    gltf_bytes_with(skeleton, options, leaves, binary, &mut Run::default())
 }
 
 fn gltf_bytes_with(
@@ -137,9 +137,9 @@ fn gltf_bytes_with(
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
     binary: bool,
-    progress: Option<ProgressFn<'_>>,
+    run: &mut Run<'_>,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, leaves, progress)?;
+    let (o, prims) = primitives(skeleton, options, leaves, run)?;
     let extras = format!(
         "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"curve_rings\":{},\"scale\":{},\"leaves\":{}}}",
         skeleton.len(),
@@ -160,31 +160,25 @@ pub fn save_gltf_instanced(
     leaves: &LeafOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save_gltf_instanced_reporting(skeleton, options, leaves, path, None)
+    save_gltf_instanced_in(skeleton, options, leaves, path, &mut Run::default())
 }
 
-/// [`save_gltf_instanced`], reporting [`Stage::Write`](crate::progress::Stage::Write) as
-/// it writes the file; `false` from `progress` stops with `Cancelled` and leaves an
-/// existing file as it was.
-pub fn save_gltf_instanced_with_progress(
+/// [`save_gltf_instanced`] in `run`: the run's threads mesh the bark, and it hears
+/// [`Stage::Write`](crate::progress::Stage::Write) as the file is written; `false` stops
+/// with `Cancelled` and leaves an existing file as it was.
+pub fn save_gltf_instanced_in(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: &LeafOptions,
     path: impl AsRef<Path>,
-    progress: ProgressFn<'_>,
+    run: &mut Run<'_>,
 ) -> Result<()> {
-    save_gltf_instanced_reporting(skeleton, options, leaves, path, Some(progress))
-}
-
-fn save_gltf_instanced_reporting(
-    skeleton: &Skeleton,
-    options: &MeshOptions,
-    leaves: &LeafOptions,
-    path: impl AsRef<Path>,
-    progress: Option<ProgressFn<'_>>,
-) -> Result<()> {
-    save(path.as_ref(), progress, |binary, _| {
-        gltf_bytes_instanced(skeleton, options, leaves, binary)
+    let o = MeshOptions {
+        threads: run.threads_or(options.threads),
+        ..*options
+    };
+    save(path.as_ref(), run, |binary, _| {
+        gltf_bytes_instanced(skeleton, &o, leaves, binary)
     })
 }
 
@@ -199,7 +193,7 @@ pub fn gltf_bytes_instanced(
     leaves: &LeafOptions,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, None, None)?;
+    let (o, prims) = primitives(skeleton, options, None, &mut Run::default())?;
     let instances = mesh::leaf_instances(skeleton, leaves, &o)?;
     let prefab = leaves
         .prefab
@@ -298,7 +292,7 @@ pub fn save_gltf_forest_nodes(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save(path.as_ref(), None, |binary, _| {
+    save(path.as_ref(), &mut Run::default(), |binary, _| {
         gltf_forest_nodes_bytes(placed, options, binary)
     })
 }
@@ -654,25 +648,22 @@ pub fn save_gltf_forest(
     options: &MeshOptions,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save(path.as_ref(), None, |binary, _| {
+    save(path.as_ref(), &mut Run::default(), |binary, _| {
         gltf_forest_bytes(placed, options, binary)
     })
 }
 
 /// Writes the bytes `make` gives for the form `path`'s extension asks (binary or not); a
-/// bad extension fails before anything is made. `progress` goes to `make` (mesh writes)
-/// and then to the file's write.
+/// bad extension fails before anything is made. `run` goes to `make` (mesh writes) and
+/// then to the file's write.
 fn save(
     path: &Path,
-    mut progress: Option<ProgressFn<'_>>,
-    make: impl FnOnce(bool, Option<ProgressFn<'_>>) -> Result<Vec<u8>>,
+    run: &mut Run<'_>,
+    make: impl FnOnce(bool, &mut Run<'_>) -> Result<Vec<u8>>,
 ) -> Result<()> {
     let binary = binary_by_extension(path)?;
-    let bytes = make(
-        binary,
-        progress.as_mut().map(|f| &mut **f as ProgressFn<'_>),
-    )?;
-    super::atomic::write_atomic(path, progress, |w, p| {
+    let bytes = make(binary, run)?;
+    super::atomic::write_atomic(path, run, |w, p| {
         p.report(crate::progress::Stage::Write, 0.0)?;
         use std::io::Write;
         w.write_all(&bytes)
@@ -704,32 +695,22 @@ pub fn save_gltf(
     leaves: Option<&LeafOptions>,
     path: impl AsRef<Path>,
 ) -> Result<()> {
-    save_gltf_reporting(skeleton, options, leaves, path, None)
+    save_gltf_in(skeleton, options, leaves, path, &mut Run::default())
 }
 
-/// [`save_gltf`], reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) while the bark
-/// is meshed (as [`MeshPlan::write_uninit_with_progress`](crate::mesh::MeshPlan::write_uninit_with_progress));
-/// `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled) and no file is
-/// created.
-pub fn save_gltf_with_progress(
+/// [`save_gltf`] in `run`: the bark is meshed on the run's threads, reporting
+/// [`Stage::Mesh`](crate::progress::Stage::Mesh) as
+/// [`MeshPlan::write_uninit_in`](crate::mesh::MeshPlan::write_uninit_in) does, then
+/// [`Stage::Write`](crate::progress::Stage::Write); `false` stops with
+/// [`Error::Cancelled`](crate::error::Error::Cancelled) and leaves an existing file as it was.
+pub fn save_gltf_in(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: Option<&LeafOptions>,
     path: impl AsRef<Path>,
-    progress: ProgressFn<'_>,
+    run: &mut Run<'_>,
 ) -> Result<()> {
-    save_gltf_reporting(skeleton, options, leaves, path, Some(progress))
-}
-
-/// [`save_gltf`] with an optional callback (the C ABI's may be NULL).
-pub(crate) fn save_gltf_reporting(
-    skeleton: &Skeleton,
-    options: &MeshOptions,
-    leaves: Option<&LeafOptions>,
-    path: impl AsRef<Path>,
-    progress: Option<ProgressFn<'_>>,
-) -> Result<()> {
-    save(path.as_ref(), progress, |binary, progress| {
-        gltf_bytes_with(skeleton, options, leaves, binary, progress)
+    save(path.as_ref(), run, |binary, run| {
+        gltf_bytes_with(skeleton, options, leaves, binary, run)
     })
 }

@@ -8,11 +8,9 @@ mod atomic;
 mod gltf;
 mod obj;
 
-pub(crate) use gltf::save_gltf_reporting;
 pub use gltf::{
     gltf_bytes, gltf_bytes_instanced, gltf_forest_bytes, gltf_forest_nodes_bytes, save_gltf,
-    save_gltf_forest, save_gltf_forest_nodes, save_gltf_instanced,
-    save_gltf_instanced_with_progress, save_gltf_with_progress,
+    save_gltf_forest, save_gltf_forest_nodes, save_gltf_in, save_gltf_instanced,
+    save_gltf_instanced_in,
 };
-pub(crate) use obj::save_obj_parts_reporting;
-pub use obj::{save_obj, save_obj_parts, save_obj_parts_with_progress, write_obj, write_obj_parts};
+pub use obj::{save_obj, save_obj_parts, save_obj_parts_in, write_obj, write_obj_parts};

@@ -2,7 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::progress::{EVERY, Progress, ProgressFn, Stage};
+use crate::progress::{EVERY, Run, Stage};
 use std::io::Write;
 use std::path::Path;
 
@@ -18,14 +18,14 @@ pub fn write_obj<W: Write>(mesh: &Mesh, out: W) -> Result<()> {
 /// degenerate joins skipped, winding kept). The writer is buffered internally.
 pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> {
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
-    write_lines(parts, &mut w, &mut Progress::new(None))?;
+    write_lines(parts, &mut w, &mut Run::default())?;
     w.flush()?;
     Ok(())
 }
 
 /// The lines of [`write_obj_parts`], reporting [`Stage::Write`] (lines written) every
 /// [`EVERY`] lines.
-fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Progress<'_>) -> Result<()> {
+fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Run<'_>) -> Result<()> {
     let vertices: usize = parts.iter().map(|(_, m)| m.vertices.len()).sum();
     let triangles: usize = parts.iter().map(|(_, m)| m.triangles().count()).sum();
     writeln!(
@@ -35,7 +35,7 @@ fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Progress<'_
     )?;
     let total = (3 * vertices + triangles).max(1) as f64;
     let mut lines = 0usize;
-    let mut tick = |p: &mut Progress<'_>| {
+    let mut tick = |p: &mut Run<'_>| {
         lines += 1;
         if lines % EVERY == 0 && p.active() {
             p.report(Stage::Write, lines as f64 / total)
@@ -84,26 +84,18 @@ pub fn save_obj(mesh: &Mesh, path: impl AsRef<Path>) -> Result<()> {
 /// Writes several named meshes as one OBJ file at `path` (see [`write_obj_parts`]), whole
 /// or not at all; errors name the path.
 pub fn save_obj_parts(parts: &[(&str, &Mesh)], path: impl AsRef<Path>) -> Result<()> {
-    save_obj_parts_reporting(parts, path, None)
+    save_obj_parts_in(parts, path, &mut Run::default())
 }
 
-/// [`save_obj_parts`], reporting [`Stage::Write`] (lines written, every 65,536); `false`
-/// from `progress` stops with `Cancelled` and leaves an existing file as it was.
-pub fn save_obj_parts_with_progress(
+/// [`save_obj_parts`] in `run`, reporting [`Stage::Write`] (lines written, every 65,536);
+/// `false` stops with `Cancelled` and leaves an existing file as it was.
+pub fn save_obj_parts_in(
     parts: &[(&str, &Mesh)],
     path: impl AsRef<Path>,
-    progress: ProgressFn<'_>,
-) -> Result<()> {
-    save_obj_parts_reporting(parts, path, Some(progress))
-}
-
-pub(crate) fn save_obj_parts_reporting(
-    parts: &[(&str, &Mesh)],
-    path: impl AsRef<Path>,
-    progress: Option<ProgressFn<'_>>,
+    run: &mut Run<'_>,
 ) -> Result<()> {
     let path = path.as_ref();
-    super::atomic::write_atomic(path, progress, |w, p| {
+    super::atomic::write_atomic(path, run, |w, p| {
         write_lines(parts, w, p).map_err(|e| match e {
             Error::Io(e) => super::atomic::io(path, "write", e),
             other => other,

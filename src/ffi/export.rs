@@ -57,21 +57,18 @@ pub unsafe extern "C" fn arbor_export_obj(
         // SAFETY: as the caller promises (see the function's # Safety).
         let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
         let mut f = progress_closure(progress, user);
-        let bark = mesh::MeshPlan::new(tree.skeleton(), &mo)?.mesh_reporting(
-            tree.skeleton(),
-            mo.threads,
-            as_progress(&mut f),
-        )?;
+        let mut run = run_of(&mut f);
+        let bark = mesh::MeshPlan::new(tree.skeleton(), &mo)?.mesh_in(tree.skeleton(), &mut run)?;
         if leaf_options.is_null() {
-            crate::export::save_obj_parts_reporting(&[("bark", &bark)], path, as_progress(&mut f))?;
+            crate::export::save_obj_parts_in(&[("bark", &bark)], path, &mut run)?;
         } else {
             // SAFETY: the caller promises `leaf_options` is readable.
             let lo = unsafe { read_leaf_options(leaf_options, true) }?;
             let leaves = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;
-            crate::export::save_obj_parts_reporting(
+            crate::export::save_obj_parts_in(
                 &[("bark", &bark), ("leaves", &leaves)],
                 path,
-                as_progress(&mut f),
+                &mut run,
             )?;
         }
         Ok(())
@@ -105,12 +102,12 @@ pub unsafe extern "C" fn arbor_export_gltf(
             Some(unsafe { read_leaf_options(leaf_options, true) }?)
         };
         let mut f = progress_closure(progress, user);
-        crate::export::save_gltf_reporting(
+        crate::export::save_gltf_in(
             tree.skeleton(),
             &mo,
             leaves.as_ref(),
             path,
-            as_progress(&mut f),
+            &mut run_of(&mut f),
         )?;
         Ok(())
     })

@@ -134,7 +134,7 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         let i = unsafe { out_slice(indices, index_capacity, index_capacity, "indices") }?;
         // Grows and meshes every tree once; checks the capacities before writing.
         let mut f = progress_closure(progress, user);
-        crate::forest::write_merged_uninit_reporting(&placed, &options, v, i, as_progress(&mut f))?;
+        crate::forest::write_merged_uninit_in(&placed, &options, v, i, &mut run_of(&mut f))?;
         Ok(())
     })
 }

@@ -297,10 +297,8 @@ pub unsafe extern "C" fn arbor_world_add_box(
 /// Adds an obstacle, reporting to the world's progress callback (which may cancel: then
 /// the world is unchanged).
 fn add_obstacle(w: &mut ArborWorld, o: Obstacle) -> crate::Result<()> {
-    match progress_closure(w.progress, w.progress_user_data) {
-        Some(mut f) => w.world.add_obstacle_with_progress(o, &mut f),
-        None => w.world.add_obstacle(o),
-    }
+    let mut progress = progress_closure(w.progress, w.progress_user_data);
+    w.world.add_obstacle_in(o, &mut run_of(&mut progress))
 }
 
 /// Adds a sphere obstacle (radius > 0) that casts shadow or removes markers; cost,
@@ -348,10 +346,8 @@ pub unsafe extern "C" fn arbor_world_step(world: *mut ArborWorld, cycles: u32) -
         }
         // SAFETY: non-null; the caller promises it is live and unshared for the call.
         let w = unsafe { &mut *world };
-        match progress_closure(w.progress, w.progress_user_data) {
-            Some(mut f) => w.world.step_with_progress(cycles, &mut f)?,
-            None => w.world.step(cycles)?,
-        }
+        let mut progress = progress_closure(w.progress, w.progress_user_data);
+        w.world.step_in(cycles, &mut run_of(&mut progress))?;
         Ok(())
     })
 }

@@ -159,10 +159,8 @@ fn grow(
     options: &LsystemOptions,
     raw: &ArborLsystemOptions,
 ) -> crate::Result<Skeleton> {
-    match progress_closure(raw.progress, raw.progress_user_data) {
-        Some(mut f) => grammar.skeleton_with_progress(options, &mut f),
-        None => grammar.skeleton(options),
-    }
+    let mut progress = progress_closure(raw.progress, raw.progress_user_data);
+    grammar.skeleton_in(options, &mut run_of(&mut progress))
 }
 
 /// The host's options as given (NULL: the defaults) and as the Rust options they mean.
@@ -239,7 +237,7 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
         )?;
         let mut progress = progress_closure(raw.progress, raw.progress_user_data);
         let grammar =
-            LSystem::from_file_with(path, view.as_deref(), &files, as_progress(&mut progress))?;
+            LSystem::from_file_with(path, view.as_deref(), &files, &mut run_of(&mut progress))?;
         let skeleton = grow(&grammar, &options, &raw)?;
         *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
         Ok(())

@@ -1,6 +1,7 @@
 //! Bark meshes: options, size then write, branch ranges, levels of detail, owned meshes, the animation stream.
 
 use super::*;
+use crate::progress::Run;
 
 /// Options of the tube mesher: a struct that grows (see "Structs that grow" in
 /// docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
@@ -243,7 +244,8 @@ pub unsafe extern "C" fn arbor_mesh_write(
         // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
         let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
         let mut f = progress_closure(progress, user);
-        plan.write_uninit_reporting(tree.skeleton(), options.threads, v, i, as_progress(&mut f))?;
+        let mut run = run_of(&mut f).threads(options.threads);
+        plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
         Ok(())
     })
 }
@@ -319,7 +321,12 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
             // No plan was kept through the edits: write everything (the indices too).
             // SAFETY: the caller promises `indices` holds `index_count` indices.
             let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-            plan.write_uninit_on(tree.skeleton(), options.threads, v, i)?;
+            plan.write_uninit_in(
+                tree.skeleton(),
+                v,
+                i,
+                &mut Run::default().threads(options.threads),
+            )?;
             return Ok(());
         }
         plan.rewrite_uninit(tree.skeleton(), &pending, v)?;
@@ -443,7 +450,8 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
             // SAFETY: as above.
             let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
                 .map_err(|e| e.at_level(k))?;
-            plan.write_uninit_on(tree.skeleton(), levels[k].threads, v, i)?;
+            let mut run = Run::default().threads(levels[k].threads);
+            plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
         }
         Ok(())
     })
@@ -478,7 +486,10 @@ pub unsafe extern "C" fn arbor_mesh_create(
         let out = unsafe { out_ref(out, "out") }?;
         let plan = tree.plan(&options)?;
         let mut f = progress_closure(progress, user);
-        let mesh = plan.mesh_reporting(tree.skeleton(), options.threads, as_progress(&mut f))?;
+        let mesh = plan.mesh_in(
+            tree.skeleton(),
+            &mut run_of(&mut f).threads(options.threads),
+        )?;
         *out = Box::into_raw(Box::new(ArborMesh { mesh }));
         Ok(())
     })

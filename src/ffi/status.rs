@@ -62,12 +62,12 @@ pub(crate) fn progress_closure(
     })
 }
 
-/// A closure from [`progress_closure`] as the optional callback the library's
-/// `*_reporting` functions take.
-pub(crate) fn as_progress<F: FnMut(crate::progress::Stage, f32) -> bool>(
+/// The run of a call: reporting to the closure from [`progress_closure`], if any, on
+/// `threads` threads when given (the mesh options' own otherwise).
+pub(crate) fn run_of<F: FnMut(crate::progress::Stage, f32) -> bool>(
     f: &mut Option<F>,
-) -> Option<crate::progress::ProgressFn<'_>> {
-    f.as_mut().map(|f| f as crate::progress::ProgressFn<'_>)
+) -> crate::progress::Run<'_> {
+    crate::progress::Run::new(f.as_mut().map(|f| f as crate::progress::ProgressFn<'_>))
 }
 
 const VERSION: &CStr =

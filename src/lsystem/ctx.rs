@@ -17,7 +17,7 @@ pub(crate) struct Ctx<'a> {
     /// The line of the production whose statements are running (for messages).
     pub(super) line: u32,
     /// The caller's progress callback.
-    pub(crate) progress: crate::progress::Progress<'a>,
+    pub(crate) progress: crate::progress::Run<'a>,
     /// Steps of the derivation (for the fraction reported).
     pub(super) steps: u32,
     pub(crate) max_modules: usize,

@@ -12,7 +12,7 @@ use crate::progress::Stage;
 pub(crate) fn derive<'a>(
     ls: &'a LSystem,
     options: &LsystemOptions,
-    progress: crate::progress::Progress<'a>,
+    progress: crate::progress::Run<'a>,
 ) -> Result<ModuleString> {
     let mut string = derive_string(ls, options, progress)?;
     string.grammar = ls.id;
@@ -22,7 +22,7 @@ pub(crate) fn derive<'a>(
 fn derive_string<'a>(
     ls: &'a LSystem,
     options: &LsystemOptions,
-    progress: crate::progress::Progress<'a>,
+    progress: crate::progress::Run<'a>,
 ) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
     if steps > u16::MAX as u32 {

@@ -8,7 +8,7 @@ use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::query::Asked;
 use crate::lsystem::rewrite::{Expander, select_multi, successor_of};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
-use crate::progress::{Progress, Stage};
+use crate::progress::{Run, Stage};
 use crate::skeleton::{
     Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts, assign_axis_orders,
 };
@@ -456,20 +456,12 @@ impl Turtle {
 /// the last branch drawn on the same axis (none after a move without drawing), whose depth
 /// is the step that produced the module, and whose order follows
 /// [`assign_axis_orders`]. Interpretation rules expand modules for the turtle only.
-pub(crate) fn interpret(
-    ls: &LSystem,
-    string: &ModuleString,
-    options: &LsystemOptions,
-) -> Result<Skeleton> {
-    interpret_answering(ls, string, options, None, Default::default())
-}
-
-/// [`interpret`] reporting to `progress`.
+/// Reads `string` with the turtle, reporting to `progress`.
 pub(crate) fn interpret_with(
     ls: &LSystem,
     string: &ModuleString,
     options: &LsystemOptions,
-    progress: Progress<'_>,
+    progress: Run<'_>,
 ) -> Result<Skeleton> {
     interpret_answering(ls, string, options, None, progress)
 }
@@ -494,7 +486,7 @@ fn interpret_answering(
     string: &ModuleString,
     options: &LsystemOptions,
     mut asked: Option<&mut Asked>,
-    mut progress: Progress<'_>,
+    mut progress: Run<'_>,
 ) -> Result<Skeleton> {
     let n = string.len().max(1) as f64;
     let answering = asked.is_some();
@@ -578,7 +570,7 @@ fn walk_with_rules(
     ls: &LSystem,
     string: &ModuleString,
     options: &LsystemOptions,
-    progress: &mut Progress<'_>,
+    progress: &mut Run<'_>,
     ask: &mut dyn FnMut(usize, &Frame),
 ) -> Result<()> {
     let n = string.len().max(1) as f64;

@@ -36,6 +36,7 @@ pub use grammar::{OldTropism, ViewSettings};
 pub use syntax::MAX_SOURCE_BYTES;
 
 use crate::error::Result;
+use crate::progress::Run;
 use crate::skeleton::Skeleton;
 use grammar::{ModuleList, ProductionTable, Symbols};
 
@@ -235,8 +236,8 @@ impl LSystem {
     }
 
     /// [`from_file`](Self::from_file) under a file policy and byte budget (see
-    /// [`crate::files`]), reporting [`Stage::Load`](crate::progress::Stage::Load) while it
-    /// reads and preprocesses (the callback may cancel). The host names `path` and
+    /// [`crate::files`]), in `run`: it hears [`Stage::Load`](crate::progress::Stage::Load)
+    /// while the files are read and preprocessed (the callback may cancel). The host names `path` and
     /// `view`, so they are read under every policy (through the host's reader under
     /// [`FileAccess::Host`](crate::files::FileAccess::Host)); what they name
     /// (`#include`, `function:`, `curve:`, `surface:`, the `.v` file beside the grammar)
@@ -245,9 +246,9 @@ impl LSystem {
         path: impl AsRef<std::path::Path>,
         view: Option<&std::path::Path>,
         files: &crate::files::FileOptions,
-        progress: Option<crate::progress::ProgressFn<'_>>,
+        run: &mut Run<'_>,
     ) -> Result<Self> {
-        parse::parse_file(path.as_ref(), view, files, progress)
+        parse::parse_file(path.as_ref(), view, files, run.callback())
     }
 
     /// Parses grammar text with the text of its view file (`.v`): the view file's
@@ -298,54 +299,44 @@ impl LSystem {
     /// Rewrites the axiom `steps` times in parallel. The same grammar, seed and options
     /// give the same string on every run.
     pub fn derive(&self, options: &LsystemOptions) -> Result<ModuleString> {
-        derive::derive(self, options, Default::default())
+        derive::derive(self, options, Run::default())
     }
 
-    /// [`derive`](Self::derive), reporting [`Stage::Derivation`](crate::progress::Stage)
-    /// to `progress` (at every step and every 65,536 modules within one); `false` from it
-    /// stops with [`Error::Cancelled`](crate::error::Error::Cancelled).
-    pub fn derive_with_progress(
-        &self,
-        options: &LsystemOptions,
-        progress: crate::progress::ProgressFn<'_>,
-    ) -> Result<ModuleString> {
-        derive::derive(
-            self,
-            options,
-            crate::progress::Progress::new(Some(progress)),
-        )
+    /// [`derive`](Self::derive) in `run`, reporting
+    /// [`Stage::Derivation`](crate::progress::Stage) at every step and every 65,536 modules
+    /// within one; `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled).
+    pub fn derive_in(&self, options: &LsystemOptions, run: &mut Run<'_>) -> Result<ModuleString> {
+        derive::derive(self, options, Run::new(run.callback()))
     }
 
-    /// [`interpret`](Self::interpret), reporting
+    /// [`interpret`](Self::interpret) in `run`, reporting
     /// [`Stage::Interpretation`](crate::progress::Stage) every 65,536 modules.
-    pub fn interpret_with_progress(
+    pub fn interpret_in(
         &self,
         string: &ModuleString,
         options: &LsystemOptions,
-        progress: crate::progress::ProgressFn<'_>,
+        run: &mut Run<'_>,
     ) -> Result<Skeleton> {
+        self.check_string(string)?;
+        interpret::interpret_with(self, string, options, Run::new(run.callback()))
+    }
+
+    /// [`skeleton`](Self::skeleton) in `run`: one callback hears both stages.
+    pub fn skeleton_in(&self, options: &LsystemOptions, run: &mut Run<'_>) -> Result<Skeleton> {
+        let string = self.derive_in(options, run)?;
+        self.interpret_in(&string, options, run)
+    }
+
+    /// A string of another grammar is refused: its symbols are numbers in that grammar's
+    /// table.
+    fn check_string(&self, string: &ModuleString) -> Result<()> {
         if string.grammar != self.id {
             return Err(crate::error::Error::invalid(
                 "string",
                 "derived from another grammar; interpret a string with the grammar that derived it",
             ));
         }
-        interpret::interpret_with(
-            self,
-            string,
-            options,
-            crate::progress::Progress::new(Some(progress)),
-        )
-    }
-
-    /// [`skeleton`](Self::skeleton) with one progress callback for both stages.
-    pub fn skeleton_with_progress(
-        &self,
-        options: &LsystemOptions,
-        progress: crate::progress::ProgressFn<'_>,
-    ) -> Result<Skeleton> {
-        let string = self.derive_with_progress(options, &mut *progress)?;
-        self.interpret_with_progress(&string, options, progress)
+        Ok(())
     }
 
     /// Reads `string` with the 3-D turtle (applying interpretation rules) into a skeleton.
@@ -354,13 +345,7 @@ impl LSystem {
     /// it): its symbols are numbers in this grammar's table, so a string of another
     /// grammar is refused with [`Error::InvalidArgument`](crate::error::Error::InvalidArgument).
     pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
-        if string.grammar != self.id {
-            return Err(crate::error::Error::invalid(
-                "string",
-                "derived from another grammar; interpret a string with the grammar that derived it",
-            ));
-        }
-        interpret::interpret(self, string, options)
+        self.interpret_in(string, options, &mut Run::default())
     }
 
     /// [`derive`](Self::derive), then [`interpret`](Self::interpret).

@@ -4,7 +4,7 @@ use super::plan::{BranchRange, MeshPlan, SHARES_START, length};
 use super::strips::{Slot, StripWriter};
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex};
 use crate::error::Result;
-use crate::progress::{self, Progress, ProgressFn, Stage};
+use crate::progress::{self, Run, Stage};
 use crate::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec2;
 use std::mem::MaybeUninit;
@@ -69,14 +69,7 @@ impl MeshPlan {
         vertices: &mut [Vertex],
         indices: &mut [u32],
     ) -> Result<MeshSize> {
-        let threads = self.options.threads;
-        self.write_on_with(
-            skeleton,
-            threads,
-            vertices,
-            indices,
-            &mut Progress::default(),
-        )
+        self.write_with(skeleton, vertices, indices, &mut Run::default())
     }
 
     /// [`write`](Self::write) into uninitialised memory (a mapped GPU buffer).
@@ -86,91 +79,37 @@ impl MeshPlan {
         vertices: &mut [MaybeUninit<Vertex>],
         indices: &mut [MaybeUninit<u32>],
     ) -> Result<MeshSize> {
-        self.write_uninit_on(skeleton, self.options.threads, vertices, indices)
+        self.write_with(skeleton, vertices, indices, &mut Run::default())
     }
 
-    /// [`write_uninit`](Self::write_uninit) on up to `threads` threads (as
-    /// [`MeshOptions::threads`]) instead of the plan's own setting: a plan serves options
-    /// that differ only in their thread count.
-    pub fn write_uninit_on(
+    /// [`write_uninit`](Self::write_uninit) in `run`: on its thread count when it sets one
+    /// (a plan serves options that differ only in their thread count), reporting
+    /// [`Stage::Mesh`] after every 65,536 branches (and at the end) on the calling thread.
+    /// When the callback returns `false` the write stops with
+    /// [`Error::Cancelled`](crate::error::Error::Cancelled) and the buffers hold a partial
+    /// mesh, not to be drawn.
+    pub fn write_uninit_in(
         &self,
         skeleton: &Skeleton,
-        threads: u32,
         vertices: &mut [MaybeUninit<Vertex>],
         indices: &mut [MaybeUninit<u32>],
+        run: &mut Run<'_>,
     ) -> Result<MeshSize> {
-        self.write_on_with(
-            skeleton,
-            threads,
-            vertices,
-            indices,
-            &mut Progress::default(),
-        )
-    }
-
-    /// [`write_uninit_on`](Self::write_uninit_on), reporting [`Stage::Mesh`] to
-    /// `progress` after every 65,536 branches (and at the end) on the calling thread; when
-    /// it returns `false` the write stops with [`Error::Cancelled`](crate::error::Error::Cancelled)
-    /// and the buffers hold a partial mesh, not to be drawn.
-    pub fn write_uninit_with_progress(
-        &self,
-        skeleton: &Skeleton,
-        threads: u32,
-        vertices: &mut [MaybeUninit<Vertex>],
-        indices: &mut [MaybeUninit<u32>],
-        progress: ProgressFn<'_>,
-    ) -> Result<MeshSize> {
-        self.write_uninit_reporting(skeleton, threads, vertices, indices, Some(progress))
-    }
-
-    /// [`write_uninit_on`](Self::write_uninit_on) with an optional callback (the C ABI's
-    /// may be NULL).
-    pub(crate) fn write_uninit_reporting(
-        &self,
-        skeleton: &Skeleton,
-        threads: u32,
-        vertices: &mut [MaybeUninit<Vertex>],
-        indices: &mut [MaybeUninit<u32>],
-        progress: Option<ProgressFn<'_>>,
-    ) -> Result<MeshSize> {
-        let mut p = Progress::new(progress);
-        self.write_on_with(skeleton, threads, vertices, indices, &mut p)
-    }
-
-    /// [`mesh`](Self::mesh), reporting [`Stage::Mesh`] as
-    /// [`write_uninit_with_progress`](Self::write_uninit_with_progress) does.
-    pub fn mesh_with_progress(
-        &self,
-        skeleton: &Skeleton,
-        progress: ProgressFn<'_>,
-    ) -> Result<Mesh> {
-        self.mesh_reporting(skeleton, self.options.threads, Some(progress))
+        self.write_with(skeleton, vertices, indices, run)
     }
 
     /// The owned mesh of `skeleton` with the branch ranges.
     pub fn mesh(&self, skeleton: &Skeleton) -> Result<Mesh> {
-        self.mesh_on(skeleton, self.options.threads)
+        self.mesh_in(skeleton, &mut Run::default())
     }
 
-    /// [`mesh`](Self::mesh) on up to `threads` threads (as [`MeshOptions::threads`]).
-    pub fn mesh_on(&self, skeleton: &Skeleton, threads: u32) -> Result<Mesh> {
-        self.mesh_reporting(skeleton, threads, None)
-    }
-
-    /// [`mesh_on`](Self::mesh_on) with an optional callback, as
-    /// [`mesh_with_progress`](Self::mesh_with_progress).
-    pub(crate) fn mesh_reporting(
-        &self,
-        skeleton: &Skeleton,
-        threads: u32,
-        progress: Option<ProgressFn<'_>>,
-    ) -> Result<Mesh> {
+    /// [`mesh`](Self::mesh) in `run`, as [`write_uninit_in`](Self::write_uninit_in).
+    pub fn mesh_in(&self, skeleton: &Skeleton, run: &mut Run<'_>) -> Result<Mesh> {
         let size = self.size();
         let mut vertices =
             crate::limits::try_zeroed::<Vertex>(size.vertices, "the mesh's vertices")?;
         let mut indices = crate::limits::try_zeroed::<u32>(size.indices, "the mesh's indices")?;
-        let mut p = Progress::new(progress);
-        self.write_on_with(skeleton, threads, &mut vertices, &mut indices, &mut p)?;
+        self.write_with(skeleton, &mut vertices, &mut indices, run)?;
         Ok(Mesh {
             vertices,
             indices,
@@ -180,15 +119,15 @@ impl MeshPlan {
     }
 
     /// Every write's one path: checks the skeleton and the buffers' room, then writes on
-    /// up to `threads` threads, reporting to `progress`.
-    fn write_on_with<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
+    /// the run's threads (or the plan's), reporting to its callback.
+    fn write_with<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,
-        threads: u32,
         vertices: &mut [V],
         indices: &mut [I],
-        progress: &mut Progress<'_>,
+        run: &mut Run<'_>,
     ) -> Result<MeshSize> {
+        let threads = run.threads_or(self.options.threads);
         self.check_skeleton(skeleton)?;
         let size = self.size();
         size.check_capacity(vertices.len(), indices.len())?;
@@ -197,7 +136,7 @@ impl MeshPlan {
             threads,
             &mut vertices[..size.vertices],
             &mut indices[..size.indices],
-            progress,
+            run,
         )?;
         Ok(size)
     }
@@ -300,7 +239,7 @@ impl MeshPlan {
         threads: u32,
         vertices: &mut [V],
         indices: &mut [I],
-        progress: &mut Progress<'_>,
+        progress: &mut Run<'_>,
     ) -> Result<()> {
         let n = skeleton.len();
         let threads = self.threads(threads);

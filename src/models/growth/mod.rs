@@ -29,6 +29,7 @@ mod env;
 mod tree;
 
 use crate::error::{Error, Result};
+use crate::progress::Run;
 use crate::skeleton::Skeleton;
 use env::Env;
 use glam::Vec3;
@@ -517,27 +518,15 @@ impl World {
     /// them), not to the obstacles already there; a world holds at most
     /// [`MAX_OBSTACLES`] (then `LimitExceeded`).
     pub fn add_obstacle(&mut self, obstacle: Obstacle) -> Result<()> {
-        self.add_obstacle_reporting(obstacle, None)
+        self.add_obstacle_in(obstacle, &mut Run::default())
     }
 
-    /// [`add_obstacle`](Self::add_obstacle), reporting [`Stage::Growth`](crate::progress::Stage)
-    /// as it goes through the obstacle's layers; `false` from `progress` stops with
-    /// `Cancelled` and the world is as it was.
-    pub fn add_obstacle_with_progress(
-        &mut self,
-        obstacle: Obstacle,
-        progress: crate::progress::ProgressFn<'_>,
-    ) -> Result<()> {
-        self.add_obstacle_reporting(obstacle, Some(progress))
-    }
-
-    fn add_obstacle_reporting(
-        &mut self,
-        obstacle: Obstacle,
-        progress: Option<crate::progress::ProgressFn<'_>>,
-    ) -> Result<()> {
+    /// [`add_obstacle`](Self::add_obstacle) in `run`, reporting
+    /// [`Stage::Growth`](crate::progress::Stage) as it goes through the obstacle's layers;
+    /// `false` from the callback stops with `Cancelled` and the world is as it was.
+    pub fn add_obstacle_in(&mut self, obstacle: Obstacle, run: &mut Run<'_>) -> Result<()> {
         obstacle.validate()?;
-        let mut p = crate::progress::Progress::new(progress);
+        let mut p = Run::new(run.callback());
         self.env.add_obstacle(&obstacle, &mut p)?;
         for t in &mut self.trees {
             t.darken(&obstacle);
@@ -563,33 +552,32 @@ impl World {
     /// stops with `LimitExceeded` before it grows anything; the world stays as it was
     /// after the last whole cycle.
     pub fn step(&mut self, cycles: u32) -> Result<()> {
-        for _ in 0..cycles {
-            self.cycle_once()?;
+        self.step_in(cycles, &mut Run::default())
+    }
+
+    /// [`step`](Self::step) in `run`: on the calling thread when the run asks for one
+    /// thread (else as [`WorldOptions::parallel`] says), reporting
+    /// [`Stage::Growth`](crate::progress::Stage) before every cycle and at the end (on the
+    /// calling thread); `false` from the callback stops with [`Error::Cancelled`] before
+    /// the next cycle, the world as it was after the last whole cycle.
+    pub fn step_in(&mut self, cycles: u32, run: &mut Run<'_>) -> Result<()> {
+        let parallel = self.options.parallel && run.threads_or(0) != 1;
+        for k in 0..cycles {
+            if run.active() {
+                run.report(crate::progress::Stage::Growth, k as f64 / cycles as f64)?;
+            }
+            self.cycle_once(parallel)?;
+        }
+        if run.active() {
+            run.report(crate::progress::Stage::Growth, 1.0)?;
         }
         Ok(())
     }
 
-    /// [`step`](Self::step), reporting [`Stage::Growth`](crate::progress::Stage) before
-    /// every cycle and at the end (on the calling thread); `false` from `progress` stops
-    /// with [`Error::Cancelled`] before the next cycle, the world
-    /// as it was after the last whole cycle.
-    pub fn step_with_progress(
-        &mut self,
-        cycles: u32,
-        progress: crate::progress::ProgressFn<'_>,
-    ) -> Result<()> {
-        let mut p = crate::progress::Progress::new(Some(progress));
-        for k in 0..cycles {
-            p.report(crate::progress::Stage::Growth, k as f64 / cycles as f64)?;
-            self.cycle_once()?;
-        }
-        p.report(crate::progress::Stage::Growth, 1.0)
-    }
-
-    fn cycle_once(&mut self) -> Result<()> {
+    fn cycle_once(&mut self, parallel: bool) -> Result<()> {
         let cycle = self.cycle + 1;
         // Threads pay only for enough work (waking one costs tens of microseconds).
-        let parallel = self.options.parallel && self.branch_count() >= 4096;
+        let parallel = parallel && self.branch_count() >= 4096;
         // 1–5: light and direction at every bud from the shared environment, then the
         // basipetal and acropetal passes, shedding and the new shoots, planned per tree
         // (in parallel with the `parallel` feature). The shadow is read where each bud

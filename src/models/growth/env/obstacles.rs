@@ -82,7 +82,7 @@ impl Env {
     pub(crate) fn add_obstacle(
         &mut self,
         o: &Obstacle,
-        progress: &mut crate::progress::Progress<'_>,
+        progress: &mut crate::progress::Run<'_>,
     ) -> Result<()> {
         if self.obstacles.len() >= MAX_OBSTACLES {
             return Err(Error::LimitExceeded {
@@ -173,7 +173,7 @@ impl Env {
         o: &Obstacle,
         lo: [usize; 3],
         hi: [usize; 3],
-        progress: &mut crate::progress::Progress<'_>,
+        progress: &mut crate::progress::Run<'_>,
     ) -> Result<(([usize; 2], [usize; 2]), Vec<f32>)> {
         let [nx, _, nz] = self.dims;
         let qmax = self.falloff.len().saturating_sub(1);

@@ -33,7 +33,7 @@ fn obstacle_shadow_is_each_opaque_cells_pyramid_and_column() {
     let mut slow = Env::new(&options).unwrap();
     let [nx, _, nz] = slow.dims;
     for o in &shapes {
-        fast.add_obstacle(o, &mut crate::progress::Progress::new(None))
+        fast.add_obstacle(o, &mut crate::progress::Run::new(None))
             .unwrap();
         let (lo, hi) = o.bounds();
         let (lo, hi) = (slow.cell_of(lo), slow.cell_of(hi));
@@ -82,7 +82,7 @@ fn obstacle_shadow_is_each_opaque_cells_pyramid_and_column() {
         min: [-3.0, 0.0, -2.5],
         max: [3.0, 4.0, 2.5],
     };
-    let r = fast.add_obstacle(&big, &mut crate::progress::Progress::new(Some(&mut stop)));
+    let r = fast.add_obstacle(&big, &mut crate::progress::Run::new(Some(&mut stop)));
     assert!(matches!(r, Err(Error::Cancelled { .. })), "{r:?}");
     assert!(
         fast.shadow == before,
@@ -106,7 +106,7 @@ fn obstacles_are_counted() {
         center: [0.5, 0.5, 0.5],
         radius: 0.1,
     };
-    let mut none = crate::progress::Progress::new(None);
+    let mut none = crate::progress::Run::new(None);
     for _ in 0..MAX_OBSTACLES {
         env.add_obstacle(&o, &mut none).unwrap();
     }
