@@ -96,18 +96,7 @@ fn statement(
         statement(cur, scope, depth + 1, &mut v)?;
         Ok(v)
     };
-    let paren = |cur: &mut Cursor<'_>, what: &str| -> PResult<Expr> {
-        cur.skip_ws();
-        if !cur.eat("(") {
-            return Err(cur.error(&format!("`(` after `{what}`")));
-        }
-        let e = expr::compile(cur, scope)?;
-        cur.skip_ws();
-        if !cur.eat(")") {
-            return Err(cur.error(&format!("`)` closing the condition of `{what}`")));
-        }
-        Ok(e)
-    };
+    let paren = |cur: &mut Cursor<'_>, what: &str| condition(cur, scope, what);
     if depth > MAX_BLOCK_NESTING {
         return Err(cur.error(&format!(
             "statements nested at most {MAX_BLOCK_NESTING} deep"
@@ -146,67 +135,15 @@ fn statement(
             return Ok(());
         }
         Some(f @ ("printf" | "fprintf")) => {
-            // `fprintf(fp, "format", ...)`: files opened for writing go to the log too.
-            cur.skip_ws();
-            if !cur.eat("(") {
-                return Err(cur.error(&format!("`(` after `{f}`")));
-            }
-            if f == "fprintf" {
-                let _handle = expr::compile(cur, scope)?;
-                cur.skip_ws();
-                if !cur.eat(",") {
-                    return Err(cur.error("`,` after the file of fprintf"));
-                }
-            }
-            cur.skip_ws();
-            let fmt = string_literal(cur)?;
-            let mut args = Vec::new();
-            loop {
-                cur.skip_ws();
-                if cur.eat(")") {
-                    break;
-                }
-                if !cur.eat(",") {
-                    return Err(cur.error(&format!("`,` or `)` in {f}")));
-                }
-                args.push(expr::compile(cur, scope)?);
-            }
-            end_of_statement(cur)?;
-            out.push(Stmt::Printf(fmt.into(), args));
+            out.push(printf_call(cur, scope, f)?);
             return Ok(());
         }
         Some("fclose") | Some("fflush") => {
-            cur.skip_ws();
-            if !cur.eat("(") {
-                return Err(cur.error("`(` and the file"));
-            }
-            let _handle = expr::compile(cur, scope)?;
-            cur.skip_ws();
-            if !cur.eat(")") {
-                return Err(cur.error("`)` after the file"));
-            }
-            end_of_statement(cur)?;
+            file_call(cur, scope)?;
             return Ok(());
         }
         Some("stop") | Some("Stop") => {
-            cur.skip_ws();
-            if cur.eat("(") {
-                cur.skip_ws();
-                if !cur.peek_str(")") {
-                    // `stop(e)`: cpfg stops when e is not 0.
-                    let e = expr::compile(cur, scope)?;
-                    cur.skip_ws();
-                    if !cur.eat(")") {
-                        return Err(cur.error("`)` closing stop("));
-                    }
-                    end_of_statement(cur)?;
-                    out.push(Stmt::If(e, vec![Stmt::Stop], Vec::new()));
-                    return Ok(());
-                }
-                cur.eat(")");
-            }
-            end_of_statement(cur)?;
-            out.push(Stmt::Stop);
+            out.push(stop_call(cur, scope)?);
             return Ok(());
         }
         Some(name) => {
@@ -224,6 +161,85 @@ fn statement(
     end_of_statement(cur)?;
     out.push(Stmt::Eval(e));
     Ok(())
+}
+
+/// `(condition)` after `what` (`if`, `while`, `do ... while`).
+fn condition(cur: &mut Cursor<'_>, scope: &Scope<'_>, what: &str) -> PResult<Expr> {
+    cur.skip_ws();
+    if !cur.eat("(") {
+        return Err(cur.error(&format!("`(` after `{what}`")));
+    }
+    let e = expr::compile(cur, scope)?;
+    cur.skip_ws();
+    if !cur.eat(")") {
+        return Err(cur.error(&format!("`)` closing the condition of `{what}`")));
+    }
+    Ok(e)
+}
+
+/// `printf("format", ...)` or `fprintf(fp, "format", ...)` after its name `f`: files
+/// opened for writing go to the log too.
+fn printf_call(cur: &mut Cursor<'_>, scope: &Scope<'_>, f: &str) -> PResult<Stmt> {
+    cur.skip_ws();
+    if !cur.eat("(") {
+        return Err(cur.error(&format!("`(` after `{f}`")));
+    }
+    if f == "fprintf" {
+        let _handle = expr::compile(cur, scope)?;
+        cur.skip_ws();
+        if !cur.eat(",") {
+            return Err(cur.error("`,` after the file of fprintf"));
+        }
+    }
+    cur.skip_ws();
+    let fmt = string_literal(cur)?;
+    let mut args = Vec::new();
+    loop {
+        cur.skip_ws();
+        if cur.eat(")") {
+            break;
+        }
+        if !cur.eat(",") {
+            return Err(cur.error(&format!("`,` or `)` in {f}")));
+        }
+        args.push(expr::compile(cur, scope)?);
+    }
+    end_of_statement(cur)?;
+    Ok(Stmt::Printf(fmt.into(), args))
+}
+
+/// `fclose(fp)` or `fflush(fp)` after its name: read, and nothing to do.
+fn file_call(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<()> {
+    cur.skip_ws();
+    if !cur.eat("(") {
+        return Err(cur.error("`(` and the file"));
+    }
+    let _handle = expr::compile(cur, scope)?;
+    cur.skip_ws();
+    if !cur.eat(")") {
+        return Err(cur.error("`)` after the file"));
+    }
+    end_of_statement(cur)
+}
+
+/// `stop`, `stop()` or `stop(e)` after its name (cpfg stops when e is not 0).
+fn stop_call(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<Stmt> {
+    cur.skip_ws();
+    if cur.eat("(") {
+        cur.skip_ws();
+        if !cur.peek_str(")") {
+            let e = expr::compile(cur, scope)?;
+            cur.skip_ws();
+            if !cur.eat(")") {
+                return Err(cur.error("`)` closing stop("));
+            }
+            end_of_statement(cur)?;
+            return Ok(Stmt::If(e, vec![Stmt::Stop], Vec::new()));
+        }
+        cur.eat(")");
+    }
+    end_of_statement(cur)?;
+    Ok(Stmt::Stop)
 }
 
 fn end_of_statement(cur: &mut Cursor<'_>) -> PResult<()> {

@@ -264,6 +264,55 @@ fn place_on(
     // that size every leaf (so no leaf can overflow to a non-finite number).
     check_options(mesh)?;
     o.validate()?;
+    check_sizes(skeleton, o, mesh)?;
+    let kept = kept_branches(skeleton, mesh.cull_radius);
+    let mut placer = Placer {
+        o,
+        rng: Rng::new(o.seed),
+        out: Vec::new(),
+    };
+    if o.sites {
+        for site in skeleton.leaves() {
+            if site.branch != crate::skeleton::NO_PARENT && !kept[site.branch as usize] {
+                continue;
+            }
+            let (p, h, u) = (site.position, site.heading, site.up);
+            placer.leaf(
+                site.branch,
+                Vec3::from(p),
+                Vec3::from(h),
+                Vec3::from(u),
+                0.0,
+            )?;
+        }
+    }
+    if o.tips {
+        let branches = skeleton.branches();
+        let adjacency = skeleton.adjacency();
+        let whole = o.density.floor() as u32;
+        let frac = o.density - whole as f32;
+        for (i, b) in branches.iter().enumerate() {
+            // A tip is a kept branch with no kept child: where the mesh's tubes end.
+            let inner = adjacency.children(i).iter().any(|&c| kept[c as usize]);
+            if inner || !kept[i] || b.birth < o.min_birth {
+                continue;
+            }
+            let count = whole + u32::from((placer.rng.next_f64() as f32) < frac);
+            let heading = b.end() - b.start();
+            let up = ring_basis(heading.as_dvec3().normalize_or(glam::DVec3::Y))
+                .0
+                .as_vec3();
+            for _ in 0..count {
+                placer.leaf(i as u32, b.end(), heading, up, -o.tilt)?;
+            }
+        }
+    }
+    Ok(placer.out)
+}
+
+/// Every product that sizes a leaf, checked as it is formed: a leaf's own size (before
+/// the mesh's scale, which may be tiny) and its reach in the output stay in the f32 range.
+fn check_sizes(skeleton: &Skeleton, o: &LeafOptions, mesh: &MeshOptions) -> Result<()> {
     let extent = o
         .prefab
         .as_ref()
@@ -274,8 +323,6 @@ fn place_on(
                 .fold(0.0f64, |a, x| a.max(x.abs() as f64))
         })
         .max(1.0);
-    // Every product is checked as it is formed: a leaf's own size (before the mesh's
-    // scale, which may be tiny) is an f32 too.
     let own = o.size as f64 * (1.0 + o.size_jitter as f64) * extent;
     if own > f32::MAX as f64 / 16.0 {
         return Err(Error::invalid(
@@ -302,25 +349,36 @@ fn place_on(
             ),
         ));
     }
-    let kept = kept_branches(skeleton, mesh.cull_radius);
-    let mut rng = Rng::new(o.seed);
-    let mut out = Vec::new();
-    let too_many = || Error::LimitExceeded {
-        limit_name: "max_leaves",
-        what: "leaves",
-        limit: o.max_leaves as u64,
-        requested: o.max_leaves as u64 + 1,
-        step: None,
-    };
-    let mut leaf = |rng: &mut Rng,
-                    branch: u32,
-                    position: Vec3,
-                    heading: Vec3,
-                    up: Vec3,
-                    lean: f32|
-     -> Result<()> {
+    Ok(())
+}
+
+/// Places leaves one by one, each with its jitter from one seeded stream.
+struct Placer<'a> {
+    o: &'a LeafOptions,
+    rng: Rng,
+    out: Vec<(LeafInstance, u32)>,
+}
+
+impl Placer<'_> {
+    /// A leaf on `branch` at `position`, along `heading` with `up`, leaning `lean`
+    /// degrees; at most `max_leaves`, stored fallibly.
+    fn leaf(
+        &mut self,
+        branch: u32,
+        position: Vec3,
+        heading: Vec3,
+        up: Vec3,
+        lean: f32,
+    ) -> Result<()> {
+        let (o, out) = (self.o, &mut self.out);
         if out.len() >= o.max_leaves {
-            return Err(too_many());
+            return Err(Error::LimitExceeded {
+                limit_name: "max_leaves",
+                what: "leaves",
+                limit: o.max_leaves as u64,
+                requested: o.max_leaves as u64 + 1,
+                step: None,
+            });
         }
         if out.len() == out.capacity() {
             out.try_reserve(out.len().max(256))
@@ -334,8 +392,8 @@ fn place_on(
             .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
         // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
         let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
-        let spin = (rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
-        let grow = 1.0 + (rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
+        let spin = (self.rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
+        let grow = 1.0 + (self.rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
         let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
             * frame
             * Quat::from_rotation_x(lean.to_radians()))
@@ -349,45 +407,7 @@ fn place_on(
             branch,
         ));
         Ok(())
-    };
-    if o.sites {
-        for site in skeleton.leaves() {
-            if site.branch != crate::skeleton::NO_PARENT && !kept[site.branch as usize] {
-                continue;
-            }
-            let (p, h, u) = (site.position, site.heading, site.up);
-            leaf(
-                &mut rng,
-                site.branch,
-                Vec3::from(p),
-                Vec3::from(h),
-                Vec3::from(u),
-                0.0,
-            )?;
-        }
     }
-    if o.tips {
-        let branches = skeleton.branches();
-        let adjacency = skeleton.adjacency();
-        let whole = o.density.floor() as u32;
-        let frac = o.density - whole as f32;
-        for (i, b) in branches.iter().enumerate() {
-            // A tip is a kept branch with no kept child: where the mesh's tubes end.
-            let inner = adjacency.children(i).iter().any(|&c| kept[c as usize]);
-            if inner || !kept[i] || b.birth < o.min_birth {
-                continue;
-            }
-            let count = whole + u32::from((rng.next_f64() as f32) < frac);
-            let heading = b.end() - b.start();
-            let up = ring_basis(heading.as_dvec3().normalize_or(glam::DVec3::Y))
-                .0
-                .as_vec3();
-            for _ in 0..count {
-                leaf(&mut rng, i as u32, b.end(), heading, up, -o.tilt)?;
-            }
-        }
-    }
-    Ok(out)
 }
 
 /// The leaf instances of `skeleton` (sites first, then tips in branch order), with the
@@ -586,71 +606,104 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
     vertices: &mut [V],
     indices: &mut [I],
 ) {
-    let o = mesh.out();
-    let dir = |v: Vec3| o.dir(v);
-    let pos = |v: Vec3| o.pos(v);
-    let mut vi = 0usize;
-    let mut w = StripWriter::new(indices, plan.rules, true);
-    for l in &plan.instances {
-        let q = Quat::from_array(l.rotation);
-        let at = Vec3::from(l.position);
-        let base = vi as u32;
-        for v in &plan.prefab.vertices {
-            vertices[vi].put(Vertex {
-                position: pos(at + q * (Vec3::from(v.position) * l.scale)),
-                normal: dir((q * Vec3::from(v.normal)).normalize_or_zero()),
-                uv: v.uv,
-            });
-            vi += 1;
-        }
-        for t in &plan.prefab.triangles {
-            w.strip(&[base + t[0], base + t[1], base + t[2]]);
-        }
-    }
-    let points = skeleton.polygon_points();
-    let mut strip = Vec::new();
-    for &(first, n) in &plan.polygons {
-        let pts: Vec<Vec3> = points[first..first + n]
-            .iter()
-            .map(|&p| Vec3::from(p))
-            .collect();
-        // Newell's normal: the side from which the points turn counter-clockwise.
-        let mut normal = Vec3::ZERO;
-        for k in 0..n {
-            let (a, b) = (pts[k], pts[(k + 1) % n]);
-            normal += Vec3::new(
-                (a.y - b.y) * (a.z + b.z),
-                (a.z - b.z) * (a.x + b.x),
-                (a.x - b.x) * (a.y + b.y),
-            );
-        }
-        let normal = normal.try_normalize().unwrap_or(Vec3::Z);
-        let (e1, e2) = {
-            let e1 = (pts[1] - pts[0]).try_normalize().unwrap_or(Vec3::X);
-            (e1, normal.cross(e1))
-        };
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
-        for p in &pts {
-            let uv = glam::Vec2::new((*p - pts[0]).dot(e1), (*p - pts[0]).dot(e2));
-            lo = lo.min(uv);
-            hi = hi.max(uv);
-        }
-        let span = (hi - lo).max(glam::Vec2::splat(f32::MIN_POSITIVE));
-        let base = vi as u32;
-        for p in &pts {
-            let uv = (glam::Vec2::new((*p - pts[0]).dot(e1), (*p - pts[0]).dot(e2)) - lo) / span;
-            vertices[vi].put(Vertex {
-                position: pos(*p),
-                normal: dir(normal),
-                uv: uv.to_array(),
-            });
-            vi += 1;
-        }
-        // A convex polygon as a zig-zag strip.
-        zigzag(n, |k| base + k as u32, &mut strip);
-        w.strip(&strip);
-    }
+    let mut w = LeafWriter {
+        o: mesh.out(),
+        vertices,
+        vi: 0,
+        strips: StripWriter::new(indices, plan.rules, true),
+        strip: Vec::new(),
+    };
+    w.instances(plan);
+    w.polygons(skeleton, plan);
     if plan.organs {
+        w.organs(skeleton, plan);
+    }
+    debug_assert_eq!(w.vi, w.vertices.len());
+    debug_assert_eq!(w.strips.pos, w.strips.out.len());
+}
+
+/// Writes the leaf mesh's parts one after another: vertices from `vi` on, strips through
+/// one writer (joined as the topology asks).
+struct LeafWriter<'a, V: Slot<Vertex>, I: Slot<u32>> {
+    o: super::rings::Out,
+    vertices: &'a mut [V],
+    vi: usize,
+    strips: StripWriter<'a, I>,
+    /// Scratch for one strip's indices.
+    strip: Vec<u32>,
+}
+
+impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
+    /// One vertex in model space, written with the output conventions.
+    #[inline]
+    fn put(&mut self, position: Vec3, normal: Vec3, uv: [f32; 2]) {
+        self.vertices[self.vi].put(Vertex {
+            position: self.o.pos(position),
+            normal: self.o.dir(normal),
+            uv,
+        });
+        self.vi += 1;
+    }
+
+    /// Every leaf instance a copy of the prefab.
+    fn instances(&mut self, plan: &LeafPlan) {
+        for l in &plan.instances {
+            let q = Quat::from_array(l.rotation);
+            let at = Vec3::from(l.position);
+            let base = self.vi as u32;
+            for v in &plan.prefab.vertices {
+                let position = at + q * (Vec3::from(v.position) * l.scale);
+                self.put(
+                    position,
+                    (q * Vec3::from(v.normal)).normalize_or_zero(),
+                    v.uv,
+                );
+            }
+            for t in &plan.prefab.triangles {
+                self.strips.strip(&[base + t[0], base + t[1], base + t[2]]);
+            }
+        }
+    }
+
+    /// Every polygon of the turtle as a convex fan, with Newell's normal and uv over its
+    /// bounding rectangle in its own plane.
+    fn polygons(&mut self, skeleton: &Skeleton, plan: &LeafPlan) {
+        let points = skeleton.polygon_points();
+        for &(first, n) in &plan.polygons {
+            let pts = &points[first..first + n];
+            let at = |k: usize| Vec3::from(pts[k]);
+            // Newell's normal: the side from which the points turn counter-clockwise.
+            let mut normal = Vec3::ZERO;
+            for k in 0..n {
+                let (a, b) = (at(k), at((k + 1) % n));
+                normal += Vec3::new(
+                    (a.y - b.y) * (a.z + b.z),
+                    (a.z - b.z) * (a.x + b.x),
+                    (a.x - b.x) * (a.y + b.y),
+                );
+            }
+            let normal = normal.try_normalize().unwrap_or(Vec3::Z);
+            let e1 = (at(1) - at(0)).try_normalize().unwrap_or(Vec3::X);
+            let e2 = normal.cross(e1);
+            let plane = |p: Vec3| glam::Vec2::new((p - at(0)).dot(e1), (p - at(0)).dot(e2));
+            let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+            for k in 0..n {
+                lo = lo.min(plane(at(k)));
+                hi = hi.max(plane(at(k)));
+            }
+            let span = (hi - lo).max(glam::Vec2::splat(f32::MIN_POSITIVE));
+            let base = self.vi as u32;
+            for k in 0..n {
+                self.put(at(k), normal, ((plane(at(k)) - lo) / span).to_array());
+            }
+            // A convex polygon as a zig-zag strip.
+            zigzag(n, |k| base + k as u32, &mut self.strip);
+            self.strips.strip(&self.strip);
+        }
+    }
+
+    /// Every organ: a sphere (latitude bands from the heading) or a disc facing it.
+    fn organs(&mut self, skeleton: &Skeleton, plan: &LeafPlan) {
         // Circle tables once per mesh: no trigonometry per vertex.
         let (sides, bands) = (plan.sides, plan.bands);
         let around: Vec<(f32, f32)> = (0..=sides)
@@ -681,43 +734,39 @@ fn write_leaves<V: Slot<Vertex>, I: Slot<u32>>(
                 .unwrap_or_else(|| h.any_orthonormal_vector());
             let u = l.cross(h);
             let r = 0.5 * o.size;
-            let base = vi as u32;
+            let base = self.vi as u32;
             if o.kind == crate::skeleton::ORGAN_SPHERE {
                 // Poles on the heading; latitude i from +H, longitude k from U toward L.
                 for (i, &(ct, st)) in down.iter().enumerate() {
                     for (k, &(cp, sp)) in around.iter().enumerate() {
                         let n = h * ct + (u * cp + l * sp) * st;
-                        vertices[vi].put(Vertex {
-                            position: pos(c + n * r),
-                            normal: dir(n),
-                            uv: [k as f32 / sides as f32, i as f32 / bands as f32],
-                        });
-                        vi += 1;
+                        self.put(
+                            c + n * r,
+                            n,
+                            [k as f32 / sides as f32, i as f32 / bands as f32],
+                        );
                     }
                 }
                 let ring = (sides + 1) as u32;
                 for i in 0..bands as u32 {
-                    strip.clear();
+                    self.strip.clear();
                     for k in 0..ring {
-                        strip.push(base + i * ring + k);
-                        strip.push(base + (i + 1) * ring + k);
+                        self.strip.push(base + i * ring + k);
+                        self.strip.push(base + (i + 1) * ring + k);
                     }
-                    w.strip(&strip);
+                    self.strips.strip(&self.strip);
                 }
             } else {
                 for &(cp, sp) in &around[..sides] {
-                    vertices[vi].put(Vertex {
-                        position: pos(c + (u * cp + l * sp) * r),
-                        normal: dir(h),
-                        uv: [0.5 + 0.5 * cp, 0.5 + 0.5 * sp],
-                    });
-                    vi += 1;
+                    self.put(
+                        c + (u * cp + l * sp) * r,
+                        h,
+                        [0.5 + 0.5 * cp, 0.5 + 0.5 * sp],
+                    );
                 }
-                zigzag(sides, |k| base + k as u32, &mut strip);
-                w.strip(&strip);
+                zigzag(sides, |k| base + k as u32, &mut self.strip);
+                self.strips.strip(&self.strip);
             }
         }
     }
-    debug_assert_eq!(vi, vertices.len());
-    debug_assert_eq!(w.pos, w.out.len());
 }

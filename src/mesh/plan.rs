@@ -183,42 +183,8 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
     check_options(o)?;
     let branches = skeleton.branches();
     let n = branches.len();
-    let max_seg = o.radial_segments;
-    let radius = |b: &Branch| b.start_radius.max(b.end_radius);
-    // Scaled positions (caps and point tips reach one radius further) must stay finite.
-    let (mut r_max, mut extent) = (0.0f32, 0.0f64);
-    for b in branches {
-        let r = radius(b);
-        r_max = r_max.max(r);
-        let far = Vec3::from(b.start)
-            .abs()
-            .max(Vec3::from(b.end).abs())
-            .max_element();
-        extent = extent.max(far as f64 + 2.0 * r as f64);
-    }
-    if extent * o.out().scale as f64 > f32::MAX as f64 / 4.0 {
-        return Err(Error::invalid(
-            "scale",
-            format!(
-                "{}; the tree reaches {extent:e} units, so positions would leave the f32 range",
-                o.scale
-            ),
-        ));
-    }
-    let mut segs = vec![0u8; n];
-    for (i, b) in branches.iter().enumerate() {
-        let r = radius(b);
-        let parent_kept = b.parent == NO_PARENT || segs[b.parent as usize] != 0;
-        if !parent_kept || r < o.cull_radius {
-            continue;
-        }
-        let s = if o.min_radial_segments == 0 || r_max <= 0.0 {
-            max_seg
-        } else {
-            ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
-        };
-        segs[i] = s as u8;
-    }
+    let r_max = check_extent(branches, o)?;
+    let segs = radial_segments(branches, o, r_max);
     let dir: Vec<Vec3> = branches.iter().map(direction).collect();
     let inner = o.curve_rings as usize;
     // With a sweep, the joints' directions are the curves' tangents.
@@ -248,39 +214,9 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
                 .unwrap_or(NO_PARENT)
         })
         .collect();
-    let mut flags = vec![0u8; n];
-    for i in 0..n {
-        if segs[i] == 0 {
-            continue;
-        }
-        let b = &branches[i];
-        if b.parent == NO_PARENT {
-            if o.base_cap {
-                flags[i] |= BASE_CAP;
-            }
-        } else {
-            let p = b.parent as usize;
-            let bend_cos = if inner > 0 {
-                t1[p].dot(t0[i])
-            } else {
-                dir[p].dot(dir[i])
-            };
-            if o.joints == Joints::Mitred
-                && cont[p] == i as u32
-                && segs[p] == segs[i]
-                && bend_cos > MITRE_MIN_COS
-            {
-                flags[i] |= SHARES_START;
-                flags[p] |= MITRE_END;
-            }
-        }
-        if cont[i] == NO_PARENT && o.tip != Tip::Open {
-            flags[i] |= TIP;
-        }
-    }
     let mut plan = Plan {
+        flags: vec![0u8; n],
         segs,
-        flags,
         cont,
         dir,
         inner,
@@ -292,40 +228,127 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
             clockwise: o.reversed(),
         },
     };
-    let (mut nv, mut ni): (u64, u64) = (0, 0);
-    let mut first = true;
-    for i in 0..n {
-        let (v, idx) = plan.counts(i, o.tip, &mut first);
-        nv += v as u64;
-        ni += idx as u64;
-    }
-    if nv > o.max_vertices as u64 {
-        return Err(Error::LimitExceeded {
-            limit_name: "max_vertices",
-            what: "mesh vertices",
-            limit: o.max_vertices as u64,
-            requested: nv,
-            step: None,
-        });
-    }
-    if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
-        return Err(Error::LimitExceeded {
-            limit_name: "u32 index range",
-            what: if nv > RESTART_INDEX as u64 {
-                "vertices"
-            } else {
-                "indices"
-            },
-            limit: RESTART_INDEX as u64,
-            requested: nv.max(ni),
-            step: None,
-        });
-    }
-    plan.size = MeshSize {
-        vertices: nv as usize,
-        indices: ni as usize,
-    };
+    plan.set_flags(branches, o);
+    plan.size = plan.total(n, o)?;
     Ok(plan)
+}
+
+/// The largest radius of `branches`, once their scaled positions (caps and point tips
+/// reach one radius further) are known to stay finite.
+fn check_extent(branches: &[Branch], o: &MeshOptions) -> Result<f32> {
+    let (mut r_max, mut extent) = (0.0f32, 0.0f64);
+    for b in branches {
+        let r = b.start_radius.max(b.end_radius);
+        r_max = r_max.max(r);
+        let far = Vec3::from(b.start)
+            .abs()
+            .max(Vec3::from(b.end).abs())
+            .max_element();
+        extent = extent.max(far as f64 + 2.0 * r as f64);
+    }
+    if extent * o.out().scale as f64 > f32::MAX as f64 / 4.0 {
+        return Err(Error::invalid(
+            "scale",
+            format!(
+                "{}; the tree reaches {extent:e} units, so positions would leave the f32 range",
+                o.scale
+            ),
+        ));
+    }
+    Ok(r_max)
+}
+
+/// Each branch's sides (0: culled, with its subtree), in proportion to its radius when
+/// `min_radial_segments` is set.
+fn radial_segments(branches: &[Branch], o: &MeshOptions, r_max: f32) -> Vec<u8> {
+    let max_seg = o.radial_segments;
+    let mut segs = vec![0u8; branches.len()];
+    for (i, b) in branches.iter().enumerate() {
+        let r = b.start_radius.max(b.end_radius);
+        let parent_kept = b.parent == NO_PARENT || segs[b.parent as usize] != 0;
+        if !parent_kept || r < o.cull_radius {
+            continue;
+        }
+        let s = if o.min_radial_segments == 0 || r_max <= 0.0 {
+            max_seg
+        } else {
+            ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
+        };
+        segs[i] = s as u8;
+    }
+    segs
+}
+
+impl Plan {
+    /// The caps, mitred joints and tips of every kept branch.
+    fn set_flags(&mut self, branches: &[Branch], o: &MeshOptions) {
+        let (segs, flags, cont) = (&self.segs, &mut self.flags, &self.cont);
+        for (i, b) in branches.iter().enumerate() {
+            if segs[i] == 0 {
+                continue;
+            }
+            if b.parent == NO_PARENT {
+                if o.base_cap {
+                    flags[i] |= BASE_CAP;
+                }
+            } else {
+                let p = b.parent as usize;
+                let bend_cos = if self.inner > 0 {
+                    self.t1[p].dot(self.t0[i])
+                } else {
+                    self.dir[p].dot(self.dir[i])
+                };
+                if o.joints == Joints::Mitred
+                    && cont[p] == i as u32
+                    && segs[p] == segs[i]
+                    && bend_cos > MITRE_MIN_COS
+                {
+                    flags[i] |= SHARES_START;
+                    flags[p] |= MITRE_END;
+                }
+            }
+            if cont[i] == NO_PARENT && o.tip != Tip::Open {
+                flags[i] |= TIP;
+            }
+        }
+    }
+
+    /// The whole mesh's size, within `max_vertices` and the u32 index range.
+    fn total(&self, n: usize, o: &MeshOptions) -> Result<MeshSize> {
+        let (mut nv, mut ni): (u64, u64) = (0, 0);
+        let mut first = true;
+        for i in 0..n {
+            let (v, idx) = self.counts(i, o.tip, &mut first);
+            nv += v as u64;
+            ni += idx as u64;
+        }
+        if nv > o.max_vertices as u64 {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_vertices",
+                what: "mesh vertices",
+                limit: o.max_vertices as u64,
+                requested: nv,
+                step: None,
+            });
+        }
+        if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
+            return Err(Error::LimitExceeded {
+                limit_name: "u32 index range",
+                what: if nv > RESTART_INDEX as u64 {
+                    "vertices"
+                } else {
+                    "indices"
+                },
+                limit: RESTART_INDEX as u64,
+                requested: nv.max(ni),
+                step: None,
+            });
+        }
+        Ok(MeshSize {
+            vertices: nv as usize,
+            indices: ni as usize,
+        })
+    }
 }
 
 impl Plan {

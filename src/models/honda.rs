@@ -270,6 +270,80 @@ pub fn build_with_limit(params: &HondaParams, max_branches: usize) -> Result<Ske
     grow(params, max_branches, None)
 }
 
+/// A branch still to grow: where it starts and how, and what it hangs from.
+struct Apex {
+    frame: Frame,
+    length: f64,
+    width: f64,
+    parent: u32,
+    /// Heading of the parent branch.
+    parent_heading: glam::DVec3,
+    step: u32,
+}
+
+/// A child's turn and roll (cosine, sine), length ratio and width factor.
+type ChildRule = ((f64, f64), (f64, f64), f64, f64);
+
+/// The two children's rules: the branching and divergence angles, r1 and r2, and the
+/// pipe model's width factors q^e and (1 - q)^e.
+fn child_rules(p: &HondaParams) -> [ChildRule; 2] {
+    let (q, e) = (p.q as f64, p.e as f64);
+    [
+        (
+            cos_sin_deg(p.alpha1 as f64),
+            cos_sin_deg(p.phi1 as f64),
+            p.r1 as f64,
+            libm::pow(q, e),
+        ),
+        (
+            cos_sin_deg(p.alpha2 as f64),
+            cos_sin_deg(p.phi2 as f64),
+            p.r2 as f64,
+            libm::pow(1.0 - q, e),
+        ),
+    ]
+}
+
+/// Pushes the two children of the branch `index` grown from `apex` (its end frame
+/// `frame`), each rule jittered by the variation when there is one; the second first, so
+/// that the first child's subtree is walked first.
+fn push_children(
+    stack: &mut Vec<Apex>,
+    apex: &Apex,
+    frame: Frame,
+    index: u32,
+    p: &HondaParams,
+    rules: &[ChildRule; 2],
+    mut rng: Option<&mut (crate::rng::Rng, Variation)>,
+) {
+    for i in [1, 0] {
+        let (mut turn, mut roll, mut ratio, mut width_factor) = rules[i];
+        if let Some((rng, v)) = rng.as_deref_mut() {
+            let mut jitter = |amount: f32| (rng.next_f64() * 2.0 - 1.0) * amount as f64;
+            let (alpha, phi) = if i == 0 {
+                (p.alpha1, p.phi1)
+            } else {
+                (p.alpha2, p.phi2)
+            };
+            turn = cos_sin_deg(alpha as f64 + jitter(v.branching));
+            roll = cos_sin_deg(phi as f64 + jitter(v.divergence));
+            ratio *= 1.0 + jitter(v.length);
+            width_factor *= 1.0 + jitter(v.width);
+        }
+        let mut child = frame;
+        child.turn(turn);
+        child.roll(roll);
+        stack.push(Apex {
+            frame: child,
+            length: apex.length * ratio,
+            width: apex.width * width_factor,
+            parent: index,
+            parent_heading: frame.heading,
+            step: apex.step + 1,
+        });
+    }
+}
+
 fn grow(
     params: &HondaParams,
     max_branches: usize,
@@ -290,36 +364,9 @@ fn grow(
             step: Some(step),
         });
     }
-
-    struct Apex {
-        frame: Frame,
-        length: f64,
-        width: f64,
-        parent: u32,
-        /// Heading of the parent branch.
-        parent_heading: glam::DVec3,
-        step: u32,
-    }
-
     let p = params;
     let min = p.min_length as f64;
-    let q = p.q as f64;
-    let e = p.e as f64;
-    let children = [
-        (
-            cos_sin_deg(p.alpha1 as f64),
-            cos_sin_deg(p.phi1 as f64),
-            p.r1 as f64,
-            libm::pow(q, e),
-        ),
-        (
-            cos_sin_deg(p.alpha2 as f64),
-            cos_sin_deg(p.phi2 as f64),
-            p.r2 as f64,
-            libm::pow(1.0 - q, e),
-        ),
-    ];
-
+    let rules = child_rules(p);
     let n = count as usize;
     let (mut branches, mut cos_to_parent, mut ups): (Vec<Branch>, Vec<f64>, Vec<[f32; 3]>) =
         (Vec::new(), Vec::new(), Vec::new());
@@ -369,35 +416,8 @@ fn grow(
         });
         cos_to_parent.push(frame.heading.dot(apex.parent_heading));
         ups.push(frame.up.as_vec3().to_array());
-        if apex.step == p.steps {
-            continue;
-        }
-        // Second child pushed first so that the first child's subtree is walked first.
-        for i in [1, 0] {
-            let (mut turn, mut roll, mut ratio, mut width_factor) = children[i];
-            if let Some((rng, v)) = rng.as_mut() {
-                let mut jitter = |amount: f32| (rng.next_f64() * 2.0 - 1.0) * amount as f64;
-                let (alpha, phi) = if i == 0 {
-                    (p.alpha1, p.phi1)
-                } else {
-                    (p.alpha2, p.phi2)
-                };
-                turn = cos_sin_deg(alpha as f64 + jitter(v.branching));
-                roll = cos_sin_deg(phi as f64 + jitter(v.divergence));
-                ratio *= 1.0 + jitter(v.length);
-                width_factor *= 1.0 + jitter(v.width);
-            }
-            let mut child = frame;
-            child.turn(turn);
-            child.roll(roll);
-            stack.push(Apex {
-                frame: child,
-                length: apex.length * ratio,
-                width: apex.width * width_factor,
-                parent: index,
-                parent_heading: frame.heading,
-                step: apex.step + 1,
-            });
+        if apex.step < p.steps {
+            push_children(&mut stack, &apex, frame, index, p, &rules, rng.as_mut());
         }
     }
 
