@@ -130,3 +130,54 @@ fn threaded_writes_equal_the_single_thread_write() {
         }
     }
 }
+
+/// The hash of the swept mesh (curve rings, mitred joints, caps) and of the leaf mesh
+/// (tip leaves, leaf sites, polygons and organs) of `s`.
+fn swept_and_leaves_hash(s: &Skeleton) -> String {
+    let swept = MeshOptions {
+        curve_rings: 3,
+        joints: mesh::Joints::Mitred,
+        tip: Tip::Cap,
+        base_cap: true,
+        ..Default::default()
+    };
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for tip in [Tip::Cap, Tip::Point] {
+        let m = mesh::tubes(s, &MeshOptions { tip, ..swept }).unwrap();
+        h = fnv(bytemuck::cast_slice(&m.vertices), h);
+        h = fnv(bytemuck::cast_slice(&m.indices), h);
+    }
+    let leaves = mesh::LeafOptions {
+        tips: true,
+        sites: true,
+        polygons: true,
+        size_jitter: 0.2,
+        rotation_jitter: 30.0,
+        seed: 7,
+        ..Default::default()
+    };
+    let m = mesh::leaf_mesh(s, &leaves, &MeshOptions::default()).unwrap();
+    h = fnv(bytemuck::cast_slice(&m.vertices), h);
+    h = fnv(bytemuck::cast_slice(&m.indices), h);
+    format!("{h:016x}")
+}
+
+/// Swept branches and leaf meshes stay byte-identical too (`tests/golden/swept_leaves.txt`,
+/// blessed as the hashes above).
+#[test]
+fn swept_and_leaf_buffers_match_their_golden_hashes() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/swept_leaves.txt");
+    let text: String = all()
+        .iter()
+        .map(|(name, s)| format!("{name} {}\n", swept_and_leaves_hash(s)))
+        .collect();
+    if std::env::var_os("ARBOR_BLESS_GOLDEN").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let golden = std::fs::read_to_string(&path).unwrap_or_default();
+    for (got, want) in text.lines().zip(golden.lines()) {
+        assert_eq!(got, want, "output changed; if intended, bless and say why");
+    }
+    assert_eq!(text.lines().count(), golden.lines().count());
+}

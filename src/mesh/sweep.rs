@@ -9,6 +9,26 @@ use super::{Tip, Vertex};
 use crate::skeleton::Skeleton;
 use glam::Vec3;
 
+/// The ring of a sweep at a point: radial·r in the frame (p, tangent × p), normal
+/// radial·nc + tangent·na, in the output's conventions.
+fn ring_at(t: &Tube<'_>, center: Vec3, tangent: Vec3, p: Vec3, r: f32, v: f32) -> Affine {
+    let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
+    let (po, qo, to) = (rot(p), rot(tangent.cross(p)), rot(tangent));
+    let rs = r * t.out.scale;
+    Affine::new(
+        Vec3::from_array(t.out.pos(center)),
+        po * rs,
+        qo * rs,
+        to * t.na,
+        po * t.nc,
+        qo * t.nc,
+        [0.0, v],
+        [0.0; 2],
+        [0.0; 2],
+        [1.0, 0.0],
+    )
+}
+
 impl MeshPlan {
     /// Writes a branch swept along its curve (`curve_rings` > 0): its own start ring
     /// unless shared, `k` inner rings at equal curve parameters framed by rotation-
@@ -22,49 +42,56 @@ impl MeshPlan {
         writer: &mut StripWriter<'_, I>,
         strip: &mut Vec<u32>,
     ) {
-        let (plan, lay, o) = (&self.plan, &self.layout, &self.options);
-        let i = t.i;
-        let (s, ring, table, f) = (t.segments, t.segments + 1, t.table, t.flags);
-        let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
-        let pos = |v: Vec3| Vec3::from_array(t.out.pos(v));
-        let k = plan.inner;
-        let curve = skeleton.curve(i);
+        let ring = t.segments + 1;
+        let (start_center, end_frame, mut at) = self.swept_rings(skeleton, t, out);
+        let base_first = t.first_vertex + at as u32;
+        if t.flags & BASE_CAP != 0 {
+            self.swept_base_cap(t, start_center, &mut out[at..at + t.segments]);
+            at += t.segments;
+        }
+        let tip_first = t.first_vertex + at as u32;
+        if t.flags & TIP != 0 {
+            self.swept_tip(t, end_frame, &mut out[at..at + t.segments]);
+            at += t.segments;
+        }
+        debug_assert_eq!(at, out.len());
+        // The rings follow one another from the start ring (shared or the branch's own).
+        let own = if t.shared_start.is_some() { 0 } else { ring };
+        let mut previous = t.shared_start.unwrap_or(t.first_vertex);
+        for j in 0..=self.plan.inner {
+            let next = t.first_vertex + (own + j * ring) as u32;
+            writer.tube(next, previous, ring as u32);
+            previous = next;
+        }
+        debug_assert_eq!(previous, t.end_ring);
+        t.write_indices_caps(&self.options, base_first, tip_first, writer, strip);
+    }
+
+    /// The rings of a swept branch into `out`: its own start ring (unless shared), the
+    /// inner rings and the end ring. Returns the start ring's center, the end's frame
+    /// vector and the vertices written.
+    fn swept_rings<V: Slot<Vertex>>(
+        &self,
+        skeleton: &Skeleton,
+        t: &Tube<'_>,
+        out: &mut [V],
+    ) -> (Vec3, Vec3, usize) {
+        let (plan, lay) = (&self.plan, &self.layout);
+        let (i, k, ring, table) = (t.i, plan.inner, t.segments + 1, t.table);
         let (t0, t1) = (plan.t0[i], plan.t1[i]);
-        let scale = t.out.scale;
-        // The ring of the sweep at a point: radial·r in the frame (p, tangent × p), normal
-        // radial·nc + tangent·na.
-        let ring_at = |center: Vec3, tangent: Vec3, p: Vec3, r: f32, v: f32| {
-            let (po, qo, to) = (rot(p), rot(tangent.cross(p)), rot(tangent));
-            Affine::new(
-                pos(center),
-                po * (r * scale),
-                qo * (r * scale),
-                to * t.na,
-                po * t.nc,
-                qo * t.nc,
-                [0.0, v],
-                [0.0; 2],
-                [0.0; 2],
-                [1.0, 0.0],
-            )
-        };
         let mut at = 0;
-        let mut rings: Vec<u32> = Vec::with_capacity(k + 2);
         let start_center = match t.shared_start {
-            Some(shared) => {
-                rings.push(shared);
-                t.start
-            }
+            Some(_) => t.start,
             None => {
                 let c0 = t.start - t0 * t.sink;
                 let v = to_f32(t.v0 as f64 - t.sink as f64 * t.inv_ts);
-                ring_at(c0, t0, lay.frame_p[i], t.r0, v).put(&mut out[..ring], table);
-                rings.push(t.first_vertex);
+                ring_at(t, c0, t0, lay.frame_p[i], t.r0, v).put(&mut out[..ring], table);
                 at += ring;
                 c0
             }
         };
         let mut end_frame = lay.frame_p[i];
+        let curve = skeleton.curve(i);
         curve.rotation_minimising_frames(t0, lay.frame_p[i], k + 1, |j, x, tangent, p, arc| {
             if j == 0 || j > k {
                 end_frame = p;
@@ -73,79 +100,76 @@ impl MeshPlan {
             let u = j as f32 / (k + 1) as f32;
             let r = t.r0 + (t.r1 - t.r0) * u;
             let v = to_f32(t.v0 as f64 + arc as f64 * t.inv_ts);
-            ring_at(x, tangent, p, r, v).put(&mut out[at..at + ring], table);
-            rings.push(t.first_vertex + at as u32);
+            ring_at(t, x, tangent, p, r, v).put(&mut out[at..at + ring], table);
             at += ring;
         });
         debug_assert_eq!(t.first_vertex + at as u32, t.end_ring);
         let end_out = &mut out[at..at + ring];
-        if f & MITRE_END != 0 {
+        if t.flags & MITRE_END != 0 {
+            let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
             let c = plan.cont[i] as usize;
             let frame = (rot(end_frame), rot(t1.cross(end_frame)));
             t.mitre_with(self, skeleton, c, frame, t1, plan.t0[c])
                 .put_normalized(end_out, table);
         } else {
-            ring_at(t.end, t1, end_frame, t.r1, t.v1).put(end_out, table);
+            ring_at(t, t.end, t1, end_frame, t.r1, t.v1).put(end_out, table);
         }
-        rings.push(t.end_ring);
-        at += ring;
-        let base_first = t.first_vertex + at as u32;
-        if f & BASE_CAP != 0 {
-            let (po, qo) = (rot(lay.frame_p[i]), rot(t0.cross(lay.frame_p[i])));
-            Affine::new(
-                pos(start_center),
-                po * (t.r0 * scale),
-                qo * (t.r0 * scale),
-                -rot(t0),
+        (start_center, end_frame, at + ring)
+    }
+
+    /// The base cap of a swept branch, facing back along its start tangent.
+    fn swept_base_cap<V: Slot<Vertex>>(&self, t: &Tube<'_>, center: Vec3, out: &mut [V]) {
+        let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
+        let (frame, t0) = (self.layout.frame_p[t.i], self.plan.t0[t.i]);
+        let (po, qo) = (rot(frame), rot(t0.cross(frame)));
+        Affine::new(
+            Vec3::from_array(t.out.pos(center)),
+            po * (t.r0 * t.out.scale),
+            qo * (t.r0 * t.out.scale),
+            -rot(t0),
+            Vec3::ZERO,
+            Vec3::ZERO,
+            [0.5, 0.5],
+            [0.5, 0.0],
+            [0.0, -0.5],
+            [0.0; 2],
+        )
+        .put(out, t.table);
+    }
+
+    /// The tip of a swept branch along its end tangent: a cap or a point.
+    fn swept_tip<V: Slot<Vertex>>(&self, t: &Tube<'_>, end_frame: Vec3, tip: &mut [V]) {
+        let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
+        let t1 = self.plan.t1[t.i];
+        let (po, qo, d_o) = (rot(end_frame), rot(t1.cross(end_frame)), rot(t1));
+        match self.options.tip {
+            Tip::Cap => Affine::new(
+                Vec3::from_array(t.out.pos(t.end)),
+                po * (t.r1 * t.out.scale),
+                qo * (t.r1 * t.out.scale),
+                d_o,
                 Vec3::ZERO,
                 Vec3::ZERO,
                 [0.5, 0.5],
                 [0.5, 0.0],
-                [0.0, -0.5],
+                [0.0, 0.5],
                 [0.0; 2],
             )
-            .put(&mut out[at..at + s], table);
-            at += s;
-        }
-        let tip_first = t.first_vertex + at as u32;
-        if f & TIP != 0 {
-            let (po, qo, d_o) = (rot(end_frame), rot(t1.cross(end_frame)), rot(t1));
-            let tip = &mut out[at..at + s];
-            match o.tip {
-                Tip::Cap => Affine::new(
-                    pos(t.end),
-                    po * (t.r1 * scale),
-                    qo * (t.r1 * scale),
-                    d_o,
-                    Vec3::ZERO,
-                    Vec3::ZERO,
-                    [0.5, 0.5],
-                    [0.5, 0.0],
-                    [0.0, 0.5],
-                    [0.0; 2],
-                )
-                .put(tip, table),
-                _ => {
-                    let apex = pos(t.end + t1 * t.r1);
-                    let v = to_f32(t.v1 as f64 + t.r1 as f64 * t.inv_ts);
-                    for (j, slot) in tip.iter_mut().enumerate() {
-                        let (c0, s0, u0) = table[j];
-                        let (c1, s1, u1) = table[j + 1];
-                        let radial = (po * (c0 + c1) + qo * (s0 + s1)).normalize_or_zero();
-                        slot.put(Vertex {
-                            position: apex.to_array(),
-                            normal: (radial + d_o).normalize().to_array(),
-                            uv: [0.5 * (u0 + u1), v],
-                        });
-                    }
+            .put(tip, t.table),
+            _ => {
+                let apex = t.out.pos(t.end + t1 * t.r1);
+                let v = to_f32(t.v1 as f64 + t.r1 as f64 * t.inv_ts);
+                for (j, slot) in tip.iter_mut().enumerate() {
+                    let (c0, s0, u0) = t.table[j];
+                    let (c1, s1, u1) = t.table[j + 1];
+                    let radial = (po * (c0 + c1) + qo * (s0 + s1)).normalize_or_zero();
+                    slot.put(Vertex {
+                        position: apex,
+                        normal: (radial + d_o).normalize().to_array(),
+                        uv: [0.5 * (u0 + u1), v],
+                    });
                 }
             }
-            at += s;
         }
-        debug_assert_eq!(at, out.len());
-        for w in rings.windows(2) {
-            writer.tube(w[1], w[0], ring as u32);
-        }
-        t.write_indices_caps(o, base_first, tip_first, writer, strip);
     }
 }
