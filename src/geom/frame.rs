@@ -140,3 +140,54 @@ impl Frame {
         self.left = h.cross(u);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_abs_diff_eq;
+
+    fn assert_vec(a: DVec3, b: DVec3) {
+        assert_abs_diff_eq!(a.x, b.x, epsilon = 1e-12);
+        assert_abs_diff_eq!(a.y, b.y, epsilon = 1e-12);
+        assert_abs_diff_eq!(a.z, b.z, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn initial_frame_is_right_handed() {
+        let f = Frame::default();
+        assert_vec(f.left.cross(f.heading), f.up);
+    }
+
+    #[test]
+    fn plus_turns_counter_clockwise_seen_from_plus_z() {
+        let mut f = Frame::default();
+        f.turn(cos_sin_deg(90.0));
+        assert_vec(f.heading, DVec3::NEG_X);
+        assert_vec(f.left, DVec3::NEG_Y);
+    }
+
+    #[test]
+    fn pitch_down_tilts_heading_toward_up() {
+        let mut f = Frame::default();
+        f.pitch(cos_sin_deg(90.0));
+        assert_vec(f.heading, DVec3::NEG_Z);
+        assert_vec(f.up, DVec3::NEG_Y);
+    }
+
+    #[test]
+    fn roll_keeps_heading_and_turns_left_toward_up() {
+        let mut f = Frame::default();
+        f.roll(cos_sin_deg(90.0));
+        assert_vec(f.heading, DVec3::Y);
+        assert_vec(f.left, DVec3::NEG_Z);
+        assert_vec(f.up, DVec3::X);
+        assert_vec(f.left.cross(f.heading), f.up);
+    }
+
+    #[test]
+    fn huge_angles_are_reduced() {
+        let (c, s) = cos_sin_deg(360.0 * 1e6 + 30.0);
+        assert_abs_diff_eq!(c, 30f64.to_radians().cos(), epsilon = 1e-9);
+        assert_abs_diff_eq!(s, 0.5, epsilon = 1e-9);
+    }
+}

@@ -86,28 +86,7 @@ pub(crate) fn parse(
                 .ok_or("a SIZE > 0")?;
         } else {
             // A patch: its name, a colour line, three neighbour lines, 4 rows of points.
-            for _ in 0..4 {
-                lines.next().ok_or("a patch cut short")?;
-            }
-            let mut p = [[DVec3::ZERO; 4]; 4];
-            for row in &mut p {
-                let l = lines
-                    .next()
-                    .ok_or("a patch with fewer than 4 rows of points")?;
-                let v: Vec<f64> = l
-                    .split_whitespace()
-                    .map(|w| {
-                        w.parse::<f64>()
-                            .map_err(|_| format!("`{l}` is not a row of points"))
-                    })
-                    .collect::<Result<_, _>>()?;
-                if v.len() != 12 || !v.iter().all(|x| x.is_finite()) {
-                    return Err(format!("`{l}` is not 4 points (12 numbers)"));
-                }
-                for (k, c) in row.iter_mut().enumerate() {
-                    *c = DVec3::new(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-                }
-            }
+            let p = read_patch(&mut lines)?;
             patches.push(p);
         }
     }
@@ -136,11 +115,54 @@ pub(crate) fn parse(
         let d = (p - contact) / size;
         DVec3::new(d.dot(h), d.dot(u), d.dot(l))
     };
+    let triangles = tessellate(&patches, (s, t), local);
+    Ok(Surface {
+        name,
+        scale,
+        triangles,
+    })
+}
+
+/// One patch's 4 rows of 4 points, after its name, colour and neighbour lines.
+fn read_patch<'a>(lines: &mut impl Iterator<Item = &'a str>) -> Result<[[DVec3; 4]; 4], String> {
+    for _ in 0..4 {
+        lines.next().ok_or("a patch cut short")?;
+    }
+    let mut p = [[DVec3::ZERO; 4]; 4];
+    for row in &mut p {
+        let l = lines
+            .next()
+            .ok_or("a patch with fewer than 4 rows of points")?;
+        let v: Vec<f64> = l
+            .split_whitespace()
+            .map(|w| {
+                w.parse::<f64>()
+                    .map_err(|_| format!("`{l}` is not a row of points"))
+            })
+            .collect::<Result<_, _>>()?;
+        if v.len() != 12 || !v.iter().all(|x| x.is_finite()) {
+            return Err(format!("`{l}` is not 4 points (12 numbers)"));
+        }
+        for (k, c) in row.iter_mut().enumerate() {
+            *c = DVec3::new(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+        }
+    }
+    Ok(p)
+}
+
+/// Every bicubic patch cut into `s` x `t` quads of two triangles each, its points taken
+/// into the surface's frame by `local`; the triangles a degenerate patch edge collapses
+/// are skipped.
+fn tessellate(
+    patches: &[[[DVec3; 4]; 4]],
+    (s, t): (usize, usize),
+    local: impl Fn(DVec3) -> DVec3,
+) -> Vec<[DVec3; 3]> {
     let wu: Vec<[f64; 4]> = (0..=s).map(|i| bernstein(i as f64 / s as f64)).collect();
     let wv: Vec<[f64; 4]> = (0..=t).map(|j| bernstein(j as f64 / t as f64)).collect();
     let mut triangles = Vec::with_capacity(patches.len() * s * t * 2);
     let mut grid = vec![DVec3::ZERO; (s + 1) * (t + 1)];
-    for p in &patches {
+    for p in patches {
         for (i, bu) in wu.iter().enumerate() {
             for (j, bv) in wv.iter().enumerate() {
                 let mut q = DVec3::ZERO;
@@ -157,7 +179,6 @@ pub(crate) fn parse(
                 let g = |a: usize, b: usize| grid[a * (t + 1) + b];
                 let (p00, p01, p10, p11) = (g(i, j), g(i, j + 1), g(i + 1, j), g(i + 1, j + 1));
                 for tri in [[p00, p10, p11], [p00, p11, p01]] {
-                    // Skip the triangles a degenerate patch edge collapses.
                     if (tri[1] - tri[0]).cross(tri[2] - tri[0]).length_squared() > 1e-24 {
                         triangles.push(tri);
                     }
@@ -165,11 +186,7 @@ pub(crate) fn parse(
             }
         }
     }
-    Ok(Surface {
-        name,
-        scale,
-        triangles,
-    })
+    triangles
 }
 
 #[cfg(test)]

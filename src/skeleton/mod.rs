@@ -210,10 +210,8 @@ fn finite3(p: &[f32; 3]) -> bool {
 }
 
 impl SkeletonParts {
-    /// The skeleton, or [`Error::InvalidArgument`] naming the first element that breaks an
-    /// invariant.
-    pub fn build(self) -> Result<Skeleton> {
-        let n = self.branches.len();
+    /// Every branch finite, its radii from 0 to 1e15, its parent earlier (or none).
+    fn check_branches(&self) -> Result<()> {
         for (i, b) in self.branches.iter().enumerate() {
             if !(finite3(&b.start) && finite3(&b.end)) {
                 return Err(Error::invalid(
@@ -242,6 +240,12 @@ impl SkeletonParts {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Leaf sites, polygons and organs finite, well formed and on a branch (or none).
+    fn check_organs(&self) -> Result<()> {
+        let n = self.branches.len();
         // An organ sits on a branch of the skeleton or on none.
         let on_branch = |field: &'static str, what: String, branch: u32| {
             if branch == NO_PARENT || (branch as usize) < n {
@@ -309,6 +313,12 @@ impl SkeletonParts {
             }
             on_branch("organs", format!("organ {i}"), o.branch)?;
         }
+        Ok(())
+    }
+
+    /// Ups, curves and colours: none or one per branch, finite.
+    fn check_per_branch(&self) -> Result<()> {
+        let n = self.branches.len();
         for (field, len) in [
             ("ups", self.ups.len()),
             ("curves", self.curves.len()),
@@ -337,6 +347,15 @@ impl SkeletonParts {
                 format!("curve {i} has a non-finite control point"),
             ));
         }
+        Ok(())
+    }
+
+    /// The skeleton, or [`Error::InvalidArgument`] naming the first element that breaks an
+    /// invariant.
+    pub fn build(self) -> Result<Skeleton> {
+        self.check_branches()?;
+        self.check_organs()?;
+        self.check_per_branch()?;
         Ok(self.build_trusted())
     }
 

@@ -76,14 +76,27 @@ const MAX_CELLS_PER_BRANCH: u64 = 64;
 /// kept branches are kept (renumbered, in order), those of removed branches go with them;
 /// so do the turtle's frames and the curves of kept branches.
 pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
-    let b = skeleton.branches();
-    let n = b.len();
+    let n = skeleton.len();
     if n == 0 {
         return Pruned {
             skeleton: skeleton.clone(),
             removed: 0,
         };
     }
+    let removed = colliding(skeleton);
+    let parts = kept_parts(skeleton, &removed);
+    let count = n - parts.branches.len();
+    Pruned {
+        skeleton: Skeleton::from_trusted(parts),
+        removed: count,
+    }
+}
+
+/// Which branches go: each branch that meets one nearer the root (not its parent, not at
+/// a joint), and every branch above one that goes.
+fn colliding(skeleton: &Skeleton) -> Vec<bool> {
+    let b = skeleton.branches();
+    let n = b.len();
     let adjacency = skeleton.adjacency();
     // Cell size: the mean capsule extent, so most capsules touch a few cells.
     let extent: f64 = b
@@ -146,8 +159,16 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             removed[i] = true;
         }
     }
-    // Renumber the kept branches, close tips that lost every child.
-    let mut new_index = vec![NO_PARENT; n];
+    removed
+}
+
+/// The skeleton without the `removed` branches: the kept ones renumbered (tips that lost
+/// every child closed), with their frames, curves and colours, and the organs, leaf sites
+/// and polygons on kept branches (or on none).
+fn kept_parts(skeleton: &Skeleton, removed: &[bool]) -> SkeletonParts {
+    let b = skeleton.branches();
+    let adjacency = skeleton.adjacency();
+    let mut new_index = vec![NO_PARENT; b.len()];
     let mut parts = SkeletonParts::default();
     let has_kept_child = |i: usize| adjacency.children(i).iter().any(|&c| !removed[c as usize]);
     for (i, x) in b.iter().enumerate() {
@@ -174,7 +195,6 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
             parts.colors.push(c);
         }
     }
-    // Organs on kept branches (or on none) stay.
     let renumber = |branch: u32| match branch {
         NO_PARENT => Some(NO_PARENT),
         k => Some(new_index[k as usize]).filter(|&j| j != NO_PARENT),
@@ -201,11 +221,7 @@ pub fn prune_collisions(skeleton: &Skeleton) -> Pruned {
                 .extend_from_slice(skeleton.polygon(poly));
         }
     }
-    let count = n - parts.branches.len();
-    Pruned {
-        skeleton: Skeleton::from_trusted(parts),
-        removed: count,
-    }
+    parts
 }
 
 #[cfg(test)]
