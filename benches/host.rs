@@ -102,10 +102,8 @@ fn bench_host(c: &mut Criterion) {
             p
         })
         .unwrap();
-        let rust_options = arbor::MeshOptions {
-            topology: arbor::Topology::from_u32(topology as u32).unwrap(),
-            ..Default::default()
-        };
+        let rust_options = arbor::MeshOptions::default()
+            .topology(arbor::Topology::from_u32(topology as u32).unwrap());
         group.bench_function(BenchmarkId::new("first_write_with_plan", name), |b| {
             b.iter(|| {
                 arbor::mesh::write_mesh(

@@ -22,10 +22,7 @@ fn main() {
     let quick = std::env::args().any(|a| a == "--test" || a == "--quick");
     let path = format!("{}/examples/grammars/honda_a.l", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(path).unwrap();
-    let options = mesh::MeshOptions {
-        radial_segments: 6,
-        ..Default::default()
-    };
+    let options = mesh::MeshOptions::default().radial_segments(6);
     println!(
         "{:>10} {:>14} {:>14} {:>7} {:>14} {:>7}",
         "internodes", "output bytes", "direct peak", "ratio", "grammar peak", "ratio"
@@ -54,12 +51,10 @@ fn main() {
         // Grammar: text → parse → derive → interpret → mesh buffers.
         let base = ALLOC.current_usage();
         ALLOC.reset_peak_usage();
-        let lo = LsystemOptions {
-            steps: Some(n),
-            max_modules: usize::MAX,
-            max_params: usize::MAX,
-            ..Default::default()
-        };
+        let lo = LsystemOptions::default()
+            .steps(Some(n))
+            .max_modules(usize::MAX)
+            .max_params(usize::MAX);
         let skeleton = LSystem::parse(&text).unwrap().skeleton(&lo).unwrap();
         let m = mesh::tubes(&skeleton, &options).unwrap();
         drop(skeleton);
@@ -99,11 +94,9 @@ fn growth(quick: bool) {
         ALLOC.reset_peak_usage();
         let forest = what.starts_with("forest");
         let o = if forest {
-            WorldOptions {
-                min: [-30.0, 0.0, -30.0],
-                max: [30.0, 20.0, 30.0],
-                ..Default::default()
-            }
+            WorldOptions::default()
+                .min([-30.0, 0.0, -30.0])
+                .max([30.0, 20.0, 30.0])
         } else {
             WorldOptions::default()
         };

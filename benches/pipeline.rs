@@ -26,11 +26,9 @@ fn bench_mesh(c: &mut Criterion) {
     let skeleton = honda::build(&big).unwrap();
     let mut group = c.benchmark_group("mesh_write");
     for topology in mesh::Topology::ALL {
-        let options = mesh::MeshOptions {
-            radial_segments: 8,
-            topology,
-            ..Default::default()
-        };
+        let options = mesh::MeshOptions::default()
+            .radial_segments(8)
+            .topology(topology);
         let size = mesh::mesh_size(&skeleton, &options).unwrap();
         let bytes = size.vertices * std::mem::size_of::<mesh::Vertex>() + size.indices * 4;
         let mut vertices = vec![mesh::Vertex::default(); size.vertices];
@@ -88,10 +86,7 @@ fn bench_derive(c: &mut Criterion) {
     let mut group = c.benchmark_group("derive");
     group.sample_size(10);
     for (label, ls, steps) in derivation_cases() {
-        let options = LsystemOptions {
-            steps: Some(steps),
-            ..Default::default()
-        };
+        let options = LsystemOptions::default().steps(Some(steps));
         let n = ls.derive(&options).unwrap().len();
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(BenchmarkId::from_parameter(label), |b| {
@@ -105,10 +100,7 @@ fn bench_interpret(c: &mut Criterion) {
     let mut group = c.benchmark_group("interpret");
     group.sample_size(10);
     for (label, ls, steps) in derivation_cases() {
-        let options = LsystemOptions {
-            steps: Some(steps),
-            ..Default::default()
-        };
+        let options = LsystemOptions::default().steps(Some(steps));
         let string = ls.derive(&options).unwrap();
         group.throughput(Throughput::Elements(string.len() as u64));
         group.bench_function(BenchmarkId::from_parameter(label), |b| {
@@ -130,10 +122,7 @@ fn bench_mesh_large(c: &mut Criterion) {
         mesh::Topology::TriangleList,
         mesh::Topology::TriangleStripRestart,
     ] {
-        let options = mesh::MeshOptions {
-            topology,
-            ..Default::default()
-        };
+        let options = mesh::MeshOptions::default().topology(topology);
         let size = mesh::mesh_size(&skeleton, &options).unwrap();
         let bytes = size.vertices * std::mem::size_of::<mesh::Vertex>() + size.indices * 4;
         let mut vertices = vec![mesh::Vertex::default(); size.vertices];
@@ -160,11 +149,7 @@ fn bench_leaves(c: &mut Criterion) {
     let mut params = honda::HondaParams::preset('g').unwrap();
     params.steps = 14;
     let skeleton = honda::build(&params).unwrap();
-    let leaves = mesh::LeafOptions {
-        tips: true,
-        density: 2.0,
-        ..Default::default()
-    };
+    let leaves = mesh::LeafOptions::default().tips(true).density(2.0);
     let options = mesh::MeshOptions::default();
     let n = mesh::leaf_instances(&skeleton, &leaves, &options)
         .unwrap()
@@ -201,10 +186,7 @@ fn bench_obj(c: &mut Criterion) {
 fn bench_whole_path(c: &mut Criterion) {
     let path = format!("{}/examples/grammars/honda_g.l", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(path).unwrap();
-    let options = LsystemOptions {
-        steps: Some(14),
-        ..Default::default()
-    };
+    let options = LsystemOptions::default().steps(Some(14));
     let mesh_options = mesh::MeshOptions::default();
     let probe = LSystem::parse(&text).unwrap().skeleton(&options).unwrap();
     let mut group = c.benchmark_group("text_to_buffers");

@@ -16,10 +16,7 @@ const STEPS: [u32; 5] = [10, 13, 16, 19, 22];
 fn sweep(c: &mut Criterion) {
     let path = format!("{}/examples/grammars/honda_a.l", env!("CARGO_MANIFEST_DIR"));
     let grammar = LSystem::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let mesh_options = mesh::MeshOptions {
-        radial_segments: 6,
-        ..Default::default()
-    };
+    let mesh_options = mesh::MeshOptions::default().radial_segments(6);
     for stage in ["direct_build", "derive", "interpret", "mesh_write"] {
         let mut group = c.benchmark_group(format!("scale_{stage}"));
         group.sample_size(10);
@@ -27,12 +24,10 @@ fn sweep(c: &mut Criterion) {
             let mut params = honda::HondaParams::preset('a').unwrap();
             params.steps = steps;
             let internodes = (1u64 << steps) - 1;
-            let options = LsystemOptions {
-                steps: Some(steps),
-                max_modules: usize::MAX,
-                max_params: usize::MAX,
-                ..Default::default()
-            };
+            let options = LsystemOptions::default()
+                .steps(Some(steps))
+                .max_modules(usize::MAX)
+                .max_params(usize::MAX);
             group.throughput(Throughput::Elements(internodes));
             let id = BenchmarkId::from_parameter(internodes);
             match stage {

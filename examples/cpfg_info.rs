@@ -8,10 +8,7 @@ fn main() {
         eprintln!("usage: cpfg_info FILE.l [STEPS]");
         std::process::exit(2);
     };
-    let options = LsystemOptions {
-        steps: args.get(2).and_then(|s| s.parse().ok()),
-        ..Default::default()
-    };
+    let options = LsystemOptions::default().steps(args.get(2).and_then(|s| s.parse().ok()));
     let result = LSystem::from_file(path, None).and_then(|ls| {
         let s = ls.derive(&options)?;
         let text = ls.format(&s);

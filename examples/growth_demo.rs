@@ -10,10 +10,7 @@ fn main() -> Result<(), arbor::Error> {
             break;
         }
         for species in Species::ALL {
-            let mut w = World::new(&WorldOptions {
-                environment: env,
-                ..Default::default()
-            })?;
+            let mut w = World::new(&WorldOptions::default().environment(env))?;
             w.plant(&GrowthParams::preset(species), [0.0, 0.0, 0.0], 1)?;
             let t = std::time::Instant::now();
             w.step(10)?;
@@ -44,11 +41,11 @@ fn main() -> Result<(), arbor::Error> {
 }
 
 fn forest(cycles: u32) -> Result<(), arbor::Error> {
-    let mut w = World::new(&WorldOptions {
-        min: [-30.0, 0.0, -30.0],
-        max: [30.0, 20.0, 30.0],
-        ..Default::default()
-    })?;
+    let mut w = World::new(
+        &WorldOptions::default()
+            .min([-30.0, 0.0, -30.0])
+            .max([30.0, 20.0, 30.0]),
+    )?;
     let mut species = GrowthParams::preset(Species::Decurrent);
     species.seed_age = 20;
     for i in 0..10 {

@@ -5,10 +5,7 @@ fn main() {
     let interpret = std::env::args().nth(3).is_some();
     let text = std::fs::read_to_string(format!("examples/grammars/{name}.l")).unwrap();
     let ls = arbor::lsystem::LSystem::parse(&text).unwrap();
-    let o = arbor::lsystem::LsystemOptions {
-        steps: Some(steps),
-        ..Default::default()
-    };
+    let o = arbor::lsystem::LsystemOptions::default().steps(Some(steps));
     let s = ls.derive(&o).unwrap();
     let t = std::time::Instant::now();
     let mut n = 0;

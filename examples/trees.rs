@@ -21,33 +21,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => 8,
     };
     std::fs::create_dir_all(&dir)?;
-    let options = MeshOptions {
-        radial_segments,
-        smooth_taper: true,
-        tip: Tip::Point,
-        base_cap: true,
-        texture_scale: 20.0,
-        ..Default::default()
-    };
+    let options = MeshOptions::default()
+        .radial_segments(radial_segments)
+        .smooth_taper(true)
+        .tip(Tip::Point)
+        .base_cap(true)
+        .texture_scale(20.0);
     // Two coarser levels: fewer sides on thin branches, then thin twigs dropped.
     let levels = [
         options,
-        MeshOptions {
-            min_radial_segments: 3,
-            ..options
-        },
-        MeshOptions {
-            radial_segments: (radial_segments / 2).max(3),
-            min_radial_segments: 3,
-            cull_radius: 0.6,
-            ..options
-        },
+        options.min_radial_segments(3),
+        options
+            .radial_segments((radial_segments / 2).max(3))
+            .min_radial_segments(3)
+            .cull_radius(0.6),
     ];
-    let leaves = LeafOptions {
-        tips: true,
-        size: 8.0,
-        ..Default::default()
-    };
+    let leaves = LeafOptions::default().tips(true).size(8.0);
 
     println!(
         "{:<4} {:>8} {:>17} {:>17} {:>17} {:>6} {:>8} {:>8}  file",

@@ -858,7 +858,7 @@ typedef struct ArborLeafOptions {
    */
   float size;
   /**
-   * Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+   * Size varies by up to +- this fraction, in [0, 1). Default 0.2.
    */
   float size_jitter;
   /**

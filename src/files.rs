@@ -20,9 +20,10 @@
 //! ```no_run
 //! use arbor::files::{FileAccess, FileOptions};
 //! use arbor::lsystem::LSystem;
+//! use arbor::progress::Run;
 //!
-//! let confined = FileOptions { access: FileAccess::Bundle, ..FileOptions::default() };
-//! let plant = LSystem::from_file_with("models/plant.l", None, &confined, None)?;
+//! let confined = FileOptions::default().access(FileAccess::Bundle);
+//! let plant = LSystem::from_file_with("models/plant.l", None, &confined, &mut Run::default())?;
 //! # Ok::<(), arbor::Error>(())
 //! ```
 
@@ -95,6 +96,7 @@ impl FileAccess {
     }
 }
 
+crate::options::options! {
 /// What a load may read, and how much.
 #[derive(Clone, Debug)]
 pub struct FileOptions {
@@ -103,6 +105,7 @@ pub struct FileOptions {
     /// Bytes over all files of one load (the model file, its view file, includes,
     /// functions, curves, surfaces, a prefab). Default [`DEFAULT_MAX_FILE_BYTES`].
     pub max_bytes: u64,
+}
 }
 
 impl Default for FileOptions {

@@ -10,18 +10,14 @@ fn one_element_per_vertex_with_branch_values() {
         let s = honda::build(&HondaParams::preset(name).unwrap()).unwrap();
         for o in [
             MeshOptions::default(),
-            MeshOptions {
-                joints: Joints::Separate,
-                tip: Tip::Point,
-                base_cap: true,
-                topology: Topology::TriangleStripDegenerate,
-                ..Default::default()
-            },
-            MeshOptions {
-                min_radial_segments: 3,
-                cull_radius: 1.0,
-                ..Default::default()
-            },
+            MeshOptions::default()
+                .joints(Joints::Separate)
+                .tip(Tip::Point)
+                .base_cap(true)
+                .topology(Topology::TriangleStripDegenerate),
+            MeshOptions::default()
+                .min_radial_segments(3)
+                .cull_radius(1.0),
         ] {
             let m = mesh::tubes(&s, &o).unwrap();
             let a = mesh::animation(&s, &o).unwrap();
@@ -62,11 +58,7 @@ fn one_element_per_vertex_with_branch_values() {
 #[test]
 fn leaves_carry_their_branch_values() {
     let s = honda::build(&HondaParams::preset('a').unwrap()).unwrap();
-    let leaves = LeafOptions {
-        tips: true,
-        density: 2.0,
-        ..Default::default()
-    };
+    let leaves = LeafOptions::default().tips(true).density(2.0);
     let o = MeshOptions::default();
     let inst = mesh::leaf_instances(&s, &leaves, &o).unwrap();
     let anim = mesh::leaf_animation(&s, &leaves, &mesh::MeshOptions::default()).unwrap();
@@ -98,10 +90,7 @@ fn growth_runs_from_root_to_tips_when_all_births_are_equal() {
         .unwrap();
     let births: std::collections::HashSet<u32> = s.branches().iter().map(|b| b.birth).collect();
     assert_eq!(births.len(), 1, "one birth step for every internode");
-    let o = MeshOptions {
-        joints: Joints::Separate,
-        ..Default::default()
-    };
+    let o = MeshOptions::default().joints(Joints::Separate);
     let m = mesh::tubes(&s, &o).unwrap();
     let a = mesh::animation(&s, &o).unwrap();
     let end_growth = |i: usize| {

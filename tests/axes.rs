@@ -56,18 +56,12 @@ fn tree(name: char) -> Skeleton {
 }
 
 fn with(axes: Axes) -> MeshOptions {
-    MeshOptions {
-        axes,
-        ..Default::default()
-    }
+    MeshOptions::default().axes(axes)
 }
 
 #[test]
 fn presets_mirror_so_trees_keep_their_handedness() {
-    let rotated = MeshOptions {
-        up_axis: UpAxis::Z,
-        ..Default::default()
-    };
+    let rotated = MeshOptions::default().up_axis(UpAxis::Z);
     for name in ['g', 'h', 'i'] {
         let s = tree(name);
         let y_up = chirality(&s, &mesh::tubes(&s, &MeshOptions::default()).unwrap());
@@ -97,11 +91,9 @@ fn presets_mirror_so_trees_keep_their_handedness() {
     // the other way spirals the other way (not an exact mirror image: the model's
     // horizontal reference does not turn with them).
     let g = HondaParams::preset('g').unwrap();
-    let mirrored = HondaParams {
-        phi1: -g.phi1,
-        phi2: -g.phi2,
-        ..g
-    };
+    let mut mirrored = g;
+    mirrored.phi1 = -g.phi1;
+    mirrored.phi2 = -g.phi2;
     let (a, b) = (tree('g'), honda::build(&mirrored).unwrap());
     let ca = chirality(&a, &mesh::tubes(&a, &MeshOptions::default()).unwrap());
     let cb = chirality(&b, &mesh::tubes(&b, &MeshOptions::default()).unwrap());
@@ -113,10 +105,7 @@ fn presets_mirror_so_trees_keep_their_handedness() {
 fn presets_map_axes_units_and_winding_as_the_engines_do() {
     let s = tree('g');
     // Swept branches (rings along the curve) map the same way.
-    let swept = |axes| MeshOptions {
-        curve_rings: 2,
-        ..with(axes)
-    };
+    let swept = |axes| (with(axes)).curve_rings(2);
     let (b2, u2) = (
         mesh::tubes(&s, &swept(Axes::Arbor)).unwrap(),
         mesh::tubes(&s, &swept(Axes::Unity)).unwrap(),
@@ -174,14 +163,7 @@ fn presets_map_axes_units_and_winding_as_the_engines_do() {
         }
         out as f64 / all as f64
     };
-    let cw = mesh::tubes(
-        &s,
-        &MeshOptions {
-            winding: Winding::Clockwise,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let cw = mesh::tubes(&s, &MeshOptions::default().winding(Winding::Clockwise)).unwrap();
     let f = [facing(&base), facing(&unity), facing(&unreal), facing(&cw)];
     println!(
         "triangles whose edges' cross product points out: arbor {:.4}, Unity {:.4}, Unreal {:.4}, arbor clockwise {:.4}",
@@ -194,10 +176,7 @@ fn presets_map_axes_units_and_winding_as_the_engines_do() {
 #[test]
 fn leaf_instances_land_where_the_baked_leaves_do_in_every_preset() {
     let s = tree('g');
-    let leaves = LeafOptions {
-        tips: true,
-        ..Default::default()
-    };
+    let leaves = LeafOptions::default().tips(true);
     for (axes, mirror, units) in [
         (Axes::Arbor, Mat3::IDENTITY, 1.0),
         (
@@ -273,19 +252,13 @@ fn presets_refuse_conflicting_options_by_name() {
     // own conventions, refuses it too, with the same error.
     for (o, field) in [
         (
-            MeshOptions {
-                axes: Axes::Unity,
-                winding: Winding::Clockwise,
-                ..Default::default()
-            },
+            MeshOptions::default()
+                .axes(Axes::Unity)
+                .winding(Winding::Clockwise),
             "winding",
         ),
         (
-            MeshOptions {
-                axes: Axes::Unreal,
-                up_axis: UpAxis::Z,
-                ..Default::default()
-            },
+            MeshOptions::default().axes(Axes::Unreal).up_axis(UpAxis::Z),
             "up_axis",
         ),
     ] {
@@ -300,11 +273,7 @@ fn presets_refuse_conflicting_options_by_name() {
     // 1e37 leaves the range in either space (as a number in Unreal's units, and at the
     // tree's 364 units in arbor's); 1e34 only at the tree's extent in Unreal's.
     for (scale, gltf_writes) in [(1e37, false), (1e34, true)] {
-        let o = MeshOptions {
-            axes: Axes::Unreal,
-            scale,
-            ..Default::default()
-        };
+        let o = MeshOptions::default().axes(Axes::Unreal).scale(scale);
         let e = mesh::tubes(&s, &o).unwrap_err().to_string();
         assert!(e.contains("scale"), "{e}");
         let g = gltf(&o);

@@ -92,23 +92,19 @@ fn output_limits_stop_before_the_memory_is_spent() {
         assert!(peak < 64 << 20, "{what} peaked at {peak} bytes");
     };
     // 32,768 tips × 64 leaves: 2 M leaves (and 8 M baked vertices) under the defaults.
-    let leaves = LeafOptions {
-        tips: true,
-        density: 64.0,
-        max_leaves: 1000,
-        ..Default::default()
-    };
+    let leaves = LeafOptions::default()
+        .tips(true)
+        .density(64.0)
+        .max_leaves(1000);
     small("leaf instances", "max_leaves", &|| {
         mesh::leaf_instances(&tree, &leaves, &MeshOptions::default()).map(|_| ())
     });
     small("baked leaves", "max_leaves", &|| {
         mesh::leaf_mesh_size(&tree, &leaves, &MeshOptions::default()).map(|_| ())
     });
-    let capped = MeshOptions {
-        max_vertices: 10_000,
-        radial_segments: 64,
-        ..Default::default()
-    };
+    let capped = MeshOptions::default()
+        .max_vertices(10_000)
+        .radial_segments(64);
     small("mesh", "max_vertices", &|| {
         mesh::mesh_size(&tree, &capped).map(|_| ())
     });
@@ -125,11 +121,9 @@ fn output_limits_stop_before_the_memory_is_spent() {
         .collect();
     // 4 trees of 65,535 branches × 64 sides would be ~17 M vertices (540 MiB): refused
     // after planning, before any tree is meshed.
-    let forest_options = MeshOptions {
-        max_vertices: 1_000_000,
-        radial_segments: 64,
-        ..Default::default()
-    };
+    let forest_options = MeshOptions::default()
+        .max_vertices(1_000_000)
+        .radial_segments(64);
     small("forest", "max_vertices", &|| {
         forest::merged(&placed, &forest_options).map(|_| ())
     });
@@ -144,17 +138,11 @@ fn the_work_limit_stops_a_steady_state_derivation() {
     let text = "Lsystem: 1\nderivation length: 65535\nAxiom: A(0)\nA(n) : n < 24 --> A(n+1)A(n+1)\nendlsystem";
     let ls = LSystem::parse(text).unwrap();
     within_budget("steady state, 65,535 steps", || {
-        ls.derive(&LsystemOptions {
-            max_work: 1 << 26,
-            ..Default::default()
-        })
-        .map(|_| ())
+        ls.derive(&LsystemOptions::default().max_work(1 << 26))
+            .map(|_| ())
     });
     let err = ls
-        .derive(&LsystemOptions {
-            max_work: 1 << 20,
-            ..Default::default()
-        })
+        .derive(&LsystemOptions::default().max_work(1 << 20))
         .unwrap_err();
     assert!(err.to_string().contains("max_work"), "{err}");
     assert_eq!(arbor::limits::DEFAULT_MAX_WORK, 1 << 28);

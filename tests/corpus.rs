@@ -105,11 +105,9 @@ struct Outcome {
 
 fn grow(path: &Path) -> arbor::Result<Outcome> {
     let ls = LSystem::from_file(path, None)?;
-    let options = LsystemOptions {
-        max_modules: 4_000_000,
-        max_work: 40_000_000,
-        ..Default::default()
-    };
+    let options = LsystemOptions::default()
+        .max_modules(4_000_000)
+        .max_work(40_000_000);
     let string = ls.derive(&options)?;
     let mut counts = std::collections::BTreeMap::<String, usize>::new();
     for i in 0..string.len() {

@@ -203,10 +203,7 @@ fn blocks_run_in_cpfg_order_and_statements_change_the_derivation() {
         "derivation length: 1\nAxiom: A\nA : * { while (1) { x = x + 1; } } --> A\n",
     )
     .unwrap();
-    let options = LsystemOptions {
-        max_work: 100_000,
-        ..Default::default()
-    };
+    let options = LsystemOptions::default().max_work(100_000);
     assert!(matches!(
         ls.derive(&options),
         Err(Error::LimitExceeded {
@@ -400,10 +397,7 @@ fn file_policies_from_rust() {
         "model/up.l",
         "#include \"../secret.txt\"\nderivation length: 1\nAxiom: F\n",
     );
-    let with = |access: FileAccess| FileOptions {
-        access,
-        ..FileOptions::default()
-    };
+    let with = |access: FileAccess| FileOptions::default().access(access);
     match LSystem::from_file_with(&up, None, &with(FileAccess::Bundle), &mut Run::default()) {
         Err(Error::FileAccess { path, reason }) => {
             assert_eq!(path, "../secret.txt");
@@ -449,10 +443,7 @@ fn file_policies_from_rust() {
     assert!(stages.iter().all(|&(s, _)| s == Stage::Load));
     assert_eq!(stages.last().map(|&(_, f)| f), Some(1.0));
     // A budget smaller than the model.
-    let tiny = FileOptions {
-        max_bytes: 16,
-        ..with(FileAccess::Any)
-    };
+    let tiny = (with(FileAccess::Any)).max_bytes(16);
     let e = LSystem::from_file_with(&up, None, &tiny, &mut Run::default()).unwrap_err();
     assert!(matches!(e, Error::FileBudget { .. }), "{e}");
 }

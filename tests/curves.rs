@@ -10,10 +10,7 @@ use glam::Vec3;
 #[test]
 fn curve_records_round_trip_to_the_mesh() {
     let s = honda::build(&HondaParams::preset('d').unwrap()).unwrap();
-    let o = MeshOptions {
-        joints: Joints::Separate,
-        ..Default::default()
-    };
+    let o = MeshOptions::default().joints(Joints::Separate);
     let m = mesh::tubes(&s, &o).unwrap();
     let records = mesh::curve_records(&s);
     assert_eq!(records.len(), s.len());
@@ -91,13 +88,6 @@ fn generalized_cylinders_set_curves_from_the_turtle_path() {
         assert_eq!(s.curve(a).p3, s.curve(b).p0);
     }
     // A sweep follows it.
-    let m = arbor::mesh::tubes(
-        &s,
-        &arbor::MeshOptions {
-            curve_rings: 3,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let m = arbor::mesh::tubes(&s, &arbor::MeshOptions::default().curve_rings(3)).unwrap();
     assert!(!m.indices.is_empty());
 }

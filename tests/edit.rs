@@ -44,14 +44,12 @@ fn rewrites_equal_full_writes_for_twigs_interior_branches_and_roots() {
                         if smooth {
                             s.smooth(1.0).unwrap();
                         }
-                        let o = MeshOptions {
-                            topology,
-                            curve_rings,
-                            tip: Tip::Cap,
-                            smooth_taper: true,
-                            axes,
-                            ..Default::default()
-                        };
+                        let o = MeshOptions::default()
+                            .topology(topology)
+                            .curve_rings(curve_rings)
+                            .tip(Tip::Cap)
+                            .smooth_taper(true)
+                            .axes(axes);
                         let mut plan = MeshPlan::new(&s, &o).unwrap();
                         let size = plan.size();
                         let mut v = vec![Vertex::default(); size.vertices];
@@ -97,10 +95,7 @@ fn edits_that_would_change_the_ranges_are_refused() {
     let err = plan.update_after_edit(&s, i).unwrap_err().to_string();
     assert!(err.contains("write the mesh again"), "{err}");
     // LOD on: sides depend on every radius.
-    let lod = MeshOptions {
-        min_radial_segments: 3,
-        ..Default::default()
-    };
+    let lod = MeshOptions::default().min_radial_segments(3);
     let mut plan = MeshPlan::new(&s, &lod).unwrap();
     assert!(plan.update_after_edit(&s, 1).is_err());
     assert!(

@@ -118,7 +118,7 @@ fn merged_and_instanced_forests_agree() {
         Topology::TriangleStripRestart,
         Topology::TriangleStripDegenerate,
     ] {
-        let m = forest::merged(&placed, &MeshOptions { topology, ..o }).unwrap();
+        let m = forest::merged(&placed, &o.topology(topology)).unwrap();
         assert_eq!(
             m.triangles().map(canonical).collect::<Vec<_>>(),
             list,
@@ -177,10 +177,7 @@ fn merged_forest_into_buffers_and_its_limit() {
         })
         .collect();
     for topology in arbor::Topology::ALL {
-        let options = MeshOptions {
-            topology,
-            ..Default::default()
-        };
+        let options = MeshOptions::default().topology(topology);
         let owned = forest::merged(&placed, &options).unwrap();
         let size = forest::merged_size(&placed, &options).unwrap();
         assert_eq!(
@@ -192,10 +189,7 @@ fn merged_forest_into_buffers_and_its_limit() {
         forest::write_merged(&placed, &options, &mut v, &mut i).unwrap();
         assert_eq!(v, owned.vertices, "{topology:?}");
         assert_eq!(i, owned.indices, "{topology:?}");
-        let limited = MeshOptions {
-            max_vertices: size.vertices - 1,
-            ..options
-        };
+        let limited = options.max_vertices(size.vertices - 1);
         let err = forest::merged_size(&placed, &limited).unwrap_err();
         assert!(err.to_string().contains("max_vertices"), "{err}");
         let err = forest::write_merged(&placed, &limited, &mut v, &mut i).unwrap_err();

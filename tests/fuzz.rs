@@ -51,14 +51,12 @@ fn check_inner(text: &str) -> Result<(), TestCaseError> {
         }
         Err(e) => return Err(TestCaseError::fail(format!("parse gave {e}"))),
     };
-    let options = LsystemOptions {
-        steps: Some(ls.derivation_length().min(6)),
-        max_modules: 20_000,
-        max_params: 40_000,
-        max_branches: 20_000,
-        max_work: 2_000_000,
-        ..Default::default()
-    };
+    let options = LsystemOptions::default()
+        .steps(Some(ls.derivation_length().min(6)))
+        .max_modules(20_000)
+        .max_params(40_000)
+        .max_branches(20_000)
+        .max_work(2_000_000);
     let string = match ls.derive(&options) {
         Ok(s) => s,
         Err(Error::LimitExceeded { .. } | Error::Eval { .. } | Error::InvalidArgument { .. }) => {
@@ -77,14 +75,12 @@ fn check_inner(text: &str) -> Result<(), TestCaseError> {
     prop_assert!(skeleton.len() <= 20_000);
     MESHED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     for topology in Topology::ALL {
-        let o = MeshOptions {
-            topology,
-            radial_segments: 4,
-            tip: Tip::Point,
-            base_cap: true,
-            smooth_taper: true,
-            ..Default::default()
-        };
+        let o = MeshOptions::default()
+            .topology(topology)
+            .radial_segments(4)
+            .tip(Tip::Point)
+            .base_cap(true)
+            .smooth_taper(true);
         let m = mesh::tubes(&skeleton, &o).map_err(|e| TestCaseError::fail(e.to_string()))?;
         for v in &m.vertices {
             prop_assert!(
@@ -101,11 +97,8 @@ fn check_inner(text: &str) -> Result<(), TestCaseError> {
         // The baked leaves (prefab quads at sites and tips, polygons, organs), in arbor's
         // space and an engine's.
         for axes in [Axes::Arbor, Axes::Unity, Axes::Unreal] {
-            let o = MeshOptions { axes, ..o };
-            let leaves = LeafOptions {
-                tips: true,
-                ..LeafOptions::default()
-            };
+            let o = o.axes(axes);
+            let leaves = LeafOptions::default().tips(true);
             match mesh::leaf_mesh(&skeleton, &leaves, &o) {
                 Ok(m) => unit_normals(&m, "leaves")?,
                 Err(Error::LimitExceeded { .. } | Error::InvalidArgument { .. }) => {}

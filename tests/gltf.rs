@@ -75,23 +75,19 @@ fn read_back(path: &Path) -> Vec<Read> {
 }
 
 fn list_options() -> MeshOptions {
-    MeshOptions {
-        topology: Topology::TriangleList,
-        winding: Winding::CounterClockwise,
-        up_axis: UpAxis::Y,
-        ..Default::default()
-    }
+    MeshOptions::default()
+        .topology(Topology::TriangleList)
+        .winding(Winding::CounterClockwise)
+        .up_axis(UpAxis::Y)
 }
 
 /// Writes both forms and checks the read-back against arbor's own meshes.
 fn export_and_check(name: &str, s: &Skeleton, leaves: Option<&LeafOptions>) -> Vec<PathBuf> {
     // Options that glTF overrides: strips, clockwise, Z up.
-    let asked = MeshOptions {
-        topology: Topology::TriangleStripRestart,
-        winding: Winding::Clockwise,
-        up_axis: UpAxis::Z,
-        ..Default::default()
-    };
+    let asked = MeshOptions::default()
+        .topology(Topology::TriangleStripRestart)
+        .winding(Winding::Clockwise)
+        .up_axis(UpAxis::Z);
     let bark = mesh::tubes(s, &list_options()).unwrap();
     let leaf = leaves.map(|l| mesh::leaf_mesh(s, l, &list_options()).unwrap());
     let mut files = Vec::new();

@@ -21,14 +21,12 @@ fn fnv(bytes: &[u8], mut h: u64) -> u64 {
 fn hash(s: &Skeleton) -> String {
     let options = [
         MeshOptions::default(),
-        MeshOptions {
-            topology: Topology::TriangleStripRestart,
-            tip: Tip::Point,
-            smooth_taper: true,
-            base_cap: true,
-            radial_segments: 5,
-            ..Default::default()
-        },
+        MeshOptions::default()
+            .topology(Topology::TriangleStripRestart)
+            .tip(Tip::Point)
+            .smooth_taper(true)
+            .base_cap(true)
+            .radial_segments(5),
     ];
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     for o in &options {
@@ -108,15 +106,13 @@ fn threaded_writes_equal_the_single_thread_write() {
     let s = honda::build(&p).unwrap();
     for topology in Topology::ALL {
         for tip in [Tip::Open, Tip::Point] {
-            let one = MeshOptions {
-                topology,
-                tip,
-                threads: 1,
-                ..Default::default()
-            };
+            let one = MeshOptions::default()
+                .topology(topology)
+                .tip(tip)
+                .threads(1);
             let want = mesh::tubes(&s, &one).unwrap();
             for threads in [2, 3, 4, 0] {
-                let o = MeshOptions { threads, ..one };
+                let o = one.threads(threads);
                 let plan = mesh::MeshPlan::new(&s, &o).unwrap();
                 assert!(plan.serves(&one), "threads do not change the plan");
                 for _ in 0..2 {
@@ -134,28 +130,24 @@ fn threaded_writes_equal_the_single_thread_write() {
 /// The hash of the swept mesh (curve rings, mitred joints, caps) and of the leaf mesh
 /// (tip leaves, leaf sites, polygons and organs) of `s`.
 fn swept_and_leaves_hash(s: &Skeleton) -> String {
-    let swept = MeshOptions {
-        curve_rings: 3,
-        joints: mesh::Joints::Mitred,
-        tip: Tip::Cap,
-        base_cap: true,
-        ..Default::default()
-    };
+    let swept = MeshOptions::default()
+        .curve_rings(3)
+        .joints(mesh::Joints::Mitred)
+        .tip(Tip::Cap)
+        .base_cap(true);
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     for tip in [Tip::Cap, Tip::Point] {
-        let m = mesh::tubes(s, &MeshOptions { tip, ..swept }).unwrap();
+        let m = mesh::tubes(s, &swept.tip(tip)).unwrap();
         h = fnv(bytemuck::cast_slice(&m.vertices), h);
         h = fnv(bytemuck::cast_slice(&m.indices), h);
     }
-    let leaves = mesh::LeafOptions {
-        tips: true,
-        sites: true,
-        polygons: true,
-        size_jitter: 0.2,
-        rotation_jitter: 30.0,
-        seed: 7,
-        ..Default::default()
-    };
+    let leaves = mesh::LeafOptions::default()
+        .tips(true)
+        .sites(true)
+        .polygons(true)
+        .size_jitter(0.2)
+        .rotation_jitter(30.0)
+        .seed(7);
     let m = mesh::leaf_mesh(s, &leaves, &MeshOptions::default()).unwrap();
     h = fnv(bytemuck::cast_slice(&m.vertices), h);
     h = fnv(bytemuck::cast_slice(&m.indices), h);

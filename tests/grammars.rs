@@ -196,10 +196,7 @@ fn signals_propagate_as_the_book_prints() {
     let strings_by_step = |name: &str, expected: &[&str]| {
         let ls = grammar(name);
         for (n, want) in expected.iter().enumerate() {
-            let o = LsystemOptions {
-                steps: Some(n as u32),
-                ..Default::default()
-            };
+            let o = LsystemOptions::default().steps(Some(n as u32));
             assert_eq!(ls.format(&ls.derive(&o).unwrap()), *want, "{name} step {n}");
         }
     };
@@ -224,10 +221,7 @@ fn signals_propagate_as_the_book_prints() {
     // The one-dimensional signal of ABOP 1.8: b moves right one place per step.
     let ls = LSystem::parse("Axiom: baaaaaaa\nb < a --> b\nb --> a").unwrap();
     for n in 0..8 {
-        let o = LsystemOptions {
-            steps: Some(n),
-            ..Default::default()
-        };
+        let o = LsystemOptions::default().steps(Some(n));
         let mut want = vec!['a'; 8];
         want[n as usize] = 'b';
         let want: String = want.into_iter().collect();
@@ -333,10 +327,7 @@ fn abop_1_31a_matches_a_naive_reference_at_every_step() {
     let want = reference("F1F1F1", &rules, "+-F", 30);
     let ls = grammar("context_1_31a");
     for (n, w) in want.iter().enumerate() {
-        let o = LsystemOptions {
-            steps: Some(n as u32),
-            ..Default::default()
-        };
+        let o = LsystemOptions::default().steps(Some(n as u32));
         assert_eq!(&ls.format(&ls.derive(&o).unwrap()), w, "step {n}");
     }
     let s = grow("context_1_31a");
@@ -393,15 +384,7 @@ fn stochastic_grammars_are_seeded() {
     // The grammar's seed wins over the caller's; without one, the caller's is used.
     let text = source("stochastic_2");
     let ls = LSystem::parse(&text).unwrap();
-    let with = |seed| {
-        ls.format(
-            &ls.derive(&LsystemOptions {
-                seed,
-                ..Default::default()
-            })
-            .unwrap(),
-        )
-    };
+    let with = |seed| ls.format(&ls.derive(&LsystemOptions::default().seed(seed)).unwrap());
     assert_eq!(with(10), with(11));
     let no_seed: String = text
         .lines()
@@ -409,15 +392,7 @@ fn stochastic_grammars_are_seeded() {
         .collect::<Vec<_>>()
         .join("\n");
     let ls = LSystem::parse(&no_seed).unwrap();
-    let with = |seed| {
-        ls.format(
-            &ls.derive(&LsystemOptions {
-                seed,
-                ..Default::default()
-            })
-            .unwrap(),
-        )
-    };
+    let with = |seed| ls.format(&ls.derive(&LsystemOptions::default().seed(seed)).unwrap());
     assert_eq!(with(10), with(10));
     assert_ne!(with(10), with(11));
 }
@@ -431,12 +406,7 @@ fn stochastic_frequencies_match_the_weights() {
     let ls = LSystem::parse(text).unwrap();
     let (mut b, mut c, mut d) = (0usize, 0usize, 0usize);
     for seed in 0..5 {
-        let s = ls
-            .derive(&LsystemOptions {
-                seed,
-                ..Default::default()
-            })
-            .unwrap();
+        let s = ls.derive(&LsystemOptions::default().seed(seed)).unwrap();
         b += count(&ls, &s, "B");
         c += count(&ls, &s, "C");
         d += count(&ls, &s, "D");
@@ -471,10 +441,7 @@ fn decomposition_cut_polygons_and_leaves() {
     let last = ls.derive(&LsystemOptions::default()).unwrap();
     assert_eq!(ls.format(&last), "F[F%F]F");
     assert_eq!(ls.interpret(&last, &Default::default()).unwrap().len(), 4);
-    let two = LsystemOptions {
-        steps: Some(2),
-        ..Default::default()
-    };
+    let two = LsystemOptions::default().steps(Some(2));
     assert_eq!(ls.format(&ls.derive(&two).unwrap()), "F[F]F");
     let strict = LSystem::parse_with_view(text, "interpretation past %: off\n").unwrap();
     assert_eq!(strict.skeleton(&Default::default()).unwrap().len(), 3);
@@ -554,11 +521,9 @@ fn turtle_symbols_follow_cpfg() {
 #[test]
 fn derivation_limits_stop_before_the_memory_is_spent() {
     let ls = LSystem::parse("Axiom: F\nF --> FF").unwrap();
-    let o = LsystemOptions {
-        steps: Some(60),
-        max_modules: 1 << 20,
-        ..Default::default()
-    };
+    let o = LsystemOptions::default()
+        .steps(Some(60))
+        .max_modules(1 << 20);
     match ls.derive(&o) {
         Err(arbor::Error::LimitExceeded {
             limit_name, step, ..
@@ -569,21 +534,14 @@ fn derivation_limits_stop_before_the_memory_is_spent() {
         other => panic!("{other:?}"),
     }
     let ls = LSystem::parse("Axiom: A(1)\nA(x) --> A(x)A(x)B(x,x,x,x)").unwrap();
-    let o = LsystemOptions {
-        steps: Some(40),
-        max_params: 1000,
-        ..Default::default()
-    };
+    let o = LsystemOptions::default().steps(Some(40)).max_params(1000);
     let e = ls.derive(&o).unwrap_err();
     assert!(e.to_string().contains("max_params"), "{e}");
     // An interpretation rule that expands without end is bounded by its maximum depth.
     let ls = LSystem::parse("Axiom: X\nhomomorphism\nmaximum depth: 12\nX --> F[+X][-X]").unwrap();
     let s = ls.skeleton(&LsystemOptions::default()).unwrap();
     assert_eq!(s.len(), (1 << 12) - 1);
-    let o = LsystemOptions {
-        max_branches: 100,
-        ..Default::default()
-    };
+    let o = LsystemOptions::default().max_branches(100);
     assert!(matches!(
         ls.skeleton(&o),
         Err(arbor::Error::LimitExceeded { .. })
@@ -612,11 +570,11 @@ fn non_finite_values_are_an_error_with_the_module() {
 fn turn_jitter_varies_turns_within_its_bound() {
     let ls = LSystem::parse("angle increment: 30\nAxiom: F+F+F+F-F&F^F").unwrap();
     let run = |seed, turn_jitter| {
-        ls.skeleton(&LsystemOptions {
-            seed,
-            turn_jitter,
-            ..Default::default()
-        })
+        ls.skeleton(
+            &LsystemOptions::default()
+                .seed(seed)
+                .turn_jitter(turn_jitter),
+        )
         .unwrap()
     };
     assert_eq!(
@@ -641,10 +599,7 @@ fn turn_jitter_varies_turns_within_its_bound() {
         moved |= (a - 30.0).abs() > 0.01;
     }
     assert!(moved, "the turns really vary");
-    let bad = LsystemOptions {
-        turn_jitter: -1.0,
-        ..Default::default()
-    };
+    let bad = LsystemOptions::default().turn_jitter(-1.0);
     assert!(ls.skeleton(&bad).is_err());
 }
 

@@ -6,11 +6,7 @@ use arbor::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec3;
 
 fn world(environment: Environment) -> World {
-    World::new(&WorldOptions {
-        environment,
-        ..Default::default()
-    })
-    .unwrap()
+    World::new(&WorldOptions::default().environment(environment)).unwrap()
 }
 
 fn grown(environment: Environment, species: &GrowthParams, cycles: u32) -> (World, Skeleton) {
@@ -184,11 +180,7 @@ fn vigour_is_conserved_and_radii_follow_the_pipe_model() {
 #[test]
 fn the_same_world_grows_the_same_forest() {
     let grow = |parallel: bool| {
-        let mut w = World::new(&WorldOptions {
-            parallel,
-            ..Default::default()
-        })
-        .unwrap();
+        let mut w = World::new(&WorldOptions::default().parallel(parallel)).unwrap();
         for (k, species) in Species::ALL.iter().enumerate() {
             let angle = k as f32 * 1.2566;
             w.plant(
@@ -256,51 +248,20 @@ fn bad_input_is_refused_by_name() {
         assert!(err.contains(field), "{field}: {err}");
     };
     let d = WorldOptions::default();
-    world_err(
-        WorldOptions {
-            cell_size: 0.0,
-            ..d
-        },
-        "cell_size",
-    );
-    world_err(
-        WorldOptions {
-            cell_size: f32::NAN,
-            ..d
-        },
-        "cell_size",
-    );
-    world_err(
-        WorldOptions {
-            max: [-20.0, 20.0, 10.0],
-            ..d
-        },
-        "max",
-    );
-    world_err(
-        WorldOptions {
-            shadow_falloff: 1.0,
-            ..d
-        },
-        "shadow_falloff",
-    );
+    world_err(d.cell_size(0.0), "cell_size");
+    world_err(d.cell_size(f32::NAN), "cell_size");
+    world_err(d.max([-20.0, 20.0, 10.0]), "max");
+    world_err(d.shadow_falloff(1.0), "shadow_falloff");
     // A box too fine for the grid limit is refused before anything is allocated.
-    world_err(
-        WorldOptions {
-            cell_size: 0.001,
-            ..d
-        },
-        "max_cells",
-    );
+    world_err(d.cell_size(0.001), "max_cells");
     // Past 2^31 cells even a host that lifts max_cells is refused (a cell index shares
     // 32 bits with a flag): 2^31 + 2^20 cells of one unit.
-    let err = World::new(&WorldOptions {
-        min: [0.0; 3],
-        max: [2049.0, 1024.0, 1024.0],
-        cell_size: 1.0,
-        max_cells: usize::MAX,
-        ..d
-    })
+    let err = World::new(
+        &d.min([0.0; 3])
+            .max([2049.0, 1024.0, 1024.0])
+            .cell_size(1.0)
+            .max_cells(usize::MAX),
+    )
     .unwrap_err();
     assert!(
         matches!(err, arbor::Error::LimitExceeded { limit_name: "max_cells", limit, .. } if limit == 1 << 31),
@@ -313,11 +274,7 @@ fn bad_input_is_refused_by_name() {
         .unwrap_err();
     assert!(err.to_string().contains("position"), "{err}");
     // Growth past max_branches stops with the limit named.
-    let mut w = World::new(&WorldOptions {
-        max_branches: 200,
-        ..d
-    })
-    .unwrap();
+    let mut w = World::new(&d.max_branches(200)).unwrap();
     w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
         .unwrap();
     let err = w.step(30).unwrap_err().to_string();
@@ -331,12 +288,12 @@ fn bad_input_is_refused_by_name() {
 #[test]
 fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
     let grow = |parallel: bool| {
-        let mut w = World::new(&WorldOptions {
-            min: [-30.0, 0.0, -30.0],
-            max: [30.0, 20.0, 30.0],
-            parallel,
-            ..Default::default()
-        })
+        let mut w = World::new(
+            &WorldOptions::default()
+                .min([-30.0, 0.0, -30.0])
+                .max([30.0, 20.0, 30.0])
+                .parallel(parallel),
+        )
         .unwrap();
         let mut species = GrowthParams::preset(Species::Decurrent);
         species.seed_age = 8;

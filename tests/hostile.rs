@@ -20,10 +20,7 @@ fn leaf_functions_refuse_the_scales_the_bark_refuses() {
     let s = grow("Lsystem: 1\nAxiom: F(1)~\nendlsystem");
     let leaves = LeafOptions::default();
     for scale in [0.0, -1.0, f32::NAN, f32::INFINITY] {
-        let o = MeshOptions {
-            scale,
-            ..Default::default()
-        };
+        let o = MeshOptions::default().scale(scale);
         assert!(mesh::mesh_size(&s, &o).is_err());
         for err in [
             mesh::leaf_instances(&s, &leaves, &o)
@@ -44,11 +41,7 @@ fn leaf_functions_refuse_the_scales_the_bark_refuses() {
 #[test]
 fn a_leaf_size_that_overflows_is_refused() {
     let s = grow("Lsystem: 1\nderivation length: 3\nAxiom: A\nA --> F[+A][-A]\nendlsystem");
-    let big = LeafOptions {
-        tips: true,
-        size: 3e38,
-        ..Default::default()
-    };
+    let big = LeafOptions::default().tips(true).size(3e38);
     let o = MeshOptions::default();
     for err in [
         mesh::leaf_instances(&s, &big, &o).map(|_| ()).unwrap_err(),
@@ -57,7 +50,7 @@ fn a_leaf_size_that_overflows_is_refused() {
         assert!(err.to_string().contains("size"), "{err}");
     }
     // Large but representable sizes give finite output.
-    let fine = LeafOptions { size: 1e30, ..big };
+    let fine = big.size(1e30);
     let m = mesh::leaf_mesh(&s, &fine, &o).unwrap();
     assert!(
         m.vertices
@@ -273,16 +266,11 @@ fn leaf_mesh_normals_are_unit() {
         A(n) : n<=0 --> *\nendlsystem\n";
     let s = LSystem::parse(text)
         .unwrap()
-        .skeleton(&LsystemOptions {
-            seed: 7,
-            ..LsystemOptions::default()
-        })
+        .skeleton(&LsystemOptions::default().seed(7))
         .unwrap();
-    let o = MeshOptions {
-        radial_segments: 9,
-        topology: mesh::Topology::TriangleStripRestart,
-        ..Default::default()
-    };
+    let o = MeshOptions::default()
+        .radial_segments(9)
+        .topology(mesh::Topology::TriangleStripRestart);
     let m = mesh::leaf_mesh(&s, &LeafOptions::default(), &o).unwrap();
     // The mesh the finding was made with.
     assert_eq!(m.vertices.len(), 22_029);
@@ -344,14 +332,8 @@ fn error_columns_are_in_the_files_own_text() {
 #[test]
 fn leaf_size_products_are_checked_as_formed() {
     let s = grow("Lsystem: 1\nAxiom: F(1)~\nendlsystem");
-    let leaves = LeafOptions {
-        size: 3.4e38,
-        ..LeafOptions::default()
-    };
-    let o = MeshOptions {
-        scale: 1e-40,
-        ..Default::default()
-    };
+    let leaves = LeafOptions::default().size(3.4e38);
+    let o = MeshOptions::default().scale(1e-40);
     let e = mesh::leaf_instances(&s, &leaves, &o).unwrap_err();
     assert!(e.to_string().contains("`size`"), "{e}");
 }

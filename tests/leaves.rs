@@ -34,14 +34,12 @@ fn terminal_branches(s: &Skeleton, min_birth: u32) -> usize {
 }
 
 fn tips(density: f32, min_birth: u32, seed: u64) -> LeafOptions {
-    LeafOptions {
-        tips: true,
-        density,
-        min_birth,
-        seed,
-        size: 5.0,
-        ..Default::default()
-    }
+    LeafOptions::default()
+        .tips(true)
+        .density(density)
+        .min_birth(min_birth)
+        .seed(seed)
+        .size(5.0)
 }
 
 #[test]
@@ -89,11 +87,7 @@ fn leaves_are_seeded_and_vary_within_their_ranges() {
 fn site_leaves_follow_the_turtle() {
     let s = grammar("angle increment: 90\nAxiom: F[+F~]F~");
     assert_eq!(s.leaves().len(), 2);
-    let o = LeafOptions {
-        rotation_jitter: 0.0,
-        size_jitter: 0.0,
-        ..Default::default()
-    };
+    let o = LeafOptions::default().rotation_jitter(0.0).size_jitter(0.0);
     let l = mesh::leaf_instances(&s, &o, &MeshOptions::default()).unwrap();
     assert_eq!(l.len(), 2);
     for (leaf, site) in l.iter().zip(s.leaves()) {
@@ -120,16 +114,9 @@ fn decoded(m: &arbor::Mesh) -> Vec<[u32; 3]> {
 #[test]
 fn baked_leaves_match_the_instances_in_every_topology() {
     let s = grammar("angle increment: 60\nAxiom: F[+F~][-F~]F[{.+f.+f.+f.}]~");
-    let o = LeafOptions {
-        tips: true,
-        ..Default::default()
-    };
+    let o = LeafOptions::default().tips(true);
     for up_axis in [UpAxis::Y, UpAxis::Z] {
-        let m = MeshOptions {
-            up_axis,
-            scale: 2.0,
-            ..Default::default()
-        };
+        let m = MeshOptions::default().up_axis(up_axis).scale(2.0);
         let instances = mesh::leaf_instances(&s, &o, &m).unwrap();
         let leaves = mesh::leaf_mesh(&s, &o, &m).unwrap();
         let polygon_points: usize = s.polygons().iter().map(|p| p.count as usize).sum();
@@ -157,21 +144,13 @@ fn baked_leaves_match_the_instances_in_every_topology() {
             Topology::TriangleStripRestart,
             Topology::TriangleStripDegenerate,
         ] {
-            let strips = mesh::leaf_mesh(&s, &o, &MeshOptions { topology, ..m }).unwrap();
+            let strips = mesh::leaf_mesh(&s, &o, &m.topology(topology)).unwrap();
             assert_eq!(strips.vertices, leaves.vertices);
             assert_eq!(decoded(&strips), list, "{topology:?}");
-            let size = mesh::leaf_mesh_size(&s, &o, &MeshOptions { topology, ..m }).unwrap();
+            let size = mesh::leaf_mesh_size(&s, &o, &m.topology(topology)).unwrap();
             assert_eq!(size.indices, strips.indices.len());
         }
-        let cw = mesh::leaf_mesh(
-            &s,
-            &o,
-            &MeshOptions {
-                winding: Winding::Clockwise,
-                ..m
-            },
-        )
-        .unwrap();
+        let cw = mesh::leaf_mesh(&s, &o, &m.winding(Winding::Clockwise)).unwrap();
         let flipped: Vec<[u32; 3]> = leaves.triangles().map(|[a, b, c]| [a, c, b]).collect();
         assert_eq!(cw.triangles().collect::<Vec<_>>(), flipped);
         for v in &leaves.vertices {
@@ -201,11 +180,9 @@ fn a_prefab_from_an_obj_file_is_baked_per_leaf() {
     let prefab = LeafPrefab::from_obj(&path).unwrap();
     assert_eq!(prefab.triangles.len(), 3);
     let s = tree('c');
-    let o = LeafOptions {
-        tips: true,
-        prefab: Some(std::sync::Arc::new(prefab.clone())),
-        ..Default::default()
-    };
+    let o = LeafOptions::default()
+        .tips(true)
+        .prefab(Some(std::sync::Arc::new(prefab.clone())));
     let m = MeshOptions::default();
     let n = mesh::leaf_instances(&s, &o, &m).unwrap().len();
     let baked = mesh::leaf_mesh(&s, &o, &m).unwrap();
@@ -219,40 +196,13 @@ fn bad_leaf_options_name_their_field() {
     let s = tree('a');
     let m = MeshOptions::default();
     for (field, o) in [
-        (
-            "density",
-            LeafOptions {
-                density: -1.0,
-                ..Default::default()
-            },
-        ),
-        (
-            "density",
-            LeafOptions {
-                density: f32::NAN,
-                ..Default::default()
-            },
-        ),
-        (
-            "size",
-            LeafOptions {
-                size: 0.0,
-                ..Default::default()
-            },
-        ),
-        (
-            "size_jitter",
-            LeafOptions {
-                size_jitter: 1.0,
-                ..Default::default()
-            },
-        ),
+        ("density", LeafOptions::default().density(-1.0)),
+        ("density", LeafOptions::default().density(f32::NAN)),
+        ("size", LeafOptions::default().size(0.0)),
+        ("size_jitter", LeafOptions::default().size_jitter(1.0)),
         (
             "rotation_jitter",
-            LeafOptions {
-                rotation_jitter: f32::INFINITY,
-                ..Default::default()
-            },
+            LeafOptions::default().rotation_jitter(f32::INFINITY),
         ),
     ] {
         match mesh::leaf_instances(&s, &o, &m) {
@@ -275,20 +225,14 @@ fn leaves_sit_only_on_kept_branches() {
          A(l,w) --> !(w)F(l)~[+(30)A(l*0.7,w*0.6)][-(30)A(l*0.7,w*0.6)]",
     );
     let full = MeshOptions::default();
-    let culled = MeshOptions {
-        cull_radius: 0.3,
-        ..Default::default()
-    };
+    let culled = MeshOptions::default().cull_radius(0.3);
     let ranges = mesh::branch_ranges(&s, &culled).unwrap();
     let kept = |b: u32| ranges[b as usize].vertex_count > 0;
     assert!(
         ranges.iter().any(|r| r.vertex_count == 0),
         "some twigs are culled"
     );
-    let sites = LeafOptions {
-        tips: false,
-        ..Default::default()
-    };
+    let sites = LeafOptions::default().tips(false);
     let all = mesh::leaf_instances(&s, &sites, &full).unwrap();
     assert_eq!(all.len(), s.leaves().len());
     let some = mesh::leaf_instances(&s, &sites, &culled).unwrap();
@@ -297,15 +241,7 @@ fn leaves_sit_only_on_kept_branches() {
     assert_eq!(some.len(), on_kept, "sites of culled twigs are dropped");
     // Tip leaves: at the kept branches whose children were all culled.
     let leaves = tips(1.0, 0, 3);
-    let at_tips = mesh::leaf_instances(
-        &s,
-        &LeafOptions {
-            sites: false,
-            ..leaves.clone()
-        },
-        &culled,
-    )
-    .unwrap();
+    let at_tips = mesh::leaf_instances(&s, &leaves.clone().sites(false), &culled).unwrap();
     let new_tips = (0..s.len())
         .filter(|&i| kept(i as u32) && !s.adjacency().children(i).iter().any(|&c| kept(c)))
         .count();

@@ -56,44 +56,31 @@ fn combos() -> Vec<(&'static str, MeshOptions)> {
         ("default", d),
         (
             "separate joints, 3 sides",
-            MeshOptions {
-                joints: Joints::Separate,
-                radial_segments: 3,
-                ..d
-            },
+            d.joints(Joints::Separate).radial_segments(3),
         ),
         (
             "taper and caps",
-            MeshOptions {
-                smooth_taper: true,
-                base_cap: true,
-                tip: Tip::Cap,
-                radial_segments: 5,
-                texture_scale: 7.5,
-                ..d
-            },
+            d.smooth_taper(true)
+                .base_cap(true)
+                .tip(Tip::Cap)
+                .radial_segments(5)
+                .texture_scale(7.5),
         ),
         (
             "points, clockwise, Z up, scaled",
-            MeshOptions {
-                tip: Tip::Point,
-                winding: Winding::Clockwise,
-                up_axis: UpAxis::Z,
-                scale: 2.5,
-                radial_segments: 6,
-                ..d
-            },
+            d.tip(Tip::Point)
+                .winding(Winding::Clockwise)
+                .up_axis(UpAxis::Z)
+                .scale(2.5)
+                .radial_segments(6),
         ),
         (
             "LOD and cull",
-            MeshOptions {
-                radial_segments: 12,
-                min_radial_segments: 3,
-                cull_radius: 0.3,
-                base_cap: true,
-                tip: Tip::Point,
-                ..d
-            },
+            d.radial_segments(12)
+                .min_radial_segments(3)
+                .cull_radius(0.3)
+                .base_cap(true)
+                .tip(Tip::Point),
         ),
     ]
 }
@@ -109,10 +96,7 @@ fn to_model(o: &MeshOptions, v: [f32; 3], is_position: bool) -> Vec3 {
 }
 
 fn check(name: &str, s: &Skeleton, label: &str, o: MeshOptions) {
-    let list_options = MeshOptions {
-        topology: Topology::TriangleList,
-        ..o
-    };
+    let list_options = o.topology(Topology::TriangleList);
     let list = mesh::tubes(s, &list_options).unwrap();
     let nv = list.vertices.len() as u32;
     let what = format!("{name} / {label}");
@@ -189,7 +173,7 @@ fn check(name: &str, s: &Skeleton, label: &str, o: MeshOptions) {
         Topology::TriangleStripRestart,
         Topology::TriangleStripDegenerate,
     ] {
-        let strip = mesh::tubes(s, &MeshOptions { topology, ..o }).unwrap();
+        let strip = mesh::tubes(s, &o.topology(topology)).unwrap();
         assert_eq!(strip.vertices, list.vertices, "{what} {topology:?}");
         for &i in &strip.indices {
             let restart = topology == Topology::TriangleStripRestart && i == RESTART_INDEX;
@@ -197,7 +181,7 @@ fn check(name: &str, s: &Skeleton, label: &str, o: MeshOptions) {
         }
         let got: Vec<[u32; 3]> = strip.triangles().map(canonical).collect();
         assert_eq!(got, expected, "{what} {topology:?}");
-        let size = mesh::mesh_size(s, &MeshOptions { topology, ..o }).unwrap();
+        let size = mesh::mesh_size(s, &o.topology(topology)).unwrap();
         assert_eq!(size.indices, strip.indices.len());
         let total: u32 = strip.ranges.iter().map(|r| r.index_count).sum();
         assert_eq!(total as usize, strip.indices.len(), "{what} {topology:?}");
@@ -253,21 +237,11 @@ fn mitred_axes_are_watertight() {
     for k in [1, 2, 5, 9] {
         let s = chain(k);
         for segments in [3, 8, 13] {
-            let o = MeshOptions {
-                radial_segments: segments,
-                ..Default::default()
-            };
+            let o = MeshOptions::default().radial_segments(segments);
             let m = mesh::tubes(&s, &o).unwrap();
             assert_eq!(boundary_edges(&m), 2 * segments as usize, "k = {k}");
             assert_eq!(m.vertices.len(), (k + 1) * (segments as usize + 1));
-            let separate = mesh::tubes(
-                &s,
-                &MeshOptions {
-                    joints: Joints::Separate,
-                    ..o
-                },
-            )
-            .unwrap();
+            let separate = mesh::tubes(&s, &o.joints(Joints::Separate)).unwrap();
             assert_eq!(boundary_edges(&separate), 2 * segments as usize * k);
         }
     }
@@ -288,12 +262,12 @@ fn counts_follow_the_formula() {
         let axes = axis_starts(&s);
         for segments in [3usize, 8] {
             let ring = segments + 1;
-            let o = |topology, tip, base_cap| MeshOptions {
-                radial_segments: segments as u32,
-                topology,
-                tip,
-                base_cap,
-                ..Default::default()
+            let o = |topology, tip, base_cap| {
+                MeshOptions::default()
+                    .radial_segments(segments as u32)
+                    .topology(topology)
+                    .tip(tip)
+                    .base_cap(base_cap)
             };
             let size = mesh::mesh_size(&s, &o(Topology::TriangleList, Tip::Open, false)).unwrap();
             assert_eq!(size.vertices, (n + axes) * ring, "{name}");
@@ -342,11 +316,9 @@ fn seams_do_not_twist_along_an_axis() {
         let s = parts.build().unwrap();
         assert!(!s.has_frames());
         let segments = 8u32;
-        let o = MeshOptions {
-            joints: Joints::Separate,
-            radial_segments: segments,
-            ..Default::default()
-        };
+        let o = MeshOptions::default()
+            .joints(Joints::Separate)
+            .radial_segments(segments);
         let m = mesh::tubes(&s, &o).unwrap();
         let b = s.branches();
         for (i, child) in b.iter().enumerate() {
@@ -379,10 +351,7 @@ fn seams_follow_the_turtle_up_vector() {
     for name in PRESET_NAMES {
         let s = tree(name);
         assert!(s.has_frames());
-        let o = MeshOptions {
-            joints: Joints::Separate,
-            ..Default::default()
-        };
+        let o = MeshOptions::default().joints(Joints::Separate);
         let m = mesh::tubes(&s, &o).unwrap();
         for (i, b) in s.branches().iter().enumerate() {
             let dir = (b.end() - b.start()).normalize();
@@ -405,10 +374,7 @@ fn seams_follow_the_turtle_up_vector() {
 #[test]
 fn v_is_arc_length_from_the_root() {
     let s = tree('h');
-    let o = MeshOptions {
-        texture_scale: 4.0,
-        ..Default::default()
-    };
+    let o = MeshOptions::default().texture_scale(4.0);
     let m = mesh::tubes(&s, &o).unwrap();
     let b = s.branches();
     let mut arc = vec![0.0f32; b.len()];
@@ -435,11 +401,9 @@ fn v_is_arc_length_from_the_root() {
 #[test]
 fn smooth_taper_takes_the_radius_of_the_continuation() {
     let s = tree('a');
-    let o = MeshOptions {
-        smooth_taper: true,
-        joints: Joints::Separate,
-        ..Default::default()
-    };
+    let o = MeshOptions::default()
+        .smooth_taper(true)
+        .joints(Joints::Separate);
     let m = mesh::tubes(&s, &o).unwrap();
     let b = s.branches();
     for (i, x) in b.iter().enumerate() {
@@ -461,11 +425,11 @@ fn lod_levels_shrink_and_cull_whole_subtrees() {
     let s = tree('b');
     let levels: Vec<MeshOptions> = [(16u32, 0.0f32), (8, 0.5), (4, 1.5)]
         .iter()
-        .map(|&(segments, cull)| MeshOptions {
-            radial_segments: segments,
-            min_radial_segments: 3,
-            cull_radius: cull,
-            ..Default::default()
+        .map(|&(segments, cull)| {
+            MeshOptions::default()
+                .radial_segments(segments)
+                .min_radial_segments(3)
+                .cull_radius(cull)
         })
         .collect();
     let lods = mesh::mesh_lods(&s, &levels).unwrap();
@@ -498,26 +462,11 @@ fn lod_levels_shrink_and_cull_whole_subtrees() {
 fn host_conventions_transform_the_same_mesh() {
     let s = tree('g');
     let base = mesh::tubes(&s, &MeshOptions::default()).unwrap();
-    let cw = mesh::tubes(
-        &s,
-        &MeshOptions {
-            winding: Winding::Clockwise,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let cw = mesh::tubes(&s, &MeshOptions::default().winding(Winding::Clockwise)).unwrap();
     assert_eq!(cw.vertices, base.vertices);
     let flipped: Vec<[u32; 3]> = base.triangles().map(|[a, b, c]| [a, c, b]).collect();
     assert_eq!(cw.triangles().collect::<Vec<_>>(), flipped);
-    let z = mesh::tubes(
-        &s,
-        &MeshOptions {
-            up_axis: UpAxis::Z,
-            scale: 0.01,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let z = mesh::tubes(&s, &MeshOptions::default().up_axis(UpAxis::Z).scale(0.01)).unwrap();
     for (a, b) in base.vertices.iter().zip(&z.vertices) {
         let [x, y, zz] = a.position;
         let want = [x * 0.01, -zz * 0.01, y * 0.01];
@@ -566,12 +515,10 @@ fn lateral_rings_are_sunk_into_the_parent() {
 fn too_small_buffers_are_refused_and_left_untouched() {
     let s = tree('c');
     for topology in Topology::ALL {
-        let o = MeshOptions {
-            radial_segments: 5,
-            topology,
-            tip: Tip::Point,
-            ..Default::default()
-        };
+        let o = MeshOptions::default()
+            .radial_segments(5)
+            .topology(topology)
+            .tip(Tip::Point);
         let size = mesh::mesh_size(&s, &o).unwrap();
         let sentinel = Vertex {
             position: [7.0; 3],
@@ -599,10 +546,7 @@ fn too_small_buffers_are_refused_and_left_untouched() {
 #[test]
 fn meshes_over_65536_vertices_index_with_32_bits() {
     let s = tree('f');
-    let o = MeshOptions {
-        radial_segments: 16,
-        ..Default::default()
-    };
+    let o = MeshOptions::default().radial_segments(16);
     let m = mesh::tubes(&s, &o).unwrap();
     assert!(m.vertices.len() > 65_536);
     let max = *m.indices.iter().max().unwrap();
@@ -614,10 +558,7 @@ fn meshes_over_65536_vertices_index_with_32_bits() {
 #[test]
 fn empty_skeleton_gives_empty_buffers() {
     for topology in Topology::ALL {
-        let o = MeshOptions {
-            topology,
-            ..Default::default()
-        };
+        let o = MeshOptions::default().topology(topology);
         let m = mesh::tubes(&Skeleton::default(), &o).unwrap();
         assert!(m.vertices.is_empty() && m.indices.is_empty());
     }
@@ -650,11 +591,7 @@ fn cone_normals_tilt_toward_the_narrow_end() {
 #[test]
 fn output_is_deterministic() {
     let s = tree('h');
-    let o = MeshOptions {
-        tip: Tip::Point,
-        base_cap: true,
-        ..Default::default()
-    };
+    let o = MeshOptions::default().tip(Tip::Point).base_cap(true);
     let a = mesh::tubes(&s, &o).unwrap();
     let b = mesh::tubes(&s, &o).unwrap();
     assert_eq!(
@@ -680,18 +617,9 @@ fn vertex_normals_are_the_normals_of_the_surface_as_drawn() {
             ("mitred", MeshOptions::default()),
             (
                 "mitred, smooth taper",
-                MeshOptions {
-                    smooth_taper: true,
-                    ..Default::default()
-                },
+                MeshOptions::default().smooth_taper(true),
             ),
-            (
-                "separate",
-                MeshOptions {
-                    joints: Joints::Separate,
-                    ..Default::default()
-                },
-            ),
+            ("separate", MeshOptions::default().joints(Joints::Separate)),
         ] {
             let m = mesh::tubes(&s, &o).unwrap();
             let b = s.branches();

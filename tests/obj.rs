@@ -11,11 +11,7 @@ fn every_preset_reads_back_with_tobj() {
     for name in PRESET_NAMES {
         let skeleton = honda::build(&HondaParams::preset(name).unwrap()).unwrap();
         let topology = Topology::ALL[(name as usize) % 3];
-        let options = MeshOptions {
-            radial_segments: 5,
-            topology,
-            ..Default::default()
-        };
+        let options = MeshOptions::default().radial_segments(5).topology(topology);
         let m = mesh::tubes(&skeleton, &options).unwrap();
         let path = dir.join(format!("tree_{name}.obj"));
         save_obj(&m, &path).unwrap();
@@ -50,11 +46,9 @@ fn every_preset_reads_back_with_tobj() {
 #[test]
 fn obj_header_counts_triangles_of_strips() {
     let skeleton = honda::build(&HondaParams::preset('c').unwrap()).unwrap();
-    let options = MeshOptions {
-        radial_segments: 4,
-        topology: Topology::TriangleStripDegenerate,
-        ..Default::default()
-    };
+    let options = MeshOptions::default()
+        .radial_segments(4)
+        .topology(Topology::TriangleStripDegenerate);
     let m = mesh::tubes(&skeleton, &options).unwrap();
     let mut text = Vec::new();
     write_obj(&m, &mut text).unwrap();
@@ -73,17 +67,11 @@ fn bark_and_leaves_read_back_as_two_groups() {
     std::fs::create_dir_all(&dir).unwrap();
     let skeleton = honda::build(&HondaParams::preset('g').unwrap()).unwrap();
     for topology in Topology::ALL {
-        let options = MeshOptions {
-            topology,
-            tip: arbor::mesh::Tip::Point,
-            ..Default::default()
-        };
+        let options = MeshOptions::default()
+            .topology(topology)
+            .tip(arbor::mesh::Tip::Point);
         let bark = mesh::tubes(&skeleton, &options).unwrap();
-        let leaf_options = LeafOptions {
-            tips: true,
-            size: 6.0,
-            ..Default::default()
-        };
+        let leaf_options = LeafOptions::default().tips(true).size(6.0);
         let leaves = mesh::leaf_mesh(&skeleton, &leaf_options, &options).unwrap();
         let path = dir.join(format!("tree_g_{topology:?}.obj"));
         save_obj_parts(&[("bark", &bark), ("leaves", &leaves)], &path).unwrap();

@@ -37,11 +37,7 @@ fn organs_are_meshed_in_every_topology_with_outward_faces() {
         Topology::TriangleStripRestart,
         Topology::TriangleStripDegenerate,
     ] {
-        let options = MeshOptions {
-            topology,
-            radial_segments: 8,
-            ..Default::default()
-        };
+        let options = MeshOptions::default().topology(topology).radial_segments(8);
         let m = leaf_mesh(&s, &leaves, &options).unwrap();
         let size = leaf_mesh_size(&s, &leaves, &options).unwrap();
         assert_eq!(
@@ -81,10 +77,7 @@ fn organs_are_meshed_in_every_topology_with_outward_faces() {
         }
     }
     // Without polygons the organ mesh leaves them out too.
-    let none = LeafOptions {
-        polygons: false,
-        ..Default::default()
-    };
+    let none = LeafOptions::default().polygons(false);
     assert_eq!(
         leaf_mesh(&s, &none, &MeshOptions::default())
             .unwrap()

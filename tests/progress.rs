@@ -130,11 +130,7 @@ fn mesh_writes_report_and_stop() {
         Topology::TriangleStripDegenerate,
     ] {
         for threads in [1, 2] {
-            let o = MeshOptions {
-                topology,
-                threads,
-                ..Default::default()
-            };
+            let o = MeshOptions::default().topology(topology).threads(threads);
             let plan = MeshPlan::new(&s, &o).unwrap();
             let plain = plan.mesh(&s).unwrap();
             let mut seen = Vec::new();

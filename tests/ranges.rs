@@ -1,9 +1,11 @@
 //! The ranges the documentation gives are the ranges `validate()` enforces: for every
-//! field of `GrowthParams` and `WorldOptions` whose doc comment states a range (`[a, b]`,
+//! field of `GrowthParams`, `WorldOptions`, `MeshOptions` and `LeafOptions` whose doc
+//! comment states a range (`[a, b]`,
 //! `(a, b]`, `a..=b`, `> a`, `≥ a`), the bounds are accepted or refused as written, just
 //! inside and just outside; and the C header documents the same range for the field of the
 //! same name.
 
+use arbor::mesh::{LeafOptions, MeshOptions};
 use arbor::models::growth::{GrowthParams, WorldOptions};
 use std::path::Path;
 
@@ -136,8 +138,11 @@ fn check<T: Default>(
             set(&mut T::default(), &field, 0.0),
             "{rust_name}.{field} documents {r:?} but the test cannot set it"
         );
-        let integer =
-            doc.contains("cycles") || field.starts_with("max_") || field.ends_with("depth");
+        let integer = doc.contains("cycles")
+            || field.starts_with("max_")
+            || field.ends_with("depth")
+            || field.ends_with("segments")
+            || field.ends_with("rings");
         let step = |v: f64| {
             if integer {
                 1.0
@@ -251,6 +256,51 @@ fn world_options_ranges_are_the_documented_ones() {
         &|o: &WorldOptions| o.validate().is_ok(),
     );
     assert!(n >= 5, "only {n} documented ranges found");
+}
+
+#[test]
+fn mesh_options_ranges_are_the_documented_ones() {
+    let set = |o: &mut MeshOptions, field: &str, v: f64| {
+        let u = v.max(0.0) as u32;
+        match field {
+            "radial_segments" => o.radial_segments = u,
+            "texture_scale" => o.texture_scale = v as f32,
+            "scale" => o.scale = v as f32,
+            "curve_rings" => o.curve_rings = u,
+            _ => return false,
+        }
+        true
+    };
+    let n = check(
+        "src/mesh/mod.rs",
+        "MeshOptions",
+        "ArborMeshOptions",
+        &set,
+        &|o: &MeshOptions| o.validate().is_ok(),
+    );
+    assert!(n >= 4, "only {n} documented ranges found");
+}
+
+#[test]
+fn leaf_options_ranges_are_the_documented_ones() {
+    let set = |o: &mut LeafOptions, field: &str, v: f64| {
+        let f = v as f32;
+        match field {
+            "density" => o.density = f,
+            "size" => o.size = f,
+            "size_jitter" => o.size_jitter = f,
+            _ => return false,
+        }
+        true
+    };
+    let n = check(
+        "src/mesh/leaves.rs",
+        "LeafOptions",
+        "ArborLeafOptions",
+        &set,
+        &|o: &LeafOptions| o.validate().is_ok(),
+    );
+    assert!(n >= 3, "only {n} documented ranges found");
 }
 
 #[test]

@@ -18,11 +18,9 @@ fn swept_vertices_lie_on_the_tube_around_their_curve() {
     let k = 4usize;
     for name in PRESET_NAMES {
         let s = smoothed(name);
-        let o = MeshOptions {
-            curve_rings: k as u32,
-            joints: Joints::Separate,
-            ..Default::default()
-        };
+        let o = MeshOptions::default()
+            .curve_rings(k as u32)
+            .joints(Joints::Separate);
         let m = mesh::tubes(&s, &o).unwrap();
         let ring = (o.radial_segments + 1) as usize;
         let mut worst = 0.0f32;
@@ -67,14 +65,12 @@ fn sweeps_are_valid_meshes_in_every_topology() {
             (Joints::Mitred, Tip::Cap, true, 0),
             (Joints::Mitred, Tip::Open, false, 3),
         ] {
-            let base = MeshOptions {
-                curve_rings: 3,
-                joints,
-                tip,
-                base_cap,
-                min_radial_segments: lod,
-                ..Default::default()
-            };
+            let base = MeshOptions::default()
+                .curve_rings(3)
+                .joints(joints)
+                .tip(tip)
+                .base_cap(base_cap)
+                .min_radial_segments(lod);
             let list = mesh::tubes(&s, &base).unwrap();
             let size = mesh::mesh_size(&s, &base).unwrap();
             assert_eq!(
@@ -115,7 +111,7 @@ fn sweeps_are_valid_meshes_in_every_topology() {
                 Topology::TriangleStripRestart,
                 Topology::TriangleStripDegenerate,
             ] {
-                let o = MeshOptions { topology, ..base };
+                let o = base.topology(topology);
                 let m = mesh::tubes(&s, &o).unwrap();
                 assert_eq!(m.vertices, list.vertices);
                 let got: Vec<[u32; 3]> = m.triangles().collect();
@@ -136,21 +132,12 @@ fn sweeps_are_valid_meshes_in_every_topology() {
 #[test]
 fn inner_rings_on_straight_branches_subdivide_the_cone() {
     let s = honda::build(&HondaParams::preset('c').unwrap()).unwrap();
-    let plain = mesh::tubes(
-        &s,
-        &MeshOptions {
-            joints: Joints::Separate,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let plain = mesh::tubes(&s, &MeshOptions::default().joints(Joints::Separate)).unwrap();
     let swept = mesh::tubes(
         &s,
-        &MeshOptions {
-            joints: Joints::Separate,
-            curve_rings: 2,
-            ..Default::default()
-        },
+        &MeshOptions::default()
+            .joints(Joints::Separate)
+            .curve_rings(2),
     )
     .unwrap();
     let ring = 9usize;
@@ -177,15 +164,9 @@ fn inner_rings_on_straight_branches_subdivide_the_cone() {
         }
     }
     assert!(
-        mesh::mesh_size(
-            &s,
-            &MeshOptions {
-                curve_rings: 65,
-                ..Default::default()
-            }
-        )
-        .unwrap_err()
-        .to_string()
-        .contains("curve_rings")
+        mesh::mesh_size(&s, &MeshOptions::default().curve_rings(65))
+            .unwrap_err()
+            .to_string()
+            .contains("curve_rings")
     );
 }

@@ -6,10 +6,7 @@ use arbor::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 
 fn varied(name: char, seed: u64) -> Skeleton {
-    let v = Variation {
-        seed,
-        ..Default::default()
-    };
+    let v = Variation::default().seed(seed);
     honda::build_varied(&HondaParams::preset(name).unwrap(), &v).unwrap()
 }
 
@@ -52,11 +49,7 @@ fn variation_is_seeded_connected_and_bounded() {
             "{ratio}"
         );
     }
-    let bad = Variation {
-        seed: 1,
-        length: 1.5,
-        ..Default::default()
-    };
+    let bad = Variation::default().seed(1).length(1.5);
     assert!(honda::build_varied(&HondaParams::preset('a').unwrap(), &bad).is_err());
 }
 

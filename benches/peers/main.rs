@@ -21,12 +21,7 @@ fn time<F: FnMut() -> usize>(mut f: F) -> (f64, usize) {
 
 fn arbor_derive(text: &str, steps: u32) -> usize {
     let ls = arbor::lsystem::LSystem::parse(text).unwrap();
-    let o = arbor::lsystem::LsystemOptions {
-        steps: Some(steps),
-        max_modules: usize::MAX,
-        max_params: usize::MAX,
-        ..Default::default()
-    };
+    let o = arbor::lsystem::LsystemOptions::default().steps(Some(steps)).max_modules(usize::MAX).max_params(usize::MAX);
     ls.derive(&o).unwrap().len()
 }
 
@@ -84,10 +79,7 @@ fn mesh_rows() {
     ] {
         let mut p = arbor::models::honda::HondaParams::preset(name).unwrap();
         p.steps = steps;
-        let o = arbor::mesh::MeshOptions {
-            radial_segments: sides,
-            ..Default::default()
-        };
+        let o = arbor::mesh::MeshOptions::default().radial_segments(sides);
         let mut tris = 0;
         let mut verts = 0;
         let (t, _) = time(|| {

@@ -176,11 +176,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
                 species_names()
             )
         })?;
-        let mut w = World::new(&WorldOptions {
-            seed,
-            ..Default::default()
-        })
-        .map_err(err)?;
+        let mut w = World::new(&WorldOptions::default().seed(seed)).map_err(err)?;
         w.plant(&GrowthParams::preset(kind), [0.0, 0.0, 0.0], seed)
             .map_err(err)?;
         let cycles = steps.unwrap_or(12);
@@ -198,13 +194,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
         let s = if seed == 0 {
             honda::build(&p)
         } else {
-            honda::build_varied(
-                &p,
-                &honda::Variation {
-                    seed,
-                    ..Default::default()
-                },
-            )
+            honda::build_varied(&p, &honda::Variation::default().seed(seed))
         }
         .map_err(err)?;
         return Ok((s, format!("1996 tree {c}, {} steps", p.steps)));
@@ -218,11 +208,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     for w in ls.warnings() {
         eprintln!("warning: {source}: {w}");
     }
-    let options = LsystemOptions {
-        steps,
-        variation_seed: seed,
-        ..Default::default()
-    };
+    let options = LsystemOptions::default().steps(steps).variation_seed(seed);
     let s = ls
         .skeleton_in(&options, &mut Run::reporting(&mut |st, f| bar.show(st, f)))
         .map_err(err)?;
@@ -257,10 +243,7 @@ fn leaf_options(
         _ => !has_sites,
     };
     if !tips {
-        let l = LeafOptions {
-            size: size.unwrap_or(1.0),
-            ..LeafOptions::default()
-        };
+        let l = LeafOptions::default().size(size.unwrap_or(1.0));
         return Ok((l, "at the model's leaf sites".to_string()));
     }
     // Tips of the branches born in the last three steps (or cycles), two leaves each on
@@ -281,15 +264,13 @@ fn leaf_options(
         }
     }
     let extent = (0..3).map(|c| hi[c] - lo[c]).fold(0.0f32, f32::max);
-    let l = LeafOptions {
-        sites: false,
-        polygons: false,
-        tips: true,
-        min_birth: last.saturating_sub(2),
-        density: 2.0,
-        size: size.unwrap_or(if extent > 0.0 { 0.04 * extent } else { 1.0 }),
-        ..LeafOptions::default()
-    };
+    let l = LeafOptions::default()
+        .sites(false)
+        .polygons(false)
+        .tips(true)
+        .min_birth(last.saturating_sub(2))
+        .density(2.0)
+        .size(size.unwrap_or(if extent > 0.0 { 0.04 * extent } else { 1.0 }));
     let why = if place == "tips" {
         "at the tips of the youngest branches"
     } else {

@@ -22,7 +22,7 @@ pub struct ArborLeafOptions {
     pub density: f32,
     /// Leaf size in model units; > 0. Default 1.
     pub size: f32,
-    /// Size varies by up to +- this fraction, 0 <= x < 1. Default 0.2.
+    /// Size varies by up to +- this fraction, in [0, 1). Default 0.2.
     pub size_jitter: f32,
     /// Each leaf turns about its stem by up to +- this many degrees. Default 180.
     pub rotation_jitter: f32,

@@ -495,7 +495,7 @@ fn interpret_answering(
             asked.ask(string, i, frame);
         }
     };
-    check_options(options)?;
+    options.validate()?;
     let mut t = Turtle::new(ls, options);
     debug_assert_eq!(t.ops[PUSH as usize], Op::Push);
     debug_assert_eq!(t.ops[POP as usize], Op::Pop);
@@ -536,31 +536,6 @@ fn interpret_answering(
         return Ok(Skeleton::default());
     }
     Ok(t.into_skeleton())
-}
-
-/// Refuses options the turtle cannot use, naming the first.
-fn check_options(options: &LsystemOptions) -> Result<()> {
-    if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
-        return Err(Error::invalid(
-            "turn_jitter",
-            format!("{}; expected a finite angle >= 0", options.turn_jitter),
-        ));
-    }
-    for (field, v) in [
-        ("angle_increment", options.angle_increment),
-        ("initial_width", options.initial_width),
-        ("width_increment", options.width_increment),
-    ] {
-        if let Some(v) = v {
-            if !v.is_finite() || (field != "angle_increment" && v < 0.0) {
-                return Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite number >= 0"),
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// The turtle walks `string` through the grammar's interpretation rules (`homomorphism`):

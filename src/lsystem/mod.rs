@@ -35,7 +35,7 @@ mod view;
 pub use grammar::{OldTropism, ViewSettings};
 pub use syntax::MAX_SOURCE_BYTES;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::progress::Run;
 use crate::skeleton::Skeleton;
 use grammar::{ModuleList, ProductionTable, Symbols};
@@ -43,6 +43,7 @@ use grammar::{ModuleList, ProductionTable, Symbols};
 pub use crate::limits::DEFAULT_MAX_MODULES;
 pub use crate::limits::DEFAULT_MAX_PARAMS;
 
+crate::options::options! {
 /// Options of [`LSystem::derive`] and [`LSystem::interpret`]. `Default` gives the
 /// documented defaults; the settings given here override the grammar's directives.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,6 +82,36 @@ pub struct LsystemOptions {
     /// would rewrite more modules than this (a bound on time, where `max_modules` bounds
     /// memory). Default [`DEFAULT_MAX_WORK`](crate::limits::DEFAULT_MAX_WORK).
     pub max_work: usize,
+}
+}
+
+impl LsystemOptions {
+    /// Refuses options the turtle cannot use, naming the first (a jitter or an angle,
+    /// width or width increment that is not finite, or is negative where it must not be).
+    pub fn validate(&self) -> Result<()> {
+        let options = self;
+        if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
+            return Err(Error::invalid(
+                "turn_jitter",
+                format!("{}; expected a finite angle >= 0", options.turn_jitter),
+            ));
+        }
+        for (field, v) in [
+            ("angle_increment", options.angle_increment),
+            ("initial_width", options.initial_width),
+            ("width_increment", options.width_increment),
+        ] {
+            if let Some(v) = v {
+                if !v.is_finite() || (field != "angle_increment" && v < 0.0) {
+                    return Err(Error::invalid(
+                        field,
+                        format!("{v}; expected a finite number >= 0"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for LsystemOptions {
@@ -304,7 +335,7 @@ impl LSystem {
 
     /// [`derive`](Self::derive) in `run`, reporting
     /// [`Stage::Derivation`](crate::progress::Stage) at every step and every 65,536 modules
-    /// within one; `false` stops with [`Error::Cancelled`](crate::error::Error::Cancelled).
+    /// within one; `false` stops with [`Error::Cancelled`].
     pub fn derive_in(&self, options: &LsystemOptions, run: &mut Run<'_>) -> Result<ModuleString> {
         derive::derive(self, options, Run::new(run.callback()))
     }
@@ -343,7 +374,7 @@ impl LSystem {
     ///
     /// `string` must come from [`derive`](Self::derive) of this grammar (or a clone of
     /// it): its symbols are numbers in this grammar's table, so a string of another
-    /// grammar is refused with [`Error::InvalidArgument`](crate::error::Error::InvalidArgument).
+    /// grammar is refused with [`Error::InvalidArgument`].
     pub fn interpret(&self, string: &ModuleString, options: &LsystemOptions) -> Result<Skeleton> {
         self.interpret_in(string, options, &mut Run::default())
     }

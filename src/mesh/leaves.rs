@@ -155,6 +155,7 @@ impl LeafPrefab {
     }
 }
 
+crate::options::options! {
 /// Where leaves go and how they vary. `Default` gives the documented defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LeafOptions {
@@ -172,7 +173,7 @@ pub struct LeafOptions {
     pub density: f32,
     /// Leaf size in model units (the prefab is scaled by it). Finite, > 0. Default 1.
     pub size: f32,
-    /// Each leaf's size varies by up to ± this fraction. 0..1. Default 0.2.
+    /// Each leaf's size varies by up to ± this fraction, in [0, 1). Default 0.2.
     pub size_jitter: f32,
     /// Each leaf turns about its stem by up to ± this many degrees. Finite. Default 180.
     pub rotation_jitter: f32,
@@ -187,6 +188,7 @@ pub struct LeafOptions {
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_leaves`, before
     /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
     pub max_leaves: usize,
+}
 }
 
 impl Default for LeafOptions {
@@ -209,7 +211,9 @@ impl Default for LeafOptions {
 }
 
 impl LeafOptions {
-    fn validate(&self) -> Result<()> {
+    /// Refuses options out of their documented ranges (density, sizes, jitters, tilt,
+    /// `max_leaves`, a prefab's data), naming the first.
+    pub fn validate(&self) -> Result<()> {
         if !(self.density.is_finite() && (0.0..=64.0).contains(&self.density)) {
             return Err(Error::invalid(
                 "density",

@@ -185,6 +185,7 @@ pub enum Axes {
 
 crate::enums::numbered!(Axes as "ArborAxes" { Arbor = "arbor", Unity = "unity", Unreal = "unreal" });
 
+crate::options::options! {
 /// Options of the tube mesher. Plain data; `Default` gives the documented defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshOptions {
@@ -235,6 +236,7 @@ pub struct MeshOptions {
     /// length.
     pub curve_rings: u32,
 }
+}
 
 impl Default for MeshOptions {
     fn default() -> Self {
@@ -260,6 +262,13 @@ impl Default for MeshOptions {
 }
 
 impl MeshOptions {
+    /// Refuses options out of their documented ranges, or that contradict themselves (an
+    /// engine preset with another up axis or winding, a scale that leaves the f32 range in
+    /// the preset's units), naming the first; every mesh and export call checks this.
+    pub fn validate(&self) -> crate::error::Result<()> {
+        plan::check_options(self)
+    }
+
     /// How positions and directions go from arbor's space into the output's.
     pub(crate) fn out(&self) -> rings::Out {
         let (map, units) = match (self.axes, self.up_axis) {

@@ -35,6 +35,7 @@ pub const PRESET_NAMES: [char; 9] = ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'
 /// diameters (`!(w)`), so a branch radius is half its width. Angles are in degrees.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[non_exhaustive]
 pub struct HondaParams {
     /// s0: length of the trunk (100 in the paper). Finite, > 0.
     pub trunk_length: f32,
@@ -201,6 +202,7 @@ impl HondaParams {
     }
 }
 
+crate::options::options! {
 /// Seeded per-branch variation of the model, so that trees grown from the same parameters
 /// differ the way real ones do. Every child's branching and divergence angles move by up
 /// to ± the angles given, its length and width by up to ± the fractions given (uniformly).
@@ -218,6 +220,7 @@ pub struct Variation {
     /// Largest relative change of a width, 0..1. Default 0.06.
     pub width: f32,
 }
+}
 
 impl Default for Variation {
     fn default() -> Self {
@@ -232,7 +235,8 @@ impl Default for Variation {
 }
 
 impl Variation {
-    fn validate(&self) -> Result<()> {
+    /// Refuses amounts that are not finite or are negative, naming the first.
+    pub fn validate(&self) -> Result<()> {
         for (field, v) in [
             ("branching", self.branching),
             ("divergence", self.divergence),

@@ -55,6 +55,7 @@ crate::enums::numbered!(Environment as "ArborEnvironment" {
     SpaceColonization = "space-colonization",
 });
 
+crate::options::options! {
 /// The world: its box, its environment and its limits. Plain data; `Default` gives the
 /// documented defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,6 +93,7 @@ pub struct WorldOptions {
     /// they give. Default true.
     pub parallel: bool,
 }
+}
 
 impl Default for WorldOptions {
     fn default() -> Self {
@@ -121,6 +123,7 @@ impl Default for WorldOptions {
 /// start from arbor_growth_params_default() or arbor_growth_params_preset().
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct GrowthParams {
     /// sizeof(ArborGrowthParams) as the host was compiled (C only; Rust keeps it at its own
     /// size).
