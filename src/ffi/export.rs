@@ -2,15 +2,16 @@
 
 use super::*;
 
-/// The tree, mesh options (with the host's progress callback) and path every export
-/// takes, checked in that order.
+/// The tree, mesh options (with the host's progress callback), path and leaf options
+/// (NULL: no leaves) every export takes, checked in that order.
 ///
 /// # Safety
-/// `tree` is NULL or live; `mesh_options` is NULL or readable; `path` is NULL or
+/// `tree` is NULL or live; the options are NULL or readable; `path` is NULL or
 /// NUL-terminated.
 unsafe fn export_args<'a>(
     tree: *const ArborTree,
     mesh_options: *const ArborMeshOptions,
+    leaf_options: *const ArborLeafOptions,
     path: *const c_char,
 ) -> Result<ExportArgs<'a>, FfiError> {
     // SAFETY: the caller promises `tree` is NULL or live.
@@ -24,15 +25,23 @@ unsafe fn export_args<'a>(
     let path = unsafe { CStr::from_ptr(path) }
         .to_str()
         .map_err(|_| crate::Error::invalid("path", "the path is not UTF-8"))?;
-    Ok((tree, mo, (progress, user), path))
+    let leaves = if leaf_options.is_null() {
+        None
+    } else {
+        // SAFETY: the caller promises a non-NULL `leaf_options` is readable.
+        Some(unsafe { read_leaf_options(leaf_options, true) }?)
+    };
+    Ok((tree, mo, (progress, user), path, leaves))
 }
 
-/// What [`export_args`] reads: tree, mesh options, (progress callback, user data), path.
+/// What [`export_args`] reads: tree, mesh options, (progress callback, user data), path,
+/// leaf options.
 type ExportArgs<'a> = (
     &'a ArborTree,
     MeshOptions,
     (ArborProgressFn, *mut c_void),
     &'a str,
+    Option<LeafOptions>,
 );
 
 /// Writes the bark mesh of `tree` (group `bark`) and, unless `leaf_options` is NULL, its
@@ -55,22 +64,18 @@ pub unsafe extern "C" fn arbor_export_obj(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
+        let (tree, mo, (progress, user), path, leaves) =
+            unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
         let mut run = run_of(&mut f);
         let bark = mesh::MeshPlan::new(tree.skeleton(), &mo)?.mesh_in(tree.skeleton(), &mut run)?;
-        if leaf_options.is_null() {
-            crate::export::save_obj_parts_in(&[("bark", &bark)], path, &mut run)?;
-        } else {
-            // SAFETY: the caller promises `leaf_options` is readable.
-            let lo = unsafe { read_leaf_options(leaf_options, true) }?;
-            let leaves = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;
-            crate::export::save_obj_parts_in(
-                &[("bark", &bark), ("leaves", &leaves)],
-                path,
-                &mut run,
-            )?;
-        }
+        let leaves = match leaves {
+            Some(lo) => Some(mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?),
+            None => None,
+        };
+        let mut parts = vec![("bark", &bark)];
+        parts.extend(leaves.as_ref().map(|l| ("leaves", l)));
+        crate::export::save_obj_parts_in(&parts, path, &mut run)?;
         Ok(())
     })
 }
@@ -94,13 +99,8 @@ pub unsafe extern "C" fn arbor_export_gltf(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, (progress, user), path) = unsafe { export_args(tree, mesh_options, path) }?;
-        let leaves = if leaf_options.is_null() {
-            None
-        } else {
-            // SAFETY: the caller promises `leaf_options` is readable.
-            Some(unsafe { read_leaf_options(leaf_options, true) }?)
-        };
+        let (tree, mo, (progress, user), path, leaves) =
+            unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
         crate::export::save_gltf_in(
             tree.skeleton(),

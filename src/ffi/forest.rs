@@ -121,17 +121,13 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         let placed = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
         let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
-        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
-        let v = unsafe {
-            out_slice(
-                vertices.cast::<Vertex>(),
-                vertex_capacity,
-                vertex_capacity,
-                "vertices",
-            )
-        }?;
-        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
-        let i = unsafe { out_slice(indices, index_capacity, index_capacity, "indices") }?;
+        let whole = mesh::MeshSize {
+            vertices: vertex_capacity,
+            indices: index_capacity,
+        };
+        // SAFETY: the caller promises both hold their capacities, writable, apart.
+        let (v, i) =
+            unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, whole) }?;
         // Grows and meshes every tree once; checks the capacities before writing.
         let mut f = progress_closure(progress, user);
         crate::forest::write_merged_uninit_in(&placed, &options, v, i, &mut run_of(&mut f))?;

@@ -108,10 +108,8 @@ pub unsafe extern "C" fn arbor_world_options_init(
     options: *mut ArborWorldOptions,
     struct_size: usize,
 ) {
-    guard_value((), || {
-        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
-        unsafe { init_growing(options, struct_size) }
-    })
+    // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+    unsafe { init_for_host(options, struct_size) }
 }
 
 /// Writes the default species parameters into the first `struct_size` bytes at `params`
@@ -122,10 +120,8 @@ pub unsafe extern "C" fn arbor_world_options_init(
 /// `params` is NULL or writable for `struct_size` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_growth_params_init(params: *mut GrowthParams, struct_size: usize) {
-    guard_value((), || {
-        // SAFETY: the caller promises `struct_size` writable bytes at `params`.
-        unsafe { init_growing(params, struct_size) }
-    })
+    // SAFETY: the caller promises `struct_size` writable bytes at `params`.
+    unsafe { init_for_host(params, struct_size) }
 }
 
 /// Writes the parameters of species `species` (an ArborSpecies) into the first

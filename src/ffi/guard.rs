@@ -168,6 +168,31 @@ pub(crate) unsafe fn copy_out<T: Copy>(
     Ok(())
 }
 
+/// The host's vertex and index buffers (`capacity` elements each), at least `size` of
+/// each (else `BufferTooSmall` naming the buffer), as slots to write.
+///
+/// # Safety
+/// Each pointer is NULL or valid for writes of its capacity, and they do not overlap.
+pub(crate) unsafe fn mesh_buffers<'a>(
+    vertices: *mut crate::mesh::Vertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+    size: crate::mesh::MeshSize,
+) -> Result<MeshSlots<'a>, FfiError> {
+    // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
+    let v = unsafe { out_slice(vertices, vertex_capacity, size.vertices, "vertices") }?;
+    // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
+    let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+    Ok((v, i))
+}
+
+/// What [`mesh_buffers`] gives: vertex and index slots.
+pub(crate) type MeshSlots<'a> = (
+    &'a mut [MaybeUninit<crate::mesh::Vertex>],
+    &'a mut [MaybeUninit<u32>],
+);
+
 /// The first `needed` elements of a caller buffer of `capacity` elements, as
 /// possibly-uninitialised slots (a host's `malloc` or mapped GPU memory).
 ///

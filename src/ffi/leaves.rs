@@ -184,10 +184,8 @@ pub unsafe extern "C" fn arbor_leaf_options_init(
     options: *mut ArborLeafOptions,
     struct_size: usize,
 ) {
-    guard_value((), || {
-        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
-        unsafe { init_growing(options, struct_size) }
-    })
+    // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+    unsafe { init_for_host(options, struct_size) }
 }
 
 /// The leaf options behind `options` (NULL: the defaults); `load_prefab` reads the OBJ.
@@ -239,6 +237,26 @@ pub(crate) unsafe fn read_leaf_options(
     })
 }
 
+/// What the leaf calls read first: the tree, the leaf options (`load_prefab`: reading the
+/// prefab's OBJ) and the mesh options, NULL options meaning the defaults.
+///
+/// # Safety
+/// `tree` is NULL or live; the options are NULL or readable, as [`read_leaf_options`].
+unsafe fn leaf_args<'t>(
+    tree: *const ArborTree,
+    leaf_options: *const ArborLeafOptions,
+    mesh_options: *const ArborMeshOptions,
+    load_prefab: bool,
+) -> Result<(&'t ArborTree, LeafOptions, MeshOptions), FfiError> {
+    // SAFETY: the caller promises `tree` is NULL or live.
+    let tree = unsafe { arg_ref(tree, "tree") }?;
+    // SAFETY: the caller promises `leaf_options` is NULL or readable.
+    let lo = unsafe { read_leaf_options(leaf_options, load_prefab) }?;
+    // SAFETY: the caller promises `mesh_options` is NULL or readable.
+    let mo = unsafe { read_mesh_options(mesh_options) }?;
+    Ok((tree, lo, mo))
+}
+
 /// Writes the number of leaf instances of `tree` with `leaf_options` (NULL: defaults) to
 /// `*count`; `mesh_options` (NULL: defaults) supplies the up axis and scale.
 ///
@@ -252,12 +270,8 @@ pub unsafe extern "C" fn arbor_leaf_instance_count(
     count: *mut usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `leaf_options` is NULL or readable.
-        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises each is NULL or live (readable).
+        let (tree, lo, mo) = unsafe { leaf_args(tree, leaf_options, mesh_options, false) }?;
         // SAFETY: the caller promises `count` is NULL or writable.
         let count = unsafe { out_ref(count, "count") }?;
         *count = mesh::leaf_instances(tree.skeleton(), &lo, &mo)?.len();
@@ -280,12 +294,8 @@ pub unsafe extern "C" fn arbor_leaf_instances_write(
     capacity: usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `leaf_options` is NULL or readable.
-        let lo = unsafe { read_leaf_options(leaf_options, false) }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises each is NULL or live (readable).
+        let (tree, lo, mo) = unsafe { leaf_args(tree, leaf_options, mesh_options, false) }?;
         let leaves = mesh::leaf_instances(tree.skeleton(), &lo, &mo)?;
         // SAFETY: the caller promises `out` holds `capacity` writable instances.
         let dst = unsafe { out_slice(out.cast::<LeafInstance>(), capacity, leaves.len(), "out") }?;
@@ -311,12 +321,8 @@ pub unsafe extern "C" fn arbor_leaf_mesh_size(
     index_count: *mut usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `leaf_options` is NULL or readable.
-        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises each is NULL or live (readable).
+        let (tree, lo, mo) = unsafe { leaf_args(tree, leaf_options, mesh_options, true) }?;
         // SAFETY: the caller promises both are NULL or writable.
         let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
         // SAFETY: as above.
@@ -345,24 +351,12 @@ pub unsafe extern "C" fn arbor_leaf_mesh_write(
     index_capacity: usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `leaf_options` is NULL or readable.
-        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises each is NULL or live (readable).
+        let (tree, lo, mo) = unsafe { leaf_args(tree, leaf_options, mesh_options, true) }?;
         let size = mesh::leaf_mesh_size(tree.skeleton(), &lo, &mo)?;
-        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices.
-        let v = unsafe {
-            out_slice(
-                vertices.cast::<Vertex>(),
-                vertex_capacity,
-                size.vertices,
-                "vertices",
-            )
-        }?;
-        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
-        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        // SAFETY: the caller promises both hold their capacities, writable, apart.
+        let (v, i) =
+            unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, size) }?;
         mesh::write_leaf_mesh(tree.skeleton(), &lo, &mo, v, i)?;
         Ok(())
     })
@@ -380,12 +374,8 @@ pub unsafe extern "C" fn arbor_leaf_mesh_create(
     out: *mut *mut ArborMesh,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `leaf_options` is NULL or readable.
-        let lo = unsafe { read_leaf_options(leaf_options, true) }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let mo = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: the caller promises each is NULL or live (readable).
+        let (tree, lo, mo) = unsafe { leaf_args(tree, leaf_options, mesh_options, true) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let mesh = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;

@@ -263,10 +263,8 @@ pub unsafe extern "C" fn arbor_lsystem_options_init(
     options: *mut ArborLsystemOptions,
     struct_size: usize,
 ) {
-    guard_value((), || {
-        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
-        unsafe { init_growing(options, struct_size) }
-    })
+    // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+    unsafe { init_for_host(options, struct_size) }
 }
 
 /// Grows a tree from L-system text in the cpfg language (see GRAMMAR.md): parse, derive,

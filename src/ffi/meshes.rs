@@ -110,10 +110,8 @@ pub unsafe extern "C" fn arbor_mesh_options_init(
     options: *mut ArborMeshOptions,
     struct_size: usize,
 ) {
-    guard_value((), || {
-        // SAFETY: the caller promises `struct_size` writable bytes at `options`.
-        unsafe { init_growing(options, struct_size) }
-    })
+    // SAFETY: the caller promises `struct_size` writable bytes at `options`.
+    unsafe { init_for_host(options, struct_size) }
 }
 
 /// The options behind `options`, or the defaults for NULL.
@@ -231,18 +229,9 @@ pub unsafe extern "C" fn arbor_mesh_write(
         let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
         let plan = tree.plan(&options)?;
         let size = plan.size();
-        // SAFETY: the caller promises `vertices` holds `vertex_capacity` writable vertices
-        // (ArborVertex and Vertex share one layout, asserted in layout.rs).
-        let v = unsafe {
-            out_slice(
-                vertices.cast::<Vertex>(),
-                vertex_capacity,
-                size.vertices,
-                "vertices",
-            )
-        }?;
-        // SAFETY: the caller promises `indices` holds `index_capacity` writable indices.
-        let i = unsafe { out_slice(indices, index_capacity, size.indices, "indices") }?;
+        // SAFETY: the caller promises both hold their capacities, writable, apart.
+        let (v, i) =
+            unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, size) }?;
         let mut f = progress_closure(progress, user);
         let mut run = run_of(&mut f).threads(options.threads);
         plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;

@@ -43,7 +43,8 @@ use crate::models::honda::{self, HondaParams};
 use crate::skeleton::{Branch, LeafSite, Organ, Skeleton};
 use bytemuck::{Pod, Zeroable};
 use guard::{
-    FfiError, arg_ref, copy_out, guard, guard_value, in_slice, out_ref, out_slice, with_last_error,
+    FfiError, arg_ref, copy_out, guard, guard_value, in_slice, mesh_buffers, out_ref, out_slice,
+    with_last_error,
 };
 use std::ffi::{CStr, c_char, c_void};
 

@@ -74,6 +74,17 @@ pub(crate) unsafe fn read_growing<T: Growing>(p: *const T, name: &str) -> Result
     Ok(out)
 }
 
+/// What every `arbor_*_init` does: [`init_growing`], with no panic crossing into C.
+///
+/// # Safety
+/// `p` is NULL or writable for `size` bytes.
+pub(crate) unsafe fn init_for_host<T: Growing>(p: *mut T, size: usize) {
+    super::guard::guard_value((), || {
+        // SAFETY: passed on from the caller.
+        unsafe { init_growing(p, size) }
+    })
+}
+
 /// Writes the defaults of `T` into the first `size` bytes at `p` (zeros past the
 /// library's size), with `struct_size` = `size`; writes nothing when `p` is NULL or `size`
 /// is below 4.

@@ -2,16 +2,25 @@
 //! that the compiler reads to compile a call and to say what it expected, and the
 //! operations themselves (trigonometry in degrees, as cpfg).
 
-use super::expr::Op;
 use crate::rng::Rng;
+
+/// What a call of a built-in computes (the expression compiler makes it an instruction).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Call {
+    F1(Func1),
+    F2(Func2),
+    Ran,
+    Nran,
+    Special(Special),
+}
 
 /// How many arguments a built-in takes, and the operation for each count.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Arity {
-    One(Op),
-    Two(Op),
+    One(Call),
+    Two(Call),
     /// `atan(x)` or `atan(y, x)`.
-    OneOrTwo(Op, Op),
+    OneOrTwo(Call, Call),
 }
 
 impl Arity {
@@ -32,14 +41,14 @@ pub(crate) struct Builtin {
     pub(crate) arity: Arity,
 }
 
-const fn one(name: &'static str, op: Op) -> Builtin {
+const fn one(name: &'static str, op: Call) -> Builtin {
     Builtin {
         name,
         arity: Arity::One(op),
     }
 }
 
-const fn two(name: &'static str, op: Op) -> Builtin {
+const fn two(name: &'static str, op: Call) -> Builtin {
     Builtin {
         name,
         arity: Arity::Two(op),
@@ -48,38 +57,38 @@ const fn two(name: &'static str, op: Op) -> Builtin {
 
 /// Every built-in a call may name (besides `fopen`, which takes a file's name and mode).
 pub(crate) const BUILTINS: &[Builtin] = &[
-    one("sin", Op::F1(Func1::Sin)),
-    one("cos", Op::F1(Func1::Cos)),
-    one("tan", Op::F1(Func1::Tan)),
-    one("asin", Op::F1(Func1::Asin)),
-    one("acos", Op::F1(Func1::Acos)),
+    one("sin", Call::F1(Func1::Sin)),
+    one("cos", Call::F1(Func1::Cos)),
+    one("tan", Call::F1(Func1::Tan)),
+    one("asin", Call::F1(Func1::Asin)),
+    one("acos", Call::F1(Func1::Acos)),
     Builtin {
         name: "atan",
-        arity: Arity::OneOrTwo(Op::F1(Func1::Atan), Op::F2(Func2::Atan2)),
+        arity: Arity::OneOrTwo(Call::F1(Func1::Atan), Call::F2(Func2::Atan2)),
     },
-    two("atan2", Op::F2(Func2::Atan2)),
-    one("exp", Op::F1(Func1::Exp)),
-    one("log", Op::F1(Func1::Log)),
-    one("sqrt", Op::F1(Func1::Sqrt)),
-    one("fabs", Op::F1(Func1::Fabs)),
-    one("abs", Op::F1(Func1::Fabs)),
-    one("floor", Op::F1(Func1::Floor)),
-    one("ceil", Op::F1(Func1::Ceil)),
-    one("trunc", Op::F1(Func1::Trunc)),
-    one("sign", Op::F1(Func1::Sign)),
-    two("min", Op::F2(Func2::Min)),
-    two("max", Op::F2(Func2::Max)),
-    two("pow", Op::F2(Func2::Pow)),
-    one("ran", Op::Ran),
-    two("nran", Op::Nran),
-    two("bran", Op::Special(Special::Bran)),
-    two("biran", Op::Special(Special::Biran)),
-    one("srand", Op::Special(Special::Srand)),
-    two("func", Op::Special(Special::Func)),
-    two("curveX", Op::Special(Special::Curve(0))),
-    two("curveY", Op::Special(Special::Curve(1))),
-    two("curveZ", Op::Special(Special::Curve(2))),
-    one("curveGAL", Op::Special(Special::CurveLength)),
+    two("atan2", Call::F2(Func2::Atan2)),
+    one("exp", Call::F1(Func1::Exp)),
+    one("log", Call::F1(Func1::Log)),
+    one("sqrt", Call::F1(Func1::Sqrt)),
+    one("fabs", Call::F1(Func1::Fabs)),
+    one("abs", Call::F1(Func1::Fabs)),
+    one("floor", Call::F1(Func1::Floor)),
+    one("ceil", Call::F1(Func1::Ceil)),
+    one("trunc", Call::F1(Func1::Trunc)),
+    one("sign", Call::F1(Func1::Sign)),
+    two("min", Call::F2(Func2::Min)),
+    two("max", Call::F2(Func2::Max)),
+    two("pow", Call::F2(Func2::Pow)),
+    one("ran", Call::Ran),
+    two("nran", Call::Nran),
+    two("bran", Call::Special(Special::Bran)),
+    two("biran", Call::Special(Special::Biran)),
+    one("srand", Call::Special(Special::Srand)),
+    two("func", Call::Special(Special::Func)),
+    two("curveX", Call::Special(Special::Curve(0))),
+    two("curveY", Call::Special(Special::Curve(1))),
+    two("curveZ", Call::Special(Special::Curve(2))),
+    one("curveGAL", Call::Special(Special::CurveLength)),
 ];
 
 /// Every built-in's name, and `fopen`, for the message of an unknown call.

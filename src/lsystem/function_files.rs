@@ -110,14 +110,8 @@ fn points<'a>(
     let mut out = Vec::new();
     for _ in 0..count {
         let line = lines.next().ok_or("fewer points than `points:` says")?;
-        let v: Vec<f64> = line
-            .split_whitespace()
-            .map(|s| {
-                s.parse::<f64>()
-                    .map_err(|_| format!("`{line}` is not a point"))
-            })
-            .collect::<Result<_, _>>()?;
-        if v.len() < 2 || !v.iter().all(|x| x.is_finite()) {
+        let v = numbers(line, "a point")?;
+        if v.len() < 2 {
             return Err(format!("`{line}` is not a point (x y [multiplicity])"));
         }
         let mult = v.get(2).map_or(1, |&m| (m.round() as usize).clamp(1, 3));
@@ -249,14 +243,8 @@ pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
             rows.push(lines.next().ok_or("fewer points than `points:` says")?);
         }
         for l in rows {
-            let v: Vec<f64> = l
-                .split_whitespace()
-                .map(|w| {
-                    w.parse::<f64>()
-                        .map_err(|_| format!("`{l}` is not a point"))
-                })
-                .collect::<Result<_, _>>()?;
-            if v.len() < 3 || !v.iter().all(|x| x.is_finite()) {
+            let v = numbers(l, "a point")?;
+            if v.len() < 3 {
                 return Err(format!("`{l}` is not a point (x y z [multiplicity])"));
             }
             let mult = v.get(3).map_or(1, |&m| (m.round() as usize).clamp(1, 3));
@@ -296,6 +284,19 @@ pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
         along.push(along.last().copied().unwrap_or(0.0) + d);
     }
     Ok(Curve { points, along })
+}
+
+/// The finite numbers of a line of a curve, function or surface file, or an error saying
+/// the line is not `what`.
+pub(crate) fn numbers(line: &str, what: &str) -> Result<Vec<f64>, String> {
+    line.split_whitespace()
+        .map(|w| {
+            w.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("`{line}` is not {what}"))
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -133,14 +133,8 @@ fn read_patch<'a>(lines: &mut impl Iterator<Item = &'a str>) -> Result<[[DVec3; 
         let l = lines
             .next()
             .ok_or("a patch with fewer than 4 rows of points")?;
-        let v: Vec<f64> = l
-            .split_whitespace()
-            .map(|w| {
-                w.parse::<f64>()
-                    .map_err(|_| format!("`{l}` is not a row of points"))
-            })
-            .collect::<Result<_, _>>()?;
-        if v.len() != 12 || !v.iter().all(|x| x.is_finite()) {
+        let v = super::function_files::numbers(l, "a row of points")?;
+        if v.len() != 12 {
             return Err(format!("`{l}` is not 4 points (12 numbers)"));
         }
         for (k, c) in row.iter_mut().enumerate() {

@@ -142,10 +142,7 @@ mod tests {
     fn plans_are_kept_per_options_and_edits_mark_their_branches() {
         let mut tree = PlanCache::new(honda::build(&HondaParams::preset('a').unwrap()).unwrap());
         let a = MeshOptions::default();
-        let b = MeshOptions {
-            radial_segments: 5,
-            ..a
-        };
+        let b = a.radial_segments(5);
         let pa = tree.plan(&a).unwrap();
         assert!(
             Arc::ptr_eq(&pa, &tree.plan(&a).unwrap()),

@@ -582,10 +582,7 @@ impl MeshPlan {
     /// Whether this plan serves `options`: equal in everything but
     /// [`MeshOptions::threads`], which only says how to write.
     pub fn serves(&self, options: &MeshOptions) -> bool {
-        MeshOptions {
-            threads: self.options.threads,
-            ..*options
-        } == self.options
+        (*options).threads(self.options.threads) == self.options
     }
 
     /// For each branch, the vertices and indices it owns.

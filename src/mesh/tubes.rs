@@ -423,48 +423,18 @@ mod tests {
     #[test]
     fn bad_options_are_rejected_by_name() {
         let cases: [(&str, MeshOptions); 6] = [
+            ("radial_segments", MeshOptions::default().radial_segments(2)),
             (
                 "radial_segments",
-                MeshOptions {
-                    radial_segments: 2,
-                    ..Default::default()
-                },
-            ),
-            (
-                "radial_segments",
-                MeshOptions {
-                    radial_segments: 65,
-                    ..Default::default()
-                },
+                MeshOptions::default().radial_segments(65),
             ),
             (
                 "min_radial_segments",
-                MeshOptions {
-                    min_radial_segments: 9,
-                    ..Default::default()
-                },
+                MeshOptions::default().min_radial_segments(9),
             ),
-            (
-                "cull_radius",
-                MeshOptions {
-                    cull_radius: f32::NAN,
-                    ..Default::default()
-                },
-            ),
-            (
-                "texture_scale",
-                MeshOptions {
-                    texture_scale: 0.0,
-                    ..Default::default()
-                },
-            ),
-            (
-                "scale",
-                MeshOptions {
-                    scale: f32::INFINITY,
-                    ..Default::default()
-                },
-            ),
+            ("cull_radius", MeshOptions::default().cull_radius(f32::NAN)),
+            ("texture_scale", MeshOptions::default().texture_scale(0.0)),
+            ("scale", MeshOptions::default().scale(f32::INFINITY)),
         ];
         for (field, o) in cases {
             match mesh_size(&Skeleton::default(), &o) {

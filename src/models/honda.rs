@@ -105,26 +105,19 @@ impl HondaParams {
             ("r1", self.r1),
             ("r2", self.r2),
         ];
-        for (field, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite number > 0"),
-                ));
-            }
-        }
         let angles = [
             ("alpha1", self.alpha1),
             ("alpha2", self.alpha2),
             ("phi1", self.phi1),
             ("phi2", self.phi2),
         ];
-        for (field, v) in angles {
-            if !v.is_finite() {
-                return Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite angle in degrees"),
-                ));
+        let checks = positive.map(|(f, v)| (f, v, v > 0.0, "a finite number > 0"));
+        let checks = checks
+            .into_iter()
+            .chain(angles.map(|(f, v)| (f, v, true, "a finite angle in degrees")));
+        for (field, v, in_range, expected) in checks {
+            if !(v.is_finite() && in_range) {
+                return Err(Error::invalid(field, format!("{v}; expected {expected}")));
             }
         }
         if !(self.q.is_finite() && (0.0..=1.0).contains(&self.q)) {

@@ -367,8 +367,8 @@ impl Compiler<'_, '_, '_> {
         }
         self.nesting -= 1;
         match (builtin.arity, args) {
-            (Arity::One(op), 1) | (Arity::OneOrTwo(op, _), 1) => self.emit_unary(op, start),
-            (Arity::Two(op), 2) | (Arity::OneOrTwo(_, op), 2) => self.push_two(op, start),
+            (Arity::One(op), 1) | (Arity::OneOrTwo(op, _), 1) => self.emit_unary(op.into(), start),
+            (Arity::Two(op), 2) | (Arity::OneOrTwo(_, op), 2) => self.push_two(op.into(), start),
             _ => {
                 return Err(self.cur.error_at(
                     at,

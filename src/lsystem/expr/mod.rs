@@ -15,7 +15,7 @@ mod tests;
 pub(crate) use compile::{Scope, compile};
 
 use super::builtins::{
-    Arity, BUILTINS, Func1, Func2, Special, beta, binomial, builtin_names, unsupported,
+    Arity, BUILTINS, Call, Func1, Func2, Special, beta, binomial, builtin_names, unsupported,
 };
 use super::syntax::{Cursor, PResult};
 use crate::rng::Rng;
@@ -240,6 +240,18 @@ fn binary(op: Op, x: f64, y: f64) -> f64 {
         Op::And => b(x != 0.0 && y != 0.0),
         Op::Or => b(x != 0.0 || y != 0.0),
         _ => unreachable!("not a binary operator: {op:?}"),
+    }
+}
+
+impl From<Call> for Op {
+    fn from(call: Call) -> Op {
+        match call {
+            Call::F1(f) => Op::F1(f),
+            Call::F2(f) => Op::F2(f),
+            Call::Ran => Op::Ran,
+            Call::Nran => Op::Nran,
+            Call::Special(s) => Op::Special(s),
+        }
     }
 }
 

@@ -99,16 +99,9 @@ impl Parser<'_> {
                         // the text is read and the value is 0.
                         skip_string(cur)?;
                         list.exprs.push(expr::Expr::Const(0.0));
-                        cur.skip_ws();
-                        if cur.eat(",") {
-                            continue;
-                        }
-                        if cur.eat(")") {
-                            break;
-                        }
-                        return Err(cur.error("`,` or `)` after a module parameter"));
+                    } else {
+                        list.exprs.push(expr::compile(cur, &scope)?);
                     }
-                    list.exprs.push(expr::compile(cur, &scope)?);
                     cur.skip_ws();
                     if cur.eat(",") {
                         continue;
