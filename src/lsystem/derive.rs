@@ -46,11 +46,9 @@ fn derive_string<'a>(
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
     ctx.check("the axiom")?;
     post_process(&mut ctx, &mut cur, &mut next)?;
-    // Query modules (`?P` ...) learn where the turtle is after every step.
+    // Query modules (`?P` ...) learn where the turtle is before every step's rewriting,
+    // as cpfg answers them: those the last step makes stay as it made them.
     let queries = query::has_queries(ls);
-    if queries {
-        super::interpret::answer_queries(ls, &mut cur, options)?;
-    }
     let mut links = Links::default();
     // Growth of the last step (modules, parameters), to size the next buffer once instead
     // of letting it double (and copy) its way up.
@@ -70,6 +68,9 @@ fn derive_string<'a>(
             cut(&cur, &mut next);
             std::mem::swap(&mut cur, &mut next);
         }
+        if queries {
+            super::interpret::answer_queries(ls, &mut cur, options)?;
+        }
         ctx.run_block(&ls.blocks.start_each, "the StartEach: block")?;
         next.clear();
         let want = |len: usize, g: f64, limit: usize| ((len as f64 * g * 1.02) as usize).min(limit);
@@ -88,9 +89,6 @@ fn derive_string<'a>(
         );
         std::mem::swap(&mut cur, &mut next);
         post_process(&mut ctx, &mut cur, &mut next)?;
-        if queries {
-            super::interpret::answer_queries(ls, &mut cur, options)?;
-        }
         ctx.run_block(&ls.blocks.end_each, "the EndEach: block")?;
     }
     ctx.run_block(&ls.blocks.end, "the End: block")?;

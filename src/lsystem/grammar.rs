@@ -12,6 +12,8 @@ pub(crate) const PUSH: u16 = 0;
 pub(crate) const POP: u16 = 1;
 /// Symbol id of `%` (cut).
 pub(crate) const CUT: u16 = 2;
+/// Symbol id of `=`: in a right context, the rest of the current branch (cpfg).
+pub(crate) const REST: u16 = 3;
 
 /// Interned module names.
 #[derive(Clone, Debug)]
@@ -26,7 +28,7 @@ impl Symbols {
             names: Vec::new(),
             map: HashMap::new(),
         };
-        for name in ["[", "]", "%"] {
+        for name in ["[", "]", "%", "="] {
             s.intern(name);
         }
         s

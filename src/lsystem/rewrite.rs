@@ -2,7 +2,7 @@
 //! successors emitted into the next string, and decomposition and homomorphism expansion.
 
 use super::ctx::{Ctx, emit, non_finite};
-use super::grammar::{POP, PUSH, Pattern, Production, ProductionTable};
+use super::grammar::{POP, PUSH, Pattern, Production, ProductionTable, REST};
 use super::stmt;
 use super::{LSystem, ModuleString};
 use crate::error::Result;
@@ -394,6 +394,13 @@ fn match_right(
             j = close as usize + 1;
             continue;
         }
+        if pat.sym == REST {
+            // `=`: the rest of the current branch, up to its `]` (the string's end at the
+            // top level).
+            let close = links.close[j.min(n)];
+            j = if close == u32::MAX { n } else { close as usize };
+            continue;
+        }
         loop {
             j = links.next[j.min(n)] as usize;
             if j >= n {
@@ -408,6 +415,12 @@ fn match_right(
                 }
             }
             let sym = s.syms[j];
+            // An ignored bracket (not listed by `consider:`, or listed by `ignore:`) is
+            // skipped like any ignored module: cpfg asks that first.
+            if ls.skip[sym as usize] {
+                j += 1;
+                continue;
+            }
             if sym == PUSH {
                 let close = links.partner[j];
                 if close == u32::MAX {

@@ -181,7 +181,8 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
     homomorphism.index(n);
     decomposition.index(n);
     // Context matching skips ignored symbols: those listed by `ignore:`, or all but those
-    // listed by `consider:`. Brackets are never skipped.
+    // listed by `consider:`. A bracket's flag matters only to a right context, which (as
+    // cpfg's) asks whether a module is ignored before whether it is a bracket.
     let mut skip = vec![false; n];
     if let Some(list) = &ignore {
         for &s in list {
@@ -194,8 +195,6 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
             skip[s as usize] = false;
         }
     }
-    skip[PUSH as usize] = false;
-    skip[POP as usize] = false;
     Ok(LSystem::new(
         symbols,
         axiom,
