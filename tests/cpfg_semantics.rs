@@ -51,3 +51,18 @@ fn an_unconsidered_bracket_is_ignored_in_a_right_context() {
     let listed = text.replace("consider: MK", "consider: MK[]");
     assert_eq!(derived(&listed), "F[+FM]K");
 }
+
+/// DAX: the axiom is decomposed during step 1, as every step decomposes what it makes or
+/// copies, not before the first step.
+#[test]
+fn the_axiom_is_decomposed_during_step_one() {
+    let text =
+        |n: u32| format!("derivation length: {n}\nAxiom: Y\nC --> D\ndecomposition\nY --> C\n");
+    assert_eq!(derived(&text(0)), "Y");
+    assert_eq!(derived(&text(1)), "C");
+    assert_eq!(derived(&text(2)), "D");
+    // A ring L-system whose axiom decomposes into context for its first step.
+    let ring = "ring lsystem\nderivation length: 1\nAxiom: Y(3)\nP < Q --> P\nP --> Q\n\
+                decomposition\nmaximum depth: 10\nY(n) : n>1 --> Y(n-1)Q\nY(n) : n==1 --> P\n";
+    assert_eq!(derived(ring), "PQQ");
+}

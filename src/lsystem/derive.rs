@@ -45,7 +45,8 @@ fn derive_string<'a>(
     ctx.run_block(&ls.blocks.start, "the Start: block")?;
     emit(&mut ctx, &ls.axiom, &[], 0, &mut cur)?;
     ctx.check("the axiom")?;
-    post_process(&mut ctx, &mut cur, &mut next)?;
+    // The axiom is decomposed during step 1, as cpfg decomposes what each step makes or
+    // copies, not before it.
     // Query modules (`?P` ...) learn where the turtle is before every step's rewriting,
     // as cpfg answers them: those the last step makes stay as it made them.
     let queries = query::has_queries(ls);

@@ -343,7 +343,9 @@ fn check_sizes(skeleton: &Skeleton, o: &LeafOptions, mesh: &MeshOptions) -> Resu
         .bounds()
         .map_or(0.0, |(lo, hi)| lo.abs().max(hi.abs()).max_element() as f64)
         * mesh.out().scale as f64;
-    if largest + far > f32::MAX as f64 / 16.0 {
+    // The same bound as the bark's (its tips reach one radius past the tree), so a mesh
+    // that may be written may carry its leaves.
+    if largest + far > f32::MAX as f64 / 4.0 {
         return Err(Error::invalid(
             "size",
             format!(
