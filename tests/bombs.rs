@@ -148,6 +148,26 @@ fn the_work_limit_stops_a_steady_state_derivation() {
     assert_eq!(arbor::limits::DEFAULT_MAX_WORK, 1 << 28);
 }
 
+/// A derivation length of four billion steps on a one-module string: every step spends at
+/// least 64 modules of `max_work`, so the default limit ends it (after 4,194,304 steps)
+/// within the budget, naming max_work.
+#[test]
+fn billions_of_steps_on_a_short_string_meet_the_work_limit() {
+    let _alone = alone();
+    for text in [
+        "derivation length: 4000000000\nAxiom: A\nA --> A\n",
+        // Not a lookup-table grammar: a parameter and a condition.
+        "derivation length: 4000000000\nAxiom: A(0)\nA(n) : n >= 0 --> A(n)\n",
+    ] {
+        let ls = LSystem::parse(text).unwrap();
+        within_budget("four billion steps", || {
+            ls.derive(&LsystemOptions::default()).map(|_| ())
+        });
+        let err = ls.derive(&LsystemOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("max_work"), "{err}");
+    }
+}
+
 /// prune_long_branch.l: one internode thousands of times longer than the others no longer
 /// fills (length / cell)³ grid cells.
 #[test]

@@ -66,3 +66,16 @@ fn the_axiom_is_decomposed_during_step_one() {
                 decomposition\nmaximum depth: 10\nY(n) : n>1 --> Y(n-1)Q\nY(n) : n==1 --> P\n";
     assert_eq!(derived(ring), "PQQ");
 }
+
+/// LEN: cpfg takes any derivation length; a model that ends itself with `stop()` after a
+/// few steps runs with a length past 65,535.
+#[test]
+fn a_long_derivation_length_ends_at_stop() {
+    let text = "derivation length: 2000000\nStart: {k = 0;}\n\
+                EndEach: {k = k + 1; if (k >= 4) {stop(1);}}\nAxiom: B\nB --> F B\n";
+    assert_eq!(derived(text), "FFFFB");
+    // The birth of a module made past step 65,535 reads 65,535.
+    let ls = LSystem::parse("derivation length: 70000\nAxiom: B\nB --> C\nC --> B\n").unwrap();
+    let s = ls.derive(&LsystemOptions::default()).unwrap();
+    assert_eq!((ls.format(&s), s.birth(0)), ("B".to_string(), 65_535));
+}

@@ -7,6 +7,16 @@ use super::stmt::{self, Effects, Stmt};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
 
+/// The least work a derivation step spends against `max_work`, however short its string:
+/// so `max_work` bounds the number of steps too (2^28 / 64 = 4,194,304 by default).
+pub(crate) const STEP_WORK: usize = 64;
+
+/// The birth a module made in `step` records: the step, or 65,535 for every step past it.
+#[inline]
+pub(crate) fn birth(step: u32) -> u16 {
+    step.min(u16::MAX as u32) as u16
+}
+
 /// Everything a step needs besides the strings.
 pub(crate) struct Ctx<'a> {
     pub(crate) ls: &'a LSystem,

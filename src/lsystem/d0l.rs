@@ -82,7 +82,7 @@ impl D0l {
             ctx.step = step;
             ctx.progress
                 .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
-            ctx.spend(cur.syms.len())?;
+            ctx.spend(cur.syms.len().max(super::ctx::STEP_WORK))?;
             let len: usize = cur
                 .syms
                 .iter()
@@ -94,7 +94,7 @@ impl D0l {
             next.syms.clear();
             next.births.clear();
             next.try_exact(len)?;
-            let birth = step as u16;
+            let birth = super::ctx::birth(step);
             let n = cur.syms.len();
             let chunk = if ctx.progress.active() {
                 crate::progress::EVERY

@@ -1,12 +1,12 @@
 //! A derivation: the steps of parallel rewriting over flat module strings,
 //! double-buffered, with cpfg's blocks, cuts and query answers between the steps.
 
-use super::ctx::{Ctx, emit};
+use super::ctx::{Ctx, STEP_WORK, birth as birth_of, emit};
 use super::grammar::{CUT, POP, PUSH};
 use super::query;
 use super::rewrite::{Expander, Links, rewrite, select_multi, successor_of};
 use super::{LSystem, LsystemOptions, ModuleString};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::progress::Stage;
 
 pub(crate) fn derive<'a>(
@@ -25,12 +25,6 @@ fn derive_string<'a>(
     progress: crate::progress::Run<'a>,
 ) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
-    if steps > u16::MAX as u32 {
-        return Err(Error::invalid(
-            "steps",
-            format!("{steps}; expected at most {}", u16::MAX),
-        ));
-    }
     let mut ctx = Ctx::new(ls, options);
     ctx.progress = progress;
     ctx.steps = steps;
@@ -61,7 +55,7 @@ fn derive_string<'a>(
         ctx.step = step;
         ctx.progress
             .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
-        ctx.spend(cur.len())?;
+        ctx.spend(cur.len().max(STEP_WORK))?;
         // A `%` cuts its branch as the next step begins (cpfg's order): one made by the
         // last step stays in the string, and the turtle draws past it.
         if ls.has_cut {
@@ -111,11 +105,11 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
             let birth = cur.births[i];
             let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], new: bool| {
                 ctx.room(spare, 1, params.len())?;
-                spare.push(sym, if new { ctx.step as u16 } else { birth }, params);
+                spare.push(sym, if new { birth_of(ctx.step) } else { birth }, params);
                 Ok(())
             };
             if let Some(p) = select_multi(ctx, table, cur, i) {
-                successor_of(ctx, table, p, ctx.step as u16, &mut produced)?;
+                successor_of(ctx, table, p, birth_of(ctx.step), &mut produced)?;
                 for k in 0..produced.len() {
                     expander.expand(
                         ctx,

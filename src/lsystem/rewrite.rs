@@ -77,7 +77,7 @@ pub(super) fn rewrite(
     next: &mut ModuleString,
 ) -> Result<()> {
     let table = &ctx.ls.productions;
-    let birth = ctx.step as u16;
+    let birth = super::ctx::birth(ctx.step);
     let n = cur.len();
     let has_rules = &table.has_rules[..];
     let mut i = 0;

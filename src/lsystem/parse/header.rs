@@ -99,8 +99,13 @@ impl Parser<'_> {
             keyword(line, "derivation length:").or_else(|| keyword(line, "derivationlength:"))
         {
             let v = self.const_expr(rest_at(rest), end, "a derivation length")?;
-            if !(v.is_finite() && v >= 0.0 && v <= u16::MAX as f64 && v.fract() == 0.0) {
-                return Err(self.err(rest_at(rest), "a whole number of steps from 0 to 65535"));
+            // cpfg takes any int; a long derivation ends itself (`stop()`) or meets
+            // max_work, which every step spends at least STEP_WORK of.
+            if !(v.is_finite() && v >= 0.0 && v <= u32::MAX as f64 && v.fract() == 0.0) {
+                return Err(self.err(
+                    rest_at(rest),
+                    "a whole number of steps from 0 to 4294967295",
+                ));
             }
             self.derivation_length = v as u32;
             return Ok(true);
