@@ -79,3 +79,32 @@ fn a_long_derivation_length_ends_at_stop() {
     let s = ls.derive(&LsystemOptions::default()).unwrap();
     assert_eq!((ls.format(&s), s.birth(0)), ("B".to_string(), 65_535));
 }
+
+/// The branches `text` draws: (count, total length).
+fn drawn(text: &str) -> (usize, f32) {
+    let ls = LSystem::parse(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    let length = s
+        .branches()
+        .iter()
+        .map(|b| (glam::Vec3::from(b.end) - glam::Vec3::from(b.start)).length())
+        .sum();
+    (s.len(), length)
+}
+
+/// HMM: an interpretation rule whose predecessor is several modules also applies to what
+/// another interpretation rule made, matched against that rule's successor as a whole;
+/// a rule of several modules never applies to one module alone.
+#[test]
+fn multi_module_interpretation_rules_match_rule_output() {
+    let text = |second: &str| {
+        format!(
+            "derivation length: 0\nAxiom: W\nhomomorphism\nmaximum depth: 2\n\
+             W --> {second}\nQa --> F(1)\nQb --> F(2)\n"
+        )
+    };
+    assert_eq!(drawn(&text("Qb Zb")), (1, 2.0));
+    assert_eq!(drawn(&text("Qa Zb")), (1, 1.0));
+    // Q alone (no a or b after it) is drawn by no rule.
+    assert_eq!(drawn(&text("Q Zb")), (0, 0.0));
+}

@@ -442,6 +442,34 @@ fn match_right(
     true
 }
 
+/// Whether the rest of `p`'s predecessor matches the modules after the one just taken
+/// from an expander's `stack` (its parameters end at `base` of `arena`): the next modules
+/// of the same successor (`depth`), in order, binding their parameters into `args`. A
+/// production of one module always matches here.
+fn following_match(
+    stack: &[(u16, u32, u32)],
+    arena: &[f32],
+    base: usize,
+    depth: u32,
+    p: &Production,
+    args: &mut [f64],
+) -> bool {
+    let mut end = base;
+    let mut next = stack.iter().rev();
+    for pat in &p.pred_rest {
+        let Some(&(sym, d, n)) = next.next() else {
+            return false;
+        };
+        if d != depth || sym != pat.sym || n != pat.arity as u32 {
+            return false;
+        }
+        let params = &arena[end - n as usize..end];
+        bind(args, pat.slot, params);
+        end -= n as usize;
+    }
+    true
+}
+
 /// Recursive application of context-free rules (interpretation and decomposition) with
 /// an explicit stack, at most `max_depth` levels deep.
 #[derive(Default)]
@@ -476,7 +504,10 @@ impl Expander {
         while let Some((sym, depth, n)) = self.stack.pop() {
             let base = self.arena.len() - n as usize;
             let chosen = if depth < table.max_depth && !table.candidates(sym).is_empty() {
-                select_with(ctx, table, sym, &self.arena[base..], |_, _| true)
+                let (stack, arena) = (&self.stack, &self.arena);
+                select_with(ctx, table, sym, &arena[base..], |p, args| {
+                    following_match(stack, arena, base, depth, p, args)
+                })
             } else {
                 None
             };
@@ -488,6 +519,12 @@ impl Expander {
                 self.arena.truncate(base);
                 continue;
             };
+            // A predecessor of several modules takes the modules after this one too.
+            let mut base = base;
+            for _ in 0..table.productions[pi as usize].pred_rest.len() {
+                let (_, _, m) = self.stack.pop().expect("matched by following_match");
+                base -= m as usize;
+            }
             self.arena.truncate(base);
             let succ = &table.productions[pi as usize].successor;
             self.produced.clear();
