@@ -108,3 +108,24 @@ fn multi_module_interpretation_rules_match_rule_output() {
     // Q alone (no a or b after it) is drawn by no rule.
     assert_eq!(drawn(&text("Q Zb")), (0, 0.0));
 }
+
+/// HCTX: interpretation rules may have context (cpfg is built with it), read from the
+/// L-system string; rules made by rules are not in the string and take no context rule.
+#[test]
+fn interpretation_rules_read_context_from_the_string() {
+    let text = "derivation length: 1\nAxiom: K J K\nJ --> J\nhomomorphism\n\
+                K > J --> F(3)\nK --> F(1)\n";
+    assert_eq!(drawn(text), (2, 4.0));
+    let left = "derivation length: 0\nAxiom: K J K\nhomomorphism\nJ < K --> F(5)\nK --> F(1)\n";
+    assert_eq!(drawn(left), (2, 6.0));
+    // A K made by a rule has no context in the string: the context-free rule draws it.
+    let made = "derivation length: 0\nAxiom: M J\nhomomorphism\nmaximum depth: 2\n\
+                M --> K\nK > J --> F(3)\nK --> F(1)\n";
+    assert_eq!(drawn(made), (1, 1.0));
+    // Decomposition rules still may not have context.
+    let e = LSystem::parse("Axiom: K\ndecomposition\nK > J --> F\n").unwrap_err();
+    assert!(
+        e.to_string().contains("context in decomposition rules"),
+        "{e}"
+    );
+}

@@ -56,7 +56,7 @@ const CASES: &[(&str, u32, u32, &str)] = &[
         ("ignore: +\nconsider: F\nAxiom: F", 2, 1, "one `ignore:` or `consider:` line, not b"),
         ("maximum depth: 3\nAxiom: F", 1, 1, "`maximum depth:` after `homomorphism` or"),
         ("homomorphism\nmaximum depth: -2\nAxiom: F", 2, 16, "a whole maximum depth from 0 to 1000"),
-        ("homomorphism\nA < B --> F\nAxiom: F", 2, 1, "context in homomorphism or decomposition"),
+        ("decomposition\nA < B --> F\nAxiom: F", 2, 1, "context in decomposition rules"),
         ("angle increment: abc\nAxiom: F", 1, 18, "a number or a #define name (this name is"),
         ("tropism: 0 -1 0\nAxiom: F", 1, 10, "`T:` and the tropism vector (tropism: T:"),
         ("tropism: T: 0 -1\nAxiom: F", 1, 17, "a number or a #define name"),

@@ -148,6 +148,8 @@ pub(crate) struct ProductionTable {
     pub(crate) multi: Vec<bool>,
     /// Interpretation and decomposition: how many times rules may re-apply.
     pub(crate) max_depth: u32,
+    /// Whether a production has a left or right context.
+    pub(crate) has_context: bool,
 }
 
 impl ProductionTable {
@@ -158,6 +160,10 @@ impl ProductionTable {
         }
         self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
         self.multi = vec![false; symbols];
+        self.has_context = self
+            .productions
+            .iter()
+            .any(|p| !p.left.is_empty() || !p.right.is_empty());
         for p in &self.productions {
             if !p.pred_rest.is_empty() {
                 self.multi[p.pred.sym as usize] = true;

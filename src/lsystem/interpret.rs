@@ -6,7 +6,7 @@ use crate::geom::{Frame, cos_sin_deg};
 use crate::lsystem::ctx::Ctx;
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::query::Asked;
-use crate::lsystem::rewrite::{Expander, select_multi, successor_of};
+use crate::lsystem::rewrite::{Expander, Links, select, select_multi, successor_of};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
 use crate::progress::{Run, Stage};
 use crate::skeleton::{
@@ -556,6 +556,11 @@ fn walk_with_rules(
         ctx.env.vars.clone_from(&string.globals);
     }
     let mut expander = Expander::default();
+    let links = table.has_context.then(|| {
+        let mut links = Links::default();
+        links.build(ls, string);
+        links
+    });
     let mut read = 0usize;
     let mut produced = ModuleString::new();
     let mut i = 0;
@@ -586,8 +591,21 @@ fn walk_with_rules(
             }
             t.module(sym, params, birth, birth)
         };
-        // A rule whose predecessor is several modules replaces them all.
-        if let Some(p) = select_multi(&mut ctx, table, string, i) {
+        // A rule whose predecessor is several modules replaces them all; with rules of
+        // context, every rule for the string's own modules is chosen against the string.
+        let chosen = if let Some(links) = &links {
+            let p = select(&mut ctx, table, string, links, i);
+            if p.is_none() {
+                ctx.check("an interpretation rule")?;
+                sink(&mut ctx, string.symbol(i), string.params(i), false)?;
+                i += 1;
+                continue;
+            }
+            p
+        } else {
+            select_multi(&mut ctx, table, string, i)
+        };
+        if let Some(p) = chosen {
             successor_of(&mut ctx, table, p, birth as u16, &mut produced)?;
             for k in 0..produced.len() {
                 expander.expand(

@@ -153,7 +153,7 @@ fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f32]) -> bool {
 
 /// The production that applies to module `i` of `s`, with its bound parameters left in
 /// `ctx.args`; `None` when none applies.
-fn select(
+pub(crate) fn select(
     ctx: &mut Ctx<'_>,
     table: &ProductionTable,
     s: &ModuleString,
@@ -445,7 +445,8 @@ fn match_right(
 /// Whether the rest of `p`'s predecessor matches the modules after the one just taken
 /// from an expander's `stack` (its parameters end at `base` of `arena`): the next modules
 /// of the same successor (`depth`), in order, binding their parameters into `args`. A
-/// production of one module always matches here.
+/// production of one module matches here unless it has context: rules made by rules are
+/// not in the L-system string, where context is read.
 fn following_match(
     stack: &[(u16, u32, u32)],
     arena: &[f32],
@@ -454,6 +455,9 @@ fn following_match(
     p: &Production,
     args: &mut [f64],
 ) -> bool {
+    if !p.left.is_empty() || !p.right.is_empty() {
+        return false;
+    }
     let mut end = base;
     let mut next = stack.iter().rev();
     for pat in &p.pred_rest {

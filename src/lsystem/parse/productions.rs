@@ -253,11 +253,11 @@ impl Parser<'_> {
         let line = crate::lsystem::syntax::line_col(self.text, start).0;
         successor.line = crate::lsystem::syntax::line_col(self.text, successor_at).0;
         let probability = self.probability(&mut cur, &scope_names)?;
-        if self.section != Section::Productions && (!left_ctx.is_empty() || !right_ctx.is_empty()) {
-            return Err(self.msg(
-                start,
-                "context in homomorphism or decomposition rules is not supported",
-            ));
+        // Interpretation rules may have context (cpfg is built with it), read from the
+        // L-system string; decomposition rules may not.
+        if self.section == Section::Decomposition && (!left_ctx.is_empty() || !right_ctx.is_empty())
+        {
+            return Err(self.msg(start, "context in decomposition rules is not supported"));
         }
         let production = Production {
             pred,
