@@ -129,3 +129,93 @@ fn interpretation_rules_read_context_from_the_string() {
         "{e}"
     );
 }
+
+/// A model of files held in memory (`m/NAME`), read as a host's files; its skeleton.
+fn grown_from_files(files: &[(&str, &str)]) -> arbor::skeleton::Skeleton {
+    use arbor::files::{FileAccess, FileOptions};
+    let map = files
+        .iter()
+        .map(|(k, v)| (format!("m/{k}"), v.as_bytes().to_vec()))
+        .collect();
+    let options = FileOptions::default().access(FileAccess::from_map(map));
+    let run = &mut arbor::progress::Run::default();
+    let ls = LSystem::from_file_with("m/plant.l", None, &options, run).unwrap();
+    ls.skeleton(&LsystemOptions::default()).unwrap()
+}
+
+fn ends(s: &arbor::skeleton::Skeleton) -> Vec<[f32; 3]> {
+    s.branches().iter().map(|b| b.end).collect()
+}
+
+fn close(got: &[[f32; 3]], want: &[[f32; 3]]) -> bool {
+    got.len() == want.len()
+        && got
+            .iter()
+            .zip(want)
+            .all(|(a, b)| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3))
+}
+
+/// FBEND: the view file's older tropism (`tropism direction:`) bends the heading after
+/// `f` and `g` as it does after `F` and `G`.
+#[test]
+fn the_older_tropism_bends_after_moves_too() {
+    let s = grown_from_files(&[
+        ("plant.l", "derivation length: 0\nAxiom: g(1) F(1)\n"),
+        (
+            "plant.v",
+            "tropism direction: 1,0,0\ninitial elasticity: 0.5\n",
+        ),
+    ]);
+    // After g(1) the heading leans 30 degrees toward +x.
+    assert!(close(&ends(&s), &[[0.5, 1.866, 0.0]]), "{:?}", ends(&s));
+}
+
+/// TROP0: without `tropism direction:`, cpfg's tropism vector is (0, 1, 0), so `_(e)`
+/// alone bends toward +Y.
+#[test]
+fn elasticity_bends_toward_cpfgs_default_direction() {
+    let s = grown_from_files(&[(
+        "plant.l",
+        "derivation length: 0\nAxiom: +(90) _(0.5) F(1) F(1)\n",
+    )]);
+    assert!(
+        close(&ends(&s), &[[-1.0, 0.0, 0.0], [-1.866, 0.5, 0.0]]),
+        "{:?}",
+        ends(&s)
+    );
+    // Without `_` nothing bends.
+    let straight =
+        grown_from_files(&[("plant.l", "derivation length: 0\nAxiom: +(90) F(1) F(1)\n")]);
+    assert!(close(
+        &ends(&straight),
+        &[[-1.0, 0.0, 0.0], [-2.0, 0.0, 0.0]]
+    ));
+}
+
+/// END: after a predefined surface, the turtle stands at the surface's END POINT (in the
+/// surface's frame, over its SIZE, times the scale).
+#[test]
+fn a_surface_moves_the_turtle_to_its_end_point() {
+    let patch = "0.00 0.00 0.00  1.00 0.00 0.00  2.00 0.00 0.00  3.00 0.00 0.00\n\
+                 0.00 1.00 0.00  1.00 1.00 0.00  2.00 1.00 0.00  3.00 1.00 0.00\n\
+                 0.00 2.00 0.00  1.00 2.00 0.00  2.00 2.00 0.00  3.00 2.00 0.00\n\
+                 0.00 4.00 0.00  1.00 4.00 0.00  2.00 4.00 0.00  3.00 4.00 0.00\n";
+    let surface = format!(
+        "0 4 0 4 0 0\nCONTACT POINT X: 0 Y: 0 Z: 0\nEND POINT X: 0 Y: 4 Z: 0\n\
+         HEADING X: 0 Y: 1 Z: 0\nUP X: 0 Y: 0 Z: 1\nSIZE: 4\nleaf\n\
+         TOP COLOR: 1 DIFFUSE: 0 BOTTOM COLOR: 1 DIFFUSE: 0\nAL: ~ A: ~ AR: ~\n\
+         L: ~ R: ~\nBL: ~ B: ~ BR: ~\n{patch}"
+    );
+    let s = grown_from_files(&[
+        ("plant.l", "derivation length: 0\nAxiom: F(1) ~q(2) F(1)\n"),
+        ("plant.v", "surface: q q.s 1\n"),
+        ("q.s", &surface),
+    ]);
+    // END POINT 4 of SIZE 4 is one unit, scaled by 2: the second F starts at y = 3.
+    assert!(
+        close(&ends(&s), &[[0.0, 1.0, 0.0], [0.0, 4.0, 0.0]]),
+        "{:?}",
+        ends(&s)
+    );
+    assert_eq!(s.branches()[1].start, [0.0, 3.0, 0.0]);
+}

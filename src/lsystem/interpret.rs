@@ -190,10 +190,13 @@ impl Turtle {
         }
         let start = self.state.frame.position;
         let end = self.state.frame.forward(length);
-        if let (Some(t), true) = (self.old_tropism, draw) {
-            self.state
-                .frame
-                .bend_old_style(t.direction, self.state.elasticity);
+        // The older tropism bends after `f` and `g` too, as cpfg bends after every step.
+        if let Some(t) = self.old_tropism {
+            if self.state.elasticity != 0.0 {
+                self.state
+                    .frame
+                    .bend_old_style(t.direction, self.state.elasticity);
+            }
         }
         let bound = crate::limits::MAX_COORDINATE as f64;
         if !end.is_finite() || end.abs().max_element() > bound {
@@ -334,7 +337,23 @@ impl Turtle {
             });
             self.points.extend(pts.iter().map(|&p| v3(p)));
         }
-
+        // The turtle moves on to the surface's end point (cpfg), leaving its branch as a
+        // move does when that is elsewhere.
+        let e = s.end;
+        if e != DVec3::ZERO {
+            let to = f.position + (f.heading * e.x + f.up * e.y + f.left * e.z) * scale;
+            if !to.is_finite() || to.abs().max_element() > crate::limits::MAX_COORDINATE as f64 {
+                return Err(Error::Eval {
+                    step,
+                    message: format!(
+                        "surface `~{}` moves the turtle out of the f32 range",
+                        s.name
+                    ),
+                });
+            }
+            self.state.frame.position = to;
+            self.state.parent = NO_PARENT;
+        }
         Ok(())
     }
 
@@ -643,7 +662,16 @@ impl Turtle {
             width_increment: options.width_increment.unwrap_or(view.width_increment),
             step_size: view.step_size,
             tropism: view.tropism,
-            old_tropism: view.old_tropism,
+            // Without `tropism direction:` cpfg's tropism vector is (0, 1, 0), so `_(e)`
+            // alone bends toward +Y.
+            old_tropism: Some(
+                view.old_tropism
+                    .unwrap_or(crate::lsystem::grammar::OldTropism {
+                        direction: DVec3::Y,
+                        elasticity: 0.0,
+                        increment: 0.0,
+                    }),
+            ),
             past_cut: view.interpretation_past_cut,
             max_branches: options.max_branches,
             // NaN bits never equal an angle's, so every slot starts empty.

@@ -22,6 +22,9 @@ pub(crate) struct Surface {
     /// The view file's scale.
     pub(crate) scale: f64,
     pub(crate) triangles: Vec<[DVec3; 3]>,
+    /// The file's END POINT in the surface's frame: where the turtle stands after drawing
+    /// it (its CONTACT POINT, where it stood, when the file names none).
+    pub(crate) end: DVec3,
 }
 
 /// Most triangles one surface may have.
@@ -49,6 +52,7 @@ pub(crate) fn parse(
     divisions: (usize, usize),
 ) -> Result<Surface, String> {
     let mut contact = DVec3::ZERO;
+    let mut end_point = None;
     let mut heading = DVec3::Y;
     let mut up = DVec3::NEG_Z;
     let mut size = 1.0f64;
@@ -73,6 +77,7 @@ pub(crate) fn parse(
         } else if upper.starts_with("CONTACT POINT") {
             contact = vec_after(line).ok_or("a CONTACT POINT X: Y: Z:")?;
         } else if upper.starts_with("END POINT") {
+            end_point = Some(vec_after(line).ok_or("an END POINT X: Y: Z:")?);
         } else if upper.starts_with("HEADING") {
             heading = vec_after(line).ok_or("a HEADING X: Y: Z:")?;
         } else if upper.starts_with("UP") {
@@ -116,10 +121,12 @@ pub(crate) fn parse(
         DVec3::new(d.dot(h), d.dot(u), d.dot(l))
     };
     let triangles = tessellate(&patches, (s, t), local);
+    let end = local(end_point.unwrap_or(contact));
     Ok(Surface {
         name,
         scale,
         triangles,
+        end,
     })
 }
 
