@@ -247,8 +247,10 @@ fn function_files_are_read_from_the_view_file() {
     let ls = LSystem::from_file(&path, None).unwrap();
     let s = ls.skeleton(&Default::default()).unwrap();
     let len = |i: usize| s.branches()[i].end[1] - s.branches()[i].start[1];
-    assert!((len(0) - 1.0).abs() < 1e-3, "{}", len(0));
-    assert!((len(1) - 2.0).abs() < 1e-3, "{}", len(1));
+    // cpfg's values: each found where the curve's x is within 0.001 of the one asked for
+    // (y rises twice as fast as x here).
+    assert!((len(0) - 1.0).abs() < 2e-3, "{}", len(0));
+    assert!((len(1) - 2.0).abs() < 2e-3, "{}", len(1));
     // A function the view file does not list is an error naming how many it lists.
     let path = write(
         &dir,

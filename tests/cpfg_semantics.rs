@@ -219,3 +219,35 @@ fn a_surface_moves_the_turtle_to_its_end_point() {
     );
     assert_eq!(s.branches()[1].start, [0.0, 3.0, 0.0]);
 }
+
+/// FUNC: `func()` as cpfg computes it: each value where the curve's x comes within 0.001
+/// of the x asked for (by bisection), `samples:` of them precomputed and interpolated.
+/// These are cpfg's own values for this curve (0.1 at 0, 1 from 0.05 to 0.5, 0.1 at 1).
+#[test]
+fn func_reads_cpfgs_sample_table() {
+    let s = grown_from_files(&[
+        (
+            "plant.l",
+            "derivation length: 1\nAxiom: A\nA --> F(func(1,0)) F(func(1,0.02)) F(func(1,0.5))\n",
+        ),
+        ("plant.v", "function: w.func 100\n"),
+        (
+            "w.func",
+            "fver 1 1\nname: W\nsamples: 100\nflip: off\npoints: 4\n\
+             0.000000 0.100000\n0.050000 1.000000\n0.500000 1.000000\n1.000000 0.100000\n",
+        ),
+    ]);
+    let lengths: Vec<f32> = s.branches().iter().map(|b| b.end[1] - b.start[1]).collect();
+    for (got, want) in lengths.iter().zip([0.110506, 0.301662, 0.719684]) {
+        assert!((got - want).abs() < 1e-5, "{lengths:?}");
+    }
+}
+
+/// Organs of a negative diameter (a function a hair below 0) draw at its magnitude, as
+/// cpfg's do, instead of stopping the model.
+#[test]
+fn a_negative_organ_size_draws_its_magnitude() {
+    let ls = LSystem::parse("derivation length: 0\nAxiom: F @O(-0.5)\n").unwrap();
+    let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+    assert_eq!(s.organs()[0].size, 0.5);
+}

@@ -4,78 +4,154 @@
 //!
 //! A function is a curve through control points (x, y[, multiplicity]) as cpfg's
 //! function editor makes them: a clamped uniform cubic B-spline (it passes through the
-//! first and last points; a point of multiplicity k counts k times). `func(id, x)` is
-//! the curve's y where it reaches x, found on 512 samples of the curve and interpolated
-//! linearly; x outside the curve's range reads the end value.
+//! first and last points; a point of multiplicity k counts k times). `func(id, x)` reads
+//! it as cpfg does: x is clamped to [0, 1]; the curve's parameter where its x comes within
+//! 0.001 of x is found by bisection and the y there is the value; a function with
+//! `samples:` (or, in the older `range:` form, the view file's sample count) above 2 has
+//! that many values found so at x = i / (samples - 1) and interpolates them linearly.
 
-/// One function, sampled.
+/// One function, as cpfg evaluates it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Function {
     pub(crate) name: String,
-    xs: Vec<f64>,
-    ys: Vec<f64>,
+    /// The control points, each repeated by its multiplicity (read as `f32`, as cpfg
+    /// reads them).
+    points: Vec<(f64, f64)>,
+    /// The precomputed values at i / (len - 1), or none (every call bisects).
+    vals: Vec<f64>,
 }
 
-const SAMPLES: usize = 512;
 /// Most control points read for one function.
 const MAX_POINTS: usize = 10_000;
+/// Most precomputed samples of one function.
+const MAX_SAMPLES: usize = 1 << 16;
+/// How close the bisection brings the curve's x to the one asked for (cpfg's MaxError).
+const MAX_ERROR: f64 = 0.001;
 
 impl Function {
     /// The curve's y at `x`.
     pub(crate) fn eval(&self, x: f64) -> f64 {
-        let (xs, ys) = (&self.xs, &self.ys);
-        if x.is_nan() || xs.is_empty() {
+        if x.is_nan() {
             return f64::NAN;
         }
-        if x <= xs[0] {
-            return ys[0];
+        let v = x.clamp(0.0, 1.0);
+        let s = self.vals.len();
+        if s > 2 {
+            let index = v * (s - 1) as f64;
+            let i = index.floor() as usize;
+            if i >= s - 1 {
+                return self.vals[s - 1];
+            }
+            let (w1, w2) = (1.0 - index + i as f64, index - i as f64);
+            return w1 * self.vals[i] + w2 * self.vals[i + 1];
         }
-        let last = xs.len() - 1;
-        if x >= xs[last] {
-            return ys[last];
-        }
-        // The first sample past x (the curve's x does not decrease along it).
-        let k = xs.partition_point(|&v| v <= x).clamp(1, last);
-        let (x0, x1) = (xs[k - 1], xs[k]);
-        if x1 <= x0 {
-            return ys[k];
-        }
-        ys[k - 1] + (ys[k] - ys[k - 1]) * (x - x0) / (x1 - x0)
+        self.bisect(v)
     }
 
-    fn from_points(name: String, points: &[(f64, f64)]) -> Function {
-        let (mut xs, mut ys) = (
-            Vec::with_capacity(SAMPLES + 1),
-            Vec::with_capacity(SAMPLES + 1),
-        );
-        let n = points.len();
-        if n < 4 {
-            for &(x, y) in points {
-                xs.push(x);
-                ys.push(y);
+    /// The y where the curve's x comes within [`MAX_ERROR`] of `x`, by bisection on the
+    /// curve's parameter (at most 64 halvings: a curve that never reaches x ends there).
+    fn bisect(&self, x: f64) -> f64 {
+        if self.points.len() < 4 {
+            return self.polyline(x);
+        }
+        let (mut low, mut high) = (0.0f64, 1.0f64);
+        let mut at = (0.0, 0.0);
+        for _ in 0..64 {
+            let check = (low + high) / 2.0;
+            at = self.point(check);
+            if at.0 > x {
+                high = check;
+            } else {
+                low = check;
             }
-        } else {
-            // Clamped uniform knots: 0,0,0,0,1,...,m-1,m,m,m,m with m = n - 3.
-            let m = (n - 3) as f64;
-            let mut knots = vec![0.0; 4];
-            knots.extend((1..n - 3).map(|i| i as f64));
-            knots.extend([m; 4]);
-            for s in 0..=SAMPLES {
-                let t = m * s as f64 / SAMPLES as f64;
-                let (x, y) = de_boor(points, &knots, t);
-                xs.push(x);
-                ys.push(y);
+            if (at.0 - x).abs() <= MAX_ERROR {
+                break;
             }
         }
-        // Keep x from going backwards (a curve that doubles back reads its first pass).
-        for i in 1..xs.len() {
-            if xs[i] < xs[i - 1] {
-                xs[i] = xs[i - 1];
+        at.1
+    }
+
+    /// Fewer than four points make no cubic: the polyline through them.
+    fn polyline(&self, x: f64) -> f64 {
+        let p = &self.points;
+        let k = p.partition_point(|q| q.0 <= x).clamp(1, p.len().max(2) - 1);
+        match p.len() {
+            0 => 0.0,
+            1 => p[0].1,
+            _ if x <= p[0].0 => p[0].1,
+            _ if p[k].0 <= p[k - 1].0 => p[k].1,
+            _ => {
+                let t = ((x - p[k - 1].0) / (p[k].0 - p[k - 1].0)).clamp(0.0, 1.0);
+                p[k - 1].1 + (p[k].1 - p[k - 1].1) * t
             }
         }
-        Function { name, xs, ys }
+    }
+
+    /// The curve's point at parameter `d` in [0, 1]: cpfg's uniform clamped B-spline of
+    /// order 4 with integer knots (its basis is 0 at d = 1, as cpfg's is).
+    fn point(&self, d: f64) -> (f64, f64) {
+        let n = self.points.len() as i64 - 1;
+        let u = d * (n - 2) as f64;
+        let mut sum = (0.0, 0.0);
+        for (k, &(x, y)) in self.points.iter().enumerate() {
+            let b = basis(k as i64, 4, u, n);
+            sum.0 += x * b;
+            sum.1 += y * b;
+        }
+        sum
+    }
+
+    /// A function of `points` with `samples` precomputed values (none for 2 or fewer).
+    fn new(name: String, points: Vec<(f64, f64)>, samples: usize) -> Function {
+        let mut f = Function {
+            name,
+            points,
+            vals: Vec::new(),
+        };
+        if samples > 2 {
+            let vals = (0..samples)
+                .map(|i| f.bisect(i as f64 / (samples - 1) as f64))
+                .collect();
+            f.vals = vals;
+        }
+        f
     }
 }
+
+/// The knot `j` of a clamped uniform B-spline of order 4 over `n + 1` points.
+fn knot(j: i64, n: i64) -> i64 {
+    if j < 4 {
+        0
+    } else if j > n {
+        n - 2
+    } else {
+        j - 3
+    }
+}
+
+/// The B-spline basis N(k, t) at `u` (Cox-de Boor, half-open spans).
+fn basis(k: i64, t: i64, u: f64, n: i64) -> f64 {
+    if t == 1 {
+        return if knot(k, n) as f64 <= u && u < knot(k + 1, n) as f64 {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    let mut sum = 0.0;
+    let div = knot(k + t - 1, n) - knot(k, n);
+    if div != 0 {
+        sum = (u - knot(k, n) as f64) / div as f64 * basis(k, t - 1, u, n);
+    }
+    let div = knot(k + t, n) - knot(k + 1, n);
+    if div != 0 {
+        sum += (knot(k + t, n) as f64 - u) / div as f64 * basis(k + 1, t - 1, u, n);
+    }
+    sum
+}
+
+/// Samples of a contour's arc (curve files).
+const SAMPLES: usize = 512;
 
 fn de_boor(p: &[(f64, f64)], knots: &[f64], t: f64) -> (f64, f64) {
     let n = p.len();
@@ -116,7 +192,7 @@ fn points<'a>(
         }
         let mult = v.get(2).map_or(1, |&m| (m.round() as usize).clamp(1, 3));
         for _ in 0..mult {
-            out.push((v[0], v[1]));
+            out.push((v[0] as f32 as f64, v[1] as f32 as f64));
         }
     }
     if out.is_empty() {
@@ -131,11 +207,21 @@ fn value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
 
 /// Reads functions: one `.func` file (`fver` or the older `range:` form) or a `.fset`
 /// gallery (`funcgalleryver`, `items: n`, then n functions).
-/// At most `max` functions are read (each takes 8 KiB of samples): one more is an error.
-pub(crate) fn parse(text: &str, name: &str, max: usize) -> Result<Vec<Function>, String> {
+/// At most `max` functions are read: one more is an error.
+/// `view_samples` is the view file's count after the file name (`function: f.func 100`),
+/// which the older `range:` form uses; the `fver` form says its own (`samples:`).
+pub(crate) fn parse(
+    text: &str,
+    name: &str,
+    max: usize,
+    view_samples: usize,
+) -> Result<Vec<Function>, String> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty()).peekable();
     let mut out = Vec::new();
     let mut default_name = name.trim_end_matches(".func").to_string();
+    // A larger count would only cost time: at most MAX_SAMPLES are precomputed.
+    let view_samples = view_samples.min(MAX_SAMPLES);
+    let mut samples = view_samples;
     while let Some(&line) = lines.peek() {
         let t = line.trim();
         if t.starts_with("funcgalleryver") || value(t, "items:").is_some() {
@@ -151,10 +237,16 @@ pub(crate) fn parse(text: &str, name: &str, max: usize) -> Result<Vec<Function>,
             lines.next();
             continue;
         }
-        if value(t, "samples:").is_some()
-            || value(t, "flip:").is_some()
-            || value(t, "range:").is_some()
-        {
+        if let Some(n) = value(t, "samples:") {
+            samples = n
+                .parse()
+                .ok()
+                .filter(|&n| n <= MAX_SAMPLES)
+                .ok_or_else(|| format!("`samples: {n}` is not a count up to {MAX_SAMPLES}"))?;
+            lines.next();
+            continue;
+        }
+        if value(t, "flip:").is_some() || value(t, "range:").is_some() {
             lines.next();
             continue;
         }
@@ -170,7 +262,8 @@ pub(crate) fn parse(text: &str, name: &str, max: usize) -> Result<Vec<Function>,
                 ));
             }
             let p = points(&mut lines, count)?;
-            out.push(Function::from_points(std::mem::take(&mut default_name), &p));
+            out.push(Function::new(std::mem::take(&mut default_name), p, samples));
+            samples = view_samples;
             continue;
         }
         return Err(format!("unexpected line `{t}`"));
@@ -309,41 +402,56 @@ mod tests {
             "fver 1 1\nname: ramp\nsamples: 10\nflip: off\npoints: 4\n0 0 1\n0.333 0.333 1\n0.667 0.667 1\n1 1 1\n",
             "ramp.func",
             16,
+            0,
         )
         .unwrap();
         assert_eq!(f.len(), 1);
         let f = &f[0];
         assert_eq!(f.name, "ramp");
-        assert!((f.eval(0.0)).abs() < 1e-12);
-        assert!((f.eval(1.0) - 1.0).abs() < 1e-12);
-        // Collinear control points: the spline is the line.
-        assert!((f.eval(0.5) - 0.5).abs() < 1e-3, "{}", f.eval(0.5));
-        assert_eq!(f.eval(-1.0), 0.0);
-        assert_eq!(f.eval(2.0), 1.0);
+        // Collinear control points: the spline is the line; cpfg finds each value where
+        // the curve's x is within 0.001 of x.
+        for x in [0.0, 0.25, 0.5, 0.9, 1.0] {
+            assert!((f.eval(x) - x).abs() <= 1e-3, "{x}: {}", f.eval(x));
+        }
+        assert_eq!(f.eval(-1.0), f.eval(0.0));
+        assert_eq!(f.eval(2.0), f.eval(1.0));
+        // Without samples every call bisects; with them, values between samples are
+        // interpolated linearly.
+        let bent = "fver 1 1\nname: b\nsamples: 3\nflip: off\npoints: 4\n0 0\n0.1 1\n0.9 1\n1 0\n";
+        let three = &parse(bent, "b.func", 16, 0).unwrap()[0];
+        let direct = &parse(&bent.replace("samples: 3", "samples: 0"), "b.func", 16, 0).unwrap()[0];
+        let mid = 0.5 * (three.eval(0.0) + three.eval(0.5));
+        assert!((three.eval(0.25) - mid).abs() < 1e-12);
+        assert!(
+            (direct.eval(0.25) - mid).abs() > 0.1,
+            "{}",
+            direct.eval(0.25)
+        );
         // The older form, and a gallery of two.
-        let old = parse("range: 0.0 1.0\npoints: 2\n0 1\n1 3\n", "old.func", 16).unwrap();
+        let old = parse("range: 0.0 1.0\npoints: 2\n0 1\n1 3\n", "old.func", 16, 0).unwrap();
         assert!((old[0].eval(0.5) - 2.0).abs() < 1e-12);
         let set = parse(
             "funcgalleryver 1 1\nitems: 2\nfver 1 1\nname: A\nsamples: 5\nflip: off\npoints: 2\n0 0\n1 1\nfver 1 1\nname: B\nsamples: 5\nflip: off\npoints: 2\n0 2\n1 2\n",
             "set.fset",
             16,
+            0,
         )
         .unwrap();
         assert_eq!(set.len(), 2);
         assert_eq!(set[1].eval(0.3), 2.0);
-        assert!(parse("points: 3\n0 0\n", "bad.func", 16).is_err());
+        assert!(parse("points: 3\n0 0\n", "bad.func", 16, 0).is_err());
         // A straight contour: arc length and points by fraction of it.
         let c = parse_curve("version: 1.4\npoints: 2\ntype: bspline\n0 0 0 1\n3 4 0 1\n").unwrap();
         assert!((c.length() - 5.0).abs() < 1e-12);
         assert!((c.at(0.5, 0) - 1.5).abs() < 1e-12 && (c.at(0.5, 1) - 2.0).abs() < 1e-12);
         assert!(parse_curve("points: 1\n0 0 0\n").is_err());
-        assert!(parse("hello\n", "bad.func", 16).is_err());
+        assert!(parse("hello\n", "bad.func", 16, 0).is_err());
         // A set with more functions than allowed stops at the bound, naming it.
         let two = "funcgalleryver 1 1\nitems: 2\nfver 1 1\nname: A\npoints: 2\n0 0\n1 1\n\
                    fver 1 1\nname: B\npoints: 2\n0 0\n1 1\n";
-        assert_eq!(parse(two, "two.fset", 2).unwrap().len(), 2);
+        assert_eq!(parse(two, "two.fset", 2, 0).unwrap().len(), 2);
         assert!(
-            parse(two, "two.fset", 1)
+            parse(two, "two.fset", 1, 0)
                 .unwrap_err()
                 .contains("more functions than the 1")
         );

@@ -277,14 +277,14 @@ impl Turtle {
     }
 
     /// `@O(d)`, `@o(d)`, `@c(d)`: a sphere or disc of diameter `size` (the width if none).
+    /// A negative diameter draws the organ of its magnitude, as cpfg's (its functions can
+    /// dip a hair below 0).
     fn organ(&mut self, kind: u32, size: Option<f64>, birth: u32, step: u32) -> Result<()> {
-        let size = size.unwrap_or(self.state.width);
-        if !(size.is_finite() && size >= 0.0 && size <= crate::limits::MAX_COORDINATE as f64) {
+        let size = size.unwrap_or(self.state.width).abs();
+        if !(size.is_finite() && size <= crate::limits::MAX_COORDINATE as f64) {
             return Err(Error::Eval {
                 step,
-                message: format!(
-                    "a sphere or disc of diameter {size}; expected a finite size >= 0"
-                ),
+                message: format!("a sphere or disc of diameter {size}; expected a finite size"),
             });
         }
         self.organs.push(crate::skeleton::Organ {

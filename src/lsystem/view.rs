@@ -312,13 +312,20 @@ impl Reader<'_, '_> {
         let functions = &self.extras.functions;
         bounded(functions.len(), "functions of a view file")?;
         let (file, text) = self.companion_text(at, "function file")?;
-        let read = super::function_files::parse(&text, &file, MAX_COMPANIONS - functions.len())
-            .map_err(|e| {
-                self.fail(
-                    at,
-                    &format!("a function file cpfg can read (`{file}`: {e})"),
-                )
-            })?;
+        // `function: f.func 100`: the samples the older form of the file uses.
+        let samples = at
+            .value
+            .split_whitespace()
+            .nth(1)
+            .and_then(|n| n.parse::<usize>().ok())
+            .unwrap_or(0);
+        let room = MAX_COMPANIONS - functions.len();
+        let read = super::function_files::parse(&text, &file, room, samples).map_err(|e| {
+            self.fail(
+                at,
+                &format!("a function file cpfg can read (`{file}`: {e})"),
+            )
+        })?;
         self.extras.functions.extend(read);
         Ok(())
     }
