@@ -1,7 +1,11 @@
-//! The seeded generator behind stochastic productions, `ran` and `nran`.
+//! The random streams of grammars.
 //!
-//! SplitMix64: tiny, fast, and the same sequence on every platform, so that the same
-//! grammar, seed and options give the same string everywhere.
+//! Two families, chosen per derivation (see `docs/grammars.md`, "Random streams"):
+//! - cpfg's own: the drand48 family's 48-bit generator ([`Drand48`]), seeded and drawn as
+//!   cpfg draws it, so a published stochastic model grows cpfg's plant;
+//! - arbor's: SplitMix64 ([`Rng`]), tiny, fast and the same on every platform, used when
+//!   the host asks for a seed of its own (`LsystemOptions::seed` without a `seed:` line, or
+//!   `variation_seed`).
 
 /// A seeded pseudo-random generator.
 #[derive(Clone, Debug)]
@@ -39,9 +43,53 @@ impl Rng {
     }
 }
 
+/// The drand48 family's generator: X' = (0x5DEECE66D X + 0xB) mod 2^48, each draw
+/// X' / 2^48, as the C library's `drand48` and `erand48` compute it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Drand48 {
+    x: u64,
+}
+
+impl Drand48 {
+    const MASK: u64 = (1 << 48) - 1;
+
+    /// The state before any `seed48` or `srand48`: glibc's, X = 0 (cpfg is built on it).
+    pub const fn initial() -> Self {
+        Drand48 { x: 0 }
+    }
+
+    /// The state of the three 16-bit words an `xsubi` array or `seed48` holds, the low
+    /// word first.
+    pub const fn from_words(w: [u16; 3]) -> Self {
+        Drand48 {
+            x: (w[2] as u64) << 32 | (w[1] as u64) << 16 | w[0] as u64,
+        }
+    }
+
+    /// Uniform in [0, 1).
+    #[inline]
+    pub fn next_f64(&mut self) -> f64 {
+        self.x = (self.x.wrapping_mul(0x5_DEEC_E66D).wrapping_add(0xB)) & Self::MASK;
+        self.x as f64 / (1u64 << 48) as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn drand48_draws_as_the_c_library() {
+        // Values glibc gives (printed with %.17g): erand48 of {0x330E, 0, 0} twice,
+        // drand48 never seeded, and drand48 after seed48({2454, 0, 155}) twice.
+        let mut r = Drand48::from_words([0x330E, 0, 0]);
+        assert_eq!(r.next_f64(), 0.17082803610628972);
+        assert_eq!(r.next_f64(), 0.74990198048496381);
+        assert_eq!(Drand48::initial().next_f64(), 3.907985046680551e-14);
+        let mut s = Drand48::from_words([2454, 0, 155]);
+        assert_eq!(s.next_f64(), 0.73544233498333611);
+        assert_eq!(s.next_f64(), 0.098947812265805624);
+    }
 
     #[test]
     fn same_seed_same_sequence_and_uniform_range() {

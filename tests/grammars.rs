@@ -403,24 +403,41 @@ fn stochastic_frequencies_match_the_weights() {
     let text = "derivation length: 14\nAxiom: X(12)\n\
                 X(n) : n > 0 --> X(n-1)X(n-1)\nX(n) : n == 0 --> A\n\
                 A --> B : 1\nA --> C : 3\nA --> D : 4\n";
+    // arbor's stream (the host's seeds), then cpfg's (the grammar's `seed:` lines).
     let ls = LSystem::parse(text).unwrap();
-    let (mut b, mut c, mut d) = (0usize, 0usize, 0usize);
-    for seed in 0..5 {
-        let s = ls.derive(&LsystemOptions::default().seed(seed)).unwrap();
-        b += count(&ls, &s, "B");
-        c += count(&ls, &s, "C");
-        d += count(&ls, &s, "D");
+    let runs: Vec<(LSystem, LsystemOptions)> = (1..=5)
+        .map(|seed| (ls.clone(), LsystemOptions::default().seed(seed)))
+        .chain((1..=5).map(|seed| {
+            let with_seed = format!("seed: {seed}\n{text}");
+            (
+                LSystem::parse(&with_seed).unwrap(),
+                LsystemOptions::default(),
+            )
+        }))
+        .collect();
+    for half in runs.chunks(5) {
+        let (mut b, mut c, mut d) = (0usize, 0usize, 0usize);
+        for (ls, options) in half {
+            let s = ls.derive(options).unwrap();
+            b += count(ls, &s, "B");
+            c += count(ls, &s, "C");
+            d += count(ls, &s, "D");
+        }
+        let total = (b + c + d) as f64;
+        assert_eq!(total, 5.0 * 4096.0);
+        // Binomial standard deviations are below 0.004 here; allow 0.015 (about 4 sigma).
+        for (got, want) in [(b, 0.125), (c, 0.375), (d, 0.5)] {
+            let f = got as f64 / total;
+            assert!(
+                (f - want).abs() < 0.015,
+                "frequency {f}, weight share {want}"
+            );
+        }
     }
-    let total = (b + c + d) as f64;
-    assert_eq!(total, 5.0 * 4096.0);
-    // Binomial standard deviations are below 0.004 here; allow 0.015 (about 4 sigma).
-    for (got, want) in [(b, 0.125), (c, 0.375), (d, 0.5)] {
-        let f = got as f64 / total;
-        assert!(
-            (f - want).abs() < 0.015,
-            "frequency {f}, weight share {want}"
-        );
-    }
+    // Without `seed:` and without a seed from the host, cpfg's L-system is deterministic:
+    // the first applicable production, whatever its probability.
+    let s = ls.derive(&LsystemOptions::default()).unwrap();
+    assert_eq!(count(&ls, &s, "B"), 4096);
 }
 
 #[test]

@@ -2,8 +2,6 @@
 //! that the compiler reads to compile a call and to say what it expected, and the
 //! operations themselves (trigonometry in degrees, as cpfg).
 
-use crate::rng::Rng;
-
 /// What a call of a built-in computes (the expression compiler makes it an instruction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Call {
@@ -190,29 +188,6 @@ impl Func2 {
             Func2::Pow => libm::pow(x, y),
         }
     }
-}
-
-/// A draw from Beta(a, b) (Jöhnk's method, at most 1,000 tries, then the mean).
-pub(crate) fn beta(rng: &mut Rng, a: f64, b: f64) -> f64 {
-    if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
-        return f64::NAN;
-    }
-    for _ in 0..1000 {
-        let x = rng.next_f64().powf(1.0 / a);
-        let y = rng.next_f64().powf(1.0 / b);
-        if x + y <= 1.0 && x + y > 0.0 {
-            return x / (x + y);
-        }
-    }
-    a / (a + b)
-}
-
-/// A draw from Binomial(n, p) by counting trials (n at most 100,000).
-pub(crate) fn binomial(rng: &mut Rng, n: f64, p: f64) -> f64 {
-    if !(n.is_finite() && (0.0..=100_000.0).contains(&n) && (0.0..=1.0).contains(&p)) {
-        return f64::NAN;
-    }
-    (0..n as u32).filter(|_| rng.next_f64() < p).count() as f64
 }
 
 #[cfg(test)]

@@ -3,9 +3,11 @@
 
 use super::expr::Env;
 use super::grammar::ModuleList;
+use super::random::{Choice, Random};
 use super::stmt::{self, Effects, Stmt};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::{Error, Result};
+use crate::rng::Drand48;
 
 /// The least work a derivation step spends against `max_work`, however short its string:
 /// so `max_work` bounds the number of steps too (2^28 / 64 = 4,194,304 by default).
@@ -43,15 +45,31 @@ pub(crate) struct Ctx<'a> {
     /// weight).
     pub(super) cands: Vec<(u32, usize, f64)>,
     pub(super) cand_args: Vec<f64>,
+    /// How the productions (not the interpretation or decomposition rules) are chosen.
+    pub(super) choice: Choice,
+    /// cpfg's drand48 stream of stochastic productions (seed48 of `seed:`).
+    pub(super) draws: Drand48,
 }
 
 impl<'a> Ctx<'a> {
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
-        let mut env = Env::new(
-            ls.effective_seed(options),
-            &ls.globals,
-            ls.functions.clone(),
-        );
+        // cpfg's streams unless the host asks for a seed of its own (see
+        // docs/grammars.md, "Random streams").
+        let cpfg = options.variation_seed == 0 && (ls.seed.is_some() || options.seed == 0);
+        let (random, choice) = match (cpfg, ls.seed) {
+            (false, _) => (
+                Random::Arbor(crate::rng::Rng::new(ls.effective_seed(options))),
+                Choice::Arbor,
+            ),
+            (true, Some(_)) => (Random::cpfg(), Choice::Weighted),
+            (true, None) => (Random::cpfg(), Choice::First),
+        };
+        // cpfg: `if (seed != 0) seed48({seed, 0, 155})`, the seed taken as a 16-bit word.
+        let draws = match ls.seed {
+            Some(s) if s != 0 => Drand48::from_words([s as u16, 0, 155]),
+            _ => Drand48::initial(),
+        };
+        let mut env = Env::new(random, &ls.globals, ls.functions.clone());
         env.curves = ls.curves.clone();
         Ctx {
             ls,
@@ -71,6 +89,8 @@ impl<'a> Ctx<'a> {
             args: Vec::new(),
             cands: Vec::new(),
             cand_args: Vec::new(),
+            choice,
+            draws,
         }
     }
 

@@ -26,6 +26,7 @@ mod interpret;
 mod parse;
 pub(crate) mod preprocess;
 mod query;
+mod random;
 mod rewrite;
 mod stmt;
 pub(crate) mod surface;
@@ -205,7 +206,16 @@ impl LSystem {
                     .iter()
                     .any(|p| p.successor.modules.iter().any(|m| m.sym == cut))
             });
-        let d0l = if has_statements || !globals.init.is_empty() {
+        // Under `seed:` cpfg draws among all applicable productions of a symbol, so one
+        // with two or more plain productions needs the general rewriter.
+        let drawn = seed.is_some() && {
+            let mut seen = vec![false; symbols.len()];
+            productions
+                .productions
+                .iter()
+                .any(|p| std::mem::replace(&mut seen[p.pred.sym as usize], true))
+        };
+        let d0l = if has_statements || drawn || !globals.init.is_empty() {
             None
         } else {
             d0l::D0l::new(&axiom, &productions, &decomposition, has_cut, symbols.len())

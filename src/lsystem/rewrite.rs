@@ -3,6 +3,7 @@
 
 use super::ctx::{Ctx, emit, non_finite};
 use super::grammar::{POP, PUSH, Pattern, Production, ProductionTable, REST};
+use super::random::Choice;
 use super::stmt;
 use super::{LSystem, ModuleString};
 use crate::error::Result;
@@ -97,6 +98,12 @@ pub(super) fn rewrite(
                 .position(|&s| has_rules[s as usize])
                 .map_or(n, |k| i + 1 + k);
             copy_run(ctx, cur, i, j, next)?;
+            if ctx.choice == Choice::Weighted {
+                // cpfg draws for every module, rules or none.
+                for _ in i..j {
+                    ctx.draws.next_f64();
+                }
+            }
             i = j;
             continue;
         }
@@ -230,8 +237,11 @@ fn match_rest(s: &ModuleString, i: usize, p: &Production, args: &mut [f64]) -> b
 }
 
 /// Chooses among the productions of `sym` whose arity, context (`context`) and condition
-/// hold. The first that holds decides: a deterministic one applies at once; if it has a
-/// probability, one of all the applicable stochastic productions is drawn by weight.
+/// hold, as the derivation's [`Choice`] says: arbor's (the first that holds decides; one
+/// with a probability is drawn by weight among the applicable ones with a probability),
+/// cpfg's deterministic (the first that holds) or cpfg's stochastic (every applicable one
+/// by weight, one drand48 draw whether any applies or not). Interpretation and
+/// decomposition rules are chosen deterministically under cpfg's streams.
 fn select_with(
     ctx: &mut Ctx<'_>,
     table: &ProductionTable,
@@ -239,6 +249,11 @@ fn select_with(
     params: &[f32],
     mut context: impl FnMut(&Production, &mut [f64]) -> bool,
 ) -> Option<u32> {
+    let choice = match ctx.choice {
+        Choice::Arbor => Choice::Arbor,
+        c if std::ptr::eq(table, &ctx.ls.productions) => c,
+        _ => Choice::First,
+    };
     ctx.cands.clear();
     ctx.cand_args.clear();
     let mut total = 0.0;
@@ -263,36 +278,59 @@ fn select_with(
             return None;
         }
         if ok {
-            match &p.probability {
-                None if ctx.cands.is_empty() => {
+            let weight = match (choice, &p.probability) {
+                (Choice::First, _) => {
                     ctx.args = args;
                     return Some(pi);
                 }
-                None => {}
-                Some(w) => {
-                    let w = w.eval(&args, &mut ctx.env);
-                    if w.is_finite() && w > 0.0 {
-                        ctx.cands.push((pi, ctx.cand_args.len(), w));
-                        ctx.cand_args.extend_from_slice(&args);
-                        total += w;
-                    }
+                (Choice::Arbor, None) if ctx.cands.is_empty() => {
+                    ctx.args = args;
+                    return Some(pi);
                 }
+                (Choice::Arbor, None) => None,
+                (Choice::Arbor, Some(w)) => {
+                    Some(w.eval(&args, &mut ctx.env)).filter(|w| w.is_finite() && *w > 0.0)
+                }
+                // cpfg sums the weights in f32.
+                (Choice::Weighted, w) => {
+                    Some(w.as_ref().map_or(1.0, |w| w.eval(&args, &mut ctx.env)) as f32 as f64)
+                }
+            };
+            if let Some(w) = weight {
+                ctx.cands.push((pi, ctx.cand_args.len(), w));
+                ctx.cand_args.extend_from_slice(&args);
+                total = if choice == Choice::Weighted {
+                    (total as f32 + w as f32) as f64
+                } else {
+                    total + w
+                };
             }
         }
         ctx.args = args;
     }
-    if ctx.cands.is_empty() {
-        return None;
-    }
-    let mut r = ctx.env.rng.next_f64() * total;
-    let mut chosen = ctx.cands[ctx.cands.len() - 1];
-    for &c in &ctx.cands {
-        if r < c.2 {
-            chosen = c;
-            break;
+    let chosen = if choice == Choice::Weighted {
+        // cpfg's SelectProd: scaled = total * drand48(), less each weight in turn until
+        // it is <= 0, in f32.
+        let mut scaled = (total * ctx.draws.next_f64()) as f32;
+        ctx.cands.iter().copied().find(|c| {
+            scaled -= c.2 as f32;
+            scaled <= 0.0
+        })?
+    } else {
+        if ctx.cands.is_empty() {
+            return None;
         }
-        r -= c.2;
-    }
+        let mut r = ctx.env.rng.uniform() * total;
+        let mut chosen = ctx.cands[ctx.cands.len() - 1];
+        for &c in &ctx.cands {
+            if r < c.2 {
+                chosen = c;
+                break;
+            }
+            r -= c.2;
+        }
+        chosen
+    };
     let slots = table.productions[chosen.0 as usize].slots;
     ctx.args.clear();
     ctx.args

@@ -566,7 +566,11 @@ mod tests {
         };
         let stmts = block(&mut Cursor::new(text), &scope).unwrap();
         let g = globals.into_inner();
-        let mut env = Env::new(1, &g, Vec::new().into());
+        let mut env = Env::new(
+            crate::lsystem::random::Random::Arbor(crate::rng::Rng::new(1)),
+            &g,
+            Vec::new().into(),
+        );
         let mut fx = Effects {
             budget: 10_000,
             ..Default::default()

@@ -14,9 +14,8 @@ mod tests;
 
 pub(crate) use compile::{Scope, compile};
 
-use super::builtins::{
-    Arity, BUILTINS, Call, Func1, Func2, Special, beta, binomial, builtin_names, unsupported,
-};
+use super::builtins::{Arity, BUILTINS, Call, Func1, Func2, Special, builtin_names, unsupported};
+use super::random::Random;
 use super::syntax::{Cursor, PResult};
 use crate::rng::Rng;
 use std::cell::RefCell;
@@ -80,7 +79,7 @@ impl Globals {
 /// range, a statement budget spent).
 #[derive(Clone, Debug)]
 pub(crate) struct Env {
-    pub(crate) rng: Rng,
+    pub(crate) rng: Random,
     pub(crate) vars: Vec<f64>,
     pub(crate) arrays: std::sync::Arc<[ArrayDecl]>,
     /// The view file's functions, read by `func(id, x)` (id from 1).
@@ -92,12 +91,12 @@ pub(crate) struct Env {
 
 impl Env {
     pub(crate) fn new(
-        seed: u64,
+        rng: Random,
         globals: &Globals,
         functions: std::sync::Arc<[super::function_files::Function]>,
     ) -> Self {
         Env {
-            rng: Rng::new(seed),
+            rng,
             vars: globals.init.clone(),
             arrays: globals.arrays.clone().into(),
             functions,
@@ -109,7 +108,7 @@ impl Env {
     /// An environment without variables (constant folding, tests).
     pub(crate) fn empty(seed: u64) -> Self {
         Env {
-            rng: Rng::new(seed),
+            rng: Random::Arbor(Rng::new(seed)),
             vars: Vec::new(),
             arrays: Vec::new().into(),
             functions: Vec::new().into(),
@@ -350,7 +349,7 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
             Op::Neg => stack[sp - 1] = -stack[sp - 1],
             Op::Not => stack[sp - 1] = b(stack[sp - 1] == 0.0),
             Op::F1(f) => stack[sp - 1] = f.apply(stack[sp - 1]),
-            Op::Ran => stack[sp - 1] *= env.rng.next_f64(),
+            Op::Ran => stack[sp - 1] *= env.rng.uniform(),
             Op::Var(i) => {
                 stack[sp] = env.vars.get(i as usize).copied().unwrap_or(0.0);
                 sp += 1;
@@ -366,12 +365,12 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
                 sp += 1;
             }
             Op::Special(Special::Srand) => {
-                env.rng = Rng::new(stack[sp - 1] as i64 as u64);
+                env.rng.srand(stack[sp - 1]);
                 stack[sp - 1] = 0.0;
             }
             Op::Special(Special::Bran) => {
                 sp -= 1;
-                stack[sp - 1] = beta(&mut env.rng, stack[sp - 1], stack[sp]);
+                stack[sp - 1] = env.rng.beta(stack[sp - 1], stack[sp]);
             }
             Op::Special(Special::Func) => {
                 sp -= 1;
@@ -406,7 +405,7 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
             }
             Op::Special(Special::Biran) => {
                 sp -= 1;
-                stack[sp - 1] = binomial(&mut env.rng, stack[sp - 1], stack[sp]);
+                stack[sp - 1] = env.rng.binomial(stack[sp - 1], stack[sp]);
             }
             Op::F2(f) => {
                 sp -= 1;

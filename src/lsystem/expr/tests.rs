@@ -23,7 +23,11 @@ fn eval_with(text: &str, params: &[(&str, f64)]) -> Result<f64, String> {
     }
     Ok(e.eval(
         &args,
-        &mut Env::new(1, &globals.borrow(), Vec::new().into()),
+        &mut Env::new(
+            super::super::random::Random::Arbor(crate::rng::Rng::new(1)),
+            &globals.borrow(),
+            Vec::new().into(),
+        ),
     ))
 }
 
