@@ -112,8 +112,9 @@ static void bundle_confines_reads(void) {
   o.file_access = ARBOR_FILE_ACCESS_NONE;
   load("bundle/good.l", &o, ARBOR_STATUS_IO_ERROR);
   message_contains("file access is `none`");
-  /* Under NONE the .v beside the grammar is not read either: a bad one does not fail. */
-  put("bundle/env.v", "angle factor: zero\n");
+  /* Under NONE the .v beside the grammar is not read either: a bad one (it names a
+     function file that is not there) does not fail. */
+  put("bundle/env.v", "function: missing.func\n");
   load("bundle/env.l", &o, ARBOR_STATUS_OK);
   o.file_access = ARBOR_FILE_ACCESS_BUNDLE;
   load("bundle/env.l", &o, ARBOR_STATUS_PARSE_ERROR);

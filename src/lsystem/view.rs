@@ -97,6 +97,7 @@ pub(crate) fn apply(
         direction: None,
         elasticity: 0.0,
         increment: 0.0,
+        bad: std::cell::Cell::new(false),
     };
     for (k, line) in pre.text.lines().enumerate() {
         let Some((key, value)) = line.split_once(':') else {
@@ -113,7 +114,18 @@ pub(crate) fn apply(
             value: value.trim(),
             text: line,
         };
-        reader.line(view, &at)?;
+        // A value cpfg cannot read leaves the setting as it was, with a warning (cpfg's
+        // fscanf fails and it goes on).
+        reader.bad.set(false);
+        if let Err(e) = reader.line(view, &at) {
+            if !reader.bad.get() {
+                return Err(e);
+            }
+            reader
+                .extras
+                .warnings
+                .push(format!("{e}; the setting keeps its value"));
+        }
     }
     if let Some(d) = reader.direction {
         if d.length_squared() > 0.0 {
@@ -145,6 +157,8 @@ struct Reader<'a, 'l> {
     direction: Option<DVec3>,
     elasticity: f64,
     increment: f64,
+    /// Whether the last error was a value cpfg would pass over (see `bad_value`).
+    bad: std::cell::Cell<bool>,
 }
 
 /// The numbers of a value (separated by commas or blanks); `None` for one that is not a
@@ -181,6 +195,13 @@ impl Reader<'_, '_> {
         }
     }
 
+    /// [`fail`](Self::fail) for a setting's value: cpfg passes over such a line, so the
+    /// caller turns it into a warning.
+    fn bad_value(&self, at: &Line<'_>, what: &str) -> Error {
+        self.bad.set(true);
+        self.fail(at, what)
+    }
+
     /// The view file's line number of line `at`.
     fn line_no(&self, at: &Line<'_>) -> u32 {
         self.pre.origin(at.k as u32 + 1).1
@@ -194,39 +215,41 @@ impl Reader<'_, '_> {
             "angle factor" => {
                 let n = first()
                     .filter(|&n| n > 0.0)
-                    .ok_or_else(|| self.fail(at, "a number > 0"))?;
+                    .ok_or_else(|| self.bad_value(at, "a number > 0"))?;
                 view.angle_increment = 360.0 / n;
             }
             "angle increment" => {
                 view.angle_increment =
-                    first().ok_or_else(|| self.fail(at, "a number of degrees"))?;
+                    first().ok_or_else(|| self.bad_value(at, "a number of degrees"))?;
             }
             "initial line width" => {
-                view.initial_width = width().ok_or_else(|| self.fail(at, "a width >= 0"))?;
+                view.initial_width = width().ok_or_else(|| self.bad_value(at, "a width >= 0"))?;
             }
             "line width increment" => {
-                view.width_increment = width().ok_or_else(|| self.fail(at, "a width >= 0"))?;
+                view.width_increment = width().ok_or_else(|| self.bad_value(at, "a width >= 0"))?;
             }
             "tropism direction" => match numbers(at.value).as_slice() {
                 [Some(x), Some(y), Some(z), ..] => self.direction = Some(DVec3::new(*x, *y, *z)),
-                _ => return Err(self.fail(at, "three numbers x, y, z")),
+                _ => return Err(self.bad_value(at, "three numbers x, y, z")),
             },
             "initial color" | "initial colour" => {
-                let c = color().ok_or_else(|| self.fail(at, "a colour index from 0 to 65535"))?;
+                let c =
+                    color().ok_or_else(|| self.bad_value(at, "a colour index from 0 to 65535"))?;
                 view.initial_color = c as u32;
             }
             "color increment" | "colour increment" => {
-                let c = color().ok_or_else(|| self.fail(at, "a colour step from 0 to 65535"))?;
+                let c =
+                    color().ok_or_else(|| self.bad_value(at, "a colour step from 0 to 65535"))?;
                 view.color_increment = c as u32;
             }
             "interpretation past %" => {
                 view.interpretation_past_cut = !at.value.to_ascii_lowercase().starts_with("off");
             }
             "initial elasticity" => {
-                self.elasticity = first().ok_or_else(|| self.fail(at, "a number"))?;
+                self.elasticity = first().ok_or_else(|| self.bad_value(at, "a number"))?;
             }
             "elasticity increment" => {
-                self.increment = first().ok_or_else(|| self.fail(at, "a number"))?;
+                self.increment = first().ok_or_else(|| self.bad_value(at, "a number"))?;
             }
             "surface" => self.surface(at)?,
             "curve" => self.curve(at)?,
@@ -403,8 +426,9 @@ mod tests {
     #[test]
     fn bad_values_name_the_key_and_line() {
         let mut v = ViewSettings::default();
-        let e = apply(&mut v, "\nangle factor: zero\n", "plant.v", Includes::None).unwrap_err();
-        let text = e.to_string();
+        let extras = apply(&mut v, "\nangle factor: zero\n", "plant.v", Includes::None).unwrap();
+        assert_eq!(v.angle_increment, 45.0, "cpfg keeps the setting's value");
+        let text = extras.warnings.join("\n");
         assert!(
             text.contains("line 2") && text.contains("angle factor") && text.contains("plant.v"),
             "{text}"
