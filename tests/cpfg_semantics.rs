@@ -251,3 +251,15 @@ fn a_negative_organ_size_draws_its_magnitude() {
     let s = ls.skeleton(&LsystemOptions::default()).unwrap();
     assert_eq!(s.organs()[0].size, 0.5);
 }
+
+/// TIL: cpfg keeps `~l(s)` and `@o(r)` as two modules (`~` then `l(s)`), so productions
+/// for `l` and `o` rewrite the module after a `~` or `@`.
+#[test]
+fn productions_rewrite_what_follows_tilde_and_at() {
+    let text =
+        "derivation length: 2\nAxiom: F ~k(1) @o(1) k(5)\nk(s) --> k(s*3)\no(r) --> o(r+2)\n";
+    assert_eq!(derived(text), "F~k(9)@o(5)k(45)");
+    // A successor that starts with a module of several characters keeps the `~` alone.
+    let other = "derivation length: 1\nAxiom: ~k(1)\nk(s) --> Fk(s)\n";
+    assert_eq!(derived(other), "~Fk(1)");
+}

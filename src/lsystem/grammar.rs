@@ -48,6 +48,11 @@ impl Symbols {
     pub(crate) fn len(&self) -> usize {
         self.names.len()
     }
+
+    /// The id of `name`, if it is interned.
+    pub(crate) fn get(&self, name: &str) -> Option<u16> {
+        self.map.get(name).copied()
+    }
 }
 
 /// A module of a predecessor or context: symbol, number of formal parameters, and the

@@ -153,7 +153,7 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
     };
     p.run().map_err(to_error)?;
     let Parser {
-        symbols,
+        mut symbols,
         axiom,
         derivation_length,
         seed,
@@ -176,6 +176,8 @@ fn parse_text(source: &str, names: &[(String, f64)]) -> Result<LSystem> {
             message: "found end of text, expected an `Axiom:` line".into(),
         });
     };
+    prefixed_productions(&mut symbols, &mut productions);
+    prefixed_productions(&mut symbols, &mut decomposition);
     let n = symbols.len();
     productions.index(n);
     homomorphism.index(n);
@@ -243,6 +245,59 @@ pub(crate) fn merge_view(grammar: &mut ViewSettings, view: &ViewSettings) {
     grammar.initial_color = view.initial_color;
     grammar.interpretation_past_cut = view.interpretation_past_cut;
     grammar.color_increment = view.color_increment;
+}
+
+/// cpfg keeps `~l(s)` and `@o(r)` as two modules (`~` then `l(s)`), so productions for
+/// `l` and `o` rewrite what follows a `~` or `@`. For each symbol `~X` or `@X` of the
+/// grammar whose X has productions of one module: copies of them for it, the prefix kept
+/// in front of the successor's first module (`~l(s) --> l(2s)` gives `~l(2s)`; a first
+/// module of several characters, or none, gets the prefix as a module of its own).
+fn prefixed_productions(symbols: &mut Symbols, table: &mut ProductionTable) {
+    let mut added = Vec::new();
+    for id in 0..symbols.len() {
+        let mut chars = symbols.names[id].chars();
+        let (Some(prefix @ ('~' | '@')), Some(x), None) =
+            (chars.next(), chars.next(), chars.next())
+        else {
+            continue;
+        };
+        let Some(target) = symbols.get(x.encode_utf8(&mut [0; 4])) else {
+            continue;
+        };
+        let own: Vec<Production> = table
+            .productions
+            .iter()
+            .filter(|p| p.pred.sym == target && p.pred_rest.is_empty())
+            .cloned()
+            .collect();
+        for mut p in own {
+            p.pred.sym = id as u16;
+            let first = p.successor.modules.first().map(|m| m.sym);
+            let merged = first.and_then(|s| {
+                let name = &symbols.names[s as usize];
+                (name.chars().count() == 1).then(|| format!("{prefix}{name}"))
+            });
+            match merged.and_then(|name| symbols.intern(&name)) {
+                Some(sym) => p.successor.modules[0].sym = sym,
+                None => {
+                    let Some(sym) = symbols.intern(prefix.encode_utf8(&mut [0; 4])) else {
+                        continue;
+                    };
+                    p.successor.modules.insert(
+                        0,
+                        SuccModule {
+                            sym,
+                            first: 0,
+                            count: 0,
+                        },
+                    );
+                }
+            }
+            p.successor.finish();
+            added.push(p);
+        }
+    }
+    table.productions.extend(added);
 }
 
 /// Reads a grammar file with its view file (see [`LSystem::from_file_with`]).
