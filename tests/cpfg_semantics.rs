@@ -263,3 +263,28 @@ fn productions_rewrite_what_follows_tilde_and_at() {
     let other = "derivation length: 1\nAxiom: ~k(1)\nk(s) --> Fk(s)\n";
     assert_eq!(derived(other), "~Fk(1)");
 }
+
+/// RND: a grammar with `seed:` is stochastic as cpfg's: drand48 seeded by
+/// seed48({seed, 0, 155}), one draw for every module of cpfg's string (one a character:
+/// `@Gs` is three), every applicable production weighed (1 without a probability). The
+/// expected strings are the real cpfg's for these grammars.
+#[test]
+fn stochastic_grammars_draw_as_cpfg() {
+    let text = |n: u32| {
+        format!(
+            "seed: 7\nderivation length: {n}\nAxiom: @Gs A ~k(1) A\nA --> A B : 1\nA --> A C : 2\n\
+             k(s) --> k(s+1) : 1\nk(s) --> k(s+10) : 1\n"
+        )
+    };
+    assert_eq!(derived(&text(1)), "@GsAB~k(11)AC");
+    assert_eq!(derived(&text(2)), "@GsACB~k(12)ACC");
+    assert_eq!(derived(&text(4)), "@GsABBCB~k(32)ACBCC");
+    // Without `seed:` cpfg is deterministic: the first applicable production.
+    let none = text(2).replace("seed: 7\n", "");
+    assert_eq!(derived(&none), "@GsABB~k(3)ABB");
+    // ran() draws from cpfg's erand48 words {0x330E, 0, 0}: 0.1708..., then 0.7499...
+    assert_eq!(
+        derived("derivation length: 1\nAxiom: A\nA --> F(ran(1)) F(ran(10))\n"),
+        "F(0.17082803)F(7.4990196)"
+    );
+}

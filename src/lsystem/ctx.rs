@@ -49,9 +49,21 @@ pub(crate) struct Ctx<'a> {
     pub(super) choice: Choice,
     /// cpfg's drand48 stream of stochastic productions (seed48 of `seed:`).
     pub(super) draws: Drand48,
+    /// Per symbol, the modules cpfg's string holds for it, one a character (`@Gt(1)` is
+    /// `@`, `G`, `t(1)`): cpfg draws once for each. Empty unless the choice is weighted.
+    pub(super) chars: Vec<u32>,
 }
 
 impl<'a> Ctx<'a> {
+    /// cpfg's draws for the characters of `sym` that come before its last one (the last
+    /// draws when its production is chosen).
+    #[inline]
+    pub(super) fn draw_prefix(&mut self, sym: u16) {
+        for _ in 1..self.chars[sym as usize] {
+            self.draws.next_f64();
+        }
+    }
+
     pub(crate) fn new(ls: &'a LSystem, options: &LsystemOptions) -> Self {
         // cpfg's streams unless the host asks for a seed of its own (see
         // docs/grammars.md, "Random streams").
@@ -89,6 +101,15 @@ impl<'a> Ctx<'a> {
             args: Vec::new(),
             cands: Vec::new(),
             cand_args: Vec::new(),
+            chars: if choice == Choice::Weighted {
+                ls.symbols
+                    .names
+                    .iter()
+                    .map(|n| n.chars().count() as u32)
+                    .collect()
+            } else {
+                Vec::new()
+            },
             choice,
             draws,
         }

@@ -99,13 +99,19 @@ pub(super) fn rewrite(
                 .map_or(n, |k| i + 1 + k);
             copy_run(ctx, cur, i, j, next)?;
             if ctx.choice == Choice::Weighted {
-                // cpfg draws for every module, rules or none.
-                for _ in i..j {
+                // cpfg draws for every module of its string, rules or none: one a
+                // character of arbor's modules.
+                for k in i..j {
+                    let sym = cur.syms[k];
+                    ctx.draw_prefix(sym);
                     ctx.draws.next_f64();
                 }
             }
             i = j;
             continue;
+        }
+        if ctx.choice == Choice::Weighted {
+            ctx.draw_prefix(sym);
         }
         let chosen = select(ctx, table, cur, links, i);
         if ctx.env.fault.is_some() {
