@@ -1,5 +1,6 @@
 /* Trees from grammar text through the C ABI: growth, options, parse errors with their
  * position, bytes that are not UTF-8, limits and NULLs. */
+#include <sys/stat.h>
 #include "arbor.h"
 #include "check.h"
 
@@ -169,6 +170,20 @@ static void files_as_cpfg_reads_them(const char *dir) {
   CHECK_STATUS(arbor_tree_from_lsystem_file(path, &o, &t), ARBOR_STATUS_OK);
   direction(t, 1, d);
   CHECK(d[1] < -0.99f, "turned around: (%g, %g, %g)", d[0], d[1], d[2]);
+  arbor_tree_free(t);
+
+  /* A vlab object: its folder, whose specifications names the grammar and view file
+     (the model: command's cpfg line), opened by the same entry point. */
+  char object[1024];
+  snprintf(object, sizeof object, "%s/cpfg_object", dir);
+  mkdir(object, 0755);
+  write_file(object, "tree.l", "derivation length: 1\nAxiom: A\nA --> F(2)+F(1)\n");
+  write_file(object, "turn.v", "angle factor: 4\n");
+  write_file(object, "specifications",
+             "tree.l\nturn.v\nignore:\n*\nmodel:\n\tgenerate:\n\t\tcpfg tree.l turn.v\n");
+  CHECK_STATUS(arbor_tree_from_lsystem_file(object, NULL, &t), ARBOR_STATUS_OK);
+  direction(t, 1, d);
+  CHECK(d[0] < -0.99f, "the object's view file turned it to (%g, %g, %g)", d[0], d[1], d[2]);
   arbor_tree_free(t);
 
   /* Text in memory with the view file's text. */

@@ -280,3 +280,25 @@ fn a_killed_export_leaves_the_old_file() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A vlab object's folder is a source: the grammar and view file its specifications names.
+#[test]
+fn a_vlab_object_folder_is_a_source() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_vlab_object");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.l"),
+        "derivation length: 2\nAxiom: A\nA --> F[+A]A\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("p.v"), "angle factor: 8\n").unwrap();
+    std::fs::write(
+        dir.join("specifications"),
+        "p.l\np.v\nmodel:\n\tcpfg p.l p.v\n",
+    )
+    .unwrap();
+    let (ok, out, err) = arbor(&["info", dir.to_str().unwrap(), "--json"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("\"branches\":3"), "{out}");
+}

@@ -452,3 +452,35 @@ fn file_policies_from_rust() {
     let e = LSystem::from_file_with(&up, None, &tiny, &mut Run::default()).unwrap_err();
     assert!(matches!(e, Error::FileBudget { .. }), "{e}");
 }
+
+/// A vlab object opens by its folder: `specifications` names the grammar and view file
+/// (the `cpfg` command of its `model:` section, else the first `.l` and `.v` it lists).
+#[test]
+fn a_vlab_object_opens_by_its_folder() {
+    let dir = folder("vlab_object");
+    write(
+        &dir,
+        "tree.l",
+        "derivation length: 1\nAxiom: A\nA --> F+F\n",
+    );
+    write(&dir, "plant.l", "derivation length: 1\nAxiom: A\nA --> F\n");
+    write(&dir, "turn.v", "angle factor: 4\n");
+    write(
+        &dir,
+        "specifications",
+        "plant.l\ntree.l\nturn.v\nignore:\n*\nmodel:\n\tgenerate:\n\t\tcpfg -M a.mat tree.l turn.v\n",
+    );
+    let ls = LSystem::from_file(&dir, None).unwrap();
+    assert_eq!(ls.view().angle_increment, 90.0);
+    assert_eq!(derive(&ls), "F+F");
+    // Without a cpfg command: the first .l listed.
+    write(&dir, "specifications", "plant.l\nturn.v\nignore:\n*\n");
+    assert_eq!(derive(&LSystem::from_file(&dir, None).unwrap()), "F");
+    // A folder without specifications, or naming no grammar, is refused by name.
+    std::fs::remove_file(dir.join("specifications")).unwrap();
+    let e = LSystem::from_file(&dir, None).unwrap_err().to_string();
+    assert!(e.contains("specifications"), "{e}");
+    write(&dir, "specifications", "turn.v\n");
+    let e = LSystem::from_file(&dir, None).unwrap_err().to_string();
+    assert!(e.contains("names no `.l` file"), "{e}");
+}

@@ -33,8 +33,8 @@ fn species_names() -> String {
 
 fn cli() -> Command {
     let source = Arg::new("source").required(true).help(format!(
-        "a–i (the 1996 trees), FILE.l (a cpfg file), or growth:SPECIES (a self-organizing \
-         tree: {})",
+        "a–i (the 1996 trees), FILE.l (a cpfg file), FOLDER (a vlab object), or \
+         growth:SPECIES (a self-organizing tree: {})",
         species_names()
     ));
     let steps = Arg::new("steps")
@@ -50,7 +50,8 @@ fn cli() -> Command {
         .about("Grow 3-D trees from L-systems and turn them into meshes")
         .after_help(format!(
             "SOURCE: a–i (the nine trees of the 1996 paper), FILE.l (a cpfg L-system, read \
-             with its view file), or growth:SPECIES with SPECIES one of {}.\n\
+             with its view file), FOLDER (a vlab object: the .l and .v its specifications \
+             names), or growth:SPECIES with SPECIES one of {}.\n\
              Examples:\n  arbor export g -o tree_g.glb --leaves\n  \
              arbor export growth:weeping --steps 30 -o weeping.obj\n  arbor info a --json",
             species_names()
@@ -199,9 +200,11 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
         .map_err(err)?;
         return Ok((s, format!("1996 tree {c}, {} steps", p.steps)));
     }
-    if !std::path::Path::new(source).is_file() {
+    let path = std::path::Path::new(source);
+    if !(path.is_file() || path.is_dir()) {
         return Err(format!(
-            "{source}: no such file; SOURCE is a letter a–i, a cpfg .l file or growth:SPECIES"
+            "{source}: no such file; SOURCE is a letter a–i, a cpfg .l file, a vlab object's \
+             folder or growth:SPECIES"
         ));
     }
     let ls = LSystem::from_file(source, None).map_err(err)?;

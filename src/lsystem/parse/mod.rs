@@ -300,6 +300,55 @@ fn prefixed_productions(symbols: &mut Symbols, table: &mut ProductionTable) {
     table.productions.extend(added);
 }
 
+/// The grammar and view file of a vlab object at `folder` (a folder, or under the host's
+/// reader a path without an extension): those its `specifications` passes to `cpfg` in
+/// its `model:` command (`cpfg -M plant.mat plant.l plant.v plant.a`), else the first
+/// `.l` and `.v` it lists. `None` when `folder` is a file.
+fn vlab_object(
+    folder: &std::path::Path,
+    read: &dyn Fn(&std::path::Path) -> Result<String>,
+) -> Result<Option<(std::path::PathBuf, Option<std::path::PathBuf>)>> {
+    if !(folder.is_dir() || (folder.extension().is_none() && !folder.exists())) {
+        return Ok(None);
+    }
+    let specs = folder.join("specifications");
+    let text = match read(&specs) {
+        Ok(text) => text,
+        Err(_) if !folder.is_dir() => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    let words =
+        |line: &str| -> Vec<String> { line.split_whitespace().map(str::to_string).collect() };
+    // The files the cpfg command passes, else the files listed at the top.
+    let command = text
+        .lines()
+        .map(words)
+        .find(|w| w.first().is_some_and(|c| c == "cpfg"));
+    let listed: Vec<String> = text
+        .lines()
+        .take_while(|l| !l.trim_end().ends_with(':'))
+        .flat_map(words)
+        .collect();
+    let names = command.unwrap_or(listed);
+    let pick = |ext: &str| {
+        names
+            .iter()
+            .find(|w| w.ends_with(ext))
+            .map(|w| folder.join(w))
+    };
+    let Some(grammar) = pick(".l") else {
+        return Err(Error::invalid(
+            "path",
+            format!(
+                "`{}` is a folder whose `specifications` names no `.l` file (a vlab object \
+                 lists its grammar there)",
+                folder.display()
+            ),
+        ));
+    };
+    Ok(Some((grammar, pick(".v"))))
+}
+
 /// Reads a grammar file with its view file (see [`LSystem::from_file_with`]).
 pub(crate) fn parse_file(
     path: &std::path::Path,
@@ -331,6 +380,12 @@ pub(crate) fn parse_file(
         // is read as Latin-1.
         Ok(String::from_utf8(loaded.bytes)
             .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+    };
+    // A vlab object: its folder, whose `specifications` names the grammar and view file.
+    let object = vlab_object(path, &|p| read(p, "vlab object's specifications"))?;
+    let (path, view) = match &object {
+        Some((l, v)) => (l.as_path(), view.or(v.as_deref())),
+        None => (path, view),
     };
     let text = read(path, "grammar file")?;
     // The view file first: the names of its functions are numbers in the grammar
