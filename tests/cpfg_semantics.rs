@@ -288,3 +288,12 @@ fn stochastic_grammars_draw_as_cpfg() {
         "F(0.17082803)F(7.4990196)"
     );
 }
+
+/// cpfg passes over blanks between `@` and its letters (`@ Tx(1)` is `@Tx(1)`).
+#[test]
+fn blanks_after_at_are_passed_over() {
+    assert_eq!(
+        derived("derivation length: 0\nAxiom: F @ Tx(1) F @\tGs\n"),
+        "F@Tx(1)F@Gs"
+    );
+}

@@ -13,6 +13,15 @@ impl Parser<'_> {
             return Err(cur.error("a module"));
         };
         let name_end;
+        // cpfg reads `@ Tx` as `@Tx`: blanks between `@` and its letters are passed over.
+        let mut gap = None;
+        if c == '@' && cur.peek().is_some_and(|b| b == ' ' || b == '\t') {
+            let before = cur.pos();
+            while cur.peek().is_some_and(|b| b == ' ' || b == '\t') {
+                cur.bump();
+            }
+            gap = Some(before..cur.pos());
+        }
         match c {
             '(' | ')' | ':' => {
                 return Err(cur.error_at(at, "a module (a letter or a turtle symbol)"));
@@ -49,9 +58,12 @@ impl Parser<'_> {
             }
             _ => name_end = cur.pos(),
         }
-        let name = &self.text[at..name_end];
+        let name = match gap {
+            Some(g) => format!("{}{}", &self.text[at..g.start], &self.text[g.end..name_end]),
+            None => self.text[at..name_end].to_string(),
+        };
         self.symbols
-            .intern(name)
+            .intern(&name)
             .ok_or_else(|| self.msg(at, "too many distinct symbols (at most 65536)"))
     }
 
