@@ -21,10 +21,6 @@ const DIFFERS: &[(&str, &str)] = &[
         "reads plant.p, a data file the corpus does not have (cpfg goes on without it)",
     ),
     (
-        "06-phyllotaxis-ridley/spiral.l",
-        "curveX/Y/GAL sample cpfg's contour differently (1e-4, growing in loops)",
-    ),
-    (
         "02-Borchert-Slade/plant.l",
         "a branch's flow differs from cpfg's from the first step",
     ),
@@ -208,6 +204,6 @@ fn every_model_gives_cpfgs_answer() {
     println!("{matched} of the {runs} models cpfg runs give cpfg's answer");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(runs >= 68, "{runs} models recorded");
-    // At most the known differences: 64 of 68 today.
+    // At most the known differences: 65 of 68 today.
     assert!(matched + DIFFERS.len() >= runs, "{matched} of {runs}");
 }

@@ -150,31 +150,6 @@ fn basis(k: i64, t: i64, u: f64, n: i64) -> f64 {
     sum
 }
 
-/// Samples of a contour's arc (curve files).
-const SAMPLES: usize = 512;
-
-fn de_boor(p: &[(f64, f64)], knots: &[f64], t: f64) -> (f64, f64) {
-    let n = p.len();
-    // The span k with knots[k] <= t < knots[k+1], within 3..n-1.
-    let mut k = 3;
-    while k + 1 < n && knots[k + 1] <= t {
-        k += 1;
-    }
-    let mut d: [(f64, f64); 4] = std::array::from_fn(|j| p[j + k - 3]);
-    for r in 1..4 {
-        for j in (r..4).rev() {
-            let i = j + k - 3;
-            let den = knots[i + 4 - r] - knots[i];
-            let a = if den > 0.0 { (t - knots[i]) / den } else { 0.0 };
-            d[j] = (
-                (1.0 - a) * d[j - 1].0 + a * d[j].0,
-                (1.0 - a) * d[j - 1].1 + a * d[j].1,
-            );
-        }
-    }
-    d[3]
-}
-
 /// Reads the control points of one function from `lines` (after its header lines).
 fn points<'a>(
     lines: &mut impl Iterator<Item = &'a str>,
@@ -274,47 +249,104 @@ pub(crate) fn parse(
     Ok(out)
 }
 
-/// A curve of the view file's `curve:` list (a `.con` contour): `curveX/Y/Z(id, t)` read
-/// the point at fraction t of its arc length, `curveGAL(id)` its arc length.
+/// A curve of the view file's `curve:` list (a `.con` contour), as cpfg samples it:
+/// `curveX/Y/Z(id, t)` read the curve where fraction t of its arc length falls on a table
+/// of `samples` points (the view file's count, 100 by default), the curve evaluated at
+/// the parameter interpolated there; `curveGAL(id)` is the length of that table's
+/// polyline.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Curve {
+    /// The control points, each repeated by its multiplicity, with the type's extra
+    /// points (closed: the first three again; phantom: one mirrored at each end).
     points: Vec<[f64; 3]>,
-    /// Arc length up to each point.
+    /// The `bspline-endpoint` type: a clamped spline; the others are uniform.
+    clamped: bool,
+    /// Arc length at each sample, over the whole length (0 to 1).
     along: Vec<f64>,
+    length: f64,
+}
+
+/// The uniform cubic B-spline basis B(i, 4) at `t` (knots at the integers), as cpfg
+/// computes it: order 1 on half-open spans, then three recursive steps.
+fn uniform(i: f64, order: u32, t: f64) -> f64 {
+    if order == 1 {
+        return if i <= t && t < i + 1.0 { 1.0 } else { 0.0 };
+    }
+    let k = (order - 1) as f64;
+    (t - i) / k * uniform(i, order - 1, t)
+        + (i + order as f64 - t) / k * uniform(i + 1.0, order - 1, t)
 }
 
 impl Curve {
     /// The arc length.
     pub(crate) fn length(&self) -> f64 {
-        self.along.last().copied().unwrap_or(0.0)
+        self.length
     }
 
-    /// Coordinate `axis` of the point at fraction `t` of the arc length.
+    /// The curve's point at parameter `t` in [0, 1] (cpfg's calcPValue).
+    fn point(&self, t: f64) -> [f64; 3] {
+        let p = &self.points;
+        let n = p.len();
+        let mut out = [0.0; 3];
+        if n <= 3 {
+            return out;
+        }
+        if self.clamped {
+            let u = t * (n as f64 - 3.000001);
+            for (k, q) in p.iter().enumerate() {
+                let b = basis(k as i64, 4, u, n as i64 - 1);
+                for a in 0..3 {
+                    out[a] += q[a] * b;
+                }
+            }
+            return out;
+        }
+        let i = 3 + (t * (n as f64 - 3.000001)) as usize;
+        let u = 3.0 + t * (n as f64 - 3.000001);
+        for j in i - 3..=i.min(n - 1) {
+            let b = uniform(j as f64, 4, u);
+            for a in 0..3 {
+                out[a] += p[j][a] * b;
+            }
+        }
+        out
+    }
+
+    /// Coordinate `axis` of the point at fraction `t` of the arc length (cpfg's
+    /// calcAValue: t clamped to [0, 1]).
     pub(crate) fn at(&self, t: f64, axis: usize) -> f64 {
-        if t.is_nan() || self.points.is_empty() {
+        if t.is_nan() || self.along.len() < 2 {
             return f64::NAN;
         }
-        let s = t.clamp(0.0, 1.0) * self.length();
-        let k = self
-            .along
-            .partition_point(|&a| a < s)
-            .clamp(1, self.points.len() - 1);
-        let (a0, a1) = (self.along[k - 1], self.along[k]);
-        let f = if a1 > a0 { (s - a0) / (a1 - a0) } else { 0.0 };
-        let (p, q) = (self.points[k - 1][axis], self.points[k][axis]);
-        p + (q - p) * f
+        let t = t.clamp(0.0, 1.0);
+        let l = &self.along;
+        let (mut min, mut max) = (0usize, l.len() - 1);
+        while max - min > 1 {
+            let med = (min + max) / 2;
+            if l[med] > t {
+                max = med;
+            } else {
+                min = med;
+            }
+        }
+        let span = l[max] - l[min];
+        let f = if span > 0.0 { (t - l[min]) / span } else { 0.0 };
+        let u = (min as f64 + f) / (l.len() - 1) as f64;
+        self.point(u)[axis]
     }
 }
 
-/// Reads a `.con` contour: `key: value` lines, then `points: n` and, after the header,
-/// n lines `x y z [multiplicity]` of a B-spline's control points.
-pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
+/// Reads a `.con` contour: `key: value` lines (`type:` bspline, bspline-closed,
+/// bspline-phantom or bspline-endpoint; the Bézier types are read as bspline), then
+/// `points: n` and n lines `x y z [multiplicity]`; `samples` from the view file.
+pub(crate) fn parse_curve(text: &str, samples: usize) -> Result<Curve, String> {
     let mut lines = text
         .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .peekable();
     let mut count = None;
+    let mut kind = "bspline".to_string();
     let mut control: Vec<[f64; 3]> = Vec::new();
     while let Some(line) = lines.next() {
         if let Some(n) = value(line, "points:") {
@@ -322,6 +354,10 @@ pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
                 n.parse::<usize>()
                     .map_err(|_| format!("`points: {n}` is not a count"))?,
             );
+            continue;
+        }
+        if let Some(t) = value(line, "type:") {
+            kind = t.to_string();
             continue;
         }
         if line.contains(':') {
@@ -340,9 +376,9 @@ pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
             if v.len() < 3 {
                 return Err(format!("`{l}` is not a point (x y z [multiplicity])"));
             }
-            let mult = v.get(3).map_or(1, |&m| (m.round() as usize).clamp(1, 3));
+            let mult = v.get(3).map_or(1, |&m| (m.round() as usize).clamp(1, 16));
             for _ in 0..mult {
-                control.push([v[0], v[1], v[2]]);
+                control.push([v[0], v[1], v[2]].map(|c| c as f32 as f64));
             }
         }
         break;
@@ -350,33 +386,47 @@ pub(crate) fn parse_curve(text: &str) -> Result<Curve, String> {
     if control.len() < 2 {
         return Err("a curve needs at least two points".into());
     }
-    // Sampled as a clamped cubic B-spline in the plane of each pair of axes.
-    let xy: Vec<(f64, f64)> = control.iter().map(|p| (p[0], p[1])).collect();
-    let xz: Vec<(f64, f64)> = control.iter().map(|p| (p[0], p[2])).collect();
-    let sample = |pts: &[(f64, f64)]| -> Vec<(f64, f64)> {
-        let n = pts.len();
-        if n < 4 {
-            return pts.to_vec();
+    match kind.as_str() {
+        "bspline-closed" => {
+            let first: Vec<[f64; 3]> = control.iter().take(3).copied().collect();
+            control.extend(first);
         }
-        let m = (n - 3) as f64;
-        let mut knots = vec![0.0; 4];
-        knots.extend((1..n - 3).map(|i| i as f64));
-        knots.extend([m; 4]);
-        (0..=SAMPLES)
-            .map(|s| de_boor(pts, &knots, m * s as f64 / SAMPLES as f64))
-            .collect()
-    };
-    let (a, b) = (sample(&xy), sample(&xz));
-    let points: Vec<[f64; 3]> = a.iter().zip(&b).map(|(p, q)| [p.0, p.1, q.1]).collect();
-    let mut along = vec![0.0];
-    for w in points.windows(2) {
-        let d = ((w[1][0] - w[0][0]).powi(2)
-            + (w[1][1] - w[0][1]).powi(2)
-            + (w[1][2] - w[0][2]).powi(2))
-        .sqrt();
-        along.push(along.last().copied().unwrap_or(0.0) + d);
+        "bspline-phantom" if control.len() >= 2 => {
+            let n = control.len();
+            let mirror = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| 2.0 * a[k] - b[k]);
+            let (head, tail) = (
+                mirror(control[0], control[1]),
+                mirror(control[n - 1], control[n - 2]),
+            );
+            control.insert(0, head);
+            control.push(tail);
+        }
+        _ => {}
     }
-    Ok(Curve { points, along })
+    let samples = samples.clamp(2, MAX_SAMPLES);
+    let mut curve = Curve {
+        points: control,
+        clamped: kind == "bspline-endpoint",
+        along: Vec::with_capacity(samples),
+        length: 0.0,
+    };
+    let mut last = curve.point(0.0);
+    let mut length = 0.0;
+    for i in 0..samples {
+        let p = curve.point(i as f64 / (samples - 1) as f64);
+        if i > 0 {
+            length +=
+                ((p[0] - last[0]).powi(2) + (p[1] - last[1]).powi(2) + (p[2] - last[2]).powi(2))
+                    .sqrt();
+        }
+        curve.along.push(length);
+        last = p;
+    }
+    if length > 0.0 {
+        curve.along.iter_mut().for_each(|l| *l /= length);
+    }
+    curve.length = length;
+    Ok(curve)
 }
 
 /// The finite numbers of a line of a curve, function or surface file, or an error saying
@@ -440,11 +490,20 @@ mod tests {
         assert_eq!(set.len(), 2);
         assert_eq!(set[1].eval(0.3), 2.0);
         assert!(parse("points: 3\n0 0\n", "bad.func", 16, 0).is_err());
-        // A straight contour: arc length and points by fraction of it.
-        let c = parse_curve("version: 1.4\npoints: 2\ntype: bspline\n0 0 0 1\n3 4 0 1\n").unwrap();
-        assert!((c.length() - 5.0).abs() < 1e-12);
-        assert!((c.at(0.5, 0) - 1.5).abs() < 1e-12 && (c.at(0.5, 1) - 2.0).abs() < 1e-12);
-        assert!(parse_curve("points: 1\n0 0 0\n").is_err());
+        // A straight contour (its ends of multiplicity 3, so the uniform spline reaches
+        // them): arc length and points by fraction of it.
+        let c = parse_curve(
+            "version: 1.4\npoints: 2\ntype: bspline\n0 0 0 3\n3 4 0 3\n",
+            100,
+        )
+        .unwrap();
+        assert!((c.length() - 5.0).abs() < 1e-5, "{}", c.length());
+        assert!((c.at(0.5, 0) - 1.5).abs() < 1e-4 && (c.at(0.5, 1) - 2.0).abs() < 1e-4);
+        assert!(c.at(0.0, 0).abs() < 1e-12 && (c.at(1.0, 1) - 4.0).abs() < 1e-4);
+        // cpfg's uniform spline needs four control points: fewer draw nothing.
+        let short = parse_curve("points: 2\ntype: bspline\n0 0 0 1\n3 4 0 1\n", 100).unwrap();
+        assert_eq!((short.length(), short.at(0.5, 0)), (0.0, 0.0));
+        assert!(parse_curve("points: 1\n0 0 0\n", 100).is_err());
         assert!(parse("hello\n", "bad.func", 16, 0).is_err());
         // A set with more functions than allowed stops at the bound, naming it.
         let two = "funcgalleryver 1 1\nitems: 2\nfver 1 1\nname: A\npoints: 2\n0 0\n1 1\n\

@@ -324,7 +324,14 @@ impl Reader<'_, '_> {
     fn curve(&mut self, at: &Line<'_>) -> Result<()> {
         bounded(self.extras.curves.len(), "curves of a view file")?;
         let (file, text) = self.companion_text(at, "curve file")?;
-        let curve = super::function_files::parse_curve(&text)
+        // `curve: file.con [samples]`: cpfg's arc table has 100 samples by default.
+        let samples = at
+            .value
+            .split_whitespace()
+            .nth(1)
+            .and_then(|n| n.parse::<usize>().ok())
+            .unwrap_or(100);
+        let curve = super::function_files::parse_curve(&text, samples)
             .map_err(|e| self.fail(at, &format!("a curve file cpfg can read (`{file}`: {e})")))?;
         self.extras.curves.push(curve);
         Ok(())
