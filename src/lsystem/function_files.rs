@@ -303,10 +303,10 @@ impl Curve {
         }
         let i = 3 + (t * (n as f64 - 3.000001)) as usize;
         let u = 3.0 + t * (n as f64 - 3.000001);
-        for j in i - 3..=i.min(n - 1) {
+        for (j, q) in p.iter().enumerate().take(i.min(n - 1) + 1).skip(i - 3) {
             let b = uniform(j as f64, 4, u);
             for a in 0..3 {
-                out[a] += p[j][a] * b;
+                out[a] += q[a] * b;
             }
         }
         out
