@@ -148,6 +148,13 @@ struct Line<'t> {
     text: &'t str,
 }
 
+impl Line<'_> {
+    /// The count after a companion's file name (`curve: file.con 100`), if there is one.
+    fn samples(&self) -> Option<usize> {
+        self.value.split_whitespace().nth(1)?.parse().ok()
+    }
+}
+
 /// A view file being read: what it brings besides settings, and the older tropism's parts.
 struct Reader<'a, 'l> {
     pre: &'a Preprocessed,
@@ -325,12 +332,7 @@ impl Reader<'_, '_> {
         bounded(self.extras.curves.len(), "curves of a view file")?;
         let (file, text) = self.companion_text(at, "curve file")?;
         // `curve: file.con [samples]`: cpfg's arc table has 100 samples by default.
-        let samples = at
-            .value
-            .split_whitespace()
-            .nth(1)
-            .and_then(|n| n.parse::<usize>().ok())
-            .unwrap_or(100);
+        let samples = at.samples().unwrap_or(100);
         let curve = super::function_files::parse_curve(&text, samples)
             .map_err(|e| self.fail(at, &format!("a curve file cpfg can read (`{file}`: {e})")))?;
         self.extras.curves.push(curve);
@@ -343,12 +345,7 @@ impl Reader<'_, '_> {
         bounded(functions.len(), "functions of a view file")?;
         let (file, text) = self.companion_text(at, "function file")?;
         // `function: f.func 100`: the samples the older form of the file uses.
-        let samples = at
-            .value
-            .split_whitespace()
-            .nth(1)
-            .and_then(|n| n.parse::<usize>().ok())
-            .unwrap_or(0);
+        let samples = at.samples().unwrap_or(0);
         let room = MAX_COMPANIONS - functions.len();
         let read = super::function_files::parse(&text, &file, room, samples).map_err(|e| {
             self.fail(
