@@ -484,3 +484,27 @@ fn a_vlab_object_opens_by_its_folder() {
     let e = LSystem::from_file(&dir, None).unwrap_err().to_string();
     assert!(e.contains("names no `.l` file"), "{e}");
 }
+
+/// DATA: a data file the model opens for reading and that is not there is what cpfg goes
+/// on without (its fscanf reads nothing): a warning, the model runs. One that is there is
+/// refused, since arbor does not read data files' values; text has no folder to look in.
+#[test]
+fn a_missing_data_file_is_a_warning() {
+    let dir = folder("data_files");
+    let text = "Define: {array len[3];}\nStart: {fp = fopen(\"lengths.p\", \"r\"); i = 0;\n\
+                while (i < 3) {fscanf(fp, \"%lf\", &len[i]); i = i + 1;} fclose(fp);}\n\
+                derivation length: 1\nAxiom: A\nA --> F(len[0] + 1)\n";
+    let path = write(&dir, "plant.l", text);
+    let ls = LSystem::from_file(&path, None).unwrap();
+    assert!(
+        ls.warnings().iter().any(|w| w.contains("lengths.p")),
+        "{:?}",
+        ls.warnings()
+    );
+    assert_eq!(derive(&ls), "F(1)");
+    write(&dir, "lengths.p", "2 3 4\n");
+    let e = LSystem::from_file(&path, None).unwrap_err().to_string();
+    assert!(e.contains("lengths.p") && e.contains("data file"), "{e}");
+    let e = LSystem::parse(text).unwrap_err().to_string();
+    assert!(e.contains("no folder"), "{e}");
+}

@@ -17,10 +17,6 @@ const DIFFERS: &[(&str, &str)] = &[
         "cpfg puts the turtle at a surface's end point computed from its patches",
     ),
     (
-        "09-advanced-graphics/01-lilac-congo/plant.l",
-        "reads plant.p, a data file the corpus does not have (cpfg goes on without it)",
-    ),
-    (
         "02-Borchert-Slade/plant.l",
         "a branch's flow differs from cpfg's from the first step",
     ),
@@ -204,6 +200,6 @@ fn every_model_gives_cpfgs_answer() {
     println!("{matched} of the {runs} models cpfg runs give cpfg's answer");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(runs >= 68, "{runs} models recorded");
-    // At most the known differences: 65 of 68 today.
+    // At most the known differences: 66 of 68 today.
     assert!(matched + DIFFERS.len() >= runs, "{matched} of {runs}");
 }

@@ -138,6 +138,10 @@ fn statement(
             out.push(printf_call(cur, scope, f)?);
             return Ok(());
         }
+        Some("fscanf") => {
+            fscanf_call(cur, scope)?;
+            return Ok(());
+        }
         Some("fclose") | Some("fflush") => {
             file_call(cur, scope)?;
             return Ok(());
@@ -206,6 +210,36 @@ fn printf_call(cur: &mut Cursor<'_>, scope: &Scope<'_>, f: &str) -> PResult<Stmt
     }
     end_of_statement(cur)?;
     Ok(Stmt::Printf(fmt.into(), args))
+}
+
+/// `fscanf(fp, "format", &a, &b[i], ...)` after its name: read. Its file is one cpfg
+/// could not open (a data file the model reads must be missing, see
+/// `parse::data_files`), so, as in cpfg, it assigns nothing.
+fn fscanf_call(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<()> {
+    cur.skip_ws();
+    if !cur.eat("(") {
+        return Err(cur.error("`(` after `fscanf`"));
+    }
+    let _handle = expr::compile(cur, scope)?;
+    cur.skip_ws();
+    if !cur.eat(",") {
+        return Err(cur.error("`,` after the file of fscanf"));
+    }
+    cur.skip_ws();
+    let _format = string_literal(cur)?;
+    loop {
+        cur.skip_ws();
+        if cur.eat(")") {
+            break;
+        }
+        if !cur.eat(",") {
+            return Err(cur.error("`,` or `)` in fscanf"));
+        }
+        cur.skip_ws();
+        cur.eat("&");
+        let _target = expr::compile(cur, scope)?;
+    }
+    end_of_statement(cur)
 }
 
 /// `fclose(fp)` or `fflush(fp)` after its name: read, and nothing to do.

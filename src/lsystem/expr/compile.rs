@@ -383,7 +383,8 @@ impl Compiler<'_, '_, '_> {
     }
 
     /// `fopen("name", "mode")`: a file opened for writing is a handle whose `fprintf`
-    /// goes to the log; reading files is refused, naming the file.
+    /// goes to the log; one opened for reading is noted for the loader (see
+    /// `parse::data_files`) and is cpfg's handle of a file it could not open (-1).
     fn fopen(&mut self, at: usize) -> PResult<()> {
         self.cur.eat("(");
         let mut strings = Vec::new();
@@ -408,6 +409,11 @@ impl Compiler<'_, '_, '_> {
             return Err(self.cur.error("`)` closing fopen"));
         }
         if strings[1].starts_with('r') {
+            if let Some(globals) = self.scope.globals {
+                globals.borrow_mut().reads.push((strings[0].clone(), at));
+                self.push(Op::Const(-1.0));
+                return Ok(());
+            }
             return Err(self.cur.message_at(
                 at,
                 &format!(

@@ -45,6 +45,8 @@ pub(crate) struct Globals {
     pub(crate) arrays: Vec<ArrayDecl>,
     /// Initial values of every slot (0, or an array's `= { ... }`).
     pub(crate) init: Vec<f64>,
+    /// Data files the grammar opens for reading (`fopen(name, "r")`), with where.
+    pub(crate) reads: Vec<(String, usize)>,
 }
 
 impl Globals {

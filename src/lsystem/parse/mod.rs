@@ -104,8 +104,48 @@ fn parse_named(
     names: &[(String, f64)],
 ) -> Result<LSystem> {
     check_size(source)?;
+    let folder = !matches!(includes, Includes::None);
     let pre = preprocess(source, name, includes)?;
-    parse_text(&pre.text, names).map_err(|e| pre.map_error(e))
+    let ls = parse_text(&pre.text, names).map_err(|e| pre.map_error(e))?;
+    // Text without a folder has no data files to look for.
+    if let (false, Some((file, at))) = (folder, ls.globals.reads.first()) {
+        let (line, column) = line_col(&pre.text, *at);
+        return Err(pre.map_error(Error::Parse {
+            line,
+            column,
+            message: format!(
+                "fopen(\"{file}\", \"r\"): the grammar reads a data file, and text has no \
+                 folder to read it from; read the model from its file"
+            ),
+        }));
+    }
+    Ok(ls)
+}
+
+/// The data files a grammar read from `dir` opens (`fopen(name, "r")`): a missing one is
+/// what cpfg goes on without (its `fscanf` reads nothing), so it is a warning; one that is
+/// there is refused, since arbor does not read data files' values yet.
+fn data_files(
+    ls: &mut LSystem,
+    dir: &std::path::Path,
+    exists: &dyn Fn(&std::path::Path) -> bool,
+) -> Result<()> {
+    for (file, _) in ls.globals.reads.clone() {
+        if exists(&dir.join(&file)) {
+            return Err(Error::invalid(
+                "path",
+                format!(
+                    "fopen(\"{file}\", \"r\"): the grammar reads its values from `{file}`, a \
+                     data file, which arbor does not read"
+                ),
+            ));
+        }
+        ls.warnings.push(format!(
+            "fopen(\"{file}\", \"r\"): `{file}` is not there; as in cpfg, fscanf from it \
+             reads nothing and the model runs with its variables as they are"
+        ));
+    }
+    Ok(())
 }
 
 /// Parses preprocessed text.
@@ -432,7 +472,8 @@ pub(crate) fn parse_file(
         .filter(|(_, f)| !f.name.is_empty())
         .map(|(i, f)| (format!("{}{}", expr::FUNCTION_NAME, f.name), (i + 1) as f64))
         .collect();
-    let mut ls = parse_named(&text, &name, Includes::Dir(dir, &loader), &names)?;
+    let mut ls = parse_named(&text, &name, Includes::Dir(dir.clone(), &loader), &names)?;
+    data_files(&mut ls, &dir, &|p| loader.exists(p))?;
     loader.finish()?;
     if view_seen {
         // The grammar's own directives stand; the view file's settings fill in what it
