@@ -218,6 +218,25 @@ fn a_surface_moves_the_turtle_to_its_end_point() {
         ends(&s)
     );
     assert_eq!(s.branches()[1].start, [0.0, 3.0, 0.0]);
+    // A surface whose HEADING and UP are not the turtle's axes, after a roll: where the
+    // real cpfg starts the second F for this file.
+    let turned = surface
+        .replace("END POINT X: 0 Y: 4 Z: 0", "END POINT X: 1 Y: 2 Z: 3")
+        .replace("HEADING X: 0 Y: 1 Z: 0", "HEADING X: 1 Y: 0 Z: 0")
+        .replace("UP X: 0 Y: 0 Z: 1", "UP X: 0 Y: 1 Z: 0");
+    assert!(turned.contains("HEADING X: 1"), "{turned}");
+    let s = grown_from_files(&[
+        (
+            "plant.l",
+            "derivation length: 0\nAxiom: F(1) /(30) ~q(2) F(1)\n",
+        ),
+        ("plant.v", "angle factor: 8\nsurface: q q.s 1\n"),
+        ("q.s", &turned),
+    ]);
+    let start = s.branches()[1].start;
+    for (got, want) in start.iter().zip([-0.616025388f32, 2.5, -0.933012724]) {
+        assert!((got - want).abs() < 1e-5, "{start:?}");
+    }
 }
 
 /// FUNC: `func()` as cpfg computes it: each value where the curve's x comes within 0.001

@@ -341,7 +341,7 @@ impl Turtle {
         // move does when that is elsewhere.
         let e = s.end;
         if e != DVec3::ZERO {
-            let to = f.position + (f.heading * e.x + f.up * e.y + f.left * e.z) * scale;
+            let to = f.position + (f.left * e.x + f.heading * e.y + f.up * e.z) * scale;
             if !to.is_finite() || to.abs().max_element() > crate::limits::MAX_COORDINATE as f64 {
                 return Err(Error::Eval {
                     step,

@@ -22,8 +22,9 @@ pub(crate) struct Surface {
     /// The view file's scale.
     pub(crate) scale: f64,
     pub(crate) triangles: Vec<[DVec3; 3]>,
-    /// The file's END POINT in the surface's frame: where the turtle stands after drawing
-    /// it (its CONTACT POINT, where it stood, when the file names none).
+    /// The file's END POINT as cpfg keeps it: the turtle moves by its x along its left,
+    /// y along its heading and z along its up (times the scale) after drawing the surface
+    /// (zero when the file names no END POINT).
     pub(crate) end: DVec3,
 }
 
@@ -121,7 +122,12 @@ pub(crate) fn parse(
         DVec3::new(d.dot(h), d.dot(u), d.dot(l))
     };
     let triangles = tessellate(&patches, (s, t), local);
-    let end = local(end_point.unwrap_or(contact));
+    // cpfg's end point (patches.c): the offset from the contact point over SIZE, rotated
+    // by the matrix whose columns are the file's left (heading x up), heading and up;
+    // the turtle then moves by its x along its left, y along its heading, z along its up.
+    let up_n = up.try_normalize().unwrap_or(DVec3::Z);
+    let d = (end_point.unwrap_or(contact) - contact) / size;
+    let end = h.cross(up_n) * d.x + h * d.y + up_n * d.z;
     Ok(Surface {
         name,
         scale,
