@@ -234,7 +234,7 @@ fn a_surface_moves_the_turtle_to_its_end_point() {
         ("q.s", &turned),
     ]);
     let start = s.branches()[1].start;
-    for (got, want) in start.iter().zip([-0.616025388f32, 2.5, -0.933012724]) {
+    for (got, want) in start.iter().zip([-0.616_025_4_f32, 2.5, -0.933_012_7]) {
         assert!((got - want).abs() < 1e-5, "{start:?}");
     }
 }
