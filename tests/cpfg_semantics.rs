@@ -316,3 +316,16 @@ fn blanks_after_at_are_passed_over() {
         "F@Tx(1)F@Gs"
     );
 }
+
+/// A `]` in a right context must meet the `]` that ends the branch (cpfg's answers):
+/// `B > ]E` does not match in `A[B[C]D]E` (D comes first); `B > =]E` does.
+#[test]
+fn a_closing_bracket_in_a_right_context_must_come_next() {
+    let text = |ctx: &str| format!("derivation length: 1\nAxiom: A[B[C]D]E\nB > {ctx} --> X\n");
+    assert_eq!(derived(&text("]E")), "A[B[C]D]E");
+    assert_eq!(derived(&text("=]E")), "A[X[C]D]E");
+    assert_eq!(
+        derived("derivation length: 1\nAxiom: A[B]E\nB > ]E --> X\n"),
+        "A[X]E"
+    );
+}

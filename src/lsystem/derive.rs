@@ -321,9 +321,12 @@ mod tests {
         assert_eq!(branch_end(&s.syms, 2), Some(7));
         assert_eq!(branch_end(&s.syms, 4), Some(5));
         assert_eq!(branch_end(&s.syms, 8), None);
-        // Right context `]E`: the rest of the branch is skipped whole, nested ones too.
-        let ls = LSystem::parse("Axiom: A[B[C]D]E\nB > ]E --> X\nC > ]E --> Y\n").unwrap();
+        // Right context `=]E` (cpfg's answers): `=` skips the rest of the branch, nested
+        // ones too; `]E` alone needs the `]` next, so neither B nor C matches it.
+        let ls = LSystem::parse("Axiom: A[B[C]D]E\nB > =]E --> X\nC > ]E --> Y\n").unwrap();
         assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "A[X[C]D]E");
+        let ls = LSystem::parse("Axiom: A[B[C]D]E\nB > ]E --> X\n").unwrap();
+        assert_eq!(ls.format(&ls.derive(&options(1)).unwrap()), "A[B[C]D]E");
         // A cut removes the rest of its branch with the branches nested in it (as the
         // step after the one that made it begins).
         let ls = LSystem::parse("Axiom: F[A[G]F]F\nA --> %\n").unwrap();

@@ -407,8 +407,9 @@ fn match_left(
     true
 }
 
-/// Bracket-aware right context: a branch in the string is skipped unless the context
-/// itself has a `[` there; a `]` in the context skips to the end of the current branch.
+/// Bracket-aware right context, as cpfg's: a branch in the string is skipped unless the
+/// context itself has a `[` there; a `]` in the context must meet the `]` that ends the
+/// branch (`=` before it skips the rest of the branch).
 fn match_right(
     ls: &LSystem,
     s: &ModuleString,
@@ -430,12 +431,32 @@ fn match_right(
             continue;
         }
         if pat.sym == POP {
-            // The `]` that closes the branch j is in (or, at a `]`, that one).
-            let close = links.close[j.min(n)];
-            if close == u32::MAX {
+            // cpfg's: the next module that is not ignored, past whole branches, must be
+            // the `]` (`=` before it skips the rest of the branch).
+            loop {
+                j = links.next[j.min(n)] as usize;
+                if j >= n {
+                    return false;
+                }
+                let sym = s.syms[j];
+                if ls.skip[sym as usize] {
+                    j += 1;
+                    continue;
+                }
+                if sym == PUSH {
+                    let close = links.partner[j];
+                    if close == u32::MAX {
+                        return false;
+                    }
+                    j = close as usize + 1;
+                    continue;
+                }
+                break;
+            }
+            if s.syms[j] != POP {
                 return false;
             }
-            j = close as usize + 1;
+            j += 1;
             continue;
         }
         if pat.sym == REST {
