@@ -329,3 +329,14 @@ fn a_closing_bracket_in_a_right_context_must_come_next() {
         "A[X]E"
     );
 }
+
+/// A `%` cuts as the rewriting reaches it, as cpfg's: context before it still sees what it
+/// cuts during that step, and a stochastic grammar draws for the `%` but not for what it
+/// cuts (the strings are the real cpfg's).
+#[test]
+fn a_cut_happens_as_the_rewriting_reaches_it() {
+    let text = "derivation length: 1\nconsider: AB[]\nAxiom: A[%B(5)]\nA > [B(x)] --> C(x)\n";
+    assert_eq!(derived(text), "C(5)[]");
+    let drawn = "seed: 3\nderivation length: 2\nAxiom: A[K%FF]A\nA --> AB : 1\nA --> AC : 1\n";
+    assert_eq!(derived(drawn), "ABC[K]ABC");
+}

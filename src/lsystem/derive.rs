@@ -2,7 +2,7 @@
 //! double-buffered, with cpfg's blocks, cuts and query answers between the steps.
 
 use super::ctx::{Ctx, STEP_WORK, birth as birth_of, emit};
-use super::grammar::{CUT, POP, PUSH};
+use super::grammar::{POP, PUSH};
 use super::query;
 use super::rewrite::{Expander, Links, rewrite, select_multi, successor_of};
 use super::{LSystem, LsystemOptions, ModuleString};
@@ -56,13 +56,9 @@ fn derive_string<'a>(
         ctx.progress
             .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
         ctx.spend(cur.len().max(STEP_WORK))?;
-        // A `%` cuts its branch as the next step begins (cpfg's order): one made by the
-        // last step stays in the string, and the turtle draws past it.
-        if ls.has_cut {
-            next.clear();
-            cut(&cur, &mut next);
-            std::mem::swap(&mut cur, &mut next);
-        }
+        // A `%` cuts its branch in the next step, as the rewriting reaches it (see
+        // `rewrite`): one made by the last step stays in the string and the turtle draws
+        // past it, and until then context still sees what it will cut, as in cpfg.
         if queries {
             super::interpret::answer_queries(ls, &mut cur, options)?;
         }
@@ -133,21 +129,9 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
 
 /// Removes every `%` and the rest of its branch (up to, not including, the `]` that
 /// closes it).
-fn cut(src: &ModuleString, dst: &mut ModuleString) {
-    let mut i = 0;
-    while i < src.len() {
-        if src.syms[i] == CUT {
-            i = branch_end(&src.syms, i + 1).unwrap_or(src.len());
-            continue;
-        }
-        dst.push(src.syms[i], src.births[i], src.params(i));
-        i += 1;
-    }
-}
-
 /// The index of the `]` that closes the branch `syms[from..]` starts inside (nested
 /// branches skipped whole); `None` when it is never closed.
-fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
+pub(super) fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
     let mut depth = 0usize;
     for (k, &sym) in syms.iter().enumerate().skip(from) {
         match sym {

@@ -2,7 +2,7 @@
 //! successors emitted into the next string, and decomposition and homomorphism expansion.
 
 use super::ctx::{Ctx, emit, non_finite};
-use super::grammar::{POP, PUSH, Pattern, Production, ProductionTable, REST};
+use super::grammar::{CUT, POP, PUSH, Pattern, Production, ProductionTable, REST};
 use super::random::Choice;
 use super::stmt;
 use super::{LSystem, ModuleString};
@@ -91,11 +91,21 @@ pub(super) fn rewrite(
                 .report(Stage::Derivation, done / ctx.steps.max(1) as f64)?;
         }
         let sym = cur.syms[i];
+        if sym == CUT && ctx.ls.has_cut && !has_rules[CUT as usize] {
+            // cpfg's cut: the `%` and the rest of its branch are left out as the rewriting
+            // reaches it (the `]` stays); cpfg draws for the `%`, not for what it cuts.
+            if ctx.choice == Choice::Weighted {
+                ctx.draws.next_f64();
+            }
+            i = super::derive::branch_end(&cur.syms, i + 1).unwrap_or(n);
+            continue;
+        }
         if !has_rules[sym as usize] {
-            // Copy the whole run of modules without productions at once.
+            // Copy the whole run of modules without productions at once (a cut ends it).
+            let cuts = ctx.ls.has_cut;
             let j = cur.syms[i + 1..]
                 .iter()
-                .position(|&s| has_rules[s as usize])
+                .position(|&s| has_rules[s as usize] || (cuts && s == CUT))
                 .map_or(n, |k| i + 1 + k);
             copy_run(ctx, cur, i, j, next)?;
             if ctx.choice == Choice::Weighted {
