@@ -1905,7 +1905,9 @@ enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
  * file: `options->view_path` when set, else the `.v` file beside it with the same stem,
  * else none (the view file's angle, line widths, tropism and functions apply). `path`
  * is a NUL-terminated UTF-8 path; `options` may be NULL for the defaults. Writes a new
- * tree to `*out` on success.
+ * tree to `*out` on success. `path` may also name a vlab object's folder: its
+ * `specifications` names the grammar and view file (the `cpfg` command of its `model:`
+ * section, else the first `.l` and `.v` listed).
  *
  * Statuses: as arbor_tree_from_lsystem() (parse errors name the file and line, an
  * included file's name first); ARBOR_STATUS_INVALID_ARGUMENT for a file that cannot be
