@@ -20,7 +20,14 @@ fn require_gallery_tools() {
     }
 }
 
+/// The gallery, built once for every test of this file: two tests building it into one
+/// path at once would run a file another is still writing ("Text file busy").
 fn build() -> PathBuf {
+    static BUILT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    BUILT.get_or_init(build_once).clone()
+}
+
+fn build_once() -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let lib_dir = lib_dir();
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gallery");
