@@ -320,3 +320,20 @@ fn a_missing_tool_fails_with_its_install_line() {
     let fresh = std::fs::read_to_string(root().join("tools/fresh-clone")).unwrap();
     assert!(fresh.contains("tools/test") && fresh.contains("examples/gallery/run.sh"));
 }
+
+/// CI runs the README's test command as the README prints it: `.ci/run` runs the block
+/// after `<!-- test -->`, which is `tools/test`, the command that runs every suite.
+#[test]
+fn ci_runs_the_readmes_test_command() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let after = readme
+        .split_once("<!-- test -->\n")
+        .expect("README.md marks its test command with <!-- test -->")
+        .1;
+    let block = after.strip_prefix("```sh\n").expect("a sh block after the marker");
+    let command = &block[..block.find("```").unwrap()];
+    assert_eq!(command.trim(), "tools/test");
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    assert!(ci.contains("/^<!-- test -->$/"), ".ci/run reads the marked block");
+    assert!(root().join("tools/test").exists());
+}
