@@ -69,20 +69,30 @@ fn all() -> Vec<(String, Skeleton)> {
 
 #[test]
 fn buffers_match_their_golden_hashes() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/hashes.txt");
-    let lines: Vec<String> = all()
+    check_golden("hashes.txt", hash);
+}
+
+/// Compares `hash` of every skeleton with `tests/golden/FILE` (a line per skeleton), or
+/// writes the file when `ARBOR_BLESS_GOLDEN` is set.
+fn check_golden(file: &str, hash: fn(&Skeleton) -> String) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(file);
+    let text: String = all()
         .iter()
-        .map(|(name, s)| format!("{name} {}", hash(s)))
+        .map(|(name, s)| format!("{name} {}\n", hash(s)))
         .collect();
-    let text = lines.join("\n") + "\n";
     if std::env::var_os("ARBOR_BLESS_GOLDEN").is_some() {
         std::fs::write(&path, &text).unwrap();
     }
     let golden = std::fs::read_to_string(&path).unwrap_or_default();
     for (got, want) in text.lines().zip(golden.lines()) {
-        assert_eq!(got, want, "output changed; if intended, bless and say why");
+        assert_eq!(
+            got, want,
+            "{file}: output changed; if intended, bless and say why"
+        );
     }
-    assert_eq!(text.lines().count(), golden.lines().count());
+    assert_eq!(text.lines().count(), golden.lines().count(), "{file}");
 }
 
 #[test]
@@ -158,18 +168,5 @@ fn swept_and_leaves_hash(s: &Skeleton) -> String {
 /// blessed as the hashes above).
 #[test]
 fn swept_and_leaf_buffers_match_their_golden_hashes() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/swept_leaves.txt");
-    let text: String = all()
-        .iter()
-        .map(|(name, s)| format!("{name} {}\n", swept_and_leaves_hash(s)))
-        .collect();
-    if std::env::var_os("ARBOR_BLESS_GOLDEN").is_some() {
-        std::fs::write(&path, &text).unwrap();
-    }
-    let golden = std::fs::read_to_string(&path).unwrap_or_default();
-    for (got, want) in text.lines().zip(golden.lines()) {
-        assert_eq!(got, want, "output changed; if intended, bless and say why");
-    }
-    assert_eq!(text.lines().count(), golden.lines().count());
+    check_golden("swept_leaves.txt", swept_and_leaves_hash);
 }

@@ -330,10 +330,15 @@ fn ci_runs_the_readmes_test_command() {
         .split_once("<!-- test -->\n")
         .expect("README.md marks its test command with <!-- test -->")
         .1;
-    let block = after.strip_prefix("```sh\n").expect("a sh block after the marker");
+    let block = after
+        .strip_prefix("```sh\n")
+        .expect("a sh block after the marker");
     let command = &block[..block.find("```").unwrap()];
     assert_eq!(command.trim(), "tools/test");
     let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
-    assert!(ci.contains("/^<!-- test -->$/"), ".ci/run reads the marked block");
+    assert!(
+        ci.contains("/^<!-- test -->$/"),
+        ".ci/run reads the marked block"
+    );
     assert!(root().join("tools/test").exists());
 }

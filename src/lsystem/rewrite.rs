@@ -440,35 +440,6 @@ fn match_right(
             j += 1;
             continue;
         }
-        if pat.sym == POP {
-            // cpfg's: the next module that is not ignored, past whole branches, must be
-            // the `]` (`=` before it skips the rest of the branch).
-            loop {
-                j = links.next[j.min(n)] as usize;
-                if j >= n {
-                    return false;
-                }
-                let sym = s.syms[j];
-                if ls.skip[sym as usize] {
-                    j += 1;
-                    continue;
-                }
-                if sym == PUSH {
-                    let close = links.partner[j];
-                    if close == u32::MAX {
-                        return false;
-                    }
-                    j = close as usize + 1;
-                    continue;
-                }
-                break;
-            }
-            if s.syms[j] != POP {
-                return false;
-            }
-            j += 1;
-            continue;
-        }
         if pat.sym == REST {
             // `=`: the rest of the current branch, up to its `]` (the string's end at the
             // top level).
@@ -476,6 +447,9 @@ fn match_right(
             j = if close == u32::MAX { n } else { close as usize };
             continue;
         }
+        // The next module that is not ignored, past whole branches: an ignored bracket
+        // (not listed by `consider:`, or listed by `ignore:`) is passed over like any
+        // ignored module, as cpfg asks that first.
         loop {
             j = links.next[j.min(n)] as usize;
             if j >= n {
@@ -490,8 +464,6 @@ fn match_right(
                 }
             }
             let sym = s.syms[j];
-            // An ignored bracket (not listed by `consider:`, or listed by `ignore:`) is
-            // skipped like any ignored module: cpfg asks that first.
             if ls.skip[sym as usize] {
                 j += 1;
                 continue;
@@ -504,10 +476,19 @@ fn match_right(
                 j = close as usize + 1;
                 continue;
             }
-            if sym == POP {
+            break;
+        }
+        // A `]` in the context must meet the `]` that ends the branch; any other module
+        // of the context fails at a `]`.
+        if pat.sym == POP {
+            if s.syms[j] != POP {
                 return false;
             }
-            break;
+            j += 1;
+            continue;
+        }
+        if s.syms[j] == POP {
+            return false;
         }
         if !bind_module(s, j, pat, args) {
             return false;
