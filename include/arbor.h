@@ -1193,6 +1193,54 @@ typedef struct ArborGrowthParams {
    * Most internodes one shoot grows in a cycle, 1..=64. Default 8.
    */
   uint32_t max_shoot;
+  /**
+   * Pałubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
+   * the light its buds gather, per internode it carries, is below this (a tree whose
+   * whole light per internode falls below it dies). Light is Q as the environment gives
+   * it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
+   * Default 0.1. (Added after the first layout.)
+   */
+  float shed_light;
+  /**
+   * Apical control (lambda) of a new tree, in [0, 1]: it moves linearly to
+   * `apical_control` over `maturity_age` cycles. Default 0.5. (Added after the first
+   * layout.)
+   */
+  float young_apical_control;
+  /**
+   * Vigour multiplier (alpha) of a new tree, > 0: it moves linearly to
+   * `vigor_multiplier` over `maturity_age` cycles. Default 2. (Added after the first
+   * layout.)
+   */
+  float young_vigor_multiplier;
+  /**
+   * Cycles from planting until a tree has its adult apical control and vigour
+   * multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
+   * layout.)
+   */
+  uint32_t maturity_age;
+  /**
+   * A tree this many cycles old grows no more shoots (it still sheds); 0: it never
+   * stops. Default 0. (Added after the first layout.)
+   */
+  uint32_t max_age;
+  /**
+   * No internode grows to end higher than this above the tree's base, world units,
+   * >= 0 (0: no limit). Default 0. (Added after the first layout.)
+   */
+  float max_height;
+  /**
+   * Weeping: a lateral axis's tropism falls by this for each internode of the axis
+   * before the new one, so a longer branch hangs more. 0..=1. Default 0. (Added after
+   * the first layout.)
+   */
+  float droop;
+  /**
+   * A seed of this species grows into a tree only where the light at its first bud is
+   * at least this (see `shed_light` for the unit), >= 0. Default 0. (Added after the
+   * first layout.)
+   */
+  float germination_light;
 } ArborGrowthParams;
 
 /**

@@ -247,22 +247,23 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     // The self-organized world: seven trees sharing light, grown cycle by cycle. More
     // cycles, more tree; both environments grow visible trees.
     let young = render(&exe, "world_4", &["--world", "4", "--size", "400x300"]);
-    let grown = render(&exe, "world_14", &["--world", "14", "--size", "400x300"]);
+    // (22 cycles: the presets grow at a tree's pace since issue 29.)
+    let grown = render(&exe, "world_22", &["--world", "22", "--size", "400x300"]);
     let colonized = render(
         &exe,
         "world_colonization",
-        &["--world", "14", "--world-env", "1", "--size", "400x300"],
+        &["--world", "22", "--world-env", "1", "--size", "400x300"],
     );
     let (y, g, c) = (
         young.share(0, 0, 400, 300),
         grown.share(0, 0, 400, 300),
         colonized.share(0, 0, 400, 300),
     );
-    println!("world: {y:.4} tree pixels after 4 cycles, {g:.4} after 14; colonization {c:.4}");
+    println!("world: {y:.4} tree pixels after 4 cycles, {g:.4} after 22; colonization {c:.4}");
     assert!(g > 0.05, "the grown world has {g:.4} tree pixels");
     assert!(
         g > 3.0 * y,
-        "growth shows: {y:.4} after 4 cycles, {g:.4} after 14"
+        "growth shows: {y:.4} after 4 cycles, {g:.4} after 22"
     );
     assert!(c > 0.02, "space colonization grows visible trees: {c:.4}");
     // Its trees stand apart: the lower band holds several separate trunks.

@@ -243,6 +243,16 @@ fn bad_input_is_refused_by_name() {
     // snapshot unmeshable (found by the C-level growth fuzzer).
     bad(&|p| p.tip_radius = 2e36, "tip_radius");
     bad(&|p| p.internode_length = 1e30, "internode_length");
+    bad(&|p| p.shed_light = -0.1, "shed_light");
+    bad(&|p| p.young_apical_control = 1.1, "young_apical_control");
+    bad(
+        &|p| p.young_vigor_multiplier = 0.0,
+        "young_vigor_multiplier",
+    );
+    bad(&|p| p.maturity_age = 10_001, "maturity_age");
+    bad(&|p| p.max_height = f32::NAN, "max_height");
+    bad(&|p| p.droop = 1.5, "droop");
+    bad(&|p| p.germination_light = -1.0, "germination_light");
     let world_err = |o: WorldOptions, field: &str| {
         let err = World::new(&o).unwrap_err().to_string();
         assert!(err.contains(field), "{field}: {err}");
@@ -303,7 +313,7 @@ fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
                 w.plant(&species, at, (i * 10 + j) as u64).unwrap();
             }
         }
-        w.step(11).unwrap();
+        w.step(15).unwrap();
         assert!(w.branch_count() > 200_000, "{} branches", w.branch_count());
         (0..w.tree_count())
             .map(|i| w.tree(i).unwrap())
@@ -312,4 +322,175 @@ fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
     let serial = grow(false);
     assert!(serial.len() > 100, "seeding made new trees");
     assert_eq!(serial, grow(true), "parallel = serial");
+}
+
+/// Issue 29: every preset grown alone for 80 cycles thins instead of felling (the
+/// internode count never falls by more than 30% in one cycle after cycle 8), ends with at
+/// least half of its largest count, and grows nothing once it reaches its `max_age`.
+#[test]
+fn every_preset_stays_a_tree_for_80_cycles() {
+    for species in Species::ALL {
+        let p = GrowthParams::preset(species);
+        assert!(
+            p.max_age > 0 && p.max_age < 80,
+            "{species:?} has an adult age"
+        );
+        let mut w = world(Environment::Shadow);
+        w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+        let (mut most, mut last) = (0usize, 0usize);
+        for cycle in 1..=80u32 {
+            w.step(1).unwrap();
+            let n = w.branch_count();
+            if cycle > 8 {
+                assert!(
+                    n as f64 >= 0.7 * last as f64,
+                    "{species:?}: {last} -> {n} internodes at cycle {cycle}"
+                );
+            }
+            if cycle > p.max_age {
+                assert!(
+                    n <= last,
+                    "{species:?} grew at cycle {cycle}, past its max_age"
+                );
+            }
+            most = most.max(n);
+            last = n;
+        }
+        assert!(
+            2 * last >= most,
+            "{species:?}: {last} internodes at 80 cycles, {most} at most"
+        );
+        check_skeleton(&w.tree(0).unwrap(), species.name());
+    }
+}
+
+/// Issue 29: the sky is open and the box bounds only planting: the same tree grown in the
+/// default world and in one twice as tall and twice as wide is the same, byte for byte,
+/// for 60 cycles (its crown passes the default box's walls and ceiling on the way).
+#[test]
+fn a_tree_does_not_feel_the_world_box() {
+    let p = GrowthParams::preset(Species::Weeping);
+    let small = WorldOptions::default();
+    let big = WorldOptions::default()
+        .min([-20.0, 0.0, -20.0])
+        .max([20.0, 40.0, 20.0]);
+    let mut a = World::new(&small).unwrap();
+    let mut b = World::new(&big).unwrap();
+    for w in [&mut a, &mut b] {
+        w.plant(&p, [8.0, 0.0, -7.5], 3).unwrap();
+    }
+    let mut outside = false;
+    for cycle in 1..=60 {
+        a.step(1).unwrap();
+        b.step(1).unwrap();
+        let (sa, sb) = (a.tree(0).unwrap(), b.tree(0).unwrap());
+        assert!(
+            sa.branches() == sb.branches(),
+            "the skeletons differ at cycle {cycle}"
+        );
+        let (lo, hi) = sa.bounds().unwrap();
+        outside |= hi.x > small.max[0] || lo.z < small.min[2];
+    }
+    assert!(outside, "the crown never left the default box");
+    assert!(
+        a.grid_bytes() < b.grid_bytes(),
+        "the grids differ only in reach"
+    );
+}
+
+/// Issue 29: `weeping` hangs at 40 cycles: at least 65% of the end internodes of order
+/// >= 2 point below the horizontal, and their mean unit direction has y <= -0.3.
+#[test]
+fn weeping_hangs() {
+    let (_, s) = grown(
+        Environment::Shadow,
+        &GrowthParams::preset(Species::Weeping),
+        40,
+    );
+    let b = s.branches();
+    let mut has_child = vec![false; b.len()];
+    for x in b {
+        if x.parent != NO_PARENT {
+            has_child[x.parent as usize] = true;
+        }
+    }
+    let ends: Vec<Vec3> = b
+        .iter()
+        .enumerate()
+        .filter(|(i, x)| !has_child[*i] && x.order >= 2)
+        .map(|(_, x)| (Vec3::from(x.end) - Vec3::from(x.start)).normalize())
+        .collect();
+    assert!(ends.len() > 100, "{} end internodes", ends.len());
+    let down = ends.iter().filter(|d| d.y < 0.0).count() as f32 / ends.len() as f32;
+    let mean = ends.iter().copied().sum::<Vec3>() / ends.len() as f32;
+    println!("weeping: {:.0}% down, mean y {:.2}", down * 100.0, mean.y);
+    assert!(down >= 0.65, "{down}");
+    assert!(mean.y <= -0.3, "{}", mean.y);
+    // The same species without droop does not hang.
+    let mut upright = GrowthParams::preset(Species::Weeping);
+    upright.droop = 0.0;
+    let (_, s) = grown(Environment::Shadow, &upright, 40);
+    let up = s
+        .branches()
+        .iter()
+        .filter(|x| x.order >= 2)
+        .map(|x| (Vec3::from(x.end) - Vec3::from(x.start)).normalize().y)
+        .sum::<f32>();
+    assert!(up > 0.0, "without droop the laterals rise");
+}
+
+/// Issue 29: the 100-tree forest with seeding keeps its planted trees for 50 cycles: at
+/// least 80% alive with trunks at least half as tall as the tallest, and the seedlings
+/// hold at most 40% of the internodes.
+#[test]
+fn a_forest_keeps_its_planted_trees() {
+    let o = WorldOptions::default()
+        .min([-30.0, 0.0, -30.0])
+        .max([30.0, 20.0, 30.0]);
+    let mut w = World::new(&o).unwrap();
+    let mut p = GrowthParams::preset(Species::Decurrent);
+    p.seed_age = 20;
+    for i in 0..10 {
+        for j in 0..10 {
+            let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
+            w.plant(&p, at, (i * 10 + j) as u64).unwrap();
+        }
+    }
+    w.step(50).unwrap();
+    assert!(w.tree_count() > 100, "the forest seeded");
+    let (mut planted, mut seeded, mut heights) = (0usize, 0usize, Vec::new());
+    for k in 0..w.tree_count() {
+        let t = w.tree(k).unwrap();
+        if k < 100 {
+            planted += t.len();
+            heights.push(t.branches().iter().map(|b| b.end[1]).fold(0.0, f32::max));
+        } else {
+            seeded += t.len();
+        }
+    }
+    let tallest = heights.iter().copied().fold(0.0, f32::max);
+    let kept = heights.iter().filter(|&&h| h >= 0.5 * tallest).count();
+    let share = seeded as f64 / (planted + seeded) as f64;
+    println!("{kept} planted trees at least half the tallest ({tallest}); seedlings {share:.3}");
+    assert!(kept >= 80, "{kept}");
+    assert!(share <= 0.4, "{share}");
+}
+
+/// A tree that gets no light dies as one branch of the ground: under a roof its
+/// internodes go after `shed_delay` cycles, and its buds' shadow with them.
+#[test]
+fn a_starving_tree_dies() {
+    let p = GrowthParams::preset(Species::Bush);
+    let mut w = world(Environment::Shadow);
+    w.add_obstacle(Obstacle::Box {
+        min: [-4.0, 0.6, -4.0],
+        max: [4.0, 2.0, 4.0],
+    })
+    .unwrap();
+    w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+    w.plant(&p, [8.0, 0.0, 8.0], 2).unwrap();
+    w.step(p.shed_delay + 3).unwrap();
+    assert_eq!(w.tree(0).unwrap().len(), 0, "the tree under the roof died");
+    assert!(w.shed_count(0).unwrap() > 0);
+    assert!(w.tree(1).unwrap().len() > 10, "the tree in the open lives");
 }

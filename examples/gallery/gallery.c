@@ -260,7 +260,7 @@ typedef struct {
   double growth_clock;
   /* Self-organized world mode: environment (0 shadow, 1 colonization), species (-1: a mix),
      cycles grown so far. */
-  int world_mode, world_env, world_species, world_cycles;
+  int world_mode, world_env, world_species, world_cycles, world_trees, world_forest;
   /* Smooth mode: every tree's branches bent into C1 curves and swept with inner rings. */
   int smooth;
   /* Edit demo: bends applied at start (headless) and the twig chosen (counted from the
@@ -549,9 +549,30 @@ static uint32_t species_count(void) {
   return n;
 }
 
+/* The 100-tree forest of the growth benchmark: decurrent trees 5 apart in a 60 x 20 x 60
+ * box, dropping seeds from 20 cycles on. */
+static void plant_forest(void) {
+  ArborWorldOptions o = arbor_world_options_default();
+  o.min[0] = -30; o.min[1] = 0; o.min[2] = -30;
+  o.max[0] = 30; o.max[1] = 20; o.max[2] = 30;
+  if (arbor_world_create(&o, &world) != ARBOR_STATUS_OK) fail("arbor_world_create");
+  ArborGrowthParams p;
+  if (arbor_growth_params_preset(ARBOR_SPECIES_DECURRENT, &p, sizeof p) != ARBOR_STATUS_OK) fail("preset");
+  p.seed_age = 20;
+  for (int i = 0; i < 10; i++)
+    for (int j = 0; j < 10; j++) {
+      float pos[3] = {i * 5.0f - 22.5f, 0, j * 5.0f - 22.5f};
+      if (arbor_world_plant(world, &p, pos, (uint64_t)(i * 10 + j), NULL) != ARBOR_STATUS_OK) fail("plant");
+    }
+}
+
 static void reset_world(void) {
   arbor_world_free(world);
   world = NULL;
+  if (st.world_forest) {
+    plant_forest();
+    return;
+  }
   ArborWorldOptions o = arbor_world_options_default();
   o.environment = (uint32_t)st.world_env;
   o.min[0] = -6; o.min[1] = 0; o.min[2] = -6;
@@ -560,7 +581,7 @@ static void reset_world(void) {
   if (arbor_world_create(&o, &world) != ARBOR_STATUS_OK) fail("arbor_world_create");
   static const float at[7][2] = {{0, 0}, {2.6f, 0.4f}, {-2.4f, 1.1f}, {0.9f, 2.5f},
                                  {-1.1f, -2.6f}, {2.2f, -2.2f}, {-2.7f, -1.4f}};
-  for (int k = 0; k < 7; k++) {
+  for (int k = 0; k < st.world_trees; k++) {
     ArborGrowthParams p;
     uint32_t species = st.world_species >= 0 ? (uint32_t)st.world_species : (uint32_t)k % species_count();
     if (arbor_growth_params_preset(species, &p, sizeof p) != ARBOR_STATUS_OK) fail("preset");
@@ -570,6 +591,8 @@ static void reset_world(void) {
 }
 
 static int world_grown;
+/* The world's meshes' bounds, to frame them. */
+static float world_lo[3], world_hi[3];
 
 static void build_world(void) {
   double t0 = now_ms();
@@ -610,9 +633,18 @@ static void build_world(void) {
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, world_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof(uint32_t)), NULL, GL_STATIC_DRAW);
   size_t vat = 0, iat = 0;
+  for (int c = 0; c < 3; c++) {
+    world_lo[c] = 0;
+    world_hi[c] = c == 1 ? 1.0f : 0;
+  }
   for (size_t k = 0; k < trees_n; k++) {
     size_t a = 0, b = 0;
     const ArborVertex *v = arbor_mesh_vertices(meshes[k], &a);
+    for (size_t j = 0; j < a; j++)
+      for (int c = 0; c < 3; c++) {
+        world_lo[c] = fminf(world_lo[c], v[j].position[c]);
+        world_hi[c] = fmaxf(world_hi[c], v[j].position[c]);
+      }
     const uint32_t *ix = arbor_mesh_indices(meshes[k], &b);
     uint32_t *shifted = malloc((b ? b : 1) * sizeof *shifted);
     for (size_t j = 0; j < b; j++) shifted[j] = ix[j] + (uint32_t)vat;
@@ -873,9 +905,23 @@ static void draw_view(int i, int x, int y, int w, int h) {
   float height = t->hi[1] > 1 ? t->hi[1] : 1;
   float radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.08f;
   if (st.forest) radius *= 3.2f;
-  if (st.world_mode || st.lsys_mode) {
+  if (st.lsys_mode) {
     height = 10;
     radius = 8.5f;
+  }
+  if (st.world_mode) {
+    /* Frame the grown world about x = z = 0. */
+    if (!world_vao) build_world();
+    rx = fmaxf(fabsf(world_lo[0]), fabsf(world_hi[0]));
+    rz = fmaxf(fabsf(world_lo[2]), fabsf(world_hi[2]));
+    /* The frame of the gallery's 12 x 10 x 12 world box. */
+    height = 10;
+    radius = 8.5f;
+    if (st.world_trees == 1 || st.world_forest) {
+      /* A lone tree or the forest: fitted to its bounds. */
+      height = world_hi[1] > 1 ? world_hi[1] : 1;
+      radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.02f;
+    }
   }
   float fov = 0.6f;
   float dist = radius / sinf(fov / 2) * st.zoom;
@@ -1088,6 +1134,7 @@ int main(int argc, char **argv) {
   st.zoom = 1;
   st.pitch = 0.12f;
   st.world_species = -1;
+  st.world_trees = 7;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) { shot = argv[++i]; headless = 1; }
     else if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
@@ -1100,6 +1147,9 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--edit") && i + 1 < argc) st.edits = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
     else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
+    else if (!strcmp(argv[i], "--world-trees") && i + 1 < argc) st.world_trees = atoi(argv[++i]);
+    else if (!strcmp(argv[i], "--world-forest")) { st.world_mode = 1; st.world_forest = 1; }
+    else if (!strcmp(argv[i], "--pitch") && i + 1 < argc) st.pitch = (float)atof(argv[++i]) * 3.14159265f / 180.0f;
     else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) {
       /* A species' number or name (arbor_species_name); -1 a mix. */
       const char *a = argv[++i];
@@ -1118,11 +1168,14 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--next") && i + 1 < argc) next_files = atoi(argv[++i]);
     else {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
-                      "[--lsystem FILE.l|FOLDER] [--screenshot FILE.png|FILE.ppm --frames N]\n");
+                      "[--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
+                      "[--world-forest] [--world-env 0|1]] [--pitch DEGREES] "
+                      "[--screenshot FILE.png|FILE.ppm --frames N]\n");
       return 2;
     }
   }
-  if (st.single < -1 || st.single > 8 || st.width < 64 || st.height < 64 || frames < 1) {
+  if (st.single < -1 || st.single > 8 || st.width < 64 || st.height < 64 || frames < 1 ||
+      st.world_trees < 1 || st.world_trees > 7 || st.pitch < -0.2f || st.pitch > 1.56f) {
     fprintf(stderr, "gallery: bad --tree, --size or --frames\n");
     return 2;
   }

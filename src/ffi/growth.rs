@@ -78,7 +78,8 @@ mirror!(ArborWorldOptions => WorldOptions {
 /// sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
 
-const _: () = assert!(std::mem::size_of::<GrowthParams>() == ARBOR_GROWTH_PARAMS_MIN_SIZE);
+const _: () =
+    assert!(std::mem::offset_of!(GrowthParams, shed_light) == ARBOR_GROWTH_PARAMS_MIN_SIZE);
 
 impl Growing for GrowthParams {
     const NAME: &'static str = "ArborGrowthParams";

@@ -215,6 +215,11 @@ namespace Arbor
         public uint ShedDelay, SeedAge;
         public float SeedSpread, PerceptionAngle, PerceptionReach, OccupancyReach;
         public uint MaxShoot;
+        // Added after the first layout: shedding by light, aging, adult size, weeping,
+        // germination.
+        public float ShedLight, YoungApicalControl, YoungVigorMultiplier;
+        public uint MaturityAge, MaxAge;
+        public float MaxHeight, Droop, GerminationLight;
 
         public static GrowthParams Default()
         {

@@ -170,6 +170,38 @@ pub struct GrowthParams {
     pub occupancy_reach: f32,
     /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
     pub max_shoot: u32,
+    /// Pałubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
+    /// the light its buds gather, per internode it carries, is below this (a tree whose
+    /// whole light per internode falls below it dies). Light is Q as the environment gives
+    /// it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
+    /// Default 0.1. (Added after the first layout.)
+    pub shed_light: f32,
+    /// Apical control (lambda) of a new tree, in [0, 1]: it moves linearly to
+    /// `apical_control` over `maturity_age` cycles. Default 0.5. (Added after the first
+    /// layout.)
+    pub young_apical_control: f32,
+    /// Vigour multiplier (alpha) of a new tree, > 0: it moves linearly to
+    /// `vigor_multiplier` over `maturity_age` cycles. Default 2. (Added after the first
+    /// layout.)
+    pub young_vigor_multiplier: f32,
+    /// Cycles from planting until a tree has its adult apical control and vigour
+    /// multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
+    /// layout.)
+    pub maturity_age: u32,
+    /// A tree this many cycles old grows no more shoots (it still sheds); 0: it never
+    /// stops. Default 0. (Added after the first layout.)
+    pub max_age: u32,
+    /// No internode grows to end higher than this above the tree's base, world units,
+    /// >= 0 (0: no limit). Default 0. (Added after the first layout.)
+    pub max_height: f32,
+    /// Weeping: a lateral axis's tropism falls by this for each internode of the axis
+    /// before the new one, so a longer branch hangs more. 0..=1. Default 0. (Added after
+    /// the first layout.)
+    pub droop: f32,
+    /// In a shadow world, a seed of this species grows into a tree only where the light at
+    /// its first bud is at least this (see `shed_light` for the unit), >= 0. Default 0.
+    /// (Added after the first layout.)
+    pub germination_light: f32,
 }
 
 impl Default for GrowthParams {
@@ -194,6 +226,14 @@ impl Default for GrowthParams {
             perception_reach: 4.0,
             occupancy_reach: 2.0,
             max_shoot: 8,
+            shed_light: 0.1,
+            young_apical_control: 0.5,
+            young_vigor_multiplier: 2.0,
+            maturity_age: 0,
+            max_age: 0,
+            max_height: 0.0,
+            droop: 0.0,
+            germination_light: 0.0,
         }
     }
 }
@@ -234,18 +274,35 @@ impl GrowthParams {
     /// | bush | 0.42 | 2.4 | 0.15 | 55 | 0.05 | 0.3 | 0.015 |
     /// | weeping | 0.5 | 2 | 0.25 | 50 | -0.25 | 0.2 | 0.03 |
     pub fn preset(species: Species) -> Self {
-        let d = GrowthParams::default();
+        // Every preset ages as the model's authors' trees do (lambda from 0.65, alpha
+        // from 4, adult after 14 cycles), sheds by light per internode, and stops growing
+        // at its adult age.
+        let d = GrowthParams {
+            shed_multiplier: 0.0,
+            young_apical_control: 0.65,
+            vigor_multiplier: 1.2,
+            young_vigor_multiplier: 1.6,
+            maturity_age: 14,
+            max_age: 40,
+            max_shoot: 2,
+            germination_light: 1.0,
+            ..GrowthParams::default()
+        };
         match species {
             Species::Excurrent => GrowthParams {
-                apical_control: 0.58,
-                branch_angle: 65.0,
-                tropism: 0.15,
-                environment_weight: 0.2,
+                apical_control: 0.62,
+                young_apical_control: 0.62,
+                vigor_multiplier: 1.0,
+                young_vigor_multiplier: 1.3,
+                branch_angle: 70.0,
+                tropism: 0.05,
+                droop: 0.01,
+                environment_weight: 0.1,
                 ..d
             },
             Species::Decurrent => GrowthParams {
                 apical_control: 0.46,
-                vigor_multiplier: 2.2,
+                vigor_multiplier: 1.3,
                 tropism: 0.05,
                 environment_weight: 0.3,
                 ..d
@@ -259,18 +316,18 @@ impl GrowthParams {
             },
             Species::Bush => GrowthParams {
                 apical_control: 0.42,
-                vigor_multiplier: 2.4,
+                vigor_multiplier: 1.4,
                 internode_length: 0.15,
                 branch_angle: 55.0,
                 tropism: 0.05,
                 environment_weight: 0.3,
-                shed_multiplier: 0.015,
                 ..d
             },
             Species::Weeping => GrowthParams {
                 branch_angle: 50.0,
-                tropism: -0.25,
-                environment_weight: 0.2,
+                tropism: 0.05,
+                droop: 0.06,
+                environment_weight: 0.15,
                 ..d
             },
         }
@@ -372,6 +429,48 @@ impl GrowthParams {
             (0.0..=64.0).contains(&self.occupancy_reach),
             "0..=64 internode lengths",
         )?;
+        check(
+            "shed_light",
+            self.shed_light,
+            self.shed_light >= 0.0,
+            "a finite light >= 0",
+        )?;
+        check(
+            "young_apical_control",
+            self.young_apical_control,
+            (0.0..=1.0).contains(&self.young_apical_control),
+            "0..=1",
+        )?;
+        check(
+            "young_vigor_multiplier",
+            self.young_vigor_multiplier,
+            self.young_vigor_multiplier > 0.0,
+            "a finite number > 0",
+        )?;
+        check(
+            "max_height",
+            self.max_height,
+            self.max_height >= 0.0,
+            "a finite height >= 0 world units (0: no limit)",
+        )?;
+        check(
+            "droop",
+            self.droop,
+            (0.0..=1.0).contains(&self.droop),
+            "0..=1",
+        )?;
+        check(
+            "germination_light",
+            self.germination_light,
+            self.germination_light >= 0.0,
+            "a finite light >= 0",
+        )?;
+        if self.maturity_age > 10_000 {
+            return Err(Error::invalid(
+                "maturity_age",
+                format!("{}; expected 0..=10000 cycles", self.maturity_age),
+            ));
+        }
         if !(1..=64).contains(&self.max_shoot) {
             return Err(Error::invalid(
                 "max_shoot",
@@ -507,8 +606,10 @@ impl World {
             });
         }
         self.check_branches(1)?;
+        let end = Vec3::from(position) + Vec3::Y * species.internode_length;
+        self.env.cover([self.env.cell_word(end)])?;
         let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle, &self.env);
-        tree.cast(&mut self.env, 1.0);
+        tree.cast(&mut self.env, 1);
         self.env.flush(self.options.parallel);
         self.trees.push(tree);
         Ok(self.trees.len() as u32 - 1)
@@ -612,6 +713,14 @@ impl World {
         };
         let new: usize = plans.iter().map(|p| p.new_internodes()).sum();
         self.check_branches(new)?;
+        // The sky is open: the grid grows to hold the new buds' shadow before they cast.
+        let env = &self.env;
+        let words: Vec<env::Key> = plans
+            .iter()
+            .flat_map(|p| p.ends())
+            .map(|end| env.cell_word(end))
+            .collect();
+        self.env.cover(words)?;
         // Growth and shedding per tree (in parallel with the `parallel` feature); the
         // shadow changes they make go to the shared grid in tree order, so the result does
         // not depend on the thread count.
@@ -634,13 +743,26 @@ impl World {
             if self.check_branches(1).is_err() {
                 break;
             }
+            let end = at + Vec3::Y * species.internode_length;
+            let word = self.env.cell_word(end);
+            // A seed germinates only where enough light reaches its first bud (shadow
+            // worlds: the shadow as the last cycle left it).
+            if self.env.kind() == Environment::Shadow
+                && self.env.shadow_q(word) < species.germination_light
+            {
+                continue;
+            }
+            if self.env.cover([word]).is_err() {
+                break;
+            }
             let seed = self.rng.next_u64();
             let tree = Tree::plant(species, at, seed, cycle, &self.env);
-            tree.cast(&mut self.env, 1.0);
+            tree.cast(&mut self.env, 1);
             self.trees.push(tree);
         }
         // The trees' changes, in tree order, then the seedlings' buds.
-        let casts: Vec<&[(u32, f32)]> = self.trees.iter().map(|t| t.casts.as_slice()).collect();
+        let casts: Vec<&[(env::Key, i32)]> =
+            self.trees.iter().map(|t| t.casts.as_slice()).collect();
         self.env.flush_with(&casts, parallel);
         self.cycle = cycle;
         Ok(())
@@ -649,6 +771,13 @@ impl World {
     /// Growth cycles run so far.
     pub fn cycle(&self) -> u32 {
         self.cycle
+    }
+
+    /// Bytes of the shadow grid now: 4 per cell. It starts over the world box (and as far
+    /// around it as a bud's shadow reaches) and grows with the trees, since the sky is
+    /// open; 0 in a colonization world.
+    pub fn grid_bytes(&self) -> usize {
+        self.env.grid_cells() * 4
     }
 
     /// Number of trees (planted and seeded).
@@ -696,10 +825,10 @@ struct ShadowLight<'a>(&'a Env);
 impl tree::Light for ShadowLight<'_> {
     const ORDERED: bool = false;
     #[inline]
-    fn q(&self, _: u32, word: u32) -> f32 {
+    fn q(&self, _: u32, word: env::Key) -> f32 {
         self.0.shadow_q(word)
     }
-    fn v(&self, _: u32, word: u32) -> Vec3 {
+    fn v(&self, _: u32, word: env::Key) -> Vec3 {
         self.0.shadow_v(word)
     }
 }
@@ -710,10 +839,10 @@ struct Markers<'a>(&'a [(f32, Vec3)]);
 impl tree::Light for Markers<'_> {
     const ORDERED: bool = true;
     #[inline]
-    fn q(&self, ordinal: u32, _: u32) -> f32 {
+    fn q(&self, ordinal: u32, _: env::Key) -> f32 {
         self.0.get(ordinal as usize).map_or(0.0, |l| l.0)
     }
-    fn v(&self, ordinal: u32, _: u32) -> Vec3 {
+    fn v(&self, ordinal: u32, _: env::Key) -> Vec3 {
         self.0.get(ordinal as usize).map_or(Vec3::ZERO, |l| l.1)
     }
 }

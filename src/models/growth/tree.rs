@@ -1,7 +1,7 @@
 //! One self-organizing tree: its internodes and buds, and the passes of a growth cycle.
 
 use super::GrowthParams;
-use super::env::{Bud, Env};
+use super::env::{Bud, DARK, Env, Key};
 use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
 use glam::Vec3;
 
@@ -26,6 +26,7 @@ struct New {
     dir: Vec3,
     phyllo: f32,
     order: u32,
+    along: u32,
 }
 
 /// What one cycle will do to a tree, planned while the environment is only read.
@@ -36,11 +37,18 @@ pub(crate) struct Plan {
     shed: Vec<u32>,
     residual: f32,
     root_vigour: f32,
+    /// The whole tree starves: it dies this cycle.
+    die: bool,
 }
 
 impl Plan {
     pub(crate) fn new_internodes(&self) -> usize {
         self.new.len()
+    }
+
+    /// Where the new internodes end (where their buds will be).
+    pub(crate) fn ends(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.new.iter().map(|n| n.end)
     }
 }
 
@@ -50,8 +58,8 @@ impl Plan {
 /// says it is `ORDERED`, and by its internode's cell word ([`Env::cell_word`]).
 pub(crate) trait Light {
     const ORDERED: bool;
-    fn q(&self, ordinal: u32, word: u32) -> f32;
-    fn v(&self, ordinal: u32, word: u32) -> Vec3;
+    fn q(&self, ordinal: u32, word: Key) -> f32;
+    fn v(&self, ordinal: u32, word: Key) -> Vec3;
 }
 
 /// The passes' working arrays, one set per thread and reused from cycle to cycle and tree
@@ -131,7 +139,10 @@ struct Nodes {
     /// Radius^pipe_exponent; never shrinks.
     rn: Vec<f32>,
     /// The cell word of the end, where the buds are ([`Env::cell_word`]).
-    cell: Vec<u32>,
+    cell: Vec<Key>,
+    /// Internodes before it since its branch left the trunk (along the trunk: from the
+    /// root), counted for droop.
+    along: Vec<u32>,
 }
 
 struct NodeInit {
@@ -142,7 +153,8 @@ struct NodeInit {
     order: u32,
     phyllo: f32,
     rn: f32,
-    cell: u32,
+    cell: Key,
+    along: u32,
 }
 
 impl Nodes {
@@ -160,6 +172,7 @@ impl Nodes {
         self.phyllo.push(n.phyllo);
         self.rn.push(n.rn);
         self.cell.push(n.cell);
+        self.along.push(n.along);
     }
 
     /// Moves internode `from` to `to` (`to` ≤ `from`).
@@ -173,6 +186,7 @@ impl Nodes {
         self.phyllo[to] = self.phyllo[from];
         self.rn[to] = self.rn[from];
         self.cell[to] = self.cell[from];
+        self.along[to] = self.along[from];
     }
 
     /// Keeps the first `n` internodes; gives memory back when the arrays are mostly
@@ -193,6 +207,7 @@ impl Nodes {
         cut(&mut self.phyllo, n);
         cut(&mut self.rn, n);
         cut(&mut self.cell, n);
+        cut(&mut self.along, n);
     }
 }
 
@@ -213,7 +228,7 @@ pub(crate) struct Tree {
     radii_stale: bool,
     /// The shadow changes of the last [`Tree::grow`], in the order made: (cell, buds
     /// added there, negative for removed).
-    pub(crate) casts: Vec<(u32, f32)>,
+    pub(crate) casts: Vec<(Key, i32)>,
     /// The plans' buffers (new internodes, shed subtrees), handed from plan to plan.
     new_buf: Vec<New>,
     shed_buf: Vec<u32>,
@@ -291,6 +306,7 @@ impl Tree {
             phyllo,
             rn: libm::powf(species.tip_radius, species.pipe_exponent),
             cell: env.cell_word(end),
+            along: 0,
         });
         Tree {
             species,
@@ -325,11 +341,11 @@ impl Tree {
     }
 
     /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
-    pub(crate) fn cast(&self, env: &mut Env, sign: f32) {
+    pub(crate) fn cast(&self, env: &mut Env, sign: i32) {
         for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
             let buds = buds(*k);
             if buds > 0 {
-                env.cast(word, sign * buds as f32);
+                env.cast(word, sign * buds as i32);
             }
         }
     }
@@ -339,7 +355,7 @@ impl Tree {
     pub(crate) fn darken(&mut self, o: &super::Obstacle) {
         for (word, end) in self.nodes.cell.iter_mut().zip(&self.nodes.end) {
             if o.contains(*end) {
-                *word |= super::env::DARK;
+                *word |= DARK;
             }
         }
     }
@@ -374,16 +390,44 @@ impl Tree {
     }
 
     fn plan_with<L: Light>(&mut self, light: &L, cycle: u32, s: &mut Scratch) -> Plan {
-        self.light_pass(light, s);
         let mut plan = Plan {
             new: std::mem::take(&mut self.new_buf),
             shed: std::mem::take(&mut self.shed_buf),
             ..Plan::default()
         };
+        if self.nodes.len() == 0 {
+            return plan;
+        }
+        self.light_pass(light, s);
+        let p = &self.species;
+        let age = cycle.saturating_sub(self.planted);
+        // The whole tree is a branch of the ground: it dies when it starves as one.
+        let [qm, ql] = s.split[0];
+        if p.shed_light > 0.0 && age > p.shed_delay && qm + ql < p.shed_light * s.desc[0] as f32 {
+            plan.die = true;
+            return plan;
+        }
         plan.residual = self.vigour_pass(cycle, s, &mut plan);
+        if p.max_age > 0 && age >= p.max_age {
+            s.shoots.clear();
+        }
         self.grow_shoots(light, s, &mut plan);
         plan.root_vigour = s.vig[0];
         plan
+    }
+
+    /// Apical control and vigour multiplier at `age` cycles: from the young values to
+    /// the adult ones, linearly over `maturity_age`.
+    fn aged(&self, age: u32) -> (f32, f32) {
+        let p = &self.species;
+        if age >= p.maturity_age {
+            return (p.apical_control, p.vigor_multiplier);
+        }
+        let t = age as f32 / p.maturity_age as f32;
+        (
+            p.young_apical_control + (p.apical_control - p.young_apical_control) * t,
+            p.young_vigor_multiplier + (p.vigor_multiplier - p.young_vigor_multiplier) * t,
+        )
     }
 
     /// Basipetal, with the light of each bud: light above each internode, split into main
@@ -451,13 +495,13 @@ impl Tree {
         // (a lateral branch whose vigour no longer pays for its size goes, with everything
         // above it) and the new shoots (a bud with vigour v grows ⌊v⌋ internodes, at most
         // max_shoot). An internode's vigour is set by its parent, before it is visited.
+        let (lambda, alpha) = self.aged(cycle.saturating_sub(self.planted));
         s.vig.clear();
         s.vig.resize(n, 0.0);
-        s.vig[0] = p.vigor_multiplier * (s.split[0][0] + s.split[0][1]);
+        s.vig[0] = alpha * (s.split[0][0] + s.split[0][1]);
         s.dead.clear();
         s.dead.resize(n, false);
         s.shoots.clear();
-        let lambda = p.apical_control;
         let mut residual = 0.0f32;
         let costs = s.cost_table(&p);
         for i in 0..n {
@@ -468,10 +512,11 @@ impl Tree {
                 let parent = nodes.parent[i] as usize;
                 if s.dead[parent] {
                     s.dead[i] = true;
-                } else if p.shed_multiplier > 0.0
-                    && nodes.kids[parent][1] == i as u32
+                } else if nodes.kids[parent][1] == i as u32
                     && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
-                    && v < s.cost(costs, &p, s.desc[i])
+                    && ((p.shed_light > 0.0
+                        && s.split[i][0] + s.split[i][1] < p.shed_light * s.desc[i] as f32)
+                        || (p.shed_multiplier > 0.0 && v < s.cost(costs, &p, s.desc[i])))
                 {
                     s.dead[i] = true;
                     plan.shed.push(i as u32);
@@ -531,12 +576,29 @@ impl Tree {
             let mut at = nodes.end[i];
             let mut phyllo = nodes.phyllo[i];
             let order = nodes.order[i] + k;
+            // Internodes since the branch left the trunk: a lateral of a lateral goes on
+            // counting, so a whole limb hangs more the farther it reaches.
+            let first = if k == 0 || order > 1 {
+                nodes.along[i] + 1
+            } else {
+                0
+            };
             for j in 0..count {
-                heading = (heading + env_dir * p.environment_weight + up * p.tropism)
+                let along = first + j;
+                // A lateral axis hangs more the longer it is.
+                let tropism = if order > 0 {
+                    p.tropism - p.droop * along as f32
+                } else {
+                    p.tropism
+                };
+                heading = (heading + env_dir * p.environment_weight + up * tropism)
                     .try_normalize()
                     .unwrap_or(heading);
                 phyllo = (phyllo + p.phyllotaxis) % 360.0;
                 let end = at + heading * length;
+                if p.max_height > 0.0 && end.y - self.base.y > p.max_height {
+                    break;
+                }
                 plan.new.push(New {
                     parent: if j == 0 {
                         i as u32
@@ -549,6 +611,7 @@ impl Tree {
                     dir: heading,
                     phyllo,
                     order,
+                    along,
                 });
                 at = end;
             }
@@ -562,6 +625,22 @@ impl Tree {
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
+        if plan.die {
+            // Every bud's shadow goes with the tree.
+            for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
+                let buds = buds(*k);
+                if buds > 0 {
+                    self.casts.extend(env.change(word, -(buds as i32)));
+                }
+            }
+            self.shed += self.nodes.len();
+            self.nodes.truncate(0);
+            self.radii_stale = false;
+            plan.new.clear();
+            plan.shed.clear();
+            (self.new_buf, self.shed_buf) = (plan.new, plan.shed);
+            return;
+        }
         let changed = !plan.new.is_empty() || !plan.shed.is_empty();
         // New internodes, appended in plan order (a chain's parent comes first), so the
         // k-th new one is internode base + k.
@@ -579,10 +658,10 @@ impl Tree {
                 match self.casts.last_mut() {
                     // The previous new internode's buds were the last change: one net
                     // change per cell (its lateral bud stays, its terminal bud grew).
-                    Some(last) if nw.chain => last.1 -= 1.0,
+                    Some(last) if nw.chain => last.1 -= 1,
                     _ => self
                         .casts
-                        .extend(env.change(self.nodes.cell[parent as usize], -1.0)),
+                        .extend(env.change(self.nodes.cell[parent as usize], -1)),
                 }
             }
             *slot = me;
@@ -596,10 +675,11 @@ impl Tree {
                 phyllo: nw.phyllo,
                 rn: tip_rn,
                 cell: word,
+                along: nw.along,
             });
             // Its lateral bud and its terminal bud (taken away again if the chain goes on;
             // the two cancel before the grid is touched).
-            self.casts.extend(env.change(word, 2.0));
+            self.casts.extend(env.change(word, 2));
         }
         if !plan.shed.is_empty() {
             SCRATCH.with_borrow_mut(|s| self.shed_subtrees(&plan.shed, env, s));
@@ -644,7 +724,7 @@ impl Tree {
                 // Shed: its buds' shadow goes; a living parent keeps an empty slot.
                 let buds = buds(nodes.kids[i]);
                 if buds > 0 {
-                    self.casts.extend(env.change(nodes.cell[i], -(buds as f32)));
+                    self.casts.extend(env.change(nodes.cell[i], -(buds as i32)));
                 }
                 if parent != NO_PARENT {
                     nodes.kids[parent as usize][side] = GONE;

@@ -1,36 +1,38 @@
 //! Shadow changes sorted by cell (a radix sort) and applied to the grid.
 
-/// Sorts the shadow changes of `sources` (in that order) by cell into `sorted`, stably
+/// Sorts the shadow changes of `sources` (in that order) by storage index (`index` of
+/// their cell, below `cells`; those it gives none are left out) into `sorted`, stably
 /// (each cell's changes keep the order they were made in), through `scratch`: a
-/// least-significant-digit radix sort of the cell indices (below `cells`). With
-/// `parallel` (and the `parallel` feature) two threads each gather and sort the changes
-/// of one half of the grid.
+/// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) two
+/// threads each gather and sort the changes of one half of the grid.
 pub(super) fn sort_changes(
-    sources: &[&[(u32, f32)]],
-    sorted: &mut Vec<(u32, f32)>,
-    scratch: &mut Vec<(u32, f32)>,
+    sources: &[&[(u64, i32)]],
+    index: impl Fn(u64) -> Option<u32> + Sync,
+    sorted: &mut Vec<(u32, i32)>,
+    scratch: &mut Vec<(u32, i32)>,
     cells: usize,
     parallel: bool,
 ) {
-    let total: usize = sources.iter().map(|s| s.len()).sum();
-    // Buffers keep their length from flush to flush: every value is written below.
-    scratch.resize(total, (0, 0.0));
+    let each = || {
+        sources
+            .iter()
+            .flat_map(|s| s.iter())
+            .filter_map(|&(k, n)| Some((index(k)?, n)))
+    };
     #[cfg(feature = "parallel")]
-    if parallel && total > 1 << 15 {
-        use rayon::prelude::*;
+    if parallel && sources.iter().map(|s| s.len()).sum::<usize>() > 1 << 15 {
         let mid = (cells / 2) as u32;
-        let low: usize = sources
-            .par_iter()
-            .map(|s| s.iter().filter(|&&(c, _)| c < mid).count())
-            .sum();
-        sorted.resize(total, (0, 0.0));
-        let gather = |out: &mut [(u32, f32)], lower: bool| {
-            let mut k = 0;
-            for &change in sources.iter().flat_map(|s| s.iter()) {
-                if (change.0 < mid) == lower {
-                    out[k] = change;
-                    k += 1;
-                }
+        let low = each().filter(|&(c, _)| c < mid).count();
+        let total = low + each().filter(|&(c, _)| c >= mid).count();
+        // Buffers keep their length from flush to flush: every value is written below.
+        sorted.resize(total, (0, 0));
+        scratch.resize(total, (0, 0));
+        let gather = |out: &mut [(u32, i32)], lower: bool| {
+            for (slot, change) in out
+                .iter_mut()
+                .zip(each().filter(|&(c, _)| (c < mid) == lower))
+            {
+                *slot = change;
             }
         };
         // The halves sort into the same buffer (both take the same passes).
@@ -53,9 +55,9 @@ pub(super) fn sort_changes(
     }
     let _ = parallel;
     sorted.clear();
-    for s in sources {
-        sorted.extend_from_slice(s);
-    }
+    sorted.extend(each());
+    let total = sorted.len();
+    scratch.resize(total, (0, 0));
     if total < 256 {
         sorted.sort_by_key(|&(c, _)| c);
     } else if radix_sort(sorted, scratch, cells) {
@@ -65,7 +67,7 @@ pub(super) fn sort_changes(
 
 /// Sorts `data` by cell (below `cells`), stably, ping-ponging with `tmp` (as long): in at
 /// most three passes over digits of up to 13 bits. True when the result ends in `tmp`.
-pub(super) fn radix_sort(data: &mut [(u32, f32)], tmp: &mut [(u32, f32)], cells: usize) -> bool {
+pub(super) fn radix_sort(data: &mut [(u32, i32)], tmp: &mut [(u32, i32)], cells: usize) -> bool {
     let bits = usize::BITS - cells.saturating_sub(1).max(1).leading_zeros();
     let passes = bits.div_ceil(13);
     let digit = bits.div_ceil(passes);
@@ -100,21 +102,21 @@ pub(super) fn radix_sort(data: &mut [(u32, f32)], tmp: &mut [(u32, f32)], cells:
 /// cell's changes are summed first (buds added and removed cancel), so each changed
 /// cell's pyramid is added once, in cell order.
 pub(super) fn apply_changes(
-    changes: &[(u32, f32)],
+    changes: &[(u32, i32)],
     [nx, _, nz]: [usize; 3],
-    falloff: &[f32],
-    layers: &mut [&mut [f32]],
+    falloff: &[i32],
+    layers: &mut [&mut [i32]],
     first: usize,
 ) {
     let mut k = 0;
     while k < changes.len() {
         let cell = changes[k].0;
-        let mut count = 0.0;
+        let mut count = 0i32;
         while k < changes.len() && changes[k].0 == cell {
-            count += changes[k].1;
+            count = count.wrapping_add(changes[k].1);
             k += 1;
         }
-        if count == 0.0 {
+        if count == 0 {
             continue;
         }
         let c = cell as usize;
@@ -126,7 +128,7 @@ pub(super) fn apply_changes(
             let Some(layer) = layers.get_mut(cy - q - first) else {
                 continue;
             };
-            let add = f * count;
+            let add = f.wrapping_mul(count);
             let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
             let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
             let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
@@ -134,7 +136,7 @@ pub(super) fn apply_changes(
             // Unclipped squares of the common sizes have a fixed number of fixed-size rows,
             // which the compiler unrolls into vector adds.
             match (w == h).then_some(w) {
-                Some(1) => layer[start] += add,
+                Some(1) => layer[start] = layer[start].wrapping_add(add),
                 Some(3) => add_square::<3>(layer, start, nx, add),
                 Some(5) => add_square::<5>(layer, start, nx, add),
                 Some(7) => add_square::<7>(layer, start, nx, add),
@@ -145,7 +147,7 @@ pub(super) fn apply_changes(
                     for r in 0..h {
                         let o = start + r * nx;
                         for v in &mut layer[o..o + w] {
-                            *v += add;
+                            *v = v.wrapping_add(add);
                         }
                     }
                 }
@@ -157,12 +159,12 @@ pub(super) fn apply_changes(
 /// Adds `add` to a `W` × `W` square of a layer whose rows are `stride` apart, from
 /// `start`.
 #[inline(always)]
-fn add_square<const W: usize>(layer: &mut [f32], start: usize, stride: usize, add: f32) {
+fn add_square<const W: usize>(layer: &mut [i32], start: usize, stride: usize, add: i32) {
     let slab = &mut layer[start..start + (W - 1) * stride + W];
     for r in 0..W {
         if let Some(row) = slab[r * stride..].first_chunk_mut::<W>() {
             for v in row {
-                *v += add;
+                *v = v.wrapping_add(add);
             }
         }
     }

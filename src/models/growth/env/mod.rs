@@ -6,11 +6,14 @@ use crate::error::{Error, Result};
 use glam::Vec3;
 
 mod changes;
+mod grid;
 mod obstacles;
 #[cfg(test)]
 mod tests;
 
 use changes::{apply_changes, sort_changes};
+pub(crate) use grid::{DARK, Key};
+use grid::{Grid, UNIT, key, unkey};
 pub use obstacles::Obstacle;
 
 fn oom(what: String) -> Error {
@@ -21,12 +24,9 @@ fn oom(what: String) -> Error {
 pub const MAX_OBSTACLES: usize = 1 << 20;
 
 /// Edge, in cells, of the buckets that list the obstacles overlapping them.
-const BUCKET: usize = 8;
+const BUCKET: i64 = 8;
 
-/// Set in a cell word ([`Env::cell_word`]) where a bud gets no light.
-pub(crate) const DARK: u32 = 1 << 31;
-
-/// Most cells a grid may have: a cell index and the [`DARK`] bit share 32 bits.
+/// Most cells a grid may have.
 pub(crate) const MOST_CELLS: usize = 1 << 31;
 
 /// One bud as the environment sees it.
@@ -40,16 +40,18 @@ pub(crate) struct Bud {
 #[derive(Clone, Debug)]
 pub(crate) struct Env {
     kind: Environment,
+    /// The world box's corner and its cells (the markers' grid).
     origin: Vec3,
     inv_cell: f32,
     cell: f32,
     dims: [usize; 3],
-    /// Shadow per cell, x fastest, then z, then y (a layer of the pyramid is rows of x).
-    shadow: Vec<f32>,
-    /// a·b^−q for q = 0..=q_max.
-    falloff: Vec<f32>,
+    /// The shadow (shadow worlds; see [`grid`]).
+    grid: Grid,
+    /// round(UNIT·b^−q) for q = 0..=q_max: a bud's shadow in its pyramid's layer q.
+    falloff: Vec<i32>,
     full_light: f32,
     strength: f32,
+    max_cells: usize,
     /// Markers (space colonization), binned by cell: `markers[first[c]..first[c + 1]]`.
     first: Vec<u32>,
     markers: Vec<Vec3>,
@@ -57,14 +59,15 @@ pub(crate) struct Env {
     min: Vec3,
     max: Vec3,
     /// Shadow changes not applied yet: (cell, buds added there, negative for removed).
-    pending: Vec<(u32, f32)>,
-    /// The changes of a flush, sorted, and the radix sort's second buffer.
-    sorted: Vec<(u32, f32)>,
-    scratch: Vec<(u32, f32)>,
+    pending: Vec<(Key, i32)>,
+    /// The changes of a flush by storage index, sorted, and the radix sort's second
+    /// buffer.
+    sorted: Vec<(u32, i32)>,
+    scratch: Vec<(u32, i32)>,
     obstacles: Vec<Obstacle>,
-    /// The obstacles whose bounds overlap each bucket of [`BUCKET`]³ cells (made with the
-    /// first obstacle), so a point is tested only against those near it.
-    buckets: Vec<Vec<u32>>,
+    /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
+    /// point is tested only against those near it.
+    buckets: std::collections::HashMap<[i64; 3], Vec<u32>>,
 }
 
 impl Env {
@@ -72,18 +75,20 @@ impl Env {
         let (min, max) = (Vec3::from(o.min), Vec3::from(o.max));
         let dims = [0, 1, 2].map(|k| (((max[k] - min[k]) / o.cell_size).ceil() as usize).max(1));
         let cells = dims[0] * dims[1] * dims[2];
+        let inv_cell = 1.0 / o.cell_size;
         let mut env = Env {
             kind: o.environment,
             origin: min,
-            inv_cell: 1.0 / o.cell_size,
+            inv_cell,
             cell: o.cell_size,
             dims,
-            shadow: Vec::new(),
+            grid: Grid::default(),
             falloff: (0..=o.shadow_depth)
-                .map(|q| o.shadow_strength * libm::powf(o.shadow_falloff, -(q as f32)))
+                .map(|q| (UNIT * libm::powf(o.shadow_falloff, -(q as f32))).round() as i32)
                 .collect(),
             full_light: o.full_light,
             strength: o.shadow_strength,
+            max_cells: o.max_cells,
             first: Vec::new(),
             markers: Vec::new(),
             alive: Vec::new(),
@@ -93,20 +98,19 @@ impl Env {
             sorted: Vec::new(),
             scratch: Vec::new(),
             obstacles: Vec::new(),
-            buckets: Vec::new(),
+            buckets: Default::default(),
         };
         match o.environment {
             Environment::Shadow => {
-                // Zeros written now: a lazily zeroed grid would be read through the
-                // shared zero page and copied on its first write, two page faults per
-                // page, taken inside the cycles' parallel passes.
-                env.shadow.try_reserve_exact(cells).map_err(|_| {
-                    oom(format!(
-                        "the shadow grid ({cells} cells, {} bytes)",
-                        cells * 4
-                    ))
-                })?;
-                env.shadow.resize(cells, 0.0);
+                // The box's cells, from its floor (the ground layer) up, and as far to
+                // the sides as the shadow of a bud at its walls reaches.
+                let q = o.shadow_depth as i64;
+                let (lo, hi) = (env.lattice(min), env.lattice(max));
+                env.grid = Grid::new(
+                    [lo[0] - q, lo[1], lo[2] - q],
+                    [hi[0] + q, hi[1], hi[2] + q],
+                    o.max_cells,
+                )?;
             }
             Environment::SpaceColonization => {
                 // One marker per cell, jittered inside it (seeded).
@@ -134,13 +138,17 @@ impl Env {
         Ok(env)
     }
 
-    fn bucket_dims(&self) -> [usize; 3] {
-        self.dims.map(|d| d.div_ceil(BUCKET))
+    /// The lattice cell holding `p`: floor(p / cell_size) per axis (saturating; NaN
+    /// becomes 0).
+    #[inline]
+    pub(crate) fn lattice(&self, p: Vec3) -> [i64; 3] {
+        let g = (p * self.inv_cell).floor();
+        [g.x as i64, g.y as i64, g.z as i64]
     }
 
-    fn bucket_of(&self, [x, y, z]: [usize; 3]) -> usize {
-        let [bx, _, bz] = self.bucket_dims();
-        ((y / BUCKET) * bz + z / BUCKET) * bx + x / BUCKET
+    /// The lattice bucket of a lattice cell.
+    fn bucket(c: [i64; 3]) -> [i64; 3] {
+        c.map(|v| v.div_euclid(BUCKET))
     }
 
     /// Whether `p` is inside an obstacle: only those listed in its bucket are tested.
@@ -148,9 +156,9 @@ impl Env {
         if self.obstacles.is_empty() {
             return false;
         }
-        self.buckets[self.bucket_of(self.cell_of(p))]
-            .iter()
-            .any(|&i| self.obstacles[i as usize].contains(p))
+        self.buckets
+            .get(&Self::bucket(self.lattice(p)))
+            .is_some_and(|list| list.iter().any(|&i| self.obstacles[i as usize].contains(p)))
     }
 
     fn coords(&self, c: usize) -> (usize, usize, usize) {
@@ -163,7 +171,7 @@ impl Env {
         (y * nz + z) * nx + x
     }
 
-    /// The cell holding `p`, clamped into the grid.
+    /// The marker grid's cell holding `p`, clamped into the box.
     #[inline]
     fn cell_of(&self, p: Vec3) -> [usize; 3] {
         let g = (p - self.origin) * self.inv_cell;
@@ -184,51 +192,81 @@ impl Env {
     /// Adds (`count` > 0) or removes (< 0) the shadow pyramids of `count` buds whose cell
     /// word is `word` ([`cell_word`](Self::cell_word)), applied at the next
     /// [`flush`](Self::flush). Nothing for markers.
-    pub(crate) fn cast(&mut self, word: u32, count: f32) {
+    pub(crate) fn cast(&mut self, word: Key, count: i32) {
         self.pending.extend(self.change(word, count));
     }
 
     /// The shadow change of `count` buds (negative: removed) whose cell word is `word`,
     /// as a flush takes it; none in a colonization world.
     #[inline]
-    pub(crate) fn change(&self, word: u32, count: f32) -> Option<(u32, f32)> {
+    pub(crate) fn change(&self, word: Key, count: i32) -> Option<(Key, i32)> {
         (self.kind == Environment::Shadow).then_some((word & !DARK, count))
     }
 
     /// The cell word of a bud at `p`, found once when its internode is made: in a shadow
-    /// world the index of the cell whose shadow it changes (clamped into the grid), with
-    /// [`DARK`] set where it gets no light (outside the box or inside an obstacle); 0 in a
-    /// colonization world.
+    /// world its lattice cell ([`Key`]), with [`DARK`] set where it gets no light (below
+    /// the ground or inside an obstacle); 0 in a colonization world. The sky is open:
+    /// above the ground, outside the box is as lit as inside it.
     #[inline]
-    pub(crate) fn cell_word(&self, p: Vec3) -> u32 {
+    pub(crate) fn cell_word(&self, p: Vec3) -> Key {
         if self.kind != Environment::Shadow {
             return 0;
         }
-        let [x, y, z] = self.cell_of(p);
-        let cell = self.index(x, y, z) as u32;
-        // Trees grow inside the world box, outside obstacles: a bud elsewhere gets no light.
-        if !self.inside(p) || self.in_obstacle(p) {
-            cell | DARK
+        let c = self.lattice(p);
+        let k = key(c);
+        if !p.is_finite() || c[1] < self.grid.lo[1] || self.in_obstacle(p) {
+            k | DARK
         } else {
-            cell
+            k
         }
     }
 
+    /// Makes the grid hold the shadow of buds at every cell word of `words` (their
+    /// pyramids reach `q_max` cells sideways and down): refused with `LimitExceeded`
+    /// naming `max_cells` past it, the grid unchanged. Nothing for markers.
+    pub(crate) fn cover(&mut self, words: impl IntoIterator<Item = Key>) -> Result<()> {
+        if self.kind != Environment::Shadow {
+            return Ok(());
+        }
+        let mut lo = [i64::MAX; 3];
+        let mut hi = [i64::MIN; 3];
+        for w in words {
+            let c = unkey(w & !DARK);
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
+            }
+        }
+        if lo[0] > hi[0] {
+            return Ok(());
+        }
+        let q = self.falloff.len() as i64 - 1;
+        self.grid.cover(
+            [lo[0] - q, lo[1] - q, lo[2] - q],
+            [hi[0] + q, hi[1], hi[2] + q],
+            self.max_cells,
+        )
+    }
+
+    /// Cells the shadow grid stores now (it grows with the trees).
+    pub(crate) fn grid_cells(&self) -> usize {
+        self.grid.cells.len()
+    }
+
     /// Applies the pending shadow changes: buds added and removed in one cell cancel, and
-    /// each changed cell's pyramid is applied once, in cell order (so the result does not
-    /// depend on the order the changes came in; the counts are small integers, exact in
-    /// any order). With `parallel` (and the `parallel` feature) the changes are sorted on
-    /// two threads (the lower and upper halves of the grid) and the grid is updated by two
-    /// threads owning a band of layers each; every cell still receives its changes in the
-    /// same order, so the grid is the same bit for bit.
+    /// each changed cell's pyramid is applied once, in cell order. The shadow is integer,
+    /// so the result does not depend on the order of the changes at all. With `parallel`
+    /// (and the `parallel` feature) the changes are sorted on two threads (the lower and
+    /// upper halves of the grid) and the grid is updated by two threads owning a band of
+    /// layers each.
     pub(crate) fn flush(&mut self, parallel: bool) {
         self.flush_with(&[], parallel);
     }
 
     /// [`flush`](Self::flush) of the pending changes and those recorded elsewhere
-    /// (`changes`: cells without [`DARK`], such as each tree's changes of a cycle), read
-    /// where they are.
-    pub(crate) fn flush_with(&mut self, changes: &[&[(u32, f32)]], parallel: bool) {
+    /// (`changes`: such as each tree's changes of a cycle), read where they are. Every
+    /// change's pyramid must be in the grid ([`cover`](Self::cover)).
+    pub(crate) fn flush_with(&mut self, changes: &[&[(Key, i32)]], parallel: bool) {
         let pending = std::mem::take(&mut self.pending);
         let mut sources = changes.to_vec();
         sources.push(&pending);
@@ -236,11 +274,13 @@ impl Env {
             std::mem::take(&mut self.sorted),
             std::mem::take(&mut self.scratch),
         );
+        let grid = &self.grid;
         sort_changes(
             &sources,
+            |k| grid.change_index(k),
             &mut sorted,
             &mut scratch,
-            self.shadow.len(),
+            grid.cells.len(),
             parallel,
         );
         self.apply(&sorted, parallel);
@@ -253,9 +293,13 @@ impl Env {
     /// feature and enough changes to pay for waking a second thread (16,384: about half a
     /// millisecond of work), on two threads, each owning a band of layers and adding the
     /// part of every pyramid that falls in it; else on this one.
-    fn apply(&mut self, changes: &[(u32, f32)], parallel: bool) {
-        let layer = self.dims[0] * self.dims[2];
-        let (dims, falloff) = (self.dims, &self.falloff);
+    fn apply(&mut self, changes: &[(u32, i32)], parallel: bool) {
+        if changes.is_empty() {
+            return;
+        }
+        let dims = self.grid.dims;
+        let layer = dims[0] * dims[2];
+        let falloff = &self.falloff;
         #[cfg(feature = "parallel")]
         if parallel && changes.len() > 1 << 14 {
             let y_of = |c: u32| c as usize / layer;
@@ -267,16 +311,16 @@ impl Env {
                 let above = changes.partition_point(|&(c, _)| y_of(c) < split);
                 (below, above)
             };
-            let split = (1..self.dims[1])
+            let split = (1..dims[1])
                 .min_by_key(|&y| {
                     let (below, above) = bands(y);
                     below.abs_diff(changes.len() - above)
                 })
                 .unwrap_or(1);
             let (below, above) = bands(split);
-            let (low, high) = self.shadow.split_at_mut(split * layer);
-            let mut low: Vec<&mut [f32]> = low.chunks_mut(layer).collect();
-            let mut high: Vec<&mut [f32]> = high.chunks_mut(layer).collect();
+            let (low, high) = self.grid.cells.split_at_mut(split * layer);
+            let mut low: Vec<&mut [i32]> = low.chunks_mut(layer).collect();
+            let mut high: Vec<&mut [i32]> = high.chunks_mut(layer).collect();
             rayon::join(
                 || apply_changes(&changes[..below], dims, falloff, &mut low, 0),
                 || apply_changes(&changes[above..], dims, falloff, &mut high, split),
@@ -284,55 +328,36 @@ impl Env {
             return;
         }
         let _ = parallel;
-        let mut all: Vec<&mut [f32]> = self.shadow.chunks_mut(layer).collect();
+        let mut all: Vec<&mut [i32]> = self.grid.cells.chunks_mut(layer).collect();
         apply_changes(changes, dims, falloff, &mut all, 0);
-    }
-
-    /// Shadow at a cell, 0 outside the grid.
-    fn s(&self, x: isize, y: isize, z: isize) -> f32 {
-        let [nx, ny, nz] = self.dims;
-        if x < 0 || y < 0 || z < 0 || x as usize >= nx || y as usize >= ny || z as usize >= nz {
-            return 0.0;
-        }
-        self.shadow[self.index(x as usize, y as usize, z as usize)]
     }
 
     /// Light at a bud of a shadow world from its cell word: Q = max(C − s + a, 0) (the
     /// `+ a` takes away the bud's own shadow), 0 where the word is [`DARK`].
     #[inline]
-    pub(crate) fn shadow_q(&self, word: u32) -> f32 {
+    pub(crate) fn shadow_q(&self, word: Key) -> f32 {
         if word & DARK != 0 {
             return 0.0;
         }
-        (self.full_light - self.shadow[word as usize] + self.strength).max(0.0)
+        let s = self.grid.at(unkey(word)) as f32 * (self.strength / UNIT);
+        (self.full_light - s + self.strength).max(0.0)
     }
 
-    /// The optimal direction at a bud of a shadow world: V = −∇s (central differences),
-    /// normalised (zero where flat or [`DARK`]). Asked only where a shoot grows.
-    pub(crate) fn shadow_v(&self, word: u32) -> Vec3 {
+    /// The optimal direction at a bud of a shadow world: V = −∇s (central differences
+    /// of the integer shadow, so exactly zero where flat), normalised (zero where flat or
+    /// [`DARK`]). Asked only where a shoot grows.
+    pub(crate) fn shadow_v(&self, word: Key) -> Vec3 {
         if word & DARK != 0 {
             return Vec3::ZERO;
         }
-        let c = word as usize;
-        let (cx, cy, cz) = self.coords(c);
-        let [nx, ny, nz] = self.dims;
-        let grad = if cx > 0 && cy > 0 && cz > 0 && cx + 1 < nx && cy + 1 < ny && cz + 1 < nz {
-            // Inside: neighbours at ±1, ±nx (z) and ±nx·nz (y).
-            let (dz, dy) = (nx, nx * nz);
-            let g = &self.shadow;
-            Vec3::new(
-                g[c + 1] - g[c - 1],
-                g[c + dy] - g[c - dy],
-                g[c + dz] - g[c - dz],
-            )
-        } else {
-            let [x, y, z] = [cx, cy, cz].map(|v| v as isize);
-            Vec3::new(
-                self.s(x + 1, y, z) - self.s(x - 1, y, z),
-                self.s(x, y + 1, z) - self.s(x, y - 1, z),
-                self.s(x, y, z + 1) - self.s(x, y, z - 1),
-            )
-        };
+        let [x, y, z] = unkey(word);
+        let g = &self.grid;
+        let d = |a: [i64; 3], b: [i64; 3]| (g.at(a) as i64 - g.at(b) as i64) as f32;
+        let grad = Vec3::new(
+            d([x + 1, y, z], [x - 1, y, z]),
+            d([x, y + 1, z], [x, y - 1, z]),
+            d([x, y, z + 1], [x, y, z - 1]),
+        );
         (-grad).normalize_or_zero()
     }
 

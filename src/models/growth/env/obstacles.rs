@@ -72,9 +72,10 @@ impl Obstacle {
 
 impl Env {
     /// Places an obstacle: in a shadow world every cell whose center it contains is
-    /// opaque: every cell straight below it gets full exposure's worth of shadow (C), and
-    /// its pyramid spreads a bud's shadow around that; buds inside it get no light. In a
-    /// colonization world the markers inside it are removed.
+    /// opaque: every cell straight below it (down to the ground) gets full exposure's
+    /// worth of shadow (C), and its pyramid spreads a bud's shadow around that; buds
+    /// inside it get no light. The grid grows to hold its shadow (refused past
+    /// `max_cells`). In a colonization world the markers inside it are removed.
     ///
     /// Cost in proportion to the cells of its bounds (times the pyramid's depth) and the
     /// columns below them; `progress` (Stage::Growth, layers done) may cancel, and then
@@ -94,31 +95,32 @@ impl Env {
             });
         }
         let (lo, hi) = o.bounds();
-        let (lo, hi) = (self.cell_of(lo), self.cell_of(hi));
-        // The buckets the obstacle overlaps list it (made with the first obstacle).
-        let [bx, by, bz] = self.bucket_dims();
-        if self.buckets.is_empty() {
-            let n = bx * by * bz;
-            self.buckets
-                .try_reserve_exact(n)
-                .map_err(|_| oom(format!("the obstacle buckets ({n})")))?;
-            self.buckets.resize_with(n, Vec::new);
-        }
+        let (llo, lhi) = (self.lattice(lo), self.lattice(hi));
         match self.kind {
             Environment::Shadow => {
-                let (region, delta) = self.obstacle_shadow(o, lo, hi, progress)?;
-                let [nx, _, nz] = self.dims;
-                let ([x0, z0], [w, h]) = region;
-                for (y, layer) in delta.chunks_exact(w * h).enumerate() {
-                    for (r, row) in layer.chunks_exact(w).enumerate() {
-                        let at = (y * nz + z0 + r) * nx + x0;
-                        for (v, d) in self.shadow[at..at + w].iter_mut().zip(row) {
-                            *v += d;
+                let ground = self.grid.lo[1];
+                if lhi[1] >= ground {
+                    let lo = [llo[0], llo[1].max(ground), llo[2]];
+                    let (region, delta) = self.obstacle_shadow(o, lo, lhi, progress)?;
+                    let ([x0, z0], [w, h]) = region;
+                    self.grid.cover(
+                        [x0, ground, z0],
+                        [x0 + w as i64 - 1, lhi[1], z0 + h as i64 - 1],
+                        self.max_cells,
+                    )?;
+                    for (y, layer) in delta.chunks_exact(w * h).enumerate() {
+                        for (r, row) in layer.chunks_exact(w).enumerate() {
+                            let c = [x0, ground + y as i64, z0 + r as i64];
+                            let at = self.grid.index(c).expect("the grid covers the obstacle");
+                            for (v, d) in self.grid.cells[at..at + w].iter_mut().zip(row) {
+                                *v = v.wrapping_add(*d);
+                            }
                         }
                     }
                 }
             }
             Environment::SpaceColonization => {
+                let (lo, hi) = (self.cell_of(lo), self.cell_of(hi));
                 // The markers inside are found first (a cancel changes nothing).
                 let mut inside = Vec::new();
                 for y in lo[1]..=hi[1] {
@@ -142,16 +144,23 @@ impl Env {
                 }
             }
         }
+        // The lattice buckets the obstacle's bounds overlap list it.
         let id = self.obstacles.len() as u32;
-        let (b0, b1) = (self.bucket_of(lo), self.bucket_of(hi));
-        let ([x0, y0, z0], [x1, y1, z1]) = (
-            [b0 % bx, b0 / (bx * bz), (b0 / bx) % bz],
-            [b1 % bx, b1 / (bx * bz), (b1 / bx) % bz],
-        );
-        for y in y0..=y1 {
-            for z in z0..=z1 {
-                for x in x0..=x1 {
-                    self.buckets[(y * bz + z) * bx + x].push(id);
+        let (b0, b1) = (Self::bucket(llo), Self::bucket(lhi));
+        let buckets = (b1[0] - b0[0] + 1) * (b1[1] - b0[1] + 1) * (b1[2] - b0[2] + 1);
+        if buckets > (self.max_cells / 64).max(1 << 16) as i64 {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_cells",
+                what: "obstacle buckets (8^3 cells each) of the obstacle's bounds",
+                limit: (self.max_cells / 64).max(1 << 16) as u64,
+                requested: buckets as u64,
+                step: None,
+            });
+        }
+        for y in b0[1]..=b1[1] {
+            for z in b0[2]..=b1[2] {
+                for x in b0[0]..=b1[0] {
+                    self.buckets.entry([x, y, z]).or_default().push(id);
                 }
             }
         }
@@ -159,8 +168,10 @@ impl Env {
         Ok(())
     }
 
-    /// The shadow an obstacle adds, as a block of the grid: x from `region.0[0]`, z from
-    /// `region.0[1]`, `region.1` wide and deep, layers from 0 up to the obstacle's top.
+    /// The shadow an obstacle adds, as a block of lattice cells: x from `region.0[0]`, z
+    /// from `region.0[1]`, `region.1` wide and deep, layers from the ground up to the
+    /// obstacle's top; `lo ..= hi` are its bounds' lattice cells (`lo[1]` at or above the
+    /// ground).
     ///
     /// Each opaque cell adds what a bud's shadow change of 1 adds (its pyramid), and full
     /// exposure (C) to every cell below it. Per source layer a summed-area table of its
@@ -171,44 +182,60 @@ impl Env {
     fn obstacle_shadow(
         &self,
         o: &Obstacle,
-        lo: [usize; 3],
-        hi: [usize; 3],
+        lo: [i64; 3],
+        hi: [i64; 3],
         progress: &mut crate::progress::Run<'_>,
-    ) -> Result<(([usize; 2], [usize; 2]), Vec<f32>)> {
-        let [nx, _, nz] = self.dims;
+    ) -> Result<(([i64; 2], [usize; 2]), Vec<i32>)> {
+        let ground = self.grid.lo[1];
         let qmax = self.falloff.len().saturating_sub(1);
-        let (bw, bh) = (hi[0] - lo[0] + 1, hi[2] - lo[2] + 1);
-        let (rx0, rx1) = (lo[0].saturating_sub(qmax), (hi[0] + qmax).min(nx - 1));
-        let (rz0, rz1) = (lo[2].saturating_sub(qmax), (hi[2] + qmax).min(nz - 1));
-        let (rw, rh) = (rx1 - rx0 + 1, rz1 - rz0 + 1);
-        let layers = hi[1] + 1;
-        let total = layers * rw * rh;
-        let mut delta: Vec<f32> = Vec::new();
+        let q64 = qmax as i64;
+        let (bw, bh) = ((hi[0] - lo[0] + 1) as usize, (hi[2] - lo[2] + 1) as usize);
+        let (rx0, rz0) = (lo[0] - q64, lo[2] - q64);
+        let (rw, rh) = (bw + 2 * qmax, bh + 2 * qmax);
+        let layers = (hi[1] - ground + 1) as usize;
+        let total = layers
+            .checked_mul(rw)
+            .and_then(|n| n.checked_mul(rh))
+            .filter(|&n| n <= self.max_cells.min(MOST_CELLS))
+            .ok_or(Error::LimitExceeded {
+                limit_name: "max_cells",
+                what: "cells of the shadow an obstacle casts",
+                limit: self.max_cells.min(MOST_CELLS) as u64,
+                requested: (layers as u64)
+                    .saturating_mul(rw as u64)
+                    .saturating_mul(rh as u64),
+                step: None,
+            })?;
+        let mut delta: Vec<i32> = Vec::new();
         delta
             .try_reserve_exact(total)
             .map_err(|_| oom(format!("an obstacle's shadow ({total} cells)")))?;
-        delta.resize(total, 0.0);
+        delta.resize(total, 0);
         let mut sat = vec![0u32; (bw + 1) * (bh + 1)];
         let mut above = vec![0u32; bw * bh];
-        let (origin, cell) = (self.origin, self.cell);
+        let cell = self.cell;
         let center = |x: usize, y: usize, z: usize| {
-            origin + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * cell
+            let c = [lo[0] + x as i64, ground + y as i64, lo[2] + z as i64];
+            (Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) + 0.5) * cell
         };
-        let full_light = self.full_light;
-        for y in (0..=hi[1]).rev() {
+        // Full exposure, in shadow units.
+        let full = (self.full_light / self.strength * UNIT).round() as i32;
+        let first = (lo[1] - ground) as usize;
+        for y in (0..layers).rev() {
             progress.report(
                 crate::progress::Stage::Growth,
-                (hi[1] - y) as f64 / layers as f64,
+                (layers - 1 - y) as f64 / layers as f64,
             )?;
             let target = &mut delta[y * rw * rh..(y + 1) * rw * rh];
             // Full exposure below every opaque cell above this layer.
             for (k, &n) in above.iter().enumerate() {
                 if n > 0 {
-                    let (x, z) = (lo[0] + k % bw, lo[2] + k / bw);
-                    target[(z - rz0) * rw + x - rx0] += full_light * n as f32;
+                    let (x, z) = (qmax + k % bw, qmax + k / bw);
+                    let v = &mut target[z * rw + x];
+                    *v = v.wrapping_add(full.wrapping_mul(n as i32));
                 }
             }
-            if y < lo[1] {
+            if y < first {
                 continue;
             }
             // This layer's opaque cells, as a summed-area table.
@@ -216,7 +243,7 @@ impl Env {
             for z in 0..bh {
                 let mut run = 0u32;
                 for x in 0..bw {
-                    let opaque = o.contains(center(lo[0] + x, y, lo[2] + z));
+                    let opaque = o.contains(center(x, y, z));
                     run += opaque as u32;
                     above[z * bw + x] += opaque as u32;
                     any |= opaque;
@@ -236,26 +263,29 @@ impl Env {
                 if q > y {
                     break;
                 }
-                let t = y - q;
-                let target = &mut delta[t * rw * rh..(t + 1) * rw * rh];
-                let (tz0, tz1) = (lo[2].saturating_sub(q).max(rz0), (hi[2] + q).min(rz1));
-                let (tx0, tx1) = (lo[0].saturating_sub(q).max(rx0), (hi[0] + q).min(rx1));
-                for z in tz0..=tz1 {
-                    let za = z.saturating_sub(q).max(lo[2]) - lo[2];
-                    let zb = (z + q).min(hi[2]) + 1 - lo[2];
+                let target = &mut delta[(y - q) * rw * rh..(y - q + 1) * rw * rh];
+                // Target cells (region-relative) within q of the bounds.
+                for z in qmax - q..qmax + bh + q {
+                    let za = z.saturating_sub(q).max(qmax) - qmax;
+                    let zb = (z + q).min(qmax + bh - 1) + 1 - qmax;
                     if za >= zb {
                         continue;
                     }
-                    let row = &mut target[(z - rz0) * rw..(z - rz0 + 1) * rw];
-                    for x in tx0..=tx1 {
-                        let xa = x.saturating_sub(q).max(lo[0]) - lo[0];
-                        let xb = (x + q).min(hi[0]) + 1 - lo[0];
+                    let row = &mut target[z * rw..(z + 1) * rw];
+                    for (x, v) in row
+                        .iter_mut()
+                        .enumerate()
+                        .take(qmax + bw + q)
+                        .skip(qmax - q)
+                    {
+                        let xa = x.saturating_sub(q).max(qmax) - qmax;
+                        let xb = (x + q).min(qmax + bw - 1) + 1 - qmax;
                         if xa >= xb {
                             continue;
                         }
                         let n = count(xa, xb, za, zb);
                         if n > 0 {
-                            row[x - rx0] += f * n as f32;
+                            *v = v.wrapping_add(f.wrapping_mul(n as i32));
                         }
                     }
                 }

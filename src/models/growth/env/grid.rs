@@ -1,0 +1,163 @@
+//! The shadow grid under an open sky: integer shadow on a lattice anchored at the origin,
+//! stored densely over a region that grows with the trees.
+//!
+//! A cell is known by its lattice coordinates `floor(p / cell_size)`, packed into a
+//! [`Key`]; where the grid's storage starts is nobody's business but the grid's. So the
+//! same tree grows the same in any world box: the box bounds planting, seeding and
+//! markers, and the region only has to hold every cell a shadow reaches (cells outside
+//! it have no shadow, which is the truth: nothing casts there). Light comes from above
+//! without limit; below the ground layer (the box's floor) there is neither shadow nor
+//! light.
+//!
+//! The shadow is an integer count of `a / 65,536` units: a bud adds `round(65,536 b^−q)`
+//! to each cell of its pyramid's layer `q`. Additions of integers are exact and do not
+//! depend on their order (the grid wraps rather than saturates, so even an overflowed sum
+//! comes back when its buds go), and a flat field has a gradient of exactly zero.
+
+use super::{Error, Result, oom};
+
+/// A cell's lattice coordinates, packed: 21 bits per axis (biased by [`BIAS`]), x lowest,
+/// then y, then z; [`DARK`] set where a bud gets no light.
+pub(crate) type Key = u64;
+
+/// Set in a [`Key`] where a bud gets no light (below the ground, inside an obstacle, or
+/// beyond the lattice's reach).
+pub(crate) const DARK: Key = 1 << 63;
+
+/// Added to a lattice coordinate to pack it; the lattice reaches ±(BIAS − 1) cells.
+const BIAS: i64 = 1 << 20;
+const AXIS: u64 = (1 << 21) - 1;
+
+/// Shadow units per `a` (a bud's shadow in its own cell).
+pub(crate) const UNIT: f32 = 65536.0;
+
+/// Packs lattice coordinates; those beyond the lattice's reach are clamped and [`DARK`].
+pub(crate) fn key([x, y, z]: [i64; 3]) -> Key {
+    let far = [x, y, z].iter().any(|v| v.abs() >= BIAS);
+    let c = |v: i64| (v.clamp(-(BIAS - 1), BIAS - 1) + BIAS) as u64;
+    c(x) | (c(y) << 21) | (c(z) << 42) | if far { DARK } else { 0 }
+}
+
+/// The lattice coordinates of a key.
+pub(crate) fn unkey(k: Key) -> [i64; 3] {
+    [0, 21, 42].map(|s| ((k >> s) & AXIS) as i64 - BIAS)
+}
+
+/// The dense store of the lattice cells `lo .. lo + dims`, x fastest, then z, then y (a
+/// layer of a pyramid is rows of x). `lo[1]` is always the ground layer.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Grid {
+    pub(crate) lo: [i64; 3],
+    pub(crate) dims: [usize; 3],
+    pub(crate) cells: Vec<i32>,
+}
+
+impl Grid {
+    /// A zeroed grid over the lattice box `lo ..= hi`, refused past `max_cells`.
+    pub(crate) fn new(lo: [i64; 3], hi: [i64; 3], max_cells: usize) -> Result<Self> {
+        let dims = [0, 1, 2].map(|k| (hi[k] - lo[k] + 1).max(1) as usize);
+        let cells = Self::count(dims, max_cells)?;
+        let mut v = Vec::new();
+        // Zeros written now: a lazily zeroed grid would be read through the shared zero
+        // page and copied on its first write, two page faults per page, taken inside the
+        // cycles' parallel passes.
+        v.try_reserve_exact(cells).map_err(|_| {
+            oom(format!(
+                "the shadow grid ({cells} cells, {} bytes)",
+                cells * 4
+            ))
+        })?;
+        v.resize(cells, 0);
+        Ok(Grid { lo, dims, cells: v })
+    }
+
+    fn count(dims: [usize; 3], max_cells: usize) -> Result<usize> {
+        let cells = dims
+            .iter()
+            .try_fold(1usize, |a, &d| a.checked_mul(d))
+            .unwrap_or(usize::MAX);
+        let most = max_cells.min(super::MOST_CELLS);
+        if cells > most {
+            return Err(Error::LimitExceeded {
+                limit_name: "max_cells",
+                what: "cells of the shadow grid the trees and obstacles reach",
+                limit: most as u64,
+                requested: cells as u64,
+                step: None,
+            });
+        }
+        Ok(cells)
+    }
+
+    /// The index of lattice cell `c`, if the grid stores it.
+    #[inline]
+    pub(crate) fn index(&self, c: [i64; 3]) -> Option<usize> {
+        let [nx, ny, nz] = self.dims;
+        let x = (c[0] - self.lo[0]) as u64;
+        let y = (c[1] - self.lo[1]) as u64;
+        let z = (c[2] - self.lo[2]) as u64;
+        (x < nx as u64 && y < ny as u64 && z < nz as u64)
+            .then(|| ((y as usize * nz) + z as usize) * nx + x as usize)
+    }
+
+    /// The shadow of lattice cell `c` (0 where the grid does not reach: nothing casts
+    /// there).
+    #[inline]
+    pub(crate) fn at(&self, c: [i64; 3]) -> i32 {
+        self.index(c).map_or(0, |i| self.cells[i])
+    }
+
+    /// Grows the store (keeping every value) so that it holds the lattice box
+    /// `lo ..= hi` (clipped below at the ground), with room to spare sideways and up;
+    /// refused past `max_cells`, the grid unchanged.
+    pub(crate) fn cover(&mut self, lo: [i64; 3], hi: [i64; 3], max_cells: usize) -> Result<()> {
+        let ground = self.lo[1];
+        let lo = [lo[0], lo[1].max(ground), lo[2]];
+        if hi[1] < ground {
+            return Ok(());
+        }
+        let old_hi = [0, 1, 2].map(|k| self.lo[k] + self.dims[k] as i64 - 1);
+        if (0..3).all(|k| lo[k] >= self.lo[k] && hi[k] <= old_hi[k]) {
+            return Ok(());
+        }
+        // A quarter of the present extent to spare on each side that grows (and up), so
+        // a crown that keeps widening re-lays the grid a logarithmic number of times.
+        let spare = |k: usize| (self.dims[k] as i64 / 4).max(4);
+        let mut new_lo = self.lo;
+        let mut new_hi = old_hi;
+        for k in [0, 2] {
+            if lo[k] < self.lo[k] {
+                new_lo[k] = lo[k] - spare(k);
+            }
+            if hi[k] > old_hi[k] {
+                new_hi[k] = hi[k] + spare(k);
+            }
+        }
+        if hi[1] > old_hi[1] {
+            new_hi[1] = hi[1] + spare(1);
+        }
+        let mut grown = Grid::new(new_lo, new_hi, max_cells)?;
+        let [nx, ny, nz] = self.dims;
+        for y in 0..ny {
+            for z in 0..nz {
+                let from = (y * nz + z) * nx;
+                let c = [self.lo[0], self.lo[1] + y as i64, self.lo[2] + z as i64];
+                let to = grown.index(c).expect("the grown grid holds the old one");
+                grown.cells[to..to + nx].copy_from_slice(&self.cells[from..from + nx]);
+            }
+        }
+        *self = grown;
+        Ok(())
+    }
+
+    /// The storage index of a change's cell, or `None` where its whole pyramid is under
+    /// the ground (nothing to add).
+    #[inline]
+    pub(crate) fn change_index(&self, k: Key) -> Option<u32> {
+        let c = unkey(k & !DARK);
+        if c[1] < self.lo[1] {
+            return None;
+        }
+        self.index(c).map(|i| i as u32)
+    }
+}
