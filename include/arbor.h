@@ -1194,7 +1194,7 @@ typedef struct ArborGrowthParams {
    */
   uint32_t max_shoot;
   /**
-   * Pałubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
+   * Palubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
    * the light its buds gather, per internode it carries, is below this (a tree whose
    * whole light per internode falls below it dies). Light is Q as the environment gives
    * it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
@@ -1214,7 +1214,7 @@ typedef struct ArborGrowthParams {
    */
   float young_vigor_multiplier;
   /**
-   * Cycles from planting until a tree has its adult apical control and vigour
+   * Growth cycles from planting until a tree has its adult apical control and vigour
    * multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
    * layout.)
    */
@@ -1236,9 +1236,9 @@ typedef struct ArborGrowthParams {
    */
   float droop;
   /**
-   * A seed of this species grows into a tree only where the light at its first bud is
-   * at least this (see `shed_light` for the unit), >= 0. Default 0. (Added after the
-   * first layout.)
+   * In a shadow world, a seed of this species grows into a tree only where the light at
+   * its first bud is at least this (see `shed_light` for the unit), >= 0. Default 0.
+   * (Added after the first layout.)
    */
   float germination_light;
 } ArborGrowthParams;

@@ -214,6 +214,14 @@ fn growth_params_ranges_are_the_documented_ones() {
             "perception_reach" => p.perception_reach = f,
             "occupancy_reach" => p.occupancy_reach = f,
             "max_shoot" => p.max_shoot = v.max(0.0) as u32,
+            "shed_light" => p.shed_light = f,
+            "young_apical_control" => p.young_apical_control = f,
+            "young_vigor_multiplier" => p.young_vigor_multiplier = f,
+            "maturity_age" => p.maturity_age = v.max(0.0) as u32,
+            "max_age" => p.max_age = v.max(0.0) as u32,
+            "max_height" => p.max_height = f,
+            "droop" => p.droop = f,
+            "germination_light" => p.germination_light = f,
             _ => return false,
         }
         true
@@ -225,7 +233,7 @@ fn growth_params_ranges_are_the_documented_ones() {
         &set,
         &|p: &GrowthParams| p.validate().is_ok(),
     );
-    assert!(n >= 15, "only {n} documented ranges found");
+    assert!(n >= 21, "only {n} documented ranges found");
 }
 
 #[test]

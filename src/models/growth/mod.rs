@@ -170,7 +170,7 @@ pub struct GrowthParams {
     pub occupancy_reach: f32,
     /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
     pub max_shoot: u32,
-    /// Pałubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
+    /// Palubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
     /// the light its buds gather, per internode it carries, is below this (a tree whose
     /// whole light per internode falls below it dies). Light is Q as the environment gives
     /// it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
@@ -184,7 +184,7 @@ pub struct GrowthParams {
     /// `vigor_multiplier` over `maturity_age` cycles. Default 2. (Added after the first
     /// layout.)
     pub young_vigor_multiplier: f32,
-    /// Cycles from planting until a tree has its adult apical control and vigour
+    /// Growth cycles from planting until a tree has its adult apical control and vigour
     /// multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
     /// layout.)
     pub maturity_age: u32,
