@@ -1236,9 +1236,11 @@ typedef struct ArborGrowthParams {
    */
   float droop;
   /**
-   * In a shadow world, a seed of this species grows into a tree only where the light at
-   * its first bud is at least this (see `shed_light` for the unit), >= 0. Default 0.
-   * (Added after the first layout.)
+   * In a shadow world, a seed of this species grows into a tree only where the light on
+   * the ground is at least this: full light less `shadow_strength` per bud above the
+   * ground there, at any height (buds counted over the 5 x 5 columns of cells around
+   * it, per column; see `shed_light` for the unit). >= 0. Default 0. (Added after the
+   * first layout.)
    */
   float germination_light;
 } ArborGrowthParams;

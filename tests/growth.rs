@@ -494,3 +494,54 @@ fn a_starving_tree_dies() {
     assert!(w.shed_count(0).unwrap() > 0);
     assert!(w.tree(1).unwrap().len() > 10, "the tree in the open lives");
 }
+
+/// Issue 29: `excurrent` keeps a cone from 20 cycles through 60: the crown's width at 75%
+/// of its height is at most 0.6 of its width at 25% (a level's width: twice the farthest
+/// internode end from the trunk's axis within 5% of the height of that level).
+#[test]
+fn excurrent_keeps_a_cone() {
+    let mut w = world(Environment::Shadow);
+    w.plant(
+        &GrowthParams::preset(Species::Excurrent),
+        [0.0, 0.0, 0.0],
+        1,
+    )
+    .unwrap();
+    for cycles in [20, 30, 40, 50, 60] {
+        w.step(cycles - w.cycle()).unwrap();
+        let s = w.tree(0).unwrap();
+        let h = s.branches().iter().map(|b| b.end[1]).fold(0.0, f32::max);
+        let width = |y: f32| {
+            2.0 * s
+                .branches()
+                .iter()
+                .filter(|b| (b.end[1] - y).abs() <= 0.05 * h)
+                .map(|b| b.end[0].hypot(b.end[2]))
+                .fold(0.0, f32::max)
+        };
+        let (low, high) = (width(0.25 * h), width(0.75 * h));
+        println!("excurrent at {cycles} cycles: height {h:.1}, widths {low:.1} / {high:.1}");
+        assert!(low > 0.2 * h, "a crown low down: {low} at height {h}");
+        assert!(high <= 0.6 * low, "{cycles} cycles: {high} / {low}");
+    }
+}
+
+/// Issue 29: seeds germinate only where enough light reaches the ground: under a tree's
+/// own closed crown fewer of its seeds grow than when light is not asked for.
+#[test]
+fn seeds_need_light_on_the_ground() {
+    let seedlings = |germination_light: f32| {
+        let mut p = GrowthParams::preset(Species::Decurrent);
+        p.seed_age = 12;
+        p.seed_spread = 1.0;
+        p.germination_light = germination_light;
+        let mut w = world(Environment::Shadow);
+        w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+        w.step(30).unwrap();
+        w.tree_count() - 1
+    };
+    let (any, lit) = (seedlings(0.0), seedlings(1.0));
+    println!("seedlings: {any} without asking for light, {lit} in light");
+    assert!(any > 20, "{any}");
+    assert!(2 * lit < any, "{lit} of {any}");
+}

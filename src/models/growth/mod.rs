@@ -198,9 +198,11 @@ pub struct GrowthParams {
     /// before the new one, so a longer branch hangs more. 0..=1. Default 0. (Added after
     /// the first layout.)
     pub droop: f32,
-    /// In a shadow world, a seed of this species grows into a tree only where the light at
-    /// its first bud is at least this (see `shed_light` for the unit), >= 0. Default 0.
-    /// (Added after the first layout.)
+    /// In a shadow world, a seed of this species grows into a tree only where the light on
+    /// the ground is at least this: full light less `shadow_strength` per bud above the
+    /// ground there, at any height (buds counted over the 5 x 5 columns of cells around
+    /// it, per column; see `shed_light` for the unit). >= 0. Default 0. (Added after the
+    /// first layout.)
     pub germination_light: f32,
 }
 
@@ -292,12 +294,12 @@ impl GrowthParams {
             Species::Excurrent => GrowthParams {
                 apical_control: 0.62,
                 young_apical_control: 0.62,
-                vigor_multiplier: 1.0,
+                vigor_multiplier: 0.9,
                 young_vigor_multiplier: 1.3,
-                branch_angle: 70.0,
+                branch_angle: 85.0,
                 tropism: 0.05,
-                droop: 0.01,
-                environment_weight: 0.1,
+                droop: 0.005,
+                environment_weight: 0.0,
                 ..d
             },
             Species::Decurrent => GrowthParams {
@@ -745,10 +747,10 @@ impl World {
             }
             let end = at + Vec3::Y * species.internode_length;
             let word = self.env.cell_word(end);
-            // A seed germinates only where enough light reaches its first bud (shadow
-            // worlds: the shadow as the last cycle left it).
+            // A seed germinates only where enough light reaches the ground (shadow
+            // worlds: the buds as the last cycle left them).
             if self.env.kind() == Environment::Shadow
-                && self.env.shadow_q(word) < species.germination_light
+                && self.env.ground_q(at) < species.germination_light
             {
                 continue;
             }

@@ -50,6 +50,8 @@ pub(crate) struct Grid {
     pub(crate) lo: [i64; 3],
     pub(crate) dims: [usize; 3],
     pub(crate) cells: Vec<i32>,
+    /// Buds in each column (x fastest, then z), at any height: what shades the ground.
+    pub(crate) columns: Vec<i32>,
 }
 
 impl Grid {
@@ -68,7 +70,12 @@ impl Grid {
             ))
         })?;
         v.resize(cells, 0);
-        Ok(Grid { lo, dims, cells: v })
+        Ok(Grid {
+            lo,
+            dims,
+            cells: v,
+            columns: vec![0; dims[0] * dims[2]],
+        })
     }
 
     fn count(dims: [usize; 3], max_cells: usize) -> Result<usize> {
@@ -144,10 +151,36 @@ impl Grid {
                 let c = [self.lo[0], self.lo[1] + y as i64, self.lo[2] + z as i64];
                 let to = grown.index(c).expect("the grown grid holds the old one");
                 grown.cells[to..to + nx].copy_from_slice(&self.cells[from..from + nx]);
+                if y == 0 {
+                    let layer = grown.dims[0] * grown.dims[2];
+                    grown.columns[to % layer..to % layer + nx]
+                        .copy_from_slice(&self.columns[z * nx..(z + 1) * nx]);
+                }
             }
         }
         *self = grown;
         Ok(())
+    }
+
+    /// Counts sorted `changes` (storage index, buds) into the columns.
+    pub(crate) fn count_columns(&mut self, changes: &[(u32, i32)]) {
+        let layer = self.dims[0] * self.dims[2];
+        for &(c, n) in changes {
+            let col = &mut self.columns[c as usize % layer];
+            *col = col.wrapping_add(n);
+        }
+    }
+
+    /// Buds in the column of lattice cell `c` (0 where the grid does not reach).
+    pub(crate) fn column(&self, c: [i64; 3]) -> i32 {
+        let [nx, _, nz] = self.dims;
+        let x = (c[0] - self.lo[0]) as u64;
+        let z = (c[2] - self.lo[2]) as u64;
+        if x < nx as u64 && z < nz as u64 {
+            self.columns[z as usize * nx + x as usize]
+        } else {
+            0
+        }
     }
 
     /// The storage index of a change's cell, or `None` where its whole pyramid is under

@@ -284,6 +284,7 @@ impl Env {
             parallel,
         );
         self.apply(&sorted, parallel);
+        self.grid.count_columns(&sorted);
         drop(sources);
         (self.sorted, self.scratch, self.pending) = (sorted, scratch, pending);
         self.pending.clear();
@@ -341,6 +342,20 @@ impl Env {
         }
         let s = self.grid.at(unkey(word)) as f32 * (self.strength / UNIT);
         (self.full_light - s + self.strength).max(0.0)
+    }
+
+    /// Light on the ground at `p` (a shadow world): full light less a bud's shadow for
+    /// every bud above it, at any height, counted over the 5 × 5 columns around its cell
+    /// and taken per column: `max(C − a·buds / 25, 0)`; what a seed there gets.
+    pub(crate) fn ground_q(&self, p: Vec3) -> f32 {
+        let [x, y, z] = self.lattice(p);
+        let mut buds = 0i64;
+        for dz in -2..=2 {
+            for dx in -2..=2 {
+                buds += i64::from(self.grid.column([x + dx, y, z + dz]));
+            }
+        }
+        (self.full_light - self.strength * buds as f32 / 25.0).max(0.0)
     }
 
     /// The optimal direction at a bud of a shadow world: V = −∇s (central differences
