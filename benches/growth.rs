@@ -3,7 +3,9 @@
 //! tree of the default species for 10 cycles, and a forest of 100 trees on a 10 × 10 grid
 //! with seeding for 25 and 50 cycles (the anchors of GROWTH.md), serial
 //! (`ArborWorldOptions.parallel = 0`) and, with the `parallel` feature, on all cores.
-//! Throughput is in branches of the grown world.
+//! Throughput is in branches of the grown world; each row's units of work (internode-cycles:
+//! every living internode of every tree each cycle, plus births) are printed first, counted
+//! by growing the same world through the Rust API, so time per unit is time / units.
 //!
 //! `cargo bench --bench growth` (add `--features parallel` for the parallel rows).
 
@@ -101,7 +103,57 @@ fn forest(parallel: bool, cycles: u32) -> HostWorld {
     w
 }
 
+/// The units of work of growing `world` for `cycles` (not timed): internode-cycles, births.
+fn units(mut world: arbor::models::growth::World, cycles: u32) -> (u64, u64) {
+    let shed = |w: &arbor::models::growth::World| -> usize {
+        (0..w.tree_count()).map(|i| w.shed_count(i).unwrap()).sum()
+    };
+    let (mut alive, mut births) = (0u64, 0u64);
+    for _ in 0..cycles {
+        let (n0, s0) = (world.branch_count(), shed(&world));
+        alive += n0 as u64;
+        world.step(1).unwrap();
+        births += (world.branch_count() + shed(&world) - n0 - s0) as u64;
+    }
+    (alive, births)
+}
+
+/// The bench's worlds through the Rust API, for counting their work.
+fn rust_world(forest: bool) -> arbor::models::growth::World {
+    use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
+    if !forest {
+        let mut w = World::new(&WorldOptions::default()).unwrap();
+        w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
+            .unwrap();
+        return w;
+    }
+    let o = WorldOptions::default()
+        .min([-30.0, 0.0, -30.0])
+        .max([30.0, 20.0, 30.0]);
+    let mut w = World::new(&o).unwrap();
+    let mut species = GrowthParams::preset(Species::Decurrent);
+    species.seed_age = 20;
+    for i in 0..10 {
+        for j in 0..10 {
+            let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
+            w.plant(&species, at, (i * 10 + j) as u64).unwrap();
+        }
+    }
+    w
+}
+
 fn bench_growth(c: &mut Criterion) {
+    for (name, forest, cycles) in [
+        ("one tree", false, 10),
+        ("forest", true, 25),
+        ("forest", true, 50),
+    ] {
+        let (alive, births) = units(rust_world(forest), cycles);
+        eprintln!(
+            "units of work, {name}, {cycles} cycles: {} ({alive} internode-cycles + {births} births)",
+            alive + births
+        );
+    }
     let mut group = c.benchmark_group("growth");
     group.sample_size(10);
     let modes: &[bool] = if cfg!(feature = "parallel") {

@@ -609,7 +609,7 @@ impl World {
         }
         self.check_branches(1)?;
         let end = Vec3::from(position) + Vec3::Y * species.internode_length;
-        self.env.cover([self.env.cell_word(end)])?;
+        self.env.cover([end])?;
         let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle, &self.env);
         tree.cast(&mut self.env, 1);
         self.env.flush(self.options.parallel);
@@ -716,13 +716,7 @@ impl World {
         let new: usize = plans.iter().map(|p| p.new_internodes()).sum();
         self.check_branches(new)?;
         // The sky is open: the grid grows to hold the new buds' shadow before they cast.
-        let env = &self.env;
-        let words: Vec<env::Key> = plans
-            .iter()
-            .flat_map(|p| p.ends())
-            .map(|end| env.cell_word(end))
-            .collect();
-        self.env.cover(words)?;
+        self.env.cover(plans.iter().flat_map(|p| p.ends()))?;
         // Growth and shedding per tree (in parallel with the `parallel` feature); the
         // shadow changes they make go to the shared grid in tree order, so the result does
         // not depend on the thread count.
@@ -746,7 +740,6 @@ impl World {
                 break;
             }
             let end = at + Vec3::Y * species.internode_length;
-            let word = self.env.cell_word(end);
             // A seed germinates only where enough light reaches the ground (shadow
             // worlds: the buds as the last cycle left them).
             if self.env.kind() == Environment::Shadow
@@ -754,7 +747,7 @@ impl World {
             {
                 continue;
             }
-            if self.env.cover([word]).is_err() {
+            if self.env.cover([end]).is_err() {
                 break;
             }
             let seed = self.rng.next_u64();

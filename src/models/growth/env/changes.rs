@@ -101,6 +101,7 @@ pub(super) fn radix_sort(data: &mut [(u32, i32)], tmp: &mut [(u32, i32)], cells:
 /// grid's layers from `first` on (the parts of pyramids outside them are left out). One
 /// cell's changes are summed first (buds added and removed cancel), so each changed
 /// cell's pyramid is added once, in cell order.
+#[cfg(test)]
 pub(super) fn apply_changes(
     changes: &[(u32, i32)],
     [nx, _, nz]: [usize; 3],
@@ -108,49 +109,17 @@ pub(super) fn apply_changes(
     layers: &mut [&mut [i32]],
     first: usize,
 ) {
-    let mut k = 0;
-    while k < changes.len() {
-        let cell = changes[k].0;
-        let mut count = 0i32;
-        while k < changes.len() && changes[k].0 == cell {
-            count = count.wrapping_add(changes[k].1);
-            k += 1;
-        }
-        if count == 0 {
-            continue;
-        }
+    let mut merged = changes.to_vec();
+    merge_changes(&mut merged);
+    for (cell, count) in merged {
         let c = cell as usize;
         let (cx, cy, cz) = (c % nx, c / (nx * nz), (c / nx) % nz);
         for (q, &f) in falloff.iter().enumerate() {
             if q > cy || cy - q < first {
                 break;
             }
-            let Some(layer) = layers.get_mut(cy - q - first) else {
-                continue;
-            };
-            let add = f.wrapping_mul(count);
-            let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
-            let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
-            let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
-            let start = z0 * nx + x0;
-            // Unclipped squares of the common sizes have a fixed number of fixed-size rows,
-            // which the compiler unrolls into vector adds.
-            match (w == h).then_some(w) {
-                Some(1) => layer[start] = layer[start].wrapping_add(add),
-                Some(3) => add_square::<3>(layer, start, nx, add),
-                Some(5) => add_square::<5>(layer, start, nx, add),
-                Some(7) => add_square::<7>(layer, start, nx, add),
-                Some(9) => add_square::<9>(layer, start, nx, add),
-                Some(11) => add_square::<11>(layer, start, nx, add),
-                Some(13) => add_square::<13>(layer, start, nx, add),
-                _ => {
-                    for r in 0..h {
-                        let o = start + r * nx;
-                        for v in &mut layer[o..o + w] {
-                            *v = v.wrapping_add(add);
-                        }
-                    }
-                }
+            if let Some(layer) = layers.get_mut(cy - q - first) {
+                add_rect(layer, cx, cz, q, nx, nz, f.wrapping_mul(count));
             }
         }
     }
@@ -165,6 +134,161 @@ fn add_square<const W: usize>(layer: &mut [i32], start: usize, stride: usize, ad
         if let Some(row) = slab[r * stride..].first_chunk_mut::<W>() {
             for v in row {
                 *v = v.wrapping_add(add);
+            }
+        }
+    }
+}
+
+/// Sums each cell's run of sorted changes into one (cell, buds) and drops those that
+/// cancel, in place.
+pub(super) fn merge_changes(changes: &mut Vec<(u32, i32)>) {
+    let mut out = 0;
+    let mut k = 0;
+    while k < changes.len() {
+        let cell = changes[k].0;
+        let mut count = 0i32;
+        while k < changes.len() && changes[k].0 == cell {
+            count = count.wrapping_add(changes[k].1);
+            k += 1;
+        }
+        if count != 0 {
+            changes[out] = (cell, count);
+            out += 1;
+        }
+    }
+    changes.truncate(out);
+}
+
+/// Adds the shadow pyramids of merged, sorted `changes` ((cell, buds), one per cell) to
+/// `layers`, the grid's layers from `first` on, one target layer at a time: the changes
+/// of the q_max + 1 layers above it land in it, each a square of half-width q. Where
+/// adding the squares cell by cell costs more than a 2-D difference array (four corners a
+/// square, then one running sum over the squares' bounds, in `diff`), the difference
+/// array is used; the sums are integers, so both give the same grid.
+pub(super) fn apply_layers(
+    changes: &[(u32, i32)],
+    [nx, ny, nz]: [usize; 3],
+    falloff: &[i32],
+    layers: &mut [&mut [i32]],
+    first: usize,
+    diff: &mut Vec<i32>,
+) {
+    let layer_cells = nx * nz;
+    // Each change's column (x, z) and buds, found once; where each source layer's
+    // changes start.
+    let mut starts = vec![changes.len(); ny + 1];
+    let mut at: Vec<(u32, u32, i32)> = Vec::with_capacity(changes.len());
+    for (k, &(c, n)) in changes.iter().enumerate() {
+        let c = c as usize;
+        let (y, col) = (c / layer_cells, c % layer_cells);
+        starts[y] = starts[y].min(k);
+        at.push(((col % nx) as u32, (col / nx) as u32, n));
+    }
+    for y in (0..ny).rev() {
+        starts[y] = starts[y].min(starts[y + 1]);
+    }
+    let w = nx + 1;
+    diff.clear();
+    diff.resize(w * (nz + 1), 0);
+    let mut colsum = vec![0i32; nx];
+    for (i, layer) in layers.iter_mut().enumerate() {
+        let t = first + i;
+        // The squares landing in layer t, their cost row by row, and their bounds.
+        let (mut direct, mut n) = (0usize, 0usize);
+        let (mut bx0, mut bx1, mut bz0, mut bz1) = (usize::MAX, 0, usize::MAX, 0);
+        for (q, _) in falloff.iter().enumerate() {
+            let s = t + q;
+            if s >= ny {
+                break;
+            }
+            for &(cx, cz, _) in &at[starts[s]..starts[s + 1]] {
+                let (cx, cz) = (cx as usize, cz as usize);
+                bx0 = bx0.min(cx.saturating_sub(q));
+                bx1 = bx1.max((cx + q).min(nx - 1));
+                bz0 = bz0.min(cz.saturating_sub(q));
+                bz1 = bz1.max((cz + q).min(nz - 1));
+                // A square's rows are vector adds: its cost is its rows.
+                direct += 2 * (2 * q + 1);
+                n += 1;
+            }
+        }
+        if n == 0 {
+            continue;
+        }
+        let area = (bx1 - bx0 + 1) * (bz1 - bz0 + 1);
+        if direct <= 4 * n + 3 * area {
+            for (q, &f) in falloff.iter().enumerate() {
+                let s = t + q;
+                if s >= ny {
+                    break;
+                }
+                for &(cx, cz, count) in &at[starts[s]..starts[s + 1]] {
+                    let (cx, cz) = (cx as usize, cz as usize);
+                    add_rect(layer, cx, cz, q, nx, nz, f.wrapping_mul(count));
+                }
+            }
+            continue;
+        }
+        for (q, &f) in falloff.iter().enumerate() {
+            let s = t + q;
+            if s >= ny {
+                break;
+            }
+            for &(cx, cz, count) in &at[starts[s]..starts[s + 1]] {
+                let (cx, cz) = (cx as usize, cz as usize);
+                let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
+                let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
+                let v = f.wrapping_mul(count);
+                let d = &mut diff[..];
+                d[z0 * w + x0] = d[z0 * w + x0].wrapping_add(v);
+                d[z0 * w + x1] = d[z0 * w + x1].wrapping_sub(v);
+                d[z1 * w + x0] = d[z1 * w + x0].wrapping_sub(v);
+                d[z1 * w + x1] = d[z1 * w + x1].wrapping_add(v);
+            }
+        }
+        // The running sums over the bounds, added to the layer; the array is left zero.
+        let cols = &mut colsum[bx0..=bx1];
+        cols.iter_mut().for_each(|v| *v = 0);
+        for z in bz0..=bz1 {
+            let row = &mut diff[z * w + bx0..z * w + bx1 + 2];
+            let out = &mut layer[z * nx + bx0..=z * nx + bx1];
+            let mut run = 0i32;
+            for ((d, col), o) in row.iter_mut().zip(cols.iter_mut()).zip(out.iter_mut()) {
+                run = run.wrapping_add(*d);
+                *d = 0;
+                *col = col.wrapping_add(run);
+                *o = o.wrapping_add(*col);
+            }
+            row[bx1 + 1 - bx0] = 0;
+        }
+        diff[(bz1 + 1) * w + bx0..=(bz1 + 1) * w + bx1 + 1]
+            .iter_mut()
+            .for_each(|v| *v = 0);
+    }
+}
+
+/// Adds `add` to the square of half-width `q` about (`cx`, `cz`) of a layer `nx` wide
+/// and `nz` deep, clipped to it.
+#[inline]
+fn add_rect(layer: &mut [i32], cx: usize, cz: usize, q: usize, nx: usize, nz: usize, add: i32) {
+    let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
+    let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
+    let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
+    let start = z0 * nx + x0;
+    match (w == h).then_some(w) {
+        Some(1) => layer[start] = layer[start].wrapping_add(add),
+        Some(3) => add_square::<3>(layer, start, nx, add),
+        Some(5) => add_square::<5>(layer, start, nx, add),
+        Some(7) => add_square::<7>(layer, start, nx, add),
+        Some(9) => add_square::<9>(layer, start, nx, add),
+        Some(11) => add_square::<11>(layer, start, nx, add),
+        Some(13) => add_square::<13>(layer, start, nx, add),
+        _ => {
+            for r in 0..h {
+                let o = start + r * nx;
+                for v in &mut layer[o..o + w] {
+                    *v = v.wrapping_add(add);
+                }
             }
         }
     }

@@ -78,6 +78,16 @@ impl Grid {
         })
     }
 
+    /// A grid that stores no cell yet, on the ground layer `ground`.
+    pub(crate) fn empty(ground: i64) -> Self {
+        Grid {
+            lo: [0, ground, 0],
+            dims: [0; 3],
+            cells: Vec::new(),
+            columns: Vec::new(),
+        }
+    }
+
     fn count(dims: [usize; 3], max_cells: usize) -> Result<usize> {
         let cells = dims
             .iter()
@@ -123,13 +133,23 @@ impl Grid {
         if hi[1] < ground {
             return Ok(());
         }
+        if self.cells.is_empty() {
+            // The first shade: what is asked, with room around it for a young tree.
+            let m = 16;
+            *self = Grid::new(
+                [lo[0] - m, ground, lo[2] - m],
+                [hi[0] + m, hi[1] + m, hi[2] + m],
+                max_cells,
+            )?;
+            return Ok(());
+        }
         let old_hi = [0, 1, 2].map(|k| self.lo[k] + self.dims[k] as i64 - 1);
         if (0..3).all(|k| lo[k] >= self.lo[k] && hi[k] <= old_hi[k]) {
             return Ok(());
         }
-        // A quarter of the present extent to spare on each side that grows (and up), so
-        // a crown that keeps widening re-lays the grid a logarithmic number of times.
-        let spare = |k: usize| (self.dims[k] as i64 / 4).max(4);
+        // A quarter of the present extent to spare on each side that grows (and up), so a
+        // crown that keeps widening re-lays the grid a logarithmic number of times.
+        let spare = |k: usize| (self.dims[k] as i64 / 4).max(16);
         let mut new_lo = self.lo;
         let mut new_hi = old_hi;
         for k in [0, 2] {

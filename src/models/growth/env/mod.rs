@@ -11,7 +11,9 @@ mod obstacles;
 #[cfg(test)]
 mod tests;
 
-use changes::{apply_changes, sort_changes};
+#[cfg(test)]
+use changes::apply_changes;
+use changes::{apply_layers, merge_changes, sort_changes};
 pub(crate) use grid::{DARK, Key};
 use grid::{Grid, UNIT, key, unkey};
 pub use obstacles::Obstacle;
@@ -64,6 +66,8 @@ pub(crate) struct Env {
     /// buffer.
     sorted: Vec<(u32, i32)>,
     scratch: Vec<(u32, i32)>,
+    /// The 2-D difference arrays of the two threads that apply a flush.
+    diff: [Vec<i32>; 2],
     obstacles: Vec<Obstacle>,
     /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
     /// point is tested only against those near it.
@@ -97,20 +101,16 @@ impl Env {
             pending: Vec::new(),
             sorted: Vec::new(),
             scratch: Vec::new(),
+            diff: [Vec::new(), Vec::new()],
             obstacles: Vec::new(),
             buckets: Default::default(),
         };
         match o.environment {
             Environment::Shadow => {
-                // The box's cells, from its floor (the ground layer) up, and as far to
-                // the sides as the shadow of a bud at its walls reaches.
-                let q = o.shadow_depth as i64;
-                let (lo, hi) = (env.lattice(min), env.lattice(max));
-                env.grid = Grid::new(
-                    [lo[0] - q, lo[1], lo[2] - q],
-                    [hi[0] + q, hi[1], hi[2] + q],
-                    o.max_cells,
-                )?;
+                // One cell on the ground (the box's floor): the grid grows to hold what
+                // the trees and obstacles shade (`cover`), so a world pays for the
+                // shadow its trees cast, not for its box.
+                env.grid = Grid::empty(env.lattice(min)[1]);
             }
             Environment::SpaceColonization => {
                 // One marker per cell, jittered inside it (seeded).
@@ -142,8 +142,13 @@ impl Env {
     /// becomes 0).
     #[inline]
     pub(crate) fn lattice(&self, p: Vec3) -> [i64; 3] {
-        let g = (p * self.inv_cell).floor();
-        [g.x as i64, g.y as i64, g.z as i64]
+        // floor, exact for every finite value (`as` truncates toward zero, saturating).
+        let floor = |v: f32| {
+            let t = v as i64;
+            t - i64::from((t as f32) > v)
+        };
+        let g = p * self.inv_cell;
+        [floor(g.x), floor(g.y), floor(g.z)]
     }
 
     /// The lattice bucket of a lattice cell.
@@ -221,25 +226,27 @@ impl Env {
         }
     }
 
-    /// Makes the grid hold the shadow of buds at every cell word of `words` (their
+    /// Makes the grid hold the shadow of buds at every point of `points` (their
     /// pyramids reach `q_max` cells sideways and down): refused with `LimitExceeded`
     /// naming `max_cells` past it, the grid unchanged. Nothing for markers.
-    pub(crate) fn cover(&mut self, words: impl IntoIterator<Item = Key>) -> Result<()> {
+    pub(crate) fn cover(&mut self, points: impl IntoIterator<Item = Vec3>) -> Result<()> {
         if self.kind != Environment::Shadow {
             return Ok(());
         }
-        let mut lo = [i64::MAX; 3];
-        let mut hi = [i64::MIN; 3];
-        for w in words {
-            let c = unkey(w & !DARK);
-            for k in 0..3 {
-                lo[k] = lo[k].min(c[k]);
-                hi[k] = hi[k].max(c[k]);
-            }
+        let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for p in points {
+            min = min.min(p);
+            max = max.max(p);
         }
-        if lo[0] > hi[0] {
+        if min.x > max.x {
             return Ok(());
         }
+        // The cells of the corners, as their keys have them (beyond the lattice's reach:
+        // clamped).
+        let (lo, hi) = (
+            unkey(key(self.lattice(min)) & !DARK),
+            unkey(key(self.lattice(max)) & !DARK),
+        );
         let q = self.falloff.len() as i64 - 1;
         self.grid.cover(
             [lo[0] - q, lo[1] - q, lo[2] - q],
@@ -283,6 +290,7 @@ impl Env {
             grid.cells.len(),
             parallel,
         );
+        merge_changes(&mut sorted);
         self.apply(&sorted, parallel);
         self.grid.count_columns(&sorted);
         drop(sources);
@@ -290,10 +298,10 @@ impl Env {
         self.pending.clear();
     }
 
-    /// Adds the pyramids of sorted `changes` to the grid: with `parallel`, the `parallel`
-    /// feature and enough changes to pay for waking a second thread (16,384: about half a
-    /// millisecond of work), on two threads, each owning a band of layers and adding the
-    /// part of every pyramid that falls in it; else on this one.
+    /// Adds the pyramids of merged, sorted `changes` to the grid: with `parallel`, the
+    /// `parallel` feature and enough changes to pay for waking a second thread (16,384:
+    /// about half a millisecond of work), on two threads, each owning a band of layers
+    /// and adding what lands in it; else on this one.
     fn apply(&mut self, changes: &[(u32, i32)], parallel: bool) {
         if changes.is_empty() {
             return;
@@ -301,6 +309,7 @@ impl Env {
         let dims = self.grid.dims;
         let layer = dims[0] * dims[2];
         let falloff = &self.falloff;
+        let [diff_low, diff_high] = &mut self.diff;
         #[cfg(feature = "parallel")]
         if parallel && changes.len() > 1 << 14 {
             let y_of = |c: u32| c as usize / layer;
@@ -318,19 +327,18 @@ impl Env {
                     below.abs_diff(changes.len() - above)
                 })
                 .unwrap_or(1);
-            let (below, above) = bands(split);
             let (low, high) = self.grid.cells.split_at_mut(split * layer);
             let mut low: Vec<&mut [i32]> = low.chunks_mut(layer).collect();
             let mut high: Vec<&mut [i32]> = high.chunks_mut(layer).collect();
             rayon::join(
-                || apply_changes(&changes[..below], dims, falloff, &mut low, 0),
-                || apply_changes(&changes[above..], dims, falloff, &mut high, split),
+                || apply_layers(changes, dims, falloff, &mut low, 0, diff_low),
+                || apply_layers(changes, dims, falloff, &mut high, split, diff_high),
             );
             return;
         }
-        let _ = parallel;
+        let _ = (parallel, diff_high);
         let mut all: Vec<&mut [i32]> = self.grid.cells.chunks_mut(layer).collect();
-        apply_changes(changes, dims, falloff, &mut all, 0);
+        apply_layers(changes, dims, falloff, &mut all, 0, diff_low);
     }
 
     /// Light at a bud of a shadow world from its cell word: Q = max(C − s + a, 0) (the
