@@ -80,7 +80,8 @@ fn main() {
     growth(quick);
 }
 
-/// Peak heap of growing worlds: grid bytes plus bytes per internode held.
+/// Peak heap of growing worlds: grid bytes (as grown by the end) plus bytes per internode
+/// held.
 fn growth(quick: bool) {
     println!(
         "\n{:>28} {:>7} {:>12} {:>12} {:>12} {:>10}",
@@ -100,9 +101,6 @@ fn growth(quick: bool) {
         } else {
             WorldOptions::default()
         };
-        let cells: usize = (0..3)
-            .map(|k| ((o.max[k] - o.min[k]) / o.cell_size).ceil() as usize)
-            .product();
         let mut w = World::new(&o).unwrap();
         if forest {
             let mut species = GrowthParams::preset(Species::Decurrent);
@@ -123,7 +121,9 @@ fn growth(quick: bool) {
             most = most.max(w.branch_count());
         }
         let peak = ALLOC.peak_usage() - base;
-        let grid = cells * 4;
+        // The grid grows with what the trees shade (its last size; while it is re-laid
+        // the old and the new one are both held).
+        let grid = w.grid_bytes();
         drop(w);
         println!(
             "{:>28} {:>7} {:>12} {:>12} {:>12} {:>10.0}",
