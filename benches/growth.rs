@@ -20,6 +20,9 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use std::hint::black_box;
 use std::mem::{MaybeUninit, size_of};
 
+#[path = "../tests/common/forest.rs"]
+mod forest;
+
 /// A world the host owns, freed on drop.
 struct HostWorld(*mut ArborWorld);
 
@@ -127,19 +130,9 @@ fn rust_world(forest: bool) -> arbor::models::growth::World {
             .unwrap();
         return w;
     }
-    let o = WorldOptions::default()
-        .min([-30.0, 0.0, -30.0])
-        .max([30.0, 20.0, 30.0]);
-    let mut w = World::new(&o).unwrap();
     let mut species = GrowthParams::preset(Species::Decurrent);
     species.seed_age = 20;
-    for i in 0..10 {
-        for j in 0..10 {
-            let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
-            w.plant(&species, at, (i * 10 + j) as u64).unwrap();
-        }
-    }
-    w
+    forest::forest_world(WorldOptions::default(), &species)
 }
 
 fn bench_growth(c: &mut Criterion) {

@@ -14,6 +14,9 @@ use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
 use arbor::models::honda;
 use peak_alloc::PeakAlloc;
 
+#[path = "../tests/common/forest.rs"]
+mod forest;
+
 #[global_allocator]
 static ALLOC: PeakAlloc = PeakAlloc;
 
@@ -94,27 +97,17 @@ fn growth(quick: bool) {
         let base = ALLOC.current_usage();
         ALLOC.reset_peak_usage();
         let forest = what.starts_with("forest");
-        let o = if forest {
-            WorldOptions::default()
-                .min([-30.0, 0.0, -30.0])
-                .max([30.0, 20.0, 30.0])
-        } else {
-            WorldOptions::default()
-        };
-        let mut w = World::new(&o).unwrap();
-        if forest {
+        let w = if forest {
             let mut species = GrowthParams::preset(Species::Decurrent);
             species.seed_age = 20;
-            for i in 0..10 {
-                for j in 0..10 {
-                    let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
-                    w.plant(&species, at, (i * 10 + j) as u64).unwrap();
-                }
-            }
+            forest::forest_world(WorldOptions::default(), &species)
         } else {
+            let mut w = World::new(&WorldOptions::default()).unwrap();
             w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
                 .unwrap();
-        }
+            w
+        };
+        let mut w = w;
         let mut most = w.branch_count();
         for _ in 0..cycles {
             w.step(1).unwrap();

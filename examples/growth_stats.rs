@@ -5,6 +5,9 @@
 
 use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
 
+#[path = "../tests/common/forest.rs"]
+mod forest;
+
 fn main() -> Result<(), arbor::Error> {
     let args: Vec<String> = std::env::args().collect();
     let cycles: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(80);
@@ -124,19 +127,10 @@ fn tune(p: &mut GrowthParams) {
 /// The 100-tree benchmark forest (decurrent, 5 apart, seeding from 20 cycles): planted
 /// trees alive, their trunks against the tallest, and the seedlings' share.
 fn forest(cycles: u32) -> Result<(), arbor::Error> {
-    let o = WorldOptions::default()
-        .min([-30.0, 0.0, -30.0])
-        .max([30.0, 20.0, 30.0]);
-    let mut world = World::new(&o)?;
     let mut p = GrowthParams::preset(Species::Decurrent);
     p.seed_age = 20;
     tune(&mut p);
-    for i in 0..10 {
-        for j in 0..10 {
-            let at = [i as f32 * 5.0 - 22.5, 0.0, j as f32 * 5.0 - 22.5];
-            world.plant(&p, at, (i * 10 + j) as u64)?;
-        }
-    }
+    let mut world = forest::forest_world(WorldOptions::default(), &p);
     let t0 = std::time::Instant::now();
     for c in 1..=cycles {
         world.step(1)?;

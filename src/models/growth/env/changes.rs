@@ -119,7 +119,9 @@ pub(super) fn apply_changes(
                 break;
             }
             if let Some(layer) = layers.get_mut(cy - q - first) {
-                add_rect(layer, cx, cz, q, nx, nz, f.wrapping_mul(count));
+                let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
+                let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
+                add_rect(layer, x, z, nx, f.wrapping_mul(count));
             }
         }
     }
@@ -191,60 +193,52 @@ pub(super) fn apply_layers(
     diff.clear();
     diff.resize(w * (nz + 1), 0);
     let mut colsum = vec![0i32; nx];
+    let (at, starts) = (&at[..], &starts[..]);
     for (i, layer) in layers.iter_mut().enumerate() {
         let t = first + i;
-        // The squares landing in layer t, their cost row by row, and their bounds.
+        // The squares landing in layer t: (q, the shadow it adds, its clipped bounds
+        // [x0, x1) × [z0, z1)).
+        let squares = || {
+            falloff
+                .iter()
+                .enumerate()
+                .take_while(move |&(q, _)| t + q < ny)
+                .flat_map(move |(q, &f)| {
+                    at[starts[t + q]..starts[t + q + 1]]
+                        .iter()
+                        .map(move |&(cx, cz, count)| {
+                            let (cx, cz) = (cx as usize, cz as usize);
+                            let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
+                            let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
+                            (q, f.wrapping_mul(count), x, z)
+                        })
+                })
+        };
+        // Their cost row by row (a square's rows are vector adds), and their bounds.
         let (mut direct, mut n) = (0usize, 0usize);
         let (mut bx0, mut bx1, mut bz0, mut bz1) = (usize::MAX, 0, usize::MAX, 0);
-        for (q, _) in falloff.iter().enumerate() {
-            let s = t + q;
-            if s >= ny {
-                break;
-            }
-            for &(cx, cz, _) in &at[starts[s]..starts[s + 1]] {
-                let (cx, cz) = (cx as usize, cz as usize);
-                bx0 = bx0.min(cx.saturating_sub(q));
-                bx1 = bx1.max((cx + q).min(nx - 1));
-                bz0 = bz0.min(cz.saturating_sub(q));
-                bz1 = bz1.max((cz + q).min(nz - 1));
-                // A square's rows are vector adds: its cost is its rows.
-                direct += 2 * (2 * q + 1);
-                n += 1;
-            }
+        for (q, _, (x0, x1), (z0, z1)) in squares() {
+            (bx0, bx1) = (bx0.min(x0), bx1.max(x1 - 1));
+            (bz0, bz1) = (bz0.min(z0), bz1.max(z1 - 1));
+            direct += 2 * (2 * q + 1);
+            n += 1;
         }
         if n == 0 {
             continue;
         }
         let area = (bx1 - bx0 + 1) * (bz1 - bz0 + 1);
         if direct <= 4 * n + 3 * area {
-            for (q, &f) in falloff.iter().enumerate() {
-                let s = t + q;
-                if s >= ny {
-                    break;
-                }
-                for &(cx, cz, count) in &at[starts[s]..starts[s + 1]] {
-                    let (cx, cz) = (cx as usize, cz as usize);
-                    add_rect(layer, cx, cz, q, nx, nz, f.wrapping_mul(count));
-                }
+            for (_, v, x, z) in squares() {
+                add_rect(layer, x, z, nx, v);
             }
             continue;
         }
-        for (q, &f) in falloff.iter().enumerate() {
-            let s = t + q;
-            if s >= ny {
-                break;
-            }
-            for &(cx, cz, count) in &at[starts[s]..starts[s + 1]] {
-                let (cx, cz) = (cx as usize, cz as usize);
-                let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
-                let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
-                let v = f.wrapping_mul(count);
-                let d = &mut diff[..];
-                d[z0 * w + x0] = d[z0 * w + x0].wrapping_add(v);
-                d[z0 * w + x1] = d[z0 * w + x1].wrapping_sub(v);
-                d[z1 * w + x0] = d[z1 * w + x0].wrapping_sub(v);
-                d[z1 * w + x1] = d[z1 * w + x1].wrapping_add(v);
-            }
+        for (_, v, (x0, x1), (z0, z1)) in squares() {
+            let d = &mut diff[..];
+            d[z0 * w + x0] = d[z0 * w + x0].wrapping_add(v);
+            d[z0 * w + x1] = d[z0 * w + x1].wrapping_sub(v);
+            d[z1 * w + x0] = d[z1 * w + x0].wrapping_sub(v);
+            d[z1 * w + x1] = d[z1 * w + x1].wrapping_add(v);
         }
         // The running sums over the bounds, added to the layer; the array is left zero.
         let cols = &mut colsum[bx0..=bx1];
@@ -267,13 +261,16 @@ pub(super) fn apply_layers(
     }
 }
 
-/// Adds `add` to the square of half-width `q` about (`cx`, `cz`) of a layer `nx` wide
-/// and `nz` deep, clipped to it.
+/// Adds `add` to the cells [x0, x1) × [z0, z1) of a layer `nx` wide.
 #[inline]
-fn add_rect(layer: &mut [i32], cx: usize, cz: usize, q: usize, nx: usize, nz: usize, add: i32) {
-    let (x0, x1) = (cx.saturating_sub(q), (cx + q).min(nx - 1));
-    let (z0, z1) = (cz.saturating_sub(q), (cz + q).min(nz - 1));
-    let (w, h) = (x1 - x0 + 1, z1 - z0 + 1);
+fn add_rect(
+    layer: &mut [i32],
+    (x0, x1): (usize, usize),
+    (z0, z1): (usize, usize),
+    nx: usize,
+    add: i32,
+) {
+    let (w, h) = (x1 - x0, z1 - z0);
     let start = z0 * nx + x0;
     match (w == h).then_some(w) {
         Some(1) => layer[start] = layer[start].wrapping_add(add),
