@@ -184,6 +184,124 @@ fn vigour_is_conserved_and_radii_follow_the_pipe_model() {
 #[test]
 fn the_same_world_grows_the_same_forest() {
     let grow = |parallel: bool| {
+        let mut w = World::new(&WorldOptions::default().parallel(parallel)).unwrap();
+        for (k, species) in Species::ALL.iter().enumerate() {
+            let angle = k as f32 * 1.2566;
+            w.plant(
+                &GrowthParams::preset(*species),
+                [3.0 * angle.cos(), 0.0, 3.0 * angle.sin()],
+                k as u64,
+            )
+            .unwrap();
+        }
+        w.step(10).unwrap();
+        (0..w.tree_count())
+            .map(|i| w.tree(i).unwrap())
+            .collect::<Vec<_>>()
+    };
+    let a = grow(true);
+    assert_eq!(a, grow(true), "same seed, same forest");
+    assert_eq!(a, grow(false), "parallel = serial");
+    for (i, s) in a.iter().enumerate() {
+        check_skeleton(s, &format!("tree {i}"));
+    }
+}
+
+#[test]
+fn old_trees_seed_new_ones_around_them() {
+    let mut p = GrowthParams::preset(Species::Decurrent);
+    p.seed_age = 5;
+    let mut w = world(Environment::Shadow);
+    w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+    w.step(12).unwrap();
+    assert!(w.tree_count() > 1, "seedlings appear");
+    for i in 1..w.tree_count() {
+        let s = w.tree(i).unwrap();
+        let base = Vec3::from(s.branches()[0].start);
+        assert!(base.y.abs() < 1e-6, "on the ground");
+        assert!(base.length() < 20.0);
+        assert!(
+            s.branches()[0].birth >= 6,
+            "born after the tree was old enough"
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_refused_by_name() {
+    let bad = |f: &dyn Fn(&mut GrowthParams), field: &str| {
+        let mut p = GrowthParams::default();
+        f(&mut p);
+        let mut w = world(Environment::Shadow);
+        let err = w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap_err().to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    };
+    bad(&|p| p.apical_control = f32::NAN, "apical_control");
+    bad(&|p| p.apical_control = 1.5, "apical_control");
+    bad(&|p| p.vigor_multiplier = 0.0, "vigor_multiplier");
+    bad(&|p| p.internode_length = f32::INFINITY, "internode_length");
+    bad(&|p| p.pipe_exponent = 9.0, "pipe_exponent");
+    bad(&|p| p.tropism = -2.0, "tropism");
+    bad(&|p| p.max_shoot = 0, "max_shoot");
+    // A finite but huge tip radius made tip_radius^pipe_exponent infinite, and every
+    // snapshot unmeshable (found by the C-level growth fuzzer).
+    bad(&|p| p.tip_radius = 2e36, "tip_radius");
+    bad(&|p| p.internode_length = 1e30, "internode_length");
+    bad(&|p| p.shed_light = -0.1, "shed_light");
+    bad(&|p| p.young_apical_control = 1.1, "young_apical_control");
+    bad(
+        &|p| p.young_vigor_multiplier = 0.0,
+        "young_vigor_multiplier",
+    );
+    bad(&|p| p.maturity_age = 10_001, "maturity_age");
+    bad(&|p| p.max_height = f32::NAN, "max_height");
+    bad(&|p| p.droop = 1.5, "droop");
+    bad(&|p| p.germination_light = -1.0, "germination_light");
+    let world_err = |o: WorldOptions, field: &str| {
+        let err = World::new(&o).unwrap_err().to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    };
+    let d = WorldOptions::default();
+    world_err(d.cell_size(0.0), "cell_size");
+    world_err(d.cell_size(f32::NAN), "cell_size");
+    world_err(d.max([-20.0, 20.0, 10.0]), "max");
+    world_err(d.shadow_falloff(1.0), "shadow_falloff");
+    // A box too fine for the grid limit is refused before anything is allocated.
+    world_err(d.cell_size(0.001), "max_cells");
+    // Past 2^31 cells even a host that lifts max_cells is refused (a cell index shares
+    // 32 bits with a flag): 2^31 + 2^20 cells of one unit.
+    let err = World::new(
+        &d.min([0.0; 3])
+            .max([2049.0, 1024.0, 1024.0])
+            .cell_size(1.0)
+            .max_cells(usize::MAX),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, arbor::Error::LimitExceeded { limit_name: "max_cells", limit, .. } if limit == 1 << 31),
+        "{err}"
+    );
+    // A plant outside the box.
+    let mut w = world(Environment::Shadow);
+    let err = w
+        .plant(&GrowthParams::default(), [50.0, 0.0, 0.0], 1)
+        .unwrap_err();
+    assert!(err.to_string().contains("position"), "{err}");
+    // Growth past max_branches stops with the limit named.
+    let mut w = World::new(&d.max_branches(200)).unwrap();
+    w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
+        .unwrap();
+    let err = w.step(30).unwrap_err().to_string();
+    assert!(err.contains("max_branches"), "{err}");
+    assert!(w.branch_count() <= 200);
+}
+
+/// A forest large enough that every parallel path runs (trees planned and grown on all
+/// cores, over 32,768 shadow changes a cycle sorted and applied on two threads) grows the
+/// same trees as on one thread.
+#[test]
+fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
+    let grow = |parallel: bool| {
         let mut species = GrowthParams::preset(Species::Decurrent);
         species.seed_age = 8;
         species.germination_light = 0.0;
