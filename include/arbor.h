@@ -1069,7 +1069,9 @@ typedef struct ArborWorldOptions {
   float full_light;
   /**
    * Most grid cells (4 bytes each; never more than 2^31): a finer box is
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells. Default 33,554,432.
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle
+   * whose shadow would need more (the shadow grid grows with what is shaded). Default
+   * 33,554,432.
    */
   uint64_t max_cells;
   /**

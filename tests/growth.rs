@@ -527,3 +527,36 @@ fn seeds_need_light_on_the_ground() {
     assert!(any > 20, "{any}");
     assert!(2 * lit < any, "{lit} of {any}");
 }
+
+/// The shadow grid grows with what the trees shade, within `max_cells`: a step whose new
+/// buds would need more is refused by name, and the world stays as the last whole cycle
+/// left it.
+#[test]
+fn the_grid_grows_within_max_cells() {
+    let mut w = World::new(&WorldOptions::default().max_cells(600_000)).unwrap();
+    w.plant(
+        &GrowthParams::preset(Species::Excurrent),
+        [0.0, 0.0, 0.0],
+        1,
+    )
+    .unwrap();
+    let mut refused = None;
+    for cycle in 1..=40 {
+        let (before, grid) = (w.tree(0).unwrap(), w.grid_bytes());
+        match w.step(1) {
+            Ok(()) => assert!(w.grid_bytes() <= 600_000 * 4),
+            Err(e) => {
+                assert!(e.to_string().contains("max_cells"), "{e}");
+                assert!(w.tree(0).unwrap() == before, "the world changed");
+                assert_eq!(w.grid_bytes(), grid);
+                refused = Some(cycle);
+                break;
+            }
+        }
+    }
+    println!("refused at cycle {refused:?}");
+    assert!(
+        refused.is_some_and(|c| c > 5),
+        "the crown never outgrew 600,000 cells"
+    );
+}

@@ -30,7 +30,9 @@ pub struct ArborWorldOptions {
     /// Full exposure (C), > 0. Default 1.5.
     pub full_light: f32,
     /// Most grid cells (4 bytes each; never more than 2^31): a finer box is
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells. Default 33,554,432.
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle
+    /// whose shadow would need more (the shadow grid grows with what is shaded). Default
+    /// 33,554,432.
     pub max_cells: u64,
     /// Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
     /// this. Default 16,777,216.

@@ -79,7 +79,9 @@ pub struct WorldOptions {
     pub shadow_depth: u32,
     /// Full exposure (`C`), > 0. Default 1.5.
     pub full_light: f32,
-    /// Most cells the grid may have (4 bytes each for shadow; never more than 2^31).
+    /// Most cells the grid may have (4 bytes each for shadow; never more than 2^31): the
+    /// box's cells at `cell_size`, and the shadow grid as it grows with what is shaded (a
+    /// step, plant or obstacle that would pass it is `LimitExceeded`, the world unchanged).
     /// Default 2^25 (128 MiB).
     pub max_cells: usize,
     /// Growth stops with `LimitExceeded` naming `max_branches` before the world's
