@@ -119,7 +119,7 @@ pub fn transform(p: &Placed<'_>, options: &MeshOptions) -> [f32; 16] {
     let up = options.up();
     glam::Mat4::from_scale_rotation_translation(
         glam::Vec3::splat(p.scale),
-        glam::Quat::from_axis_angle(up, p.rotation.to_radians()),
+        crate::geom::rotation::axis_angle(up, p.rotation.to_radians()),
         glam::Vec3::from(p.position),
     )
     .to_cols_array()

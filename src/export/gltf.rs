@@ -268,7 +268,7 @@ pub fn gltf_forest_nodes_bytes(
         .zip(which)
         .enumerate()
         .map(|(k, (p, (mesh, _)))| {
-            let q = glam::Quat::from_rotation_y(p.rotation.to_radians());
+            let q = crate::geom::rotation::axis_angle(glam::Vec3::Y, p.rotation.to_radians());
             Node {
                 name: format!("tree {k}"),
                 mesh: mesh as usize,

@@ -96,7 +96,7 @@ impl Frame {
 
     /// Rotates the whole frame about the unit `axis` by `angle` radians.
     fn rotate(&mut self, axis: DVec3, angle: f64) {
-        let q = glam::DQuat::from_axis_angle(axis, angle);
+        let q = super::rotation::daxis_angle(axis, angle);
         self.heading = (q * self.heading).normalize();
         self.left = (q * self.left).normalize();
         self.up = (q * self.up).normalize();

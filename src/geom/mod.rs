@@ -4,6 +4,7 @@
 pub mod curve;
 mod frame;
 pub mod grid;
+pub(crate) mod rotation;
 pub mod transport;
 
 pub use curve::Curve;

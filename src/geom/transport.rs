@@ -1,7 +1,7 @@
 //! Ring frames along a tree: a basis for a root's ring and parallel transport of a frame
 //! vector from one branch direction to the next.
 
-use glam::{DVec3, Mat3, Quat, Vec3};
+use glam::{DVec3, Mat3, Vec3};
 
 /// An orthonormal pair `(p, q)` with `p × q = n` for a unit `n`, continuous everywhere but
 /// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
@@ -44,7 +44,7 @@ pub fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
             )
             + Mat3::from_cols(k * (h * k.x), k * (h * k.y), k * (h * k.z))
     } else {
-        Mat3::from_quat(Quat::from_rotation_arc(from, to))
+        Mat3::from_quat(super::rotation::rotation_arc(from, to))
     };
     let projection = Mat3::IDENTITY - Mat3::from_cols(to * to.x, to * to.y, to * to.z);
     projection * rotation

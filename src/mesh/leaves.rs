@@ -400,9 +400,9 @@ impl Placer<'_> {
         let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
         let spin = (self.rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
         let grow = 1.0 + (self.rng.next_f64() as f32 * 2.0 - 1.0) * o.size_jitter;
-        let rotation = (Quat::from_axis_angle(heading, spin.to_radians())
+        let rotation = (crate::geom::rotation::axis_angle(heading, spin.to_radians())
             * frame
-            * Quat::from_rotation_x(lean.to_radians()))
+            * crate::geom::rotation::axis_angle(Vec3::X, lean.to_radians()))
         .normalize();
         out.push((
             LeafInstance {
