@@ -2,7 +2,6 @@
 //! double-buffered, with cpfg's blocks, cuts and query answers between the steps.
 
 use super::ctx::{Ctx, STEP_WORK, birth as birth_of, emit};
-use super::grammar::{POP, PUSH};
 use super::query;
 use super::rewrite::{Expander, Links, rewrite, select_multi, successor_of};
 use super::{LSystem, LsystemOptions, ModuleString};
@@ -127,25 +126,9 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
     Ok(())
 }
 
-/// Removes every `%` and the rest of its branch (up to, not including, the `]` that
-/// closes it).
-/// The index of the `]` that closes the branch `syms[from..]` starts inside (nested
-/// branches skipped whole); `None` when it is never closed.
-pub(super) fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
-    let mut depth = 0usize;
-    for (k, &sym) in syms.iter().enumerate().skip(from) {
-        match sym {
-            PUSH => depth += 1,
-            POP if depth == 0 => return Some(k),
-            POP => depth -= 1,
-            _ => {}
-        }
-    }
-    None
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::grammar::{POP, PUSH, branch_end};
     use super::*;
     use crate::error::Error;
     use crate::rng::Rng;

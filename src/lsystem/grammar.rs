@@ -241,3 +241,18 @@ impl Default for ViewSettings {
         }
     }
 }
+
+/// The index of the `]` that closes the branch `syms[from..]` starts inside (nested
+/// branches skipped whole); `None` when it is never closed.
+pub(super) fn branch_end(syms: &[u16], from: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (k, &sym) in syms.iter().enumerate().skip(from) {
+        match sym {
+            PUSH => depth += 1,
+            POP if depth == 0 => return Some(k),
+            POP => depth -= 1,
+            _ => {}
+        }
+    }
+    None
+}

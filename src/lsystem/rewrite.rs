@@ -97,7 +97,7 @@ pub(super) fn rewrite(
             if ctx.choice == Choice::Weighted {
                 ctx.draws.next_f64();
             }
-            i = super::derive::branch_end(&cur.syms, i + 1).unwrap_or(n);
+            i = super::grammar::branch_end(&cur.syms, i + 1).unwrap_or(n);
             continue;
         }
         if !has_rules[sym as usize] {
