@@ -56,16 +56,8 @@ pub struct ArborWorldOptions {
 /// sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_WORLD_OPTIONS_MIN_SIZE: usize = 88;
 
-const _: () =
-    assert!(std::mem::offset_of!(ArborWorldOptions, progress) == ARBOR_WORLD_OPTIONS_MIN_SIZE);
-
-impl Growing for ArborWorldOptions {
-    const NAME: &'static str = "ArborWorldOptions";
-    const MIN_SIZE: usize = ARBOR_WORLD_OPTIONS_MIN_SIZE;
-    fn defaults() -> Self {
-        Self::from_rust(&WorldOptions::default())
-    }
-}
+growing!(ArborWorldOptions as "ArborWorldOptions", ARBOR_WORLD_OPTIONS_MIN_SIZE,
+    first_added: progress, defaults: Self::from_rust(&WorldOptions::default()));
 
 mirror!(ArborWorldOptions => WorldOptions {
     same {
@@ -80,16 +72,8 @@ mirror!(ArborWorldOptions => WorldOptions {
 /// sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
 
-const _: () =
-    assert!(std::mem::offset_of!(GrowthParams, shed_light) == ARBOR_GROWTH_PARAMS_MIN_SIZE);
-
-impl Growing for GrowthParams {
-    const NAME: &'static str = "ArborGrowthParams";
-    const MIN_SIZE: usize = ARBOR_GROWTH_PARAMS_MIN_SIZE;
-    fn defaults() -> Self {
-        GrowthParams::default()
-    }
-}
+growing!(GrowthParams as "ArborGrowthParams", ARBOR_GROWTH_PARAMS_MIN_SIZE,
+    first_added: shed_light, defaults: GrowthParams::default());
 
 /// A world of trees growing together (see arbor_world_create()). Opaque; free with
 /// arbor_world_free(). A `const ArborWorld *` may be read from several threads at once;

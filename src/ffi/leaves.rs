@@ -135,16 +135,8 @@ pub unsafe extern "C" fn arbor_leaf_prefab_free(prefab: *mut ArborLeafPrefab) {
 /// `struct_size` accepted.
 pub const ARBOR_LEAF_OPTIONS_MIN_SIZE: usize = 56;
 
-const _: () =
-    assert!(std::mem::offset_of!(ArborLeafOptions, max_leaves) == ARBOR_LEAF_OPTIONS_MIN_SIZE);
-
-impl Growing for ArborLeafOptions {
-    const NAME: &'static str = "ArborLeafOptions";
-    const MIN_SIZE: usize = ARBOR_LEAF_OPTIONS_MIN_SIZE;
-    fn defaults() -> Self {
-        Self::from_rust(&LeafOptions::default())
-    }
-}
+growing!(ArborLeafOptions as "ArborLeafOptions", ARBOR_LEAF_OPTIONS_MIN_SIZE,
+    first_added: max_leaves, defaults: Self::from_rust(&LeafOptions::default()));
 
 mirror!(ArborLeafOptions => LeafOptions {
     same {

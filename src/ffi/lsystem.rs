@@ -117,39 +117,35 @@ impl ArborLsystemOptions {
 /// smallest `struct_size` accepted.
 pub const ARBOR_LSYSTEM_OPTIONS_MIN_SIZE: usize = 64;
 
-const _: () = assert!(
-    std::mem::offset_of!(ArborLsystemOptions, variation_seed) == ARBOR_LSYSTEM_OPTIONS_MIN_SIZE
-);
+growing!(ArborLsystemOptions as "ArborLsystemOptions", ARBOR_LSYSTEM_OPTIONS_MIN_SIZE,
+    first_added: variation_seed, defaults: lsystem_defaults());
 
-impl Growing for ArborLsystemOptions {
-    const NAME: &'static str = "ArborLsystemOptions";
-    const MIN_SIZE: usize = ARBOR_LSYSTEM_OPTIONS_MIN_SIZE;
-    fn defaults() -> Self {
-        let d = LsystemOptions::default();
-        let view = crate::lsystem::ViewSettings::default();
-        ArborLsystemOptions {
-            struct_size: std::mem::size_of::<ArborLsystemOptions>() as u32,
-            steps: -1,
-            seed: d.seed,
-            max_modules: d.max_modules as u64,
-            max_params: d.max_params as u64,
-            max_branches: d.max_branches as u64,
-            override_flags: 0,
-            angle_increment: view.angle_increment as f32,
-            initial_width: view.initial_width as f32,
-            width_increment: view.width_increment as f32,
-            turn_jitter: d.turn_jitter as f32,
-            variation_seed: d.variation_seed,
-            max_work: d.max_work as u64,
-            view_path: std::ptr::null(),
-            view_text: std::ptr::null(),
-            progress: None,
-            progress_user_data: std::ptr::null_mut(),
-            file_access: ArborFileAccess::Bundle as u32,
-            read_file: None,
-            read_file_user_data: std::ptr::null_mut(),
-            max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
-        }
+/// The default L-system options at this library's size.
+fn lsystem_defaults() -> ArborLsystemOptions {
+    let d = LsystemOptions::default();
+    let view = crate::lsystem::ViewSettings::default();
+    ArborLsystemOptions {
+        struct_size: std::mem::size_of::<ArborLsystemOptions>() as u32,
+        steps: -1,
+        seed: d.seed,
+        max_modules: d.max_modules as u64,
+        max_params: d.max_params as u64,
+        max_branches: d.max_branches as u64,
+        override_flags: 0,
+        angle_increment: view.angle_increment as f32,
+        initial_width: view.initial_width as f32,
+        width_increment: view.width_increment as f32,
+        turn_jitter: d.turn_jitter as f32,
+        variation_seed: d.variation_seed,
+        max_work: d.max_work as u64,
+        view_path: std::ptr::null(),
+        view_text: std::ptr::null(),
+        progress: None,
+        progress_user_data: std::ptr::null_mut(),
+        file_access: ArborFileAccess::Bundle as u32,
+        read_file: None,
+        read_file_user_data: std::ptr::null_mut(),
+        max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
     }
 }
 

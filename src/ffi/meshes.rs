@@ -69,16 +69,8 @@ pub struct ArborMeshOptions {
 /// `struct_size` accepted.
 pub const ARBOR_MESH_OPTIONS_MIN_SIZE: usize = 52;
 
-const _: () =
-    assert!(std::mem::offset_of!(ArborMeshOptions, threads) == ARBOR_MESH_OPTIONS_MIN_SIZE);
-
-impl Growing for ArborMeshOptions {
-    const NAME: &'static str = "ArborMeshOptions";
-    const MIN_SIZE: usize = ARBOR_MESH_OPTIONS_MIN_SIZE;
-    fn defaults() -> Self {
-        Self::from_rust(&MeshOptions::default())
-    }
-}
+growing!(ArborMeshOptions as "ArborMeshOptions", ARBOR_MESH_OPTIONS_MIN_SIZE,
+    first_added: threads, defaults: Self::from_rust(&MeshOptions::default()));
 
 impl Default for ArborMeshOptions {
     /// What arbor_mesh_options_init() writes for this library's size.

@@ -258,3 +258,25 @@ macro_rules! mirror {
     };
 }
 pub(crate) use mirror;
+
+/// A growing struct's [`Growing`] impl: its C name, the `sizeof` of its first layout
+/// (checked at compile time to be where the first field added after it starts) and its
+/// defaults.
+macro_rules! growing {
+    (
+        $ty:ident as $name:literal, $min:ident,
+        first_added: $field:ident, defaults: $defaults:expr
+    ) => {
+        const _: () = assert!(std::mem::offset_of!($ty, $field) == $min);
+
+        impl Growing for $ty {
+            const NAME: &'static str = $name;
+            const MIN_SIZE: usize = $min;
+            fn defaults() -> Self {
+                $defaults
+            }
+        }
+    };
+}
+
+pub(crate) use growing;
