@@ -321,8 +321,9 @@ fn a_missing_tool_fails_with_its_install_line() {
     assert!(fresh.contains("tools/test") && fresh.contains("examples/gallery/run.sh"));
 }
 
-/// CI runs the README's test command as the README prints it: `.ci/run` runs the block
-/// after `<!-- test -->`, which is `tools/test`, the command that runs every suite.
+/// CI runs the README's test command as the README prints it: the block after
+/// `<!-- test -->` is `tools/test`, the command that runs every suite, and `.ci/run` runs
+/// that line and refuses to go on if the README's block says anything else.
 #[test]
 fn ci_runs_the_readmes_test_command() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
@@ -339,6 +340,14 @@ fn ci_runs_the_readmes_test_command() {
     assert!(
         ci.contains("/^<!-- test -->$/"),
         ".ci/run reads the marked block"
+    );
+    assert!(
+        ci.lines().any(|l| l.trim() == command.trim()),
+        ".ci/run runs the README's test command as a line of its own"
+    );
+    assert!(
+        ci.contains(&format!("\"$readme_test\" != \"{}\"", command.trim())),
+        ".ci/run refuses a README whose test command differs"
     );
     assert!(root().join("tools/test").exists());
 }
