@@ -912,13 +912,13 @@ static void draw_view(int i, int x, int y, int w, int h) {
   if (st.world_mode) {
     /* Frame the grown world about x = z = 0. */
     if (!world_vao) build_world();
-    rx = fmaxf(fabsf(world_lo[0]), fabsf(world_hi[0]));
-    rz = fmaxf(fabsf(world_lo[2]), fabsf(world_hi[2]));
     /* The frame of the gallery's 12 x 10 x 12 world box. */
     height = 10;
     radius = 8.5f;
     if (st.world_trees == 1 || st.world_forest) {
       /* A lone tree or the forest: fitted to its bounds. */
+      rx = fmaxf(fabsf(world_lo[0]), fabsf(world_hi[0]));
+      rz = fmaxf(fabsf(world_lo[2]), fabsf(world_hi[2]));
       height = world_hi[1] > 1 ? world_hi[1] : 1;
       radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.02f;
     }

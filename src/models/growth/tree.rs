@@ -340,13 +340,20 @@ impl Tree {
         lateral(self.nodes.dir[i], self.nodes.phyllo[i], branch)
     }
 
+    /// Every living bud's cell word and bud count (`sign` times the buds there).
+    fn bud_cells(&self, sign: i32) -> impl Iterator<Item = (Key, i32)> + '_ {
+        self.nodes
+            .kids
+            .iter()
+            .zip(&self.nodes.cell)
+            .filter(|(k, _)| buds(**k) > 0)
+            .map(move |(k, &word)| (word, sign * buds(*k) as i32))
+    }
+
     /// Adds (`sign` 1) or removes (−1) the shadow of every living bud.
     pub(crate) fn cast(&self, env: &mut Env, sign: i32) {
-        for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
-            let buds = buds(*k);
-            if buds > 0 {
-                env.cast(word, sign * buds as i32);
-            }
+        for (word, count) in self.bud_cells(sign) {
+            env.cast(word, count);
         }
     }
 
@@ -620,25 +627,22 @@ impl Tree {
 
     /// Carries out a plan: buds that grew or were shed take their shadow away, new buds
     /// add theirs, shed subtrees are removed (indices stay parents-before-children).
-    pub(crate) fn grow(&mut self, mut plan: Plan, env: &Env, cycle: u32) {
+    pub(crate) fn grow(&mut self, plan: Plan, env: &Env, cycle: u32) {
         self.casts.clear();
         self.residual = plan.residual;
         self.root_vigour = plan.root_vigour;
         let tip_rn = libm::powf(self.species.tip_radius, self.species.pipe_exponent);
         if plan.die {
             // Every bud's shadow goes with the tree.
-            for (k, &word) in self.nodes.kids.iter().zip(&self.nodes.cell) {
-                let buds = buds(*k);
-                if buds > 0 {
-                    self.casts.extend(env.change(word, -(buds as i32)));
-                }
-            }
+            let gone: Vec<(Key, i32)> = self
+                .bud_cells(-1)
+                .filter_map(|(word, count)| env.change(word, count))
+                .collect();
+            self.casts.extend(gone);
             self.shed += self.nodes.len();
             self.nodes.truncate(0);
             self.radii_stale = false;
-            plan.new.clear();
-            plan.shed.clear();
-            (self.new_buf, self.shed_buf) = (plan.new, plan.shed);
+            self.recycle(plan);
             return;
         }
         let changed = !plan.new.is_empty() || !plan.shed.is_empty();
@@ -684,12 +688,16 @@ impl Tree {
         if !plan.shed.is_empty() {
             SCRATCH.with_borrow_mut(|s| self.shed_subtrees(&plan.shed, env, s));
         }
-        plan.new.clear();
-        plan.shed.clear();
-        self.new_buf = plan.new;
-        self.shed_buf = plan.shed;
+        self.recycle(plan);
         // Without new or shed internodes the radii are where the last cycle left them.
         self.radii_stale |= changed;
+    }
+
+    /// Keeps a carried-out plan's buffers for the next plan.
+    fn recycle(&mut self, mut plan: Plan) {
+        plan.new.clear();
+        plan.shed.clear();
+        (self.new_buf, self.shed_buf) = (plan.new, plan.shed);
     }
 
     /// Removes the subtrees whose base internodes are `roots` (in increasing order;

@@ -189,9 +189,13 @@ pub(super) fn apply_layers(
     for y in (0..ny).rev() {
         starts[y] = starts[y].min(starts[y + 1]);
     }
+    // The difference array is left zero after every layer: it is cleared only when the
+    // grid's layers changed size.
     let w = nx + 1;
-    diff.clear();
-    diff.resize(w * (nz + 1), 0);
+    if diff.len() != w * (nz + 1) {
+        diff.clear();
+        diff.resize(w * (nz + 1), 0);
+    }
     let mut colsum = vec![0i32; nx];
     let (at, starts) = (&at[..], &starts[..]);
     for (i, layer) in layers.iter_mut().enumerate() {

@@ -211,6 +211,11 @@ impl Grid {
         if c[1] < self.lo[1] {
             return None;
         }
-        self.index(c).map(|i| i as u32)
+        let i = self.index(c);
+        debug_assert!(
+            i.is_some(),
+            "a change at {c:?} outside the grid: cover it first"
+        );
+        i.map(|i| i as u32)
     }
 }
