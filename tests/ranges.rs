@@ -227,7 +227,7 @@ fn growth_params_ranges_are_the_documented_ones() {
         true
     };
     let n = check(
-        "src/models/growth/mod.rs",
+        "src/models/growth/params.rs",
         "GrowthParams",
         "ArborGrowthParams",
         &set,

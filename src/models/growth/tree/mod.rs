@@ -2,8 +2,12 @@
 
 use super::GrowthParams;
 use super::env::{Bud, DARK, Env, Key};
-use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
+use crate::skeleton::NO_PARENT;
 use glam::Vec3;
+use nodes::{NodeInit, Nodes};
+
+mod nodes;
+mod snapshot;
 
 /// `main` / `lateral` of an internode whose bud is alive there.
 const BUD: u32 = u32::MAX;
@@ -115,100 +119,6 @@ impl Scratch {
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
-}
-
-/// A tree's internodes (metamers), one entry per internode in each array (structure of
-/// arrays, so each pass of a cycle streams only the fields it reads). Internode `i` ends
-/// in a node that holds a terminal bud (until the main axis grows on) and a lateral bud
-/// (until a lateral shoot grows from it). An internode starts where its parent ends (the
-/// root at the tree's base), and its lateral bud's direction follows from its heading
-/// and phyllotaxis angle ([`lateral`]), so neither is stored.
-#[derive(Clone, Debug, Default)]
-struct Nodes {
-    end: Vec<Vec3>,
-    /// Unit heading.
-    dir: Vec<Vec3>,
-    parent: Vec<u32>,
-    /// [the internode continuing the axis, the first of the lateral shoot]: an index,
-    /// [`BUD`] or [`GONE`].
-    kids: Vec<[u32; 2]>,
-    birth: Vec<u32>,
-    order: Vec<u32>,
-    /// Angle of the lateral bud about the heading, degrees.
-    phyllo: Vec<f32>,
-    /// Radius^pipe_exponent; never shrinks.
-    rn: Vec<f32>,
-    /// The cell word of the end, where the buds are ([`Env::cell_word`]).
-    cell: Vec<Key>,
-    /// Internodes before it since its branch left the trunk (along the trunk: from the
-    /// root), counted for droop.
-    along: Vec<u32>,
-}
-
-struct NodeInit {
-    end: Vec3,
-    dir: Vec3,
-    parent: u32,
-    birth: u32,
-    order: u32,
-    phyllo: f32,
-    rn: f32,
-    cell: Key,
-    along: u32,
-}
-
-impl Nodes {
-    fn len(&self) -> usize {
-        self.parent.len()
-    }
-
-    fn push(&mut self, n: NodeInit) {
-        self.end.push(n.end);
-        self.dir.push(n.dir);
-        self.parent.push(n.parent);
-        self.kids.push([BUD, BUD]);
-        self.birth.push(n.birth);
-        self.order.push(n.order);
-        self.phyllo.push(n.phyllo);
-        self.rn.push(n.rn);
-        self.cell.push(n.cell);
-        self.along.push(n.along);
-    }
-
-    /// Moves internode `from` to `to` (`to` ≤ `from`).
-    fn move_to(&mut self, from: usize, to: usize) {
-        self.end[to] = self.end[from];
-        self.dir[to] = self.dir[from];
-        self.parent[to] = self.parent[from];
-        self.kids[to] = self.kids[from];
-        self.birth[to] = self.birth[from];
-        self.order[to] = self.order[from];
-        self.phyllo[to] = self.phyllo[from];
-        self.rn[to] = self.rn[from];
-        self.cell[to] = self.cell[from];
-        self.along[to] = self.along[from];
-    }
-
-    /// Keeps the first `n` internodes; gives memory back when the arrays are mostly
-    /// empty (a tree that shed most of itself), keeping room to grow again.
-    fn truncate(&mut self, n: usize) {
-        fn cut<T>(v: &mut Vec<T>, n: usize) {
-            v.truncate(n);
-            if v.capacity() > 256 && v.capacity() > 4 * n {
-                v.shrink_to(2 * n);
-            }
-        }
-        cut(&mut self.end, n);
-        cut(&mut self.dir, n);
-        cut(&mut self.parent, n);
-        cut(&mut self.kids, n);
-        cut(&mut self.birth, n);
-        cut(&mut self.order, n);
-        cut(&mut self.phyllo, n);
-        cut(&mut self.rn, n);
-        cut(&mut self.cell, n);
-        cut(&mut self.along, n);
-    }
 }
 
 #[derive(Clone, Debug)]
@@ -781,69 +691,6 @@ impl Tree {
             let (s, c) = libm::sincosf(angle);
             out.push((*p, self.base + Vec3::new(c * dist, 0.0, s * dist)));
         }
-    }
-
-    /// The tree as a skeleton: one branch per internode, radii from the pipe model
-    /// (start: this internode's; end: its continuation's, or the tip radius), a leaf site
-    /// at every living bud.
-    pub(crate) fn skeleton(&self) -> Skeleton {
-        let inv = 1.0 / self.species.pipe_exponent;
-        let radius = |rn: f32| libm::powf(rn, inv);
-        let tip = self.species.tip_radius;
-        let branch = branch_turn(self.species.branch_angle);
-        let n = &self.nodes;
-        // Radii as the next basipetal pass will make them.
-        let mut stale_rn = Vec::new();
-        let rn: &[f32] = if self.radii_stale {
-            stale_rn.extend_from_slice(&n.rn);
-            let tip_rn = libm::powf(tip, self.species.pipe_exponent);
-            for i in (0..n.len()).rev() {
-                pipe(&n.kids, &mut stale_rn, i, tip_rn);
-            }
-            &stale_rn
-        } else {
-            &n.rn
-        };
-        let mut parts = SkeletonParts {
-            branches: Vec::with_capacity(n.len()),
-            ..Default::default()
-        };
-        for i in 0..n.len() {
-            let r = radius(rn[i]);
-            let [m, l] = n.kids[i];
-            let end_radius = if is_child(m) {
-                radius(rn[m as usize])
-            } else {
-                tip.min(r)
-            };
-            parts.branches.push(Branch {
-                start: self.start(i).to_array(),
-                end: n.end[i].to_array(),
-                start_radius: r,
-                end_radius,
-                parent: n.parent[i],
-                birth: n.birth[i],
-                order: n.order[i],
-                flags: 0,
-            });
-            for (k, slot) in [m, l].into_iter().enumerate() {
-                if slot == BUD {
-                    let heading = if k == 0 {
-                        n.dir[i]
-                    } else {
-                        self.lateral_dir(i, branch)
-                    };
-                    parts.leaves.push(LeafSite {
-                        position: n.end[i].to_array(),
-                        heading: heading.to_array(),
-                        up: perpendicular(heading).to_array(),
-                        branch: i as u32,
-                        birth: n.birth[i],
-                    });
-                }
-            }
-        }
-        Skeleton::from_trusted(parts)
     }
 }
 
