@@ -1,8 +1,8 @@
 //! Rings of vertices: the unit circle per side count, the output conventions, and a ring as
 //! an affine map of the unit circle evaluated in 4-lane vectors.
 
+use super::Vertex;
 use super::strips::Slot;
-use super::{MAX_RADIAL_SEGMENTS, Vertex};
 use glam::{Vec3, Vec4};
 
 /// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
@@ -193,8 +193,9 @@ impl Affine {
             Vec4::splat(2.0 * nb.dot(nd)),
             Vec4::splat(nd.dot(nd)),
         );
-        let mut inv = [1.0f32; MAX_RADIAL_SEGMENTS as usize + 4];
-        for (chunk, dst) in table.chunks(4).zip(inv.chunks_exact_mut(4)) {
+        // Four vertices at a time: their inverse normal lengths in one vector, then the
+        // vertices themselves (no staging array to fill).
+        for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
             // Lanes past the ring's end take (1, 0), a point of the circle.
             let (mut c, mut s) = ([1.0f32; 4], [0.0f32; 4]);
             for (k, &(ck, sk, _)) in chunk.iter().enumerate() {
@@ -202,14 +203,14 @@ impl Affine {
             }
             let (c, s) = (Vec4::from_array(c), Vec4::from_array(s));
             let l2 = aa + c * ab2 + s * ad2 + c * c * bb + c * s * bd2 + s * s * dd;
-            dst.copy_from_slice(&(Vec4::ONE / l2.sqrt()).to_array());
-        }
-        for ((slot, &(c, s, u)), &k) in out.iter_mut().zip(table).zip(&inv) {
-            let [lo, hi] = self.at(c, s, u);
-            slot.put(vertex([
-                lo * Vec4::new(1.0, 1.0, 1.0, k),
-                hi * Vec4::new(k, k, 1.0, 1.0),
-            ]));
+            let inv = (Vec4::ONE / l2.sqrt()).to_array();
+            for ((slot, &(c, s, u)), &k) in slots.iter_mut().zip(chunk).zip(&inv) {
+                let [lo, hi] = self.at(c, s, u);
+                slot.put(vertex([
+                    lo * Vec4::new(1.0, 1.0, 1.0, k),
+                    hi * Vec4::new(k, k, 1.0, 1.0),
+                ]));
+            }
         }
     }
 

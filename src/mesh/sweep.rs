@@ -60,7 +60,9 @@ impl MeshPlan {
         let mut previous = t.shared_start.unwrap_or(t.first_vertex);
         for j in 0..=self.plan.inner {
             let next = t.first_vertex + (own + j * ring) as u32;
-            writer.tube(next, previous, ring as u32);
+            // Only the first tube can start on a ring made before it (or on its own).
+            let fresh = j == 0 && t.shared_start.is_none();
+            writer.tube(next, previous, ring as u32, fresh);
             previous = next;
         }
         debug_assert_eq!(previous, t.end_ring);
@@ -109,7 +111,7 @@ impl MeshPlan {
             let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
             let c = plan.cont[i] as usize;
             let frame = (rot(end_frame), rot(t1.cross(end_frame)));
-            t.mitre_with(self, skeleton, c, frame, t1, plan.t0[c])
+            t.mitre_with(self, c, frame, t1, plan.t0[c])
                 .put_normalized(end_out, table);
         } else {
             ring_at(t, t.end, t1, end_frame, t.r1, t.v1).put(end_out, table);

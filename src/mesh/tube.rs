@@ -4,14 +4,22 @@
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP};
 use super::rings::{Affine, Out, to_f32};
 use super::strips::{Slot, StripWriter, zigzag};
+use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
 use crate::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec3;
 
 impl MeshPlan {
-    /// Everything the writer needs of kept branch `i`, in output space.
+    /// Everything the writer needs of kept branch `i`, in output space. `known` is branch
+    /// `i`'s cone slope when the writer already has it (the previous tube's continuation,
+    /// which along an axis is the next branch).
     #[inline(always)]
-    pub(super) fn tube(&self, skeleton: &Skeleton, i: usize) -> Tube<'_> {
+    pub(super) fn tube(
+        &self,
+        skeleton: &Skeleton,
+        i: usize,
+        known: Option<(usize, (f32, f32))>,
+    ) -> Tube<'_> {
         let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
         let out = o.out();
         // The output conventions are linear: apply them to each branch's centers and frame
@@ -20,14 +28,24 @@ impl MeshPlan {
         let b = &skeleton.branches()[i];
         let s = plan.segs[i] as usize;
         let (d, p) = (plan.dir[i], lay.frame_p[i]);
-        let (r0, r1, _) = self.drawn(skeleton, i);
-        let (nc, na) = self.slope(skeleton, i);
+        let (r0, r1, h) = self.drawn(skeleton, i);
+        let (nc, na) = match known {
+            Some((k, slope)) if k == i => slope,
+            _ => slope_of(r0, r1, h),
+        };
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
+        let flags = plan.flags[i];
+        // The continuing branch's slope, for the mitred end ring.
+        let cont_slope = if flags & MITRE_END != 0 {
+            self.slope(skeleton, plan.cont[i] as usize)
+        } else {
+            (1.0, 0.0)
+        };
         Tube {
             i,
             segments: s,
             table: &self.tables[s],
-            flags: plan.flags[i],
+            flags,
             out,
             po: rot(p),
             qo: rot(d.cross(p)),
@@ -35,6 +53,7 @@ impl MeshPlan {
             d,
             nc,
             na,
+            cont_slope,
             r0,
             r1,
             v0: parent.map_or(0.0, |p| lay.v_end[p]),
@@ -71,6 +90,8 @@ pub(super) struct Tube<'a> {
     /// Radial and axial parts of the cone's unit normal.
     pub(super) nc: f32,
     pub(super) na: f32,
+    /// The continuing branch's (nc, na), when the end ring is mitred.
+    pub(super) cont_slope: (f32, f32),
     /// Radii as drawn (model units).
     pub(super) r0: f32,
     pub(super) r1: f32,
@@ -137,15 +158,8 @@ impl Tube<'_> {
     /// branch's, and the continuing branch's at the transported angle), along which each
     /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
     /// vertex.
-    pub(super) fn mitre(&self, plan: &MeshPlan, skeleton: &Skeleton, c: usize) -> Affine {
-        self.mitre_with(
-            plan,
-            skeleton,
-            c,
-            (self.po, self.qo),
-            self.d,
-            plan.plan.dir[c],
-        )
+    pub(super) fn mitre(&self, plan: &MeshPlan, c: usize) -> Affine {
+        self.mitre_with(plan, c, (self.po, self.qo), self.d, plan.plan.dir[c])
     }
 
     /// [`mitre`](Self::mitre) with the end ring's frame (output space) and the two axes at
@@ -154,7 +168,6 @@ impl Tube<'_> {
     pub(super) fn mitre_with(
         &self,
         plan: &MeshPlan,
-        skeleton: &Skeleton,
         c: usize,
         (po, qo): (Vec3, Vec3),
         d: Vec3,
@@ -166,7 +179,7 @@ impl Tube<'_> {
         let m = rot((d + dc).normalize());
         let slide = d_o * (r1s / d_o.dot(m));
         let (pm, qm) = (po.dot(m), qo.dot(m));
-        let (nc_c, na_c) = plan.slope(skeleton, c);
+        let (nc_c, na_c) = self.cont_slope;
         // The cross product in arbor's space, then mapped: a mirror flips one taken after.
         let p_c = plan.layout.frame_p[c];
         let (pc, qc, dc) = (rot(p_c), rot(dc.cross(p_c)), rot(dc));
@@ -187,12 +200,7 @@ impl Tube<'_> {
     /// Writes the tube's own vertices (`out` holds exactly them): its start ring unless
     /// shared, its end ring, a base cap, a tip. Returns where each part starts.
     #[inline(always)]
-    pub(super) fn write_vertices<V: Slot<Vertex>>(
-        &self,
-        plan: &MeshPlan,
-        skeleton: &Skeleton,
-        out: &mut [V],
-    ) -> Firsts {
+    pub(super) fn write_vertices<V: Slot<Vertex>>(&self, plan: &MeshPlan, out: &mut [V]) -> Firsts {
         let (s, ring, table, f) = (self.segments, self.segments + 1, self.table, self.flags);
         let scale = self.out.scale;
         let mut pos = 0;
@@ -212,8 +220,7 @@ impl Tube<'_> {
         let ring_out = &mut out[pos..pos + ring];
         if f & MITRE_END != 0 {
             let c = plan.plan.cont[self.i] as usize;
-            self.mitre(plan, skeleton, c)
-                .put_normalized(ring_out, table);
+            self.mitre(plan, c).put_normalized(ring_out, table);
         } else {
             self.cone(self.pos(self.end), self.r1 * scale, self.v1)
                 .put(ring_out, table);
@@ -266,7 +273,12 @@ impl Tube<'_> {
         writer: &mut StripWriter<'_, I>,
         strip: &mut Vec<u32>,
     ) {
-        writer.tube(self.end_ring, start_ring, self.segments as u32 + 1);
+        writer.tube(
+            self.end_ring,
+            start_ring,
+            self.segments as u32 + 1,
+            self.shared_start.is_none(),
+        );
         self.write_indices_caps(o, base_first, tip_first, writer, strip);
     }
 

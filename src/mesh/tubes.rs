@@ -1,6 +1,6 @@
 //! The tube mesher: every branch a truncated cone, axes joined into watertight tubes.
 
-use super::plan::{BranchRange, MeshPlan, SHARES_START, length};
+use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START, length};
 use super::strips::{Slot, StripWriter};
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex};
 use crate::error::Result;
@@ -343,16 +343,7 @@ impl MeshPlan {
     #[inline(always)]
     pub(super) fn slope(&self, skeleton: &Skeleton, i: usize) -> (f32, f32) {
         let (r0, r1, h) = self.drawn(skeleton, i);
-        let slope = Vec2::new(h as f32, r0 - r1);
-        match slope.try_normalize() {
-            Some(n) => (n.x, n.y),
-            None if slope == Vec2::ZERO => (1.0, 0.0),
-            None => {
-                let dr = (r0 - r1) as f64;
-                let slant = (h * h + dr * dr).sqrt();
-                ((h / slant) as f32, (dr / slant) as f32)
-            }
-        }
+        slope_of(r0, r1, h)
     }
 
     /// Writes branches `range` into `vertices` (which starts at vertex `v_base` of the mesh)
@@ -376,6 +367,8 @@ impl MeshPlan {
         let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
         // Where this chunk's indices start in the whole buffer (for the debug check below).
         let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
+        // The last tube's continuation and its slope, which the next tube reuses.
+        let mut known = None;
         for i in range {
             if plan.segs[i] == 0 {
                 continue;
@@ -385,7 +378,8 @@ impl MeshPlan {
                 lay.first_index[i] as usize,
                 "branch {i}"
             );
-            let tube = self.tube(skeleton, i);
+            let tube = self.tube(skeleton, i, known);
+            known = (tube.flags & MITRE_END != 0).then(|| (plan.cont[i] as usize, tube.cont_slope));
             let at = lay.first_vertex[i] as usize - v_base;
             let end = at + plan.counts(i, self.options.tip, &mut false).0;
             if plan.inner > 0 {
@@ -398,11 +392,28 @@ impl MeshPlan {
                 );
                 continue;
             }
-            let firsts = tube.write_vertices(self, skeleton, &mut vertices[at..end]);
+            let firsts = tube.write_vertices(self, &mut vertices[at..end]);
             tube.write_indices(&self.options, firsts, &mut writer, &mut strip);
         }
         debug_assert_eq!(writer.pos, writer.out.len());
         writer.last
+    }
+}
+
+/// (radial, axial) parts of the unit outward normal of a cone with radii `r0`, `r1` and
+/// height `h`: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
+/// overflows).
+#[inline(always)]
+pub(super) fn slope_of(r0: f32, r1: f32, h: f64) -> (f32, f32) {
+    let slope = Vec2::new(h as f32, r0 - r1);
+    match slope.try_normalize() {
+        Some(n) => (n.x, n.y),
+        None if slope == Vec2::ZERO => (1.0, 0.0),
+        None => {
+            let dr = (r0 - r1) as f64;
+            let slant = (h * h + dr * dr).sqrt();
+            ((h / slant) as f32, (dr / slant) as f32)
+        }
     }
 }
 
