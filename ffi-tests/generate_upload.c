@@ -61,7 +61,8 @@ static void upload_one(char name, size_t expected) {
         break;
       }
     }
-    CHECK(restarts == (topology == ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART ? nb - 1 : 0),
+    /* A restart between branches, and one inside each axis start's tube (two strips). */
+    CHECK(restarts == (topology == ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART ? nb - 1 + axes : 0),
           "tree %c topology %u: %zu restarts", name, topology, restarts);
     for (size_t i = 0; i < nv; i++) {
       const float *n = vertices[i].normal;

@@ -25,10 +25,11 @@ fn lists_make_every_vertex_once_with_a_cache_of_16() {
     }
 }
 
-/// Decoded strips reload at most four vertices where an axis starts: a strip cannot
-/// order a tube with a ring of its own as freely as a list.
+/// Decoded strips make at most two vertices again per axis start (a tube with a ring of
+/// its own, written as two strips; about one on trees a and g, 1.3 on tree f): a strip
+/// cannot order a tube as freely as a list.
 #[test]
-fn strips_reload_at_most_four_vertices_per_axis_start() {
+fn strips_remake_at_most_two_vertices_per_axis_start() {
     for (name, s) in trees() {
         for (topology, o) in topologies() {
             if topology == Topology::TriangleList {
@@ -44,7 +45,7 @@ fn strips_reload_at_most_four_vertices_per_axis_start() {
             let t = triangles(&m);
             let misses = (acmr(&t, 16) * t.len() as f64).round() as usize;
             assert!(
-                misses <= m.vertices.len() + 4 * own_rings,
+                misses <= m.vertices.len() + 2 * own_rings,
                 "{name} {topology:?}: {misses} misses for {} vertices, {own_rings} axis starts",
                 m.vertices.len()
             );

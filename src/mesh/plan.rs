@@ -363,7 +363,7 @@ impl Plan {
         let rules = self.rules;
         let ring = s + 1;
         let mut v = ring * (1 + self.inner) + if f & SHARES_START != 0 { 0 } else { ring };
-        let mut idx = rules.count(2 * ring, *first);
+        let mut idx = rules.tube_count(ring, *first, f & SHARES_START == 0);
         *first = false;
         idx += self.inner * rules.count(2 * ring, false);
         if f & BASE_CAP != 0 {

@@ -48,6 +48,19 @@ impl StripRules {
     }
 }
 
+impl StripRules {
+    /// Indices a tube between two rings of `ring` vertices takes ([`StripWriter::tube`]);
+    /// `fresh`: its bottom ring is its own, which a strip writes as two strips.
+    #[inline]
+    pub(crate) fn tube_count(self, ring: usize, first: bool, fresh: bool) -> usize {
+        if fresh && self.topology != Topology::TriangleList {
+            self.count(4, first) + self.count(2 * ring - 2, false)
+        } else {
+            self.count(2 * ring, first)
+        }
+    }
+}
+
 /// Writes strips into an index buffer from a start position.
 pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     pub(crate) out: &'a mut [I],
@@ -61,8 +74,6 @@ pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     /// `top + offset + (bottom − top) & mask` (mask all ones for the bottom ring), so a
     /// tube's indices are one add and one masked add each, with no branch.
     tube_body: Vec<(u32, u32)>,
-    /// The strip of a tube whose bottom ring is its own (empty for lists).
-    tube_fresh: Vec<(u32, u32)>,
     tube_ring: u32,
 }
 
@@ -76,18 +87,16 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             first,
             last: 0,
             tube_body: Vec::new(),
-            tube_fresh: Vec::new(),
             tube_ring: 0,
         }
     }
 
-    /// Fills the tube templates for rings of `ring` vertices (t: top ring, b: bottom ring).
+    /// Fills the tube template for rings of `ring` vertices (t: top ring, b: bottom ring).
     ///
-    /// Strips: `tube_body` is `b_j, t_j` for j from `ring − 1` down to 0, for a bottom ring
-    /// the last tube made (the parent's end ring, or the previous ring of a sweep), and
-    /// `tube_fresh` is `t_j, b_j` upwards, for a bottom ring of the tube's own; both give
-    /// the same triangles and winding. After a fresh tube has made its top ring upwards, the
-    /// next tube reads it downwards from its newest vertex.
+    /// Strips: `b_j, t_j` for j from `ring − 1` down to 0, for a bottom ring the last tube
+    /// made (the parent's end ring, or the previous ring of a sweep): the same triangles
+    /// and winding as `t_j, b_j` upwards, reading the bottom ring from its newest vertex.
+    /// A tube with a bottom ring of its own is written by [`tube_fresh`](Self::tube_fresh).
     ///
     /// Lists: one order for both, written so that with a FIFO vertex cache of 16 entries
     /// every vertex is made once along an axis (an average cache miss ratio of vertices /
@@ -104,7 +113,6 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
         const B: u32 = u32::MAX;
         if self.rules.topology != Topology::TriangleList {
             self.tube_body = (0..ring).rev().flat_map(|j| [(j, B), (j, T)]).collect();
-            self.tube_fresh = (0..ring).flat_map(|j| [(j, T), (j, B)]).collect();
             return;
         }
         let m = ring - 2;
@@ -123,7 +131,6 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             order.push(quad_a(j));
         }
         self.tube_body = order.into_iter().flatten().collect();
-        self.tube_fresh.clear();
     }
 
     #[inline(always)]
@@ -135,49 +142,67 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
 
     /// Writes a tube between two rings of `ring` vertices in the order of
     /// [`tube_template`](Self::tube_template); `fresh`: the bottom ring is the tube's own
-    /// (not the ring the last tube made). A strip gives the same indices as
+    /// (not the ring the last tube made), which a strip writes as two strips (see
+    /// [`tube_fresh`](Self::tube_fresh)). A strip gives the same indices as
     /// [`strip`](Self::strip) of that order, without building it.
     #[inline]
     pub(crate) fn tube(&mut self, top: u32, bottom: u32, ring: u32, fresh: bool) {
+        if self.rules.topology == Topology::TriangleList {
+            if ring != self.tube_ring {
+                self.tube_template(ring);
+            }
+            self.first = false;
+            return self.tube_body(top, bottom);
+        }
+        if fresh {
+            return self.tube_fresh(top, bottom, ring);
+        }
         if ring != self.tube_ring {
             self.tube_template(ring);
         }
         let first = std::mem::replace(&mut self.first, false);
-        let cw = self.rules.clockwise;
-        let fresh = fresh && self.rules.topology != Topology::TriangleList;
-        let opening = if fresh { top } else { bottom + ring - 1 };
-        match self.rules.topology {
-            Topology::TriangleList => self.tube_body(top, bottom, false),
-            topology => {
-                if !first {
-                    if topology == Topology::TriangleStripRestart {
-                        self.push(RESTART_INDEX);
-                    } else {
-                        let last = self.last;
-                        self.push(last);
-                        self.push(opening);
-                    }
-                }
-                if cw {
-                    self.push(opening);
-                }
-                self.tube_body(top, bottom, fresh);
-                if cw && topology == Topology::TriangleStripDegenerate {
-                    let last = self.last;
-                    self.push(last);
-                }
+        let topology = self.rules.topology;
+        let opening = bottom + ring - 1;
+        if !first {
+            if topology == Topology::TriangleStripRestart {
+                self.push(RESTART_INDEX);
+            } else {
+                let last = self.last;
+                self.push(last);
+                self.push(opening);
             }
         }
+        if self.rules.clockwise {
+            self.push(opening);
+        }
+        self.tube_body(top, bottom);
+        if self.rules.clockwise && topology == Topology::TriangleStripDegenerate {
+            let last = self.last;
+            self.push(last);
+        }
+    }
+
+    /// A tube with a bottom ring of its own, as two strips: the first quad upwards
+    /// (`t_0, b_0, t_1, b_1`), then the rest downwards from the seam's far end
+    /// (`b_j, t_j` for j from `ring − 1` down to 1). A single zig-zag would make two of the
+    /// top ring's vertices among its first, and a cache of 16 would let them go before the
+    /// next tube reads them; so split, the top ring is made late and in the order the next
+    /// tube reads it.
+    fn tube_fresh(&mut self, top: u32, bottom: u32, ring: u32) {
+        self.strip(&[top, bottom, top + 1, bottom + 1]);
+        let mut rest = [0u32; 2 * super::MAX_RADIAL_SEGMENTS as usize];
+        let rest = &mut rest[..2 * (ring as usize - 1)];
+        for (k, j) in (1..ring).rev().enumerate() {
+            rest[2 * k] = bottom + j;
+            rest[2 * k + 1] = top + j;
+        }
+        self.strip(rest);
     }
 
     /// Writes the body of a tube from the template made for its ring.
     #[inline]
-    fn tube_body(&mut self, top: u32, bottom: u32, fresh: bool) {
-        let body = if fresh {
-            &self.tube_fresh
-        } else {
-            &self.tube_body
-        };
+    fn tube_body(&mut self, top: u32, bottom: u32) {
+        let body = &self.tube_body;
         let n = body.len();
         let diff = bottom.wrapping_sub(top);
         let out = &mut self.out[self.pos..self.pos + n];
