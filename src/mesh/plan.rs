@@ -379,25 +379,6 @@ impl Plan {
         }
         (v, idx)
     }
-
-    pub(crate) fn ranges(&self, tip: Tip) -> Vec<BranchRange> {
-        let mut first = true;
-        let (mut nv, mut ni) = (0u32, 0u32);
-        (0..self.segs.len())
-            .map(|i| {
-                let (v, idx) = self.counts(i, tip, &mut first);
-                let r = BranchRange {
-                    first_vertex: nv,
-                    vertex_count: v as u32,
-                    first_index: ni,
-                    index_count: idx as u32,
-                };
-                nv += v as u32;
-                ni += idx as u32;
-                r
-            })
-            .collect()
-    }
 }
 
 /// Per-branch values the writer reads, computed in one pass from parents to children (ring
@@ -587,7 +568,25 @@ impl MeshPlan {
 
     /// For each branch, the vertices and indices it owns.
     pub fn ranges(&self) -> Vec<BranchRange> {
-        self.plan.ranges(self.options.tip)
+        // From the layout's offsets: each range ends where the next branch's starts.
+        let (lay, size) = (&self.layout, self.plan.size);
+        let n = lay.first_vertex.len();
+        (0..n)
+            .map(|i| {
+                let (v, idx) = (lay.first_vertex[i], lay.first_index[i]);
+                let (v_end, idx_end) = if i + 1 < n {
+                    (lay.first_vertex[i + 1], lay.first_index[i + 1])
+                } else {
+                    (size.vertices as u32, size.indices as u32)
+                };
+                BranchRange {
+                    first_vertex: v,
+                    vertex_count: v_end - v,
+                    first_index: idx,
+                    index_count: idx_end - idx,
+                }
+            })
+            .collect()
     }
 
     /// [`Error::InvalidArgument`] unless `skeleton` has the branch count the plan was made

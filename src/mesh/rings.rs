@@ -22,32 +22,41 @@ pub(crate) fn circle(segments: usize) -> Vec<(f32, f32, f32)> {
 pub(crate) struct AxisMap {
     from: [usize; 3],
     sign: [f32; 3],
+    /// `from` is [0, 1, 2] and every sign +1: `apply` returns its input.
+    identity: bool,
 }
 
 impl AxisMap {
     pub(crate) const IDENTITY: AxisMap = AxisMap {
         from: [0, 1, 2],
         sign: [1.0, 1.0, 1.0],
+        identity: true,
     };
     /// (x, y, z) → (x, −z, y): +90° about X.
     pub(crate) const Z_UP: AxisMap = AxisMap {
         from: [0, 2, 1],
         sign: [1.0, -1.0, 1.0],
+        identity: false,
     };
     /// (x, y, z) → (−x, y, z).
     pub(crate) const UNITY: AxisMap = AxisMap {
         from: [0, 1, 2],
         sign: [-1.0, 1.0, 1.0],
+        identity: false,
     };
     /// (x, y, z) → (x, z, y).
     pub(crate) const UNREAL: AxisMap = AxisMap {
         from: [0, 2, 1],
         sign: [1.0, 1.0, 1.0],
+        identity: false,
     };
 
     #[inline(always)]
     pub(crate) fn apply(self, v: Vec3) -> [f32; 3] {
         let a = v.to_array();
+        if self.identity {
+            return a;
+        }
         let at = |k: usize| {
             let x = a[self.from[k]];
             if self.sign[k] < 0.0 { -x } else { x }
@@ -224,4 +233,22 @@ impl Affine {
 #[inline(always)]
 fn vertex([lo, hi]: [Vec4; 2]) -> Vertex {
     bytemuck::cast([lo.to_array(), hi.to_array()])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::AxisMap;
+
+    #[test]
+    fn only_the_identity_says_it_is_one() {
+        for m in [
+            AxisMap::IDENTITY,
+            AxisMap::Z_UP,
+            AxisMap::UNITY,
+            AxisMap::UNREAL,
+        ] {
+            let copies = m.from == [0, 1, 2] && m.sign == [1.0; 3];
+            assert_eq!(m.identity, copies, "{m:?}");
+        }
+    }
 }

@@ -381,7 +381,7 @@ impl MeshPlan {
             let tube = self.tube(skeleton, i, known);
             known = (tube.flags & MITRE_END != 0).then(|| (plan.cont[i] as usize, tube.cont_slope));
             let at = lay.first_vertex[i] as usize - v_base;
-            let end = at + plan.counts(i, self.options.tip, &mut false).0;
+            let end = self.starts(i + 1).0 - v_base;
             if plan.inner > 0 {
                 self.write_swept(
                     skeleton,
