@@ -160,26 +160,9 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
         if ring != self.tube_ring {
             self.tube_template(ring);
         }
-        let first = std::mem::replace(&mut self.first, false);
-        let topology = self.rules.topology;
-        let opening = bottom + ring - 1;
-        if !first {
-            if topology == Topology::TriangleStripRestart {
-                self.push(RESTART_INDEX);
-            } else {
-                let last = self.last;
-                self.push(last);
-                self.push(opening);
-            }
-        }
-        if self.rules.clockwise {
-            self.push(opening);
-        }
+        self.open_strip(bottom + ring - 1);
         self.tube_body(top, bottom);
-        if self.rules.clockwise && topology == Topology::TriangleStripDegenerate {
-            let last = self.last;
-            self.push(last);
-        }
+        self.close_strip(2 * ring as usize);
     }
 
     /// A tube with a bottom ring of its own, as two strips: the first quad upwards
@@ -220,9 +203,9 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// Writes one strip (front faces counter-clockwise in OpenGL's strip order).
     pub(crate) fn strip(&mut self, s: &[u32]) {
         debug_assert!(s.len() >= 3);
-        let first = std::mem::replace(&mut self.first, false);
         match self.rules.topology {
             Topology::TriangleList => {
+                self.first = false;
                 for k in 0..s.len() - 2 {
                     let (a, b, c) = if k % 2 == 0 {
                         (s[k], s[k + 1], s[k + 2])
@@ -240,34 +223,43 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
                     }
                 }
             }
-            Topology::TriangleStripRestart => {
-                if !first {
-                    self.push(RESTART_INDEX);
-                }
-                if self.rules.clockwise {
-                    self.push(s[0]);
-                }
+            _ => {
+                self.open_strip(s[0]);
                 for &v in s {
                     self.push(v);
                 }
+                self.close_strip(s.len());
             }
-            Topology::TriangleStripDegenerate => {
-                if !first {
-                    let last = self.last;
-                    self.push(last);
-                    self.push(s[0]);
-                }
-                if self.rules.clockwise {
-                    self.push(s[0]);
-                }
-                for &v in s {
-                    self.push(v);
-                }
-                if (s.len() + self.rules.clockwise as usize) % 2 == 1 {
-                    let last = self.last;
-                    self.push(last);
-                }
+        }
+    }
+
+    /// Opens a strip that starts at `opening`: a restart index or a degenerate join after
+    /// the strip before it, and the opening index doubled for clockwise front faces.
+    #[inline]
+    fn open_strip(&mut self, opening: u32) {
+        if !std::mem::replace(&mut self.first, false) {
+            if self.rules.topology == Topology::TriangleStripRestart {
+                self.push(RESTART_INDEX);
+            } else {
+                let last = self.last;
+                self.push(last);
+                self.push(opening);
             }
+        }
+        if self.rules.clockwise {
+            self.push(opening);
+        }
+    }
+
+    /// Closes a strip of `len` indices: one joined by degenerate triangles ends on an
+    /// even count (with the doubled opening index), so the next keeps the winding.
+    #[inline]
+    fn close_strip(&mut self, len: usize) {
+        if self.rules.topology == Topology::TriangleStripDegenerate
+            && (len + self.rules.clockwise as usize) % 2 == 1
+        {
+            let last = self.last;
+            self.push(last);
         }
     }
 }
