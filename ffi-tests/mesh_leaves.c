@@ -313,9 +313,86 @@ static void obj_export(const char *dir) {
   arbor_tree_free(t);
 }
 
+/* Compact vertices through arbor_mesh_write_bytes: 20 bytes each, the same indices as the
+ * f32 mesh, and decoded (octahedral normal, v over arbor_mesh_v_scale) within the
+ * documented precision; the f32 format through the same call equals arbor_mesh_write. */
+static void compact_vertices(void) {
+  _Static_assert(sizeof(ArborVertexCompact) == 20, "ArborVertexCompact is 20 bytes");
+  CHECK(arbor_struct_size(ARBOR_STRUCT_ID_VERTEX_COMPACT) == 20, "struct size");
+  ArborTree *t = preset('g', 0);
+  ArborMeshOptions o = arbor_mesh_options_default();
+  o.topology = ARBOR_TOPOLOGY_TRIANGLE_STRIP_RESTART;
+  size_t nv = 0, ni = 0;
+  CHECK_STATUS(arbor_mesh_size(t, &o, &nv, &ni), ARBOR_STATUS_OK);
+  ArborVertex *v = malloc(nv * sizeof *v);
+  ArborVertex *vb = malloc(nv * sizeof *vb);
+  uint32_t *idx = malloc(ni * sizeof *idx);
+  uint32_t *idx_c = malloc(ni * sizeof *idx_c);
+  CHECK_STATUS(arbor_mesh_write(t, &o, v, nv, idx, ni), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_mesh_write_bytes(t, &o, vb, nv * sizeof *vb, idx_c, ni), ARBOR_STATUS_OK);
+  CHECK(memcmp(v, vb, nv * sizeof *v) == 0, "f32 through write_bytes equals arbor_mesh_write");
+
+  o.vertex_format = ARBOR_VERTEX_FORMAT_COMPACT;
+  size_t nv_c = 0, ni_c = 0;
+  CHECK_STATUS(arbor_mesh_size(t, &o, &nv_c, &ni_c), ARBOR_STATUS_OK);
+  CHECK(nv_c == nv && ni_c == ni, "the same counts");
+  ArborVertexCompact *c = malloc(nv * sizeof *c);
+  /* Too few bytes: refused, nothing written. */
+  memset(c, 0xAB, nv * sizeof *c);
+  CHECK_STATUS(arbor_mesh_write_bytes(t, &o, c, nv * sizeof *c - 1, idx_c, ni),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  message_contains("vertex_bytes");
+  CHECK(all_bytes(c, nv * sizeof *c, 0xAB), "nothing written");
+  /* Misaligned: refused. */
+  CHECK_STATUS(arbor_mesh_write_bytes(t, &o, (char *)vb + 2, nv * sizeof *c, idx_c, ni),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("aligned");
+  /* The f32 call with compact options names the field. */
+  CHECK_STATUS(arbor_mesh_write(t, &o, vb, nv, idx_c, ni), ARBOR_STATUS_INVALID_ARGUMENT);
+  message_contains("vertex_format");
+  CHECK_STATUS(arbor_mesh_write_bytes(t, &o, c, nv * sizeof *c, idx_c, ni), ARBOR_STATUS_OK);
+  CHECK(memcmp(idx, idx_c, ni * sizeof *idx) == 0, "the same indices");
+  float v_scale = 0.0f;
+  CHECK_STATUS(arbor_mesh_v_scale(t, &o, &v_scale), ARBOR_STATUS_OK);
+  float v_max = 0.0f;
+  for (size_t i = 0; i < nv; i++) v_max = v[i].uv[1] > v_max ? v[i].uv[1] : v_max;
+  CHECK(v_scale >= v_max && v_scale < 2.0f * (v_max > 1.0f ? v_max : 1.0f), "v_scale %g", v_scale);
+  double worst_n = 0.0, worst_v = 0.0;
+  for (size_t i = 0; i < nv; i++) {
+    float x = c[i].normal[0] / 32767.0f, y = c[i].normal[1] / 32767.0f;
+    x = x < -1.0f ? -1.0f : x;
+    y = y < -1.0f ? -1.0f : y;
+    float z = 1.0f - fabsf(x) - fabsf(y);
+    if (z < 0.0f) {
+      float ox = x;
+      x = copysignf(1.0f - fabsf(y), x);
+      y = copysignf(1.0f - fabsf(ox), y);
+    }
+    float len = sqrtf(x * x + y * y + z * z);
+    const float *n = v[i].normal;
+    double dot = (n[0] * x + n[1] * y + n[2] * z) / len;
+    double cx = (n[1] * z - n[2] * y) / len, cy = (n[2] * x - n[0] * z) / len,
+           cz = (n[0] * y - n[1] * x) / len;
+    double deg = atan2(sqrt(cx * cx + cy * cy + cz * cz), dot) * 57.29577951308232;
+    worst_n = deg > worst_n ? deg : worst_n;
+    double dv = fabs(c[i].uv[1] / 65535.0 * v_scale - v[i].uv[1]) / v_max;
+    worst_v = dv > worst_v ? dv : worst_v;
+    CHECK(memcmp(c[i].position, v[i].position, sizeof c[i].position) == 0, "position %zu", i);
+  }
+  CHECK(worst_n < 0.1, "normal error %g degrees", worst_n);
+  CHECK(worst_v < 1.0 / 4096.0, "v error %g of the range", worst_v);
+  free(c);
+  free(idx_c);
+  free(idx);
+  free(vb);
+  free(v);
+  arbor_tree_free(t);
+}
+
 int main(int argc, char **argv) {
   const char *dir = argc > 1 ? argv[1] : ".";
   every_mesh_option();
+  compact_vertices();
   branch_ranges();
   levels_of_detail();
   leaves(dir);

@@ -460,6 +460,10 @@ typedef enum ArborStructId {
    * ArborOrgan.
    */
   ARBOR_STRUCT_ID_ORGAN = 16,
+  /**
+   * ArborVertexCompact.
+   */
+  ARBOR_STRUCT_ID_VERTEX_COMPACT = 17,
 } ArborStructId;
 
 /**
@@ -552,6 +556,33 @@ typedef enum ArborFileAccess {
    */
   ARBOR_FILE_ACCESS_HOST = 3,
 } ArborFileAccess;
+
+/**
+ * Which vertex a mesh is written as (C: ArborVertexFormat, in
+ * ArborMeshOptions.vertex_format).
+ */
+enum ArborVertexFormat
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  /**
+   * [`Vertex`]: 32 bytes of f32. The default.
+   */
+  ARBOR_VERTEX_FORMAT_F32 = 0,
+  /**
+   * [`VertexCompact`]: 20 bytes (f32 position, octahedral snorm16 normal, unorm16 uv
+   * with v over the mesh's [`MeshPlan::v_scale`]).
+   */
+  ARBOR_VERTEX_FORMAT_COMPACT = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum ArborVertexFormat ArborVertexFormat;
+#else
+typedef uint32_t ArborVertexFormat;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 /**
  * A leaf shape loaded once (see arbor_leaf_prefab_load()). Opaque; free with
@@ -807,6 +838,12 @@ typedef struct ArborMeshOptions {
    * scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
    */
   uint32_t axes;
+  /**
+   * An ArborVertexFormat value: ARBOR_VERTEX_FORMAT_F32 (ArborVertex, 32 bytes; the
+   * default) or ARBOR_VERTEX_FORMAT_COMPACT (ArborVertexCompact, 20 bytes), which only
+   * arbor_mesh_write_bytes() writes. (Added after the first layout.)
+   */
+  uint32_t vertex_format;
 } ArborMeshOptions;
 
 /**
@@ -1551,6 +1588,36 @@ typedef struct ArborOrgan {
   uint32_t color;
 } ArborOrgan;
 
+/**
+ * One compact mesh vertex (C: ArborVertexCompact), 20 bytes, interleaved: position (3 x
+ * f32) at offset 0, normal (2 x snorm16, octahedral) at 12, uv (2 x unorm16) at 16;
+ * stride 20.
+ *
+ * Decode a normal as `p = max(normal / 32767, -1)`, `n = (p.x, p.y, 1 - |p.x| - |p.y|)`,
+ * and where `n.z < 0`, `n.x = (1 - |p.y|) * sign(p.x)` and `n.y = (1 - |p.x|) *
+ * sign(p.y)`; then normalise. Decode uv as `uv / 65535 * (1, v_scale)`, with the mesh's
+ * v_scale (`MeshPlan::v_scale` in Rust, arbor_mesh_v_scale() in C).
+ * [`VertexCompact::decode`] does both.
+ *
+ * Precision against the 32-byte [`Vertex`] of the same mesh: normals within 0.01 degrees,
+ * u within 1/131070 and v within v_scale/131070 (at most 1/65535 of the mesh's v range,
+ * as v_scale is less than twice the largest v). `tests/compact.rs` measures both.
+ */
+typedef struct ArborVertexCompact {
+  /**
+   * Position in the skeleton's units, as in [`Vertex`].
+   */
+  float position[3];
+  /**
+   * The unit normal, octahedral, snorm16 (-32767..=32767 for -1..=1).
+   */
+  int16_t normal[2];
+  /**
+   * u (0..=65535 for 0..=1) and v (0..=65535 for 0..=v_scale), unorm16.
+   */
+  uint16_t uv[2];
+} ArborVertexCompact;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2045,6 +2112,41 @@ enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
                                   size_t vertex_capacity,
                                   uint32_t *indices,
                                   size_t index_capacity);
+
+/**
+ * Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
+ * format `options->vertex_format` names: ArborVertex (32 bytes each) or
+ * ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
+ * arbor_mesh_write(). The counts are arbor_mesh_size()'s, so a host allocates (or maps)
+ * vertex count x the format's size bytes. `vertices` must be 4-byte aligned (malloc'd
+ * and mapped GPU memory are). Too few bytes give ARBOR_STATUS_BUFFER_TOO_SMALL naming
+ * `vertex_bytes` (required and capacity in bytes) and nothing is written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
+ * writes of `vertex_bytes` bytes, `indices` NULL or valid for writes of `index_count`
+ * indices, and they do not overlap.
+ */
+enum ArborStatus arbor_mesh_write_bytes(const struct ArborTree *tree,
+                                        const struct ArborMeshOptions *options,
+                                        void *vertices,
+                                        size_t vertex_bytes,
+                                        uint32_t *indices,
+                                        size_t index_count);
+
+/**
+ * What the v of `tree`'s compact mesh with `options` is stored over: an
+ * ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
+ * mesh's largest v (at least 1); 1 when `options->vertex_format` is
+ * ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree (then
+ * arbor_mesh_rewrite() rewrites every vertex).
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
+ */
+enum ArborStatus arbor_mesh_v_scale(const struct ArborTree *tree,
+                                    const struct ArborMeshOptions *options,
+                                    float *v_scale);
 
 /**
  * Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`

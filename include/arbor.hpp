@@ -226,6 +226,20 @@ class Tree {
                                    indices.data(), indices.size()));
   }
 
+  /// Writes the bark mesh as compact vertices (ArborVertexCompact, 20 bytes each):
+  /// `options.vertex_format` is set to ARBOR_VERTEX_FORMAT_COMPACT. Returns the v_scale
+  /// a vertex's v is stored over (v = uv[1] / 65535 * v_scale).
+  float write_mesh_compact(ArborMeshOptions options, Span<ArborVertexCompact> vertices,
+                           Span<uint32_t> indices) const {
+    options.vertex_format = ARBOR_VERTEX_FORMAT_COMPACT;
+    detail::check(arbor_mesh_write_bytes(tree_, &options, vertices.data(),
+                                         vertices.size() * sizeof(ArborVertexCompact),
+                                         indices.data(), indices.size()));
+    float v_scale = 1.0f;
+    detail::check(arbor_mesh_v_scale(tree_, &options, &v_scale));
+    return v_scale;
+  }
+
   std::vector<ArborBranchRange> branch_ranges(
       const ArborMeshOptions &options = mesh_options()) const {
     std::vector<ArborBranchRange> out(branch_count());

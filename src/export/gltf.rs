@@ -50,10 +50,11 @@ impl Material {
 /// field is checked as given first, so a set that contradicts itself (an engine preset with
 /// another up axis, say) is refused with the mesh writer's error; the limits that depend
 /// on the output space (positions in the f32 range) are those of the space glTF is written
-/// in.
+/// in. The vertices are written as f32 whatever `vertex_format` asks.
 fn gltf_options(options: &MeshOptions) -> Result<MeshOptions> {
     mesh::check_fields(options)?;
     Ok(MeshOptions {
+        vertex_format: mesh::VertexFormat::F32,
         topology: Topology::TriangleList,
         winding: Winding::CounterClockwise,
         up_axis: UpAxis::Y,

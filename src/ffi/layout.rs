@@ -40,6 +40,8 @@ pub enum ArborStructId {
     CurveGrowthRecord = 15,
     /// ArborOrgan.
     Organ = 16,
+    /// ArborVertexCompact.
+    VertexCompact = 17,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -66,6 +68,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         14 => size_of::<CurveRecord>(),
         15 => size_of::<CurveGrowthRecord>(),
         16 => size_of::<Organ>(),
+        17 => size_of::<VertexCompact>(),
         _ => 0,
     }
 }

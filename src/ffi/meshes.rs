@@ -63,6 +63,10 @@ pub struct ArborMeshOptions {
     /// winding of that engine (then up_axis and winding must stay at their defaults, and
     /// scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
     pub axes: u32,
+    /// An ArborVertexFormat value: ARBOR_VERTEX_FORMAT_F32 (ArborVertex, 32 bytes; the
+    /// default) or ARBOR_VERTEX_FORMAT_COMPACT (ArborVertexCompact, 20 bytes), which only
+    /// arbor_mesh_write_bytes() writes. (Added after the first layout.)
+    pub vertex_format: u32,
 }
 
 /// sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
@@ -83,7 +87,7 @@ mirror!(ArborMeshOptions => MeshOptions {
     same {
         radial_segments, topology, min_radial_segments, cull_radius, joints, smooth_taper,
         base_cap, tip, texture_scale, winding, up_axis, scale, threads, max_vertices,
-        curve_rings, axes,
+        curve_rings, axes, vertex_format,
     }
     renamed {}
     c_only { progress: None, progress_user_data: std::ptr::null_mut() }
@@ -227,6 +231,110 @@ pub unsafe extern "C" fn arbor_mesh_write(
         let mut f = progress_closure(progress, user);
         let mut run = run_of(&mut f).threads(options.threads);
         plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
+        Ok(())
+    })
+}
+
+/// Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
+/// format `options->vertex_format` names: ArborVertex (32 bytes each) or
+/// ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
+/// arbor_mesh_write(). The counts are arbor_mesh_size()'s, so a host allocates (or maps)
+/// vertex count x the format's size bytes. `vertices` must be 4-byte aligned (malloc'd
+/// and mapped GPU memory are). Too few bytes give ARBOR_STATUS_BUFFER_TOO_SMALL naming
+/// `vertex_bytes` (required and capacity in bytes) and nothing is written.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
+/// writes of `vertex_bytes` bytes, `indices` NULL or valid for writes of `index_count`
+/// indices, and they do not overlap.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_write_bytes(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    vertices: *mut c_void,
+    vertex_bytes: usize,
+    indices: *mut u32,
+    index_count: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
+        let plan = tree.plan(&options)?;
+        let size = plan.size();
+        let stride = match options.vertex_format {
+            VertexFormat::F32 => std::mem::size_of::<Vertex>(),
+            VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
+        };
+        let needed = size.vertices.saturating_mul(stride);
+        if vertex_bytes < needed {
+            return Err(crate::Error::BufferTooSmall {
+                buffer: "vertex_bytes",
+                required: needed,
+                capacity: vertex_bytes,
+            }
+            .into());
+        }
+        if !vertices.is_null() && (vertices as usize) % 4 != 0 {
+            return Err(crate::Error::invalid(
+                "vertices",
+                "the buffer is not aligned to 4 bytes (f32 positions)",
+            )
+            .into());
+        }
+        let mut f = progress_closure(progress, user);
+        let mut run = run_of(&mut f).threads(options.threads);
+        let count = vertex_bytes / stride;
+        match options.vertex_format {
+            VertexFormat::F32 => {
+                // SAFETY: the caller promises `vertex_bytes` writable bytes apart from
+                // `indices`; `count` ArborVertex fit in them, at a 4-byte aligned address.
+                let (v, i) =
+                    unsafe { mesh_buffers(vertices.cast(), count, indices, index_count, size) }?;
+                plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
+            }
+            VertexFormat::Compact => {
+                // SAFETY: as above, for `count` ArborVertexCompact.
+                let v = unsafe {
+                    out_slice(
+                        vertices.cast::<VertexCompact>(),
+                        count,
+                        size.vertices,
+                        "vertices",
+                    )
+                }?;
+                // SAFETY: the caller promises `indices` holds `index_count` writable indices.
+                let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
+                plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// What the v of `tree`'s compact mesh with `options` is stored over: an
+/// ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
+/// mesh's largest v (at least 1); 1 when `options->vertex_format` is
+/// ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree (then
+/// arbor_mesh_rewrite() rewrites every vertex).
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_v_scale(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    v_scale: *mut f32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        // SAFETY: the caller promises `v_scale` is NULL or writable.
+        let out = unsafe { out_ref(v_scale, "v_scale") }?;
+        *out = tree.plan(&options)?.v_scale();
         Ok(())
     })
 }

@@ -37,7 +37,7 @@ pub use tree::*;
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
 use crate::mesh::{
     self, AnimationVertex, BranchRange, CurveGrowthRecord, CurveRecord, LeafInstance, LeafOptions,
-    LeafPrefab, MeshOptions, Vertex,
+    LeafPrefab, MeshOptions, Vertex, VertexCompact, VertexFormat,
 };
 use crate::models::honda::{self, HondaParams};
 use crate::skeleton::{Branch, LeafSite, Organ, Skeleton};

@@ -279,6 +279,7 @@ mod fuzz {
                 progress: None,
                 progress_user_data: std::ptr::null_mut(),
                 axes: (fields[1] / 5) % 4,
+                vertex_format: (fields[2] / 80) % 3,
             };
             let mut p = HondaParams::zeroed();
             // SAFETY: `p` is a local struct.

@@ -19,6 +19,7 @@
 
 mod animation;
 mod cache;
+mod compact;
 mod leaves;
 mod lod;
 mod plan;
@@ -32,6 +33,7 @@ mod tubes;
 
 pub use animation::{AnimationVertex, animation};
 pub use cache::PlanCache;
+pub use compact::{VertexCompact, VertexSlot};
 pub use leaves::{
     LeafInstance, LeafOptions, LeafPrefab, leaf_animation, leaf_instances, leaf_mesh,
     leaf_mesh_size, write_leaf_mesh,
@@ -76,6 +78,21 @@ const _: () = {
     assert!(std::mem::offset_of!(Vertex, normal) == 12);
     assert!(std::mem::offset_of!(Vertex, uv) == 24);
 };
+
+/// Which vertex a mesh is written as (C: ArborVertexFormat, in
+/// ArborMeshOptions.vertex_format).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum VertexFormat {
+    /// [`Vertex`]: 32 bytes of f32. The default.
+    #[default]
+    F32 = 0,
+    /// [`VertexCompact`]: 20 bytes (f32 position, octahedral snorm16 normal, unorm16 uv
+    /// with v over the mesh's [`MeshPlan::v_scale`]).
+    Compact = 1,
+}
+
+crate::enums::numbered!(VertexFormat as "ArborVertexFormat" { F32 = "f32", Compact = "compact" });
 
 /// How the index buffer strings triangles together (C: ArborTopology, in
 /// ArborMeshOptions.topology).
@@ -235,6 +252,11 @@ pub struct MeshOptions {
     /// minimising frames continuous across joints, with radii interpolated and v by arc
     /// length.
     pub curve_rings: u32,
+    /// The vertex the writes take: [`VertexFormat::F32`] ([`Vertex`], the default) or
+    /// [`VertexFormat::Compact`] ([`VertexCompact`]). A write into the other kind of buffer
+    /// is [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) naming
+    /// `vertex_format`.
+    pub vertex_format: VertexFormat,
 }
 }
 
@@ -257,6 +279,7 @@ impl Default for MeshOptions {
             threads: 0,
             max_vertices: crate::limits::DEFAULT_MAX_VERTICES,
             curve_rings: 0,
+            vertex_format: VertexFormat::F32,
         }
     }
 }

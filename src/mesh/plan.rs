@@ -8,7 +8,7 @@ use super::rings::{circle, to_f32};
 use super::strips::StripRules;
 use super::{
     Axes, Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX,
-    Tip, UpAxis, Winding,
+    Tip, UpAxis, VertexFormat, Winding,
 };
 use crate::error::{Error, Result};
 use crate::geom::transport::{carry, ring_basis, transport_map};
@@ -438,6 +438,21 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
     l
 }
 
+/// The plan's v_scale: 1 for f32 vertices; for compact ones the power of two at or above
+/// the largest v a vertex can get (a branch's end, plus the radius a point tip reaches
+/// beyond it).
+fn v_scale(skeleton: &Skeleton, o: &MeshOptions, l: &Layout) -> f32 {
+    if o.vertex_format == VertexFormat::F32 {
+        return 1.0;
+    }
+    let v_end = l.v_end.iter().fold(0.0f32, |m, &v| m.max(v));
+    let r = skeleton
+        .branches()
+        .iter()
+        .fold(0.0f32, |m, b| m.max(b.start_radius).max(b.end_radius));
+    super::compact::v_scale_for(to_f32(v_end as f64 + r as f64 / o.texture_scale as f64))
+}
+
 /// Branch `i`'s ring frame at its start (and end, for a sweep) and v at its end, from its
 /// parent's: the part of the layout an edit of a branch changes for it and its subtree.
 fn frames(skeleton: &Skeleton, plan: &Plan, l: &mut Layout, i: usize, inv_ts: f64) {
@@ -508,6 +523,9 @@ pub struct MeshPlan {
     pub(crate) layout: Layout,
     /// Unit circle per side count in use (empty for the others).
     pub(crate) tables: Vec<Vec<(f32, f32, f32)>>,
+    /// What the writers divide v by: 1, or for compact vertices the power of two at or
+    /// above the mesh's largest v.
+    pub(crate) v_scale: f32,
 }
 
 impl std::fmt::Debug for MeshPlan {
@@ -541,13 +559,24 @@ impl MeshPlan {
                 tables[s as usize] = circle(s as usize);
             }
         }
+        let v_scale = v_scale(skeleton, options, &layout);
         Ok(MeshPlan {
             options: *options,
             branch_count: skeleton.len(),
             plan,
             layout,
             tables,
+            v_scale,
         })
+    }
+
+    /// What the compact format's v is stored over (see [`VertexCompact`](super::VertexCompact)): the power of
+    /// two at or above the largest v of the mesh (at least 1); 1 for
+    /// [`VertexFormat::F32`], whose v is written as it is. It can change when an edit
+    /// lengthens the tree ([`update_after_edit`](Self::update_after_edit) then returns
+    /// every branch).
+    pub fn v_scale(&self) -> f32 {
+        self.v_scale
     }
 
     /// The exact vertex and index counts of the mesh.
@@ -587,6 +616,26 @@ impl MeshPlan {
                 }
             })
             .collect()
+    }
+
+    /// [`Error::InvalidArgument`] naming `vertex_format` unless the options ask for
+    /// vertices of `format`.
+    pub(crate) fn check_format(&self, format: VertexFormat) -> Result<()> {
+        use crate::enums::Numbered;
+        let asked = self.options.vertex_format;
+        if asked != format {
+            return Err(Error::invalid(
+                "vertex_format",
+                format!(
+                    "the options ask for {} vertices ({}), the buffer holds {} ones ({})",
+                    asked.name(),
+                    asked.c_enumerator(),
+                    format.name(),
+                    format.c_enumerator()
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// [`Error::InvalidArgument`] unless `skeleton` has the branch count the plan was made
@@ -693,6 +742,12 @@ impl MeshPlan {
             if plan.segs[b as usize] != 0 {
                 frames(skeleton, plan, &mut self.layout, b as usize, inv_ts);
             }
+        }
+        let v_scale = v_scale(skeleton, &o, &self.layout);
+        if v_scale != self.v_scale {
+            // Every compact vertex's v is stored over the scale: all of them change.
+            self.v_scale = v_scale;
+            return Ok((0..n as u32).collect());
         }
         Ok(affected)
     }

@@ -4,8 +4,8 @@
 use super::{RESTART_INDEX, Topology};
 
 /// A place the writers can store a value into: an initialised element or an uninitialised
-/// slot (a mapped GPU buffer).
-pub(crate) trait Slot<T> {
+/// slot (a mapped GPU buffer). Public in a private module: [`VertexSlot`](super::VertexSlot) names it, no user can.
+pub trait Slot<T> {
     fn put(&mut self, value: T);
 }
 

@@ -124,19 +124,9 @@ impl MeshPlan {
         let rot = |v: Vec3| Vec3::from_array(t.out.dir(v));
         let (frame, t0) = (self.layout.frame_p[t.i], self.plan.t0[t.i]);
         let (po, qo) = (rot(frame), rot(t0.cross(frame)));
-        Affine::new(
-            Vec3::from_array(t.out.pos(center)),
-            po * (t.r0 * t.out.scale),
-            qo * (t.r0 * t.out.scale),
-            -rot(t0),
-            Vec3::ZERO,
-            Vec3::ZERO,
-            [0.5, 0.5],
-            [0.5, 0.0],
-            [0.0, -0.5],
-            [0.0; 2],
-        )
-        .put(out, t.table);
+        let center = Vec3::from_array(t.out.pos(center));
+        t.disc_framed(center, (po, qo), t.r0 * t.out.scale, -rot(t0), true)
+            .put(out, t.table);
     }
 
     /// The tip of a swept branch along its end tangent: a cap or a point.
@@ -145,18 +135,10 @@ impl MeshPlan {
         let t1 = self.plan.t1[t.i];
         let (po, qo, d_o) = (rot(end_frame), rot(t1.cross(end_frame)), rot(t1));
         match self.options.tip {
-            Tip::Cap => Affine::new(
-                Vec3::from_array(t.out.pos(t.end)),
-                po * (t.r1 * t.out.scale),
-                qo * (t.r1 * t.out.scale),
-                d_o,
-                Vec3::ZERO,
-                Vec3::ZERO,
-                [0.5, 0.5],
-                [0.5, 0.0],
-                [0.0, 0.5],
-                [0.0; 2],
-            )
+            Tip::Cap => {
+                let center = Vec3::from_array(t.out.pos(t.end));
+                t.disc_framed(center, (po, qo), t.r1 * t.out.scale, d_o, false)
+            }
             .put(tip, t.table),
             _ => {
                 let apex = t.out.pos(t.end + t1 * t.r1);

@@ -35,6 +35,7 @@ impl MeshPlan {
         };
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
         let flags = plan.flags[i];
+        let vk = 1.0 / self.v_scale;
         // The continuing branch's slope, for the mitred end ring.
         let cont_slope = if flags & MITRE_END != 0 {
             self.slope(skeleton, plan.cont[i] as usize)
@@ -56,10 +57,12 @@ impl MeshPlan {
             cont_slope,
             r0,
             r1,
-            v0: parent.map_or(0.0, |p| lay.v_end[p]),
-            v1: lay.v_end[i],
+            // v divided by the plan's v_scale (a power of two: exact), for compact vertices.
+            v0: parent.map_or(0.0, |p| lay.v_end[p]) * vk,
+            v1: lay.v_end[i] * vk,
             // In f64: a tiny texture scale must not turn v infinite.
-            inv_ts: 1.0 / o.texture_scale as f64,
+            inv_ts: vk as f64 / o.texture_scale as f64,
+            vk,
             first_vertex: lay.first_vertex[i],
             end_ring: lay.end_ring[i],
             shared_start: parent
@@ -98,6 +101,8 @@ pub(super) struct Tube<'a> {
     pub(super) v0: f32,
     pub(super) v1: f32,
     pub(super) inv_ts: f64,
+    /// 1 / the plan's v_scale: what a cap's v is multiplied by.
+    pub(super) vk: f32,
     pub(super) first_vertex: u32,
     pub(super) end_ring: u32,
     /// The parent's end ring, when this branch starts on it.
@@ -138,16 +143,29 @@ impl Tube<'_> {
     /// mirrors v, so a base cap seen from below is not mirrored).
     #[inline(always)]
     pub(super) fn disc(&self, center: Vec3, r: f32, normal: Vec3, flip: bool) -> Affine {
+        self.disc_framed(center, (self.po, self.qo), r, normal, flip)
+    }
+
+    /// [`disc`](Self::disc) on the frame `(po, qo)` (output space), as a sweep's ends have.
+    #[inline(always)]
+    pub(super) fn disc_framed(
+        &self,
+        center: Vec3,
+        (po, qo): (Vec3, Vec3),
+        r: f32,
+        normal: Vec3,
+        flip: bool,
+    ) -> Affine {
         Affine::new(
             center,
-            self.po * r,
-            self.qo * r,
+            po * r,
+            qo * r,
             normal,
             Vec3::ZERO,
             Vec3::ZERO,
-            [0.5, 0.5],
+            [0.5, 0.5 * self.vk],
             [0.5, 0.0],
-            [0.0, if flip { -0.5 } else { 0.5 }],
+            [0.0, if flip { -0.5 } else { 0.5 } * self.vk],
             [0.0; 2],
         )
     }

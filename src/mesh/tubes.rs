@@ -2,7 +2,7 @@
 
 use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START, length};
 use super::strips::{Slot, StripWriter};
-use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex};
+use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot};
 use crate::error::Result;
 use crate::progress::{self, Run, Stage};
 use crate::skeleton::{NO_PARENT, Skeleton};
@@ -35,10 +35,10 @@ pub fn tubes(skeleton: &Skeleton, options: &MeshOptions) -> Result<Mesh> {
 ///
 /// A slice shorter than needed gives [`Error::BufferTooSmall`](crate::error::Error::BufferTooSmall)
 /// and nothing is written.
-pub fn write_mesh(
+pub fn write_mesh<V: VertexSlot>(
     skeleton: &Skeleton,
     options: &MeshOptions,
-    vertices: &mut [Vertex],
+    vertices: &mut [V],
     indices: &mut [u32],
 ) -> Result<MeshSize> {
     MeshPlan::new(skeleton, options)?.write(skeleton, vertices, indices)
@@ -46,10 +46,10 @@ pub fn write_mesh(
 
 /// [`write_mesh`] into uninitialised memory, such as a mapped GPU buffer or a fresh
 /// allocation: every slot of the returned counts' prefixes is initialised on success.
-pub fn write_mesh_uninit(
+pub fn write_mesh_uninit<V: VertexSlot>(
     skeleton: &Skeleton,
     options: &MeshOptions,
-    vertices: &mut [MaybeUninit<Vertex>],
+    vertices: &mut [V],
     indices: &mut [MaybeUninit<u32>],
 ) -> Result<MeshSize> {
     MeshPlan::new(skeleton, options)?.write_uninit(skeleton, vertices, indices)
@@ -63,20 +63,20 @@ impl MeshPlan {
     /// Writes the mesh of `skeleton` (the tree the plan was made for) into `vertices` and
     /// `indices`, as [`write_mesh`] does, without recomputing the plan and without
     /// allocating in proportion to the tree.
-    pub fn write(
+    pub fn write<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
-        vertices: &mut [Vertex],
+        vertices: &mut [V],
         indices: &mut [u32],
     ) -> Result<MeshSize> {
         self.write_with(skeleton, vertices, indices, &mut Run::default())
     }
 
     /// [`write`](Self::write) into uninitialised memory (a mapped GPU buffer).
-    pub fn write_uninit(
+    pub fn write_uninit<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
-        vertices: &mut [MaybeUninit<Vertex>],
+        vertices: &mut [V],
         indices: &mut [MaybeUninit<u32>],
     ) -> Result<MeshSize> {
         self.write_with(skeleton, vertices, indices, &mut Run::default())
@@ -88,10 +88,10 @@ impl MeshPlan {
     /// When the callback returns `false` the write stops with
     /// [`Error::Cancelled`](crate::error::Error::Cancelled) and the buffers hold a partial
     /// mesh, not to be drawn.
-    pub fn write_uninit_in(
+    pub fn write_uninit_in<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
-        vertices: &mut [MaybeUninit<Vertex>],
+        vertices: &mut [V],
         indices: &mut [MaybeUninit<u32>],
         run: &mut Run<'_>,
     ) -> Result<MeshSize> {
@@ -120,7 +120,7 @@ impl MeshPlan {
 
     /// Every write's one path: checks the skeleton and the buffers' room, then writes on
     /// the run's threads (or the plan's), reporting to its callback.
-    fn write_with<V: Slot<Vertex> + Send, I: Slot<u32> + Send>(
+    fn write_with<V: VertexSlot, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,
         vertices: &mut [V],
@@ -129,6 +129,7 @@ impl MeshPlan {
     ) -> Result<MeshSize> {
         let threads = run.threads_or(self.options.threads);
         self.check_skeleton(skeleton)?;
+        self.check_format(V::FORMAT)?;
         let size = self.size();
         size.check_capacity(vertices.len(), indices.len())?;
         self.write_all(
@@ -145,33 +146,34 @@ impl MeshPlan {
     /// vertices of `branches` (as [`MeshPlan::update_after_edit`] returns them): the result
     /// equals a full [`write`](Self::write) byte for byte. The indices do not change with
     /// an edit and are not touched.
-    pub fn rewrite(
+    pub fn rewrite<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
         branches: &[u32],
-        vertices: &mut [Vertex],
+        vertices: &mut [V],
     ) -> Result<()> {
         self.rewrite_into(skeleton, branches, vertices)
     }
 
     /// [`rewrite`](Self::rewrite) into a host's buffer that may hold uninitialised slots
     /// beyond the mesh (a mapped GPU buffer).
-    pub fn rewrite_uninit(
+    pub fn rewrite_uninit<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
         branches: &[u32],
-        vertices: &mut [MaybeUninit<Vertex>],
+        vertices: &mut [V],
     ) -> Result<()> {
         self.rewrite_into(skeleton, branches, vertices)
     }
 
-    fn rewrite_into<V: Slot<Vertex>>(
+    fn rewrite_into<V: VertexSlot>(
         &self,
         skeleton: &Skeleton,
         branches: &[u32],
         vertices: &mut [V],
     ) -> Result<()> {
         self.check_skeleton(skeleton)?;
+        self.check_format(V::FORMAT)?;
         let size = self.size();
         size.check_capacity(vertices.len(), size.indices)?;
         let n = skeleton.len();

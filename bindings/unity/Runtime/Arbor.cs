@@ -54,12 +54,14 @@ namespace Arbor
     /// Engine conventions (ArborAxes): Unity and Unreal convert by a mirror, as their
     /// importers do; with a preset, Winding and UpAxis stay at their defaults.
     public enum Axes : uint { Arbor = 0, Unity = 1, Unreal = 2 }
+    /// The vertex a mesh is written as (ArborVertexFormat, MeshOptions.VertexFormat).
+    public enum VertexFormat : uint { F32 = 0, Compact = 1 }
     public enum StructId : uint
     {
         HondaParams = 0, Branch = 1, Vertex = 2, MeshOptions = 3, LsystemOptions = 4,
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
-        Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16,
+        Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -84,6 +86,17 @@ namespace Arbor
         public float PX, PY, PZ, NX, NY, NZ, U, V;
     }
 
+    /// Position (float32 x 3), octahedral normal (SNorm16 x 2), uv (UNorm16 x 2, v over
+    /// the mesh's v_scale): 20 bytes, for a Unity stream of Position Float32 x 3,
+    /// TexCoord1 SNorm16 x 2 (decode the normal in the shader) and TexCoord0 UNorm16 x 2.
+    [StructLayout(LayoutKind.Sequential)]
+    public struct VertexCompact
+    {
+        public float PX, PY, PZ;
+        public short NX, NY;
+        public ushort U, V;
+    }
+
     // Structs that grow: StructSize first, the size this binding was written against.
     // Always start from Default(), which asks the library to fill exactly that many bytes,
     // so this binding keeps working with a newer library.
@@ -106,6 +119,8 @@ namespace Arbor
         public IntPtr Progress, ProgressUserData;
         /// An Axes value. Default Axes.Arbor.
         public uint Axes;
+        /// A VertexFormat value. Default VertexFormat.F32; Compact is written by MeshCompact.
+        public uint VertexFormat;
 
         public static MeshOptions Default()
         {
@@ -304,6 +319,10 @@ namespace Arbor
         public static extern Status arbor_mesh_size(IntPtr tree, ref MeshOptions options, out UIntPtr vertexCount, out UIntPtr indexCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_write(IntPtr tree, ref MeshOptions options, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] int[] indices, UIntPtr indexCapacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_write_bytes(IntPtr tree, ref MeshOptions options, [Out] VertexCompact[] vertices, UIntPtr vertexBytes, [Out] int[] indices, UIntPtr indexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_v_scale(IntPtr tree, ref MeshOptions options, out float vScale);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_copy_curves(IntPtr tree, [Out] Curve[] output, UIntPtr capacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
@@ -583,6 +602,22 @@ namespace Arbor
             vertices = new Vertex[(int)nv];
             indices = new int[(int)ni];
             ArborException.Check(Native.arbor_mesh_write(handle, ref options, vertices, nv, indices, ni));
+        }
+
+        /// The mesh as compact vertices (20 bytes each); returns the v_scale a vertex's V is
+        /// stored over (v = V / 65535 * vScale).
+        public float MeshCompact(MeshOptions options, out VertexCompact[] vertices, out int[] indices)
+        {
+            options.VertexFormat = (uint)Arbor.VertexFormat.Compact;
+            UIntPtr nv, ni;
+            ArborException.Check(Native.arbor_mesh_size(handle, ref options, out nv, out ni));
+            vertices = new VertexCompact[(int)nv];
+            indices = new int[(int)ni];
+            var bytes = (UIntPtr)((ulong)nv * (ulong)Marshal.SizeOf(typeof(VertexCompact)));
+            ArborException.Check(Native.arbor_mesh_write_bytes(handle, ref options, vertices, bytes, indices, ni));
+            float vScale;
+            ArborException.Check(Native.arbor_mesh_v_scale(handle, ref options, out vScale));
+            return vScale;
         }
 
         /// The mesh as arrays, with `progress(stage, fraction)` called on this thread while
