@@ -139,6 +139,62 @@ fn bench_host(c: &mut Criterion) {
     group.finish();
 }
 
+/// Bytes a host hands to arbor_mesh_write_bytes: `n` vertices of `stride` bytes, touched,
+/// 4-byte aligned.
+fn touched_bytes(n: usize, stride: usize) -> Vec<u32> {
+    touched(n * stride / 4, 0x3f80_0000)
+}
+
+/// Size, then arbor_mesh_write_bytes in the options' vertex format.
+fn size_then_write_bytes(tree: &HostTree, o: &ArborMeshOptions, v: &mut [u32], i: &mut [u32]) {
+    let (_, ni) = size(tree, black_box(o));
+    // SAFETY: `v` holds its length in u32s (4-byte aligned), `i` at least ni indices.
+    let status = unsafe {
+        arbor::ffi::arbor_mesh_write_bytes(
+            tree.tree,
+            o,
+            v.as_mut_ptr().cast(),
+            v.len() * 4,
+            i.as_mut_ptr(),
+            ni,
+        )
+    };
+    assert_eq!(status, ArborStatus::Ok);
+}
+
+/// The compact vertex format (20 bytes) beside the f32 one (32 bytes), both through
+/// arbor_mesh_write_bytes into touched buffers, in vertices per second: repeat writes on
+/// the default threads and on one.
+fn bench_compact(c: &mut Criterion) {
+    let mut group = c.benchmark_group("host_compact");
+    group.sample_size(10);
+    for (letter, steps, topology, name) in [
+        ('a', 20, ArborTopology::TriangleList, "a20_list"),
+        ('g', 18, ArborTopology::TriangleStripRestart, "g18_restart"),
+    ] {
+        let tree = honda(letter, steps);
+        let o = options(topology as u32);
+        let (nv, ni) = size(&tree, &o);
+        group.throughput(Throughput::Elements(nv as u64));
+        let mut indices: Vec<u32> = touched(ni, 0x0101_0101);
+        for (format, stride, label) in [(0u32, 32usize, "f32"), (1, 20, "compact")] {
+            let mut vertices = touched_bytes(nv, stride);
+            for (threads, count) in [("default_threads", 0u32), ("1_thread", 1)] {
+                let o = ArborMeshOptions {
+                    vertex_format: format,
+                    threads: count,
+                    ..o
+                };
+                group.bench_function(
+                    BenchmarkId::new(format!("{label}_repeat_write_{threads}"), name),
+                    |b| b.iter(|| size_then_write_bytes(&tree, &o, &mut vertices, &mut indices)),
+                );
+            }
+        }
+    }
+    group.finish();
+}
+
 /// Editing a twig of tree a at n = 18 (262,143 branches) and rewriting only what changed
 /// inside the host's buffers, beside writing the whole mesh, both through the C ABI.
 fn bench_rewrite(c: &mut Criterion) {
@@ -192,5 +248,5 @@ fn bench_rewrite(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_host, bench_rewrite);
+criterion_group!(benches, bench_host, bench_rewrite, bench_compact);
 criterion_main!(benches);

@@ -4,11 +4,14 @@
 //! unorm16, v over the mesh's `v_scale` (a power of two at least the mesh's largest v, so
 //! the stored v is v / v_scale in [0, 1]). The mesh writers already produce v divided by
 //! that scale when the options ask for compact vertices, so each vertex is encoded where it
-//! is written, with no second pass over the mesh.
+//! is written, with no second pass over the mesh: a ring four vertices at a time, in
+//! vector lanes ([`encode_lanes`]), anything else one by one.
 
+use super::rings::Affine;
 use super::strips::Slot;
 use super::{Vertex, VertexFormat};
 use bytemuck::{Pod, Zeroable};
+use glam::Vec4;
 use std::mem::MaybeUninit;
 
 /// One compact mesh vertex (C: ArborVertexCompact), 20 bytes, interleaved: position (3 x
@@ -71,24 +74,25 @@ impl VertexCompact {
         }
     }
 
-    /// A vertex whose v is already divided by the mesh's v_scale.
+    /// A vertex whose v is already divided by the mesh's v_scale. Branch-free: half the
+    /// normals of a tree point down (z < 0), so a branch on it would be mispredicted as
+    /// often as taken.
     #[inline(always)]
     fn from_scaled(vertex: Vertex) -> Self {
         let [x, y, z] = vertex.normal;
         let l1 = x.abs() + y.abs() + z.abs();
-        let (mut px, mut py) = if l1 > 0.0 {
-            (x / l1, y / l1)
-        } else {
-            (0.0, 0.0)
-        };
-        if z < 0.0 {
-            (px, py) = ((1.0 - py.abs()).copysign(px), (1.0 - px.abs()).copysign(py));
-        }
-        let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 32767.0).round() as i16;
-        let unorm = |c: f32| (c.clamp(0.0, 1.0) * 65535.0).round() as u16;
+        // A zero normal (none is written) would give NaN: it encodes as (0, 0) instead.
+        let inv = if l1 > 0.0 { 1.0 / l1 } else { 0.0 };
+        let (px, py) = (x * inv, y * inv);
+        let signed = |m: f32, s: f32| if s < 0.0 { -m } else { m };
+        let (fx, fy) = (signed(1.0 - py.abs(), px), signed(1.0 - px.abs(), py));
+        let (ox, oy) = if z < 0.0 { (fx, fy) } else { (px, py) };
+        // Rounded to nearest (ties to even) as the four-lane path does.
+        let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 32767.0 + SNORM_MAGIC).to_bits() as u16 as i16;
+        let unorm = |c: f32| (c.clamp(0.0, 1.0) * 65535.0 + UNORM_MAGIC).to_bits() as u16;
         VertexCompact {
             position: vertex.position,
-            normal: [snorm(px), snorm(py)],
+            normal: [snorm(ox), snorm(oy)],
             uv: vertex.uv.map(unorm),
         }
     }
@@ -105,10 +109,52 @@ pub(crate) fn v_scale_for(v_max: f32) -> f32 {
     s
 }
 
+/// Encodes four vertices given as lanes (position x, y, z, normal x, y, z, u, v; v already
+/// divided by the mesh's v_scale): the arithmetic of [`VertexCompact::from_scaled`], four
+/// vertices to a vector, so a ring costs one vector division per four vertices.
+#[inline(always)]
+pub(crate) fn encode_lanes(l: &[Vec4; 8]) -> [VertexCompact; 4] {
+    let [px, py, pz, x, y, z, u, v] = *l;
+    let l1 = x.abs() + y.abs() + z.abs();
+    let inv = Vec4::select(l1.cmpgt(Vec4::ZERO), Vec4::ONE / l1, Vec4::ZERO);
+    let (qx, qy) = (x * inv, y * inv);
+    let signed = |m: Vec4, s: Vec4| Vec4::select(s.cmplt(Vec4::ZERO), -m, m);
+    let (fx, fy) = (
+        signed(Vec4::ONE - qy.abs(), qx),
+        signed(Vec4::ONE - qx.abs(), qy),
+    );
+    let down = z.cmplt(Vec4::ZERO);
+    let (ox, oy) = (Vec4::select(down, fx, qx), Vec4::select(down, fy, qy));
+    // Each lane's 16-bit value in the low bits of a float's mantissa (see UNORM_MAGIC).
+    let bits = |c: Vec4| c.to_array().map(f32::to_bits);
+    let snorm = |c: Vec4| bits(c.clamp(Vec4::NEG_ONE, Vec4::ONE) * 32767.0 + SNORM_MAGIC);
+    let unorm = |c: Vec4| bits(c.clamp(Vec4::ZERO, Vec4::ONE) * 65535.0 + UNORM_MAGIC);
+    let (nx, ny, tu, tv) = (snorm(ox), snorm(oy), unorm(u), unorm(v));
+    let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
+    std::array::from_fn(|k| VertexCompact {
+        position: [px[k], py[k], pz[k]],
+        normal: [nx[k] as u16 as i16, ny[k] as u16 as i16],
+        uv: [tu[k] as u16, tv[k] as u16],
+    })
+}
+
+/// Adding 2^23 to a float in [0, 2^16) leaves the nearest integer (ties to even) in the
+/// low bits of its mantissa; so no float-to-integer conversion is needed, which is a
+/// checked, per-lane one in Rust.
+const UNORM_MAGIC: f32 = 8_388_608.0;
+/// 1.5 x 2^23: the same for integers in (-2^22, 2^22), two's complement in the low bits.
+const SNORM_MAGIC: f32 = 12_582_912.0;
+
 impl Slot<Vertex> for VertexCompact {
     #[inline(always)]
     fn put(&mut self, value: Vertex) {
         *self = VertexCompact::from_scaled(value);
+    }
+
+    #[inline(always)]
+    fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
+        ring.put_compact(out, table, |slot, e| *slot = e);
+        true
     }
 }
 
@@ -116,6 +162,14 @@ impl Slot<Vertex> for MaybeUninit<VertexCompact> {
     #[inline(always)]
     fn put(&mut self, value: Vertex) {
         self.write(VertexCompact::from_scaled(value));
+    }
+
+    #[inline(always)]
+    fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
+        ring.put_compact(out, table, |slot, e| {
+            slot.write(e);
+        });
+        true
     }
 }
 

@@ -126,7 +126,7 @@ pub(crate) fn to_f32(x: f64) -> f32 {
 /// positions are all of this form, so a vertex is a few vector multiply-adds and two
 /// 16-byte stores.
 #[derive(Clone, Copy)]
-pub(crate) struct Affine {
+pub struct Affine {
     a: [Vec4; 2],
     b: [Vec4; 2],
     d: [Vec4; 2],
@@ -174,6 +174,9 @@ impl Affine {
     /// Writes the ring: one vertex per entry of `table`.
     #[inline(always)]
     pub(crate) fn put<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+        if V::put_affine(out, self, table, false) {
+            return;
+        }
         for (slot, &(c, s, u)) in out.iter_mut().zip(table) {
             slot.put(vertex(self.at(c, s, u)));
         }
@@ -186,6 +189,9 @@ impl Affine {
     #[inline(always)]
     pub(crate) fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
         debug_assert_eq!(Self::normal_of(&self.e), Vec3::ZERO);
+        if V::put_affine(out, self, table, true) {
+            return;
+        }
         let (na, nb, nd) = (
             Self::normal_of(&self.a),
             Self::normal_of(&self.b),
@@ -219,6 +225,44 @@ impl Affine {
                     lo * Vec4::new(1.0, 1.0, 1.0, k),
                     hi * Vec4::new(k, k, 1.0, 1.0),
                 ]));
+            }
+        }
+    }
+
+    /// Writes the ring as compact vertices, four at a time in lanes (position, normal and
+    /// uv of four vertices, each component one vector), handing each to `store`. The
+    /// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit
+    /// length first: a mitred ring is written as its plain affine form.
+    #[inline(always)]
+    pub(crate) fn put_compact<S>(
+        &self,
+        out: &mut [S],
+        table: &[(f32, f32, f32)],
+        store: impl Fn(&mut S, super::VertexCompact),
+    ) {
+        let comp = |t: &[Vec4; 2], k: usize| if k < 4 { t[0][k] } else { t[1][k - 4] };
+        // Per component k (0..8: position, normal, uv): the ring's terms as splats.
+        let terms: [[Vec4; 4]; 8] = std::array::from_fn(|k| {
+            [
+                Vec4::splat(comp(&self.a, k)),
+                Vec4::splat(comp(&self.b, k)),
+                Vec4::splat(comp(&self.d, k)),
+                Vec4::splat(comp(&self.e, k)),
+            ]
+        });
+        for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
+            let (mut c, mut s, mut u) = ([1.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
+            for (k, &(ck, sk, uk)) in chunk.iter().enumerate() {
+                (c[k], s[k], u[k]) = (ck, sk, uk);
+            }
+            let (c, s, u) = (Vec4::from(c), Vec4::from(s), Vec4::from(u));
+            let lanes: [Vec4; 8] = std::array::from_fn(|k| {
+                let [a, b, d, e] = terms[k];
+                a + b * c + d * s + e * u
+            });
+            let encoded = super::compact::encode_lanes(&lanes);
+            for (slot, e) in slots.iter_mut().zip(encoded) {
+                store(slot, e);
             }
         }
     }
