@@ -184,6 +184,21 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     );
     assert!(strips.share(0, 0, 400, 400) > 0.01);
 
+    // Compact vertices (20 bytes: octahedral normals, v over v_scale, decoded in the
+    // vertex shader) draw the picture of the f32 vertices.
+    let compact = render(
+        &exe,
+        "tree_g_compact",
+        &["--tree", "g", "--size", "400x400", "--compact"],
+    );
+    let differ_compact = differing_pixels(&strips, &compact);
+    println!("compact vs f32: {differ_compact} pixels differ");
+    assert!(
+        (differ_compact as f64) < 0.002 * (400.0 * 400.0),
+        "{differ_compact} pixels differ between compact and f32 vertices"
+    );
+    assert!(compact.share(0, 0, 400, 400) > 0.01);
+
     // The growth animation at depth 5 shows fewer tree pixels than the grown tree.
     let young = render(
         &exe,

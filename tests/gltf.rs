@@ -299,3 +299,106 @@ fn exported_files_read_back_and_pass_the_validator() {
         "{report}"
     );
 }
+
+/// The bytes of accessor `a`'s element `k` (its view's stride, or the element size).
+fn element<'b>(blob: &'b [u8], a: &gltf::Accessor<'_>, k: usize) -> &'b [u8] {
+    let view = a.view().unwrap();
+    let stride = view.stride().unwrap_or(a.size());
+    let at = view.offset() + a.offset() + k * stride;
+    &blob[at..at + a.size()]
+}
+
+/// `--compact-vertices` / `VertexFormat::Compact`: files with KHR_mesh_quantization
+/// (required), normals in snorm16 (uv stays f32: see `quantized_vertices`), 28 bytes a
+/// vertex, that decode to the f32 mesh within the documented precision and pass the
+/// validator.
+#[test]
+fn compact_exports_are_quantized_and_pass_the_validator() {
+    let compact = list_options().vertex_format(mesh::VertexFormat::Compact);
+    let leaves = LeafOptions::default();
+    let mut files = Vec::new();
+    for name in ['a', 'g'] {
+        let s = honda::build(&HondaParams::preset(name).unwrap()).unwrap();
+        let bark = mesh::tubes(&s, &list_options()).unwrap();
+        for ext in ["glb", "gltf"] {
+            let path = out_dir().join(format!("compact_{name}.{ext}"));
+            arbor::export::save_gltf(&s, &compact, Some(&leaves), &path).unwrap();
+            let bytes = std::fs::read(&path).unwrap();
+            let g = gltf::Gltf::from_slice_without_validation(&bytes).unwrap();
+            let json = g.document.as_json();
+            assert_eq!(json.extensions_required, ["KHR_mesh_quantization"]);
+            assert!(
+                json.extensions_used
+                    .iter()
+                    .any(|e| e == "KHR_mesh_quantization")
+            );
+            let blob = match g.blob.clone() {
+                Some(b) => b,
+                None => {
+                    let b = g.document.buffers().next().unwrap();
+                    match b.source() {
+                        gltf::buffer::Source::Uri(uri) => {
+                            decode_base64(uri.split_once("base64,").unwrap().1)
+                        }
+                        gltf::buffer::Source::Bin => unreachable!(),
+                    }
+                }
+            };
+            let p = g
+                .document
+                .meshes()
+                .next()
+                .unwrap()
+                .primitives()
+                .next()
+                .unwrap();
+            let get = |s: gltf::Semantic| p.get(&s).unwrap();
+            let (pos, nor, uv) = (
+                get(gltf::Semantic::Positions),
+                get(gltf::Semantic::Normals),
+                get(gltf::Semantic::TexCoords(0)),
+            );
+            use gltf::accessor::{DataType, Dimensions};
+            assert_eq!(
+                (pos.data_type(), pos.dimensions()),
+                (DataType::F32, Dimensions::Vec3)
+            );
+            assert_eq!((nor.data_type(), nor.normalized()), (DataType::I16, true));
+            assert_eq!(
+                (uv.data_type(), uv.dimensions()),
+                (DataType::F32, Dimensions::Vec2)
+            );
+            assert_eq!(pos.view().unwrap().stride(), Some(28), "28 bytes a vertex");
+            assert_eq!(pos.count(), bark.vertices.len());
+            for (k, v) in bark.vertices.iter().enumerate() {
+                let p3: [f32; 3] = bytemuck::pod_read_unaligned(element(&blob, &pos, k));
+                assert_eq!(p3, v.position);
+                let n: [i16; 3] = bytemuck::pod_read_unaligned(element(&blob, &nor, k));
+                let n = glam::Vec3::from(n.map(|c| (c as f32 / 32767.0).max(-1.0))).normalize();
+                let f = glam::Vec3::from(v.normal);
+                let deg = f.cross(n).length().atan2(f.dot(n)).to_degrees();
+                assert!(deg < 0.1, "{name}.{ext} vertex {k}: normal {deg}°");
+                let t: [f32; 2] = bytemuck::pod_read_unaligned(element(&blob, &uv, k));
+                assert_eq!(t, v.uv);
+            }
+            files.push(path);
+        }
+    }
+    let Some(dir) = validator_dir() else {
+        panic!("the Khronos glTF-Validator is not installed in target/gltf-validator");
+    };
+    let out = Command::new("node")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/validate-gltf.mjs"))
+        .args(&files)
+        .env("NODE_PATH", dir.join("node_modules"))
+        .output()
+        .expect("node runs");
+    let report = String::from_utf8_lossy(&out.stdout);
+    println!("{report}");
+    assert!(out.status.success(), "validator: {report}");
+    assert_eq!(
+        report.matches("0 errors, 0 warnings").count(),
+        files.len(),
+        "{report}"
+    );
+}

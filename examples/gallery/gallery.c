@@ -4,7 +4,7 @@
  * mapped OpenGL buffers.
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
- *           [--smooth] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
+ *           [--smooth] [--compact] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
@@ -65,6 +65,7 @@
   X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                   \
   X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                   \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)           \
+  X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)         \
   X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                   \
   X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                 \
   X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)               \
@@ -165,17 +166,25 @@ static const char *vs_src =
     "layout(location = 4) in vec4 i_rot;\n"
     "layout(location = 5) in float i_scale;\n"
     "layout(location = 6) in vec4 a_anim;\n" /* growth, order, along, phase (arbor) */
+    "layout(location = 7) in vec2 a_oct;\n"  /* compact vertices: octahedral normal */
     "uniform mat4 u_view_proj;\n"
     "uniform float u_time;\n"
     "uniform float u_wind;\n"
     "out float v_growth;\n"
     "uniform mat4 u_model;\n"
     "uniform int u_mode;\n"
+    "uniform float u_v_scale;\n" /* > 0: compact vertices, v stored over it */
     "out vec3 v_normal;\n"
     "out vec2 v_uv;\n"
     "vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }\n"
+    "vec3 octahedral(vec2 e) {\n"
+    "  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));\n"
+    "  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);\n"
+    "  return normalize(n);\n"
+    "}\n"
     "void main() {\n"
-    "  vec3 p = a_pos; vec3 n = a_normal;\n"
+    "  vec3 p = a_pos; vec3 n = a_normal; vec2 uv = a_uv;\n"
+    "  if (u_mode == 0 && u_v_scale > 0.0) { n = octahedral(a_oct); uv.y *= u_v_scale; }\n"
     "  if (u_mode == 2) { p = i_pos + rotate(i_rot, a_pos * i_scale); n = rotate(i_rot, a_normal); }\n"
     "  if (u_mode == 0 && u_wind > 0.0) {\n"
     "    float sway = sin(u_time * 1.7 + a_anim.w * 6.2832) * a_anim.z * (0.4 + 0.6 * a_anim.y);\n"
@@ -184,7 +193,7 @@ static const char *vs_src =
     "  v_growth = u_mode == 0 ? a_anim.x : 0.0;\n"
     "  vec4 world = u_model * vec4(p, 1.0);\n"
     "  v_normal = mat3(u_model) * n;\n"
-    "  v_uv = a_uv;\n"
+    "  v_uv = uv;\n"
     "  gl_Position = u_view_proj * world;\n"
     "}\n";
 
@@ -246,6 +255,8 @@ typedef struct {
   ArborTree *arbor;
   ArborVertex *cpu_vertices;
   uint32_t *cpu_indices;
+  /* Compact vertices (--compact): the v_scale of the uploaded mesh; 0 for f32 vertices. */
+  float v_scale;
 } Tree;
 
 typedef struct {
@@ -263,6 +274,9 @@ typedef struct {
   int world_mode, world_env, world_species, world_cycles, world_trees, world_forest;
   /* Smooth mode: every tree's branches bent into C1 curves and swept with inner rings. */
   int smooth;
+  /* Compact vertices: bark uploaded as ArborVertexCompact (20 bytes) through
+     arbor_mesh_write_bytes, decoded in the vertex shader. */
+  int compact;
   /* Edit demo: bends applied at start (headless) and the twig chosen (counted from the
      last branch). */
   int edits, edit_pick;
@@ -276,7 +290,7 @@ typedef struct {
 static Tree trees[9];
 static State st;
 static GLuint program, ground_vao, ground_vbo, ground_ebo, leaf_quad_vao, leaf_quad_vbo, leaf_quad_ebo;
-static GLint u_view_proj, u_model, u_mode, u_light, u_time, u_wind, u_growth;
+static GLint u_view_proj, u_model, u_mode, u_light, u_time, u_wind, u_growth, u_v_scale;
 static GLuint forest_vao, forest_vbo, forest_ebo;
 static size_t forest_indices;
 static ArborWorld *world;
@@ -366,22 +380,39 @@ static void build_tree(Tree *t) {
   p_glBindVertexArray(t->vao);
   p_glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t->ebo);
-  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), NULL, GL_STATIC_DRAW);
+  ArborMeshOptions upload = o;
+  if (st.compact) upload.vertex_format = ARBOR_VERTEX_FORMAT_COMPACT;
+  size_t stride = st.compact ? sizeof(ArborVertexCompact) : sizeof(ArborVertex);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * stride), NULL, GL_STATIC_DRAW);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof(uint32_t)), NULL, GL_STATIC_DRAW);
   if (nv > 0 && ni > 0) {
     /* arbor writes straight into the GPU buffers. */
     GLbitfield access = GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT;
-    void *vmem = p_glMapBufferRange(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(nv * sizeof(ArborVertex)), access);
+    void *vmem = p_glMapBufferRange(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(nv * stride), access);
     void *imem = p_glMapBufferRange(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(ni * sizeof(uint32_t)), access);
     if (!vmem || !imem) {
       fprintf(stderr, "gallery: glMapBufferRange failed\n");
       exit(1);
     }
-    if (arbor_mesh_write(tree, &o, vmem, nv, imem, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
+    if (arbor_mesh_write_bytes(tree, &upload, vmem, nv * stride, imem, ni) != ARBOR_STATUS_OK)
+      fail("arbor_mesh_write_bytes");
     p_glUnmapBuffer(GL_ELEMENT_ARRAY_BUFFER);
     p_glUnmapBuffer(GL_ARRAY_BUFFER);
   }
-  setup_vertex_layout();
+  t->v_scale = 0.0f;
+  if (st.compact) {
+    if (arbor_mesh_v_scale(tree, &upload, &t->v_scale) != ARBOR_STATUS_OK) fail("arbor_mesh_v_scale");
+    GLsizei s20 = (GLsizei)sizeof(ArborVertexCompact);
+    p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, s20, (void *)offsetof(ArborVertexCompact, position));
+    p_glVertexAttribPointer(7, 2, GL_SHORT, GL_TRUE, s20, (void *)offsetof(ArborVertexCompact, normal));
+    p_glVertexAttribPointer(2, 2, GL_UNSIGNED_SHORT, GL_TRUE, s20, (void *)offsetof(ArborVertexCompact, uv));
+    p_glEnableVertexAttribArray(0);
+    p_glDisableVertexAttribArray(1);
+    p_glEnableVertexAttribArray(2);
+    p_glEnableVertexAttribArray(7);
+  } else {
+    setup_vertex_layout();
+  }
   /* The animation stream (growth, order, along, phase) as a second vertex buffer. */
   if (!t->anim_vbo) p_glGenBuffers(1, &t->anim_vbo);
   ArborAnimationVertex *anim = malloc((nv ? nv : 1) * sizeof *anim);
@@ -452,6 +483,8 @@ static void build_tree(Tree *t) {
  * (arbor_mesh_rewrite_branch), and upload just the changed ranges (the twig's and its
  * parent's) with glBufferSubData. */
 static void bend_twig(Tree *t) {
+  /* The demo re-uploads ranges of its f32 CPU copy: not over compact vertices. */
+  if (st.compact) return;
   size_t nb = arbor_tree_branch_count(t->arbor);
   if (nb < 2) return;
   ArborBranch *b = malloc(nb * sizeof *b);
@@ -883,7 +916,9 @@ static void draw_tree(const Tree *t, Mat4 model) {
   p_glUniform1i(u_mode, 0);
   p_glBindVertexArray(t->vao);
   GLenum mode = st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES;
+  p_glUniform1f(u_v_scale, t->v_scale);
   if (t->indices) p_glDrawElements(mode, (GLsizei)t->indices, GL_UNSIGNED_INT, 0);
+  p_glUniform1f(u_v_scale, 0.0f);
   if (st.leaves && t->leaves) {
     p_glUniform1i(u_mode, 2);
     p_glBindVertexArray(t->leaf_vao);
@@ -1144,6 +1179,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
+    else if (!strcmp(argv[i], "--compact")) st.compact = 1;
     else if (!strcmp(argv[i], "--edit") && i + 1 < argc) st.edits = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
     else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
@@ -1168,7 +1204,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--next") && i + 1 < argc) next_files = atoi(argv[++i]);
     else {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
-                      "[--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
+                      "[--smooth] [--compact] [--edit N] [--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
                       "[--world-forest] [--world-env 0|1]] [--pitch DEGREES] "
                       "[--screenshot FILE.png|FILE.ppm --frames N]\n");
       return 2;
@@ -1220,6 +1256,7 @@ int main(int argc, char **argv) {
   u_time = p_glGetUniformLocation(program, "u_time");
   u_wind = p_glGetUniformLocation(program, "u_wind");
   u_growth = p_glGetUniformLocation(program, "u_growth");
+  u_v_scale = p_glGetUniformLocation(program, "u_v_scale");
   p_glEnable(GL_DEPTH_TEST);
   p_glEnable(GL_CULL_FACE);
   p_glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);

@@ -4,7 +4,7 @@
 //! ```text
 //! arbor export SOURCE -o OUT.{glb,gltf,obj} [--steps N] [--seed S]
 //!              [--leaves[=auto|sites|tips]] [--leaf-size S] [--instanced-leaves]
-//!              [--radial-segments K] [--curve-rings K]
+//!              [--radial-segments K] [--curve-rings K] [--compact-vertices]
 //! arbor info SOURCE [--steps N] [--seed S] [--json]
 //! ```
 //! SOURCE: a letter a–i (the 1996 trees), a `.l` file (read as cpfg reads it), or
@@ -106,6 +106,12 @@ fn cli() -> Command {
                         .long("curve-rings")
                         .value_parser(value_parser!(u32))
                         .help("rings inside every branch along its curve (default 0)"),
+                )
+                .arg(
+                    Arg::new("compact-vertices")
+                        .long("compact-vertices")
+                        .action(ArgAction::SetTrue)
+                        .help("glTF only: quantized vertices (KHR_mesh_quantization: normals in snorm16, uv in unorm16 with v over extras.v_scale)"),
                 ),
         )
         .subcommand(
@@ -312,6 +318,14 @@ fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         .into_iter()
         .find(|e| lower.ends_with(e))
         .ok_or_else(|| format!("{out}: expected a .glb, .gltf or .obj file name"))?;
+    if m.get_flag("compact-vertices") {
+        if format == ".obj" {
+            return Err(format!(
+                "{out}: --compact-vertices is for glTF (KHR_mesh_quantization); OBJ is text"
+            ));
+        }
+        o.vertex_format = arbor::mesh::VertexFormat::Compact;
+    }
     let instanced = m.get_flag("instanced-leaves");
     if instanced && format == ".obj" {
         return Err(format!(

@@ -150,7 +150,12 @@ fn gltf_bytes_with(
         // Whether the file holds leaf geometry (asked for and found somewhere to go).
         prims.iter().any(|p| matches!(p.material, Material::Leaves))
     );
-    encode(one_tree(prims), &extras, binary, NO_INSTANCES)
+    encode(
+        one_tree(prims),
+        &extras,
+        Form::of(options, binary),
+        NO_INSTANCES,
+    )
 }
 
 /// [`gltf_bytes_instanced`] saved to `path` (`.glb` or `.gltf` by the extension), whole or
@@ -212,7 +217,12 @@ pub fn gltf_bytes_instanced(
         o.radial_segments,
         instances.len()
     );
-    encode(one_tree(prims), &extras, binary, Some((quad, instances)))
+    encode(
+        one_tree(prims),
+        &extras,
+        Form::of(options, binary),
+        Some((quad, instances)),
+    )
 }
 
 /// A forest as glTF: the trees merged into one bark mesh (one draw call), as
@@ -239,7 +249,12 @@ pub fn gltf_forest_bytes(
             anim: None,
         }]
     };
-    encode(one_tree(prims), &extras, binary, NO_INSTANCES)
+    encode(
+        one_tree(prims),
+        &extras,
+        Form::of(options, binary),
+        NO_INSTANCES,
+    )
 }
 
 /// A forest as one node per placed tree: one mesh per distinct tree (same source and
@@ -284,7 +299,12 @@ pub fn gltf_forest_nodes_bytes(
         o.radial_segments,
         num(o.scale)
     );
-    encode((trees, nodes), &extras, binary, NO_INSTANCES)
+    encode(
+        (trees, nodes),
+        &extras,
+        Form::of(options, binary),
+        NO_INSTANCES,
+    )
 }
 
 /// Writes [`gltf_forest_nodes_bytes`] to `path` (`.glb` or `.gltf`, as [`save_gltf`]).
@@ -298,6 +318,10 @@ pub fn save_gltf_forest_nodes(
     })
 }
 
+/// glTF componentType values.
+const FLOAT: u32 = 5126;
+const SHORT: u32 = 5122;
+
 /// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
 type Instanced = (Mesh, Vec<mesh::LeafInstance>);
 
@@ -309,6 +333,8 @@ struct Buffers {
     bin: Vec<u8>,
     views: Vec<String>,
     accessors: Vec<String>,
+    /// Vertices as KHR_mesh_quantization allows: normals in snorm16, uv in unorm16.
+    quantized: bool,
 }
 
 impl Buffers {
@@ -333,8 +359,21 @@ impl Buffers {
         ty: &str,
         extra: &str,
     ) -> usize {
+        self.accessor_of(view, offset, count, (FLOAT, ty), extra)
+    }
+
+    /// Adds an accessor of `component` (a glTF componentType) into `view`; returns its
+    /// index.
+    fn accessor_of(
+        &mut self,
+        view: usize,
+        offset: usize,
+        count: usize,
+        (component, ty): (u32, &str),
+        extra: &str,
+    ) -> usize {
         self.accessors.push(format!(
-            "{{\"bufferView\":{view},\"byteOffset\":{offset},\"componentType\":5126,\"count\":{count},\"type\":\"{ty}\"{extra}}}"
+            "{{\"bufferView\":{view},\"byteOffset\":{offset},\"componentType\":{component},\"count\":{count},\"type\":\"{ty}\"{extra}}}"
         ));
         self.accessors.len() - 1
     }
@@ -350,11 +389,6 @@ impl Buffers {
             }
         }
         let n = m.vertices.len();
-        let vv = self.view(
-            bytemuck::cast_slice(&m.vertices),
-            ",\"byteStride\":32,\"target\":34962",
-        );
-        let iv = self.view(bytemuck::cast_slice(&m.indices), ",\"target\":34963");
         let bounds = format!(
             ",\"min\":[{},{},{}],\"max\":[{},{},{}]",
             num(lo[0]),
@@ -364,9 +398,19 @@ impl Buffers {
             num(hi[1]),
             num(hi[2])
         );
-        let pos = self.accessor(vv, 0, n, "VEC3", &bounds);
-        let nor = self.accessor(vv, 12, n, "VEC3", "");
-        let uv = self.accessor(vv, 24, n, "VEC2", "");
+        let (pos, nor, uv) = if self.quantized {
+            self.quantized_vertices(m, &bounds)
+        } else {
+            let vv = self.view(
+                bytemuck::cast_slice(&m.vertices),
+                ",\"byteStride\":32,\"target\":34962",
+            );
+            let pos = self.accessor(vv, 0, n, "VEC3", &bounds);
+            let nor = self.accessor(vv, 12, n, "VEC3", "");
+            let uv = self.accessor(vv, 24, n, "VEC2", "");
+            (pos, nor, uv)
+        };
+        let iv = self.view(bytemuck::cast_slice(&m.indices), ",\"target\":34963");
         self.accessors.push(format!(
             "{{\"bufferView\":{iv},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
             m.indices.len()
@@ -377,6 +421,32 @@ impl Buffers {
                 "\"attributes\":{{\"POSITION\":{pos},\"NORMAL\":{nor},\"TEXCOORD_0\":{uv}}},\"indices\":{idx}"
             ),
             n,
+        )
+    }
+
+    /// The vertices as KHR_mesh_quantization allows, 28 bytes each: position in f32 at 0,
+    /// the normal in snorm16 x 3 at 12 (two bytes of padding keep each attribute 4-byte
+    /// aligned), uv in f32 at 20. The uv stays f32: a quantized TEXCOORD reads as 0..1 in
+    /// every importer, and glTF scales it back only through a texture's
+    /// KHR_texture_transform, which an untextured file has nowhere to put. Returns the
+    /// position, normal and uv accessors.
+    fn quantized_vertices(&mut self, m: &Mesh, bounds: &str) -> (usize, usize, usize) {
+        let n = m.vertices.len();
+        let mut bytes = Vec::with_capacity(n * 28);
+        for v in &m.vertices {
+            bytes.extend_from_slice(bytemuck::cast_slice(&v.position));
+            let normal = v
+                .normal
+                .map(|x| (x.clamp(-1.0, 1.0) * 32767.0).round() as i16);
+            bytes.extend_from_slice(bytemuck::cast_slice(&normal));
+            bytes.extend_from_slice(&[0, 0]);
+            bytes.extend_from_slice(bytemuck::cast_slice(&v.uv));
+        }
+        let vv = self.view(&bytes, ",\"byteStride\":28,\"target\":34962");
+        (
+            self.accessor(vv, 0, n, "VEC3", bounds),
+            self.accessor_of(vv, 12, n, (SHORT, "VEC3"), ",\"normalized\":true"),
+            self.accessor(vv, 20, n, "VEC2", ""),
         )
     }
 }
@@ -500,10 +570,27 @@ fn instanced_leaves(
     (node, mesh)
 }
 
+/// How a file is written: `.glb` or `.gltf`, and with quantized vertices (the options
+/// asked for [`VertexFormat::Compact`](mesh::VertexFormat::Compact)).
+#[derive(Clone, Copy)]
+struct Form {
+    binary: bool,
+    quantized: bool,
+}
+
+impl Form {
+    fn of(options: &MeshOptions, binary: bool) -> Self {
+        Form {
+            binary,
+            quantized: options.vertex_format == mesh::VertexFormat::Compact,
+        }
+    }
+}
+
 fn encode(
     (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
     extras: &str,
-    binary: bool,
+    Form { binary, quantized }: Form,
     instanced: Option<Instanced>,
 ) -> Result<Vec<u8>> {
     let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
@@ -522,7 +609,10 @@ fn encode(
             .position(|&x| x == m)
             .expect("listed above")
     };
-    let mut b = Buffers::default();
+    let mut b = Buffers {
+        quantized,
+        ..Buffers::default()
+    };
     // Meshes and the nodes that hold them: the trees (a tree without triangles gets no
     // mesh, and its node none), then the instanced leaves.
     let mut meshes = Vec::new();
@@ -563,7 +653,10 @@ fn encode(
     for n in &placements {
         nodes.push(node_json(n, mesh_of.get(n.mesh).copied().flatten()));
     }
-    let mut used = String::new();
+    let mut used: Vec<&str> = Vec::new();
+    if quantized {
+        used.push("\"KHR_mesh_quantization\"");
+    }
     if let Some((m, instances)) = &instanced {
         let leaf = material(Material::Leaves);
         let (node, mesh) = instanced_leaves(&mut b, m, instances, meshes.len(), leaf);
@@ -571,8 +664,22 @@ fn encode(
         meshes.push(mesh);
         // Used, not required: a viewer without the extension draws one leaf at the
         // node; export baked leaves (save_gltf) for such viewers.
-        used = ",\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"]".into();
+        used.push("\"EXT_mesh_gpu_instancing\"");
     }
+    let used = match used.is_empty() {
+        true => String::new(),
+        // Quantized attributes are required: a reader without the extension cannot read
+        // them as floats.
+        false => format!(
+            ",\"extensionsUsed\":[{}]{}",
+            used.join(","),
+            if quantized {
+                ",\"extensionsRequired\":[\"KHR_mesh_quantization\"]"
+            } else {
+                ""
+            }
+        ),
+    };
     let uri = if binary {
         String::new()
     } else {
