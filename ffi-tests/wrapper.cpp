@@ -43,6 +43,16 @@ int main(int argc, char **argv) {
     EXPECT(std::memcmp(v.data(), mesh.vertices().data(), v.size() * sizeof v[0]) == 0,
            "tree %c vertices", name);
     EXPECT(std::equal(i.begin(), i.end(), mesh.indices().begin()), "tree %c indices", name);
+    // Compact vertices: the same positions and indices, v within its scale.
+    std::vector<ArborVertexCompact> c(size.first);
+    std::vector<uint32_t> ci(size.second);
+    float v_scale = tree.write_mesh_compact(arbor::mesh_options(), c, ci);
+    EXPECT(ci == i && v_scale >= 1.0f, "tree %c compact indices", name);
+    bool same = true;
+    for (std::size_t k = 0; k < c.size(); k++)
+      same = same && std::memcmp(c[k].position, v[k].position, sizeof c[k].position) == 0 &&
+             std::fabs(c[k].uv[1] / 65535.0 * v_scale - v[k].uv[1]) <= v_scale / 65535.0;
+    EXPECT(same, "tree %c compact vertices", name);
   }
 
   // The host's own skeleton: the branches of tree c, copied back in, mesh the same.

@@ -302,3 +302,43 @@ fn a_vlab_object_folder_is_a_source() {
     assert!(ok, "{err}");
     assert!(out.contains("\"branches\":3"), "{out}");
 }
+
+#[test]
+fn compact_vertices_are_quantized_gltf_and_refused_for_obj() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-compact");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (full, compact) = (dir.join("a.gltf"), dir.join("a_compact.gltf"));
+    let (ok, _, err) = arbor(&["export", "a", "-o", full.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = arbor(&[
+        "export",
+        "a",
+        "-o",
+        compact.to_str().unwrap(),
+        "--compact-vertices",
+    ]);
+    assert!(ok, "{err}");
+    let (full, compact) = (
+        std::fs::read_to_string(full).unwrap(),
+        std::fs::read_to_string(compact).unwrap(),
+    );
+    assert!(!full.contains("KHR_mesh_quantization"));
+    assert!(compact.contains("\"extensionsRequired\":[\"KHR_mesh_quantization\"]"));
+    assert!(
+        compact.len() < full.len(),
+        "quantized normals take fewer bytes"
+    );
+    let obj = dir.join("a.obj");
+    let (ok, _, err) = arbor(&[
+        "export",
+        "a",
+        "-o",
+        obj.to_str().unwrap(),
+        "--compact-vertices",
+    ]);
+    assert!(
+        !ok && err.contains("--compact-vertices is for glTF"),
+        "{err}"
+    );
+    assert!(!obj.exists());
+}

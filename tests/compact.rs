@@ -75,6 +75,8 @@ fn decoded_compact_meshes_match_the_f32_meshes() {
             let mut idx = vec![0u32; size.indices];
             plan.write(&s, &mut v, &mut idx).unwrap();
             assert_eq!(idx, f.indices, "{name} {o:?}: indices");
+            // What docs/meshes.md says: no v below 0 (which the format clamps) here.
+            assert!(f.vertices.iter().all(|v| v.uv[1] >= 0.0), "{name}: v < 0");
             let v_scale = plan.v_scale();
             let v_max = f.vertices.iter().fold(0.0f32, |m, v| m.max(v.uv[1]));
             assert!(

@@ -138,6 +138,15 @@ static class ArborTest
                 for (int q = 0; mirrored && q < v.Length; q += 7)
                     mirrored = v[q].PX == -own[q].PX && v[q].PY == own[q].PY && v[q].PZ == own[q].PZ && v[q].NX == -own[q].NX;
                 Expect(mirrored, "tree " + name + " mirrored by x");
+                // Compact vertices: the same positions and indices, v within its scale.
+                VertexCompact[] cv;
+                int[] ci;
+                float vScale = tree.MeshCompact(defaults, out cv, out ci);
+                bool same = cv.Length == own.Length && ci.Length == ownIdx.Length;
+                for (int q = 0; same && q < cv.Length; q += 5)
+                    same = cv[q].PX == own[q].PX && cv[q].PY == own[q].PY && cv[q].PZ == own[q].PZ
+                        && System.Math.Abs(cv[q].V / 65535.0 * vScale - own[q].V) <= vScale / 65535.0;
+                Expect(same && vScale >= 1, "tree " + name + " compact vertices (v_scale " + vScale + ")");
             }
         }
 
