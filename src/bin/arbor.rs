@@ -111,7 +111,7 @@ fn cli() -> Command {
                     Arg::new("compact-vertices")
                         .long("compact-vertices")
                         .action(ArgAction::SetTrue)
-                        .help("glTF only: quantized vertices (KHR_mesh_quantization: normals in snorm16, uv in unorm16 with v over extras.v_scale)"),
+                        .help("glTF only: quantized vertices (KHR_mesh_quantization: normals in snorm16, 28 bytes a vertex)"),
                 ),
         )
         .subcommand(
