@@ -99,7 +99,7 @@ int main(void) {
   for (uint32_t id = 0; id < 16; id++)
     CHECK(arbor_struct_size(id) == sizes[id], "struct %u: %zu vs %zu", id, arbor_struct_size(id),
           sizes[id]);
-  CHECK(arbor_struct_size(18) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
+  CHECK(arbor_struct_size(19) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
         "unknown id");
   for (int i = 0; i < 9; i++) upload_one((char)('a' + i), expected_branches[i]);
   /* Upper case names work too. */

@@ -380,6 +380,26 @@ static void compact_vertices(void) {
     CHECK(memcmp(c[i].position, v[i].position, sizeof c[i].position) == 0, "position %zu", i);
   }
   CHECK(worst_n < 0.1, "normal error %g degrees", worst_n);
+  /* The animation stream in both forms through one call: 16 and 8 bytes a vertex. */
+  ArborAnimationVertex *anim = malloc(nv * sizeof *anim);
+  ArborAnimationVertexCompact *anim_c = malloc(nv * sizeof *anim_c);
+  ArborMeshOptions o32 = o;
+  o32.vertex_format = ARBOR_VERTEX_FORMAT_F32;
+  CHECK_STATUS(arbor_mesh_animation_write_bytes(t, &o32, anim, nv * sizeof *anim), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_mesh_animation_write_bytes(t, &o, anim_c, nv * sizeof *anim_c - 1),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK_STATUS(arbor_mesh_animation_write_bytes(t, &o, anim_c, nv * sizeof *anim_c), ARBOR_STATUS_OK);
+  CHECK(sizeof(ArborAnimationVertexCompact) == 8, "8 bytes");
+  for (size_t i = 0; i < nv; i++) {
+    if (fabs(anim_c[i].growth / 65535.0 - anim[i].growth) > 1e-4 || anim_c[i].order != (uint16_t)anim[i].order ||
+        fabs(anim_c[i].along / 65535.0 - anim[i].along) > 1e-4 ||
+        fabs(anim_c[i].phase / 65535.0 - anim[i].phase) > 1e-4) {
+      CHECK(0, "animation %zu", i);
+      break;
+    }
+  }
+  free(anim_c);
+  free(anim);
   CHECK(worst_v < 1.0 / 4096.0, "v error %g of the range", worst_v);
   free(c);
   free(idx_c);

@@ -464,6 +464,10 @@ typedef enum ArborStructId {
    * ArborVertexCompact.
    */
   ARBOR_STRUCT_ID_VERTEX_COMPACT = 17,
+  /**
+   * ArborAnimationVertexCompact.
+   */
+  ARBOR_STRUCT_ID_ANIMATION_VERTEX_COMPACT = 18,
 } ArborStructId;
 
 /**
@@ -1618,6 +1622,32 @@ typedef struct ArborVertexCompact {
   uint16_t uv[2];
 } ArborVertexCompact;
 
+/**
+ * The animation stream packed to match [`VertexCompact`](super::VertexCompact): 8 bytes
+ * (C: ArborAnimationVertexCompact), four uint16. `growth`, `along` and `phase` are unorm16
+ * (value / 65535, rounded to nearest); `order` is the branching order as an integer
+ * (saturating at 65,535). Bound as four normalised unsigned shorts, a shader reads order
+ * as `y * 65535.0`.
+ */
+typedef struct ArborAnimationVertexCompact {
+  /**
+   * [`AnimationVertex::growth`], unorm16.
+   */
+  uint16_t growth;
+  /**
+   * [`AnimationVertex::order`], an integer.
+   */
+  uint16_t order;
+  /**
+   * [`AnimationVertex::along`], unorm16.
+   */
+  uint16_t along;
+  /**
+   * [`AnimationVertex::phase`], unorm16.
+   */
+  uint16_t phase;
+} ArborAnimationVertexCompact;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2273,6 +2303,23 @@ uint32_t arbor_mesh_topology(const struct ArborMesh *mesh);
  * `mesh` is NULL or a mesh from this library not yet freed.
  */
 void arbor_mesh_free(struct ArborMesh *mesh);
+
+/**
+ * Writes the animation stream of `tree`'s mesh with `options` into a byte buffer of
+ * `bytes` bytes, in the format `options->vertex_format` names: ArborAnimationVertex (16
+ * bytes each) or, for compact vertices, ArborAnimationVertexCompact (8 bytes each). One
+ * element per vertex of arbor_mesh_size(); too few bytes give
+ * ARBOR_STATUS_BUFFER_TOO_SMALL naming `bytes` and nothing is written. `out` must be
+ * 4-byte aligned.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `bytes` bytes.
+ */
+enum ArborStatus arbor_mesh_animation_write_bytes(const struct ArborTree *tree,
+                                                  const struct ArborMeshOptions *options,
+                                                  void *out,
+                                                  size_t bytes);
 
 /**
  * Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:

@@ -175,3 +175,21 @@ fn edits_rewrite_compact_vertices_as_a_full_write_does() {
         }
     }
 }
+
+#[test]
+fn the_packed_animation_stream_decodes_to_the_f32_one() {
+    for (name, s) in vertex_cache::trees() {
+        let plan = MeshPlan::new(&s, &MeshOptions::default()).unwrap();
+        let full = plan.animation(&s).unwrap();
+        let packed = plan.animation_compact(&s).unwrap();
+        assert_eq!(full.len(), packed.len());
+        assert_eq!(full.len(), plan.size().vertices, "one element per vertex");
+        for (a, p) in full.iter().zip(&packed) {
+            let d = p.decode();
+            assert_eq!(d.order, a.order, "{name}: order is exact");
+            for (x, y) in [(d.growth, a.growth), (d.along, a.along), (d.phase, a.phase)] {
+                assert!((x - y).abs() <= 0.5 / 65535.0 + 1e-7, "{name}: {x} vs {y}");
+            }
+        }
+    }
+}

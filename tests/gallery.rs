@@ -225,6 +225,19 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
     let moved = differing_pixels(&strips, &windy);
     println!("forest: {share:.4} tree pixels; wind moved {moved} pixels");
     assert!(moved > 100, "wind moved only {moved} pixels");
+    // The packed animation stream (8 bytes a vertex) sways the compact tree as the f32
+    // stream sways the f32 one.
+    let windy_compact = render(
+        &exe,
+        "tree_g_wind_compact",
+        &["--tree", "g", "--size", "400x400", "--wind", "--compact"],
+    );
+    let differ = differing_pixels(&windy, &windy_compact);
+    println!("wind, compact vs f32: {differ} pixels differ");
+    assert!(
+        (differ as f64) < 0.004 * (400.0 * 400.0),
+        "{differ} pixels differ between compact and f32 in the wind"
+    );
 
     // Smooth mode: the same tree with C1 curves swept by inner rings covers about as much
     // of the picture, drawn differently.

@@ -184,13 +184,14 @@ static const char *vs_src =
     "}\n"
     "void main() {\n"
     "  vec3 p = a_pos; vec3 n = a_normal; vec2 uv = a_uv;\n"
-    "  if (u_mode == 0 && u_v_scale > 0.0) { n = octahedral(a_oct); uv.y *= u_v_scale; }\n"
+    "  vec4 anim = a_anim;\n"
+    "  if (u_mode == 0 && u_v_scale > 0.0) { n = octahedral(a_oct); uv.y *= u_v_scale; anim.y *= 65535.0; }\n"
     "  if (u_mode == 2) { p = i_pos + rotate(i_rot, a_pos * i_scale); n = rotate(i_rot, a_normal); }\n"
     "  if (u_mode == 0 && u_wind > 0.0) {\n"
-    "    float sway = sin(u_time * 1.7 + a_anim.w * 6.2832) * a_anim.z * (0.4 + 0.6 * a_anim.y);\n"
+    "    float sway = sin(u_time * 1.7 + anim.w * 6.2832) * anim.z * (0.4 + 0.6 * anim.y);\n"
     "    p += vec3(sway, 0.0, 0.5 * sway) * u_wind;\n"
     "  }\n"
-    "  v_growth = u_mode == 0 ? a_anim.x : 0.0;\n"
+    "  v_growth = u_mode == 0 ? anim.x : 0.0;\n"
     "  vec4 world = u_model * vec4(p, 1.0);\n"
     "  v_normal = mat3(u_model) * n;\n"
     "  v_uv = uv;\n"
@@ -277,6 +278,8 @@ typedef struct {
   /* Compact vertices: bark uploaded as ArborVertexCompact (20 bytes) through
      arbor_mesh_write_bytes, decoded in the vertex shader. */
   int compact;
+  /* Headless screenshots: the wind's clock stands still at 1 s. */
+  int fixed_time;
   /* Edit demo: bends applied at start (headless) and the twig chosen (counted from the
      last branch). */
   int edits, edit_pick;
@@ -415,11 +418,18 @@ static void build_tree(Tree *t) {
   }
   /* The animation stream (growth, order, along, phase) as a second vertex buffer. */
   if (!t->anim_vbo) p_glGenBuffers(1, &t->anim_vbo);
-  ArborAnimationVertex *anim = malloc((nv ? nv : 1) * sizeof *anim);
-  if (arbor_mesh_animation_write(tree, &o, anim, nv) != ARBOR_STATUS_OK) fail("arbor_mesh_animation_write");
+  /* Compact: 8-byte records (growth, order, along, phase as uint16), read normalised; the
+     shader scales order back. */
+  size_t anim_size = st.compact ? sizeof(ArborAnimationVertexCompact) : sizeof(ArborAnimationVertex);
+  void *anim = malloc((nv ? nv : 1) * anim_size);
+  if (arbor_mesh_animation_write_bytes(tree, &upload, anim, nv * anim_size) != ARBOR_STATUS_OK)
+    fail("arbor_mesh_animation_write_bytes");
   p_glBindBuffer(GL_ARRAY_BUFFER, t->anim_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *anim), anim, GL_STATIC_DRAW);
-  p_glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, sizeof *anim, (void *)0);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * anim_size), anim, GL_STATIC_DRAW);
+  if (st.compact)
+    p_glVertexAttribPointer(6, 4, GL_UNSIGNED_SHORT, GL_TRUE, (GLsizei)anim_size, (void *)0);
+  else
+    p_glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, (GLsizei)anim_size, (void *)0);
   p_glEnableVertexAttribArray(6);
   free(anim);
   t->vertices = nv;
@@ -1020,7 +1030,8 @@ static void render(void) {
   float l[3] = {0.45f, 0.75f, 0.5f};
   float ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
   p_glUniform3f(u_light, l[0] / ll, l[1] / ll, l[2] / ll);
-  p_glUniform1f(u_time, (float)glfwGetTime());
+  /* A screenshot sways at a fixed moment, so two runs draw the same picture. */
+  p_glUniform1f(u_time, st.fixed_time ? 1.0f : (float)glfwGetTime());
   p_glUniform1f(u_wind, st.wind ? 1.0f : 0.0f);
   float growth = 1.0f;
   if (st.threshold_growth) {
@@ -1171,7 +1182,7 @@ int main(int argc, char **argv) {
   st.world_species = -1;
   st.world_trees = 7;
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) { shot = argv[++i]; headless = 1; }
+    if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) { shot = argv[++i]; headless = 1; st.fixed_time = 1; }
     else if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--tree") && i + 1 < argc) st.single = argv[++i][0] - 'a';
     else if (!strcmp(argv[i], "--size") && i + 1 < argc) sscanf(argv[++i], "%dx%d", &st.width, &st.height);

@@ -42,6 +42,8 @@ pub enum ArborStructId {
     Organ = 16,
     /// ArborVertexCompact.
     VertexCompact = 17,
+    /// ArborAnimationVertexCompact.
+    AnimationVertexCompact = 18,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -69,6 +71,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         15 => size_of::<CurveGrowthRecord>(),
         16 => size_of::<Organ>(),
         17 => size_of::<VertexCompact>(),
+        18 => size_of::<mesh::AnimationVertexCompact>(),
         _ => 0,
     }
 }

@@ -665,6 +665,46 @@ pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
     })
 }
 
+/// Writes the animation stream of `tree`'s mesh with `options` into a byte buffer of
+/// `bytes` bytes, in the format `options->vertex_format` names: ArborAnimationVertex (16
+/// bytes each) or, for compact vertices, ArborAnimationVertexCompact (8 bytes each). One
+/// element per vertex of arbor_mesh_size(); too few bytes give
+/// ARBOR_STATUS_BUFFER_TOO_SMALL naming `bytes` and nothing is written. `out` must be
+/// 4-byte aligned.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+/// writes of `bytes` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_mesh_animation_write_bytes(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    out: *mut c_void,
+    bytes: usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let options = unsafe { read_mesh_options(options) }?;
+        let plan = tree.plan(&options)?;
+        let data: Vec<u8> = match options.vertex_format {
+            VertexFormat::F32 => bytemuck::cast_slice(&plan.animation(tree.skeleton())?).to_vec(),
+            VertexFormat::Compact => {
+                bytemuck::cast_slice(&plan.animation_compact(tree.skeleton())?).to_vec()
+            }
+        };
+        if !out.is_null() && (out as usize) % 4 != 0 {
+            return Err(
+                crate::Error::invalid("out", "the buffer is not aligned to 4 bytes").into(),
+            );
+        }
+        // SAFETY: the caller promises `out` holds `bytes` writable bytes.
+        unsafe { copy_out(&data, out.cast::<u8>(), bytes, "bytes") }?;
+        Ok(())
+    })
+}
+
 /// Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:
 /// defaults): `capacity` elements, at least the vertex count of arbor_mesh_size().
 ///

@@ -25,6 +25,50 @@ pub struct AnimationVertex {
     pub phase: f32,
 }
 
+/// The animation stream packed to match [`VertexCompact`](super::VertexCompact): 8 bytes
+/// (C: ArborAnimationVertexCompact), four uint16. `growth`, `along` and `phase` are unorm16
+/// (value / 65535, rounded to nearest); `order` is the branching order as an integer
+/// (saturating at 65,535). Bound as four normalised unsigned shorts, a shader reads order
+/// as `y * 65535.0`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AnimationVertexCompact {
+    /// [`AnimationVertex::growth`], unorm16.
+    pub growth: u16,
+    /// [`AnimationVertex::order`], an integer.
+    pub order: u16,
+    /// [`AnimationVertex::along`], unorm16.
+    pub along: u16,
+    /// [`AnimationVertex::phase`], unorm16.
+    pub phase: u16,
+}
+
+const _: () = assert!(std::mem::size_of::<AnimationVertexCompact>() == 8);
+
+impl AnimationVertexCompact {
+    /// `a` packed.
+    pub fn encode(a: &AnimationVertex) -> Self {
+        let unorm = |c: f32| (c.clamp(0.0, 1.0) * 65535.0).round() as u16;
+        AnimationVertexCompact {
+            growth: unorm(a.growth),
+            order: a.order.clamp(0.0, 65535.0) as u16,
+            along: unorm(a.along),
+            phase: unorm(a.phase),
+        }
+    }
+
+    /// The stream element this one stands for.
+    pub fn decode(&self) -> AnimationVertex {
+        let f = |c: u16| c as f32 / 65535.0;
+        AnimationVertex {
+            growth: f(self.growth),
+            order: self.order as f32,
+            along: f(self.along),
+            phase: f(self.phase),
+        }
+    }
+}
+
 /// A per-branch phase in [0, 1) from the branch index (the same on every run).
 pub(crate) fn branch_phase(i: u32) -> f32 {
     let mut z = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -100,5 +144,15 @@ impl MeshPlan {
         }
         debug_assert_eq!(out.len(), plan.size.vertices);
         Ok(out)
+    }
+
+    /// [`animation`](Self::animation) packed to match compact vertices (see
+    /// [`AnimationVertexCompact`]).
+    pub fn animation_compact(&self, skeleton: &Skeleton) -> Result<Vec<AnimationVertexCompact>> {
+        Ok(self
+            .animation(skeleton)?
+            .iter()
+            .map(AnimationVertexCompact::encode)
+            .collect())
     }
 }

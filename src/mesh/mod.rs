@@ -31,7 +31,7 @@ mod topology;
 mod tube;
 mod tubes;
 
-pub use animation::{AnimationVertex, animation};
+pub use animation::{AnimationVertex, AnimationVertexCompact, animation};
 pub use cache::PlanCache;
 pub use compact::{VertexCompact, VertexSlot};
 pub use leaves::{

@@ -62,6 +62,7 @@ namespace Arbor
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
         Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
+        AnimationVertexCompact = 18,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -95,6 +96,14 @@ namespace Arbor
         public float PX, PY, PZ;
         public short NX, NY;
         public ushort U, V;
+    }
+
+    /// The animation stream packed to match VertexCompact: growth, along and phase in
+    /// UNorm16, Order an integer (8 bytes).
+    [StructLayout(LayoutKind.Sequential)]
+    public struct AnimationVertexCompact
+    {
+        public ushort Growth, Order, Along, Phase;
     }
 
     // Structs that grow: StructSize first, the size this binding was written against.
