@@ -35,126 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- the few OpenGL functions used, loaded with glfwGetProcAddress ---- */
-#define GL_FUNCTIONS(X)                                                    \
-  X(PFNGLCREATESHADERPROC, glCreateShader)                                 \
-  X(PFNGLSHADERSOURCEPROC, glShaderSource)                                 \
-  X(PFNGLCOMPILESHADERPROC, glCompileShader)                               \
-  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                   \
-  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                         \
-  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                               \
-  X(PFNGLATTACHSHADERPROC, glAttachShader)                                 \
-  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                   \
-  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                 \
-  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                       \
-  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                     \
-  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                     \
-  X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)                         \
-  X(PFNGLUNIFORM1IPROC, glUniform1i)                                       \
-  X(PFNGLUNIFORM3FPROC, glUniform3f)                                       \
-  X(PFNGLUNIFORM1FPROC, glUniform1f)                                       \
-  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                           \
-  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                     \
-  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                           \
-  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                     \
-  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                               \
-  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                     \
-  X(PFNGLBUFFERDATAPROC, glBufferData)                                     \
-  X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                               \
-  X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                             \
-  X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                   \
-  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                   \
-  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)           \
-  X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)         \
-  X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                   \
-  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                 \
-  X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)               \
-  X(PFNGLENABLEPROC, glEnable)                                             \
-  X(PFNGLDISABLEPROC, glDisable)                                           \
-  X(PFNGLCLEARCOLORPROC, glClearColor)                                     \
-  X(PFNGLCLEARPROC, glClear)                                               \
-  X(PFNGLVIEWPORTPROC, glViewport)                                         \
-  X(PFNGLSCISSORPROC, glScissor)                                           \
-  X(PFNGLPOLYGONMODEPROC, glPolygonMode)                                   \
-  X(PFNGLREADPIXELSPROC, glReadPixels)                                     \
-  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                   \
-  X(PFNGLREADBUFFERPROC, glReadBuffer)                                     \
-  X(PFNGLFINISHPROC, glFinish)                                             \
-  X(PFNGLGETSTRINGPROC, glGetString)
-
-#define DECLARE(type, name) static type p_##name;
-GL_FUNCTIONS(DECLARE)
-#undef DECLARE
-
-static int load_gl(void) {
-#define LOAD(type, name)                                               \
-  p_##name = (type)glfwGetProcAddress(#name);                          \
-  if (!p_##name) {                                                     \
-    fprintf(stderr, "gallery: OpenGL function %s is missing\n", #name); \
-    return 0;                                                          \
-  }
-  GL_FUNCTIONS(LOAD)
-#undef LOAD
-  return 1;
-}
-
-/* ---- small matrix helpers (column-major, as OpenGL) ---- */
-typedef struct { float m[16]; } Mat4;
-
-static Mat4 mat_mul(Mat4 a, Mat4 b) {
-  Mat4 r;
-  for (int c = 0; c < 4; c++)
-    for (int row = 0; row < 4; row++) {
-      float s = 0;
-      for (int k = 0; k < 4; k++) s += a.m[k * 4 + row] * b.m[c * 4 + k];
-      r.m[c * 4 + row] = s;
-    }
-  return r;
-}
-
-static Mat4 perspective(float fovy, float aspect, float near, float far) {
-  Mat4 r;
-  memset(&r, 0, sizeof r);
-  float f = 1.0f / tanf(fovy / 2);
-  r.m[0] = f / aspect;
-  r.m[5] = f;
-  r.m[10] = (far + near) / (near - far);
-  r.m[11] = -1;
-  r.m[14] = 2 * far * near / (near - far);
-  return r;
-}
-
-static Mat4 look_at(const float eye[3], const float at[3]) {
-  float f[3] = {at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]};
-  float fl = sqrtf(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-  for (int i = 0; i < 3; i++) f[i] /= fl;
-  float up[3] = {0, 1, 0};
-  float s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2], f[0] * up[1] - f[1] * up[0]};
-  float sl = sqrtf(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-  for (int i = 0; i < 3; i++) s[i] /= sl;
-  float u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
-  Mat4 r;
-  memset(&r, 0, sizeof r);
-  r.m[0] = s[0]; r.m[4] = s[1]; r.m[8] = s[2];
-  r.m[1] = u[0]; r.m[5] = u[1]; r.m[9] = u[2];
-  r.m[2] = -f[0]; r.m[6] = -f[1]; r.m[10] = -f[2];
-  r.m[12] = -(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
-  r.m[13] = -(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
-  r.m[14] = f[0] * eye[0] + f[1] * eye[1] + f[2] * eye[2];
-  r.m[15] = 1;
-  return r;
-}
-
-static Mat4 model_matrix(float x, float z, float yaw, float scale) {
-  Mat4 r;
-  memset(&r, 0, sizeof r);
-  float c = cosf(yaw) * scale, s = sinf(yaw) * scale;
-  r.m[0] = c; r.m[2] = -s;
-  r.m[5] = scale;
-  r.m[8] = s; r.m[10] = c;
-  r.m[12] = x; r.m[14] = z; r.m[15] = 1;
-  return r;
-}
+#include "../common/glapp.h"
 
 /* ---- shaders ---- */
 static const char *vs_src =
@@ -226,21 +107,6 @@ static const char *fs_src =
     "  }\n"
     "  color = vec4(base * (0.35 + 0.65 * diffuse), 1.0);\n"
     "}\n";
-
-static GLuint compile(GLenum kind, const char *src) {
-  GLuint s = p_glCreateShader(kind);
-  p_glShaderSource(s, 1, &src, NULL);
-  p_glCompileShader(s);
-  GLint ok = 0;
-  p_glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    p_glGetShaderInfoLog(s, sizeof log, NULL, log);
-    fprintf(stderr, "gallery: shader: %s\n", log);
-    exit(1);
-  }
-  return s;
-}
 
 /* ---- trees ---- */
 typedef struct {
@@ -1051,44 +917,7 @@ static void render(void) {
   p_glDisable(GL_SCISSOR_TEST);
 }
 
-static int save_image(const char *path) {
-  int w = st.width, h = st.height;
-  unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
-  p_glFinish();
-  p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  p_glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb);
-  FILE *f = fopen(path, "wb");
-  if (!f) {
-    fprintf(stderr, "gallery: cannot write %s\n", path);
-    free(rgb);
-    return 0;
-  }
-  size_t len = strlen(path);
-  if (len > 4 && strcmp(path + len - 4, ".ppm") == 0) {
-    fprintf(f, "P6\n%d %d\n255\n", w, h);
-    for (int y = h - 1; y >= 0; y--) fwrite(rgb + (size_t)y * (size_t)w * 3, 1, (size_t)w * 3, f);
-  } else {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png_create_info_struct(png);
-    if (setjmp(png_jmpbuf(png))) {
-      fprintf(stderr, "gallery: libpng failed on %s\n", path);
-      fclose(f);
-      free(rgb);
-      return 0;
-    }
-    png_init_io(png, f);
-    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = h - 1; y >= 0; y--) png_write_row(png, rgb + (size_t)y * (size_t)w * 3);
-    png_write_end(png, NULL);
-    png_destroy_write_struct(&png, &info);
-  }
-  fclose(f);
-  free(rgb);
-  printf("gallery: wrote %s (%dx%d)\n", path, w, h);
-  return 1;
-}
+static int save_shot(const char *path) { return save_image(path, st.width, st.height); }
 
 static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   (void)scancode;
@@ -1168,6 +997,7 @@ static void resize(GLFWwindow *win, int w, int h) {
 }
 
 int main(int argc, char **argv) {
+  glapp_name = "gallery";
   const char *shot = NULL;
   int frames = 3, headless = 0, depth = -1, next_files = 0;
   st.width = 1080;
@@ -1247,19 +1077,7 @@ int main(int argc, char **argv) {
   glfwGetFramebufferSize(win, &st.width, &st.height);
   printf("gallery: arbor %s, OpenGL %s\n", arbor_version(), (const char *)p_glGetString(GL_VERSION));
 
-  GLuint vs = compile(GL_VERTEX_SHADER, vs_src), fs = compile(GL_FRAGMENT_SHADER, fs_src);
-  program = p_glCreateProgram();
-  p_glAttachShader(program, vs);
-  p_glAttachShader(program, fs);
-  p_glLinkProgram(program);
-  GLint linked = 0;
-  p_glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    char log[2048];
-    p_glGetProgramInfoLog(program, sizeof log, NULL, log);
-    fprintf(stderr, "gallery: link: %s\n", log);
-    return 1;
-  }
+  program = link_program(vs_src, fs_src);
   u_view_proj = p_glGetUniformLocation(program, "u_view_proj");
   u_model = p_glGetUniformLocation(program, "u_model");
   u_mode = p_glGetUniformLocation(program, "u_mode");
@@ -1316,14 +1134,14 @@ int main(int argc, char **argv) {
     render();
     frame++;
     if (headless && frame >= frames) {
-      int ok = save_image(shot);
+      int ok = save_shot(shot);
       arbor_world_free(world);
       glfwDestroyWindow(win);
       glfwTerminate();
       return ok ? 0 : 1;
     }
     if (st.screenshot_requested) {
-      save_image("arbor_gallery.png");
+      save_shot("arbor_gallery.png");
       st.screenshot_requested = 0;
     }
     glfwSwapBuffers(win);

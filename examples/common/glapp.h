@@ -1,0 +1,246 @@
+/*
+ * What arbor's example programs (the gallery, the ray marcher) share: the OpenGL functions
+ * they call, loaded with glfwGetProcAddress; column-major matrices; shader compilation; and
+ * the screenshot (PNG with libpng, or PPM) read back from the framebuffer with
+ * glReadPixels. Header-only: each program includes it once, after <GLFW/glfw3.h> and
+ * <GL/glcorearb.h>, and sets `glapp_name` for its messages.
+ */
+#ifndef ARBOR_EXAMPLES_GLAPP_H
+#define ARBOR_EXAMPLES_GLAPP_H
+
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The program's name in messages ("gallery: ..."). */
+static const char *glapp_name = "arbor";
+
+#define GLAPP_FUNCTIONS(X)                                                 \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                                 \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                                 \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                               \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                   \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                         \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                               \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                                 \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                   \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                 \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                       \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                     \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                     \
+  X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)                         \
+  X(PFNGLUNIFORM1IPROC, glUniform1i)                                       \
+  X(PFNGLUNIFORM3FPROC, glUniform3f)                                       \
+  X(PFNGLUNIFORM1FPROC, glUniform1f)                                       \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                           \
+  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                     \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                           \
+  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                     \
+  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                               \
+  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                     \
+  X(PFNGLBINDBUFFERBASEPROC, glBindBufferBase)                             \
+  X(PFNGLBUFFERDATAPROC, glBufferData)                                     \
+  X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                               \
+  X(PFNGLGETBUFFERSUBDATAPROC, glGetBufferSubData)                         \
+  X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                             \
+  X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                   \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                   \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)           \
+  X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)         \
+  X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                   \
+  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                     \
+  X(PFNGLDRAWARRAYSINSTANCEDPROC, glDrawArraysInstanced)                   \
+  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                 \
+  X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)               \
+  X(PFNGLGENTEXTURESPROC, glGenTextures)                                   \
+  X(PFNGLBINDTEXTUREPROC, glBindTexture)                                   \
+  X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                               \
+  X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                     \
+  X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                               \
+  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                           \
+  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                           \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                 \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)             \
+  X(PFNGLDRAWBUFFERPROC, glDrawBuffer)                                     \
+  X(PFNGLENABLEPROC, glEnable)                                             \
+  X(PFNGLDISABLEPROC, glDisable)                                           \
+  X(PFNGLCULLFACEPROC, glCullFace)                                         \
+  X(PFNGLCLEARCOLORPROC, glClearColor)                                     \
+  X(PFNGLCLEARPROC, glClear)                                               \
+  X(PFNGLVIEWPORTPROC, glViewport)                                         \
+  X(PFNGLSCISSORPROC, glScissor)                                           \
+  X(PFNGLPOLYGONMODEPROC, glPolygonMode)                                   \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                                     \
+  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                   \
+  X(PFNGLREADBUFFERPROC, glReadBuffer)                                     \
+  X(PFNGLFINISHPROC, glFinish)                                             \
+  X(PFNGLGETSTRINGPROC, glGetString)
+
+#define GLAPP_DECLARE(type, name) static type p_##name;
+GLAPP_FUNCTIONS(GLAPP_DECLARE)
+#undef GLAPP_DECLARE
+
+/* Loads every function of the list (a current context first); 0 when one is missing. */
+static int load_gl(void) {
+#define GLAPP_LOAD(type, name)                                                       \
+  p_##name = (type)glfwGetProcAddress(#name);                                        \
+  if (!p_##name) {                                                                   \
+    fprintf(stderr, "%s: OpenGL function %s is missing\n", glapp_name, #name);       \
+    return 0;                                                                        \
+  }
+  GLAPP_FUNCTIONS(GLAPP_LOAD)
+#undef GLAPP_LOAD
+  return 1;
+}
+
+/* ---- small matrix helpers (column-major, as OpenGL) ---- */
+typedef struct { float m[16]; } Mat4;
+
+static inline Mat4 mat_mul(Mat4 a, Mat4 b) {
+  Mat4 r;
+  for (int c = 0; c < 4; c++)
+    for (int row = 0; row < 4; row++) {
+      float s = 0;
+      for (int k = 0; k < 4; k++) s += a.m[k * 4 + row] * b.m[c * 4 + k];
+      r.m[c * 4 + row] = s;
+    }
+  return r;
+}
+
+static inline Mat4 perspective(float fovy, float aspect, float near, float far) {
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  float f = 1.0f / tanf(fovy / 2);
+  r.m[0] = f / aspect;
+  r.m[5] = f;
+  r.m[10] = (far + near) / (near - far);
+  r.m[11] = -1;
+  r.m[14] = 2 * far * near / (near - far);
+  return r;
+}
+
+/* An orthographic projection of the box [l, r] x [b, t] x [-n, -f] (view space). */
+static inline Mat4 orthographic(float l, float r, float b, float t, float n, float f) {
+  Mat4 m;
+  memset(&m, 0, sizeof m);
+  m.m[0] = 2 / (r - l);
+  m.m[5] = 2 / (t - b);
+  m.m[10] = -2 / (f - n);
+  m.m[12] = -(r + l) / (r - l);
+  m.m[13] = -(t + b) / (t - b);
+  m.m[14] = -(f + n) / (f - n);
+  m.m[15] = 1;
+  return m;
+}
+
+static inline Mat4 look_at(const float eye[3], const float at[3]) {
+  float f[3] = {at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]};
+  float fl = sqrtf(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  for (int i = 0; i < 3; i++) f[i] /= fl;
+  float up[3] = {0, 1, 0};
+  if (fabsf(f[1]) > 0.999f) up[1] = 0, up[2] = 1; /* looking straight down or up */
+  float s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2], f[0] * up[1] - f[1] * up[0]};
+  float sl = sqrtf(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  for (int i = 0; i < 3; i++) s[i] /= sl;
+  float u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  r.m[0] = s[0]; r.m[4] = s[1]; r.m[8] = s[2];
+  r.m[1] = u[0]; r.m[5] = u[1]; r.m[9] = u[2];
+  r.m[2] = -f[0]; r.m[6] = -f[1]; r.m[10] = -f[2];
+  r.m[12] = -(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
+  r.m[13] = -(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
+  r.m[14] = f[0] * eye[0] + f[1] * eye[1] + f[2] * eye[2];
+  r.m[15] = 1;
+  return r;
+}
+
+static inline Mat4 model_matrix(float x, float z, float yaw, float scale) {
+  Mat4 r;
+  memset(&r, 0, sizeof r);
+  float c = cosf(yaw) * scale, s = sinf(yaw) * scale;
+  r.m[0] = c; r.m[2] = -s;
+  r.m[5] = scale;
+  r.m[8] = s; r.m[10] = c;
+  r.m[12] = x; r.m[14] = z; r.m[15] = 1;
+  return r;
+}
+
+/* ---- shaders ---- */
+static GLuint compile(GLenum kind, const char *src) {
+  GLuint s = p_glCreateShader(kind);
+  p_glShaderSource(s, 1, &src, NULL);
+  p_glCompileShader(s);
+  GLint ok = 0;
+  p_glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    p_glGetShaderInfoLog(s, sizeof log, NULL, log);
+    fprintf(stderr, "%s: shader: %s\n", glapp_name, log);
+    exit(1);
+  }
+  return s;
+}
+
+/* A program of a vertex and a fragment shader; exits with the log when it does not link. */
+static GLuint link_program(const char *vs_src, const char *fs_src) {
+  GLuint vs = compile(GL_VERTEX_SHADER, vs_src), fs = compile(GL_FRAGMENT_SHADER, fs_src);
+  GLuint program = p_glCreateProgram();
+  p_glAttachShader(program, vs);
+  p_glAttachShader(program, fs);
+  p_glLinkProgram(program);
+  GLint linked = 0;
+  p_glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[2048];
+    p_glGetProgramInfoLog(program, sizeof log, NULL, log);
+    fprintf(stderr, "%s: link: %s\n", glapp_name, log);
+    exit(1);
+  }
+  return program;
+}
+
+/* ---- screenshots ---- */
+/* Reads the w x h framebuffer back and writes it to `path`: PPM when it ends in .ppm,
+ * else PNG. Returns 0 on failure (with a message). */
+static int save_image(const char *path, int w, int h) {
+  unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+  p_glFinish();
+  p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  p_glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+  FILE *f = fopen(path, "wb");
+  if (!f) {
+    fprintf(stderr, "%s: cannot write %s\n", glapp_name, path);
+    free(rgb);
+    return 0;
+  }
+  size_t len = strlen(path);
+  if (len > 4 && strcmp(path + len - 4, ".ppm") == 0) {
+    fprintf(f, "P6\n%d %d\n255\n", w, h);
+    for (int y = h - 1; y >= 0; y--) fwrite(rgb + (size_t)y * (size_t)w * 3, 1, (size_t)w * 3, f);
+  } else {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    if (setjmp(png_jmpbuf(png))) {
+      fprintf(stderr, "%s: libpng failed on %s\n", glapp_name, path);
+      fclose(f);
+      free(rgb);
+      return 0;
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = h - 1; y >= 0; y--) png_write_row(png, rgb + (size_t)y * (size_t)w * 3);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+  }
+  fclose(f);
+  free(rgb);
+  printf("%s: wrote %s (%dx%d)\n", glapp_name, path, w, h);
+  return 1;
+}
+
+#endif /* ARBOR_EXAMPLES_GLAPP_H */
