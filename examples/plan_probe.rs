@@ -5,7 +5,14 @@ fn main() {
     let o = arbor::mesh::MeshOptions::default().threads(1);
     let mut best = (f64::MAX, f64::MAX);
     let size = arbor::mesh::mesh_size(&s, &o).unwrap();
-    let mut v = vec![arbor::mesh::Vertex { position: [1.0; 3], normal: [1.0; 3], uv: [1.0; 2] }; size.vertices];
+    let mut v = vec![
+        arbor::mesh::Vertex {
+            position: [1.0; 3],
+            normal: [1.0; 3],
+            uv: [1.0; 2]
+        };
+        size.vertices
+    ];
     let mut i = vec![1u32; size.indices];
     for _ in 0..8 {
         let t = std::time::Instant::now();

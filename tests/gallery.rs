@@ -4,100 +4,11 @@
 //! their install line).
 
 mod common;
-use common::{lib_dir, run};
+use common::pictures::{Image, differing_pixels, render, require_gl_tools};
+use common::run;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-
-fn require_gallery_tools() {
-    let ok = Command::new("pkg-config")
-        .args(["--exists", "glfw3", "libpng"])
-        .status()
-        .is_ok_and(|s| s.success())
-        && Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !ok {
-        common::missing("GLFW, libpng or xvfb");
-    }
-}
-
-/// The gallery, built once for every test of this file: two tests building it into one
-/// path at once would run a file another is still writing ("Text file busy").
-fn build() -> PathBuf {
-    static BUILT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    BUILT.get_or_init(build_once).clone()
-}
-
-fn build_once() -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let lib_dir = lib_dir();
-    let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gallery");
-    let flags = run(Command::new("pkg-config").args(["--cflags", "--libs", "glfw3", "libpng"]));
-    run(Command::new("cc")
-        .args(["-std=c11", "-O1", "-Wall", "-Wextra", "-Werror", "-I"])
-        .arg(root.join("include"))
-        .arg(root.join("examples/gallery/gallery.c"))
-        .arg(lib_dir.join("libarbor.a"))
-        .args(flags.split_whitespace())
-        .args(["-lm", "-lpthread", "-ldl", "-o"])
-        .arg(&exe));
-    exe
-}
-
-struct Image {
-    width: usize,
-    height: usize,
-    rgb: Vec<u8>,
-}
-
-impl Image {
-    fn tree(&self, x: usize, y: usize) -> bool {
-        let i = 3 * (y * self.width + x);
-        let (r, g, b) = (
-            self.rgb[i] as i32,
-            self.rgb[i + 1] as i32,
-            self.rgb[i + 2] as i32,
-        );
-        // Bark is brown: red above green above blue. Sky is blue, the ground green.
-        r > b + 12 && r >= g
-    }
-
-    /// The organ colour of the L-system mode: pink (red well above green and blue).
-    fn organ(&self, x: usize, y: usize) -> bool {
-        let i = 3 * (y * self.width + x);
-        let (r, g, b) = (
-            self.rgb[i] as i32,
-            self.rgb[i + 1] as i32,
-            self.rgb[i + 2] as i32,
-        );
-        r > g + 40 && r > b + 20
-    }
-
-    fn count(&self, f: impl Fn(&Self, usize, usize) -> bool) -> usize {
-        (0..self.height)
-            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| f(self, x, y))
-            .count()
-    }
-
-    fn share(&self, x0: usize, y0: usize, w: usize, h: usize) -> f64 {
-        let mut n = 0;
-        for y in y0..y0 + h {
-            for x in x0..x0 + w {
-                n += self.tree(x, y) as usize;
-            }
-        }
-        n as f64 / (w * h) as f64
-    }
-}
-
-/// How many pixels differ between two pictures of one size.
-fn differing_pixels(a: &Image, b: &Image) -> usize {
-    a.rgb
-        .chunks_exact(3)
-        .zip(b.rgb.chunks_exact(3))
-        .filter(|(p, q)| p != q)
-        .count()
-}
 
 /// Intersection over union of the image's tree coverage (10 × 10 blocks with at least 2%
 /// tree pixels) and its mirror image about the vertical centre line.
@@ -117,32 +28,10 @@ fn mirror_overlap(img: &Image) -> f64 {
     both as f64 / either.max(1) as f64
 }
 
-/// Renders with `args` into a PPM and reads it back.
-fn render(exe: &Path, name: &str, args: &[&str]) -> Image {
-    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}.ppm"));
-    run(Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x1024x24"])
-        .arg(exe)
-        .arg("--screenshot")
-        .arg(&path)
-        .args(["--frames", "2"])
-        .args(args));
-    let data = std::fs::read(&path).unwrap();
-    let header: Vec<&[u8]> = data.splitn(4, |&c| c == b'\n').take(3).collect();
-    assert_eq!(header[0], b"P6");
-    let dims = String::from_utf8_lossy(header[1]).into_owned();
-    let mut dims = dims.split_whitespace().map(|v| v.parse::<usize>().unwrap());
-    let (width, height) = (dims.next().unwrap(), dims.next().unwrap());
-    let offset = header.iter().map(|h| h.len() + 1).sum::<usize>();
-    let rgb = data[offset..].to_vec();
-    assert_eq!(rgb.len(), width * height * 3);
-    Image { width, height, rgb }
-}
-
 #[test]
 fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
-    require_gallery_tools();
-    let exe = build();
+    require_gl_tools();
+    let exe = common::pictures::build("gallery");
 
     // The 3 × 3 grid: every cell holds its tree, none is empty or flooded.
     let grid = render(&exe, "grid", &["--size", "600x600"]);
@@ -329,8 +218,8 @@ fn gallery_renders_the_nine_trees_and_its_pixels_check_out() {
 /// spheres and polygons; `--next` steps through the folder as Tab does.
 #[test]
 fn gallery_draws_lsystem_files_with_their_organs() {
-    require_gallery_tools();
-    let exe = build();
+    require_gl_tools();
+    let exe = common::pictures::build("gallery");
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gallery_lsystems");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();

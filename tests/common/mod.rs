@@ -1,6 +1,8 @@
 //! Helpers shared by the tests that build and run programs against the library.
 #![allow(dead_code)]
 
+pub mod pictures;
+
 use std::path::PathBuf;
 use std::process::Command;
 
