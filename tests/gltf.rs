@@ -10,7 +10,9 @@ use arbor::models::growth::{GrowthParams, World, WorldOptions};
 use arbor::models::honda::{self, HondaParams};
 use arbor::skeleton::Skeleton;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+#[path = "common/validator.rs"]
+mod validator;
 
 fn out_dir() -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gltf");
@@ -110,15 +112,6 @@ fn export_and_check(name: &str, s: &Skeleton, leaves: Option<&LeafOptions>) -> V
         files.push(path);
     }
     files
-}
-
-fn validator_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("ARBOR_GLTF_VALIDATOR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/gltf-validator"));
-    dir.join("node_modules/gltf-validator")
-        .is_dir()
-        .then_some(dir)
 }
 
 #[test]
@@ -274,30 +267,7 @@ fn exported_files_read_back_and_pass_the_validator() {
             .is_err()
     );
 
-    let Some(dir) = validator_dir() else {
-        panic!(
-            "the Khronos glTF-Validator is not installed in target/gltf-validator: \
-             `tools/test` installs it (or `tools/deps test`)"
-        );
-    };
-    let out = Command::new("node")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/validate-gltf.mjs"))
-        .args(&files)
-        .env("NODE_PATH", dir.join("node_modules"))
-        .output()
-        .expect("node runs");
-    let report = String::from_utf8_lossy(&out.stdout);
-    println!("{report}");
-    assert!(
-        out.status.success(),
-        "validator: {report}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(
-        report.matches("0 errors, 0 warnings").count(),
-        files.len(),
-        "{report}"
-    );
+    validator::assert_valid(&files);
 }
 
 /// The bytes of accessor `a`'s element `k` (its view's stride, or the element size).
@@ -384,21 +354,5 @@ fn compact_exports_are_quantized_and_pass_the_validator() {
             files.push(path);
         }
     }
-    let Some(dir) = validator_dir() else {
-        panic!("the Khronos glTF-Validator is not installed in target/gltf-validator");
-    };
-    let out = Command::new("node")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/validate-gltf.mjs"))
-        .args(&files)
-        .env("NODE_PATH", dir.join("node_modules"))
-        .output()
-        .expect("node runs");
-    let report = String::from_utf8_lossy(&out.stdout);
-    println!("{report}");
-    assert!(out.status.success(), "validator: {report}");
-    assert_eq!(
-        report.matches("0 errors, 0 warnings").count(),
-        files.len(),
-        "{report}"
-    );
+    validator::assert_valid(&files);
 }
