@@ -134,8 +134,7 @@ fn a_twig_of_a_large_tree_is_rewritten_and_uploaded_alone() {
     assert!(out.contains(": equal ("), "{out}");
     let last = out
         .lines()
-        .filter(|l| l.contains("rewrite + upload"))
-        .next_back()
+        .rfind(|l| l.contains("rewrite + upload"))
         .expect("a rewrite");
     let (rewrite, full) = (
         last.split("rewrite + upload ")
