@@ -4,7 +4,7 @@
  * mapped OpenGL buffers.
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
- *           [--smooth] [--compact] [--edit N] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
+ *           [--smooth] [--compact] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
@@ -12,8 +12,8 @@
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
  * animation (a moving threshold on arbor's per-vertex growth times); N wind (sway from
  * arbor's per-vertex order, position along the branch and phase); W wireframe; S strips
- * <-> triangle list; C smooth (C1 curves swept with 3 inner rings); B bend a twig of the
- * shown tree, J / Shift+J pick another (rewritten in place, only its range re-uploaded);
+ * <-> triangle list; C smooth (C1 curves swept with 3 inner rings) (editing branches:
+ * examples/editor; tree bodies without triangles: examples/raymarch);
  * F forest (one merged mesh of 25 varied trees); O a self-organized
  * world of seven trees sharing light (Space: one more growth cycle, R reset, E shadow /
  * space colonization, K species: a mix, then each preset); P screenshot; Esc.
@@ -118,10 +118,6 @@ typedef struct {
   size_t leaves;
   float lo[3], hi[3];
   double grow_ms, upload_ms;
-  /* Kept for the edit demo: the tree and a CPU copy of its mesh. */
-  ArborTree *arbor;
-  ArborVertex *cpu_vertices;
-  uint32_t *cpu_indices;
   /* Compact vertices (--compact): the v_scale of the uploaded mesh; 0 for f32 vertices. */
   float v_scale;
 } Tree;
@@ -146,9 +142,6 @@ typedef struct {
   int compact;
   /* Headless screenshots: the wind's clock stands still at 1 s. */
   int fixed_time;
-  /* Edit demo: bends applied at start (headless) and the twig chosen (counted from the
-     last branch). */
-  int edits, edit_pick;
   /* L-system mode: a cpfg file read as cpfg reads it (preprocessor, view file), drawn with
      its polygons, spheres, discs and leaves; Tab / Shift+Tab step through the .l files of
      its folder (or of the folder given, searched recursively). */
@@ -339,69 +332,10 @@ static void build_tree(Tree *t) {
   t->leaves = nl;
   free(leaves);
   p_glBindVertexArray(0);
-  /* Keep the tree and a CPU copy of its mesh for the edit demo (the kept plan makes the
-     second write cheap). */
-  arbor_tree_free(t->arbor);
-  free(t->cpu_vertices);
-  free(t->cpu_indices);
-  t->arbor = tree;
-  t->cpu_vertices = malloc((nv ? nv : 1) * sizeof(ArborVertex));
-  t->cpu_indices = malloc((ni ? ni : 1) * sizeof(uint32_t));
-  if (arbor_mesh_write(tree, &o, t->cpu_vertices, nv, t->cpu_indices, ni) != ARBOR_STATUS_OK)
-    fail("arbor_mesh_write");
+  arbor_tree_free(tree);
   double t2 = now_ms();
   t->grow_ms = t1 - t0;
   t->upload_ms = t2 - t1;
-}
-
-/* The edit demo: bend one twig of tree t (the st.edit_pick-th branch from the end that no
- * branch grows from) sideways, let arbor rewrite only what changed in the CPU copy
- * (arbor_mesh_rewrite_branch), and upload just the changed ranges (the twig's and its
- * parent's) with glBufferSubData. */
-static void bend_twig(Tree *t) {
-  /* The demo re-uploads ranges of its f32 CPU copy: not over compact vertices. */
-  if (st.compact) return;
-  size_t nb = arbor_tree_branch_count(t->arbor);
-  if (nb < 2) return;
-  ArborBranch *b = malloc(nb * sizeof *b);
-  arbor_tree_copy_branches(t->arbor, b, nb);
-  char *inner = calloc(nb, 1);
-  for (size_t i = 0; i < nb; i++)
-    if (b[i].parent != ARBOR_NO_PARENT) inner[b[i].parent] = 1;
-  size_t twig = nb, seen = 0;
-  for (size_t i = nb; i-- > 0;)
-    if (!inner[i] && seen++ == (size_t)st.edit_pick) { twig = i; break; }
-  free(inner);
-  if (twig == nb) { free(b); return; }
-  ArborCurve *c = malloc(nb * sizeof *c);
-  arbor_tree_copy_curves(t->arbor, c, nb);
-  ArborCurve e = c[twig];
-  float len = sqrtf((e.p3[0] - e.p0[0]) * (e.p3[0] - e.p0[0]) + (e.p3[1] - e.p0[1]) * (e.p3[1] - e.p0[1]) +
-                    (e.p3[2] - e.p0[2]) * (e.p3[2] - e.p0[2]));
-  e.p3[0] += 1.6f * len;
-  e.p2[0] += 1.2f * len;
-  e.p1[0] += 0.4f * len;
-  if (arbor_tree_set_curve(t->arbor, twig, &e) != ARBOR_STATUS_OK) fail("arbor_tree_set_curve");
-  ArborMeshOptions o = mesh_options();
-  size_t nv = t->vertices, ni = t->indices;
-  if (arbor_mesh_rewrite_branch(t->arbor, &o, twig, t->cpu_vertices, nv, t->cpu_indices, ni) != ARBOR_STATUS_OK)
-    fail("arbor_mesh_rewrite_branch");
-  ArborBranchRange *r = malloc(nb * sizeof *r);
-  if (arbor_mesh_branch_ranges(t->arbor, &o, r, nb) != ARBOR_STATUS_OK) fail("ranges");
-  p_glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
-  size_t changed[2] = {twig, b[twig].parent};
-  size_t uploaded = 0;
-  for (int k = 0; k < 2; k++) {
-    if (changed[k] == ARBOR_NO_PARENT) continue;
-    const ArborBranchRange *x = &r[changed[k]];
-    p_glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)(x->first_vertex * sizeof(ArborVertex)),
-                      (GLsizeiptr)(x->vertex_count * sizeof(ArborVertex)), t->cpu_vertices + x->first_vertex);
-    uploaded += x->vertex_count;
-  }
-  printf("edit: bent branch %zu; rewrote and uploaded %zu of %zu vertices\n", twig, uploaded, nv);
-  free(r);
-  free(c);
-  free(b);
 }
 
 /* The forest: 25 trees of the nine models with seeded variation, placed on a jittered
@@ -949,8 +883,6 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   }
   else if (k == GLFW_KEY_N) st.wind = !st.wind;
   else if (k == GLFW_KEY_C) { st.smooth = !st.smooth; st.dirty = 1; }
-  else if (k == GLFW_KEY_B && st.single >= 0) bend_twig(&trees[st.single]);
-  else if (k == GLFW_KEY_J) st.edit_pick = shift ? (st.edit_pick > 0 ? st.edit_pick - 1 : 0) : st.edit_pick + 1;
   /* The self-organized world: O on/off, Space one more cycle, R reset, E environment,
      K species (a mix, then each preset). */
   else if (k == GLFW_KEY_O) { st.world_mode = !st.world_mode; st.forest = 0; st.dirty = 1; }
@@ -1021,7 +953,6 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
     else if (!strcmp(argv[i], "--compact")) st.compact = 1;
-    else if (!strcmp(argv[i], "--edit") && i + 1 < argc) st.edits = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--world") && i + 1 < argc) { st.world_mode = 1; st.world_cycles = atoi(argv[++i]); }
     else if (!strcmp(argv[i], "--world-env") && i + 1 < argc) st.world_env = atoi(argv[++i]) != 0;
     else if (!strcmp(argv[i], "--world-trees") && i + 1 < argc) st.world_trees = atoi(argv[++i]);
@@ -1045,7 +976,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--next") && i + 1 < argc) next_files = atoi(argv[++i]);
     else {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
-                      "[--smooth] [--compact] [--edit N] [--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
+                      "[--smooth] [--compact] [--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
                       "[--world-forest] [--world-env 0|1]] [--pitch DEGREES] "
                       "[--screenshot FILE.png|FILE.ppm --frames N]\n");
       return 2;
@@ -1103,11 +1034,10 @@ int main(int argc, char **argv) {
   if (st.lsys_mode && st.lsys_count > 0) st.lsys_index = (st.lsys_index + next_files) % st.lsys_count;
   if (st.lsys_mode) build_lsystem();
   else build_all(1);
-  for (int k = 0; k < st.edits; k++) bend_twig(&trees[st.single >= 0 ? st.single : 0]);
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "
            "(Shift: smaller), V leaves, G growth, N wind, W wireframe, S strips/list, F forest, "
-           "C smooth, B bend a twig (J pick), O self-organized world (Space cycle, R reset, E environment, K species), "
+           "C smooth, O self-organized world (Space cycle, R reset, E environment, K species), "
            "Tab / Shift+Tab next / previous L-system file (--lsystem), P screenshot\n");
 
   glfwSetKeyCallback(win, key);
