@@ -41,15 +41,9 @@ fn decode_base64(s: &str) -> Vec<u8> {
     out
 }
 
-/// One primitive read back: positions, normals, uvs, indices.
-type Read = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>);
-
-/// Reads a written file back, per primitive.
-fn read_back(path: &Path) -> Vec<Read> {
-    let bytes = std::fs::read(path).unwrap();
-    let g = gltf::Gltf::from_slice(&bytes).unwrap();
-    assert!(g.document.as_json().asset.version == "2.0");
-    let buffer: Vec<u8> = match g.blob.clone() {
+/// The file's one buffer: the GLB's binary chunk, or the `.gltf`'s base64 data URI.
+fn blob(g: &gltf::Gltf) -> Vec<u8> {
+    match g.blob.clone() {
         Some(b) => b,
         None => {
             let b = g.document.buffers().next().unwrap();
@@ -60,7 +54,18 @@ fn read_back(path: &Path) -> Vec<Read> {
                 gltf::buffer::Source::Bin => unreachable!(),
             }
         }
-    };
+    }
+}
+
+/// One primitive read back: positions, normals, uvs, indices.
+type Read = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>);
+
+/// Reads a written file back, per primitive.
+fn read_back(path: &Path) -> Vec<Read> {
+    let bytes = std::fs::read(path).unwrap();
+    let g = gltf::Gltf::from_slice(&bytes).unwrap();
+    assert!(g.document.as_json().asset.version == "2.0");
+    let buffer = blob(&g);
     let mut out = Vec::new();
     for m in g.document.meshes() {
         for p in m.primitives() {
@@ -302,18 +307,7 @@ fn compact_exports_are_quantized_and_pass_the_validator() {
                     .iter()
                     .any(|e| e == "KHR_mesh_quantization")
             );
-            let blob = match g.blob.clone() {
-                Some(b) => b,
-                None => {
-                    let b = g.document.buffers().next().unwrap();
-                    match b.source() {
-                        gltf::buffer::Source::Uri(uri) => {
-                            decode_base64(uri.split_once("base64,").unwrap().1)
-                        }
-                        gltf::buffer::Source::Bin => unreachable!(),
-                    }
-                }
-            };
+            let blob = blob(&g);
             let p = g
                 .document
                 .meshes()

@@ -1,9 +1,11 @@
 /*
- * What arbor's example programs (the gallery, the ray marcher) share: the OpenGL functions
- * they call, loaded with glfwGetProcAddress; column-major matrices; shader compilation; and
- * the screenshot (PNG with libpng, or PPM) read back from the framebuffer with
- * glReadPixels. Header-only: each program includes it once, after <GLFW/glfw3.h> and
- * <GL/glcorearb.h>, and sets `glapp_name` for its messages.
+ * What arbor's example programs (the gallery, the ray marcher, the editor) share: the
+ * OpenGL functions they call, loaded with glfwGetProcAddress; the window; column-major
+ * matrices; shader compilation; ArborVertex's attribute layout and the leaf quad; the
+ * screenshot (PNG with libpng, or PPM) read back with glReadPixels; a clock and the error
+ * exit. Header-only: each program includes it once, after <GLFW/glfw3.h>,
+ * <GL/glcorearb.h> and "arbor.h" (with _POSIX_C_SOURCE or _DEFAULT_SOURCE defined for
+ * clock_gettime), and sets `glapp_name` for its messages.
  */
 #ifndef ARBOR_EXAMPLES_GLAPP_H
 #define ARBOR_EXAMPLES_GLAPP_H
@@ -13,9 +15,48 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* The program's name in messages ("gallery: ..."). */
 static const char *glapp_name = "arbor";
+
+/* Milliseconds on a monotonic clock. */
+static inline double now_ms(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+/* Exits with arbor's message for the failed call `what`. */
+static inline void fail(const char *what) {
+  char msg[512];
+  arbor_last_error_message(msg, sizeof msg);
+  fprintf(stderr, "%s: %s: %s\n", glapp_name, what, msg);
+  exit(1);
+}
+
+/* A window with an OpenGL `major`.`minor` core context, made current (hidden for
+ * headless screenshots); exits with a message when there is none. */
+static inline GLFWwindow *open_window(const char *title, int width, int height, int major, int minor, int hidden) {
+  if (!glfwInit()) {
+    fprintf(stderr, "%s: glfwInit failed (no display? try xvfb-run -a)\n", glapp_name);
+    exit(1);
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, major);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, minor);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, hidden ? 0 : 4); /* screenshots compare exact pixels */
+  if (hidden) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  GLFWwindow *win = glfwCreateWindow(width, height, title, NULL, NULL);
+  if (!win) {
+    fprintf(stderr, "%s: no OpenGL %d.%d core context\n", glapp_name, major, minor);
+    glfwTerminate();
+    exit(1);
+  }
+  glfwMakeContextCurrent(win);
+  return win;
+}
 
 #define GLAPP_FUNCTIONS(X)                                                 \
   X(PFNGLCREATESHADERPROC, glCreateShader)                                 \
@@ -83,7 +124,7 @@ GLAPP_FUNCTIONS(GLAPP_DECLARE)
 #undef GLAPP_DECLARE
 
 /* Loads every function of the list (a current context first); 0 when one is missing. */
-static int load_gl(void) {
+static inline int load_gl(void) {
 #define GLAPP_LOAD(type, name)                                                       \
   p_##name = (type)glfwGetProcAddress(#name);                                        \
   if (!p_##name) {                                                                   \
@@ -169,7 +210,7 @@ static inline Mat4 model_matrix(float x, float z, float yaw, float scale) {
 }
 
 /* ---- shaders ---- */
-static GLuint compile(GLenum kind, const char *src) {
+static inline GLuint compile(GLenum kind, const char *src) {
   GLuint s = p_glCreateShader(kind);
   p_glShaderSource(s, 1, &src, NULL);
   p_glCompileShader(s);
@@ -185,7 +226,7 @@ static GLuint compile(GLenum kind, const char *src) {
 }
 
 /* A program of a vertex and a fragment shader; exits with the log when it does not link. */
-static GLuint link_program(const char *vs_src, const char *fs_src) {
+static inline GLuint link_program(const char *vs_src, const char *fs_src) {
   GLuint vs = compile(GL_VERTEX_SHADER, vs_src), fs = compile(GL_FRAGMENT_SHADER, fs_src);
   GLuint program = p_glCreateProgram();
   p_glAttachShader(program, vs);
@@ -202,10 +243,33 @@ static GLuint link_program(const char *vs_src, const char *fs_src) {
   return program;
 }
 
+/* ---- arbor's vertices ---- */
+/* ArborVertex as attributes 0 (position), 1 (normal) and 2 (uv) of the bound buffer. */
+static inline void vertex_layout(void) {
+  GLsizei s = (GLsizei)sizeof(ArborVertex);
+  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, position));
+  p_glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, normal));
+  p_glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, uv));
+  for (GLuint k = 0; k < 3; k++) p_glEnableVertexAttribArray(k);
+}
+
+/* The quad an ArborLeafInstance places: leaf space, +Y along the blade, +Z its face. */
+static inline void leaf_quad(ArborVertex q[4], uint32_t qi[6]) {
+  static const float corners[4][2] = {{-0.25f, 0}, {0.25f, 0}, {0.25f, 1}, {-0.25f, 1}};
+  static const uint32_t order[6] = {0, 1, 2, 0, 2, 3};
+  memset(q, 0, 4 * sizeof *q);
+  for (int k = 0; k < 4; k++) {
+    q[k].position[0] = corners[k][0];
+    q[k].position[1] = corners[k][1];
+    q[k].normal[2] = 1;
+  }
+  memcpy(qi, order, sizeof order);
+}
+
 /* ---- screenshots ---- */
 /* Reads the w x h framebuffer back and writes it to `path`: PPM when it ends in .ppm,
  * else PNG. Returns 0 on failure (with a message). */
-static int save_image(const char *path, int w, int h) {
+static inline int save_image(const char *path, int w, int h) {
   unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
   p_glFinish();
   p_glPixelStorei(GL_PACK_ALIGNMENT, 1);

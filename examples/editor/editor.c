@@ -36,7 +36,6 @@
 #include "../common/glapp.h"
 
 #include <float.h>
-#include <time.h>
 
 static struct {
   int width, height;
@@ -44,19 +43,6 @@ static struct {
   double mouse_x, mouse_y;
   int orbiting, dragging; /* dragging: the handle (1..3), 0 none */
 } st = {900, 700, 0.5f, 0.2f, 1.0f, 0, 0, 0, 0};
-
-static void fail(const char *what) {
-  char m[512];
-  arbor_last_error_message(m, sizeof m);
-  fprintf(stderr, "editor: %s: %s\n", what, m);
-  exit(1);
-}
-
-static double now_ms(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
-}
 
 static const char *vs_src =
     "#version 330 core\n"
@@ -154,18 +140,13 @@ static void upload_all(void) {
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), cpu_vertices, GL_DYNAMIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * 4), cpu_indices, GL_STATIC_DRAW);
-  GLsizei s = (GLsizei)sizeof(ArborVertex);
-  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, position));
-  p_glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, normal));
-  p_glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, uv));
-  for (GLuint k = 0; k < 3; k++) p_glEnableVertexAttribArray(k);
+  vertex_layout();
   p_glGenVertexArrays(1, &handle_vao);
   p_glBindVertexArray(handle_vao);
   p_glGenBuffers(1, &handle_vbo);
   p_glBindBuffer(GL_ARRAY_BUFFER, handle_vbo);
   p_glBufferData(GL_ARRAY_BUFFER, 4 * sizeof(ArborVertex), NULL, GL_DYNAMIC_DRAW);
-  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, s, (void *)offsetof(ArborVertex, position));
-  p_glEnableVertexAttribArray(0);
+  vertex_layout(); /* only the position is read */
   p_glBindVertexArray(0);
 }
 
@@ -272,6 +253,21 @@ static long pick(double x, double y) {
 }
 
 /* ---- edits ---- */
+/* Sizes, writes and uploads the whole mesh (and its ranges): after an edit that changed
+ * the mesh's layout, and after an undo by replay. */
+static void write_whole(void) {
+  if (arbor_mesh_size(tree, &opts, &nv, &ni) != ARBOR_STATUS_OK) fail("arbor_mesh_size");
+  cpu_vertices = realloc(cpu_vertices, nv * sizeof *cpu_vertices);
+  cpu_indices = realloc(cpu_indices, ni * sizeof *cpu_indices);
+  if (arbor_mesh_write(tree, &opts, cpu_vertices, nv, cpu_indices, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
+  if (arbor_mesh_branch_ranges(tree, &opts, ranges, nb) != ARBOR_STATUS_OK) fail("arbor_mesh_branch_ranges");
+  p_glBindBuffer(GL_ARRAY_BUFFER, vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), cpu_vertices, GL_DYNAMIC_DRAW);
+  p_glBindVertexArray(vao);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * 4), cpu_indices, GL_STATIC_DRAW);
+  p_glBindVertexArray(0);
+}
+
 static double last_rewrite_ms, last_full_ms;
 static size_t last_uploaded;
 
@@ -285,17 +281,7 @@ static void rewrite_and_upload(size_t i) {
   if (new_nv != nv || new_ni != ni) {
     /* A bend past 90 degrees turns a mitred joint into two rings: the mesh's layout
        changes, so it is sized, written and uploaded whole. */
-    nv = new_nv;
-    ni = new_ni;
-    cpu_vertices = realloc(cpu_vertices, nv * sizeof *cpu_vertices);
-    cpu_indices = realloc(cpu_indices, ni * sizeof *cpu_indices);
-    if (arbor_mesh_write(tree, &opts, cpu_vertices, nv, cpu_indices, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
-    if (arbor_mesh_branch_ranges(tree, &opts, ranges, nb) != ARBOR_STATUS_OK) fail("arbor_mesh_branch_ranges");
-    p_glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), cpu_vertices, GL_DYNAMIC_DRAW);
-    p_glBindVertexArray(vao);
-    p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * 4), cpu_indices, GL_STATIC_DRAW);
-    p_glBindVertexArray(0);
+    write_whole();
     printf("editor: branch %zu: the edit changed the mesh's layout (a joint past 90 degrees); written whole, "
            "%zu vertices\n", i, nv);
     last_rewrite_ms = last_full_ms = now_ms() - t0;
@@ -372,16 +358,7 @@ static void undo(void) {
     if (arbor_tree_set_curve(tree, undo_stack[k].branch, &undo_stack[k].after) != ARBOR_STATUS_OK)
       fail("arbor_tree_set_curve");
   read_tree();
-  if (arbor_mesh_size(tree, &opts, &nv, &ni) != ARBOR_STATUS_OK) fail("arbor_mesh_size");
-  cpu_vertices = realloc(cpu_vertices, nv * sizeof *cpu_vertices);
-  cpu_indices = realloc(cpu_indices, ni * sizeof *cpu_indices);
-  if (arbor_mesh_write(tree, &opts, cpu_vertices, nv, cpu_indices, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
-  if (arbor_mesh_branch_ranges(tree, &opts, ranges, nb) != ARBOR_STATUS_OK) fail("arbor_mesh_branch_ranges");
-  p_glBindBuffer(GL_ARRAY_BUFFER, vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof(ArborVertex)), cpu_vertices, GL_DYNAMIC_DRAW);
-  p_glBindVertexArray(vao);
-  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * 4), cpu_indices, GL_STATIC_DRAW);
-  p_glBindVertexArray(0);
+  write_whole();
   p_glFinish();
   printf("editor: undid the edit of branch %zu by regrowing and replaying %zu edits (%.2f ms)\n", e.branch,
          undo_len, now_ms() - t0);
@@ -594,22 +571,7 @@ int main(int argc, char **argv) {
     return 2;
   }
   load(name, steps);
-  if (!glfwInit()) {
-    fprintf(stderr, "editor: glfwInit failed (no display? try xvfb-run -a)\n");
-    return 1;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  if (shot) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  window = glfwCreateWindow(st.width, st.height, "arbor editor", NULL, NULL);
-  if (!window) {
-    fprintf(stderr, "editor: no OpenGL 3.3 core context\n");
-    glfwTerminate();
-    return 1;
-  }
-  glfwMakeContextCurrent(window);
+  window = open_window("arbor editor", st.width, st.height, 3, 3, shot != NULL);
   if (!load_gl()) return 1;
   glfwGetFramebufferSize(window, &st.width, &st.height);
   glfwSetKeyCallback(window, key);

@@ -163,15 +163,6 @@ static size_t lsys_indices, organ_indices;
 /* The model matrix that frames the L-system's geometry: translate, then uniform scale. */
 static float lsys_center[3], lsys_scale = 1;
 
-static double now_ms(void) { return glfwGetTime() * 1e3; }
-
-static void fail(const char *what) {
-  char msg[512];
-  arbor_last_error_message(msg, sizeof msg);
-  fprintf(stderr, "gallery: %s: %s\n", what, msg);
-  exit(1);
-}
-
 static ArborMeshOptions mesh_options(void) {
   ArborMeshOptions o = arbor_mesh_options_default();
   o.radial_segments = st.radial_segments;
@@ -181,13 +172,6 @@ static ArborMeshOptions mesh_options(void) {
   o.texture_scale = 6.0f;
   o.curve_rings = st.smooth ? 3u : 0u;
   return o;
-}
-
-static void setup_vertex_layout(void) {
-  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, position));
-  p_glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, normal));
-  p_glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(ArborVertex), (void *)offsetof(ArborVertex, uv));
-  for (int k = 0; k < 3; k++) p_glEnableVertexAttribArray((GLuint)k);
 }
 
 /* Grows tree t with the current settings and uploads it: size, map, write, unmap. */
@@ -273,7 +257,7 @@ static void build_tree(Tree *t) {
     p_glEnableVertexAttribArray(2);
     p_glEnableVertexAttribArray(7);
   } else {
-    setup_vertex_layout();
+    vertex_layout();
   }
   /* The animation stream (growth, order, along, phase) as a second vertex buffer. */
   if (!t->anim_vbo) p_glGenBuffers(1, &t->anim_vbo);
@@ -319,7 +303,7 @@ static void build_tree(Tree *t) {
   p_glBindVertexArray(t->leaf_vao);
   p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
-  setup_vertex_layout();
+  vertex_layout();
   p_glBindBuffer(GL_ARRAY_BUFFER, t->leaf_instances_vbo);
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nl * sizeof *leaves), leaves, GL_STATIC_DRAW);
   p_glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, position));
@@ -373,7 +357,7 @@ static void build_forest(float spacing) {
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *v), v, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, forest_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof *i), i, GL_STATIC_DRAW);
-  setup_vertex_layout();
+  vertex_layout();
   p_glBindVertexArray(0);
   forest_indices = ni;
   printf("forest: 25 trees, %zu vertices, %zu indices, %.2f ms to grow, place and merge\n", nv, ni,
@@ -499,7 +483,7 @@ static void build_world(void) {
     arbor_mesh_free(meshes[k]);
   }
   free(meshes);
-  setup_vertex_layout();
+  vertex_layout();
   p_glBindVertexArray(0);
   world_indices = ni;
   printf("world (%s, %s): %zu trees, %zu branches after %d cycles, %zu vertices; %.2f ms to grow, "
@@ -592,7 +576,7 @@ static void upload(GLuint *vao, GLuint *vbo, GLuint *ebo, const ArborVertex *v, 
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * sizeof *v), v, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, *ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(ni * sizeof *ix), ix, GL_STATIC_DRAW);
-  setup_vertex_layout();
+  vertex_layout();
   p_glBindVertexArray(0);
 }
 
@@ -698,17 +682,11 @@ static void make_static_geometry(void) {
   p_glBufferData(GL_ARRAY_BUFFER, sizeof g, g, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ground_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof gi, gi, GL_STATIC_DRAW);
-  setup_vertex_layout();
-  /* Leaf quad: the leaf space of ArborLeafInstance (+Y along the blade, +Z its face). */
+  vertex_layout();
+  /* Leaf quad: the leaf space of ArborLeafInstance. */
   ArborVertex q[4];
-  memset(q, 0, sizeof q);
-  float qc[4][2] = {{-0.25f, 0}, {0.25f, 0}, {0.25f, 1}, {-0.25f, 1}};
-  for (int k = 0; k < 4; k++) {
-    q[k].position[0] = qc[k][0];
-    q[k].position[1] = qc[k][1];
-    q[k].normal[2] = 1;
-  }
-  uint32_t qi[6] = {0, 1, 2, 0, 2, 3};
+  uint32_t qi[6];
+  leaf_quad(q, qi);
   p_glGenVertexArrays(1, &leaf_quad_vao);
   p_glGenBuffers(1, &leaf_quad_vbo);
   p_glGenBuffers(1, &leaf_quad_ebo);
@@ -717,7 +695,7 @@ static void make_static_geometry(void) {
   p_glBufferData(GL_ARRAY_BUFFER, sizeof q, q, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof qi, qi, GL_STATIC_DRAW);
-  setup_vertex_layout();
+  vertex_layout();
   p_glBindVertexArray(0);
 }
 
@@ -987,23 +965,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "gallery: bad --tree, --size or --frames\n");
     return 2;
   }
-  if (!glfwInit()) {
-    fprintf(stderr, "gallery: glfwInit failed (no display? run under xvfb-run -a)\n");
-    return 1;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, headless ? 0 : 4);
-  if (headless) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  GLFWwindow *win = glfwCreateWindow(st.width, st.height, "arbor gallery", NULL, NULL);
-  if (!win) {
-    fprintf(stderr, "gallery: cannot create an OpenGL 3.3 core window\n");
-    glfwTerminate();
-    return 1;
-  }
-  glfwMakeContextCurrent(win);
+  GLFWwindow *win = open_window("arbor gallery", st.width, st.height, 3, 3, headless);
   if (!load_gl()) return 1;
   glfwGetFramebufferSize(win, &st.width, &st.height);
   printf("gallery: arbor %s, OpenGL %s\n", arbor_version(), (const char *)p_glGetString(GL_VERSION));

@@ -32,7 +32,6 @@
 #include "../common/glapp.h"
 
 #include <float.h>
-#include <time.h>
 
 static struct {
   int width, height, mesh, shadow, ground, leaves, segments;
@@ -40,19 +39,6 @@ static struct {
   double drag_x, drag_y;
   int dragging;
 } st = {900, 700, 0, 1, 1, 1, 16, 0.6f, 0.25f, 1.0f, 0, 0, 0};
-
-static void fail(const char *what) {
-  char m[512];
-  arbor_last_error_message(m, sizeof m);
-  fprintf(stderr, "raymarch: %s: %s\n", what, m);
-  exit(1);
-}
-
-static double now_ms(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
-}
 
 /* ---- shaders ---- */
 /* Shading shared by both renderers: bark grain from uv, a lambert term, the shadow map. */
@@ -296,12 +282,6 @@ static void upload(Scene *s) {
   p_glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, curves_ssbo);
   p_glGenVertexArrays(1, &march_vao);
 
-  GLsizei stride = (GLsizei)sizeof(ArborVertex);
-#define VERTEX_LAYOUT()                                                                       \
-  p_glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, (void *)offsetof(ArborVertex, position)); \
-  p_glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, (void *)offsetof(ArborVertex, normal));   \
-  p_glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, (void *)offsetof(ArborVertex, uv));       \
-  for (GLuint k = 0; k < 3; k++) p_glEnableVertexAttribArray(k);
   p_glGenVertexArrays(1, &mesh_vao);
   p_glBindVertexArray(mesh_vao);
   p_glGenBuffers(1, &mesh_vbo);
@@ -310,7 +290,7 @@ static void upload(Scene *s) {
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->nv * sizeof *s->vertices), s->vertices, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(s->ni * 4), s->indices, GL_STATIC_DRAW);
-  VERTEX_LAYOUT();
+  vertex_layout();
   mesh_indices = s->ni;
   mesh_bytes = s->nv * sizeof *s->vertices + s->ni * 4;
 
@@ -330,18 +310,12 @@ static void upload(Scene *s) {
   p_glGenBuffers(1, &ground_vbo);
   p_glBindBuffer(GL_ARRAY_BUFFER, ground_vbo);
   p_glBufferData(GL_ARRAY_BUFFER, sizeof g, g, GL_STATIC_DRAW);
-  VERTEX_LAYOUT();
+  vertex_layout();
 
-  /* Leaves: one quad in leaf space (+Y along the blade, +Z its face), instanced. */
+  /* Leaves: the leaf quad, instanced. */
   ArborVertex q[4];
-  memset(q, 0, sizeof q);
-  float qc[4][2] = {{-0.25f, 0}, {0.25f, 0}, {0.25f, 1}, {-0.25f, 1}};
-  for (int k = 0; k < 4; k++) {
-    q[k].position[0] = qc[k][0];
-    q[k].position[1] = qc[k][1];
-    q[k].normal[2] = 1;
-  }
-  uint32_t qi[6] = {0, 1, 2, 0, 2, 3};
+  uint32_t qi[6];
+  leaf_quad(q, qi);
   p_glGenVertexArrays(1, &leaf_vao);
   p_glBindVertexArray(leaf_vao);
   p_glGenBuffers(1, &leaf_vbo);
@@ -351,8 +325,7 @@ static void upload(Scene *s) {
   p_glBufferData(GL_ARRAY_BUFFER, sizeof q, q, GL_STATIC_DRAW);
   p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_ebo);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof qi, qi, GL_STATIC_DRAW);
-  VERTEX_LAYOUT();
-#undef VERTEX_LAYOUT
+  vertex_layout();
   p_glBindBuffer(GL_ARRAY_BUFFER, leaf_inst);
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->nl * sizeof *s->leaves), s->leaves, GL_STATIC_DRAW);
   GLsizei ls = (GLsizei)sizeof(ArborLeafInstance);
@@ -591,22 +564,7 @@ int main(int argc, char **argv) {
   }
   double grow_ms = now_ms() - t0;
 
-  if (!glfwInit()) {
-    fprintf(stderr, "raymarch: glfwInit failed (no display? try xvfb-run -a)\n");
-    return 1;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  if (headless) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  GLFWwindow *win = glfwCreateWindow(st.width, st.height, "arbor ray marcher", NULL, NULL);
-  if (!win) {
-    fprintf(stderr, "raymarch: no OpenGL 4.3 core context\n");
-    glfwTerminate();
-    return 1;
-  }
-  glfwMakeContextCurrent(win);
+  GLFWwindow *win = open_window("arbor ray marcher", st.width, st.height, 4, 3, headless);
   if (!load_gl()) return 1;
   glfwGetFramebufferSize(win, &st.width, &st.height);
   glfwSetKeyCallback(win, key);

@@ -219,19 +219,12 @@ pub unsafe extern "C" fn arbor_mesh_write(
     index_capacity: usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
-        let plan = tree.plan(&options)?;
-        let size = plan.size();
+        // SAFETY: the caller promises `tree` is NULL or live and `options` NULL or readable.
+        let w = unsafe { MeshWrite::read(tree, options) }?;
         // SAFETY: the caller promises both hold their capacities, writable, apart.
         let (v, i) =
-            unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, size) }?;
-        let mut f = progress_closure(progress, user);
-        let mut run = run_of(&mut f).threads(options.threads);
-        plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
-        Ok(())
+            unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, w.size()) }?;
+        w.write(v, i)
     })
 }
 
@@ -257,13 +250,10 @@ pub unsafe extern "C" fn arbor_mesh_write_bytes(
     index_count: usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
-        let plan = tree.plan(&options)?;
-        let size = plan.size();
-        let stride = match options.vertex_format {
+        // SAFETY: the caller promises `tree` is NULL or live and `options` NULL or readable.
+        let w = unsafe { MeshWrite::read(tree, options) }?;
+        let (size, format) = (w.size(), w.options.vertex_format);
+        let stride = match format {
             VertexFormat::F32 => std::mem::size_of::<Vertex>(),
             VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
         };
@@ -283,16 +273,17 @@ pub unsafe extern "C" fn arbor_mesh_write_bytes(
             )
             .into());
         }
-        let mut f = progress_closure(progress, user);
-        let mut run = run_of(&mut f).threads(options.threads);
         let count = vertex_bytes / stride;
-        match options.vertex_format {
+        // SAFETY: the caller promises `indices` holds `index_count` writable indices.
+        let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
+        match format {
             VertexFormat::F32 => {
                 // SAFETY: the caller promises `vertex_bytes` writable bytes apart from
                 // `indices`; `count` ArborVertex fit in them, at a 4-byte aligned address.
-                let (v, i) =
-                    unsafe { mesh_buffers(vertices.cast(), count, indices, index_count, size) }?;
-                plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
+                let v = unsafe {
+                    out_slice(vertices.cast::<Vertex>(), count, size.vertices, "vertices")
+                }?;
+                w.write(v, i)
             }
             VertexFormat::Compact => {
                 // SAFETY: as above, for `count` ArborVertexCompact.
@@ -304,13 +295,60 @@ pub unsafe extern "C" fn arbor_mesh_write_bytes(
                         "vertices",
                     )
                 }?;
-                // SAFETY: the caller promises `indices` holds `index_count` writable indices.
-                let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-                plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
+                w.write(v, i)
             }
         }
-        Ok(())
     })
+}
+
+/// What every mesh write reads first: the tree, its options with the host's progress
+/// callback, and the plan the tree keeps for them.
+struct MeshWrite<'a> {
+    tree: &'a ArborTree,
+    options: MeshOptions,
+    progress: ArborProgressFn,
+    user: *mut c_void,
+    plan: std::sync::Arc<mesh::MeshPlan>,
+}
+
+impl MeshWrite<'_> {
+    /// # Safety
+    /// `tree` is NULL or live; `options` is NULL or readable.
+    unsafe fn read(
+        tree: *const ArborTree,
+        options: *const ArborMeshOptions,
+    ) -> Result<Self, FfiError> {
+        // SAFETY: passed on from the caller.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: passed on from the caller.
+        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
+        let plan = tree.plan(&options)?;
+        Ok(MeshWrite {
+            tree,
+            options,
+            progress,
+            user,
+            plan,
+        })
+    }
+
+    fn size(&self) -> mesh::MeshSize {
+        self.plan.size()
+    }
+
+    /// Writes the mesh into the host's slots on the options' threads, reporting to the
+    /// host's callback.
+    fn write<V: mesh::VertexSlot>(
+        &self,
+        vertices: &mut [V],
+        indices: &mut [std::mem::MaybeUninit<u32>],
+    ) -> Result<(), FfiError> {
+        let mut f = progress_closure(self.progress, self.user);
+        let mut run = run_of(&mut f).threads(self.options.threads);
+        self.plan
+            .write_uninit_in(self.tree.skeleton(), vertices, indices, &mut run)?;
+        Ok(())
+    }
 }
 
 /// What the v of `tree`'s compact mesh with `options` is stored over: an
