@@ -253,6 +253,38 @@ static inline void vertex_layout(void) {
   for (GLuint k = 0; k < 3; k++) p_glEnableVertexAttribArray(k);
 }
 
+/* A vertex array holding `n` ArborVertex and `m` indices (GL_STATIC_DRAW), laid out by
+ * vertex_layout(); its buffers go to *vbo and *ebo when those are not NULL. Left bound, so
+ * a caller can add attributes (leaf instances) to it. */
+static inline GLuint vertex_array(const ArborVertex *v, size_t n, const uint32_t *ix, size_t m, GLuint *vbo,
+                                  GLuint *ebo) {
+  GLuint vao, buffers[2];
+  p_glGenVertexArrays(1, &vao);
+  p_glBindVertexArray(vao);
+  p_glGenBuffers(2, buffers);
+  p_glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *v), v, GL_STATIC_DRAW);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[1]);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(m * sizeof *ix), ix, GL_STATIC_DRAW);
+  vertex_layout();
+  if (vbo) *vbo = buffers[0];
+  if (ebo) *ebo = buffers[1];
+  return vao;
+}
+
+/* A square of half-side `r` at y = 0 around (cx, cz), facing up: 4 vertices, 6 indices. */
+static inline void ground_square(float cx, float cz, float r, ArborVertex g[4], uint32_t gi[6]) {
+  static const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  static const uint32_t order[6] = {0, 2, 1, 0, 3, 2};
+  memset(g, 0, 4 * sizeof *g);
+  for (int k = 0; k < 4; k++) {
+    g[k].position[0] = cx + r * corners[k][0];
+    g[k].position[2] = cz + r * corners[k][1];
+    g[k].normal[1] = 1;
+  }
+  memcpy(gi, order, sizeof order);
+}
+
 /* The quad an ArborLeafInstance places: leaf space, +Y along the blade, +Z its face. */
 static inline void leaf_quad(ArborVertex q[4], uint32_t qi[6]) {
   static const float corners[4][2] = {{-0.25f, 0}, {0.25f, 0}, {0.25f, 1}, {-0.25f, 1}};

@@ -151,7 +151,7 @@ typedef struct {
 
 static Tree trees[9];
 static State st;
-static GLuint program, ground_vao, ground_vbo, ground_ebo, leaf_quad_vao, leaf_quad_vbo, leaf_quad_ebo;
+static GLuint program, ground_vao, leaf_quad_vao, leaf_quad_vbo, leaf_quad_ebo;
 static GLint u_view_proj, u_model, u_mode, u_light, u_time, u_wind, u_growth, u_v_scale;
 static GLuint forest_vao, forest_vbo, forest_ebo;
 static size_t forest_indices;
@@ -665,37 +665,14 @@ static void build_all(int verbose) {
 static void make_static_geometry(void) {
   /* Ground: a large square at y = 0. */
   ArborVertex g[4];
-  memset(g, 0, sizeof g);
-  float s = 5000;
-  float corners[4][2] = {{-s, -s}, {s, -s}, {s, s}, {-s, s}};
-  for (int k = 0; k < 4; k++) {
-    g[k].position[0] = corners[k][0];
-    g[k].position[2] = corners[k][1];
-    g[k].normal[1] = 1;
-  }
-  uint32_t gi[6] = {0, 2, 1, 0, 3, 2};
-  p_glGenVertexArrays(1, &ground_vao);
-  p_glGenBuffers(1, &ground_vbo);
-  p_glGenBuffers(1, &ground_ebo);
-  p_glBindVertexArray(ground_vao);
-  p_glBindBuffer(GL_ARRAY_BUFFER, ground_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, sizeof g, g, GL_STATIC_DRAW);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ground_ebo);
-  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof gi, gi, GL_STATIC_DRAW);
-  vertex_layout();
+  uint32_t gi[6];
+  ground_square(0, 0, 5000, g, gi);
+  ground_vao = vertex_array(g, 4, gi, 6, NULL, NULL);
   /* Leaf quad: the leaf space of ArborLeafInstance. */
   ArborVertex q[4];
   uint32_t qi[6];
   leaf_quad(q, qi);
-  p_glGenVertexArrays(1, &leaf_quad_vao);
-  p_glGenBuffers(1, &leaf_quad_vbo);
-  p_glGenBuffers(1, &leaf_quad_ebo);
-  p_glBindVertexArray(leaf_quad_vao);
-  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, sizeof q, q, GL_STATIC_DRAW);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
-  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof qi, qi, GL_STATIC_DRAW);
-  vertex_layout();
+  leaf_quad_vao = vertex_array(q, 4, qi, 6, &leaf_quad_vbo, &leaf_quad_ebo);
   p_glBindVertexArray(0);
 }
 

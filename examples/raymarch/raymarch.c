@@ -214,7 +214,7 @@ static const char *mesh_fs =
 /* ---- the scene: every tree's records, mesh and leaves, merged ---- */
 static GLuint march_program, mesh_program;
 static GLuint curves_ssbo, march_vao;
-static GLuint mesh_vao, mesh_vbo, mesh_ebo, ground_vao, ground_vbo, leaf_vao, leaf_vbo, leaf_ebo, leaf_inst;
+static GLuint mesh_vao, ground_vao, leaf_vao, leaf_inst;
 static GLuint shadow_fbo, shadow_tex;
 static size_t branches, mesh_indices, mesh_bytes, leaves;
 static float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
@@ -282,50 +282,22 @@ static void upload(Scene *s) {
   p_glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, curves_ssbo);
   p_glGenVertexArrays(1, &march_vao);
 
-  p_glGenVertexArrays(1, &mesh_vao);
-  p_glBindVertexArray(mesh_vao);
-  p_glGenBuffers(1, &mesh_vbo);
-  p_glGenBuffers(1, &mesh_ebo);
-  p_glBindBuffer(GL_ARRAY_BUFFER, mesh_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->nv * sizeof *s->vertices), s->vertices, GL_STATIC_DRAW);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_ebo);
-  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(s->ni * 4), s->indices, GL_STATIC_DRAW);
-  vertex_layout();
+  mesh_vao = vertex_array(s->vertices, s->nv, s->indices, s->ni, NULL, NULL);
   mesh_indices = s->ni;
   mesh_bytes = s->nv * sizeof *s->vertices + s->ni * 4;
 
   /* Ground: a square at y = 0 under the scene. */
-  float cx = 0.5f * (lo[0] + hi[0]), cz = 0.5f * (lo[2] + hi[2]);
   float r = 2.0f * fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
-  ArborVertex g[6];
-  memset(g, 0, sizeof g);
-  float gc[6][2] = {{-1, -1}, {1, 1}, {1, -1}, {-1, -1}, {-1, 1}, {1, 1}};
-  for (int k = 0; k < 6; k++) {
-    g[k].position[0] = cx + r * gc[k][0];
-    g[k].position[2] = cz + r * gc[k][1];
-    g[k].normal[1] = 1;
-  }
-  p_glGenVertexArrays(1, &ground_vao);
-  p_glBindVertexArray(ground_vao);
-  p_glGenBuffers(1, &ground_vbo);
-  p_glBindBuffer(GL_ARRAY_BUFFER, ground_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, sizeof g, g, GL_STATIC_DRAW);
-  vertex_layout();
-
+  ArborVertex g[4];
+  uint32_t gi[6];
+  ground_square(0.5f * (lo[0] + hi[0]), 0.5f * (lo[2] + hi[2]), r, g, gi);
+  ground_vao = vertex_array(g, 4, gi, 6, NULL, NULL);
   /* Leaves: the leaf quad, instanced. */
   ArborVertex q[4];
   uint32_t qi[6];
   leaf_quad(q, qi);
-  p_glGenVertexArrays(1, &leaf_vao);
-  p_glBindVertexArray(leaf_vao);
-  p_glGenBuffers(1, &leaf_vbo);
-  p_glGenBuffers(1, &leaf_ebo);
+  leaf_vao = vertex_array(q, 4, qi, 6, NULL, NULL);
   p_glGenBuffers(1, &leaf_inst);
-  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, sizeof q, q, GL_STATIC_DRAW);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_ebo);
-  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof qi, qi, GL_STATIC_DRAW);
-  vertex_layout();
   p_glBindBuffer(GL_ARRAY_BUFFER, leaf_inst);
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->nl * sizeof *s->leaves), s->leaves, GL_STATIC_DRAW);
   GLsizei ls = (GLsizei)sizeof(ArborLeafInstance);
@@ -437,7 +409,7 @@ static void render(int mesh) {
     set_common(mesh_program, vp, light_vp, st.shadow);
     p_glUniform1i(p_glGetUniformLocation(mesh_program, "u_mode"), 1);
     p_glBindVertexArray(ground_vao);
-    p_glDrawArrays(GL_TRIANGLES, 0, 6);
+    p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, 0);
   }
 }
 
