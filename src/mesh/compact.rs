@@ -7,8 +7,7 @@
 //! is written, with no second pass over the mesh: a ring four vertices at a time, in
 //! vector lanes ([`encode_lanes`]), anything else one by one.
 
-use super::rings::Affine;
-use super::strips::Slot;
+use super::rings::{Affine, Slot};
 use super::{Vertex, VertexFormat};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec4;
@@ -145,6 +144,34 @@ const UNORM_MAGIC: f32 = 8_388_608.0;
 /// 1.5 x 2^23: the same for integers in (-2^22, 2^22), two's complement in the low bits.
 const SNORM_MAGIC: f32 = 12_582_912.0;
 
+/// Writes the ring `ring` as compact vertices, four at a time in lanes (position, normal and
+/// uv of four vertices, each component one vector), handing each to `store`. The
+/// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit length
+/// first: a mitred ring is written as its plain affine form.
+#[inline(always)]
+fn put_compact<S>(
+    ring: &Affine,
+    out: &mut [S],
+    table: &[(f32, f32, f32)],
+    store: impl Fn(&mut S, VertexCompact),
+) {
+    let terms = ring.component_terms();
+    for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
+        let (mut c, mut s, mut u) = ([1.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
+        for (k, &(ck, sk, uk)) in chunk.iter().enumerate() {
+            (c[k], s[k], u[k]) = (ck, sk, uk);
+        }
+        let (c, s, u) = (Vec4::from(c), Vec4::from(s), Vec4::from(u));
+        let lanes: [Vec4; 8] = std::array::from_fn(|k| {
+            let [a, b, d, e] = terms[k];
+            a + b * c + d * s + e * u
+        });
+        for (slot, e) in slots.iter_mut().zip(encode_lanes(&lanes)) {
+            store(slot, e);
+        }
+    }
+}
+
 impl Slot<Vertex> for VertexCompact {
     #[inline(always)]
     fn put(&mut self, value: Vertex) {
@@ -153,7 +180,7 @@ impl Slot<Vertex> for VertexCompact {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
-        ring.put_compact(out, table, |slot, e| *slot = e);
+        put_compact(ring, out, table, |slot, e| *slot = e);
         true
     }
 }
@@ -166,7 +193,7 @@ impl Slot<Vertex> for MaybeUninit<VertexCompact> {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
-        ring.put_compact(out, table, |slot, e| {
+        put_compact(ring, out, table, |slot, e| {
             slot.write(e);
         });
         true

@@ -5,7 +5,8 @@
 use super::animation::{AnimationVertex, branch_phase, growth_times};
 use super::plan::{check_options, kept_branches};
 use super::rings::AxisMap;
-use super::strips::{Slot, StripRules, StripWriter, zigzag};
+use super::rings::Slot;
+use super::strips::{StripRules, StripWriter, zigzag};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, Vertex};
 use crate::error::{Error, Result};
 use crate::geom::transport::ring_basis;

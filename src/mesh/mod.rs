@@ -42,7 +42,7 @@ pub use lod::{LodLevel, mesh_lods};
 pub(crate) use plan::check_fields;
 pub use plan::{BranchRange, MeshPlan};
 pub use records::{CurveGrowthRecord, CurveRecord, curve_growth_records, curve_records};
-pub(crate) use strips::Slot;
+pub(crate) use rings::Slot;
 pub use topology::Triangles;
 pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};
 

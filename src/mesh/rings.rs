@@ -2,7 +2,6 @@
 //! an affine map of the unit circle evaluated in 4-lane vectors.
 
 use super::Vertex;
-use super::strips::Slot;
 use glam::{Vec3, Vec4};
 
 /// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
@@ -120,6 +119,43 @@ pub(crate) fn to_f32(x: f64) -> f32 {
     x.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
 }
 
+/// A place the writers can store a value into: an initialised element or an uninitialised
+/// slot (a mapped GPU buffer). Public in a private module: [`VertexSlot`](super::VertexSlot) names it, no user can.
+pub trait Slot<T> {
+    fn put(&mut self, value: T);
+
+    /// Writes a ring of vertices affine in the unit circle (`normalized`: with unit
+    /// normals, as [`Affine::put_normalized`]) its
+    /// own way and returns true, or returns false to have it written vertex by vertex. A
+    /// format that encodes (compact vertices) writes four at a time.
+    #[inline(always)]
+    fn put_affine(
+        _out: &mut [Self],
+        _ring: &Affine,
+        _table: &[(f32, f32, f32)],
+        _normalized: bool,
+    ) -> bool
+    where
+        Self: Sized,
+    {
+        false
+    }
+}
+
+impl<T> Slot<T> for T {
+    #[inline(always)]
+    fn put(&mut self, value: T) {
+        *self = value;
+    }
+}
+
+impl<T> Slot<T> for std::mem::MaybeUninit<T> {
+    #[inline(always)]
+    fn put(&mut self, value: T) {
+        self.write(value);
+    }
+}
+
 /// A ring of vertices affine in the unit circle: the vertex at (cos, sin) = (c, s) with
 /// texture coordinate u is `a + c·b + s·d + u·e`, each term the 8 floats of a [`Vertex`]
 /// (position, normal, uv) held in two 4-lane vectors. Cones, caps and the mitred ring's
@@ -229,42 +265,19 @@ impl Affine {
         }
     }
 
-    /// Writes the ring as compact vertices, four at a time in lanes (position, normal and
-    /// uv of four vertices, each component one vector), handing each to `store`. The
-    /// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit
-    /// length first: a mitred ring is written as its plain affine form.
+    /// The terms of component k (0..8: position x, y, z, normal x, y, z, u, v) as splats:
+    /// a ring's four vertices at (c, s, u) are `a + b·c + d·s + e·u` lane by lane.
     #[inline(always)]
-    pub(crate) fn put_compact<S>(
-        &self,
-        out: &mut [S],
-        table: &[(f32, f32, f32)],
-        store: impl Fn(&mut S, super::VertexCompact),
-    ) {
+    pub(crate) fn component_terms(&self) -> [[Vec4; 4]; 8] {
         let comp = |t: &[Vec4; 2], k: usize| if k < 4 { t[0][k] } else { t[1][k - 4] };
-        // Per component k (0..8: position, normal, uv): the ring's terms as splats.
-        let terms: [[Vec4; 4]; 8] = std::array::from_fn(|k| {
+        std::array::from_fn(|k| {
             [
                 Vec4::splat(comp(&self.a, k)),
                 Vec4::splat(comp(&self.b, k)),
                 Vec4::splat(comp(&self.d, k)),
                 Vec4::splat(comp(&self.e, k)),
             ]
-        });
-        for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
-            let (mut c, mut s, mut u) = ([1.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
-            for (k, &(ck, sk, uk)) in chunk.iter().enumerate() {
-                (c[k], s[k], u[k]) = (ck, sk, uk);
-            }
-            let (c, s, u) = (Vec4::from(c), Vec4::from(s), Vec4::from(u));
-            let lanes: [Vec4; 8] = std::array::from_fn(|k| {
-                let [a, b, d, e] = terms[k];
-                a + b * c + d * s + e * u
-            });
-            let encoded = super::compact::encode_lanes(&lanes);
-            for (slot, e) in slots.iter_mut().zip(encoded) {
-                store(slot, e);
-            }
-        }
+        })
     }
 
     /// The normal part of a term.

@@ -1,44 +1,8 @@
 //! Every surface is made of triangle strips; this module turns strips into the index
 //! layout of each topology and winding, and counts exactly what that takes.
 
+use super::rings::Slot;
 use super::{RESTART_INDEX, Topology};
-
-/// A place the writers can store a value into: an initialised element or an uninitialised
-/// slot (a mapped GPU buffer). Public in a private module: [`VertexSlot`](super::VertexSlot) names it, no user can.
-pub trait Slot<T> {
-    fn put(&mut self, value: T);
-
-    /// Writes a ring of vertices affine in the unit circle (`normalized`: with unit
-    /// normals, as [`Affine::put_normalized`](super::rings::Affine::put_normalized)) its
-    /// own way and returns true, or returns false to have it written vertex by vertex. A
-    /// format that encodes (compact vertices) writes four at a time.
-    #[inline(always)]
-    fn put_affine(
-        _out: &mut [Self],
-        _ring: &super::rings::Affine,
-        _table: &[(f32, f32, f32)],
-        _normalized: bool,
-    ) -> bool
-    where
-        Self: Sized,
-    {
-        false
-    }
-}
-
-impl<T> Slot<T> for T {
-    #[inline(always)]
-    fn put(&mut self, value: T) {
-        *self = value;
-    }
-}
-
-impl<T> Slot<T> for std::mem::MaybeUninit<T> {
-    #[inline(always)]
-    fn put(&mut self, value: T) {
-        self.write(value);
-    }
-}
 
 /// Topology and winding: how a strip becomes indices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -2,8 +2,9 @@
 //! rotation-minimising frames (`curve_rings` > 0).
 
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, TIP};
+use super::rings::Slot;
 use super::rings::{Affine, to_f32};
-use super::strips::{Slot, StripWriter};
+use super::strips::StripWriter;
 use super::tube::Tube;
 use super::{Tip, Vertex};
 use crate::skeleton::Skeleton;

@@ -2,8 +2,9 @@
 //! indices.
 
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP};
+use super::rings::Slot;
 use super::rings::{Affine, Out, to_f32};
-use super::strips::{Slot, StripWriter, zigzag};
+use super::strips::{StripWriter, zigzag};
 use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
 use crate::skeleton::{NO_PARENT, Skeleton};

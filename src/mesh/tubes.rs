@@ -1,7 +1,8 @@
 //! The tube mesher: every branch a truncated cone, axes joined into watertight tubes.
 
 use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START, length};
-use super::strips::{Slot, StripWriter};
+use super::rings::Slot;
+use super::strips::StripWriter;
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot};
 use crate::error::Result;
 use crate::progress::{self, Run, Stage};

@@ -19,6 +19,9 @@ use crate::skeleton::Skeleton;
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod buffers;
+use buffers::{Buffers, base64, num, pad4};
+
 /// A primitive of the file: its mesh, its material, and for bark the animation stream
 /// (custom attributes `_GROWTH` and `_WIND`).
 struct Primitive {
@@ -88,39 +91,6 @@ fn primitives(
     }
     out.retain(|p| !p.mesh.indices.is_empty());
     Ok((o, out))
-}
-
-fn pad4(v: &mut Vec<u8>, byte: u8) {
-    while v.len() % 4 != 0 {
-        v.push(byte);
-    }
-}
-
-fn base64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(data.len().div_ceil(3) * 4);
-    for c in data.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                s.push(T[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
-}
-
-fn num(v: f32) -> String {
-    // Shortest round-trip form; glTF's JSON has no NaN or infinity (never produced).
-    let s = format!("{v:?}");
-    if s.contains("inf") || s.contains("NaN") {
-        "0".into()
-    } else {
-        s
-    }
 }
 
 /// The file's bytes: GLB when `binary`, else glTF JSON with the buffer embedded.
@@ -318,138 +288,10 @@ pub fn save_gltf_forest_nodes(
     })
 }
 
-/// glTF componentType values.
-const FLOAT: u32 = 5126;
-const SHORT: u32 = 5122;
-
 /// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
 type Instanced = (Mesh, Vec<mesh::LeafInstance>);
 
 const NO_INSTANCES: Option<Instanced> = None;
-
-/// The binary buffer and the JSON of its views and accessors, as they are added.
-#[derive(Default)]
-struct Buffers {
-    bin: Vec<u8>,
-    views: Vec<String>,
-    accessors: Vec<String>,
-    /// Vertices as KHR_mesh_quantization allows: normals in snorm16, uv in unorm16.
-    quantized: bool,
-}
-
-impl Buffers {
-    /// Appends `bytes` (padded to 4) as a buffer view; returns its index.
-    fn view(&mut self, bytes: &[u8], stride_target: &str) -> usize {
-        let start = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        let len = bytes.len();
-        pad4(&mut self.bin, 0);
-        self.views.push(format!(
-            "{{\"buffer\":0,\"byteOffset\":{start},\"byteLength\":{len}{stride_target}}}"
-        ));
-        self.views.len() - 1
-    }
-
-    /// Adds a float accessor into `view`; returns its index.
-    fn accessor(
-        &mut self,
-        view: usize,
-        offset: usize,
-        count: usize,
-        ty: &str,
-        extra: &str,
-    ) -> usize {
-        self.accessor_of(view, offset, count, (FLOAT, ty), extra)
-    }
-
-    /// Adds an accessor of `component` (a glTF componentType) into `view`; returns its
-    /// index.
-    fn accessor_of(
-        &mut self,
-        view: usize,
-        offset: usize,
-        count: usize,
-        (component, ty): (u32, &str),
-        extra: &str,
-    ) -> usize {
-        self.accessors.push(format!(
-            "{{\"bufferView\":{view},\"byteOffset\":{offset},\"componentType\":{component},\"count\":{count},\"type\":\"{ty}\"{extra}}}"
-        ));
-        self.accessors.len() - 1
-    }
-
-    /// A triangle-list mesh's vertices and indices: the primitive's attributes and
-    /// indices as JSON (`"attributes":{...},"indices":n`) and its vertex count.
-    fn mesh(&mut self, m: &Mesh) -> (String, usize) {
-        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-        for v in &m.vertices {
-            for c in 0..3 {
-                lo[c] = lo[c].min(v.position[c]);
-                hi[c] = hi[c].max(v.position[c]);
-            }
-        }
-        let n = m.vertices.len();
-        let bounds = format!(
-            ",\"min\":[{},{},{}],\"max\":[{},{},{}]",
-            num(lo[0]),
-            num(lo[1]),
-            num(lo[2]),
-            num(hi[0]),
-            num(hi[1]),
-            num(hi[2])
-        );
-        let (pos, nor, uv) = if self.quantized {
-            self.quantized_vertices(m, &bounds)
-        } else {
-            let vv = self.view(
-                bytemuck::cast_slice(&m.vertices),
-                ",\"byteStride\":32,\"target\":34962",
-            );
-            let pos = self.accessor(vv, 0, n, "VEC3", &bounds);
-            let nor = self.accessor(vv, 12, n, "VEC3", "");
-            let uv = self.accessor(vv, 24, n, "VEC2", "");
-            (pos, nor, uv)
-        };
-        let iv = self.view(bytemuck::cast_slice(&m.indices), ",\"target\":34963");
-        self.accessors.push(format!(
-            "{{\"bufferView\":{iv},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
-            m.indices.len()
-        ));
-        let idx = self.accessors.len() - 1;
-        (
-            format!(
-                "\"attributes\":{{\"POSITION\":{pos},\"NORMAL\":{nor},\"TEXCOORD_0\":{uv}}},\"indices\":{idx}"
-            ),
-            n,
-        )
-    }
-
-    /// The vertices as KHR_mesh_quantization allows, 28 bytes each: position in f32 at 0,
-    /// the normal in snorm16 x 3 at 12 (two bytes of padding keep each attribute 4-byte
-    /// aligned), uv in f32 at 20. The uv stays f32: a quantized TEXCOORD reads as 0..1 in
-    /// every importer, and glTF scales it back only through a texture's
-    /// KHR_texture_transform, which an untextured file has nowhere to put. Returns the
-    /// position, normal and uv accessors.
-    fn quantized_vertices(&mut self, m: &Mesh, bounds: &str) -> (usize, usize, usize) {
-        let n = m.vertices.len();
-        let mut bytes = Vec::with_capacity(n * 28);
-        for v in &m.vertices {
-            bytes.extend_from_slice(bytemuck::cast_slice(&v.position));
-            let normal = v
-                .normal
-                .map(|x| (x.clamp(-1.0, 1.0) * 32767.0).round() as i16);
-            bytes.extend_from_slice(bytemuck::cast_slice(&normal));
-            bytes.extend_from_slice(&[0, 0]);
-            bytes.extend_from_slice(bytemuck::cast_slice(&v.uv));
-        }
-        let vv = self.view(&bytes, ",\"byteStride\":28,\"target\":34962");
-        (
-            self.accessor(vv, 0, n, "VEC3", bounds),
-            self.accessor_of(vv, 12, n, (SHORT, "VEC3"), ",\"normalized\":true"),
-            self.accessor(vv, 20, n, "VEC2", ""),
-        )
-    }
-}
 
 /// A node of the scene: which tree mesh it draws and where (none: the identity).
 struct Node {
@@ -570,6 +412,29 @@ fn instanced_leaves(
     (node, mesh)
 }
 
+/// The file's `extensionsUsed` and `extensionsRequired` (with their leading commas), or
+/// nothing. Quantized attributes are required: a reader without the extension cannot read
+/// them as floats. Instancing is used, not required: a viewer without it draws one leaf at
+/// the node (export baked leaves, save_gltf, for such viewers).
+fn extensions(quantized: bool, instanced: bool) -> String {
+    let used: Vec<&str> = [
+        (quantized, "\"KHR_mesh_quantization\""),
+        (instanced, "\"EXT_mesh_gpu_instancing\""),
+    ]
+    .into_iter()
+    .filter_map(|(on, name)| on.then_some(name))
+    .collect();
+    if used.is_empty() {
+        return String::new();
+    }
+    let required = if quantized {
+        ",\"extensionsRequired\":[\"KHR_mesh_quantization\"]"
+    } else {
+        ""
+    };
+    format!(",\"extensionsUsed\":[{}]{required}", used.join(","))
+}
+
 /// How a file is written: `.glb` or `.gltf`, and with quantized vertices (the options
 /// asked for [`VertexFormat::Compact`](mesh::VertexFormat::Compact)).
 #[derive(Clone, Copy)]
@@ -653,33 +518,13 @@ fn encode(
     for n in &placements {
         nodes.push(node_json(n, mesh_of.get(n.mesh).copied().flatten()));
     }
-    let mut used: Vec<&str> = Vec::new();
-    if quantized {
-        used.push("\"KHR_mesh_quantization\"");
-    }
     if let Some((m, instances)) = &instanced {
         let leaf = material(Material::Leaves);
         let (node, mesh) = instanced_leaves(&mut b, m, instances, meshes.len(), leaf);
         nodes.push(node);
         meshes.push(mesh);
-        // Used, not required: a viewer without the extension draws one leaf at the
-        // node; export baked leaves (save_gltf) for such viewers.
-        used.push("\"EXT_mesh_gpu_instancing\"");
     }
-    let used = match used.is_empty() {
-        true => String::new(),
-        // Quantized attributes are required: a reader without the extension cannot read
-        // them as floats.
-        false => format!(
-            ",\"extensionsUsed\":[{}]{}",
-            used.join(","),
-            if quantized {
-                ",\"extensionsRequired\":[\"KHR_mesh_quantization\"]"
-            } else {
-                ""
-            }
-        ),
-    };
+    let used = extensions(quantized, instanced.is_some());
     let uri = if binary {
         String::new()
     } else {
