@@ -354,8 +354,8 @@ impl MeshWrite<'_> {
 /// What the v of `tree`'s compact mesh with `options` is stored over: an
 /// ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
 /// mesh's largest v (at least 1); 1 when `options->vertex_format` is
-/// ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree (then
-/// arbor_mesh_rewrite() rewrites every vertex).
+/// ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree: read it
+/// again when writing the mesh again.
 ///
 /// # Safety
 /// `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
