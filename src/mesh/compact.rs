@@ -73,9 +73,9 @@ impl VertexCompact {
         }
     }
 
-    /// A vertex whose v is already divided by the mesh's v_scale. Branch-free: half the
-    /// normals of a tree point down (z < 0), so a branch on it would be mispredicted as
-    /// often as taken.
+    /// A vertex whose v is already divided by the mesh's v_scale, one at a time (tips and
+    /// other vertices outside a ring; rings go four at a time through [`encode_lanes`],
+    /// which rounds the same way).
     #[inline(always)]
     fn from_scaled(vertex: Vertex) -> Self {
         let [x, y, z] = vertex.normal;
