@@ -400,6 +400,22 @@ static void compact_vertices(void) {
   }
   free(anim_c);
   free(anim);
+  /* An edit rewritten in place in the compact buffer equals a fresh compact write. */
+  size_t nb = arbor_tree_branch_count(t);
+  ArborCurve *curves = malloc(nb * sizeof *curves);
+  CHECK_STATUS(arbor_tree_copy_curves(t, curves, nb), ARBOR_STATUS_OK);
+  ArborCurve e = curves[nb - 1];
+  e.p2[0] += 0.3f * (e.p3[1] - e.p0[1]);
+  e.p3[2] += 0.2f * (e.p3[1] - e.p0[1]);
+  CHECK_STATUS(arbor_tree_set_curve(t, nb - 1, &e), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_mesh_rewrite_branch_bytes(t, &o, nb - 1, c, nv * sizeof *c - 2, idx_c, ni),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_mesh_rewrite_branch_bytes(t, &o, nb - 1, c, nv * sizeof *c, idx_c, ni), ARBOR_STATUS_OK);
+  ArborVertexCompact *fresh = malloc(nv * sizeof *fresh);
+  CHECK_STATUS(arbor_mesh_write_bytes(t, &o, fresh, nv * sizeof *fresh, idx, ni), ARBOR_STATUS_OK);
+  CHECK(memcmp(fresh, c, nv * sizeof *c) == 0, "a compact rewrite equals a fresh compact write");
+  free(fresh);
+  free(curves);
   CHECK(worst_v < 1.0 / 4096.0, "v error %g of the range", worst_v);
   free(c);
   free(idx_c);

@@ -1790,6 +1790,77 @@ enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
                                          size_t index_capacity);
 
 /**
+ * Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
+ * format `options->vertex_format` names: ArborVertex (32 bytes each) or
+ * ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
+ * arbor_mesh_write(). The counts are arbor_mesh_size()'s, so a host allocates (or maps)
+ * vertex count x the format's size bytes. `vertices` must be 4-byte aligned (malloc'd
+ * and mapped GPU memory are). Too few bytes give ARBOR_STATUS_BUFFER_TOO_SMALL naming
+ * `vertex_bytes` (required and capacity in bytes) and nothing is written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
+ * writes of `vertex_bytes` bytes, `indices` NULL or valid for writes of `index_count`
+ * indices, and they do not overlap.
+ */
+enum ArborStatus arbor_mesh_write_bytes(const struct ArborTree *tree,
+                                        const struct ArborMeshOptions *options,
+                                        void *vertices,
+                                        size_t vertex_bytes,
+                                        uint32_t *indices,
+                                        size_t index_count);
+
+/**
+ * What the v of `tree`'s compact mesh with `options` is stored over: an
+ * ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
+ * mesh's largest v (at least 1); 1 when `options->vertex_format` is
+ * ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree (then
+ * arbor_mesh_rewrite_branch_bytes() rewrites every vertex): read it again after edits.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
+ */
+enum ArborStatus arbor_mesh_v_scale(const struct ArborTree *tree,
+                                    const struct ArborMeshOptions *options,
+                                    float *v_scale);
+
+/**
+ * arbor_mesh_rewrite_branch() for buffers in the format `options->vertex_format` names
+ * (as arbor_mesh_write_bytes() writes them): `vertex_bytes` must be the mesh's vertex
+ * count times the format's size, and `vertices` 4-byte aligned. Compact vertices whose
+ * v_scale an edit changed are all rewritten.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
+ * reads and writes of `vertex_bytes` bytes and `indices` of `index_count` indices, and
+ * they hold the mesh.
+ */
+enum ArborStatus arbor_mesh_rewrite_branch_bytes(const struct ArborTree *tree,
+                                                 const struct ArborMeshOptions *options,
+                                                 size_t branch,
+                                                 void *vertices,
+                                                 size_t vertex_bytes,
+                                                 uint32_t *indices,
+                                                 size_t index_count);
+
+/**
+ * Writes the animation stream of `tree`'s mesh with `options` into a byte buffer of
+ * `bytes` bytes, in the format `options->vertex_format` names: ArborAnimationVertex (16
+ * bytes each) or, for compact vertices, ArborAnimationVertexCompact (8 bytes each). One
+ * element per vertex of arbor_mesh_size(); too few bytes give
+ * ARBOR_STATUS_BUFFER_TOO_SMALL naming `bytes` and nothing is written. `out` must be
+ * 4-byte aligned.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
+ * writes of `bytes` bytes.
+ */
+enum ArborStatus arbor_mesh_animation_write_bytes(const struct ArborTree *tree,
+                                                  const struct ArborMeshOptions *options,
+                                                  void *out,
+                                                  size_t bytes);
+
+/**
  * Writes the default world options into the first `struct_size` bytes at `options`
  * (pass `sizeof(ArborWorldOptions)`), with `options->struct_size = struct_size`, and
  * nothing beyond. NULL does nothing.
@@ -2144,41 +2215,6 @@ enum ArborStatus arbor_mesh_write(const struct ArborTree *tree,
                                   size_t index_capacity);
 
 /**
- * Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
- * format `options->vertex_format` names: ArborVertex (32 bytes each) or
- * ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
- * arbor_mesh_write(). The counts are arbor_mesh_size()'s, so a host allocates (or maps)
- * vertex count x the format's size bytes. `vertices` must be 4-byte aligned (malloc'd
- * and mapped GPU memory are). Too few bytes give ARBOR_STATUS_BUFFER_TOO_SMALL naming
- * `vertex_bytes` (required and capacity in bytes) and nothing is written.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
- * writes of `vertex_bytes` bytes, `indices` NULL or valid for writes of `index_count`
- * indices, and they do not overlap.
- */
-enum ArborStatus arbor_mesh_write_bytes(const struct ArborTree *tree,
-                                        const struct ArborMeshOptions *options,
-                                        void *vertices,
-                                        size_t vertex_bytes,
-                                        uint32_t *indices,
-                                        size_t index_count);
-
-/**
- * What the v of `tree`'s compact mesh with `options` is stored over: an
- * ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
- * mesh's largest v (at least 1); 1 when `options->vertex_format` is
- * ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree: read it
- * again when writing the mesh again.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
- */
-enum ArborStatus arbor_mesh_v_scale(const struct ArborTree *tree,
-                                    const struct ArborMeshOptions *options,
-                                    float *v_scale);
-
-/**
  * Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`
  * (`vertex_count` / `index_count`: their full sizes, those of arbor_mesh_size()), only
  * what the edits (arbor_tree_set_curve() of `branch`, or others) changed: the result
@@ -2303,23 +2339,6 @@ uint32_t arbor_mesh_topology(const struct ArborMesh *mesh);
  * `mesh` is NULL or a mesh from this library not yet freed.
  */
 void arbor_mesh_free(struct ArborMesh *mesh);
-
-/**
- * Writes the animation stream of `tree`'s mesh with `options` into a byte buffer of
- * `bytes` bytes, in the format `options->vertex_format` names: ArborAnimationVertex (16
- * bytes each) or, for compact vertices, ArborAnimationVertexCompact (8 bytes each). One
- * element per vertex of arbor_mesh_size(); too few bytes give
- * ARBOR_STATUS_BUFFER_TOO_SMALL naming `bytes` and nothing is written. `out` must be
- * 4-byte aligned.
- *
- * # Safety
- * `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
- * writes of `bytes` bytes.
- */
-enum ArborStatus arbor_mesh_animation_write_bytes(const struct ArborTree *tree,
-                                                  const struct ArborMeshOptions *options,
-                                                  void *out,
-                                                  size_t bytes);
 
 /**
  * Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:

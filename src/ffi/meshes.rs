@@ -228,84 +228,11 @@ pub unsafe extern "C" fn arbor_mesh_write(
     })
 }
 
-/// Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
-/// format `options->vertex_format` names: ArborVertex (32 bytes each) or
-/// ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
-/// arbor_mesh_write(). The counts are arbor_mesh_size()'s, so a host allocates (or maps)
-/// vertex count x the format's size bytes. `vertices` must be 4-byte aligned (malloc'd
-/// and mapped GPU memory are). Too few bytes give ARBOR_STATUS_BUFFER_TOO_SMALL naming
-/// `vertex_bytes` (required and capacity in bytes) and nothing is written.
-///
-/// # Safety
-/// `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
-/// writes of `vertex_bytes` bytes, `indices` NULL or valid for writes of `index_count`
-/// indices, and they do not overlap.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_mesh_write_bytes(
-    tree: *const ArborTree,
-    options: *const ArborMeshOptions,
-    vertices: *mut c_void,
-    vertex_bytes: usize,
-    indices: *mut u32,
-    index_count: usize,
-) -> ArborStatus {
-    guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live and `options` NULL or readable.
-        let w = unsafe { MeshWrite::read(tree, options) }?;
-        let (size, format) = (w.size(), w.options.vertex_format);
-        let stride = match format {
-            VertexFormat::F32 => std::mem::size_of::<Vertex>(),
-            VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
-        };
-        let needed = size.vertices.saturating_mul(stride);
-        if vertex_bytes < needed {
-            return Err(crate::Error::BufferTooSmall {
-                buffer: "vertex_bytes",
-                required: needed,
-                capacity: vertex_bytes,
-            }
-            .into());
-        }
-        if !vertices.is_null() && (vertices as usize) % 4 != 0 {
-            return Err(crate::Error::invalid(
-                "vertices",
-                "the buffer is not aligned to 4 bytes (f32 positions)",
-            )
-            .into());
-        }
-        let count = vertex_bytes / stride;
-        // SAFETY: the caller promises `indices` holds `index_count` writable indices.
-        let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-        match format {
-            VertexFormat::F32 => {
-                // SAFETY: the caller promises `vertex_bytes` writable bytes apart from
-                // `indices`; `count` ArborVertex fit in them, at a 4-byte aligned address.
-                let v = unsafe {
-                    out_slice(vertices.cast::<Vertex>(), count, size.vertices, "vertices")
-                }?;
-                w.write(v, i)
-            }
-            VertexFormat::Compact => {
-                // SAFETY: as above, for `count` ArborVertexCompact.
-                let v = unsafe {
-                    out_slice(
-                        vertices.cast::<VertexCompact>(),
-                        count,
-                        size.vertices,
-                        "vertices",
-                    )
-                }?;
-                w.write(v, i)
-            }
-        }
-    })
-}
-
 /// What every mesh write reads first: the tree, its options with the host's progress
 /// callback, and the plan the tree keeps for them.
-struct MeshWrite<'a> {
+pub(super) struct MeshWrite<'a> {
     tree: &'a ArborTree,
-    options: MeshOptions,
+    pub(super) options: MeshOptions,
     progress: ArborProgressFn,
     user: *mut c_void,
     plan: std::sync::Arc<mesh::MeshPlan>,
@@ -314,7 +241,7 @@ struct MeshWrite<'a> {
 impl MeshWrite<'_> {
     /// # Safety
     /// `tree` is NULL or live; `options` is NULL or readable.
-    unsafe fn read(
+    pub(super) unsafe fn read(
         tree: *const ArborTree,
         options: *const ArborMeshOptions,
     ) -> Result<Self, FfiError> {
@@ -332,13 +259,13 @@ impl MeshWrite<'_> {
         })
     }
 
-    fn size(&self) -> mesh::MeshSize {
+    pub(super) fn size(&self) -> mesh::MeshSize {
         self.plan.size()
     }
 
     /// Writes the mesh into the host's slots on the options' threads, reporting to the
     /// host's callback.
-    fn write<V: mesh::VertexSlot>(
+    pub(super) fn write<V: mesh::VertexSlot>(
         &self,
         vertices: &mut [V],
         indices: &mut [std::mem::MaybeUninit<u32>],
@@ -349,32 +276,6 @@ impl MeshWrite<'_> {
             .write_uninit_in(self.tree.skeleton(), vertices, indices, &mut run)?;
         Ok(())
     }
-}
-
-/// What the v of `tree`'s compact mesh with `options` is stored over: an
-/// ArborVertexCompact's v is `uv[1] / 65535 * v_scale`. A power of two at or above the
-/// mesh's largest v (at least 1); 1 when `options->vertex_format` is
-/// ARBOR_VERTEX_FORMAT_F32. It can change after an edit that lengthens the tree: read it
-/// again when writing the mesh again.
-///
-/// # Safety
-/// `tree` is NULL or live; `options` is NULL or readable; `v_scale` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_mesh_v_scale(
-    tree: *const ArborTree,
-    options: *const ArborMeshOptions,
-    v_scale: *mut f32,
-) -> ArborStatus {
-    guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
-        // SAFETY: the caller promises `v_scale` is NULL or writable.
-        let out = unsafe { out_ref(v_scale, "v_scale") }?;
-        *out = tree.plan(&options)?.v_scale();
-        Ok(())
-    })
 }
 
 /// Rewrites, inside buffers that hold the complete mesh of `tree` written with `options`
@@ -406,59 +307,84 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch(
     index_count: usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
-        let n = tree.skeleton().len();
-        if branch >= n {
-            return Err(crate::Error::invalid(
-                "branch",
-                format!("{branch}; the tree has {n} branches"),
-            )
-            .into());
-        }
-        let kept = tree.pending(&options);
-        let (plan, pending) = match &kept {
-            Some((plan, pending)) => (plan.clone(), pending.clone()),
-            None => (tree.plan(&options)?, Vec::new()),
-        };
-        let size = plan.size();
-        if vertex_count != size.vertices || index_count != size.indices {
-            return Err(crate::Error::invalid(
-                "vertex_count",
-                format!(
-                    "buffers of {vertex_count} vertices and {index_count} indices; the mesh \
-                     has {} and {}: size and write it again",
-                    size.vertices, size.indices
-                ),
-            )
-            .into());
-        }
-        // SAFETY: the caller promises `vertices` holds `vertex_count` vertices.
-        let v = unsafe {
-            out_slice(
-                vertices.cast::<Vertex>(),
+        // SAFETY: the caller promises `tree` is NULL or live and `options` NULL or
+        // readable, and the buffers' counts.
+        unsafe {
+            rewrite_branch(
+                tree,
+                options,
+                branch,
+                vertices,
                 vertex_count,
-                size.vertices,
-                "vertices",
+                indices,
+                index_count,
             )
-        }?;
-        if kept.is_none() {
-            // No plan was kept through the edits: write everything (the indices too).
-            // SAFETY: the caller promises `indices` holds `index_count` indices.
-            let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-            plan.write_uninit_in(
-                tree.skeleton(),
-                v,
-                i,
-                &mut Run::default().threads(options.threads),
-            )?;
-            return Ok(());
         }
-        plan.rewrite_uninit(tree.skeleton(), &pending, v)?;
-        Ok(())
     })
+}
+
+/// Both rewrites' one path, for vertices of type `T`.
+///
+/// # Safety
+/// `tree` is NULL or live; `options` is NULL or readable; `vertices` is NULL or valid for
+/// reads and writes of `vertex_count` elements of `T`, `indices` of `index_count`.
+pub(super) unsafe fn rewrite_branch<T>(
+    tree: *const ArborTree,
+    options: *const ArborMeshOptions,
+    branch: usize,
+    vertices: *mut T,
+    vertex_count: usize,
+    indices: *mut u32,
+    index_count: usize,
+) -> Result<(), FfiError>
+where
+    std::mem::MaybeUninit<T>: mesh::VertexSlot,
+{
+    // SAFETY: the caller promises `tree` is NULL or live.
+    let tree = unsafe { arg_ref(tree, "tree") }?;
+    // SAFETY: the caller promises `options` is NULL or readable.
+    let options = unsafe { read_mesh_options(options) }?;
+    let n = tree.skeleton().len();
+    if branch >= n {
+        return Err(crate::Error::invalid(
+            "branch",
+            format!("{branch}; the tree has {n} branches"),
+        )
+        .into());
+    }
+    let kept = tree.pending(&options);
+    let (plan, pending) = match &kept {
+        Some((plan, pending)) => (plan.clone(), pending.clone()),
+        None => (tree.plan(&options)?, Vec::new()),
+    };
+    let size = plan.size();
+    if vertex_count != size.vertices || index_count != size.indices {
+        return Err(crate::Error::invalid(
+            "vertex_count",
+            format!(
+                "buffers of {vertex_count} vertices and {index_count} indices; the mesh \
+                 has {} and {}: size and write it again",
+                size.vertices, size.indices
+            ),
+        )
+        .into());
+    }
+    // SAFETY: the caller promises `vertices` holds `vertex_count` elements.
+    let v = unsafe { out_slice(vertices, vertex_count, size.vertices, "vertices") }?;
+    if kept.is_none() {
+        // No plan was kept through the edits: write everything (the indices too).
+        // SAFETY: the caller promises `indices` holds `index_count` indices.
+        let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
+        plan.write_uninit_in(
+            tree.skeleton(),
+            v,
+            i,
+            &mut Run::default().threads(options.threads),
+        )?;
+        return Ok(());
+    }
+    plan.rewrite_uninit(tree.skeleton(), &pending, v)?;
+    Ok(())
 }
 
 /// Copies, for each branch of `tree`, the vertices and indices it owns in the mesh that
@@ -700,46 +626,6 @@ pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
     guard_value((), || {
         // SAFETY: the caller promises `mesh` came from Box::into_raw here and is freed once.
         drop(unsafe { Box::from_raw(mesh) });
-    })
-}
-
-/// Writes the animation stream of `tree`'s mesh with `options` into a byte buffer of
-/// `bytes` bytes, in the format `options->vertex_format` names: ArborAnimationVertex (16
-/// bytes each) or, for compact vertices, ArborAnimationVertexCompact (8 bytes each). One
-/// element per vertex of arbor_mesh_size(); too few bytes give
-/// ARBOR_STATUS_BUFFER_TOO_SMALL naming `bytes` and nothing is written. `out` must be
-/// 4-byte aligned.
-///
-/// # Safety
-/// `tree` is NULL or live; `options` is NULL or readable; `out` is NULL or valid for
-/// writes of `bytes` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_mesh_animation_write_bytes(
-    tree: *const ArborTree,
-    options: *const ArborMeshOptions,
-    out: *mut c_void,
-    bytes: usize,
-) -> ArborStatus {
-    guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
-        let plan = tree.plan(&options)?;
-        let data: Vec<u8> = match options.vertex_format {
-            VertexFormat::F32 => bytemuck::cast_slice(&plan.animation(tree.skeleton())?).to_vec(),
-            VertexFormat::Compact => {
-                bytemuck::cast_slice(&plan.animation_compact(tree.skeleton())?).to_vec()
-            }
-        };
-        if !out.is_null() && (out as usize) % 4 != 0 {
-            return Err(
-                crate::Error::invalid("out", "the buffer is not aligned to 4 bytes").into(),
-            );
-        }
-        // SAFETY: the caller promises `out` holds `bytes` writable bytes.
-        unsafe { copy_out(&data, out.cast::<u8>(), bytes, "bytes") }?;
-        Ok(())
     })
 }
 
