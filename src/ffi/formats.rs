@@ -5,6 +5,22 @@
 use super::meshes::{MeshWrite, rewrite_branch};
 use super::*;
 
+/// The size of one vertex of `format`, once `vertices` is known to be 4-byte aligned (the
+/// positions are f32).
+fn stride_of(format: VertexFormat, vertices: *const c_void) -> Result<usize, FfiError> {
+    if !vertices.is_null() && (vertices as usize) % 4 != 0 {
+        return Err(crate::Error::invalid(
+            "vertices",
+            "the buffer is not aligned to 4 bytes (f32 positions)",
+        )
+        .into());
+    }
+    Ok(match format {
+        VertexFormat::F32 => std::mem::size_of::<Vertex>(),
+        VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
+    })
+}
+
 /// Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
 /// format `options->vertex_format` names: ArborVertex (32 bytes each) or
 /// ArborVertexCompact (20 bytes each; decode v with arbor_mesh_v_scale()). Indices as
@@ -30,10 +46,7 @@ pub unsafe extern "C" fn arbor_mesh_write_bytes(
         // SAFETY: the caller promises `tree` is NULL or live and `options` NULL or readable.
         let w = unsafe { MeshWrite::read(tree, options) }?;
         let (size, format) = (w.size(), w.options.vertex_format);
-        let stride = match format {
-            VertexFormat::F32 => std::mem::size_of::<Vertex>(),
-            VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
-        };
+        let stride = stride_of(format, vertices)?;
         let needed = size.vertices.saturating_mul(stride);
         if vertex_bytes < needed {
             return Err(crate::Error::BufferTooSmall {
@@ -41,13 +54,6 @@ pub unsafe extern "C" fn arbor_mesh_write_bytes(
                 required: needed,
                 capacity: vertex_bytes,
             }
-            .into());
-        }
-        if !vertices.is_null() && (vertices as usize) % 4 != 0 {
-            return Err(crate::Error::invalid(
-                "vertices",
-                "the buffer is not aligned to 4 bytes (f32 positions)",
-            )
             .into());
         }
         let count = vertex_bytes / stride;
@@ -126,17 +132,7 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch_bytes(
     guard(|| {
         // SAFETY: the caller promises `options` is NULL or readable.
         let format = unsafe { read_mesh_options(options) }?.vertex_format;
-        if !vertices.is_null() && (vertices as usize) % 4 != 0 {
-            return Err(crate::Error::invalid(
-                "vertices",
-                "the buffer is not aligned to 4 bytes (f32 positions)",
-            )
-            .into());
-        }
-        let stride = match format {
-            VertexFormat::F32 => std::mem::size_of::<Vertex>(),
-            VertexFormat::Compact => std::mem::size_of::<VertexCompact>(),
-        };
+        let stride = stride_of(format, vertices)?;
         if vertex_bytes % stride != 0 {
             return Err(crate::Error::invalid(
                 "vertex_bytes",
