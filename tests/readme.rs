@@ -344,7 +344,7 @@ fn ci_runs_the_readmes_test_command() {
         .position(|l| *l == command.trim())
         .expect(".ci/run runs the README's test command as a line of its own");
     assert!(
-        lines[..at].iter().any(|l| *l == "tools/deps test"),
+        lines[..at].contains(&"tools/deps test"),
         ".ci/run installs what the tests need first"
     );
     assert!(
