@@ -353,6 +353,26 @@ fn surface_files_are_drawn_at_their_sites() {
         }
         assert_eq!(p.branch, 0);
     }
+    // A copy scaled past the f32 range is an error that names the surface, not a
+    // skeleton of infinite points; one that stays inside is drawn.
+    let view = dir.join("plant.v");
+    let path = write(&dir, "far.l", "Axiom: F(1)~l(1e16)\n");
+    let err = LSystem::from_file(&path, Some(view.as_path()))
+        .unwrap()
+        .skeleton(&Default::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("surface `~l`") && err.contains("f32 range"),
+        "{err}"
+    );
+    let path = write(&dir, "near.l", "Axiom: F(1)~l(1e12)\n");
+    let s = LSystem::from_file(&path, Some(view.as_path()))
+        .unwrap()
+        .skeleton(&Default::default())
+        .unwrap();
+    assert_eq!(s.polygons().len(), 12);
+    assert!(s.polygon_points().iter().flatten().all(|v| v.is_finite()));
 }
 
 #[test]

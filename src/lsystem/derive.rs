@@ -3,7 +3,7 @@
 
 use super::ctx::{Ctx, STEP_WORK, birth as birth_of, emit};
 use super::query;
-use super::rewrite::{Expander, Links, rewrite, select_multi, successor_of};
+use super::rewrite::{Expander, Links, copy_run, rewrite, select_multi, successor_of};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::Result;
 use crate::progress::Stage;
@@ -97,6 +97,16 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
         let mut produced = ModuleString::new();
         let mut i = 0;
         while i < cur.len() {
+            if !table.has_rules[cur.syms[i] as usize] {
+                // A run of modules without decomposition rules is copied at once.
+                let j = cur.syms[i + 1..]
+                    .iter()
+                    .position(|&s| table.has_rules[s as usize])
+                    .map_or(cur.len(), |k| i + 1 + k);
+                copy_run(ctx, cur, i, j, spare)?;
+                i = j;
+                continue;
+            }
             let birth = cur.births[i];
             let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], new: bool| {
                 ctx.room(spare, 1, params.len())?;
@@ -317,5 +327,25 @@ mod tests {
             }) => assert_eq!(requested, 5u64.pow(4) + 6 * (1 + 5 + 25 + 125)),
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn a_symbols_only_production_needs_its_arity_and_the_stochastic_draw() {
+        // `A(x)` is A's one production: it rewrites A(1), not A(1,2) or A.
+        let ls = LSystem::parse("Axiom: A(1)A(1,2)A\nA(x) --> B(x+1)\n").unwrap();
+        let s = derive(&ls, &options(1), Default::default()).unwrap();
+        assert_eq!(ls.format(&s), "B(2)A(1,2)A");
+        // Under cpfg's random stream the one production still takes its draw: the
+        // stochastic choice after it sees the same stream as a derivation without it.
+        let with = "seed: 5\nAxiom: A(1)CCCCCCCCCCCC\nA(x) --> B(x)\nC --> D : 1\nC --> E : 1\n";
+        let without =
+            "seed: 5\nAxiom: A(1)CCCCCCCCCCCC\nA(x) : 1 --> B(x)\nC --> D : 1\nC --> E : 1\n";
+        let mut outs = Vec::new();
+        for text in [with, without] {
+            let ls = LSystem::parse(text).unwrap();
+            let s = derive(&ls, &options(1), Default::default()).unwrap();
+            outs.push(ls.format(&s));
+        }
+        assert_eq!(outs[0], outs[1]);
     }
 }

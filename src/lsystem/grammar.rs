@@ -122,6 +122,19 @@ pub(crate) struct Production {
     pub(crate) line: u32,
 }
 
+impl Production {
+    /// Whether it applies to every module of its symbol and arity, without a choice.
+    fn decides_nothing(&self) -> bool {
+        self.pred_rest.is_empty()
+            && self.left.is_empty()
+            && self.right.is_empty()
+            && self.pre.is_empty()
+            && self.post.is_empty()
+            && self.condition.is_none()
+            && self.probability.is_none()
+    }
+}
+
 /// The `Start:`, `End:`, `StartEach:` and `EndEach:` blocks of a grammar.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Blocks {
@@ -155,6 +168,10 @@ pub(crate) struct ProductionTable {
     pub(crate) max_depth: u32,
     /// Whether a production has a left or right context.
     pub(crate) has_context: bool,
+    /// For each symbol id, its production when it is the symbol's only one and has
+    /// nothing to decide (no context, statements, condition or probability, one module):
+    /// it applies whenever the arity matches. `u32::MAX` otherwise.
+    pub(crate) only: Vec<u32>,
 }
 
 impl ProductionTable {
@@ -164,6 +181,14 @@ impl ProductionTable {
             self.by_symbol[p.pred.sym as usize].push(i as u32);
         }
         self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
+        self.only = self
+            .by_symbol
+            .iter()
+            .map(|v| match v[..] {
+                [p] if self.productions[p as usize].decides_nothing() => p,
+                _ => u32::MAX,
+            })
+            .collect();
         self.multi = vec![false; symbols];
         self.has_context = self
             .productions

@@ -315,28 +315,31 @@ impl Turtle {
                 step: Some(step),
             });
         }
-        for tri in &s.triangles {
-            let pts =
-                tri.map(|p| f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale);
-            if pts.iter().any(|p| {
-                !p.is_finite() || p.abs().max_element() > crate::limits::MAX_COORDINATE as f64
-            }) {
-                return Err(Error::Eval {
-                    step,
-                    message: format!(
-                        "surface `~{}` scaled by {scale} leaves the f32 range",
-                        s.name
-                    ),
-                });
-            }
-            self.closed.push(Polygon {
-                first: self.points.len() as u32,
+        // The copy lies within `radius * scale` of the turtle: one check for all of it.
+        let reach = f.position.abs().max_element() + s.radius * scale.abs();
+        if !(reach.is_finite() && reach <= crate::limits::MAX_COORDINATE as f64) {
+            return Err(Error::Eval {
+                step,
+                message: format!(
+                    "surface `~{}` scaled by {scale} leaves the f32 range",
+                    s.name
+                ),
+            });
+        }
+        let first = self.points.len() as u32;
+        self.closed
+            .extend((0..s.triangles.len() as u32).map(|k| Polygon {
+                first: first + 3 * k,
                 count: 3,
                 branch: self.state.parent,
                 birth,
-            });
-            self.points.extend(pts.iter().map(|&p| v3(p)));
-        }
+            }));
+        self.points.extend(
+            s.triangles
+                .iter()
+                .flatten()
+                .map(|p| v3(f.position + (f.heading * p.x + f.up * p.y + f.left * p.z) * scale)),
+        );
         // The turtle moves on to the surface's end point (cpfg), leaving its branch as a
         // move does when that is elsewhere.
         let e = s.end;
@@ -509,6 +512,9 @@ fn interpret_answering(
 ) -> Result<Skeleton> {
     let n = string.len().max(1) as f64;
     let answering = asked.is_some();
+    // Only what the queries need: the walk up to the last one, past branches without.
+    let mut skip = Vec::new();
+    let end = asked.as_deref().map_or(0, |a| a.plan(string, &mut skip));
     let mut ask = |i: usize, frame: &Frame| {
         if let Some(asked) = asked.as_deref_mut() {
             asked.ask(string, i, frame);
@@ -537,7 +543,39 @@ fn interpret_answering(
         true,
         || format!("the skeleton's branches ({draws})"),
     )?;
-    if ls.homomorphism.is_empty() {
+    if !answering && ls.homomorphism.is_empty() {
+        // Room for every surface's triangles at once (a string of many leaves makes
+        // millions of points: growing by doubling copies them and faults twice).
+        let tris: usize = string
+            .syms
+            .iter()
+            .map(|&s| match t.ops[s as usize] {
+                Op::Surface(k) => t.surfaces[k as usize].triangles.len(),
+                _ => 0,
+            })
+            .sum::<usize>()
+            .min(options.max_branches);
+        crate::limits::try_room(&mut [&mut t.closed], tris, true, || {
+            format!("the skeleton's surface triangles ({tris})")
+        })?;
+        crate::limits::try_room(&mut [&mut t.points], 3 * tris, true, || {
+            format!("the skeleton's surface points ({})", 3 * tris)
+        })?;
+    }
+    if answering && ls.homomorphism.is_empty() && t.jitter == 0.0 {
+        let mut i = 0;
+        while i < end {
+            match skip[i] {
+                u32::MAX => {
+                    let birth = string.birth(i);
+                    ask(i, &t.state.frame);
+                    t.module(string.symbol(i), string.params(i), birth, birth)?;
+                    i += 1;
+                }
+                close => i = close as usize + 1,
+            }
+        }
+    } else if ls.homomorphism.is_empty() {
         for i in 0..string.len() {
             if i % crate::progress::EVERY == 0 {
                 progress.report(Stage::Interpretation, i as f64 / n)?;

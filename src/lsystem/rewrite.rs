@@ -120,6 +120,20 @@ pub(super) fn rewrite(
             i = j;
             continue;
         }
+        let only = table.only[sym as usize];
+        if only != u32::MAX && ctx.choice != Choice::Weighted {
+            // The symbol's one production, which applies whenever the arity matches.
+            let params = cur.params(i);
+            let prod = &table.productions[only as usize];
+            if prod.pred.arity as usize == params.len() {
+                ctx.args.clear();
+                ctx.args.resize(prod.slots, 0.0);
+                bind(&mut ctx.args, prod.pred.slot, params);
+                emit_production(ctx, table, only, birth, next, "a production")?;
+                i += 1;
+                continue;
+            }
+        }
         if ctx.choice == Choice::Weighted {
             ctx.draw_prefix(sym);
         }
@@ -140,7 +154,7 @@ pub(super) fn rewrite(
 }
 
 /// Appends modules `i..j` of `cur` to `next` unchanged.
-fn copy_run(
+pub(super) fn copy_run(
     ctx: &Ctx<'_>,
     cur: &ModuleString,
     i: usize,

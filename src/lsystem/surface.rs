@@ -22,6 +22,9 @@ pub(crate) struct Surface {
     /// The view file's scale.
     pub(crate) scale: f64,
     pub(crate) triangles: Vec<[DVec3; 3]>,
+    /// The largest distance of a triangle's corner from the surface's origin (unscaled):
+    /// a placed copy lies within it, times the scale, of the turtle's position.
+    pub(crate) radius: f64,
     /// The file's END POINT as cpfg keeps it: the turtle moves by its x along its left,
     /// y along its heading and z along its up (times the scale) after drawing the surface
     /// (zero when the file names no END POINT).
@@ -128,10 +131,16 @@ pub(crate) fn parse(
     let up_n = up.try_normalize().unwrap_or(DVec3::Z);
     let d = (end_point.unwrap_or(contact) - contact) / size;
     let end = h.cross(up_n) * d.x + h * d.y + up_n * d.z;
+    let radius = triangles
+        .iter()
+        .flatten()
+        .map(|p| p.length())
+        .fold(0.0, f64::max);
     Ok(Surface {
         name,
         scale,
         triangles,
+        radius,
         end,
     })
 }
