@@ -139,6 +139,7 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
 #[cfg(test)]
 mod tests {
     use super::super::grammar::{POP, PUSH, branch_end};
+    use super::super::rewrite::next_kept;
     use super::*;
     use crate::error::Error;
     use crate::rng::Rng;
@@ -265,7 +266,8 @@ mod tests {
     /// module not skipped.
     #[test]
     fn links_equal_the_scans_they_replace() {
-        let ls = LSystem::parse("ignore: B\nAxiom: A\n").unwrap();
+        // A right context with `=` asks for the branches' ends.
+        let ls = LSystem::parse("ignore: B\nAxiom: A\nA > = B --> A\n").unwrap();
         let id = |name: &str| ls.symbols.names.iter().position(|n| n == name).unwrap() as u16;
         let (a, b) = (id("A"), id("B"));
         let mut rng = Rng::new(11);
@@ -284,8 +286,8 @@ mod tests {
             for j in 0..=n {
                 let scan = branch_end(&syms, j).map_or(u32::MAX, |k| k as u32);
                 assert_eq!(links.close[j], scan, "{syms:?} at {j}");
-                let next = (j..n).find(|&k| syms[k] != b).unwrap_or(n) as u32;
-                assert_eq!(links.next[j], next, "{syms:?} at {j}");
+                let next = (j..n).find(|&k| syms[k] != b).unwrap_or(n);
+                assert_eq!(next_kept(&ls, &s, j), next, "{syms:?} at {j}");
             }
         }
     }

@@ -172,6 +172,8 @@ pub(crate) struct ProductionTable {
     /// nothing to decide (no context, statements, condition or probability, one module):
     /// it applies whenever the arity matches. `u32::MAX` otherwise.
     pub(crate) only: Vec<u32>,
+    /// Whether a right context holds `=` (the rest of the branch).
+    pub(crate) has_rest: bool,
 }
 
 impl ProductionTable {
@@ -181,6 +183,10 @@ impl ProductionTable {
             self.by_symbol[p.pred.sym as usize].push(i as u32);
         }
         self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
+        self.has_rest = self
+            .productions
+            .iter()
+            .any(|p| p.right.iter().any(|r| r.sym == REST));
         self.only = self
             .by_symbol
             .iter()

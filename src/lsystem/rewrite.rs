@@ -11,34 +11,25 @@ use crate::progress::Stage;
 
 /// What context matching needs of a string, computed once per step so that matching a
 /// context costs time proportional to the context, not to the string: each bracket's
-/// partner, the next module not skipped by `ignore:`/`consider:`, and the `]` that closes
-/// the branch each module is in (`u32::MAX` for none).
+/// partner and, for grammars whose right contexts hold `=`, the `]` that closes the branch
+/// each module is in (`u32::MAX` for none).
 #[derive(Default)]
 pub(crate) struct Links {
     pub(crate) partner: Vec<u32>,
-    pub(super) next: Vec<u32>,
     pub(super) close: Vec<u32>,
 }
 
 impl Links {
     pub(crate) fn build(&mut self, ls: &LSystem, s: &ModuleString) {
         brackets(s, &mut self.partner);
-        let n = s.len();
-        self.next.clear();
-        self.next.resize(n + 1, n as u32);
-        for j in (0..n).rev() {
-            let sym = s.syms[j];
-            // Brackets are never skipped: they are the string's structure.
-            self.next[j] = if sym != PUSH && sym != POP && ls.skip[sym as usize] {
-                self.next[j + 1]
-            } else {
-                j as u32
-            };
+        self.close.clear();
+        if !(ls.productions.has_rest || ls.homomorphism.has_rest) {
+            return;
         }
         // close[j]: the first `]` at or after j that closes the branch j is in (j itself
         // at a `]`), as scanning forward with a depth count finds it; from the right with a
         // stack of the `]`s not yet matched.
-        self.close.clear();
+        let n = s.len();
         self.close.resize(n + 1, u32::MAX);
         let mut unmatched: Vec<u32> = Vec::new();
         for j in (0..n).rev() {
@@ -52,6 +43,21 @@ impl Links {
             self.close[j] = unmatched.last().copied().unwrap_or(u32::MAX);
         }
     }
+}
+
+/// The first module at or after `j` (`s.len()` for none) that `ignore:`/`consider:` does
+/// not skip; brackets are never skipped here: they are the string's structure. A run of
+/// skipped modules is read once by the one module before it that asks, so a step's
+/// matching stays proportional to the string.
+#[inline]
+pub(super) fn next_kept(ls: &LSystem, s: &ModuleString, mut j: usize) -> usize {
+    while let Some(&sym) = s.syms.get(j) {
+        if sym == PUSH || sym == POP || !ls.skip[sym as usize] {
+            break;
+        }
+        j += 1;
+    }
+    j.min(s.len())
 }
 
 /// For each bracket, the index of its partner (`u32::MAX` for none).
@@ -447,7 +453,7 @@ fn match_right(
     let mut wrapped = !ls.ring;
     for pat in &p.right {
         if pat.sym == PUSH {
-            j = links.next[j.min(n)] as usize;
+            j = next_kept(ls, s, j);
             if j >= n || s.syms[j] != PUSH {
                 return false;
             }
@@ -465,14 +471,14 @@ fn match_right(
         // (not listed by `consider:`, or listed by `ignore:`) is passed over like any
         // ignored module, as cpfg asks that first.
         loop {
-            j = links.next[j.min(n)] as usize;
+            j = next_kept(ls, s, j);
             if j >= n {
                 // A ring L-system's string closes on itself: after the last is the first.
                 if wrapped || n == 0 {
                     return false;
                 }
                 wrapped = true;
-                j = links.next[0] as usize;
+                j = next_kept(ls, s, 0);
                 if j >= n {
                     return false;
                 }
