@@ -139,7 +139,6 @@ fn post_process(ctx: &mut Ctx<'_>, cur: &mut ModuleString, spare: &mut ModuleStr
 #[cfg(test)]
 mod tests {
     use super::super::grammar::{POP, PUSH, branch_end};
-    use super::super::rewrite::next_kept;
     use super::*;
     use crate::error::Error;
     use crate::rng::Rng;
@@ -262,8 +261,8 @@ mod tests {
     }
 
     /// The per-step links give what the scans they replace gave, on random bracket
-    /// strings, balanced or not: the closing `]` of every position's branch, and the next
-    /// module not skipped.
+    /// strings, balanced or not: each bracket's partner (as a forward scan pairs them),
+    /// the closing `]` of every position's branch, and the next module not skipped.
     #[test]
     fn links_equal_the_scans_they_replace() {
         // A right context with `=` asks for the branches' ends.
@@ -272,9 +271,16 @@ mod tests {
         let (a, b) = (id("A"), id("B"));
         let mut rng = Rng::new(11);
         for _ in 0..500 {
-            let n = (rng.next_u64() % 40) as usize;
+            // Long runs of B too, past the short scan.
+            let n = (rng.next_u64() % 80) as usize;
+            let bs = rng.next_u64() % 4 == 0;
             let syms: Vec<u16> = (0..n)
-                .map(|_| [PUSH, POP, a, b][(rng.next_u64() % 4) as usize])
+                .map(|_| match rng.next_u64() % if bs { 40 } else { 4 } {
+                    0 => PUSH,
+                    1 => POP,
+                    2 => a,
+                    _ => b,
+                })
                 .collect();
             let s = ModuleString {
                 births: vec![0; n],
@@ -283,11 +289,14 @@ mod tests {
             };
             let mut links = Links::default();
             links.build(&ls, &s);
+            let mut forward = Vec::new();
+            super::super::rewrite::brackets(&s, &mut forward);
+            assert_eq!(links.partner, forward, "{syms:?}");
             for j in 0..=n {
                 let scan = branch_end(&syms, j).map_or(u32::MAX, |k| k as u32);
                 assert_eq!(links.close[j], scan, "{syms:?} at {j}");
                 let next = (j..n).find(|&k| syms[k] != b).unwrap_or(n);
-                assert_eq!(next_kept(&ls, &s, j), next, "{syms:?} at {j}");
+                assert_eq!(links.next_kept(&ls, &s, j), next, "{syms:?} at {j}");
             }
         }
     }

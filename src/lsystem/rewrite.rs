@@ -11,56 +11,94 @@ use crate::progress::Stage;
 
 /// What context matching needs of a string, computed once per step so that matching a
 /// context costs time proportional to the context, not to the string: each bracket's
-/// partner and, for grammars whose right contexts hold `=`, the `]` that closes the branch
-/// each module is in (`u32::MAX` for none).
+/// partner, and for grammars whose right contexts hold `=` the `]` that closes the branch
+/// each module is in (`u32::MAX` for none), both in one pass from the right. The next
+/// module not skipped by `ignore:`/`consider:` is found by a short scan, and by a table of
+/// the whole string, built at most once a step, when a run of skipped modules is long
+/// (each module of a long run asking would make the step quadratic).
 #[derive(Default)]
 pub(crate) struct Links {
     pub(crate) partner: Vec<u32>,
     pub(super) close: Vec<u32>,
+    /// The next module not skipped, for each position; valid when `next_built`.
+    next: std::cell::RefCell<Vec<u32>>,
+    next_built: std::cell::Cell<bool>,
+    /// The `]`s not yet matched, during `build`.
+    unmatched: Vec<u32>,
 }
+
+/// Skipped modules a scan reads before it builds the table.
+const SHORT_SCAN: usize = 16;
 
 impl Links {
     pub(crate) fn build(&mut self, ls: &LSystem, s: &ModuleString) {
-        brackets(s, &mut self.partner);
-        self.close.clear();
-        if !(ls.productions.has_rest || ls.homomorphism.has_rest) {
-            return;
-        }
-        // close[j]: the first `]` at or after j that closes the branch j is in (j itself
-        // at a `]`), as scanning forward with a depth count finds it; from the right with a
-        // stack of the `]`s not yet matched.
         let n = s.len();
-        self.close.resize(n + 1, u32::MAX);
-        let mut unmatched: Vec<u32> = Vec::new();
+        let rest = ls.productions.has_rest || ls.homomorphism.has_rest;
+        self.partner.clear();
+        self.partner.resize(n, u32::MAX);
+        self.close.clear();
+        if rest {
+            self.close.resize(n + 1, u32::MAX);
+        }
+        self.next_built.set(false);
+        // From the right, a `[` takes the nearest `]` not yet taken: the pairs a forward
+        // scan with a stack of `[`s makes, balanced or not.
+        self.unmatched.clear();
         for j in (0..n).rev() {
-            match s.syms[j] {
-                POP => unmatched.push(j as u32),
-                PUSH => {
-                    unmatched.pop();
+            let sym = s.syms[j];
+            if sym == POP {
+                self.unmatched.push(j as u32);
+            } else if sym == PUSH {
+                if let Some(c) = self.unmatched.pop() {
+                    self.partner[j] = c;
+                    self.partner[c as usize] = j as u32;
                 }
-                _ => {}
             }
-            self.close[j] = unmatched.last().copied().unwrap_or(u32::MAX);
+            if rest {
+                // The first `]` at or after j that closes the branch j is in (j itself at
+                // a `]`), as scanning forward with a depth count finds it.
+                self.close[j] = self.unmatched.last().copied().unwrap_or(u32::MAX);
+            }
         }
+    }
+
+    /// The first module at or after `j` of `s` (the string `build` read; `s.len()` for
+    /// none) that `ignore:`/`consider:` does not skip; brackets are never skipped here:
+    /// they are the string's structure.
+    #[inline]
+    pub(super) fn next_kept(&self, ls: &LSystem, s: &ModuleString, j: usize) -> usize {
+        let n = s.len();
+        let kept = |k: usize| {
+            let sym = s.syms[k];
+            sym == PUSH || sym == POP || !ls.skip[sym as usize]
+        };
+        let mut k = j.min(n);
+        let end = (k + SHORT_SCAN).min(n);
+        while k < end {
+            if kept(k) {
+                return k;
+            }
+            k += 1;
+        }
+        if k == n {
+            return n;
+        }
+        if !self.next_built.get() {
+            let mut next = self.next.borrow_mut();
+            next.clear();
+            next.resize(n + 1, n as u32);
+            for i in (0..n).rev() {
+                next[i] = if kept(i) { i as u32 } else { next[i + 1] };
+            }
+            self.next_built.set(true);
+        }
+        self.next.borrow()[k] as usize
     }
 }
 
-/// The first module at or after `j` (`s.len()` for none) that `ignore:`/`consider:` does
-/// not skip; brackets are never skipped here: they are the string's structure. A run of
-/// skipped modules is read once by the one module before it that asks, so a step's
-/// matching stays proportional to the string.
-#[inline]
-pub(super) fn next_kept(ls: &LSystem, s: &ModuleString, mut j: usize) -> usize {
-    while let Some(&sym) = s.syms.get(j) {
-        if sym == PUSH || sym == POP || !ls.skip[sym as usize] {
-            break;
-        }
-        j += 1;
-    }
-    j.min(s.len())
-}
-
-/// For each bracket, the index of its partner (`u32::MAX` for none).
+/// For each bracket, the index of its partner (`u32::MAX` for none), by a forward scan:
+/// what [`Links::build`] is checked against.
+#[cfg(test)]
 pub(crate) fn brackets(s: &ModuleString, partner: &mut Vec<u32>) {
     partner.clear();
     partner.resize(s.len(), u32::MAX);
@@ -453,7 +491,7 @@ fn match_right(
     let mut wrapped = !ls.ring;
     for pat in &p.right {
         if pat.sym == PUSH {
-            j = next_kept(ls, s, j);
+            j = links.next_kept(ls, s, j);
             if j >= n || s.syms[j] != PUSH {
                 return false;
             }
@@ -471,14 +509,14 @@ fn match_right(
         // (not listed by `consider:`, or listed by `ignore:`) is passed over like any
         // ignored module, as cpfg asks that first.
         loop {
-            j = next_kept(ls, s, j);
+            j = links.next_kept(ls, s, j);
             if j >= n {
                 // A ring L-system's string closes on itself: after the last is the first.
                 if wrapped || n == 0 {
                     return false;
                 }
                 wrapped = true;
-                j = next_kept(ls, s, 0);
+                j = links.next_kept(ls, s, 0);
                 if j >= n {
                     return false;
                 }
