@@ -313,7 +313,13 @@ impl<'p> Loader<'p> {
                 what: format!("the {what} `{shown}` ({hint} bytes)"),
             })?;
         let mut reader = file.take(left.saturating_add(1));
-        let mut chunk = vec![0u8; 1 << 20];
+        // A read buffer the size of the file (4 KiB to 1 MiB): a model's files are small,
+        // and zeroing a megabyte for each would cost more than reading them.
+        let chunk_len = usize::try_from(hint)
+            .unwrap_or(usize::MAX)
+            .saturating_add(1)
+            .clamp(4096, 1 << 20);
+        let mut chunk = vec![0u8; chunk_len];
         loop {
             let n = match reader.read(&mut chunk) {
                 Ok(0) => break,

@@ -140,7 +140,17 @@ impl<'a> Ctx<'a> {
     }
 
     /// Turns a fault the statements or expressions noted into an error.
+    #[inline]
     pub(crate) fn check(&mut self, what: &str) -> Result<()> {
+        if self.env.fault.is_none() {
+            return Ok(());
+        }
+        self.fault_error(what)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn fault_error(&mut self, what: &str) -> Result<()> {
         let Some(fault) = self.env.fault.take() else {
             return Ok(());
         };
@@ -216,20 +226,29 @@ pub(super) fn emit(
 ) -> Result<()> {
     let n = list.syms.len();
     ctx.room(out, n, list.exprs.len())?;
-    out.syms.extend_from_slice(&list.syms);
-    out.births.extend(std::iter::repeat_n(birth, n));
-    let base = out.params.len();
-    out.offsets
-        .extend(list.param_ends.iter().map(|&e| base as u32 + e));
-    out.params.resize(base + list.exprs.len(), 0.0);
+    let base = out.params.len() as u32;
+    if n <= 8 {
+        // Most successors are a few modules: element by element (the room is there)
+        // costs less than a library copy per array.
+        for (&sym, &end) in list.syms.iter().zip(&list.param_ends) {
+            out.syms.push(sym);
+            out.births.push(birth);
+            out.offsets.push(base + end);
+        }
+    } else {
+        out.syms.extend_from_slice(&list.syms);
+        out.births.extend(std::iter::repeat_n(birth, n));
+        out.offsets
+            .extend(list.param_ends.iter().map(|&e| base + e));
+    }
     let mut bad = None;
-    for (k, (slot, e)) in out.params[base..].iter_mut().zip(&list.exprs).enumerate() {
+    for (k, e) in list.exprs.iter().enumerate() {
         let v = e.eval(args, &mut ctx.env);
         let stored = v as f32;
         if !stored.is_finite() && bad.is_none() {
             bad = Some((k, v));
         }
-        *slot = stored;
+        out.params.push(stored);
     }
     if let Some((k, v)) = bad {
         let m = list

@@ -358,5 +358,16 @@ mod tests {
             outs.push(ls.format(&s));
         }
         assert_eq!(outs[0], outs[1]);
+        // A module no production takes (its arity matches none) draws as a module of a
+        // symbol without productions does.
+        let none = "seed: 5\nAxiom: A(1,2)CCCCCCCCCCCC\nC --> D : 1\nC --> E : 1\n";
+        let other = "seed: 5\nAxiom: A(1,2)CCCCCCCCCCCC\nA(x) --> B(x)\nC --> D : 1\nC --> E : 1\n";
+        let mut outs = Vec::new();
+        for text in [none, other] {
+            let ls = LSystem::parse(text).unwrap();
+            let s = derive(&ls, &options(1), Default::default()).unwrap();
+            outs.push(ls.format(&s));
+        }
+        assert_eq!(outs[0], outs[1]);
     }
 }

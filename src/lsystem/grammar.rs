@@ -122,6 +122,12 @@ pub(crate) struct Production {
     pub(crate) line: u32,
 }
 
+/// The bit of [`ProductionTable::arities`] for `arity` parameters.
+#[inline]
+pub(crate) fn arity_bit(arity: usize) -> u64 {
+    1 << arity.min(63)
+}
+
 impl Production {
     /// Whether it applies to every module of its symbol and arity, without a choice.
     fn decides_nothing(&self) -> bool {
@@ -174,6 +180,9 @@ pub(crate) struct ProductionTable {
     pub(crate) only: Vec<u32>,
     /// Whether a right context holds `=` (the rest of the branch).
     pub(crate) has_rest: bool,
+    /// For each symbol id, bit k (k < 63) set when a production's predecessor takes k
+    /// parameters, bit 63 for 63 or more: a module whose bit is clear has no production.
+    pub(crate) arities: Vec<u64>,
 }
 
 impl ProductionTable {
@@ -183,6 +192,10 @@ impl ProductionTable {
             self.by_symbol[p.pred.sym as usize].push(i as u32);
         }
         self.has_rules = self.by_symbol.iter().map(|v| !v.is_empty()).collect();
+        self.arities = vec![0; symbols];
+        for p in &self.productions {
+            self.arities[p.pred.sym as usize] |= arity_bit(p.pred.arity as usize);
+        }
         self.has_rest = self
             .productions
             .iter()

@@ -2,7 +2,7 @@
 //! successors emitted into the next string, and decomposition and homomorphism expansion.
 
 use super::ctx::{Ctx, emit, non_finite};
-use super::grammar::{CUT, POP, PUSH, Pattern, Production, ProductionTable, REST};
+use super::grammar::{CUT, POP, PUSH, Pattern, Production, ProductionTable, REST, arity_bit};
 use super::random::Choice;
 use super::stmt;
 use super::{LSystem, ModuleString};
@@ -164,15 +164,24 @@ pub(super) fn rewrite(
             i = j;
             continue;
         }
+        if table.arities[sym as usize] & arity_bit(cur.params(i).len()) == 0 {
+            // No production of the symbol takes this many parameters: the module is
+            // copied as one without rules is.
+            copy_run(ctx, cur, i, i + 1, next)?;
+            if ctx.choice == Choice::Weighted {
+                ctx.draw_prefix(sym);
+                ctx.draws.next_f64();
+            }
+            i += 1;
+            continue;
+        }
         let only = table.only[sym as usize];
         if only != u32::MAX && ctx.choice != Choice::Weighted {
             // The symbol's one production, which applies whenever the arity matches.
             let params = cur.params(i);
             let prod = &table.productions[only as usize];
             if prod.pred.arity as usize == params.len() {
-                ctx.args.clear();
-                ctx.args.resize(prod.slots, 0.0);
-                bind(&mut ctx.args, prod.pred.slot, params);
+                bind_all(&mut ctx.args, prod, params);
                 emit_production(ctx, table, only, birth, next, "a production")?;
                 i += 1;
                 continue;
@@ -197,6 +206,9 @@ pub(super) fn rewrite(
     Ok(())
 }
 
+/// Runs (modules, parameter values) short enough to copy element by element.
+const SHORT_RUN: usize = 8;
+
 /// Appends modules `i..j` of `cur` to `next` unchanged.
 pub(super) fn copy_run(
     ctx: &Ctx<'_>,
@@ -207,11 +219,24 @@ pub(super) fn copy_run(
 ) -> Result<()> {
     let (p0, p1) = (cur.offsets[i] as usize, cur.offsets[j] as usize);
     ctx.room(next, j - i, p1 - p0)?;
+    let base = next.params.len() as u32;
+    let shift = base.wrapping_sub(p0 as u32);
+    if j - i <= SHORT_RUN && p1 - p0 <= SHORT_RUN {
+        // Most runs between rewritten modules are a module or three: element by element
+        // (the room is there) costs less than a library copy per array.
+        for k in i..j {
+            next.syms.push(cur.syms[k]);
+            next.births.push(cur.births[k]);
+            next.offsets.push(cur.offsets[k + 1].wrapping_add(shift));
+        }
+        for &v in &cur.params[p0..p1] {
+            next.params.push(v);
+        }
+        return Ok(());
+    }
     next.syms.extend_from_slice(&cur.syms[i..j]);
     next.births.extend_from_slice(&cur.births[i..j]);
-    let base = next.params.len() as u32;
     next.params.extend_from_slice(&cur.params[p0..p1]);
-    let shift = base.wrapping_sub(p0 as u32);
     next.offsets.extend(
         cur.offsets[i + 1..=j]
             .iter()
@@ -226,10 +251,22 @@ fn bind_pred(args: &mut Vec<f64>, p: &Production, params: &[f32]) -> bool {
     if p.pred.arity as usize != params.len() {
         return false;
     }
+    bind_all(args, p, params);
+    true
+}
+
+/// `args` as production `p` binds them: the predecessor's `params` in its slots, every
+/// other slot zero until its context binds it.
+#[inline]
+fn bind_all(args: &mut Vec<f64>, p: &Production, params: &[f32]) {
     args.clear();
+    if p.slots == params.len() {
+        // The predecessor's parameters are all there is (no context): no zeroing.
+        args.extend(params.iter().map(|&v| v as f64));
+        return;
+    }
     args.resize(p.slots, 0.0);
     bind(args, p.pred.slot, params);
-    true
 }
 
 /// The production that applies to module `i` of `s`, with its bound parameters left in
