@@ -17,18 +17,20 @@ fn main() {
     let options = LsystemOptions::default();
     let result = LSystem::from_file(path, view.as_deref()).and_then(|ls| {
         let string = ls.derive(&options)?;
-        let mut text = String::new();
+        let mut text = String::with_capacity(string.len() * 16);
         for i in 0..string.len() {
-            let params: Vec<String> = string.params(i).iter().map(|v| format!("{v:e}")).collect();
-            let _ = writeln!(
-                text,
-                "{}\t{}",
-                ls.symbol_name(string.symbol(i)),
-                params.join(",")
-            );
+            text.push_str(ls.symbol_name(string.symbol(i)));
+            text.push('\t');
+            for (k, v) in string.params(i).iter().enumerate() {
+                if k > 0 {
+                    text.push(',');
+                }
+                let _ = write!(text, "{v:e}");
+            }
+            text.push('\n');
         }
         let skeleton = ls.interpret(&string, &options)?;
-        let mut segments = String::new();
+        let mut segments = String::with_capacity(skeleton.len() * 64);
         for b in skeleton.branches() {
             let [x0, y0, z0] = b.start;
             let [x1, y1, z1] = b.end;

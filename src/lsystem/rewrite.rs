@@ -15,7 +15,8 @@ use crate::progress::Stage;
 /// each module is in (`u32::MAX` for none), both in one pass from the right. The next
 /// module not skipped by `ignore:`/`consider:` is found by a short scan, and by a table of
 /// the whole string, built at most once a step, when a run of skipped modules is long
-/// (each module of a long run asking would make the step quadratic).
+/// (each module of a long run asking would make the step quadratic) or the scans have
+/// read more than a quarter of the string.
 #[derive(Default)]
 pub(crate) struct Links {
     pub(crate) partner: Vec<u32>,
@@ -23,6 +24,9 @@ pub(crate) struct Links {
     /// The next module not skipped, for each position; valid when `next_built`.
     next: std::cell::RefCell<Vec<u32>>,
     next_built: std::cell::Cell<bool>,
+    /// Modules the short scans of this step have read: past a quarter of the string the
+    /// table costs less.
+    scanned: std::cell::Cell<usize>,
     /// The `]`s not yet matched, during `build`.
     unmatched: Vec<u32>,
 }
@@ -41,6 +45,7 @@ impl Links {
             self.close.resize(n + 1, u32::MAX);
         }
         self.next_built.set(false);
+        self.scanned.set(0);
         // From the right, a `[` takes the nearest `]` not yet taken: the pairs a forward
         // scan with a stack of `[`s makes, balanced or not.
         self.unmatched.clear();
@@ -68,31 +73,33 @@ impl Links {
     #[inline]
     pub(super) fn next_kept(&self, ls: &LSystem, s: &ModuleString, j: usize) -> usize {
         let n = s.len();
+        if self.next_built.get() {
+            return self.next.borrow()[j.min(n)] as usize;
+        }
         let kept = |k: usize| {
             let sym = s.syms[k];
             sym == PUSH || sym == POP || !ls.skip[sym as usize]
         };
-        let mut k = j.min(n);
-        let end = (k + SHORT_SCAN).min(n);
-        while k < end {
-            if kept(k) {
+        let start = j.min(n);
+        let mut k = start;
+        if self.scanned.get() <= n / 4 {
+            let end = (k + SHORT_SCAN).min(n);
+            while k < end && !kept(k) {
+                k += 1;
+            }
+            self.scanned.set(self.scanned.get() + (k - start));
+            if k < end || k == n {
                 return k;
             }
-            k += 1;
         }
-        if k == n {
-            return n;
+        let mut next = self.next.borrow_mut();
+        next.clear();
+        next.resize(n + 1, n as u32);
+        for i in (0..n).rev() {
+            next[i] = if kept(i) { i as u32 } else { next[i + 1] };
         }
-        if !self.next_built.get() {
-            let mut next = self.next.borrow_mut();
-            next.clear();
-            next.resize(n + 1, n as u32);
-            for i in (0..n).rev() {
-                next[i] = if kept(i) { i as u32 } else { next[i + 1] };
-            }
-            self.next_built.set(true);
-        }
-        self.next.borrow()[k] as usize
+        self.next_built.set(true);
+        next[k] as usize
     }
 }
 
