@@ -202,18 +202,18 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         (Vec::new(), Vec::new())
     };
     // The kept branch that continues each branch's axis: its first kept child of the
-    // same order (from the skeleton's adjacency, built once and shared).
-    let adjacency = skeleton.adjacency();
-    let cont: Vec<u32> = (0..n)
-        .map(|p| {
-            adjacency
-                .children(p)
-                .iter()
-                .copied()
-                .find(|&c| segs[c as usize] != 0 && branches[c as usize].order == branches[p].order)
-                .unwrap_or(NO_PARENT)
-        })
-        .collect();
+    // same order, in one pass in branch order (a fresh tree need not build its adjacency).
+    let mut cont = vec![NO_PARENT; n];
+    for (c, b) in branches.iter().enumerate() {
+        let p = b.parent as usize;
+        if b.parent != NO_PARENT
+            && cont[p] == NO_PARENT
+            && segs[c] != 0
+            && b.order == branches[p].order
+        {
+            cont[p] = c as u32;
+        }
+    }
     let mut plan = Plan {
         flags: vec![0u8; n],
         segs,
