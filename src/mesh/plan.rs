@@ -179,7 +179,8 @@ pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> 
     kept
 }
 
-fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
+/// The plan, and each branch's first vertex and first index (found with the size).
+fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Offsets)> {
     check_options(o)?;
     let branches = skeleton.branches();
     let n = branches.len();
@@ -229,9 +230,13 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<Plan> {
         },
     };
     plan.set_flags(branches, o);
-    plan.size = plan.total(n, o)?;
-    Ok(plan)
+    let (size, offsets) = plan.total(n, o)?;
+    plan.size = size;
+    Ok((plan, offsets))
 }
+
+/// Each branch's first vertex and first index.
+type Offsets = (Vec<u32>, Vec<u32>);
 
 /// The largest radius of `branches`, once their scaled positions (caps and point tips
 /// reach one radius further) are known to stay finite.
@@ -313,11 +318,16 @@ impl Plan {
         }
     }
 
-    /// The whole mesh's size, within `max_vertices` and the u32 index range.
-    fn total(&self, n: usize, o: &MeshOptions) -> Result<MeshSize> {
+    /// The whole mesh's size, within `max_vertices` and the u32 index range, and where
+    /// each branch's vertices and indices start.
+    fn total(&self, n: usize, o: &MeshOptions) -> Result<(MeshSize, Offsets)> {
         let (mut nv, mut ni): (u64, u64) = (0, 0);
+        let (mut first_vertex, mut first_index) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let mut first = true;
         for i in 0..n {
+            // Past the u32 range only on the way to the error below.
+            first_vertex.push(nv as u32);
+            first_index.push(ni as u32);
             let (v, idx) = self.counts(i, o.tip, &mut first);
             nv += v as u64;
             ni += idx as u64;
@@ -344,10 +354,11 @@ impl Plan {
                 step: None,
             });
         }
-        Ok(MeshSize {
+        let size = MeshSize {
             vertices: nv as usize,
             indices: ni as usize,
-        })
+        };
+        Ok((size, (first_vertex, first_index)))
     }
 }
 
@@ -399,13 +410,14 @@ pub(crate) struct Layout {
     pub(crate) frame_end: Vec<Vec3>,
 }
 
-fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
+fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan, offsets: Offsets) -> Layout {
     let branches = skeleton.branches();
     let n = branches.len();
     let inv_ts = 1.0 / o.texture_scale as f64;
+    let (first_vertex, first_index) = offsets;
     let mut l = Layout {
-        first_vertex: vec![0; n],
-        first_index: vec![0; n],
+        first_vertex,
+        first_index,
         frame_p: vec![Vec3::ZERO; n],
         v_end: vec![0.0; n],
         end_ring: vec![0; n],
@@ -415,14 +427,7 @@ fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan) -> Layout {
             Vec::new()
         },
     };
-    let (mut nv, mut ni) = (0u32, 0u32);
-    let mut first = true;
     for i in 0..branches.len() {
-        l.first_vertex[i] = nv;
-        l.first_index[i] = ni;
-        let (v, idx) = plan.counts(i, o.tip, &mut first);
-        nv += v as u32;
-        ni += idx as u32;
         let s = plan.segs[i] as usize;
         if s == 0 {
             continue;
@@ -550,8 +555,8 @@ impl MeshPlan {
         // and an end frame (36), and the builder's temporaries (16).
         let per_branch = 18 + 28 + 16 + if options.curve_rings > 0 { 36 } else { 0 };
         crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
-        let plan = plan(skeleton, options)?;
-        let layout = layout(skeleton, options, &plan);
+        let (plan, offsets) = plan(skeleton, options)?;
+        let layout = layout(skeleton, options, &plan, offsets);
         let mut tables: Vec<Vec<(f32, f32, f32)>> =
             vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
         for &s in &plan.segs {
