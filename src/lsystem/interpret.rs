@@ -512,9 +512,14 @@ fn interpret_answering(
 ) -> Result<Skeleton> {
     let n = string.len().max(1) as f64;
     let answering = asked.is_some();
-    // Only what the queries need: the walk up to the last one, past branches without.
+    // Only what the queries need: the walk up to the last one, past branches without
+    // (not through interpretation rules, nor when turns draw random jitter).
+    let only_asked = answering && ls.homomorphism.is_empty() && !(options.turn_jitter > 0.0);
     let mut skip = Vec::new();
-    let end = asked.as_deref().map_or(0, |a| a.plan(string, &mut skip));
+    let end = match asked.as_deref() {
+        Some(a) if only_asked => a.plan(string, &mut skip),
+        _ => 0,
+    };
     let mut ask = |i: usize, frame: &Frame| {
         if let Some(asked) = asked.as_deref_mut() {
             asked.ask(string, i, frame);
@@ -562,7 +567,7 @@ fn interpret_answering(
             format!("the skeleton's surface points ({})", 3 * tris)
         })?;
     }
-    if answering && ls.homomorphism.is_empty() && t.jitter == 0.0 {
+    if only_asked {
         let mut i = 0;
         while i < end {
             match skip[i] {
