@@ -514,7 +514,8 @@ fn interpret_answering(
     let answering = asked.is_some();
     // Only what the queries need: the walk up to the last one, past branches without
     // (not through interpretation rules, nor when turns draw random jitter).
-    let only_asked = answering && ls.homomorphism.is_empty() && !(options.turn_jitter > 0.0);
+    let jitters = options.turn_jitter > 0.0;
+    let only_asked = answering && ls.homomorphism.is_empty() && !jitters;
     let mut skip = Vec::new();
     let end = match asked.as_deref() {
         Some(a) if only_asked => a.plan(string, &mut skip),
