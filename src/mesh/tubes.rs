@@ -217,11 +217,17 @@ impl MeshPlan {
         if self.plan.rules.topology == super::Topology::TriangleStripDegenerate {
             return 1;
         }
+        let most = self.branch_count / BRANCHES_PER_THREAD;
+        if most <= 1 {
+            // A small tree: one thread, without asking the system how many there are
+            // (on Linux that reads the cgroup's files each time).
+            return 1;
+        }
         let wanted = match threads {
             0 => std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
             t => t as usize,
         };
-        wanted.min(self.branch_count / BRANCHES_PER_THREAD).max(1)
+        wanted.min(most).max(1)
     }
 
     /// Where branch `b`'s vertices and indices start; the ends of the mesh for `b` = the
