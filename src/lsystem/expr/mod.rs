@@ -348,6 +348,23 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
                 stack[sp] = args[i as usize];
                 sp += 1;
             }
+            // The common arithmetic in place, without a second dispatch in `binary`.
+            Op::Add => {
+                sp -= 1;
+                stack[sp - 1] += stack[sp];
+            }
+            Op::Sub => {
+                sp -= 1;
+                stack[sp - 1] -= stack[sp];
+            }
+            Op::Mul => {
+                sp -= 1;
+                stack[sp - 1] *= stack[sp];
+            }
+            Op::Div => {
+                sp -= 1;
+                stack[sp - 1] /= stack[sp];
+            }
             Op::Neg => stack[sp - 1] = -stack[sp - 1],
             Op::Not => stack[sp - 1] = b(stack[sp - 1] == 0.0),
             Op::F1(f) => stack[sp - 1] = f.apply(stack[sp - 1]),
