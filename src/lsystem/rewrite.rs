@@ -132,6 +132,9 @@ pub(super) fn rewrite(
     let birth = super::ctx::birth(ctx.step);
     let n = cur.len();
     let has_rules = &table.has_rules[..];
+    // Modules `copy..i` go to `next` unchanged: they are copied in one run when a
+    // successor (or a cut, or the end) comes, however they came to be copied.
+    let mut copy = 0;
     let mut i = 0;
     let mut report_at = crate::progress::EVERY;
     while i < n {
@@ -145,20 +148,21 @@ pub(super) fn rewrite(
         if sym == CUT && ctx.ls.has_cut && !has_rules[CUT as usize] {
             // cpfg's cut: the `%` and the rest of its branch are left out as the rewriting
             // reaches it (the `]` stays); cpfg draws for the `%`, not for what it cuts.
+            copy_run(ctx, cur, copy, i, next)?;
             if ctx.choice == Choice::Weighted {
                 ctx.draws.next_f64();
             }
             i = super::grammar::branch_end(&cur.syms, i + 1).unwrap_or(n);
+            copy = i;
             continue;
         }
         if !has_rules[sym as usize] {
-            // Copy the whole run of modules without productions at once (a cut ends it).
+            // The whole run of modules without productions at once (a cut ends it).
             let cuts = ctx.ls.has_cut;
             let j = cur.syms[i + 1..]
                 .iter()
                 .position(|&s| has_rules[s as usize] || (cuts && s == CUT))
                 .map_or(n, |k| i + 1 + k);
-            copy_run(ctx, cur, i, j, next)?;
             if ctx.choice == Choice::Weighted {
                 // cpfg draws for every module of its string, rules or none: one a
                 // character of arbor's modules.
@@ -174,7 +178,6 @@ pub(super) fn rewrite(
         if table.arities[sym as usize] & arity_bit(cur.params(i).len()) == 0 {
             // No production of the symbol takes this many parameters: the module is
             // copied as one without rules is.
-            copy_run(ctx, cur, i, i + 1, next)?;
             if ctx.choice == Choice::Weighted {
                 ctx.draw_prefix(sym);
                 ctx.draws.next_f64();
@@ -188,9 +191,11 @@ pub(super) fn rewrite(
             let params = cur.params(i);
             let prod = &table.productions[only as usize];
             if prod.pred.arity as usize == params.len() {
+                copy_run(ctx, cur, copy, i, next)?;
                 bind_all(&mut ctx.args, prod, params);
                 emit_production(ctx, table, only, birth, next, "a production")?;
                 i += 1;
+                copy = i;
                 continue;
             }
         }
@@ -201,16 +206,16 @@ pub(super) fn rewrite(
         if ctx.env.fault.is_some() {
             return ctx.check("a production");
         }
-        match chosen {
-            Some(p) => {
-                let prod = emit_production(ctx, table, p, birth, next, "a production")?;
-                i += prod.pred_rest.len();
-            }
-            None => copy_run(ctx, cur, i, i + 1, next)?,
+        if let Some(p) = chosen {
+            copy_run(ctx, cur, copy, i, next)?;
+            let prod = emit_production(ctx, table, p, birth, next, "a production")?;
+            i += 1 + prod.pred_rest.len();
+            copy = i;
+        } else {
+            i += 1;
         }
-        i += 1;
     }
-    Ok(())
+    copy_run(ctx, cur, copy, n, next)
 }
 
 /// Runs (modules, parameter values) short enough to copy element by element.
@@ -224,6 +229,9 @@ pub(super) fn copy_run(
     j: usize,
     next: &mut ModuleString,
 ) -> Result<()> {
+    if i == j {
+        return Ok(());
+    }
     let (p0, p1) = (cur.offsets[i] as usize, cur.offsets[j] as usize);
     ctx.room(next, j - i, p1 - p0)?;
     let base = next.params.len() as u32;
