@@ -209,6 +209,22 @@ static inline Mat4 model_matrix(float x, float z, float yaw, float scale) {
   return r;
 }
 
+/* ---- orbit camera ---- */
+/* A drag of the orbit camera from (*from_x, *from_y) to (x, y): yaw and pitch turn 0.01
+ * radian a pixel, pitch stays within lo..hi, and the drag goes on from (x, y). */
+static inline void orbit_drag(float *yaw, float *pitch, double *from_x, double *from_y,
+                              double x, double y, float lo, float hi) {
+  *yaw -= (float)(x - *from_x) * 0.01f;
+  *pitch = fmaxf(lo, fminf(hi, *pitch + (float)(y - *from_y) * 0.01f));
+  *from_x = x;
+  *from_y = y;
+}
+
+/* The orbit camera's distance factor after a scroll of dy: 10% a notch, within 0.2..8. */
+static inline float orbit_zoom(float zoom, double dy) {
+  return fmaxf(0.2f, fminf(8.0f, zoom * (dy > 0 ? 1.1f : 1 / 1.1f)));
+}
+
 /* ---- shaders ---- */
 static inline GLuint compile(GLenum kind, const char *src) {
   GLuint s = p_glCreateShader(kind);

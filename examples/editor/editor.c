@@ -483,7 +483,7 @@ static void cursor(GLFWwindow *win, double x, double y) {
 static void scroll(GLFWwindow *win, double dx, double dy) {
   (void)win;
   (void)dx;
-  st.zoom = fmaxf(0.2f, fminf(8.0f, st.zoom * (dy > 0 ? 1.1f : 1 / 1.1f)));
+  st.zoom = orbit_zoom(st.zoom, dy);
 }
 
 /* Compares the GPU's vertex buffer with `expected` (nv vertices); prints and returns 1 when

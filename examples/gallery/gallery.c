@@ -863,12 +863,7 @@ static void mouse_button(GLFWwindow *win, int button, int action, int mods) {
 static void cursor(GLFWwindow *win, double x, double y) {
   (void)win;
   if (!st.dragging) return;
-  st.yaw -= (float)(x - st.drag_x) * 0.01f;
-  st.pitch += (float)(y - st.drag_y) * 0.01f;
-  if (st.pitch > 1.4f) st.pitch = 1.4f;
-  if (st.pitch < -0.2f) st.pitch = -0.2f;
-  st.drag_x = x;
-  st.drag_y = y;
+  orbit_drag(&st.yaw, &st.pitch, &st.drag_x, &st.drag_y, x, y, -0.2f, 1.4f);
 }
 
 static void scroll(GLFWwindow *win, double dx, double dy) {

@@ -434,16 +434,13 @@ static void mouse_button(GLFWwindow *win, int button, int action, int mods) {
 static void cursor(GLFWwindow *win, double x, double y) {
   (void)win;
   if (!st.dragging) return;
-  st.yaw -= (float)(x - st.drag_x) * 0.01f;
-  st.pitch = fmaxf(-0.2f, fminf(1.5f, st.pitch + (float)(y - st.drag_y) * 0.01f));
-  st.drag_x = x;
-  st.drag_y = y;
+  orbit_drag(&st.yaw, &st.pitch, &st.drag_x, &st.drag_y, x, y, -0.2f, 1.5f);
 }
 
 static void scroll(GLFWwindow *win, double dx, double dy) {
   (void)win;
   (void)dx;
-  st.zoom = fmaxf(0.2f, fminf(8.0f, st.zoom * (dy > 0 ? 1.1f : 1 / 1.1f)));
+  st.zoom = orbit_zoom(st.zoom, dy);
 }
 
 static void resize(GLFWwindow *win, int w, int h) {
