@@ -549,7 +549,7 @@ fn interpret_answering(
         true,
         || format!("the skeleton's branches ({draws})"),
     )?;
-    if !answering && ls.homomorphism.is_empty() {
+    if !answering && ls.homomorphism.is_empty() && !t.surfaces.is_empty() {
         // Room for every surface's triangles at once (a string of many leaves makes
         // millions of points: growing by doubling copies them and faults twice).
         let tris: usize = string
