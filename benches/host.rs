@@ -7,8 +7,10 @@
 //! g with n = 18 (restart strips). The buffers are touched with non-zero bytes before any
 //! timing, and memset is the C library's, on the same buffers. Each tree is written as a
 //! repeat write (the plan kept from the size call) and as the first write of a freshly
-//! grown tree (grown outside the clock), on the default threads and on one. The ratio
-//! memset time / mesh time is the fraction of memset bandwidth a host gets.
+//! grown tree (grown outside the clock), on the default threads and on one: the size and
+//! write calls together (`first_write_*`), and the write call alone after the size call
+//! (`first_write_call_*`). The ratio memset time / mesh time is the fraction of memset
+//! bandwidth a host gets.
 
 // The C types ArborHondaParams, ArborTopology and ArborVertex are these Rust types.
 use arbor::ffi::{
@@ -68,6 +70,17 @@ fn size(tree: &HostTree, o: &ArborMeshOptions) -> (usize, usize) {
 /// What a host does each time it (re)uploads: size, then write into its own buffers.
 fn size_then_write(tree: &HostTree, o: &ArborMeshOptions, v: &mut [ArborVertex], i: &mut [u32]) {
     let (nv, ni) = size(tree, black_box(o));
+    write(tree, o, (nv, ni), v, i);
+}
+
+/// The write call alone, of a mesh sized `(nv, ni)`.
+fn write(
+    tree: &HostTree,
+    o: &ArborMeshOptions,
+    (nv, ni): (usize, usize),
+    v: &mut [ArborVertex],
+    i: &mut [u32],
+) {
     assert!(nv <= v.len() && ni <= i.len());
     // SAFETY: the buffers hold at least nv vertices and ni indices.
     let status = unsafe { arbor_mesh_write(tree.tree, o, v.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
@@ -122,6 +135,25 @@ fn bench_host(c: &mut Criterion) {
                         || honda(letter, steps),
                         |fresh| {
                             size_then_write(&fresh, &o, &mut vertices, &mut indices);
+                            fresh
+                        },
+                        BatchSize::PerIteration,
+                    )
+                },
+            );
+            // The same, timing the write call alone: the host has sized the fresh tree
+            // (outside the clock, and the plan is kept), then maps its buffer and writes.
+            group.bench_function(
+                BenchmarkId::new(format!("first_write_call_{threads}"), name),
+                |b| {
+                    b.iter_batched(
+                        || {
+                            let fresh = honda(letter, steps);
+                            let counts = size(&fresh, &o);
+                            (fresh, counts)
+                        },
+                        |(fresh, counts)| {
+                            write(&fresh, &o, counts, &mut vertices, &mut indices);
                             fresh
                         },
                         BatchSize::PerIteration,

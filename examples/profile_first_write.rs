@@ -42,7 +42,9 @@ fn main() {
         write_t = write_t.min(t2);
     }
     println!(
-        "{} vertices, {} indices: plan {plan_t:?}, write {write_t:?} (best of {reps})",
-        size.vertices, size.indices
+        "{} branches, {} vertices, {} indices: plan {plan_t:?}, write {write_t:?} (best of {reps})",
+        s.len(),
+        size.vertices,
+        size.indices
     );
 }

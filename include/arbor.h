@@ -807,7 +807,8 @@ typedef struct ArborMeshOptions {
   float scale;
   /**
    * Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
-   * calling thread. Trees under 16,384 branches per thread use fewer. The output is the
+   * calling thread. Trees under 16,384 branches per thread use fewer. Sizing a tree of
+   * 32,768 branches or more takes two when this allows more than one. The output is the
    * same whatever the count. (Added after the first layout.)
    */
   uint32_t threads;

@@ -135,6 +135,19 @@ fn threaded_writes_equal_the_single_thread_write() {
             }
         }
     }
+    // A sweep's texture v comes with its frames, a straight tree's with the offsets: both
+    // plans split across threads as they are made.
+    for rings in [0, 2] {
+        let one = MeshOptions::default().curve_rings(rings).threads(1);
+        let want = mesh::tubes(&s, &one).unwrap();
+        let got = mesh::tubes(&s, &one.threads(2)).unwrap();
+        assert!(
+            got.vertices == want.vertices
+                && got.indices == want.indices
+                && got.ranges == want.ranges,
+            "{rings} curve rings"
+        );
+    }
 }
 
 /// The hash of the swept mesh (curve rings, mitred joints, caps) and of the leaf mesh

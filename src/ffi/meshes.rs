@@ -39,7 +39,8 @@ pub struct ArborMeshOptions {
     /// Uniform scale of positions; finite, > 0. Default 1.
     pub scale: f32,
     /// Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
-    /// calling thread. Trees under 16,384 branches per thread use fewer. The output is the
+    /// calling thread. Trees under 16,384 branches per thread use fewer. Sizing a tree of
+    /// 32,768 branches or more takes two when this allows more than one. The output is the
     /// same whatever the count. (Added after the first layout.)
     pub threads: u32,
     /// Sizing or writing a mesh of more vertices than this stops with

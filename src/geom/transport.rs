@@ -30,7 +30,7 @@ pub fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
 /// `to`, which keeps rounding from tilting the frame. It does not depend on the vector
 /// carried, so along an axis the chain of frames is one matrix product and one
 /// renormalisation per branch.
-#[inline]
+#[inline(always)]
 pub fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
     let c = from.dot(to);
     let rotation = if c > -0.9999 {
@@ -51,7 +51,7 @@ pub fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
 }
 
 /// `p` carried by `map` (see [`transport_map`]) onto the ring around `to`, unit length.
-#[inline]
+#[inline(always)]
 pub fn carry(map: &Mat3, p: Vec3, to: Vec3) -> Vec3 {
     let v = *map * p;
     let l2 = v.length_squared();

@@ -240,6 +240,8 @@ pub struct MeshOptions {
     pub axes: Axes,
     /// Threads a large write may use: 0 (default) the machine's cores (at most 8), 1 only
     /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
+    /// Making the plan (the size query) of a tree of 32,768 branches or more takes two
+    /// when this allows more than one.
     /// The output is the same byte for byte whatever the count.
     pub threads: u32,
     /// Sizing or writing a mesh of more vertices than this fails with

@@ -50,8 +50,6 @@ pub(crate) struct Plan {
     pub(crate) flags: Vec<u8>,
     /// The kept branch that continues each branch's axis, or NO_PARENT.
     pub(crate) cont: Vec<u32>,
-    /// Unit direction of every branch.
-    pub(crate) dir: Vec<Vec3>,
     /// Rings inside every branch (`curve_rings`).
     pub(crate) inner: usize,
     /// With inner rings: the unit tangents of each branch's curve at its start and end
@@ -179,47 +177,36 @@ pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> 
     kept
 }
 
-/// The plan, and each branch's first vertex and first index (found with the size).
-fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Offsets)> {
+/// The plan and its layout, in two passes in branch order (parents before children): the
+/// first finds each branch's sides and continuation, the second (which needs every
+/// branch's continuation) its joints, counts, offsets, ring frame and texture v. Each pass
+/// reads every branch once and the plan keeps only what the writer cannot recompute
+/// cheaply: a fresh plan's memory is page faults, which cost more than the arithmetic.
+fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     check_options(o)?;
     let branches = skeleton.branches();
     let n = branches.len();
-    let r_max = check_extent(branches, o)?;
-    let segs = radial_segments(branches, o, r_max);
-    let dir: Vec<Vec3> = branches.iter().map(direction).collect();
     let inner = o.curve_rings as usize;
+    let (segs, cont) = sides_and_continuations(branches, o)?;
     // With a sweep, the joints' directions are the curves' tangents.
     let (t0, t1): (Vec<Vec3>, Vec<Vec3>) = if inner > 0 {
         (0..n)
             .map(|i| {
                 let c = skeleton.curve(i);
+                let d = direction(&branches[i]);
                 (
-                    c.tangent(0.0).try_normalize().unwrap_or(dir[i]),
-                    c.tangent(1.0).try_normalize().unwrap_or(dir[i]),
+                    c.tangent(0.0).try_normalize().unwrap_or(d),
+                    c.tangent(1.0).try_normalize().unwrap_or(d),
                 )
             })
             .unzip()
     } else {
         (Vec::new(), Vec::new())
     };
-    // The kept branch that continues each branch's axis: its first kept child of the
-    // same order, in one pass in branch order (a fresh tree need not build its adjacency).
-    let mut cont = vec![NO_PARENT; n];
-    for (c, b) in branches.iter().enumerate() {
-        let p = b.parent as usize;
-        if b.parent != NO_PARENT
-            && cont[p] == NO_PARENT
-            && segs[c] != 0
-            && b.order == branches[p].order
-        {
-            cont[p] = c as u32;
-        }
-    }
     let mut plan = Plan {
-        flags: vec![0u8; n],
+        flags: Vec::new(),
         segs,
         cont,
-        dir,
         inner,
         t0,
         t1,
@@ -229,148 +216,280 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Offsets)> {
             clockwise: o.reversed(),
         },
     };
-    plan.set_flags(branches, o);
-    let (size, offsets) = plan.total(n, o)?;
-    plan.size = size;
-    Ok((plan, offsets))
+    let mut l = Layout {
+        first_vertex: Vec::new(),
+        first_index: Vec::new(),
+        frame_p: vec![Vec3::ZERO; n],
+        v_end: vec![0.0; n],
+        frame_end: if inner > 0 {
+            vec![Vec3::ZERO; n]
+        } else {
+            Vec::new()
+        },
+    };
+    let mut flags = vec![0u8; n];
+    // The joints and ring frames (a chain from parents to children) on this thread; the
+    // counts and offsets (a running sum) beside it on another, for a large tree: each
+    // decides the joints for itself, the same way, so the output does not depend on it.
+    // The straight branches' v (a sum along the tree, as the frames are) goes with the
+    // offsets; a sweep's comes from its curve, with its frames.
+    let both = n >= PLAN_BRANCHES_PER_THREAD && plan_threads(o.threads) > 1;
+    let mut v_end = if inner == 0 {
+        std::mem::take(&mut l.v_end)
+    } else {
+        Vec::new()
+    };
+    let (nv, ni) = std::thread::scope(|scope| {
+        let plan = &plan;
+        let straight = (inner == 0).then_some(&mut v_end[..]);
+        let (offsets, straight) = if both {
+            (
+                Some(scope.spawn(move || plan.offsets(branches, o, straight))),
+                None,
+            )
+        } else {
+            (None, straight)
+        };
+        plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
+        let ((first_vertex, first_index), nv, ni) = match offsets {
+            Some(h) => h.join().expect("the offsets' thread does not panic"),
+            None => plan.offsets(branches, o, straight),
+        };
+        (l.first_vertex, l.first_index) = (first_vertex, first_index);
+        (nv, ni)
+    });
+    if inner == 0 {
+        l.v_end = v_end;
+    }
+    plan.flags = flags;
+    plan.size = check_size(nv, ni, o)?;
+    Ok((plan, l))
 }
 
-/// Each branch's first vertex and first index.
-type Offsets = (Vec<u32>, Vec<u32>);
+/// Fewest branches for which a plan's second pass is split across two threads.
+const PLAN_BRANCHES_PER_THREAD: usize = 32_768;
 
-/// The largest radius of `branches`, once their scaled positions (caps and point tips
-/// reach one radius further) are known to stay finite.
-fn check_extent(branches: &[Branch], o: &MeshOptions) -> Result<f32> {
-    let (mut r_max, mut extent) = (0.0f32, 0.0f64);
-    for b in branches {
+/// The threads `threads` (a [`MeshOptions::threads`]) asks for.
+fn plan_threads(threads: u32) -> usize {
+    match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        t => t as usize,
+    }
+}
+
+impl Plan {
+    /// The flags of kept branch `i` that it decides itself: base cap, a start ring shared
+    /// with its parent (a mitred joint: the parent then has [`MITRE_END`]), tip.
+    #[inline]
+    fn own_flags(&self, branches: &[Branch], o: &MeshOptions, i: usize) -> u8 {
+        let b = &branches[i];
+        let mut f = 0;
+        if b.parent == NO_PARENT {
+            if o.base_cap {
+                f |= BASE_CAP;
+            }
+        } else {
+            let p = b.parent as usize;
+            if o.joints == Joints::Mitred
+                && self.cont[p] == i as u32
+                && self.segs[p] == self.segs[i]
+            {
+                let bend_cos = if self.inner > 0 {
+                    self.t1[p].dot(self.t0[i])
+                } else {
+                    direction(&branches[p]).dot(direction(b))
+                };
+                if bend_cos > MITRE_MIN_COS {
+                    f |= SHARES_START;
+                }
+            }
+        }
+        if self.cont[i] == NO_PARENT && o.tip != Tip::Open {
+            f |= TIP;
+        }
+        f
+    }
+
+    /// Every kept branch's flags, ring frames and texture v, in branch order: the joint
+    /// decided as [`own_flags`](Self::own_flags) decides it, with each direction computed
+    /// once.
+    fn joints_and_frames(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        flags: &mut [u8],
+        l: &mut Layout,
+    ) {
+        let branches = skeleton.branches();
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        let sweep = self.inner > 0;
+        for (i, b) in branches.iter().enumerate() {
+            if self.segs[i] == 0 {
+                continue;
+            }
+            let d = if sweep { self.t0[i] } else { direction(b) };
+            let mut f = 0;
+            // The parent's direction at the joint, once known.
+            let mut from = None;
+            if b.parent == NO_PARENT {
+                if o.base_cap {
+                    f |= BASE_CAP;
+                }
+            } else {
+                let p = b.parent as usize;
+                if o.joints == Joints::Mitred
+                    && self.cont[p] == i as u32
+                    && self.segs[p] == self.segs[i]
+                {
+                    let dp = if sweep {
+                        self.t1[p]
+                    } else {
+                        direction(&branches[p])
+                    };
+                    from = Some(dp);
+                    if dp.dot(d) > MITRE_MIN_COS {
+                        f |= SHARES_START;
+                        flags[p] |= MITRE_END;
+                    }
+                }
+            }
+            if self.cont[i] == NO_PARENT && o.tip != Tip::Open {
+                f |= TIP;
+            }
+            flags[i] |= f;
+            frames(
+                skeleton,
+                self,
+                l,
+                i,
+                (d, from),
+                f & SHARES_START == 0,
+                inv_ts,
+            );
+        }
+    }
+
+    /// Each branch's first vertex and first index, and the totals (past the u32 range
+    /// only on the way to the size's error); with `v_end`, each straight branch's v at its
+    /// end.
+    fn offsets(
+        &self,
+        branches: &[Branch],
+        o: &MeshOptions,
+        mut v_end: Option<&mut [f32]>,
+    ) -> ((Vec<u32>, Vec<u32>), u64, u64) {
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        let n = branches.len();
+        let (mut first_vertex, mut first_index) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut nv, mut ni): (u64, u64) = (0, 0);
+        let mut first = true;
+        for i in 0..n {
+            first_vertex.push(nv as u32);
+            first_index.push(ni as u32);
+            if self.segs[i] == 0 {
+                continue;
+            }
+            let f = self.own_flags(branches, o, i);
+            let (v, idx) = self.counts(i, f, o.tip, &mut first);
+            if let Some(v_end) = v_end.as_deref_mut() {
+                set_v_end(v_end, &branches[i], i, length(&branches[i]), inv_ts);
+            }
+            nv += v as u64;
+            ni += idx as u64;
+        }
+        ((first_vertex, first_index), nv, ni)
+    }
+}
+
+/// The mesh's size, within `max_vertices` and the u32 index range.
+fn check_size(nv: u64, ni: u64, o: &MeshOptions) -> Result<MeshSize> {
+    if nv > o.max_vertices as u64 {
+        return Err(Error::LimitExceeded {
+            limit_name: "max_vertices",
+            what: "mesh vertices",
+            limit: o.max_vertices as u64,
+            requested: nv,
+            step: None,
+        });
+    }
+    if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
+        return Err(Error::LimitExceeded {
+            limit_name: "u32 index range",
+            what: if nv > RESTART_INDEX as u64 {
+                "vertices"
+            } else {
+                "indices"
+            },
+            limit: RESTART_INDEX as u64,
+            requested: nv.max(ni),
+            step: None,
+        });
+    }
+    Ok(MeshSize {
+        vertices: nv as usize,
+        indices: ni as usize,
+    })
+}
+
+/// Each branch's sides (0: culled, with its subtree; in proportion to its radius when
+/// `min_radial_segments` is set) and the kept branch that continues its axis (its first
+/// kept child of the same order), once the tree's scaled extent is known to stay finite.
+fn sides_and_continuations(branches: &[Branch], o: &MeshOptions) -> Result<(Vec<u8>, Vec<u32>)> {
+    let lod = o.min_radial_segments != 0;
+    // LOD needs the largest radius before the first branch's sides.
+    let r_max = if lod {
+        branches
+            .iter()
+            .fold(0.0f32, |m, b| m.max(b.start_radius.max(b.end_radius)))
+    } else {
+        0.0
+    };
+    let max_seg = o.radial_segments;
+    let n = branches.len();
+    let (mut segs, mut cont) = (vec![0u8; n], vec![NO_PARENT; n]);
+    let mut extent = 0.0f64;
+    for (i, b) in branches.iter().enumerate() {
         let r = b.start_radius.max(b.end_radius);
-        r_max = r_max.max(r);
         let far = Vec3::from(b.start)
             .abs()
             .max(Vec3::from(b.end).abs())
             .max_element();
         extent = extent.max(far as f64 + 2.0 * r as f64);
+        let p = b.parent as usize;
+        let parent_kept = b.parent == NO_PARENT || segs[p] != 0;
+        if !parent_kept || r < o.cull_radius {
+            continue;
+        }
+        segs[i] = if !lod || r_max <= 0.0 {
+            max_seg
+        } else {
+            ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
+        } as u8;
+        if b.parent != NO_PARENT && cont[p] == NO_PARENT && b.order == branches[p].order {
+            cont[p] = i as u32;
+        }
     }
     if extent * o.out().scale as f64 > f32::MAX as f64 / 4.0 {
         return Err(Error::invalid(
             "scale",
             format!(
-                "{}; the tree reaches {extent:e} units, so positions would leave the f32 range",
-                o.scale
+                "{}; the tree reaches {:e} units, so positions would leave the f32 range",
+                o.scale, extent
             ),
         ));
     }
-    Ok(r_max)
-}
-
-/// Each branch's sides (0: culled, with its subtree), in proportion to its radius when
-/// `min_radial_segments` is set.
-fn radial_segments(branches: &[Branch], o: &MeshOptions, r_max: f32) -> Vec<u8> {
-    let max_seg = o.radial_segments;
-    let mut segs = vec![0u8; branches.len()];
-    for (i, b) in branches.iter().enumerate() {
-        let r = b.start_radius.max(b.end_radius);
-        let parent_kept = b.parent == NO_PARENT || segs[b.parent as usize] != 0;
-        if !parent_kept || r < o.cull_radius {
-            continue;
-        }
-        let s = if o.min_radial_segments == 0 || r_max <= 0.0 {
-            max_seg
-        } else {
-            ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
-        };
-        segs[i] = s as u8;
-    }
-    segs
+    Ok((segs, cont))
 }
 
 impl Plan {
-    /// The caps, mitred joints and tips of every kept branch.
-    fn set_flags(&mut self, branches: &[Branch], o: &MeshOptions) {
-        let (segs, flags, cont) = (&self.segs, &mut self.flags, &self.cont);
-        for (i, b) in branches.iter().enumerate() {
-            if segs[i] == 0 {
-                continue;
-            }
-            if b.parent == NO_PARENT {
-                if o.base_cap {
-                    flags[i] |= BASE_CAP;
-                }
-            } else {
-                let p = b.parent as usize;
-                let bend_cos = if self.inner > 0 {
-                    self.t1[p].dot(self.t0[i])
-                } else {
-                    self.dir[p].dot(self.dir[i])
-                };
-                if o.joints == Joints::Mitred
-                    && cont[p] == i as u32
-                    && segs[p] == segs[i]
-                    && bend_cos > MITRE_MIN_COS
-                {
-                    flags[i] |= SHARES_START;
-                    flags[p] |= MITRE_END;
-                }
-            }
-            if cont[i] == NO_PARENT && o.tip != Tip::Open {
-                flags[i] |= TIP;
-            }
-        }
-    }
-
-    /// The whole mesh's size, within `max_vertices` and the u32 index range, and where
-    /// each branch's vertices and indices start.
-    fn total(&self, n: usize, o: &MeshOptions) -> Result<(MeshSize, Offsets)> {
-        let (mut nv, mut ni): (u64, u64) = (0, 0);
-        let (mut first_vertex, mut first_index) = (Vec::with_capacity(n), Vec::with_capacity(n));
-        let mut first = true;
-        for i in 0..n {
-            // Past the u32 range only on the way to the error below.
-            first_vertex.push(nv as u32);
-            first_index.push(ni as u32);
-            let (v, idx) = self.counts(i, o.tip, &mut first);
-            nv += v as u64;
-            ni += idx as u64;
-        }
-        if nv > o.max_vertices as u64 {
-            return Err(Error::LimitExceeded {
-                limit_name: "max_vertices",
-                what: "mesh vertices",
-                limit: o.max_vertices as u64,
-                requested: nv,
-                step: None,
-            });
-        }
-        if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
-            return Err(Error::LimitExceeded {
-                limit_name: "u32 index range",
-                what: if nv > RESTART_INDEX as u64 {
-                    "vertices"
-                } else {
-                    "indices"
-                },
-                limit: RESTART_INDEX as u64,
-                requested: nv.max(ni),
-                step: None,
-            });
-        }
-        let size = MeshSize {
-            vertices: nv as usize,
-            indices: ni as usize,
-        };
-        Ok((size, (first_vertex, first_index)))
-    }
-}
-
-impl Plan {
-    /// Vertices and indices branch `i` owns; `first`: no strip has been written yet.
+    /// Vertices and indices branch `i` owns with flags `f`; `first`: no strip has been
+    /// written yet.
     #[inline]
-    pub(crate) fn counts(&self, i: usize, tip: Tip, first: &mut bool) -> (usize, usize) {
+    fn counts(&self, i: usize, f: u8, tip: Tip, first: &mut bool) -> (usize, usize) {
         let s = self.segs[i] as usize;
         if s == 0 {
             return (0, 0);
         }
-        let f = self.flags[i];
         let rules = self.rules;
         let ring = s + 1;
         let mut v = ring * (1 + self.inner) + if f & SHARES_START != 0 { 0 } else { ring };
@@ -394,7 +513,8 @@ impl Plan {
 
 /// Per-branch values the writer reads, computed in one pass from parents to children (ring
 /// frames and arc length flow down the tree); the writing itself can then run on chunks of
-/// branches independently.
+/// branches independently. Each branch's direction and end ring are recomputed where they
+/// are needed, which is cheaper than storing them.
 #[derive(Clone)]
 pub(crate) struct Layout {
     pub(crate) first_vertex: Vec<u32>,
@@ -403,44 +523,9 @@ pub(crate) struct Layout {
     pub(crate) frame_p: Vec<Vec3>,
     /// v at each branch's end.
     pub(crate) v_end: Vec<f32>,
-    /// First vertex of each branch's end ring.
-    pub(crate) end_ring: Vec<u32>,
     /// With inner rings: the frame vector at each branch's end (carried along its curve by
     /// rotation-minimising frames); empty otherwise.
     pub(crate) frame_end: Vec<Vec3>,
-}
-
-fn layout(skeleton: &Skeleton, o: &MeshOptions, plan: &Plan, offsets: Offsets) -> Layout {
-    let branches = skeleton.branches();
-    let n = branches.len();
-    let inv_ts = 1.0 / o.texture_scale as f64;
-    let (first_vertex, first_index) = offsets;
-    let mut l = Layout {
-        first_vertex,
-        first_index,
-        frame_p: vec![Vec3::ZERO; n],
-        v_end: vec![0.0; n],
-        end_ring: vec![0; n],
-        frame_end: if plan.inner > 0 {
-            vec![Vec3::ZERO; n]
-        } else {
-            Vec::new()
-        },
-    };
-    for i in 0..branches.len() {
-        let s = plan.segs[i] as usize;
-        if s == 0 {
-            continue;
-        }
-        frames(skeleton, plan, &mut l, i, inv_ts);
-        let own_start = if plan.flags[i] & SHARES_START != 0 {
-            0
-        } else {
-            s + 1
-        };
-        l.end_ring[i] = l.first_vertex[i] + (own_start + plan.inner * (s + 1)) as u32;
-    }
-    l
 }
 
 /// The plan's v_scale: 1 for f32 vertices; for compact ones the power of two at or above
@@ -458,17 +543,27 @@ fn v_scale(skeleton: &Skeleton, o: &MeshOptions, l: &Layout) -> f32 {
     super::compact::v_scale_for(to_f32(v_end as f64 + r as f64 / o.texture_scale as f64))
 }
 
-/// Branch `i`'s ring frame at its start (and end, for a sweep) and v at its end, from its
-/// parent's: the part of the layout an edit of a branch changes for it and its subtree.
-fn frames(skeleton: &Skeleton, plan: &Plan, l: &mut Layout, i: usize, inv_ts: f64) {
+/// Branch `i`'s ring frame at its start, from its parent's (with a sweep, also the frame
+/// and v at its end; straight branches get v from [`set_v_end`]): the part of the layout an
+/// edit of a branch changes for it and its subtree.
+/// `d` is the branch's direction at its start (its curve's tangent in a sweep) and `from`
+/// the parent's at the joint when the caller has it.
+#[inline(always)]
+fn frames(
+    skeleton: &Skeleton,
+    plan: &Plan,
+    l: &mut Layout,
+    i: usize,
+    (d, from): (Vec3, Option<Vec3>),
+    own_ring: bool,
+    inv_ts: f64,
+) {
     let b = &skeleton.branches()[i];
     let sweep = plan.inner > 0;
-    let d = if sweep { plan.t0[i] } else { plan.dir[i] };
     let root = b.parent == NO_PARENT;
     // A ring of its own starts its seam at the turtle's up vector where the generator
     // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
     // carries the parent's frame along, so an axis's tube never twists at a joint.
-    let own_ring = plan.flags[i] & SHARES_START == 0;
     let turtle = skeleton
         .up(i)
         .filter(|_| own_ring)
@@ -482,14 +577,10 @@ fn frames(skeleton: &Skeleton, plan: &Plan, l: &mut Layout, i: usize, inv_ts: f6
         carry(&transport_map(plan.t1[parent], d), l.frame_end[parent], d)
     } else {
         let parent = b.parent as usize;
-        carry(&transport_map(plan.dir[parent], d), l.frame_p[parent], d)
+        let from = from.unwrap_or_else(|| direction(&skeleton.branches()[parent]));
+        carry(&transport_map(from, d), l.frame_p[parent], d)
     };
-    let v0 = if root {
-        0.0
-    } else {
-        l.v_end[b.parent as usize]
-    };
-    let len = if sweep {
+    if sweep {
         // The arc through the ring centres, and the frame at the end.
         let mut arc = 0.0f32;
         l.frame_end[i] = skeleton.curve(i).rotation_minimising_frames(
@@ -498,17 +589,25 @@ fn frames(skeleton: &Skeleton, plan: &Plan, l: &mut Layout, i: usize, inv_ts: f6
             plan.inner + 1,
             |_, _, _, _, a| arc = a,
         );
-        arc as f64
+        set_v_end(&mut l.v_end, b, i, arc as f64, inv_ts);
+    }
+}
+
+/// v at the end of branch `b` (number `i`), `len` along from its parent's end (its
+/// own start for a root); clamped so that absurd lengths cannot push uv past the f32 range.
+#[inline(always)]
+fn set_v_end(v_end: &mut [f32], b: &Branch, i: usize, len: f64, inv_ts: f64) {
+    let v0 = if b.parent == NO_PARENT {
+        0.0
     } else {
-        length(b)
+        v_end[b.parent as usize]
     };
-    // Clamped so that absurd lengths cannot push uv past the f32 range.
-    l.v_end[i] = to_f32(v0 as f64 + len * inv_ts);
+    v_end[i] = to_f32(v0 as f64 + len * inv_ts);
 }
 
 /// Everything the writer needs for one tree and one set of options, computed once: a host
 /// that writes the same tree again (re-uploads, several buffers) keeps it and pays only
-/// for the writing. About 46 bytes per branch.
+/// for the writing. 30 bytes per branch (66 with `curve_rings`).
 ///
 /// ```
 /// use arbor::{mesh, models::honda};
@@ -550,13 +649,12 @@ impl MeshPlan {
     /// when the vertices or indices could not all be addressed with 32 bits
     /// ([`RESTART_INDEX`] is reserved).
     pub fn new(skeleton: &Skeleton, options: &MeshOptions) -> Result<Self> {
-        // Per branch: the plan's segments, flags, continuation and direction (18 bytes),
-        // the layout's offsets, frame and texture end (28), with inner rings two tangents
-        // and an end frame (36), and the builder's temporaries (16).
-        let per_branch = 18 + 28 + 16 + if options.curve_rings > 0 { 36 } else { 0 };
+        // Per branch: the plan's sides, flags and continuation (6 bytes), the layout's
+        // offsets, frame and texture end (24), with inner rings two tangents and an end
+        // frame (36).
+        let per_branch = 6 + 24 + if options.curve_rings > 0 { 36 } else { 0 };
         crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
-        let (plan, offsets) = plan(skeleton, options)?;
-        let layout = layout(skeleton, options, &plan, offsets);
+        let (plan, layout) = plan(skeleton, options)?;
         let mut tables: Vec<Vec<(f32, f32, f32)>> =
             vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
         for &s in &plan.segs {
@@ -582,6 +680,19 @@ impl MeshPlan {
     /// every branch).
     pub fn v_scale(&self) -> f32 {
         self.v_scale
+    }
+
+    /// First vertex of kept branch `i`'s end ring: after its own start ring (unless it
+    /// shares its parent's) and its inner rings.
+    #[inline]
+    pub(crate) fn end_ring(&self, i: usize) -> u32 {
+        let ring = self.plan.segs[i] as usize + 1;
+        let own_start = if self.plan.flags[i] & SHARES_START != 0 {
+            0
+        } else {
+            ring
+        };
+        self.layout.first_vertex[i] + (own_start + self.plan.inner * ring) as u32
     }
 
     /// The exact vertex and index counts of the mesh.
@@ -706,11 +817,10 @@ impl MeshPlan {
         let inner = plan.inner;
         for &b in &affected {
             let b = b as usize;
-            plan.dir[b] = direction(&branches[b]);
             if inner > 0 {
-                let c = skeleton.curve(b);
-                plan.t0[b] = c.tangent(0.0).try_normalize().unwrap_or(plan.dir[b]);
-                plan.t1[b] = c.tangent(1.0).try_normalize().unwrap_or(plan.dir[b]);
+                let (c, d) = (skeleton.curve(b), direction(&branches[b]));
+                plan.t0[b] = c.tangent(0.0).try_normalize().unwrap_or(d);
+                plan.t1[b] = c.tangent(1.0).try_normalize().unwrap_or(d);
             }
         }
         // The joints must stay as they were.
@@ -718,7 +828,7 @@ impl MeshPlan {
             let bend_cos = if inner > 0 {
                 plan.t1[p].dot(plan.t0[c])
             } else {
-                plan.dir[p].dot(plan.dir[c])
+                direction(&branches[p]).dot(direction(&branches[c]))
             };
             o.joints == Joints::Mitred
                 && plan.cont[p] == c as u32
@@ -745,7 +855,31 @@ impl MeshPlan {
         let inv_ts = 1.0 / o.texture_scale as f64;
         for &b in &affected {
             if plan.segs[b as usize] != 0 {
-                frames(skeleton, plan, &mut self.layout, b as usize, inv_ts);
+                let (b, sweep) = (b as usize, inner > 0);
+                let own_ring = plan.flags[b] & SHARES_START == 0;
+                let d = if sweep {
+                    plan.t0[b]
+                } else {
+                    direction(&branches[b])
+                };
+                frames(
+                    skeleton,
+                    plan,
+                    &mut self.layout,
+                    b,
+                    (d, None),
+                    own_ring,
+                    inv_ts,
+                );
+                if !sweep {
+                    set_v_end(
+                        &mut self.layout.v_end,
+                        &branches[b],
+                        b,
+                        length(&branches[b]),
+                        inv_ts,
+                    );
+                }
             }
         }
         let v_scale = v_scale(skeleton, &o, &self.layout);

@@ -1,7 +1,7 @@
 //! One kept branch's tube as the writer sees it, and the writing of its rings, caps and
 //! indices.
 
-use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP};
+use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, direction};
 use super::rings::Slot;
 use super::rings::{Affine, Out, to_f32};
 use super::strips::{StripWriter, zigzag};
@@ -28,7 +28,7 @@ impl MeshPlan {
         let rot = |v: Vec3| Vec3::from_array(out.dir(v));
         let b = &skeleton.branches()[i];
         let s = plan.segs[i] as usize;
-        let (d, p) = (plan.dir[i], lay.frame_p[i]);
+        let (d, p) = (direction(b), lay.frame_p[i]);
         let (r0, r1, h) = self.drawn(skeleton, i);
         let (nc, na) = match known {
             Some((k, slope)) if k == i => slope,
@@ -37,11 +37,12 @@ impl MeshPlan {
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
         let flags = plan.flags[i];
         let vk = 1.0 / self.v_scale;
-        // The continuing branch's slope, for the mitred end ring.
-        let cont_slope = if flags & MITRE_END != 0 {
-            self.slope(skeleton, plan.cont[i] as usize)
+        // The continuing branch's slope and direction, for the mitred end ring.
+        let (cont_slope, cont_dir) = if flags & MITRE_END != 0 {
+            let c = plan.cont[i] as usize;
+            (self.slope(skeleton, c), direction(&skeleton.branches()[c]))
         } else {
-            (1.0, 0.0)
+            ((1.0, 0.0), d)
         };
         Tube {
             i,
@@ -56,6 +57,7 @@ impl MeshPlan {
             nc,
             na,
             cont_slope,
+            cont_dir,
             r0,
             r1,
             // v divided by the plan's v_scale (a power of two: exact), for compact vertices.
@@ -65,10 +67,10 @@ impl MeshPlan {
             inv_ts: vk as f64 / o.texture_scale as f64,
             vk,
             first_vertex: lay.first_vertex[i],
-            end_ring: lay.end_ring[i],
+            end_ring: self.end_ring(i),
             shared_start: parent
                 .filter(|_| plan.flags[i] & SHARES_START != 0)
-                .map(|p| lay.end_ring[p]),
+                .map(|p| self.end_ring(p)),
             sink: parent.map_or(0.0, |p| skeleton.branches()[p].end_radius),
             start: b.start(),
             end: b.end(),
@@ -96,6 +98,8 @@ pub(super) struct Tube<'a> {
     pub(super) na: f32,
     /// The continuing branch's (nc, na), when the end ring is mitred.
     pub(super) cont_slope: (f32, f32),
+    /// The continuing branch's direction (model space), when the end ring is mitred.
+    pub(super) cont_dir: Vec3,
     /// Radii as drawn (model units).
     pub(super) r0: f32,
     pub(super) r1: f32,
@@ -178,7 +182,7 @@ impl Tube<'_> {
     /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
     /// vertex.
     pub(super) fn mitre(&self, plan: &MeshPlan, c: usize) -> Affine {
-        self.mitre_with(plan, c, (self.po, self.qo), self.d, plan.plan.dir[c])
+        self.mitre_with(plan, c, (self.po, self.qo), self.d, self.cont_dir)
     }
 
     /// [`mitre`](Self::mitre) with the end ring's frame (output space) and the two axes at
