@@ -244,7 +244,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         let straight = (inner == 0).then_some(&mut v_end[..]);
         let (offsets, straight) = if both {
             (
-                Some(scope.spawn(move || plan.offsets(branches, o, straight))),
+                Some(scope.spawn(move || plan.offsets(branches, o, straight, None))),
                 None,
             )
         } else {
@@ -253,7 +253,8 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
         let ((first_vertex, first_index), nv, ni) = match offsets {
             Some(h) => h.join().expect("the offsets' thread does not panic"),
-            None => plan.offsets(branches, o, straight),
+            // On one thread, after the joints: their flags are known.
+            None => plan.offsets(branches, o, straight, Some(&flags)),
         };
         (l.first_vertex, l.first_index) = (first_vertex, first_index);
         (nv, ni)
@@ -371,12 +372,13 @@ impl Plan {
 
     /// Each branch's first vertex and first index, and the totals (past the u32 range
     /// only on the way to the size's error); with `v_end`, each straight branch's v at its
-    /// end.
+    /// end. The flags are read from `flags` when they are known, else decided here.
     fn offsets(
         &self,
         branches: &[Branch],
         o: &MeshOptions,
         mut v_end: Option<&mut [f32]>,
+        flags: Option<&[u8]>,
     ) -> ((Vec<u32>, Vec<u32>), u64, u64) {
         let inv_ts = 1.0 / o.texture_scale as f64;
         let n = branches.len();
@@ -389,7 +391,10 @@ impl Plan {
             if self.segs[i] == 0 {
                 continue;
             }
-            let f = self.own_flags(branches, o, i);
+            let f = match flags {
+                Some(flags) => flags[i],
+                None => self.own_flags(branches, o, i),
+            };
             let (v, idx) = self.counts(i, f, o.tip, &mut first);
             if let Some(v_end) = v_end.as_deref_mut() {
                 set_v_end(v_end, &branches[i], i, length(&branches[i]), inv_ts);
