@@ -1,7 +1,7 @@
 //! Ring frames along a tree: a basis for a root's ring and parallel transport of a frame
 //! vector from one branch direction to the next.
 
-use glam::{DVec3, Mat3, Vec3};
+use glam::{DVec3, Vec3};
 
 /// An orthonormal pair `(p, q)` with `p × q = n` for a unit `n`, continuous everywhere but
 /// at `n = −Y` (Frisvad's construction with its pole moved from −Z to −Y, where branches
@@ -24,36 +24,22 @@ pub fn ring_basis(n: DVec3) -> (DVec3, DVec3) {
     (p, n.cross(p))
 }
 
-/// The linear map that carries a ring vector from a ring around `from` to a ring around
-/// `to`: the smallest rotation (Rodrigues' formula with k = from × to:
-/// R p = p c + k × p + k (k · p) / (1 + c)), then the projection onto the plane normal to
-/// `to`, which keeps rounding from tilting the frame. It does not depend on the vector
-/// carried, so along an axis the chain of frames is one matrix product and one
-/// renormalisation per branch.
+/// `p` carried from the ring around `from` to the ring around `to` (unit, perpendicular to
+/// `to`): the smallest rotation taking `from` to `to` (Rodrigues' formula with
+/// k = from × to: R p = p c + k × p + k (k · p) / (1 + c), c = from · to), then the
+/// projection onto the plane normal to `to`, which keeps rounding from tilting the frame,
+/// and one Newton step back to unit length. Applied to the vector directly: about 40
+/// operations, where the 3 × 3 map of the same rotation and projection took about 100.
 #[inline(always)]
-pub fn transport_map(from: Vec3, to: Vec3) -> Mat3 {
+pub fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
     let c = from.dot(to);
-    let rotation = if c > -0.9999 {
+    let v = if c > -0.9999 {
         let k = from.cross(to);
-        let h = 1.0 / (1.0 + c);
-        Mat3::from_diagonal(Vec3::splat(c))
-            + Mat3::from_cols(
-                Vec3::new(0.0, k.z, -k.y),
-                Vec3::new(-k.z, 0.0, k.x),
-                Vec3::new(k.y, -k.x, 0.0),
-            )
-            + Mat3::from_cols(k * (h * k.x), k * (h * k.y), k * (h * k.z))
+        p * c + k.cross(p) + k * (k.dot(p) / (1.0 + c))
     } else {
-        Mat3::from_quat(super::rotation::rotation_arc(from, to))
+        super::rotation::rotation_arc(from, to) * p
     };
-    let projection = Mat3::IDENTITY - Mat3::from_cols(to * to.x, to * to.y, to * to.z);
-    projection * rotation
-}
-
-/// `p` carried by `map` (see [`transport_map`]) onto the ring around `to`, unit length.
-#[inline(always)]
-pub fn carry(map: &Mat3, p: Vec3, to: Vec3) -> Vec3 {
-    let v = *map * p;
+    let v = v - to * to.dot(v);
     let l2 = v.length_squared();
     if (0.9..1.1).contains(&l2) {
         // A rotation keeps the length to rounding: one Newton step of 1/√l2 from 1.
@@ -62,12 +48,6 @@ pub fn carry(map: &Mat3, p: Vec3, to: Vec3) -> Vec3 {
         v.try_normalize()
             .unwrap_or_else(|| ring_basis(to.as_dvec3()).0.as_vec3())
     }
-}
-
-/// `p` carried from the ring around `from` to the ring around `to` (unit, perpendicular to
-/// `to`).
-pub fn transport(p: Vec3, from: Vec3, to: Vec3) -> Vec3 {
-    carry(&transport_map(from, to), p, to)
 }
 
 #[cfg(test)]

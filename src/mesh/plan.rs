@@ -11,7 +11,7 @@ use super::{
     Tip, UpAxis, VertexFormat, Winding,
 };
 use crate::error::{Error, Result};
-use crate::geom::transport::{carry, ring_basis, transport_map};
+use crate::geom::transport::{ring_basis, transport};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 
@@ -602,11 +602,11 @@ fn frames(
         ring_basis(d.as_dvec3()).0.as_vec3()
     } else if sweep {
         let parent = b.parent as usize;
-        carry(&transport_map(plan.t1[parent], d), l.frame_end[parent], d)
+        transport(l.frame_end[parent], plan.t1[parent], d)
     } else {
         let parent = b.parent as usize;
         let from = from.unwrap_or_else(|| direction(&skeleton.branches()[parent]));
-        carry(&transport_map(from, d), l.frame_p[parent], d)
+        transport(l.frame_p[parent], from, d)
     };
     if sweep {
         // The arc through the ring centres, and the frame at the end.
