@@ -54,7 +54,9 @@ pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     /// The body of a tube between rings of `tube_ring` vertices: index k is
     /// `top + offset + (bottom − top) & mask` (mask all ones for the bottom ring), so a
     /// tube's indices are one add and one masked add each, with no branch.
-    tube_body: Vec<(u32, u32)>,
+    tube_body: Vec<u32>,
+    /// The masks of `tube_body`, apart from the offsets so the loop runs in vector lanes.
+    tube_mask: Vec<u32>,
     tube_ring: u32,
 }
 
@@ -68,6 +70,7 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             first,
             last: 0,
             tube_body: Vec::new(),
+            tube_mask: Vec::new(),
             tube_ring: 0,
         }
     }
@@ -93,7 +96,8 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
         const T: u32 = 0;
         const B: u32 = u32::MAX;
         if self.rules.topology != Topology::TriangleList {
-            self.tube_body = (0..ring).rev().flat_map(|j| [(j, B), (j, T)]).collect();
+            let order: Vec<(u32, u32)> = (0..ring).rev().flat_map(|j| [(j, B), (j, T)]).collect();
+            (self.tube_body, self.tube_mask) = order.into_iter().unzip();
             return;
         }
         let m = ring - 2;
@@ -111,7 +115,7 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             order.push(quad_b(j));
             order.push(quad_a(j));
         }
-        self.tube_body = order.into_iter().flatten().collect();
+        (self.tube_body, self.tube_mask) = order.into_iter().flatten().unzip();
     }
 
     #[inline(always)]
@@ -166,18 +170,17 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// Writes the body of a tube from the template made for its ring.
     #[inline]
     fn tube_body(&mut self, top: u32, bottom: u32) {
-        let body = &self.tube_body;
+        let (body, mask) = (&self.tube_body, &self.tube_mask);
         let n = body.len();
         let diff = bottom.wrapping_sub(top);
         let out = &mut self.out[self.pos..self.pos + n];
-        let index =
-            |&(offset, mask): &(u32, u32)| top.wrapping_add(offset).wrapping_add(diff & mask);
-        for (slot, entry) in out.iter_mut().zip(body) {
-            slot.put(index(entry));
+        let index = |offset: u32, mask: u32| top.wrapping_add(offset).wrapping_add(diff & mask);
+        for ((slot, &offset), &mask) in out.iter_mut().zip(body).zip(mask) {
+            slot.put(index(offset, mask));
         }
         self.pos += n;
-        if let Some(entry) = body.last() {
-            self.last = index(entry);
+        if let (Some(&offset), Some(&mask)) = (body.last(), mask.last()) {
+            self.last = index(offset, mask);
         }
     }
 
