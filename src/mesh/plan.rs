@@ -347,11 +347,15 @@ impl Plan {
         let branches = skeleton.branches();
         let inv_ts = 1.0 / o.texture_scale as f64;
         let sweep = self.inner > 0;
+        // The last straight branch's direction: along an axis written in one run, the next
+        // branch's parent.
+        let mut last = (usize::MAX, Vec3::ZERO);
         for (i, b) in branches.iter().enumerate() {
             if self.segs[i] == 0 {
                 continue;
             }
             let d = if sweep { self.t0[i] } else { direction(b) };
+            let parent_d = std::mem::replace(&mut last, (i, d));
             let mut f = 0;
             // The parent's direction at the joint, once known.
             let mut from = None;
@@ -367,6 +371,8 @@ impl Plan {
                 {
                     let dp = if sweep {
                         self.t1[p]
+                    } else if parent_d.0 == p {
+                        parent_d.1
                     } else {
                         direction(&branches[p])
                     };
