@@ -212,6 +212,25 @@ fn finite3(p: &[f32; 3]) -> bool {
 impl SkeletonParts {
     /// Every branch finite, its radii from 0 to 1e15, its parent earlier (or none).
     fn check_branches(&self) -> Result<()> {
+        // One pass without early exits (a few instructions a branch); the first branch at
+        // fault is looked for only when there is one.
+        let m = crate::limits::MAX_COORDINATE;
+        let hold = self.branches.iter().enumerate().fold(true, |ok, (i, b)| {
+            let ends = b
+                .start
+                .iter()
+                .chain(&b.end)
+                .fold(true, |a, v| a & (v.abs() <= m));
+            let radii = (b.start_radius >= 0.0)
+                & (b.start_radius <= m)
+                & (b.end_radius >= 0.0)
+                & (b.end_radius <= m);
+            let parent = (b.parent == NO_PARENT) | ((b.parent as usize) < i);
+            ok & ends & radii & parent
+        });
+        if hold {
+            return Ok(());
+        }
         for (i, b) in self.branches.iter().enumerate() {
             if !(finite3(&b.start) && finite3(&b.end)) {
                 return Err(Error::invalid(
@@ -331,7 +350,14 @@ impl SkeletonParts {
                 ));
             }
         }
-        if let Some(i) = self.ups.iter().position(|u| !finite3(u)) {
+        let m = crate::limits::MAX_COORDINATE;
+        let ups_hold = self.ups.iter().fold(true, |ok, u| {
+            ok & u.iter().fold(true, |a, v| a & (v.abs() <= m))
+        });
+        if let Some(i) = (!ups_hold)
+            .then(|| self.ups.iter().position(|u| !finite3(u)))
+            .flatten()
+        {
             return Err(Error::invalid(
                 "ups",
                 format!("up vector {i} is not finite"),
@@ -586,6 +612,29 @@ mod tests {
         neg.end_radius = -1.0;
         let err = Skeleton::new(vec![neg]).unwrap_err();
         assert!(err.to_string().contains("end_radius"), "{err}");
+        // Each invariant fails the one-pass check and is then named, on a later branch too.
+        type Spoil = fn(&mut Branch);
+        let cases: [(Spoil, &str); 5] = [
+            (|b| b.start[0] = f32::INFINITY, "non-finite start or end"),
+            (|b| b.end[2] = -2e15, "non-finite start or end"),
+            (|b| b.start_radius = f32::NAN, "start_radius NaN"),
+            (|b| b.end_radius = 2e15, "end_radius 2000000000000000"),
+            (|b| b.parent = 5, "branch 2 has parent 5"),
+        ];
+        for (spoil, says) in cases {
+            let mut bad = branch(0);
+            spoil(&mut bad);
+            let err = Skeleton::new(vec![branch(NO_PARENT), branch(0), bad]).unwrap_err();
+            assert!(err.to_string().contains(says), "{says}: {err}");
+        }
+        let parts = |up: [f32; 3]| SkeletonParts {
+            branches: vec![branch(NO_PARENT), branch(0)],
+            ups: vec![[0.0, 0.0, 1.0], up],
+            ..Default::default()
+        };
+        assert!(parts([1.0, 0.0, 0.0]).build().is_ok());
+        let err = parts([f32::NAN, 0.0, 0.0]).build().unwrap_err();
+        assert!(err.to_string().contains("up vector 1"), "{err}");
     }
 
     #[test]
