@@ -252,26 +252,21 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     } else {
         Vec::new()
     };
-    let (nv, ni) = std::thread::scope(|scope| {
+    let straight = (inner == 0).then_some(&mut v_end[..]);
+    let ((first_vertex, first_index), nv, ni) = if both {
         let plan = &plan;
-        let straight = (inner == 0).then_some(&mut v_end[..]);
-        let (offsets, straight) = if both {
-            (
-                Some(scope.spawn(move || plan.offsets(branches, o, straight, None))),
-                None,
-            )
-        } else {
-            (None, straight)
-        };
+        std::thread::scope(|scope| {
+            let offsets = scope.spawn(move || plan.offsets(branches, o, straight, None));
+            plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
+            offsets.join().expect("the offsets' thread does not panic")
+        })
+    } else {
+        // On one thread (and without a thread scope, which would make the calling
+        // thread's handle): the offsets after the joints, whose flags are then known.
         plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
-        let ((first_vertex, first_index), nv, ni) = match offsets {
-            Some(h) => h.join().expect("the offsets' thread does not panic"),
-            // On one thread, after the joints: their flags are known.
-            None => plan.offsets(branches, o, straight, Some(&flags)),
-        };
-        (l.first_vertex, l.first_index) = (first_vertex, first_index);
-        (nv, ni)
-    });
+        plan.offsets(branches, o, straight, Some(&flags))
+    };
+    (l.first_vertex, l.first_index) = (first_vertex, first_index);
     if inner == 0 {
         l.v_end = v_end;
     }
