@@ -301,8 +301,25 @@ impl Plan {
     /// with its parent (a mitred joint: the parent then has [`MITRE_END`]), tip.
     #[inline]
     fn own_flags(&self, branches: &[Branch], o: &MeshOptions, i: usize) -> u8 {
+        let at_start = || self.direction_at(branches, i, false);
+        let at_end = |p| self.direction_at(branches, p, true);
+        self.decide_flags(branches, o, i, at_start, at_end).0
+    }
+
+    /// [`own_flags`](Self::own_flags) with the directions at the joint given: `d` gives
+    /// branch `i`'s at its start, `parent_d` its parent's at its end, each asked only when
+    /// a mitre is possible. Also returns the parent's direction when it was asked.
+    #[inline(always)]
+    fn decide_flags(
+        &self,
+        branches: &[Branch],
+        o: &MeshOptions,
+        i: usize,
+        d: impl FnOnce() -> Vec3,
+        parent_d: impl FnOnce(usize) -> Vec3,
+    ) -> (u8, Option<Vec3>) {
         let b = &branches[i];
-        let mut f = 0;
+        let (mut f, mut from) = (0, None);
         if b.parent == NO_PARENT {
             if o.base_cap {
                 f |= BASE_CAP;
@@ -313,12 +330,9 @@ impl Plan {
                 && self.cont[p] == i as u32
                 && self.segs[p] == self.segs[i]
             {
-                let bend_cos = if self.inner > 0 {
-                    self.t1[p].dot(self.t0[i])
-                } else {
-                    direction(&branches[p]).dot(direction(b))
-                };
-                if bend_cos > MITRE_MIN_COS {
+                let dp = parent_d(p);
+                from = Some(dp);
+                if dp.dot(d()) > MITRE_MIN_COS {
                     f |= SHARES_START;
                 }
             }
@@ -326,11 +340,22 @@ impl Plan {
         if self.cont[i] == NO_PARENT && o.tip != Tip::Open {
             f |= TIP;
         }
-        f
+        (f, from)
     }
 
-    /// Every kept branch's flags, ring frames and texture v, in branch order: the joint
-    /// decided as [`own_flags`](Self::own_flags) decides it, with each direction computed
+    /// Branch `i`'s direction at its start, or at its end with `end` (its curve's tangent
+    /// in a sweep).
+    #[inline(always)]
+    fn direction_at(&self, branches: &[Branch], i: usize, end: bool) -> Vec3 {
+        match (self.inner > 0, end) {
+            (false, _) => direction(&branches[i]),
+            (true, false) => self.t0[i],
+            (true, true) => self.t1[i],
+        }
+    }
+
+    /// Every kept branch's flags, ring frames and texture v, in branch order: the joints
+    /// decided as [`own_flags`](Self::own_flags) decides them, with each direction computed
     /// once.
     fn joints_and_frames(
         &self,
@@ -345,43 +370,24 @@ impl Plan {
         // The last straight branch's direction: along an axis written in one run, the next
         // branch's parent.
         let mut last = (usize::MAX, Vec3::ZERO);
-        for (i, b) in branches.iter().enumerate() {
+        for i in 0..branches.len() {
             if self.segs[i] == 0 {
                 continue;
             }
-            let d = if sweep { self.t0[i] } else { direction(b) };
-            let parent_d = std::mem::replace(&mut last, (i, d));
-            let mut f = 0;
-            // The parent's direction at the joint, once known.
-            let mut from = None;
-            if b.parent == NO_PARENT {
-                if o.base_cap {
-                    f |= BASE_CAP;
+            let d = self.direction_at(branches, i, false);
+            let before = std::mem::replace(&mut last, (i, d));
+            let parent_d = |p| {
+                if !sweep && before.0 == p {
+                    before.1
+                } else {
+                    self.direction_at(branches, p, true)
                 }
-            } else {
-                let p = b.parent as usize;
-                if o.joints == Joints::Mitred
-                    && self.cont[p] == i as u32
-                    && self.segs[p] == self.segs[i]
-                {
-                    let dp = if sweep {
-                        self.t1[p]
-                    } else if parent_d.0 == p {
-                        parent_d.1
-                    } else {
-                        direction(&branches[p])
-                    };
-                    from = Some(dp);
-                    if dp.dot(d) > MITRE_MIN_COS {
-                        f |= SHARES_START;
-                        flags[p] |= MITRE_END;
-                    }
-                }
-            }
-            if self.cont[i] == NO_PARENT && o.tip != Tip::Open {
-                f |= TIP;
-            }
+            };
+            let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
             flags[i] |= f;
+            if f & SHARES_START != 0 {
+                flags[branches[i].parent as usize] |= MITRE_END;
+            }
             frames(
                 skeleton,
                 self,
@@ -853,25 +859,13 @@ impl MeshPlan {
             }
         }
         // The joints must stay as they were.
-        let mitred = |plan: &Plan, p: usize, c: usize| {
-            let bend_cos = if inner > 0 {
-                plan.t1[p].dot(plan.t0[c])
-            } else {
-                direction(&branches[p]).dot(direction(&branches[c]))
-            };
-            o.joints == Joints::Mitred
-                && plan.cont[p] == c as u32
-                && plan.segs[p] == plan.segs[c]
-                && bend_cos > MITRE_MIN_COS
-        };
         for &b in &affected {
             let b = b as usize;
-            if plan.segs[b] == 0 {
+            if plan.segs[b] == 0 || branches[b].parent == NO_PARENT {
                 continue;
             }
-            let p = branches[b].parent;
-            if p != NO_PARENT && mitred(plan, p as usize, b) != (plan.flags[b] & SHARES_START != 0)
-            {
+            let shares = plan.own_flags(branches, &o, b) & SHARES_START != 0;
+            if shares != (plan.flags[b] & SHARES_START != 0) {
                 return Err(Error::invalid(
                     "curve",
                     format!(
