@@ -197,7 +197,13 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
             frame_p
         })
     });
-    let (segs, cont) = sides_and_continuations(branches, o)?;
+    let sides = sides_and_continuations(branches, o);
+    // Joined before any error is returned: no thread outlives the call.
+    let frame_p = match frame_p {
+        Some(h) => h.join().expect("faulting in memory does not panic"),
+        None => vec![Vec3::ZERO; n],
+    };
+    let (segs, cont) = sides?;
     // With a sweep, the joints' directions are the curves' tangents.
     let (t0, t1): (Vec<Vec3>, Vec<Vec3>) = if inner > 0 {
         (0..n)
@@ -225,10 +231,6 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
             topology: o.topology,
             clockwise: o.reversed(),
         },
-    };
-    let frame_p = match frame_p {
-        Some(h) => h.join().expect("faulting in memory does not panic"),
-        None => vec![Vec3::ZERO; n],
     };
     let mut l = Layout {
         first_vertex: Vec::new(),
