@@ -52,10 +52,10 @@ pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     /// The last index written (for degenerate joins).
     pub(crate) last: u32,
     /// The body of a tube between rings of `tube_ring` vertices: index k is
-    /// `top + offset + (bottom − top) & mask` (mask all ones for the bottom ring), so a
-    /// tube's indices are one add and one masked add each, with no branch.
+    /// `top + tube_body[k] + (bottom − top) & tube_mask[k]` (the mask all ones for the
+    /// bottom ring), so a tube's indices are one add and one masked add each, with no
+    /// branch. Offsets and masks are kept apart so the loop runs in vector lanes.
     tube_body: Vec<u32>,
-    /// The masks of `tube_body`, apart from the offsets so the loop runs in vector lanes.
     tube_mask: Vec<u32>,
     tube_ring: u32,
 }
