@@ -4,7 +4,7 @@
 //! host that keeps it (the C ABI keeps it with the tree) writes again without redoing it
 //! or allocating in proportion to the tree.
 
-use super::rings::{circle, to_f32};
+use super::rings::{Circle, circle, to_f32};
 use super::strips::StripRules;
 use super::{
     Axes, Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX,
@@ -152,6 +152,18 @@ pub(crate) fn direction(b: &Branch) -> Vec3 {
     (b.end().as_dvec3() - b.start().as_dvec3())
         .try_normalize()
         .map_or(Vec3::Y, |d| d.as_vec3())
+}
+
+/// [`direction`] and [`length`] of a branch with one square root (the same values).
+#[inline]
+pub(crate) fn axis(b: &Branch) -> (Vec3, f64) {
+    let d = Vec3::from(b.end) - Vec3::from(b.start);
+    let l2 = d.length_squared();
+    if l2.is_finite() && l2 > 1e-30 {
+        let l = l2.sqrt();
+        return (d * l.recip(), l as f64);
+    }
+    (direction(b), length(b))
 }
 
 /// Length of a branch, in f64 when its f32 difference overflows.
@@ -663,7 +675,7 @@ pub struct MeshPlan {
     pub(crate) plan: Plan,
     pub(crate) layout: Layout,
     /// Unit circle per side count in use (empty for the others).
-    pub(crate) tables: Vec<Vec<(f32, f32, f32)>>,
+    pub(crate) tables: Vec<Circle>,
     /// What the writers divide v by: 1, or for compact vertices the power of two at or
     /// above the mesh's largest v.
     pub(crate) v_scale: f32,
@@ -692,8 +704,7 @@ impl MeshPlan {
         let per_branch = 6 + 24 + if options.curve_rings > 0 { 36 } else { 0 };
         crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
         let (plan, layout) = plan(skeleton, options)?;
-        let mut tables: Vec<Vec<(f32, f32, f32)>> =
-            vec![Vec::new(); MAX_RADIAL_SEGMENTS as usize + 1];
+        let mut tables = vec![Circle::default(); MAX_RADIAL_SEGMENTS as usize + 1];
         for &s in &plan.segs {
             if s > 0 && tables[s as usize].is_empty() {
                 tables[s as usize] = circle(s as usize);

@@ -5,14 +5,51 @@ use super::Vertex;
 use glam::{Vec3, Vec4};
 
 /// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
-pub(crate) fn circle(segments: usize) -> Vec<(f32, f32, f32)> {
+/// It reads as that slice; beside it are the same values as the ring writers load them.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Circle {
+    points: Vec<(f32, f32, f32)>,
+    /// Per point, cos, sin and u each splatted over four lanes.
+    splats: Vec<[Vec4; 3]>,
+    /// Per four points, their cosines and sines in four lanes; lanes past the ring's end
+    /// take (1, 0), a point of the circle.
+    quads: Vec<[Vec4; 2]>,
+}
+
+impl std::ops::Deref for Circle {
+    type Target = [(f32, f32, f32)];
+    fn deref(&self) -> &Self::Target {
+        &self.points
+    }
+}
+
+pub(crate) fn circle(segments: usize) -> Circle {
     let step = std::f64::consts::TAU / segments as f64;
-    (0..=segments)
+    let points: Vec<(f32, f32, f32)> = (0..=segments)
         .map(|j| {
             let (s, c) = libm::sincos((j % segments) as f64 * step);
             (c as f32, s as f32, j as f32 / segments as f32)
         })
-        .collect()
+        .collect();
+    let splats = points
+        .iter()
+        .map(|&(c, s, u)| [Vec4::splat(c), Vec4::splat(s), Vec4::splat(u)])
+        .collect();
+    let quads = points
+        .chunks(4)
+        .map(|chunk| {
+            let (mut c, mut s) = ([1.0f32; 4], [0.0f32; 4]);
+            for (k, &(ck, sk, _)) in chunk.iter().enumerate() {
+                (c[k], s[k]) = (ck, sk);
+            }
+            [Vec4::from_array(c), Vec4::from_array(s)]
+        })
+        .collect();
+    Circle {
+        points,
+        splats,
+        quads,
+    }
 }
 
 /// A signed permutation of the axes: output axis k is `sign[k]` times input axis
@@ -199,8 +236,7 @@ impl Affine {
     }
 
     #[inline(always)]
-    fn at(&self, c: f32, s: f32, u: f32) -> [Vec4; 2] {
-        let (c, s, u) = (Vec4::splat(c), Vec4::splat(s), Vec4::splat(u));
+    fn at(&self, [c, s, u]: &[Vec4; 3]) -> [Vec4; 2] {
         [
             self.a[0] + self.b[0] * c + self.d[0] * s,
             self.a[1] + self.b[1] * c + self.d[1] * s + self.e[1] * u,
@@ -209,12 +245,12 @@ impl Affine {
 
     /// Writes the ring: one vertex per entry of `table`.
     #[inline(always)]
-    pub(crate) fn put<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+    pub(crate) fn put<V: Slot<Vertex>>(&self, out: &mut [V], table: &Circle) {
         if V::put_affine(out, self, table, false) {
             return;
         }
-        for (slot, &(c, s, u)) in out.iter_mut().zip(table) {
-            slot.put(vertex(self.at(c, s, u)));
+        for (slot, splat) in out.iter_mut().zip(&table.splats) {
+            slot.put(vertex(self.at(splat)));
         }
     }
 
@@ -223,7 +259,7 @@ impl Affine {
     /// inverse lengths are computed four vertices at a time, one vector square root and
     /// division each. The normal part of `e` must be zero.
     #[inline(always)]
-    pub(crate) fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &[(f32, f32, f32)]) {
+    pub(crate) fn put_normalized<V: Slot<Vertex>>(&self, out: &mut [V], table: &Circle) {
         debug_assert_eq!(Self::normal_of(&self.e), Vec3::ZERO);
         if V::put_affine(out, self, table, true) {
             return;
@@ -246,17 +282,15 @@ impl Affine {
         );
         // Four vertices at a time: their inverse normal lengths in one vector, then the
         // vertices themselves (no staging array to fill).
-        for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
-            // Lanes past the ring's end take (1, 0), a point of the circle.
-            let (mut c, mut s) = ([1.0f32; 4], [0.0f32; 4]);
-            for (k, &(ck, sk, _)) in chunk.iter().enumerate() {
-                (c[k], s[k]) = (ck, sk);
-            }
-            let (c, s) = (Vec4::from_array(c), Vec4::from_array(s));
+        let quads = out
+            .chunks_mut(4)
+            .zip(table.splats.chunks(4))
+            .zip(&table.quads);
+        for ((slots, chunk), &[c, s]) in quads {
             let l2 = aa + c * ab2 + s * ad2 + c * c * bb + c * s * bd2 + s * s * dd;
             let inv = (Vec4::ONE / l2.sqrt()).to_array();
-            for ((slot, &(c, s, u)), &k) in slots.iter_mut().zip(chunk).zip(&inv) {
-                let [lo, hi] = self.at(c, s, u);
+            for ((slot, splat), &k) in slots.iter_mut().zip(chunk).zip(&inv) {
+                let [lo, hi] = self.at(splat);
                 slot.put(vertex([
                     lo * Vec4::new(1.0, 1.0, 1.0, k),
                     hi * Vec4::new(k, k, 1.0, 1.0),

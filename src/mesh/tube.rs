@@ -1,9 +1,9 @@
 //! One kept branch's tube as the writer sees it, and the writing of its rings, caps and
 //! indices.
 
-use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, direction};
+use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, axis};
 use super::rings::Slot;
-use super::rings::{Affine, Out, to_f32};
+use super::rings::{Affine, Circle, Out, to_f32};
 use super::strips::{StripWriter, zigzag};
 use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
@@ -28,8 +28,8 @@ impl MeshPlan {
         let rot = |v: Vec3| Vec3::from_array(out.dir(v));
         let b = &skeleton.branches()[i];
         let s = plan.segs[i] as usize;
-        let (d, p) = (direction(b), lay.frame_p[i]);
-        let (r0, r1, h) = self.drawn(skeleton, i);
+        let ((d, len), p) = (axis(b), lay.frame_p[i]);
+        let (r0, r1, h) = self.drawn(skeleton, i, len);
         let (nc, na) = match known {
             Some((k, slope)) if k == i => slope,
             _ => slope_of(r0, r1, h),
@@ -40,7 +40,9 @@ impl MeshPlan {
         // The continuing branch's slope and direction, for the mitred end ring.
         let (cont_slope, cont_dir) = if flags & MITRE_END != 0 {
             let c = plan.cont[i] as usize;
-            (self.slope(skeleton, c), direction(&skeleton.branches()[c]))
+            let (dc, len_c) = axis(&skeleton.branches()[c]);
+            let (r0, r1, h) = self.drawn(skeleton, c, len_c);
+            (slope_of(r0, r1, h), dc)
         } else {
             ((1.0, 0.0), d)
         };
@@ -84,7 +86,7 @@ pub(super) struct Tube<'a> {
     pub(super) i: usize,
     pub(super) segments: usize,
     /// The unit circle: (cos, sin, u) per vertex of a ring.
-    pub(super) table: &'a [(f32, f32, f32)],
+    pub(super) table: &'a Circle,
     pub(super) flags: u8,
     pub(super) out: Out,
     /// Ring frame and axis in output space.

@@ -1,6 +1,6 @@
 //! The tube mesher: every branch a truncated cone, axes joined into watertight tubes.
 
-use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START, length};
+use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START};
 use super::rings::Slot;
 use super::strips::StripWriter;
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot};
@@ -317,12 +317,13 @@ impl MeshPlan {
         })
     }
 
-    /// The tube of kept branch `i` as drawn: (radius at its start ring, radius at its end
+    /// The tube of kept branch `i` as drawn, given the branch's length `len`
+    /// ([`length`](super::plan::length)): (radius at its start ring, radius at its end
     /// ring, height from its start ring's center to its end). A branch that shares its
     /// parent's end ring starts at that ring's radius; a lateral's own ring is sunk one
     /// parent radius into the parent, which lengthens its cone.
     #[inline(always)]
-    pub(super) fn drawn(&self, skeleton: &Skeleton, i: usize) -> (f32, f32, f64) {
+    pub(super) fn drawn(&self, skeleton: &Skeleton, i: usize, len: f64) -> (f32, f32, f64) {
         let branches = skeleton.branches();
         let b = &branches[i];
         let end_radius = |k: usize| {
@@ -335,24 +336,15 @@ impl MeshPlan {
         };
         let r1 = end_radius(i);
         if b.parent == NO_PARENT {
-            return (b.start_radius, r1, length(b));
+            return (b.start_radius, r1, len);
         }
         let parent = b.parent as usize;
         if self.plan.flags[i] & SHARES_START != 0 {
-            (end_radius(parent), r1, length(b))
+            (end_radius(parent), r1, len)
         } else {
             let sink = branches[parent].end_radius as f64;
-            (b.start_radius, r1, length(b) + sink)
+            (b.start_radius, r1, len + sink)
         }
-    }
-
-    /// (radial, axial) parts of the unit outward normal of kept branch `i`'s cone as
-    /// drawn: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
-    /// overflows).
-    #[inline(always)]
-    pub(super) fn slope(&self, skeleton: &Skeleton, i: usize) -> (f32, f32) {
-        let (r0, r1, h) = self.drawn(skeleton, i);
-        slope_of(r0, r1, h)
     }
 
     /// Writes branches `range` into `vertices` (which starts at vertex `v_base` of the mesh)
