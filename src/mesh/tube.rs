@@ -11,15 +11,16 @@ use crate::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec3;
 
 impl MeshPlan {
-    /// Everything the writer needs of kept branch `i`, in output space. `known` is branch
-    /// `i`'s cone slope when the writer already has it (the previous tube's continuation,
-    /// which along an axis is the next branch).
+    /// Everything the writer needs of kept branch `i`, in output space. `known` is what
+    /// the previous tube worked out about its continuation (along an axis, the next
+    /// branch): used when it is branch `i`. `scales` is the plan's [`TexScales`].
     #[inline(always)]
     pub(super) fn tube(
         &self,
         skeleton: &Skeleton,
         i: usize,
-        known: Option<(usize, (f32, f32))>,
+        known: Option<&Known>,
+        scales: TexScales,
     ) -> Tube<'_> {
         let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
         let out = o.out();
@@ -28,24 +29,31 @@ impl MeshPlan {
         let rot = |v: Vec3| Vec3::from_array(out.dir(v));
         let b = &skeleton.branches()[i];
         let s = plan.segs[i] as usize;
-        let ((d, len), p) = (axis(b), lay.frame_p[i]);
-        let (r0, r1, h) = self.drawn(skeleton, i, len);
-        let (nc, na) = match known {
-            Some((k, slope)) if k == i => slope,
-            _ => slope_of(r0, r1, h),
+        let p = lay.frame_p[i];
+        let (d, (r0, r1), (nc, na)) = match known {
+            Some(k) if k.i == i => (k.d, k.radii, k.slope),
+            _ => {
+                let (d, len) = axis(b);
+                let (r0, r1, h) = self.drawn(skeleton, i, len);
+                (d, (r0, r1), slope_of(r0, r1, h))
+            }
         };
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
         let flags = plan.flags[i];
-        let vk = 1.0 / self.v_scale;
-        // The continuing branch's slope and direction, for the mitred end ring.
-        let (cont_slope, cont_dir) = if flags & MITRE_END != 0 {
+        let TexScales { vk, inv_ts } = scales;
+        // The continuing branch's direction, radii and slope, for the mitred end ring.
+        let cont = (flags & MITRE_END != 0).then(|| {
             let c = plan.cont[i] as usize;
-            let (dc, len_c) = axis(&skeleton.branches()[c]);
-            let (r0, r1, h) = self.drawn(skeleton, c, len_c);
-            (slope_of(r0, r1, h), dc)
-        } else {
-            ((1.0, 0.0), d)
-        };
+            let (d, len) = axis(&skeleton.branches()[c]);
+            let (r0, r1, h) = self.drawn(skeleton, c, len);
+            Known {
+                i: c,
+                d,
+                radii: (r0, r1),
+                slope: slope_of(r0, r1, h),
+            }
+        });
+        let (cont_slope, cont_dir) = cont.as_ref().map_or(((1.0, 0.0), d), |k| (k.slope, k.d));
         Tube {
             i,
             segments: s,
@@ -65,9 +73,9 @@ impl MeshPlan {
             // v divided by the plan's v_scale (a power of two: exact), for compact vertices.
             v0: parent.map_or(0.0, |p| lay.v_end[p]) * vk,
             v1: lay.v_end[i] * vk,
-            // In f64: a tiny texture scale must not turn v infinite.
-            inv_ts: vk as f64 / o.texture_scale as f64,
+            inv_ts,
             vk,
+            cont,
             first_vertex: lay.first_vertex[i],
             end_ring: self.end_ring(i),
             shared_start: parent
@@ -76,6 +84,38 @@ impl MeshPlan {
             sink: parent.map_or(0.0, |p| skeleton.branches()[p].end_radius),
             start: b.start(),
             end: b.end(),
+        }
+    }
+}
+
+/// What a tube works out about the branch that continues it, which the next tube reuses
+/// when it is that branch.
+#[derive(Clone, Copy)]
+pub(super) struct Known {
+    pub(super) i: usize,
+    /// Unit axis (model space).
+    pub(super) d: Vec3,
+    /// Radii as drawn.
+    pub(super) radii: (f32, f32),
+    /// Radial and axial parts of the cone's unit normal.
+    pub(super) slope: (f32, f32),
+}
+
+/// A plan's texture scales, worked out once per write: `vk`, 1 / the plan's v_scale (an
+/// exact power of two), and `inv_ts`, `vk` / the texture scale in f64 (a tiny texture
+/// scale must not turn v infinite).
+#[derive(Clone, Copy)]
+pub(super) struct TexScales {
+    pub(super) vk: f32,
+    pub(super) inv_ts: f64,
+}
+
+impl TexScales {
+    pub(super) fn of(plan: &MeshPlan) -> Self {
+        let vk = 1.0 / plan.v_scale;
+        TexScales {
+            vk,
+            inv_ts: vk as f64 / plan.options.texture_scale as f64,
         }
     }
 }
@@ -110,6 +150,8 @@ pub(super) struct Tube<'a> {
     pub(super) inv_ts: f64,
     /// 1 / the plan's v_scale: what a cap's v is multiplied by.
     pub(super) vk: f32,
+    /// The continuing branch, when the end ring is mitred.
+    pub(super) cont: Option<Known>,
     pub(super) first_vertex: u32,
     pub(super) end_ring: u32,
     /// The parent's end ring, when this branch starts on it.

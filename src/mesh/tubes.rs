@@ -1,8 +1,9 @@
 //! The tube mesher: every branch a truncated cone, axes joined into watertight tubes.
 
-use super::plan::{BranchRange, MITRE_END, MeshPlan, SHARES_START};
+use super::plan::{BranchRange, MeshPlan, SHARES_START};
 use super::rings::Slot;
 use super::strips::StripWriter;
+use super::tube::TexScales;
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot};
 use crate::error::Result;
 use crate::progress::{self, Run, Stage};
@@ -368,8 +369,9 @@ impl MeshPlan {
         let mut strip: Vec<u32> = Vec::with_capacity(2 * MAX_RADIAL_SEGMENTS as usize + 2);
         // Where this chunk's indices start in the whole buffer (for the debug check below).
         let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
-        // The last tube's continuation and its slope, which the next tube reuses.
+        // The last tube's continuation, which the next tube reuses.
         let mut known = None;
+        let scales = TexScales::of(self);
         for i in range {
             if plan.segs[i] == 0 {
                 continue;
@@ -379,8 +381,8 @@ impl MeshPlan {
                 lay.first_index[i] as usize,
                 "branch {i}"
             );
-            let tube = self.tube(skeleton, i, known);
-            known = (tube.flags & MITRE_END != 0).then(|| (plan.cont[i] as usize, tube.cont_slope));
+            let tube = self.tube(skeleton, i, known.as_ref(), scales);
+            known = tube.cont;
             let at = lay.first_vertex[i] as usize - v_base;
             let end = self.starts(i + 1).0 - v_base;
             if plan.inner > 0 {
