@@ -39,6 +39,22 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
         })
 }
 
+/// An empty vector with room for `n` values, or
+/// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what`: for buffers a
+/// writer fills whole, which a zero fill first would only slow down.
+pub(crate) fn try_with_capacity<T>(n: usize, what: &str) -> crate::error::Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| crate::error::Error::OutOfMemory {
+            what: format!(
+                "{what} ({n} × {} bytes = {} bytes)",
+                std::mem::size_of::<T>(),
+                n.saturating_mul(std::mem::size_of::<T>())
+            ),
+        })?;
+    Ok(v)
+}
+
 /// Asks for `bytes` once, fallibly, and gives them back: work that then builds several
 /// arrays of that total size (a mesh plan) finds the address space there, and a process
 /// short of memory gets [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what`

@@ -713,3 +713,39 @@ fn vertex_normals_are_the_normals_of_the_surface_as_drawn() {
         worst.to_degrees()
     );
 }
+
+/// `mesh::tubes` fills buffers it does not zero first: over memory that held other bytes
+/// (freed just before, so the allocator hands it back), every vertex and index equals
+/// those of a write into buffers filled with a sentinel, which no slot keeps.
+#[test]
+fn owned_meshes_are_written_whole_over_reused_memory() {
+    let sentinel = Vertex {
+        position: [7.0; 3],
+        normal: [-3.0; 3],
+        uv: [9.0; 2],
+    };
+    let mut combos = combos();
+    combos.push(("sweep", MeshOptions::default().curve_rings(3).tip(Tip::Cap)));
+    for name in ['a', 'c', 'g'] {
+        let s = tree(name);
+        for (label, o) in &combos {
+            for topology in Topology::ALL {
+                let o = o.topology(topology);
+                let size = mesh::mesh_size(&s, &o).unwrap();
+                let mut v = vec![sentinel; size.vertices];
+                let mut i = vec![0xABAB_ABABu32; size.indices];
+                mesh::write_mesh(&s, &o, &mut v, &mut i).unwrap();
+                assert!(!v.contains(&sentinel), "{name} {label} {topology:?}");
+                assert!(!i.contains(&0xABAB_ABAB), "{name} {label} {topology:?}");
+                // Garbage where the owned buffers will likely be allocated.
+                drop(std::hint::black_box(vec![0xA5u8; size.vertices * 32]));
+                drop(std::hint::black_box(vec![0x5Au8; size.indices * 4]));
+                let owned = mesh::tubes(&s, &o).unwrap();
+                let same = bytemuck::cast_slice::<Vertex, u8>(&v)
+                    == bytemuck::cast_slice::<Vertex, u8>(&owned.vertices);
+                assert!(same, "{name} {label} {topology:?}: vertices");
+                assert_eq!(i, owned.indices, "{name} {label} {topology:?}: indices");
+            }
+        }
+    }
+}

@@ -1,4 +1,5 @@
-//! The C ABI: the only module with `unsafe` code.
+//! The C ABI: the only module with `unsafe` code (with `owned`, the Rust API's buffers
+//! that a writer fills without a zero fill first).
 //!
 //! `include/arbor.h` is generated from this module by cbindgen (see `cbindgen.toml`) and
 //! committed; a test regenerates it and fails on any difference. Each export is a thin
@@ -19,6 +20,7 @@ mod leaves;
 mod lsystem;
 mod meshes;
 mod options;
+pub(crate) mod owned;
 mod status;
 mod tree;
 

@@ -107,11 +107,7 @@ impl MeshPlan {
 
     /// [`mesh`](Self::mesh) in `run`, as [`write_uninit_in`](Self::write_uninit_in).
     pub fn mesh_in(&self, skeleton: &Skeleton, run: &mut Run<'_>) -> Result<Mesh> {
-        let size = self.size();
-        let mut vertices =
-            crate::limits::try_zeroed::<Vertex>(size.vertices, "the mesh's vertices")?;
-        let mut indices = crate::limits::try_zeroed::<u32>(size.indices, "the mesh's indices")?;
-        self.write_with(skeleton, &mut vertices, &mut indices, run)?;
+        let (vertices, indices) = crate::ffi::owned::tube_buffers(self, skeleton, run)?;
         Ok(Mesh {
             vertices,
             indices,
