@@ -42,17 +42,19 @@ impl MeshPlan {
         let flags = plan.flags[i];
         let TexScales { vk, inv_ts } = scales;
         // The continuing branch's direction, radii and slope, for the mitred end ring.
-        let cont = (flags & MITRE_END != 0).then(|| {
+        let cont = if flags & MITRE_END != 0 {
             let c = plan.cont[i] as usize;
             let (d, len) = axis(&skeleton.branches()[c]);
             let (r0, r1, h) = self.drawn(skeleton, c, len);
-            Known {
+            Some(Known {
                 i: c,
                 d,
                 radii: (r0, r1),
                 slope: slope_of(r0, r1, h),
-            }
-        });
+            })
+        } else {
+            None
+        };
         let (cont_slope, cont_dir) = cont.as_ref().map_or(((1.0, 0.0), d), |k| (k.slope, k.d));
         Tube {
             i,
@@ -225,6 +227,7 @@ impl Tube<'_> {
     /// branch's, and the continuing branch's at the transported angle), along which each
     /// cone's normal is constant: the vertex normal is the mean of the two, normalised per
     /// vertex.
+    #[inline(always)]
     pub(super) fn mitre(&self, plan: &MeshPlan, c: usize) -> Affine {
         self.mitre_with(plan, c, (self.po, self.qo), self.d, self.cont_dir)
     }
@@ -232,6 +235,7 @@ impl Tube<'_> {
     /// [`mitre`](Self::mitre) with the end ring's frame (output space) and the two axes at
     /// the joint (model space) given: this branch's at its end, the continuation's at its
     /// start (the curves' tangents in a sweep).
+    #[inline(always)]
     pub(super) fn mitre_with(
         &self,
         plan: &MeshPlan,
