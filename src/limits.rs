@@ -30,13 +30,18 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
 ) -> crate::error::Result<Vec<T>> {
     bytemuck::allocation::try_zeroed_slice_box::<T>(n)
         .map(Vec::from)
-        .map_err(|()| crate::error::Error::OutOfMemory {
-            what: format!(
-                "{what} ({n} × {} bytes = {} bytes)",
-                std::mem::size_of::<T>(),
-                n.saturating_mul(std::mem::size_of::<T>())
-            ),
-        })
+        .map_err(|()| out_of_memory::<T>(n, what))
+}
+
+/// [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) for `n` values of `T` named `what`.
+fn out_of_memory<T>(n: usize, what: &str) -> crate::error::Error {
+    crate::error::Error::OutOfMemory {
+        what: format!(
+            "{what} ({n} × {} bytes = {} bytes)",
+            std::mem::size_of::<T>(),
+            n.saturating_mul(std::mem::size_of::<T>())
+        ),
+    }
 }
 
 /// An empty vector with room for `n` values, or
@@ -45,13 +50,7 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
 pub(crate) fn try_with_capacity<T>(n: usize, what: &str) -> crate::error::Result<Vec<T>> {
     let mut v = Vec::new();
     v.try_reserve_exact(n)
-        .map_err(|_| crate::error::Error::OutOfMemory {
-            what: format!(
-                "{what} ({n} × {} bytes = {} bytes)",
-                std::mem::size_of::<T>(),
-                n.saturating_mul(std::mem::size_of::<T>())
-            ),
-        })?;
+        .map_err(|_| out_of_memory::<T>(n, what))?;
     Ok(v)
 }
 
