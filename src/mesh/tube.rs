@@ -13,17 +13,17 @@ use glam::Vec3;
 impl MeshPlan {
     /// Everything the writer needs of kept branch `i`, in output space. `known` is what
     /// the previous tube worked out about its continuation (along an axis, the next
-    /// branch): used when it is branch `i`. `scales` is the plan's [`TexScales`].
+    /// branch): used when it is branch `i`. `shared` is the write's [`PerWrite`].
     #[inline(always)]
     pub(super) fn tube(
         &self,
         skeleton: &Skeleton,
         i: usize,
         known: Option<&Known>,
-        scales: TexScales,
+        shared: &PerWrite,
     ) -> Tube<'_> {
-        let (o, plan, lay) = (&self.options, &self.plan, &self.layout);
-        let out = o.out();
+        let (plan, lay) = (&self.plan, &self.layout);
+        let out = shared.out;
         // The output conventions are linear: apply them to each branch's centers and frame
         // vectors once, so the per-vertex loops are a few multiply-adds.
         let rot = |v: Vec3| Vec3::from_array(out.dir(v));
@@ -40,7 +40,7 @@ impl MeshPlan {
         };
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
         let flags = plan.flags[i];
-        let TexScales { vk, inv_ts } = scales;
+        let PerWrite { vk, inv_ts, .. } = *shared;
         // The continuing branch's direction, radii and slope, for the mitred end ring.
         let cont = if flags & MITRE_END != 0 {
             let c = plan.cont[i] as usize;
@@ -103,19 +103,21 @@ pub(super) struct Known {
     pub(super) slope: (f32, f32),
 }
 
-/// A plan's texture scales, worked out once per write: `vk`, 1 / the plan's v_scale (an
-/// exact power of two), and `inv_ts`, `vk` / the texture scale in f64 (a tiny texture
-/// scale must not turn v infinite).
+/// What every tube of a write shares, worked out once per write: the output conventions,
+/// `vk`, 1 / the plan's v_scale (an exact power of two), and `inv_ts`, `vk` / the texture
+/// scale in f64 (a tiny texture scale must not turn v infinite).
 #[derive(Clone, Copy)]
-pub(super) struct TexScales {
+pub(super) struct PerWrite {
+    pub(super) out: Out,
     pub(super) vk: f32,
     pub(super) inv_ts: f64,
 }
 
-impl TexScales {
+impl PerWrite {
     pub(super) fn of(plan: &MeshPlan) -> Self {
         let vk = 1.0 / plan.v_scale;
-        TexScales {
+        PerWrite {
+            out: plan.options.out(),
             vk,
             inv_ts: vk as f64 / plan.options.texture_scale as f64,
         }

@@ -3,7 +3,7 @@
 use super::plan::{BranchRange, MeshPlan, SHARES_START};
 use super::rings::Slot;
 use super::strips::StripWriter;
-use super::tube::TexScales;
+use super::tube::PerWrite;
 use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot};
 use crate::error::Result;
 use crate::progress::{self, Run, Stage};
@@ -367,7 +367,7 @@ impl MeshPlan {
         let index_base = lay.first_index.get(range.start).map_or(0, |&i| i as usize);
         // The last tube's continuation, which the next tube reuses.
         let mut known = None;
-        let scales = TexScales::of(self);
+        let shared = PerWrite::of(self);
         for i in range {
             if plan.segs[i] == 0 {
                 continue;
@@ -377,7 +377,7 @@ impl MeshPlan {
                 lay.first_index[i] as usize,
                 "branch {i}"
             );
-            let tube = self.tube(skeleton, i, known.as_ref(), scales);
+            let tube = self.tube(skeleton, i, known.as_ref(), &shared);
             known = tube.cont;
             let at = lay.first_vertex[i] as usize - v_base;
             let end = self.starts(i + 1).0 - v_base;
