@@ -130,7 +130,7 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// (not the ring the last tube made), which a strip writes as two strips (see
     /// [`tube_fresh`](Self::tube_fresh)). A strip gives the same indices as
     /// [`strip`](Self::strip) of that order, without building it.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn tube(&mut self, top: u32, bottom: u32, ring: u32, fresh: bool) {
         if self.rules.topology == Topology::TriangleList {
             if ring != self.tube_ring {
@@ -168,7 +168,7 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     }
 
     /// Writes the body of a tube from the template made for its ring.
-    #[inline]
+    #[inline(always)]
     fn tube_body(&mut self, top: u32, bottom: u32) {
         let (body, mask) = (&self.tube_body, &self.tube_mask);
         let n = body.len();
