@@ -276,9 +276,10 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         })
     } else {
         // On one thread (and without a thread scope, which would make the calling
-        // thread's handle): the offsets after the joints, whose flags are then known.
-        plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
-        plan.offsets(branches, o, straight, Some(&flags))
+        // thread's handle): the offsets after the joints, whose flags are then known; the
+        // straight branches' v with the joints, which have each branch's length at hand.
+        plan.joints_and_frames_v(skeleton, o, &mut flags, &mut l, straight);
+        plan.offsets(branches, o, None, Some(&flags))
     };
     (l.first_vertex, l.first_index) = (first_vertex, first_index);
     if inner == 0 {
@@ -378,6 +379,21 @@ impl Plan {
         flags: &mut [u8],
         l: &mut Layout,
     ) {
+        self.joints_and_frames_v(skeleton, o, flags, l, None);
+    }
+
+    /// [`joints_and_frames`](Self::joints_and_frames), and with `v_end` (straight
+    /// branches only) each branch's v at its end, from the length found with its
+    /// direction.
+    fn joints_and_frames_v(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        flags: &mut [u8],
+        l: &mut Layout,
+        mut v_end: Option<&mut [f32]>,
+    ) {
+        debug_assert!(v_end.is_none() || self.inner == 0);
         let branches = skeleton.branches();
         let inv_ts = 1.0 / o.texture_scale as f64;
         let sweep = self.inner > 0;
@@ -388,7 +404,14 @@ impl Plan {
             if self.segs[i] == 0 {
                 continue;
             }
-            let d = self.direction_at(branches, i, false);
+            let d = match v_end.as_deref_mut() {
+                Some(v_end) => {
+                    let (d, len) = axis(&branches[i]);
+                    set_v_end(v_end, &branches[i], i, len, inv_ts);
+                    d
+                }
+                None => self.direction_at(branches, i, false),
+            };
             let before = std::mem::replace(&mut last, (i, d));
             let parent_d = |p| {
                 if !sweep && before.0 == p {
