@@ -271,14 +271,14 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         let plan = &plan;
         std::thread::scope(|scope| {
             let offsets = scope.spawn(move || plan.offsets(branches, o, straight, None));
-            plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
+            plan.joints_and_frames(skeleton, o, &mut flags, &mut l, None);
             offsets.join().expect("the offsets' thread does not panic")
         })
     } else {
         // On one thread (and without a thread scope, which would make the calling
         // thread's handle): the offsets after the joints, whose flags are then known; the
         // straight branches' v with the joints, which have each branch's length at hand.
-        plan.joints_and_frames_v(skeleton, o, &mut flags, &mut l, straight);
+        plan.joints_and_frames(skeleton, o, &mut flags, &mut l, straight);
         plan.offsets(branches, o, None, Some(&flags))
     };
     (l.first_vertex, l.first_index) = (first_vertex, first_index);
@@ -369,23 +369,11 @@ impl Plan {
         }
     }
 
-    /// Every kept branch's flags, ring frames and texture v, in branch order: the joints
-    /// decided as [`own_flags`](Self::own_flags) decides them, with each direction computed
-    /// once.
+    /// Every kept branch's flags and ring frames (and a sweep's texture v), in branch
+    /// order: the joints decided as [`own_flags`](Self::own_flags) decides them, with each
+    /// direction computed once. With `v_end` (straight branches only), also each branch's
+    /// v at its end, from the length found with its direction.
     fn joints_and_frames(
-        &self,
-        skeleton: &Skeleton,
-        o: &MeshOptions,
-        flags: &mut [u8],
-        l: &mut Layout,
-    ) {
-        self.joints_and_frames_v(skeleton, o, flags, l, None);
-    }
-
-    /// [`joints_and_frames`](Self::joints_and_frames), and with `v_end` (straight
-    /// branches only) each branch's v at its end, from the length found with its
-    /// direction.
-    fn joints_and_frames_v(
         &self,
         skeleton: &Skeleton,
         o: &MeshOptions,
