@@ -2,7 +2,7 @@
 //! an affine map of the unit circle evaluated in 4-lane vectors.
 
 use super::Vertex;
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
 /// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
 /// It reads as that slice; beside it are the same values as the ring writers load them.
@@ -100,6 +100,15 @@ impl AxisMap {
         [at(0), at(1), at(2)]
     }
 
+    /// [`apply`](Self::apply) on a vector held in four lanes.
+    #[inline(always)]
+    pub(crate) fn apply_a(self, v: Vec3A) -> Vec3A {
+        if self.identity {
+            return v;
+        }
+        Vec3A::from_array(self.apply(Vec3::from(v)))
+    }
+
     /// Whether the map is a mirror (determinant −1): an odd permutation or an odd number of
     /// sign changes, not both.
     pub(crate) fn mirrors(self) -> bool {
@@ -147,6 +156,44 @@ impl Out {
     #[inline(always)]
     pub(crate) fn pos(self, v: Vec3) -> [f32; 3] {
         self.dir(v * self.scale)
+    }
+    /// [`dir`](Self::dir) in four lanes (the same values: a copy or a sign change).
+    #[inline(always)]
+    pub(crate) fn dir_a(self, v: Vec3A) -> Vec3A {
+        self.map.apply_a(v)
+    }
+    /// [`pos`](Self::pos) in four lanes (the same values).
+    #[inline(always)]
+    pub(crate) fn pos_a(self, v: Vec3A) -> Vec3A {
+        self.dir_a(v * self.scale)
+    }
+}
+
+/// The dot product of two vectors held in four lanes, summed as glam's `Vec3` sums it
+/// (x, then y, then z) on every target: the tube writer's frame arithmetic runs in lanes
+/// and gives the bits the scalar form gives.
+#[inline(always)]
+pub(crate) fn dot3(a: Vec3A, b: Vec3A) -> f32 {
+    let p = a * b;
+    p.x + p.y + p.z
+}
+
+/// `v` scaled to unit length as glam's `Vec3::normalize` scales it (by the reciprocal of
+/// the length).
+#[inline(always)]
+pub(crate) fn unit3(v: Vec3A) -> Vec3A {
+    v * (1.0 / dot3(v, v).sqrt())
+}
+
+/// [`unit3`], or zero where the length has no finite positive reciprocal (as
+/// `Vec3::normalize_or_zero`).
+#[inline(always)]
+pub(crate) fn unit3_or_zero(v: Vec3A) -> Vec3A {
+    let rcp = 1.0 / dot3(v, v).sqrt();
+    if rcp.is_finite() && rcp > 0.0 {
+        v * rcp
+    } else {
+        Vec3A::ZERO
     }
 }
 
@@ -210,28 +257,24 @@ impl Affine {
     /// The terms from a center and radial directions, normals and uv.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
-        center: Vec3,
-        radius_p: Vec3,
-        radius_q: Vec3,
-        normal: Vec3,
-        normal_p: Vec3,
-        normal_q: Vec3,
+        center: Vec3A,
+        radius_p: Vec3A,
+        radius_q: Vec3A,
+        normal: Vec3A,
+        normal_p: Vec3A,
+        normal_q: Vec3A,
         uv: [f32; 2],
         uv_p: [f32; 2],
         uv_q: [f32; 2],
         uv_u: [f32; 2],
     ) -> Self {
-        let pack = |pos: Vec3, n: Vec3, t: [f32; 2]| {
-            [
-                Vec4::new(pos.x, pos.y, pos.z, n.x),
-                Vec4::new(n.y, n.z, t[0], t[1]),
-            ]
-        };
+        let pack =
+            |pos: Vec3A, n: Vec3A, t: [f32; 2]| [pos.extend(n.x), Vec4::new(n.y, n.z, t[0], t[1])];
         Affine {
             a: pack(center, normal, uv),
             b: pack(radius_p, normal_p, uv_p),
             d: pack(radius_q, normal_q, uv_q),
-            e: pack(Vec3::ZERO, Vec3::ZERO, uv_u),
+            e: pack(Vec3A::ZERO, Vec3A::ZERO, uv_u),
         }
     }
 

@@ -3,12 +3,12 @@
 
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, axis};
 use super::rings::Slot;
-use super::rings::{Affine, Circle, Out, to_f32};
+use super::rings::{Affine, Circle, Out, dot3, to_f32, unit3, unit3_or_zero};
 use super::strips::{StripWriter, zigzag};
 use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
 use crate::skeleton::{NO_PARENT, Skeleton};
-use glam::Vec3;
+use glam::Vec3A;
 
 impl MeshPlan {
     /// Everything the writer needs of kept branch `i`, in output space. `known` is what
@@ -26,16 +26,16 @@ impl MeshPlan {
         let out = shared.out;
         // The output conventions are linear: apply them to each branch's centers and frame
         // vectors once, so the per-vertex loops are a few multiply-adds.
-        let rot = |v: Vec3| Vec3::from_array(out.dir(v));
+        let rot = |v: Vec3A| out.dir_a(v);
         let b = &skeleton.branches()[i];
         let s = plan.segs[i] as usize;
-        let p = lay.frame_p[i];
+        let p = Vec3A::from(lay.frame_p[i]);
         let (d, (r0, r1), (nc, na)) = match known {
             Some(k) if k.i == i => (k.d, k.radii, k.slope),
             _ => {
                 let (d, len) = axis(b);
                 let (r0, r1, h) = self.drawn(skeleton, i, len);
-                (d, (r0, r1), slope_of(r0, r1, h))
+                (Vec3A::from(d), (r0, r1), slope_of(r0, r1, h))
             }
         };
         let parent = (b.parent != NO_PARENT).then_some(b.parent as usize);
@@ -48,7 +48,7 @@ impl MeshPlan {
             let (r0, r1, h) = self.drawn(skeleton, c, len);
             Some(Known {
                 i: c,
-                d,
+                d: Vec3A::from(d),
                 radii: (r0, r1),
                 slope: slope_of(r0, r1, h),
             })
@@ -84,8 +84,8 @@ impl MeshPlan {
                 .filter(|_| plan.flags[i] & SHARES_START != 0)
                 .map(|p| self.end_ring(p)),
             sink: parent.map_or(0.0, |p| skeleton.branches()[p].end_radius),
-            start: b.start(),
-            end: b.end(),
+            start: Vec3A::from(b.start()),
+            end: Vec3A::from(b.end()),
         }
     }
 }
@@ -96,7 +96,7 @@ impl MeshPlan {
 pub(super) struct Known {
     pub(super) i: usize,
     /// Unit axis (model space).
-    pub(super) d: Vec3,
+    pub(super) d: Vec3A,
     /// Radii as drawn.
     pub(super) radii: (f32, f32),
     /// Radial and axial parts of the cone's unit normal.
@@ -134,18 +134,18 @@ pub(super) struct Tube<'a> {
     pub(super) flags: u8,
     pub(super) out: Out,
     /// Ring frame and axis in output space.
-    pub(super) po: Vec3,
-    pub(super) qo: Vec3,
-    pub(super) d_o: Vec3,
+    pub(super) po: Vec3A,
+    pub(super) qo: Vec3A,
+    pub(super) d_o: Vec3A,
     /// The axis in model space.
-    pub(super) d: Vec3,
+    pub(super) d: Vec3A,
     /// Radial and axial parts of the cone's unit normal.
     pub(super) nc: f32,
     pub(super) na: f32,
     /// The continuing branch's (nc, na), when the end ring is mitred.
     pub(super) cont_slope: (f32, f32),
     /// The continuing branch's direction (model space), when the end ring is mitred.
-    pub(super) cont_dir: Vec3,
+    pub(super) cont_dir: Vec3A,
     /// Radii as drawn (model units).
     pub(super) r0: f32,
     pub(super) r1: f32,
@@ -162,8 +162,8 @@ pub(super) struct Tube<'a> {
     pub(super) shared_start: Option<u32>,
     /// How far an own start ring sinks into the parent.
     pub(super) sink: f32,
-    pub(super) start: Vec3,
-    pub(super) end: Vec3,
+    pub(super) start: Vec3A,
+    pub(super) end: Vec3A,
 }
 
 /// First vertex of each part of a tube's vertices: (start ring, base cap, tip).
@@ -171,13 +171,13 @@ type Firsts = (u32, u32, u32);
 
 impl Tube<'_> {
     #[inline(always)]
-    pub(super) fn pos(&self, v: Vec3) -> Vec3 {
-        Vec3::from_array(self.out.pos(v))
+    pub(super) fn pos(&self, v: Vec3A) -> Vec3A {
+        self.out.pos_a(v)
     }
 
     /// A ring of the cone: radial·r around the center, normal radial·nc + axis·na.
     #[inline(always)]
-    pub(super) fn cone(&self, center: Vec3, r: f32, v: f32) -> Affine {
+    pub(super) fn cone(&self, center: Vec3A, r: f32, v: f32) -> Affine {
         Affine::new(
             center,
             self.po * r,
@@ -195,7 +195,7 @@ impl Tube<'_> {
     /// A disc of radius r facing `normal`, uv a unit disc around (0.5, 0.5) (`flip`
     /// mirrors v, so a base cap seen from below is not mirrored).
     #[inline(always)]
-    pub(super) fn disc(&self, center: Vec3, r: f32, normal: Vec3, flip: bool) -> Affine {
+    pub(super) fn disc(&self, center: Vec3A, r: f32, normal: Vec3A, flip: bool) -> Affine {
         self.disc_framed(center, (self.po, self.qo), r, normal, flip)
     }
 
@@ -203,10 +203,10 @@ impl Tube<'_> {
     #[inline(always)]
     pub(super) fn disc_framed(
         &self,
-        center: Vec3,
-        (po, qo): (Vec3, Vec3),
+        center: Vec3A,
+        (po, qo): (Vec3A, Vec3A),
         r: f32,
-        normal: Vec3,
+        normal: Vec3A,
         flip: bool,
     ) -> Affine {
         Affine::new(
@@ -214,8 +214,8 @@ impl Tube<'_> {
             po * r,
             qo * r,
             normal,
-            Vec3::ZERO,
-            Vec3::ZERO,
+            Vec3A::ZERO,
+            Vec3A::ZERO,
             [0.5, 0.5 * self.vk],
             [0.5, 0.0],
             [0.0, if flip { -0.5 } else { 0.5 } * self.vk],
@@ -242,19 +242,19 @@ impl Tube<'_> {
         &self,
         plan: &MeshPlan,
         c: usize,
-        (po, qo): (Vec3, Vec3),
-        d: Vec3,
-        dc: Vec3,
+        (po, qo): (Vec3A, Vec3A),
+        d: Vec3A,
+        dc: Vec3A,
     ) -> Affine {
-        let rot = |v: Vec3| Vec3::from_array(self.out.dir(v));
+        let rot = |v: Vec3A| self.out.dir_a(v);
         let d_o = rot(d);
         let r1s = self.r1 * self.out.scale;
-        let m = rot((d + dc).normalize());
-        let slide = d_o * (r1s / d_o.dot(m));
-        let (pm, qm) = (po.dot(m), qo.dot(m));
+        let m = rot(unit3(d + dc));
+        let slide = d_o * (r1s / dot3(d_o, m));
+        let (pm, qm) = (dot3(po, m), dot3(qo, m));
         let (nc_c, na_c) = self.cont_slope;
         // The cross product in arbor's space, then mapped: a mirror flips one taken after.
-        let p_c = plan.layout.frame_p[c];
+        let p_c = Vec3A::from(plan.layout.frame_p[c]);
         let (pc, qc, dc) = (rot(p_c), rot(dc.cross(p_c)), rot(dc));
         Affine::new(
             self.pos(self.end),
@@ -328,10 +328,10 @@ impl Tube<'_> {
         for (j, slot) in out.iter_mut().enumerate() {
             let (c0, s0, u0) = self.table[j];
             let (c1, s1, u1) = self.table[j + 1];
-            let radial = (self.po * (c0 + c1) + self.qo * (s0 + s1)).normalize_or_zero();
+            let radial = unit3_or_zero(self.po * (c0 + c1) + self.qo * (s0 + s1));
             slot.put(Vertex {
                 position: apex.to_array(),
-                normal: (radial + self.d_o).normalize().to_array(),
+                normal: unit3(radial + self.d_o).to_array(),
                 uv: [0.5 * (u0 + u1), v],
             });
         }
