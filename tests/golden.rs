@@ -150,6 +150,115 @@ fn threaded_writes_equal_the_single_thread_write() {
     }
 }
 
+/// `s`'s branches in breadth-first order (each generation after the one before, parents
+/// still before children), with a turtle up vector per branch: a plan cut in two parts
+/// must then work out many earlier ring frames and v itself.
+fn breadth_first_with_ups(s: &Skeleton) -> Skeleton {
+    let b = s.branches();
+    let mut depth = vec![0u32; b.len()];
+    for i in 0..b.len() {
+        if b[i].parent != arbor::skeleton::NO_PARENT {
+            depth[i] = depth[b[i].parent as usize] + 1;
+        }
+    }
+    let mut order: Vec<usize> = (0..b.len()).collect();
+    order.sort_by_key(|&i| (depth[i], i));
+    let mut new_index = vec![0u32; b.len()];
+    for (k, &i) in order.iter().enumerate() {
+        new_index[i] = k as u32;
+    }
+    let branches = order
+        .iter()
+        .map(|&i| {
+            let mut x = b[i];
+            if x.parent != arbor::skeleton::NO_PARENT {
+                x.parent = new_index[x.parent as usize];
+            }
+            x
+        })
+        .collect();
+    let ups = order
+        .iter()
+        .map(|&i| {
+            let a = i as f32 * 0.37;
+            [a.cos(), 0.3 * a.sin(), a.sin()]
+        })
+        .collect();
+    arbor::skeleton::SkeletonParts {
+        branches,
+        ups,
+        ..Default::default()
+    }
+    .build()
+    .unwrap()
+}
+
+/// Plans made on two threads (the branches cut in two parts) equal the plan made on one,
+/// whatever the branch order, with culled and thinned branches and with a first part that
+/// keeps no branch at all.
+#[test]
+fn split_plans_equal_the_one_thread_plan_in_any_branch_order() {
+    let mut p = HondaParams::preset('a').unwrap();
+    p.steps = 16;
+    let depth_first = honda::build(&p).unwrap();
+    let breadth_first = breadth_first_with_ups(&depth_first);
+    // Two trees: the first (half the branches) thin enough to be culled whole.
+    let two = {
+        let mut thin = depth_first.branches().to_vec();
+        for b in &mut thin {
+            b.start_radius *= 1e-3;
+            b.end_radius *= 1e-3;
+        }
+        let k = thin.len() as u32;
+        thin.extend(depth_first.branches().iter().map(|b| {
+            let mut b = *b;
+            if b.parent != arbor::skeleton::NO_PARENT {
+                b.parent += k;
+            }
+            b.start[0] += 500.0;
+            b.end[0] += 500.0;
+            b
+        }));
+        Skeleton::new(thin).unwrap()
+    };
+    let r = depth_first.branches()[0].start_radius;
+    let options = [
+        MeshOptions::default(),
+        MeshOptions::default()
+            .topology(Topology::TriangleStripRestart)
+            .tip(Tip::Point)
+            .base_cap(true)
+            .cull_radius(r * 0.05),
+        MeshOptions::default()
+            .radial_segments(12)
+            .min_radial_segments(3)
+            .joints(mesh::Joints::Mitred),
+    ];
+    for (name, s) in [
+        ("depth first", &depth_first),
+        ("breadth first", &breadth_first),
+        ("first tree culled", &two),
+    ] {
+        assert!(s.len() >= 65_535);
+        for (k, o) in options.iter().enumerate() {
+            let o = if name == "first tree culled" {
+                o.cull_radius(r * 0.01)
+            } else {
+                *o
+            };
+            let want = mesh::tubes(s, &o.threads(1)).unwrap();
+            assert!(!want.indices.is_empty(), "{name}, options {k}");
+            let got = mesh::tubes(s, &o.threads(2)).unwrap();
+            assert!(
+                got.vertices == want.vertices
+                    && got.indices == want.indices
+                    && got.ranges == want.ranges,
+                "{name}, options {k}"
+            );
+        }
+    }
+}
+
 /// The hash of the swept mesh (curve rings, mitred joints, caps) and of the leaf mesh
 /// (tip leaves, leaf sites, polygons and organs) of `s`.
 fn swept_and_leaves_hash(s: &Skeleton) -> String {

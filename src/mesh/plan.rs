@@ -14,6 +14,7 @@ use crate::error::{Error, Result};
 use crate::geom::transport::{ring_basis, transport};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
+use std::collections::HashMap;
 
 /// The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
 /// and `first_index..first_index + index_count`. Ranges of consecutive branches are
@@ -193,7 +194,9 @@ pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> 
 /// first finds each branch's sides and continuation, the second (which needs every
 /// branch's continuation) its joints, counts, offsets, ring frame and texture v. Each pass
 /// reads every branch once and the plan keeps only what the writer cannot recompute
-/// cheaply: a fresh plan's memory is page faults, which cost more than the arithmetic.
+/// cheaply: a fresh plan's memory is page faults, which cost more than the arithmetic. On
+/// two threads a straight tree's second pass is cut in two parts of branches, one a thread
+/// (see [`Part`]); a sweep's runs its frames on one thread and its counts on the other.
 fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     check_options(o)?;
     let branches = skeleton.branches();
@@ -256,35 +259,33 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         },
     };
     let mut flags = vec![0u8; n];
-    // The joints and ring frames (a chain from parents to children) on this thread; the
-    // counts and offsets (a running sum) beside it on another, for a large tree: each
-    // decides the joints for itself, the same way, so the output does not depend on it.
-    // The straight branches' v (a sum along the tree, as the frames are) goes with the
-    // offsets; a sweep's comes from its curve, with its frames.
-    let mut v_end = if inner == 0 {
-        std::mem::take(&mut l.v_end)
-    } else {
-        Vec::new()
-    };
-    let straight = (inner == 0).then_some(&mut v_end[..]);
-    let ((first_vertex, first_index), nv, ni) = if both {
+    let (mut first_vertex, mut first_index) = (vec![0u32; n], vec![0u32; n]);
+    let (nv, ni) = if inner == 0 {
+        plan.straight_pass(
+            skeleton,
+            o,
+            both,
+            &mut flags,
+            (&mut l.frame_p, &mut l.v_end),
+            (&mut first_vertex, &mut first_index),
+        )
+    } else if both {
+        // A sweep's joints and ring frames (a chain from parents to children, with v
+        // along the curves) on this thread; the counts and offsets beside it on another,
+        // which decides the joints for itself, the same way.
         let plan = &plan;
+        let (fv, fi) = (&mut first_vertex, &mut first_index);
         std::thread::scope(|scope| {
-            let offsets = scope.spawn(move || plan.offsets(branches, o, straight, None));
-            plan.joints_and_frames(skeleton, o, &mut flags, &mut l, None);
+            let offsets = scope.spawn(move || plan.offsets(branches, o, 0, None, (fv, fi), true));
+            plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
             offsets.join().expect("the offsets' thread does not panic")
         })
     } else {
-        // On one thread (and without a thread scope, which would make the calling
-        // thread's handle): the offsets after the joints, whose flags are then known; the
-        // straight branches' v with the joints, which have each branch's length at hand.
-        plan.joints_and_frames(skeleton, o, &mut flags, &mut l, straight);
-        plan.offsets(branches, o, None, Some(&flags))
+        plan.joints_and_frames(skeleton, o, &mut flags, &mut l);
+        let counts = (&mut first_vertex[..], &mut first_index[..]);
+        plan.offsets(branches, o, 0, Some(&flags), counts, true)
     };
     (l.first_vertex, l.first_index) = (first_vertex, first_index);
-    if inner == 0 {
-        l.v_end = v_end;
-    }
     plan.flags = flags;
     plan.size = check_size(nv, ni, o)?;
     Ok((plan, l))
@@ -369,45 +370,24 @@ impl Plan {
         }
     }
 
-    /// Every kept branch's flags and ring frames (and a sweep's texture v), in branch
-    /// order: the joints decided as [`own_flags`](Self::own_flags) decides them, with each
-    /// direction computed once. With `v_end` (straight branches only), also each branch's
-    /// v at its end, from the length found with its direction.
+    /// A swept tree's flags, ring frames and texture v, in branch order: the joints
+    /// decided as [`own_flags`](Self::own_flags) decides them, from the curves' tangents.
     fn joints_and_frames(
         &self,
         skeleton: &Skeleton,
         o: &MeshOptions,
         flags: &mut [u8],
         l: &mut Layout,
-        mut v_end: Option<&mut [f32]>,
     ) {
-        debug_assert!(v_end.is_none() || self.inner == 0);
+        debug_assert!(self.inner > 0);
         let branches = skeleton.branches();
         let inv_ts = 1.0 / o.texture_scale as f64;
-        let sweep = self.inner > 0;
-        // The last straight branch's direction: along an axis written in one run, the next
-        // branch's parent.
-        let mut last = (usize::MAX, Vec3::ZERO);
         for i in 0..branches.len() {
             if self.segs[i] == 0 {
                 continue;
             }
-            let d = match v_end.as_deref_mut() {
-                Some(v_end) => {
-                    let (d, len) = axis(&branches[i]);
-                    set_v_end(v_end, &branches[i], i, len, inv_ts);
-                    d
-                }
-                None => self.direction_at(branches, i, false),
-            };
-            let before = std::mem::replace(&mut last, (i, d));
-            let parent_d = |p| {
-                if !sweep && before.0 == p {
-                    before.1
-                } else {
-                    self.direction_at(branches, p, true)
-                }
-            };
+            let d = self.direction_at(branches, i, false);
+            let parent_d = |p| self.direction_at(branches, p, true);
             let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
             flags[i] |= f;
             if f & SHARES_START != 0 {
@@ -425,39 +405,209 @@ impl Plan {
         }
     }
 
-    /// Each branch's first vertex and first index, and the totals (past the u32 range
-    /// only on the way to the size's error); with `v_end`, each straight branch's v at its
-    /// end. The flags are read from `flags` when they are known, else decided here.
+    /// A straight tree's second pass: each kept branch's flags, ring frame, v at its end
+    /// and counts, into `flags`, `(frame_p, v_end)` and `(first_vertex, first_index)`;
+    /// returns the totals. With `both`, the branches are cut in two parts at the middle
+    /// and each thread makes one (see [`Part`]): the same plan either way.
+    fn straight_pass(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        both: bool,
+        flags: &mut [u8],
+        (frame_p, v_end): (&mut [Vec3], &mut [f32]),
+        (first_vertex, first_index): (&mut [u32], &mut [u32]),
+    ) -> (u64, u64) {
+        let branches = skeleton.branches();
+        let make = |lo: usize,
+                    flags: &mut [u8],
+                    frame_p: &mut [Vec3],
+                    v_end: &mut [f32],
+                    counts: (&mut [u32], &mut [u32]),
+                    first: bool| {
+            let mut part = Part {
+                lo,
+                flags,
+                frame_p,
+                v_end,
+                before: HashMap::new(),
+            };
+            self.joints_part(skeleton, o, &mut part);
+            self.offsets(branches, o, lo, Some(part.flags), counts, first)
+        };
+        if !both {
+            return make(0, flags, frame_p, v_end, (first_vertex, first_index), true);
+        }
+        let m = flags.len() / 2;
+        let (flags_a, flags_b) = flags.split_at_mut(m);
+        let (frame_a, frame_b) = frame_p.split_at_mut(m);
+        let (v_a, v_b) = v_end.split_at_mut(m);
+        let (fv_a, fv_b) = first_vertex.split_at_mut(m);
+        let (fi_a, fi_b) = first_index.split_at_mut(m);
+        // The second part's first strip follows one of the first part unless that part
+        // keeps no branch.
+        let first_b = self.segs[..m].iter().all(|&s| s == 0);
+        let make = &make;
+        let ((nv_a, ni_a), (nv_b, ni_b)) = std::thread::scope(|scope| {
+            let (fv, fi) = (&mut fv_b[..], &mut fi_b[..]);
+            let second = scope.spawn(move || make(m, flags_b, frame_b, v_b, (fv, fi), first_b));
+            let first = make(0, flags_a, frame_a, v_a, (fv_a, fi_a), true);
+            (
+                first,
+                second
+                    .join()
+                    .expect("the plan's second part does not panic"),
+            )
+        });
+        // The second part counted from zero: its branches start after the first part's.
+        for (v, i) in fv_b.iter_mut().zip(fi_b.iter_mut()) {
+            *v = v.wrapping_add(nv_a as u32);
+            *i = i.wrapping_add(ni_a as u32);
+        }
+        (nv_a + nv_b, ni_a + ni_b)
+    }
+
+    /// The joints, ring frames and v at the ends of a straight tree's branches in `part`,
+    /// in branch order.
+    fn joints_part(&self, skeleton: &Skeleton, o: &MeshOptions, part: &mut Part<'_>) {
+        let branches = skeleton.branches();
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        let (lo, hi) = (part.lo, part.lo + part.flags.len());
+        // The last branch's direction: along an axis written in one run, the next
+        // branch's parent.
+        let mut last = (usize::MAX, Vec3::ZERO);
+        for i in lo..hi {
+            if self.segs[i] == 0 {
+                continue;
+            }
+            let b = &branches[i];
+            let (d, len) = axis(b);
+            let before = std::mem::replace(&mut last, (i, d));
+            let parent_d = |p| {
+                if before.0 == p {
+                    before.1
+                } else {
+                    direction(&branches[p])
+                }
+            };
+            let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
+            let (k, p) = (i - lo, b.parent as usize);
+            part.flags[k] |= f;
+            if f & SHARES_START != 0 && p >= lo {
+                part.flags[p - lo] |= MITRE_END;
+            }
+            // A continuation in a later part decides its joint there; the end it shares
+            // is marked here, decided the same way.
+            let c = self.cont[i];
+            if c != NO_PARENT
+                && c as usize >= hi
+                && self.own_flags(branches, o, c as usize) & SHARES_START != 0
+            {
+                part.flags[k] |= MITRE_END;
+            }
+            let (frame, v) = if b.parent == NO_PARENT {
+                (Vec3::ZERO, 0.0)
+            } else if p >= lo {
+                (part.frame_p[p - lo], part.v_end[p - lo])
+            } else {
+                part.before_part(self, skeleton, o, p)
+            };
+            part.v_end[k] = to_f32(v as f64 + len * inv_ts);
+            part.frame_p[k] = start_frame(skeleton, i, d, f & SHARES_START == 0, |p| {
+                transport(frame, from.unwrap_or_else(|| direction(&branches[p])), d)
+            });
+        }
+    }
+
+    /// The first vertex and first index of branches `lo..lo + first_vertex.len()`,
+    /// counted from zero (`first`: no strip comes before the first of them), and their
+    /// totals (past the u32 range only on the way to the size's error). The flags are
+    /// read from `flags` (from branch `lo` on) when they are known, else decided here.
     fn offsets(
         &self,
         branches: &[Branch],
         o: &MeshOptions,
-        mut v_end: Option<&mut [f32]>,
+        lo: usize,
         flags: Option<&[u8]>,
-    ) -> ((Vec<u32>, Vec<u32>), u64, u64) {
-        let inv_ts = 1.0 / o.texture_scale as f64;
-        let n = branches.len();
-        let (mut first_vertex, mut first_index) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        (first_vertex, first_index): (&mut [u32], &mut [u32]),
+        mut first: bool,
+    ) -> (u64, u64) {
         let (mut nv, mut ni): (u64, u64) = (0, 0);
-        let mut first = true;
-        for i in 0..n {
-            first_vertex.push(nv as u32);
-            first_index.push(ni as u32);
+        for (k, (fv, fi)) in first_vertex
+            .iter_mut()
+            .zip(first_index.iter_mut())
+            .enumerate()
+        {
+            let i = lo + k;
+            (*fv, *fi) = (nv as u32, ni as u32);
             if self.segs[i] == 0 {
                 continue;
             }
             let f = match flags {
-                Some(flags) => flags[i],
+                Some(flags) => flags[k],
                 None => self.own_flags(branches, o, i),
             };
             let (v, idx) = self.counts(i, f, o.tip, &mut first);
-            if let Some(v_end) = v_end.as_deref_mut() {
-                set_v_end(v_end, &branches[i], i, length(&branches[i]), inv_ts);
-            }
             nv += v as u64;
             ni += idx as u64;
         }
-        ((first_vertex, first_index), nv, ni)
+        (nv, ni)
+    }
+}
+
+/// A part of a straight tree's branches, `lo..lo + flags.len()`, whose second pass one
+/// thread makes into its own slices of the plan's arrays. A part after the first works out
+/// what it needs of earlier branches (a parent's ring frame and v, along its chain of
+/// parents) itself, with the arithmetic their own part uses, so the plan does not depend on
+/// how the tree is cut. In branch order from the generators (a parent's subtree follows it)
+/// those are the few ancestors of the part's first branch.
+struct Part<'a> {
+    lo: usize,
+    flags: &'a mut [u8],
+    frame_p: &'a mut [Vec3],
+    v_end: &'a mut [f32],
+    /// Ring frames and v at the ends of earlier branches, worked out so far.
+    before: HashMap<u32, (Vec3, f32)>,
+}
+
+impl Part<'_> {
+    /// The ring frame and v at the end of branch `p`, before this part.
+    fn before_part(
+        &mut self,
+        plan: &Plan,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        p: usize,
+    ) -> (Vec3, f32) {
+        let branches = skeleton.branches();
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        // Up the chain of parents to a root or to a branch worked out already.
+        let mut chain = Vec::new();
+        let mut x = p;
+        while !self.before.contains_key(&(x as u32)) {
+            chain.push(x);
+            match branches[x].parent {
+                NO_PARENT => break,
+                q => x = q as usize,
+            }
+        }
+        // Then down it, as `joints_part` goes.
+        for &x in chain.iter().rev() {
+            let b = &branches[x];
+            let (d, len) = axis(b);
+            let parent_d = |q| direction(&branches[q]);
+            let (f, from) = plan.decide_flags(branches, o, x, || d, parent_d);
+            let (frame, v) = match b.parent {
+                NO_PARENT => (Vec3::ZERO, 0.0),
+                q => self.before[&q],
+            };
+            let own = start_frame(skeleton, x, d, f & SHARES_START == 0, |q| {
+                transport(frame, from.unwrap_or_else(|| direction(&branches[q])), d)
+            });
+            let v = to_f32(v as f64 + len * inv_ts);
+            self.before.insert(x as u32, (own, v));
+        }
+        self.before[&(p as u32)]
     }
 }
 
@@ -620,26 +770,15 @@ fn frames(
 ) {
     let b = &skeleton.branches()[i];
     let sweep = plan.inner > 0;
-    let root = b.parent == NO_PARENT;
-    // A ring of its own starts its seam at the turtle's up vector where the generator
-    // had a turtle (so a grammar's rolls reach the bark); a ring shared with the parent
-    // carries the parent's frame along, so an axis's tube never twists at a joint.
-    let turtle = skeleton
-        .up(i)
-        .filter(|_| own_ring)
-        .and_then(|u| (u - d * u.dot(d)).try_normalize());
-    l.frame_p[i] = if let Some(p) = turtle {
-        p
-    } else if root {
-        ring_basis(d.as_dvec3()).0.as_vec3()
-    } else if sweep {
-        let parent = b.parent as usize;
-        transport(l.frame_end[parent], plan.t1[parent], d)
-    } else {
-        let parent = b.parent as usize;
-        let from = from.unwrap_or_else(|| direction(&skeleton.branches()[parent]));
-        transport(l.frame_p[parent], from, d)
-    };
+    let frame = start_frame(skeleton, i, d, own_ring, |parent| {
+        if sweep {
+            transport(l.frame_end[parent], plan.t1[parent], d)
+        } else {
+            let from = from.unwrap_or_else(|| direction(&skeleton.branches()[parent]));
+            transport(l.frame_p[parent], from, d)
+        }
+    });
+    l.frame_p[i] = frame;
     if sweep {
         // The arc through the ring centres, and the frame at the end.
         let mut arc = 0.0f32;
@@ -650,6 +789,30 @@ fn frames(
             |_, _, _, _, a| arc = a,
         );
         set_v_end(&mut l.v_end, b, i, arc as f64, inv_ts);
+    }
+}
+
+/// Branch `i`'s ring frame vector at its start, `d` its direction there. A ring of its own
+/// starts its seam at the turtle's up vector where the generator had a turtle (so a
+/// grammar's rolls reach the bark); a root's comes from [`ring_basis`]; any other is
+/// `carried(parent)`, the parent's frame carried along the joint, so an axis's tube never
+/// twists at a joint.
+#[inline(always)]
+fn start_frame(
+    skeleton: &Skeleton,
+    i: usize,
+    d: Vec3,
+    own_ring: bool,
+    carried: impl FnOnce(usize) -> Vec3,
+) -> Vec3 {
+    let turtle = skeleton
+        .up(i)
+        .filter(|_| own_ring)
+        .and_then(|u| (u - d * u.dot(d)).try_normalize());
+    match (turtle, skeleton.branches()[i].parent) {
+        (Some(p), _) => p,
+        (None, NO_PARENT) => ring_basis(d.as_dvec3()).0.as_vec3(),
+        (None, parent) => carried(parent as usize),
     }
 }
 
