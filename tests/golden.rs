@@ -221,6 +221,16 @@ fn split_plans_equal_the_one_thread_plan_in_any_branch_order() {
         }));
         Skeleton::new(thin).unwrap()
     };
+    // Every seventh branch thin enough to be culled, with the subtree it carries, however
+    // thick: kept or not is decided along the parents.
+    let gaps = {
+        let mut parts = breadth_first.clone().into_parts();
+        for b in parts.branches.iter_mut().step_by(7) {
+            b.start_radius *= 1e-3;
+            b.end_radius *= 1e-3;
+        }
+        parts.build().unwrap()
+    };
     let r = depth_first.branches()[0].start_radius;
     let options = [
         MeshOptions::default(),
@@ -238,13 +248,14 @@ fn split_plans_equal_the_one_thread_plan_in_any_branch_order() {
         ("depth first", &depth_first),
         ("breadth first", &breadth_first),
         ("first tree culled", &two),
+        ("thin branches culled", &gaps),
     ] {
         assert!(s.len() >= 65_535);
         for (k, o) in options.iter().enumerate() {
-            let o = if name == "first tree culled" {
-                o.cull_radius(r * 0.01)
-            } else {
-                *o
+            let o = match name {
+                "first tree culled" => o.cull_radius(r * 0.01),
+                "thin branches culled" => o.cull_radius(r * 1e-4),
+                _ => *o,
             };
             let want = mesh::tubes(s, &o.threads(1)).unwrap();
             assert!(!want.indices.is_empty(), "{name}, options {k}");
