@@ -430,7 +430,7 @@ impl Plan {
                 flags,
                 frame_p,
                 v_end,
-                before: HashMap::new(),
+                before: Earlier::default(),
             };
             self.joints_part(skeleton, o, &mut part);
             self.offsets(branches, o, lo, Some(part.flags), counts, first)
@@ -472,7 +472,15 @@ impl Plan {
     fn joints_part(&self, skeleton: &Skeleton, o: &MeshOptions, part: &mut Part<'_>) {
         let branches = skeleton.branches();
         let inv_ts = 1.0 / o.texture_scale as f64;
-        let (lo, hi) = (part.lo, part.lo + part.flags.len());
+        // The part's slices as locals, apart from what it works out of earlier branches.
+        let (lo, flags, frame_p, v_end) = (
+            part.lo,
+            &mut *part.flags,
+            &mut *part.frame_p,
+            &mut *part.v_end,
+        );
+        let before_part = &mut part.before;
+        let hi = lo + flags.len();
         // The last branch's direction: along an axis written in one run, the next
         // branch's parent.
         let mut last = (usize::MAX, Vec3::ZERO);
@@ -492,9 +500,9 @@ impl Plan {
             };
             let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
             let (k, p) = (i - lo, b.parent as usize);
-            part.flags[k] |= f;
+            flags[k] |= f;
             if f & SHARES_START != 0 && p >= lo {
-                part.flags[p - lo] |= MITRE_END;
+                flags[p - lo] |= MITRE_END;
             }
             // A continuation in a later part decides its joint there; the end it shares
             // is marked here, decided the same way.
@@ -503,17 +511,17 @@ impl Plan {
                 && c as usize >= hi
                 && self.own_flags(branches, o, c as usize) & SHARES_START != 0
             {
-                part.flags[k] |= MITRE_END;
+                flags[k] |= MITRE_END;
             }
             let (frame, v) = if b.parent == NO_PARENT {
                 (Vec3::ZERO, 0.0)
             } else if p >= lo {
-                (part.frame_p[p - lo], part.v_end[p - lo])
+                (frame_p[p - lo], v_end[p - lo])
             } else {
-                part.before_part(self, skeleton, o, p)
+                before_part.get(self, skeleton, o, p)
             };
-            part.v_end[k] = to_f32(v as f64 + len * inv_ts);
-            part.frame_p[k] = start_frame(skeleton, i, d, f & SHARES_START == 0, |p| {
+            v_end[k] = to_f32(v as f64 + len * inv_ts);
+            frame_p[k] = start_frame(skeleton, i, d, f & SHARES_START == 0, |p| {
                 transport(frame, from.unwrap_or_else(|| direction(&branches[p])), d)
             });
         }
@@ -566,25 +574,26 @@ struct Part<'a> {
     flags: &'a mut [u8],
     frame_p: &'a mut [Vec3],
     v_end: &'a mut [f32],
-    /// Ring frames and v at the ends of earlier branches, worked out so far.
-    before: HashMap<u32, (Vec3, f32)>,
+    /// What the part has worked out of earlier branches.
+    before: Earlier,
 }
 
-impl Part<'_> {
-    /// The ring frame and v at the end of branch `p`, before this part.
-    fn before_part(
-        &mut self,
-        plan: &Plan,
-        skeleton: &Skeleton,
-        o: &MeshOptions,
-        p: usize,
-    ) -> (Vec3, f32) {
+/// Ring frames and v at the ends of branches before a [`Part`], worked out so far.
+#[derive(Default)]
+struct Earlier(HashMap<u32, (Vec3, f32)>);
+
+impl Earlier {
+    /// The ring frame and v at the end of branch `p`, before the part. Rare (a part's
+    /// first branches), so kept out of the part's loop.
+    #[cold]
+    #[inline(never)]
+    fn get(&mut self, plan: &Plan, skeleton: &Skeleton, o: &MeshOptions, p: usize) -> (Vec3, f32) {
         let branches = skeleton.branches();
         let inv_ts = 1.0 / o.texture_scale as f64;
         // Up the chain of parents to a root or to a branch worked out already.
         let mut chain = Vec::new();
         let mut x = p;
-        while !self.before.contains_key(&(x as u32)) {
+        while !self.0.contains_key(&(x as u32)) {
             chain.push(x);
             match branches[x].parent {
                 NO_PARENT => break,
@@ -599,15 +608,15 @@ impl Part<'_> {
             let (f, from) = plan.decide_flags(branches, o, x, || d, parent_d);
             let (frame, v) = match b.parent {
                 NO_PARENT => (Vec3::ZERO, 0.0),
-                q => self.before[&q],
+                q => self.0[&q],
             };
             let own = start_frame(skeleton, x, d, f & SHARES_START == 0, |q| {
                 transport(frame, from.unwrap_or_else(|| direction(&branches[q])), d)
             });
             let v = to_f32(v as f64 + len * inv_ts);
-            self.before.insert(x as u32, (own, v));
+            self.0.insert(x as u32, (own, v));
         }
-        self.before[&(p as u32)]
+        self.0[&(p as u32)]
     }
 }
 
