@@ -471,7 +471,6 @@ impl Plan {
     /// in branch order.
     fn joints_part(&self, skeleton: &Skeleton, o: &MeshOptions, part: &mut Part<'_>) {
         let branches = skeleton.branches();
-        let inv_ts = 1.0 / o.texture_scale as f64;
         // The part's slices as locals, apart from what it works out of earlier branches.
         let (lo, flags, frame_p, v_end) = (
             part.lo,
@@ -498,8 +497,18 @@ impl Plan {
                     direction(&branches[p])
                 }
             };
-            let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
-            let (k, p) = (i - lo, b.parent as usize);
+            let p = b.parent as usize;
+            let parent = if b.parent == NO_PARENT {
+                (Vec3::ZERO, 0.0)
+            } else if p >= lo {
+                (frame_p[p - lo], v_end[p - lo])
+            } else {
+                before_part.get(self, skeleton, o, p)
+            };
+            let k = i - lo;
+            let f;
+            (f, frame_p[k], v_end[k]) =
+                self.straight_branch(skeleton, o, i, (d, len), parent_d, parent);
             flags[k] |= f;
             if f & SHARES_START != 0 && p >= lo {
                 flags[p - lo] |= MITRE_END;
@@ -513,18 +522,31 @@ impl Plan {
             {
                 flags[k] |= MITRE_END;
             }
-            let (frame, v) = if b.parent == NO_PARENT {
-                (Vec3::ZERO, 0.0)
-            } else if p >= lo {
-                (frame_p[p - lo], v_end[p - lo])
-            } else {
-                before_part.get(self, skeleton, o, p)
-            };
-            v_end[k] = to_f32(v as f64 + len * inv_ts);
-            frame_p[k] = start_frame(skeleton, i, d, f & SHARES_START == 0, |p| {
-                transport(frame, from.unwrap_or_else(|| direction(&branches[p])), d)
-            });
         }
+    }
+
+    /// Straight branch `i`'s joint flags, ring frame and v at its end, from its direction
+    /// and length, its parent's direction (`parent_d`, asked only where a mitre is
+    /// possible) and its parent's ring frame and v at its end (zero for a root): what
+    /// [`joints_part`](Self::joints_part) makes of each branch, and [`Earlier`] of the
+    /// branches before a part.
+    #[inline(always)]
+    fn straight_branch(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        i: usize,
+        (d, len): (Vec3, f64),
+        parent_d: impl FnOnce(usize) -> Vec3,
+        (frame, v): (Vec3, f32),
+    ) -> (u8, Vec3, f32) {
+        let branches = skeleton.branches();
+        let (f, from) = self.decide_flags(branches, o, i, || d, parent_d);
+        let own = start_frame(skeleton, i, d, f & SHARES_START == 0, |p| {
+            transport(frame, from.unwrap_or_else(|| direction(&branches[p])), d)
+        });
+        let inv_ts = 1.0 / o.texture_scale as f64;
+        (f, own, to_f32(v as f64 + len * inv_ts))
     }
 
     /// The first vertex and first index of branches `lo..lo + first_vertex.len()`,
@@ -589,7 +611,6 @@ impl Earlier {
     #[inline(never)]
     fn get(&mut self, plan: &Plan, skeleton: &Skeleton, o: &MeshOptions, p: usize) -> (Vec3, f32) {
         let branches = skeleton.branches();
-        let inv_ts = 1.0 / o.texture_scale as f64;
         // Up the chain of parents to a root or to a branch worked out already.
         let mut chain = Vec::new();
         let mut x = p;
@@ -602,18 +623,13 @@ impl Earlier {
         }
         // Then down it, as `joints_part` goes.
         for &x in chain.iter().rev() {
-            let b = &branches[x];
-            let (d, len) = axis(b);
-            let parent_d = |q| direction(&branches[q]);
-            let (f, from) = plan.decide_flags(branches, o, x, || d, parent_d);
-            let (frame, v) = match b.parent {
+            let parent = match branches[x].parent {
                 NO_PARENT => (Vec3::ZERO, 0.0),
                 q => self.0[&q],
             };
-            let own = start_frame(skeleton, x, d, f & SHARES_START == 0, |q| {
-                transport(frame, from.unwrap_or_else(|| direction(&branches[q])), d)
-            });
-            let v = to_f32(v as f64 + len * inv_ts);
+            let parent_d = |q| direction(&branches[q]);
+            let (_, own, v) =
+                plan.straight_branch(skeleton, o, x, axis(&branches[x]), parent_d, parent);
             self.0.insert(x as u32, (own, v));
         }
         self.0[&(p as u32)]
