@@ -4,6 +4,7 @@
 pub mod curve;
 mod frame;
 pub mod grid;
+pub(crate) mod lanes;
 pub(crate) mod rotation;
 pub mod transport;
 

@@ -169,34 +169,6 @@ impl Out {
     }
 }
 
-/// The dot product of two vectors held in four lanes, summed as glam's `Vec3` sums it
-/// (x, then y, then z) on every target: the tube writer's frame arithmetic runs in lanes
-/// and gives the bits the scalar form gives.
-#[inline(always)]
-pub(crate) fn dot3(a: Vec3A, b: Vec3A) -> f32 {
-    let p = a * b;
-    p.x + p.y + p.z
-}
-
-/// `v` scaled to unit length as glam's `Vec3::normalize` scales it (by the reciprocal of
-/// the length).
-#[inline(always)]
-pub(crate) fn unit3(v: Vec3A) -> Vec3A {
-    v * (1.0 / dot3(v, v).sqrt())
-}
-
-/// [`unit3`], or zero where the length has no finite positive reciprocal (as
-/// `Vec3::normalize_or_zero`).
-#[inline(always)]
-pub(crate) fn unit3_or_zero(v: Vec3A) -> Vec3A {
-    let rcp = 1.0 / dot3(v, v).sqrt();
-    if rcp.is_finite() && rcp > 0.0 {
-        v * rcp
-    } else {
-        Vec3A::ZERO
-    }
-}
-
 /// `x` as f32, clamped to the finite range.
 #[inline]
 pub(crate) fn to_f32(x: f64) -> f32 {

@@ -3,10 +3,11 @@
 
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, TIP};
 use super::rings::Slot;
-use super::rings::{Affine, to_f32, unit3, unit3_or_zero};
+use super::rings::{Affine, to_f32};
 use super::strips::StripWriter;
 use super::tube::Tube;
 use super::{Tip, Vertex};
+use crate::geom::lanes::{cross3, unit3, unit3_or_zero};
 use crate::skeleton::Skeleton;
 use glam::{Vec3, Vec3A};
 
@@ -14,7 +15,7 @@ use glam::{Vec3, Vec3A};
 /// radial·nc + tangent·na, in the output's conventions.
 fn ring_at(t: &Tube<'_>, center: Vec3A, tangent: Vec3A, p: Vec3A, r: f32, v: f32) -> Affine {
     let rot = |v: Vec3A| t.out.dir_a(v);
-    let (po, qo, to) = (rot(p), rot(tangent.cross(p)), rot(tangent));
+    let (po, qo, to) = (rot(p), rot(cross3(tangent, p)), rot(tangent));
     let rs = r * t.out.scale;
     Affine::new(
         t.out.pos_a(center),
@@ -119,7 +120,7 @@ impl MeshPlan {
             let rot = |v: Vec3A| t.out.dir_a(v);
             let c = plan.cont[i] as usize;
             let end_frame = Vec3A::from(end_frame);
-            let frame = (rot(end_frame), rot(t1.cross(end_frame)));
+            let frame = (rot(end_frame), rot(cross3(t1, end_frame)));
             t.mitre_with(self, c, frame, t1, plan.t0[c].into())
                 .put_normalized(end_out, table);
         } else {
@@ -135,7 +136,7 @@ impl MeshPlan {
             Vec3A::from(self.layout.frame_p[t.i]),
             Vec3A::from(self.plan.t0[t.i]),
         );
-        let (po, qo) = (rot(frame), rot(t0.cross(frame)));
+        let (po, qo) = (rot(frame), rot(cross3(t0, frame)));
         let center = t.out.pos_a(center);
         t.disc_framed(center, (po, qo), t.r0 * t.out.scale, -rot(t0), true)
             .put(out, t.table);
@@ -145,7 +146,7 @@ impl MeshPlan {
     fn swept_tip<V: Slot<Vertex>>(&self, t: &Tube<'_>, end_frame: Vec3, tip: &mut [V]) {
         let rot = |v: Vec3A| t.out.dir_a(v);
         let (t1, end_frame) = (Vec3A::from(self.plan.t1[t.i]), Vec3A::from(end_frame));
-        let (po, qo, d_o) = (rot(end_frame), rot(t1.cross(end_frame)), rot(t1));
+        let (po, qo, d_o) = (rot(end_frame), rot(cross3(t1, end_frame)), rot(t1));
         match self.options.tip {
             Tip::Cap => {
                 let center = t.out.pos_a(t.end);

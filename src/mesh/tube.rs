@@ -3,10 +3,11 @@
 
 use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, axis};
 use super::rings::Slot;
-use super::rings::{Affine, Circle, Out, dot3, to_f32, unit3, unit3_or_zero};
+use super::rings::{Affine, Circle, Out, to_f32};
 use super::strips::{StripWriter, zigzag};
 use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
+use crate::geom::lanes::{cross3, dot3, unit3, unit3_or_zero};
 use crate::skeleton::{NO_PARENT, Skeleton};
 use glam::Vec3A;
 
@@ -63,7 +64,7 @@ impl MeshPlan {
             flags,
             out,
             po: rot(p),
-            qo: rot(d.cross(p)),
+            qo: rot(cross3(d, p)),
             d_o: rot(d),
             d,
             nc,
@@ -255,7 +256,7 @@ impl Tube<'_> {
         let (nc_c, na_c) = self.cont_slope;
         // The cross product in arbor's space, then mapped: a mirror flips one taken after.
         let p_c = Vec3A::from(plan.layout.frame_p[c]);
-        let (pc, qc, dc) = (rot(p_c), rot(dc.cross(p_c)), rot(dc));
+        let (pc, qc, dc) = (rot(p_c), rot(cross3(dc, p_c)), rot(dc));
         Affine::new(
             self.pos(self.end),
             po * r1s - slide * pm,
