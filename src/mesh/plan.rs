@@ -196,7 +196,8 @@ pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> 
 /// reads every branch once and the plan keeps only what the writer cannot recompute
 /// cheaply: a fresh plan's memory is page faults, which cost more than the arithmetic. On
 /// two threads a straight tree's second pass is cut in two parts of branches, one a thread
-/// (see [`Part`]); a sweep's runs its frames on one thread and its counts on the other.
+/// (see [`joints_part`](Plan::joints_part)); a sweep's runs its frames on one thread and
+/// its counts on the other.
 fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     check_options(o)?;
     let branches = skeleton.branches();
@@ -408,7 +409,8 @@ impl Plan {
     /// A straight tree's second pass: each kept branch's flags, ring frame, v at its end
     /// and counts, into `flags`, `(frame_p, v_end)` and `(first_vertex, first_index)`;
     /// returns the totals. With `both`, the branches are cut in two parts at the middle
-    /// and each thread makes one (see [`Part`]): the same plan either way.
+    /// and each thread makes one ([`joints_part`](Self::joints_part)): the same plan
+    /// either way.
     fn straight_pass(
         &self,
         skeleton: &Skeleton,
@@ -425,15 +427,9 @@ impl Plan {
                     v_end: &mut [f32],
                     counts: (&mut [u32], &mut [u32]),
                     first: bool| {
-            let mut part = Part {
-                lo,
-                flags,
-                frame_p,
-                v_end,
-                before: Earlier::default(),
-            };
-            self.joints_part(skeleton, o, &mut part);
-            self.offsets(branches, o, lo, Some(part.flags), counts, first)
+            let mut earlier = Earlier::default();
+            self.joints_part(skeleton, o, lo, (flags, frame_p, v_end), &mut earlier);
+            self.offsets(branches, o, lo, Some(flags), counts, first)
         };
         if !both {
             return make(0, flags, frame_p, v_end, (first_vertex, first_index), true);
@@ -467,19 +463,25 @@ impl Plan {
         (nv_a + nv_b, ni_a + ni_b)
     }
 
-    /// The joints, ring frames and v at the ends of a straight tree's branches in `part`,
-    /// in branch order.
-    fn joints_part(&self, skeleton: &Skeleton, o: &MeshOptions, part: &mut Part<'_>) {
+    /// The joints, ring frames and v at the ends of a straight tree's branches
+    /// `lo..lo + flags.len()` (a part of them, which one thread makes), in branch order,
+    /// into the part's own slices of the plan's arrays. A part after the first works out
+    /// what it needs of earlier branches (a parent's ring frame and v, along its chain of
+    /// parents: [`Earlier`]) itself, with the arithmetic their own part uses, so the plan
+    /// does not depend on how the tree is cut. In branch order from the generators (a
+    /// parent's subtree follows it) those are the few ancestors of the part's first branch.
+    fn joints_part(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        lo: usize,
+        (flags, frame_p, v_end): (&mut [u8], &mut [Vec3], &mut [f32]),
+        before_part: &mut Earlier,
+    ) {
         let branches = skeleton.branches();
-        // The part's slices as locals, apart from what it works out of earlier branches.
-        let (lo, flags, frame_p, v_end) = (
-            part.lo,
-            &mut *part.flags,
-            &mut *part.frame_p,
-            &mut *part.v_end,
-        );
-        let before_part = &mut part.before;
         let hi = lo + flags.len();
+        // One length for the three: one bounds check a branch.
+        let (frame_p, v_end) = (&mut frame_p[..flags.len()], &mut v_end[..flags.len()]);
         // The last branch's direction: along an axis written in one run, the next
         // branch's parent.
         let mut last = (usize::MAX, Vec3::ZERO);
@@ -546,7 +548,7 @@ impl Plan {
             transport(frame, from.unwrap_or_else(|| direction(&branches[p])), d)
         });
         let inv_ts = 1.0 / o.texture_scale as f64;
-        (f, own, to_f32(v as f64 + len * inv_ts))
+        (f, own, v_after(v, len, inv_ts))
     }
 
     /// The first vertex and first index of branches `lo..lo + first_vertex.len()`,
@@ -585,22 +587,8 @@ impl Plan {
     }
 }
 
-/// A part of a straight tree's branches, `lo..lo + flags.len()`, whose second pass one
-/// thread makes into its own slices of the plan's arrays. A part after the first works out
-/// what it needs of earlier branches (a parent's ring frame and v, along its chain of
-/// parents) itself, with the arithmetic their own part uses, so the plan does not depend on
-/// how the tree is cut. In branch order from the generators (a parent's subtree follows it)
-/// those are the few ancestors of the part's first branch.
-struct Part<'a> {
-    lo: usize,
-    flags: &'a mut [u8],
-    frame_p: &'a mut [Vec3],
-    v_end: &'a mut [f32],
-    /// What the part has worked out of earlier branches.
-    before: Earlier,
-}
-
-/// Ring frames and v at the ends of branches before a [`Part`], worked out so far.
+/// Ring frames and v at the ends of branches before a part of a straight tree (see
+/// [`joints_part`](Plan::joints_part)), worked out so far.
 #[derive(Default)]
 struct Earlier(HashMap<u32, (Vec3, f32)>);
 
@@ -850,7 +838,14 @@ fn set_v_end(v_end: &mut [f32], b: &Branch, i: usize, len: f64, inv_ts: f64) {
     } else {
         v_end[b.parent as usize]
     };
-    v_end[i] = to_f32(v0 as f64 + len * inv_ts);
+    v_end[i] = v_after(v0, len, inv_ts);
+}
+
+/// v at a branch's end, `len` along from `v0` at its start (clamped so that absurd
+/// lengths cannot push uv past the f32 range).
+#[inline(always)]
+fn v_after(v0: f32, len: f64, inv_ts: f64) -> f32 {
+    to_f32(v0 as f64 + len * inv_ts)
 }
 
 /// Everything the writer needs for one tree and one set of options, computed once: a host
