@@ -228,6 +228,7 @@ pub struct Affine {
 impl Affine {
     /// The terms from a center and radial directions, normals and uv.
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     pub(crate) fn new(
         center: Vec3A,
         radius_p: Vec3A,
@@ -279,37 +280,58 @@ impl Affine {
         if V::put_affine(out, self, table, true) {
             return;
         }
-        let (na, nb, nd) = (
-            Self::normal_of(&self.a),
-            Self::normal_of(&self.b),
-            Self::normal_of(&self.d),
+        // |na + c nb + s nd|² = aa + 2c ab + 2s ad + c² bb + 2cs bd + s² dd, the dot
+        // products three at a time: lane k of `x` is the x of term k's normal (na, nb, nd)
+        // and `x1` its neighbour's, summed in the order of a scalar dot product.
+        let (a, b, d) = (self.a, self.b, self.d);
+        let x = Vec4::new(a[0].w, b[0].w, d[0].w, 0.0);
+        let y = Vec4::new(a[1].x, b[1].x, d[1].x, 0.0);
+        let z = Vec4::new(a[1].y, b[1].y, d[1].y, 0.0);
+        let next = |v: Vec4| Vec4::new(v.y, v.z, v.x, 0.0);
+        let squares = x * x + y * y + z * z;
+        let pairs = (x * next(x) + y * next(y) + z * next(z)) * 2.0;
+        let (aa, bb, dd) = (
+            Vec4::splat(squares.x),
+            Vec4::splat(squares.y),
+            Vec4::splat(squares.z),
         );
-        // |na + c nb + s nd|² = aa + 2c ab + 2s ad + c² bb + 2cs bd + s² dd
-        let (aa, ab2, ad2) = (
-            Vec4::splat(na.dot(na)),
-            Vec4::splat(2.0 * na.dot(nb)),
-            Vec4::splat(2.0 * na.dot(nd)),
+        // pairs: (2 na·nb, 2 nb·nd, 2 nd·na)
+        let (ab2, bd2, ad2) = (
+            Vec4::splat(pairs.x),
+            Vec4::splat(pairs.y),
+            Vec4::splat(pairs.z),
         );
-        let (bb, bd2, dd) = (
-            Vec4::splat(nb.dot(nb)),
-            Vec4::splat(2.0 * nb.dot(nd)),
-            Vec4::splat(nd.dot(nd)),
-        );
-        // Four vertices at a time: their inverse normal lengths in one vector, then the
-        // vertices themselves (no staging array to fill).
-        let quads = out
-            .chunks_mut(4)
-            .zip(table.splats.chunks(4))
-            .zip(&table.quads);
-        for ((slots, chunk), &[c, s]) in quads {
+        let inverse_lengths = |[c, s]: [Vec4; 2]| {
             let l2 = aa + c * ab2 + s * ad2 + c * c * bb + c * s * bd2 + s * s * dd;
-            let inv = (Vec4::ONE / l2.sqrt()).to_array();
-            for ((slot, splat), &k) in slots.iter_mut().zip(chunk).zip(&inv) {
-                let [lo, hi] = self.at(splat);
-                slot.put(vertex([
-                    lo * Vec4::new(1.0, 1.0, 1.0, k),
-                    hi * Vec4::new(k, k, 1.0, 1.0),
-                ]));
+            Vec4::ONE / l2.sqrt()
+        };
+        let put = |slot: &mut V, splat: &[Vec4; 3], k: f32| {
+            let [lo, hi] = self.at(splat);
+            slot.put(vertex([
+                lo * Vec4::new(1.0, 1.0, 1.0, k),
+                hi * Vec4::new(k, k, 1.0, 1.0),
+            ]));
+        };
+        // Four vertices at a time: their inverse normal lengths in one vector, then the
+        // vertices themselves; the last, partial four after.
+        let n = out.len();
+        let (splats, quads) = (&table.splats[..n], &table.quads[..n.div_ceil(4)]);
+        let (full, rest) = out.split_at_mut(n / 4 * 4);
+        for ((slots, chunk), &quad) in full
+            .chunks_exact_mut(4)
+            .zip(splats.chunks_exact(4))
+            .zip(quads)
+        {
+            let inv = inverse_lengths(quad);
+            put(&mut slots[0], &chunk[0], inv.x);
+            put(&mut slots[1], &chunk[1], inv.y);
+            put(&mut slots[2], &chunk[2], inv.z);
+            put(&mut slots[3], &chunk[3], inv.w);
+        }
+        if let Some(&quad) = quads.get(n / 4) {
+            let inv = inverse_lengths(quad).to_array();
+            for ((slot, splat), &k) in rest.iter_mut().zip(&splats[n / 4 * 4..]).zip(&inv) {
+                put(slot, splat, k);
             }
         }
     }

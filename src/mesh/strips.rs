@@ -51,13 +51,56 @@ pub(crate) struct StripWriter<'a, I: Slot<u32>> {
     pub(crate) first: bool,
     /// The last index written (for degenerate joins).
     pub(crate) last: u32,
-    /// The body of a tube between rings of `tube_ring` vertices: index k is
-    /// `top + tube_body[k] + (bottom − top) & tube_mask[k]` (the mask all ones for the
-    /// bottom ring), so a tube's indices are one add and one masked add each, with no
-    /// branch. Offsets and masks are kept apart so the loop runs in vector lanes.
-    tube_body: Vec<u32>,
-    tube_mask: Vec<u32>,
+    /// The body of a tube between rings of `tube_ring` vertices (see [`Template`]).
+    tube: Template,
+    /// A strip's tube with a bottom ring of its own, as two strips: the first quad, then
+    /// the rest ([`tube_fresh`](Self::tube_fresh)), one after the other.
+    fresh: Template,
     tube_ring: u32,
+}
+
+/// Indices of a tube between a top and a bottom ring, relative to them: index k is
+/// `top + body[k] + (bottom − top) & mask[k]` (the mask all ones for the bottom ring), so
+/// a tube's indices are one add and one masked add each, with no branch. Offsets and masks
+/// are kept apart so the loop runs in vector lanes.
+#[derive(Default)]
+struct Template {
+    body: Vec<u32>,
+    mask: Vec<u32>,
+}
+
+/// Ring offset of the top ring and of the bottom ring in a [`Template`]'s order.
+const T: u32 = 0;
+const B: u32 = u32::MAX;
+
+impl Template {
+    fn of(order: impl IntoIterator<Item = (u32, u32)>) -> Self {
+        let (body, mask) = order.into_iter().unzip();
+        Template { body, mask }
+    }
+
+    /// Writes indices `range` of the template for rings `top` and `bottom` at `out`'s
+    /// start, returning the last one (`last` when the range is empty).
+    #[inline(always)]
+    fn put<I: Slot<u32>>(
+        &self,
+        range: std::ops::Range<usize>,
+        top: u32,
+        bottom: u32,
+        out: &mut [I],
+        last: u32,
+    ) -> u32 {
+        let (body, mask) = (&self.body[range.clone()], &self.mask[range]);
+        let diff = bottom.wrapping_sub(top);
+        let index = |offset: u32, mask: u32| top.wrapping_add(offset).wrapping_add(diff & mask);
+        for ((slot, &offset), &mask) in out[..body.len()].iter_mut().zip(body).zip(mask) {
+            slot.put(index(offset, mask));
+        }
+        match (body.last(), mask.last()) {
+            (Some(&offset), Some(&mask)) => index(offset, mask),
+            _ => last,
+        }
+    }
 }
 
 impl<'a, I: Slot<u32>> StripWriter<'a, I> {
@@ -69,8 +112,8 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             rules,
             first,
             last: 0,
-            tube_body: Vec::new(),
-            tube_mask: Vec::new(),
+            tube: Template::default(),
+            fresh: Template::default(),
             tube_ring: 0,
         }
     }
@@ -93,11 +136,11 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// top ring is still there for the next tube.
     fn tube_template(&mut self, ring: u32) {
         self.tube_ring = ring;
-        const T: u32 = 0;
-        const B: u32 = u32::MAX;
         if self.rules.topology != Topology::TriangleList {
-            let order: Vec<(u32, u32)> = (0..ring).rev().flat_map(|j| [(j, B), (j, T)]).collect();
-            (self.tube_body, self.tube_mask) = order.into_iter().unzip();
+            self.tube = Template::of((0..ring).rev().flat_map(|j| [(j, B), (j, T)]));
+            let first_quad = [(0, T), (0, B), (1, T), (1, B)];
+            let rest = (1..ring).rev().flat_map(|j| [(j, B), (j, T)]);
+            self.fresh = Template::of(first_quad.into_iter().chain(rest));
             return;
         }
         let m = ring - 2;
@@ -115,7 +158,7 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
             order.push(quad_b(j));
             order.push(quad_a(j));
         }
-        (self.tube_body, self.tube_mask) = order.into_iter().flatten().unzip();
+        self.tube = Template::of(order.into_iter().flatten());
     }
 
     #[inline(always)]
@@ -132,18 +175,15 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// [`strip`](Self::strip) of that order, without building it.
     #[inline(always)]
     pub(crate) fn tube(&mut self, top: u32, bottom: u32, ring: u32, fresh: bool) {
+        if ring != self.tube_ring {
+            self.tube_template(ring);
+        }
         if self.rules.topology == Topology::TriangleList {
-            if ring != self.tube_ring {
-                self.tube_template(ring);
-            }
             self.first = false;
             return self.tube_body(top, bottom);
         }
         if fresh {
             return self.tube_fresh(top, bottom, ring);
-        }
-        if ring != self.tube_ring {
-            self.tube_template(ring);
         }
         self.open_strip(bottom + ring - 1);
         self.tube_body(top, bottom);
@@ -156,32 +196,26 @@ impl<'a, I: Slot<u32>> StripWriter<'a, I> {
     /// top ring's vertices among its first, and a cache of 16 would let them go before the
     /// next tube reads them; so split, the top ring is made late and in the order the next
     /// tube reads it.
+    #[inline(always)]
     fn tube_fresh(&mut self, top: u32, bottom: u32, ring: u32) {
-        self.strip(&[top, bottom, top + 1, bottom + 1]);
-        let mut rest = [0u32; 2 * super::MAX_RADIAL_SEGMENTS as usize];
-        let rest = &mut rest[..2 * (ring as usize - 1)];
-        for (k, j) in (1..ring).rev().enumerate() {
-            rest[2 * k] = bottom + j;
-            rest[2 * k + 1] = top + j;
+        let n = self.fresh.body.len();
+        for (range, opening) in [(0..4, top), (4..n, bottom + ring - 1)] {
+            let len = range.len();
+            self.open_strip(opening);
+            let out = &mut self.out[self.pos..self.pos + len];
+            self.last = self.fresh.put(range, top, bottom, out, self.last);
+            self.pos += len;
+            self.close_strip(len);
         }
-        self.strip(rest);
     }
 
     /// Writes the body of a tube from the template made for its ring.
     #[inline(always)]
     fn tube_body(&mut self, top: u32, bottom: u32) {
-        let (body, mask) = (&self.tube_body, &self.tube_mask);
-        let n = body.len();
-        let diff = bottom.wrapping_sub(top);
+        let n = self.tube.body.len();
         let out = &mut self.out[self.pos..self.pos + n];
-        let index = |offset: u32, mask: u32| top.wrapping_add(offset).wrapping_add(diff & mask);
-        for ((slot, &offset), &mask) in out.iter_mut().zip(body).zip(mask) {
-            slot.put(index(offset, mask));
-        }
+        self.last = self.tube.put(0..n, top, bottom, out, self.last);
         self.pos += n;
-        if let (Some(&offset), Some(&mask)) = (body.last(), mask.last()) {
-            self.last = index(offset, mask);
-        }
     }
 
     /// Writes one strip (front faces counter-clockwise in OpenGL's strip order).
