@@ -2,8 +2,10 @@
 //! grow the 1996 tree (a, n = 20 by default), then size and write its mesh into buffers
 //! touched beforehand, `REPS` times, printing the time of the plan (the size call) and of
 //! the write: `cargo run --release --example profile_first_write -- [LETTER] [N] [THREADS]
-//! [REPS]`.
-use arbor::mesh::{MeshOptions, MeshPlan, Topology, Vertex};
+//! [REPS] [compact]` (`compact`: 20-byte compact vertices instead of the 32-byte ones).
+use arbor::mesh::{
+    MeshOptions, MeshPlan, Topology, Vertex, VertexCompact, VertexFormat, VertexSlot,
+};
 use std::time::{Duration, Instant};
 
 fn main() {
@@ -13,8 +15,12 @@ fn main() {
     p.steps = args.get(2).map_or(20, |s| s.parse().unwrap());
     let threads = args.get(3).map_or(0, |s| s.parse().unwrap());
     let reps: u32 = args.get(4).map_or(5, |s| s.parse().unwrap());
+    let compact = args.get(5).is_some_and(|s| s == "compact");
     let mut o = MeshOptions::default();
     o.threads = threads;
+    if compact {
+        o.vertex_format = VertexFormat::Compact;
+    }
     o.topology = if letter == 'a' {
         Topology::TriangleList
     } else {
@@ -27,13 +33,29 @@ fn main() {
         normal: [1.0; 3],
         uv: [1.0; 2],
     };
-    let mut v = vec![one; size.vertices];
+    if compact {
+        let v = vec![VertexCompact::encode(&one, 1.0); size.vertices];
+        run(&p, &o, v, reps);
+    } else {
+        run(&p, &o, vec![one; size.vertices], reps);
+    }
+}
+
+/// Sizes and writes fresh trees of `p` into `v` (and touched indices), `reps` times.
+fn run<V: VertexSlot>(
+    p: &arbor::models::honda::HondaParams,
+    o: &MeshOptions,
+    mut v: Vec<V>,
+    reps: u32,
+) {
+    let s = arbor::models::honda::build(p).unwrap();
+    let size = MeshPlan::new(&s, o).unwrap().size();
     let mut i = vec![0x0101_0101u32; size.indices];
     let (mut plan_t, mut write_t) = (Duration::MAX, Duration::MAX);
     for _ in 0..reps {
-        let fresh = arbor::models::honda::build(&p).unwrap();
+        let fresh = arbor::models::honda::build(p).unwrap();
         let t = Instant::now();
-        let plan = MeshPlan::new(&fresh, &o).unwrap();
+        let plan = MeshPlan::new(&fresh, o).unwrap();
         let t1 = t.elapsed();
         let t = Instant::now();
         plan.write(&fresh, &mut v, &mut i).unwrap();
