@@ -7,7 +7,7 @@
 //! is written, with no second pass over the mesh: a ring four vertices at a time, in
 //! vector lanes ([`encode_lanes`]), anything else one by one.
 
-use super::rings::{Affine, Slot};
+use super::rings::{Affine, Circle, Slot};
 use super::{Vertex, VertexFormat};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec4;
@@ -88,13 +88,19 @@ impl VertexCompact {
         let (ox, oy) = if z < 0.0 { (fx, fy) } else { (px, py) };
         // Rounded to nearest (ties to even) as the four-lane path does.
         let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 32767.0 + SNORM_MAGIC).to_bits() as u16 as i16;
-        let unorm = |c: f32| (c.clamp(0.0, 1.0) * 65535.0 + UNORM_MAGIC).to_bits() as u16;
         VertexCompact {
             position: vertex.position,
             normal: [snorm(ox), snorm(oy)],
-            uv: vertex.uv.map(unorm),
+            uv: vertex.uv.map(unorm16),
         }
     }
+}
+
+/// A texture coordinate in [0, 1] as unorm16, rounded to nearest (ties to even) as the
+/// four-lane path does.
+#[inline(always)]
+fn unorm16(c: f32) -> u16 {
+    (c.clamp(0.0, 1.0) * 65535.0 + UNORM_MAGIC).to_bits() as u16
 }
 
 /// The smallest power of two at least `v_max` and at least 1: the compact format's
@@ -147,28 +153,37 @@ const SNORM_MAGIC: f32 = 12_582_912.0;
 /// Writes the ring `ring` as compact vertices, four at a time in lanes (position, normal and
 /// uv of four vertices, each component one vector), handing each to `store`. The
 /// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit length
-/// first: a mitred ring is written as its plain affine form.
+/// first: a mitred ring is written as its plain affine form. Positions and uv are those
+/// of the f32 writer bit for bit (the same terms summed in the same order).
 #[inline(always)]
 fn put_compact<S>(
     ring: &Affine,
     out: &mut [S],
-    table: &[(f32, f32, f32)],
+    table: &Circle,
     store: impl Fn(&mut S, VertexCompact),
 ) {
     let terms = ring.component_terms();
-    for (slots, chunk) in out.chunks_mut(4).zip(table.chunks(4)) {
-        let (mut c, mut s, mut u) = ([1.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
-        for (k, &(ck, sk, uk)) in chunk.iter().enumerate() {
-            (c[k], s[k], u[k]) = (ck, sk, uk);
-        }
-        let (c, s, u) = (Vec4::from(c), Vec4::from(s), Vec4::from(u));
+    let quads = table.quads.iter().zip(&table.u_quads);
+    // The seam (point 0 again with u = 1) is vertex 0 with u and v plus e's terms, as in
+    // `Affine::seam_of`.
+    let (body, seam) = table.body(out.len());
+    let mut first = None;
+    for (slots, (&[c, s], &u)) in out[..body].chunks_mut(4).zip(quads) {
+        // Only u and v have a term in u (a ring's e is zero elsewhere).
         let lanes: [Vec4; 8] = std::array::from_fn(|k| {
             let [a, b, d, e] = terms[k];
-            a + b * c + d * s + e * u
+            let x = a + b * c + d * s;
+            if k >= 6 { x + e * u } else { x }
         });
-        for (slot, e) in slots.iter_mut().zip(encode_lanes(&lanes)) {
+        let encoded = encode_lanes(&lanes);
+        first.get_or_insert((encoded[0], lanes[6].x, lanes[7].x));
+        for (slot, e) in slots.iter_mut().zip(encoded) {
             store(slot, e);
         }
+    }
+    if let (true, Some((v0, u, v))) = (seam, first) {
+        let uv = [unorm16(u + terms[6][3].x), unorm16(v + terms[7][3].x)];
+        store(&mut out[body], VertexCompact { uv, ..v0 });
     }
 }
 
@@ -179,7 +194,7 @@ impl Slot<Vertex> for VertexCompact {
     }
 
     #[inline(always)]
-    fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
+    fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
         put_compact(ring, out, table, |slot, e| *slot = e);
         true
     }
@@ -192,7 +207,7 @@ impl Slot<Vertex> for MaybeUninit<VertexCompact> {
     }
 
     #[inline(always)]
-    fn put_affine(out: &mut [Self], ring: &Affine, table: &[(f32, f32, f32)], _: bool) -> bool {
+    fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
         put_compact(ring, out, table, |slot, e| {
             slot.write(e);
         });

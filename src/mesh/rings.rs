@@ -6,14 +6,31 @@ use glam::{Vec3, Vec3A, Vec4};
 
 /// Unit circle per side count: (cos, sin, u) for j in 0..=segments, the seam repeated.
 /// It reads as that slice; beside it are the same values as the ring writers load them.
+/// Public in a private module, as [`Slot`] names it.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Circle {
+pub struct Circle {
     points: Vec<(f32, f32, f32)>,
     /// Per point, cos, sin and u each splatted over four lanes.
     splats: Vec<[Vec4; 3]>,
     /// Per four points, their cosines and sines in four lanes; lanes past the ring's end
     /// take (1, 0), a point of the circle.
-    quads: Vec<[Vec4; 2]>,
+    pub(crate) quads: Vec<[Vec4; 2]>,
+    /// Per four points, their u in four lanes (0 past the ring's end).
+    pub(crate) u_quads: Vec<Vec4>,
+}
+
+impl Circle {
+    /// How many of `n` vertices of a ring on this circle are worked out (the rest is the
+    /// seam), and whether the last is the seam: a ring of every point repeats point 0 at
+    /// its end with u = 1, which [`Affine::seam_of`] makes from vertex 0.
+    #[inline(always)]
+    pub(crate) fn body(&self, n: usize) -> (usize, bool) {
+        if n == self.points.len() && n > 1 {
+            (n - 1, true)
+        } else {
+            (n, false)
+        }
+    }
 }
 
 impl std::ops::Deref for Circle {
@@ -45,10 +62,21 @@ pub(crate) fn circle(segments: usize) -> Circle {
             [Vec4::from_array(c), Vec4::from_array(s)]
         })
         .collect();
+    let u_quads = points
+        .chunks(4)
+        .map(|chunk| {
+            let mut u = [0.0f32; 4];
+            for (k, &(_, _, uk)) in chunk.iter().enumerate() {
+                u[k] = uk;
+            }
+            Vec4::from_array(u)
+        })
+        .collect();
     Circle {
         points,
         splats,
         quads,
+        u_quads,
     }
 }
 
@@ -185,12 +213,7 @@ pub trait Slot<T> {
     /// own way and returns true, or returns false to have it written vertex by vertex. A
     /// format that encodes (compact vertices) writes four at a time.
     #[inline(always)]
-    fn put_affine(
-        _out: &mut [Self],
-        _ring: &Affine,
-        _table: &[(f32, f32, f32)],
-        _normalized: bool,
-    ) -> bool
+    fn put_affine(_out: &mut [Self], _ring: &Affine, _table: &Circle, _normalized: bool) -> bool
     where
         Self: Sized,
     {
@@ -270,6 +293,19 @@ impl Affine {
         }
     }
 
+    /// The seam's vertex (the circle's point 0 again, with u = 1) from vertex 0's lanes as
+    /// written: u and v gain e's terms, the rest is the same. Bit for bit what [`at`]
+    /// gives for the seam: `x + e·0` is x (or +0 for −0), and adding e after it gives
+    /// `x + e`; the normal's lanes of e are zero, so a normalised ring's scale does not
+    /// change this.
+    ///
+    /// [`at`]: Self::at
+    #[inline(always)]
+    pub(crate) fn seam_of(&self, [lo, hi]: [Vec4; 2]) -> [Vec4; 2] {
+        let e = self.e[1];
+        [lo, Vec4::new(hi.x, hi.y, hi.z + e.z, hi.w + e.w)]
+    }
+
     /// Writes the ring with each normal scaled to unit length: the mitred ring, whose
     /// normal `na + c·nb + s·nd` is affine in the circle only before normalising. The
     /// inverse lengths are computed four vertices at a time, one vector square root and
@@ -307,23 +343,27 @@ impl Affine {
         };
         let put = |slot: &mut V, splat: &[Vec4; 3], k: f32| {
             let [lo, hi] = self.at(splat);
-            slot.put(vertex([
+            let v = [
                 lo * Vec4::new(1.0, 1.0, 1.0, k),
                 hi * Vec4::new(k, k, 1.0, 1.0),
-            ]));
+            ];
+            slot.put(vertex(v));
+            v
         };
         // Four vertices at a time: their inverse normal lengths in one vector, then the
-        // vertices themselves; the last, partial four after.
-        let n = out.len();
+        // vertices themselves; the last, partial four after; then the seam.
+        let (n, seam) = table.body(out.len());
         let (splats, quads) = (&table.splats[..n], &table.quads[..n.div_ceil(4)]);
-        let (full, rest) = out.split_at_mut(n / 4 * 4);
+        let (full, rest) = out[..n].split_at_mut(n / 4 * 4);
+        let mut first = None;
         for ((slots, chunk), &quad) in full
             .chunks_exact_mut(4)
             .zip(splats.chunks_exact(4))
             .zip(quads)
         {
             let inv = inverse_lengths(quad);
-            put(&mut slots[0], &chunk[0], inv.x);
+            let v0 = put(&mut slots[0], &chunk[0], inv.x);
+            first.get_or_insert(v0);
             put(&mut slots[1], &chunk[1], inv.y);
             put(&mut slots[2], &chunk[2], inv.z);
             put(&mut slots[3], &chunk[3], inv.w);
@@ -331,8 +371,12 @@ impl Affine {
         if let Some(&quad) = quads.get(n / 4) {
             let inv = inverse_lengths(quad).to_array();
             for ((slot, splat), &k) in rest.iter_mut().zip(&splats[n / 4 * 4..]).zip(&inv) {
-                put(slot, splat, k);
+                let v = put(slot, splat, k);
+                first.get_or_insert(v);
             }
+        }
+        if let (true, Some(v0)) = (seam, first) {
+            out[n].put(vertex(self.seam_of(v0)));
         }
     }
 
