@@ -318,7 +318,8 @@ impl Affine {
         }
         // |na + c nb + s nd|² = aa + 2c ab + 2s ad + c² bb + 2cs bd + s² dd, the dot
         // products three at a time: lane k of `x` is the x of term k's normal (na, nb, nd)
-        // and `x1` its neighbour's, summed in the order of a scalar dot product.
+        // and of `next(x)` its neighbour's (nb, nd, na), summed in the order of a scalar
+        // dot product.
         let (a, b, d) = (self.a, self.b, self.d);
         let x = Vec4::new(a[0].w, b[0].w, d[0].w, 0.0);
         let y = Vec4::new(a[1].x, b[1].x, d[1].x, 0.0);
