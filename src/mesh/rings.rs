@@ -410,7 +410,92 @@ fn vertex([lo, hi]: [Vec4; 2]) -> Vertex {
 
 #[cfg(test)]
 mod tests {
-    use super::AxisMap;
+    use super::{Affine, AxisMap, Circle, Vertex, circle, vertex};
+    use glam::{Vec3A, Vec4};
+
+    /// Rings of random terms, some with −0, as cones (the f32 writer's e: u along the
+    /// ring), as caps (e zero) and with any texture term in u.
+    fn rings(seed: u64) -> Vec<Affine> {
+        let mut rng = crate::rng::Rng::new(seed);
+        let mut x = move || {
+            let r = rng.next_f64();
+            if r < 0.1 {
+                -0.0
+            } else {
+                (r * 4.0 - 2.0) as f32
+            }
+        };
+        (0..64)
+            .map(|k| {
+                let mut v = || Vec3A::new(x(), x(), x());
+                let (c, p, q, n, np, nq) = (v(), v(), v(), v(), v(), v());
+                let mut t = || [x(), x()];
+                let (uv, uv_p, uv_q) = (t(), t(), t());
+                let uv_u = match k % 3 {
+                    0 => [1.0, 0.0],
+                    1 => [0.0, -0.0],
+                    _ => t(),
+                };
+                Affine::new(c, p, q, n, np, nq, uv, uv_p, uv_q, uv_u)
+            })
+            .collect()
+    }
+
+    fn bits(v: &[Vertex]) -> Vec<[u32; 8]> {
+        v.iter()
+            .map(|v| bytemuck::cast::<Vertex, [f32; 8]>(*v).map(f32::to_bits))
+            .collect()
+    }
+
+    /// Every vertex of a ring worked out on its own, the seam too, normalised four at a
+    /// time as `put_normalized` does: what the seam's shortcut must equal bit for bit.
+    fn reference(ring: &Affine, table: &Circle, normalized: bool) -> Vec<Vertex> {
+        let n = table.len();
+        let mut out = Vec::with_capacity(n);
+        for (q, chunk) in table.splats.chunks(4).enumerate() {
+            let [c, s] = table.quads[q];
+            let nt = |t: &[Vec4; 2]| glam::Vec3::new(t[0].w, t[1].x, t[1].y);
+            let (na, nb, nd) = (nt(&ring.a), nt(&ring.b), nt(&ring.d));
+            let l2 = Vec4::splat(na.dot(na))
+                + c * Vec4::splat(2.0 * na.dot(nb))
+                + s * Vec4::splat(2.0 * na.dot(nd))
+                + c * c * Vec4::splat(nb.dot(nb))
+                + c * s * Vec4::splat(2.0 * nb.dot(nd))
+                + s * s * Vec4::splat(nd.dot(nd));
+            let inv = (Vec4::ONE / l2.sqrt()).to_array();
+            for (splat, &k) in chunk.iter().zip(&inv) {
+                let [lo, hi] = ring.at(splat);
+                out.push(if normalized {
+                    vertex([
+                        lo * Vec4::new(1.0, 1.0, 1.0, k),
+                        hi * Vec4::new(k, k, 1.0, 1.0),
+                    ])
+                } else {
+                    vertex([lo, hi])
+                });
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_rings_seam_made_from_its_first_vertex_is_the_seam_worked_out() {
+        for segments in [3, 4, 5, 7, 8, 12, 64] {
+            let table = circle(segments);
+            for (k, ring) in rings(segments as u64).iter().enumerate() {
+                let mut got = vec![Vertex::default(); segments + 1];
+                ring.put(&mut got, &table);
+                assert_eq!(bits(&got), bits(&reference(ring, &table, false)), "{k}");
+                // As a mitred ring (e's normal part is zero, as put_normalized asks).
+                ring.put_normalized(&mut got, &table);
+                let want = reference(ring, &table, true);
+                assert_eq!(bits(&got), bits(&want), "{segments} sides, ring {k}");
+                if k % 3 == 0 {
+                    assert_eq!(got[segments].uv[0], 1.0 + got[0].uv[0]);
+                }
+            }
+        }
+    }
 
     #[test]
     fn only_the_identity_says_it_is_one() {
