@@ -322,6 +322,44 @@ mod tests {
     }
 
     #[test]
+    fn a_fresh_tube_is_its_two_strips() {
+        for topology in Topology::ALL {
+            for clockwise in [false, true] {
+                let rules = StripRules {
+                    topology,
+                    clockwise,
+                };
+                for ring in [3u32, 4, 9, 65] {
+                    let (top, bottom) = (1000, 7);
+                    // What a fresh tube is: the first quad upwards, then the rest downwards
+                    // from the seam's far end, after a tube that is not fresh.
+                    let first_quad = [top, bottom, top + 1, bottom + 1];
+                    let rest: Vec<u32> = (1..ring)
+                        .rev()
+                        .flat_map(|j| [bottom + j, top + j])
+                        .collect();
+                    let n = rules.tube_count(ring as usize, true, false)
+                        + rules.tube_count(ring as usize, false, true);
+                    let (mut got, mut want) = (vec![0u32; n], vec![0u32; n]);
+                    let mut w = StripWriter::new(&mut got, rules, true);
+                    w.tube(top - 500, bottom, ring, false);
+                    w.tube(top, bottom, ring, true);
+                    assert_eq!(w.pos, n, "{rules:?}, ring {ring}: counted");
+                    let mut r = StripWriter::new(&mut want, rules, true);
+                    r.tube(top - 500, bottom, ring, false);
+                    if topology == Topology::TriangleList {
+                        r.tube(top, bottom, ring, false);
+                    } else {
+                        r.strip(&first_quad);
+                        r.strip(&rest);
+                    }
+                    assert_eq!(got, want, "{rules:?}, ring {ring}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn every_topology_and_winding_gives_the_same_triangles() {
         let strips: [&[u32]; 3] = [&[0, 1, 2, 3, 4], &[5, 6, 7], &[8, 9, 10, 11]];
         let want: Vec<[u32; 3]> = Triangles::new(
