@@ -164,8 +164,8 @@ fn put_compact<S>(
 ) {
     let terms = ring.component_terms();
     let quads = table.quads.iter().zip(&table.u_quads);
-    // The seam (point 0 again with u = 1) is vertex 0 with u and v plus e's terms, as in
-    // `Affine::seam_of`.
+    // The seam (point 0 again with u = 1) is vertex 0 with u and v plus e's terms
+    // (`Affine::seam_of`).
     let (body, seam) = table.body(out.len());
     let mut first = None;
     for (slots, (&[c, s], &u)) in out[..body].chunks_mut(4).zip(quads) {
@@ -182,7 +182,8 @@ fn put_compact<S>(
         }
     }
     if let (true, Some((v0, u, v))) = (seam, first) {
-        let uv = [unorm16(u + terms[6][3].x), unorm16(v + terms[7][3].x)];
+        let [_, hi] = ring.seam_of([Vec4::ZERO, Vec4::new(0.0, 0.0, u, v)]);
+        let uv = [unorm16(hi.z), unorm16(hi.w)];
         store(&mut out[body], VertexCompact { uv, ..v0 });
     }
 }
