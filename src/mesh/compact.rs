@@ -80,14 +80,14 @@ impl VertexCompact {
     fn from_scaled(vertex: Vertex) -> Self {
         let [x, y, z] = vertex.normal;
         let l1 = x.abs() + y.abs() + z.abs();
-        // A zero normal (none is written) would give NaN: it encodes as (0, 0) instead.
-        let inv = if l1 > 0.0 { 1.0 / l1 } else { 0.0 };
+        // A zero normal (none is written) encodes as (0, 0): zero times a finite inverse.
+        let inv = 1.0 / l1.max(f32::MIN_POSITIVE);
         let (px, py) = (x * inv, y * inv);
-        let signed = |m: f32, s: f32| if s < 0.0 { -m } else { m };
-        let (fx, fy) = (signed(1.0 - py.abs(), px), signed(1.0 - px.abs(), py));
+        let (fx, fy) = ((1.0 - py.abs()).copysign(px), (1.0 - px.abs()).copysign(py));
         let (ox, oy) = if z < 0.0 { (fx, fy) } else { (px, py) };
-        // Rounded to nearest (ties to even) as the four-lane path does.
-        let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 32767.0 + SNORM_MAGIC).to_bits() as u16 as i16;
+        // Rounded to nearest (ties to even) as the four-lane path does; |ox| and |oy| are
+        // at most 1 but for rounding, which the rounding to an integer absorbs.
+        let snorm = |c: f32| (c * 32767.0 + SNORM_MAGIC).to_bits() as u16 as i16;
         VertexCompact {
             position: vertex.position,
             normal: [snorm(ox), snorm(oy)],
@@ -121,20 +121,78 @@ pub(crate) fn v_scale_for(v_max: f32) -> f32 {
 pub(crate) fn encode_lanes(l: &[Vec4; 8]) -> [VertexCompact; 4] {
     let [px, py, pz, x, y, z, u, v] = *l;
     let l1 = x.abs() + y.abs() + z.abs();
-    let inv = Vec4::select(l1.cmpgt(Vec4::ZERO), Vec4::ONE / l1, Vec4::ZERO);
+    let inv = Vec4::ONE / l1.max(Vec4::splat(f32::MIN_POSITIVE));
     let (qx, qy) = (x * inv, y * inv);
-    let signed = |m: Vec4, s: Vec4| Vec4::select(s.cmplt(Vec4::ZERO), -m, m);
     let (fx, fy) = (
-        signed(Vec4::ONE - qy.abs(), qx),
-        signed(Vec4::ONE - qx.abs(), qy),
+        (Vec4::ONE - qy.abs()).copysign(qx),
+        (Vec4::ONE - qx.abs()).copysign(qy),
     );
     let down = z.cmplt(Vec4::ZERO);
     let (ox, oy) = (Vec4::select(down, fx, qx), Vec4::select(down, fy, qy));
     // Each lane's 16-bit value in the low bits of a float's mantissa (see UNORM_MAGIC).
+    let snorm = |c: Vec4| c * 32767.0 + SNORM_MAGIC;
+    let unorm = |c: Vec4| c.clamp(Vec4::ZERO, Vec4::ONE) * 65535.0 + UNORM_MAGIC;
+    interleave([px, py, pz], [snorm(ox), snorm(oy)], [unorm(u), unorm(v)])
+}
+
+/// Four compact vertices from their lanes: positions, and the normal's and uv's two
+/// 16-bit values each in the low bits of a float (see [`UNORM_MAGIC`]). With SSE2 (every
+/// x86-64) the two values are packed into one 32-bit lane, and the five lanes are
+/// transposed in registers into the 80 bytes of the four vertices (four unpacks, four
+/// moves and eight shuffles), stored as five 16-byte vectors.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn interleave(
+    [px, py, pz]: [Vec4; 3],
+    [nx, ny]: [Vec4; 2],
+    [tu, tv]: [Vec4; 2],
+) -> [VertexCompact; 4] {
+    use safe_arch::{
+        bitand_m128i, bitor_m128i, cast_to_m128_from_m128i, cast_to_m128i_from_m128, m128, m128i,
+        move_high_low_m128 as hl, move_low_high_m128 as lh, shl_imm_u32_m128i,
+        shuffle_abi_f32_all_m128 as shuf, unpack_high_m128, unpack_low_m128,
+    };
+    let m = |v: Vec4| m128(v.into());
+    let low = m128i::from([0xffff_i32; 4]);
+    let pack = |lo: Vec4, hi: Vec4| {
+        let (lo, hi) = (
+            cast_to_m128i_from_m128(m(lo)),
+            cast_to_m128i_from_m128(m(hi)),
+        );
+        cast_to_m128_from_m128i(bitor_m128i(
+            bitand_m128i(lo, low),
+            shl_imm_u32_m128i::<16>(hi),
+        ))
+    };
+    let (n, uv) = (pack(nx, ny), pack(tu, tv));
+    let (px, py, pz) = (m(px), m(py), m(pz));
+    // Each vertex's first 16 bytes (x, y, z, normal): a 4 x 4 transpose.
+    let (t0, t1) = (unpack_low_m128(px, py), unpack_low_m128(pz, n));
+    let (t2, t3) = (unpack_high_m128(px, py), unpack_high_m128(pz, n));
+    let (r0, r1, r2, r3) = (lh(t0, t1), hl(t1, t0), lh(t2, t3), hl(t3, t2));
+    // shufps: lanes i and j of its first operand, then k and l of its second.
+    const fn pick(i: i32, j: i32, k: i32, l: i32) -> i32 {
+        i | (j << 2) | (k << 4) | (l << 6)
+    }
+    // Each vertex's uv after its first 16 bytes: the 80 bytes as five vectors.
+    let w1 = shuf::<{ pick(0, 1, 1, 2) }>(unpack_low_m128(uv, r1), r1);
+    let w2 = shuf::<{ pick(0, 2, 0, 1) }>(shuf::<{ pick(3, 3, 1, 1) }>(r1, uv), r2);
+    let w3 = shuf::<{ pick(2, 3, 0, 2) }>(r2, shuf::<{ pick(2, 2, 0, 0) }>(uv, r3));
+    let w4 = shuf::<{ pick(1, 2, 0, 2) }>(r3, shuf::<{ pick(3, 3, 3, 3) }>(r3, uv));
+    bytemuck::cast([r0, w1, w2, w3, w4])
+}
+
+/// [`interleave`] lane by lane: where SSE2 is not there, and as the reference the SSE2
+/// form is tested against.
+#[cfg_attr(target_arch = "x86_64", cfg_attr(not(test), allow(dead_code)))]
+#[inline(always)]
+fn interleave_lanes(
+    [px, py, pz]: [Vec4; 3],
+    [nx, ny]: [Vec4; 2],
+    [tu, tv]: [Vec4; 2],
+) -> [VertexCompact; 4] {
     let bits = |c: Vec4| c.to_array().map(f32::to_bits);
-    let snorm = |c: Vec4| bits(c.clamp(Vec4::NEG_ONE, Vec4::ONE) * 32767.0 + SNORM_MAGIC);
-    let unorm = |c: Vec4| bits(c.clamp(Vec4::ZERO, Vec4::ONE) * 65535.0 + UNORM_MAGIC);
-    let (nx, ny, tu, tv) = (snorm(ox), snorm(oy), unorm(u), unorm(v));
+    let (nx, ny, tu, tv) = (bits(nx), bits(ny), bits(tu), bits(tv));
     let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
     std::array::from_fn(|k| VertexCompact {
         position: [px[k], py[k], pz[k]],
@@ -142,6 +200,9 @@ pub(crate) fn encode_lanes(l: &[Vec4; 8]) -> [VertexCompact; 4] {
         uv: [tu[k] as u16, tv[k] as u16],
     })
 }
+
+#[cfg(not(target_arch = "x86_64"))]
+use interleave_lanes as interleave;
 
 /// Adding 2^23 to a float in [0, 2^16) leaves the nearest integer (ties to even) in the
 /// low bits of its mantissa; so no float-to-integer conversion is needed, which is a
@@ -151,7 +212,8 @@ const UNORM_MAGIC: f32 = 8_388_608.0;
 const SNORM_MAGIC: f32 = 12_582_912.0;
 
 /// Writes the ring `ring` as compact vertices, four at a time in lanes (position, normal and
-/// uv of four vertices, each component one vector), handing each to `store`. The
+/// uv of four vertices, each component one vector), handing each four to `store4` (and
+/// each vertex of a last, partial four and the seam to `store`). The
 /// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit length
 /// first: a mitred ring is written as its plain affine form. Positions and uv are those
 /// of the f32 writer bit for bit (the same terms summed in the same order).
@@ -161,6 +223,7 @@ fn put_compact<S>(
     out: &mut [S],
     table: &Circle,
     store: impl Fn(&mut S, VertexCompact),
+    store4: impl Fn(&mut [S; 4], [VertexCompact; 4]),
 ) {
     let terms = ring.component_terms();
     let quads = table.quads.iter().zip(&table.u_quads);
@@ -176,9 +239,13 @@ fn put_compact<S>(
             if k >= 6 { x + e * u } else { x }
         });
         let encoded = encode_lanes(&lanes);
-        first.get_or_insert((encoded[0], lanes[6].x, lanes[7].x));
-        for (slot, e) in slots.iter_mut().zip(encoded) {
-            store(slot, e);
+        first.get_or_insert_with(|| (encoded[0], lanes[6].x, lanes[7].x));
+        if let Ok(four) = <&mut [S; 4]>::try_from(&mut *slots) {
+            store4(four, encoded);
+        } else {
+            for (slot, e) in slots.iter_mut().zip(encoded) {
+                store(slot, e);
+            }
         }
     }
     if let (true, Some((v0, u, v))) = (seam, first) {
@@ -196,7 +263,7 @@ impl Slot<Vertex> for VertexCompact {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
-        put_compact(ring, out, table, |slot, e| *slot = e);
+        put_compact(ring, out, table, |slot, e| *slot = e, |four, e| *four = e);
         true
     }
 }
@@ -209,9 +276,15 @@ impl Slot<Vertex> for MaybeUninit<VertexCompact> {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
-        put_compact(ring, out, table, |slot, e| {
-            slot.write(e);
-        });
+        put_compact(
+            ring,
+            out,
+            table,
+            |slot, e| {
+                slot.write(e);
+            },
+            |four, e| *four = e.map(MaybeUninit::new),
+        );
         true
     }
 }
@@ -261,6 +334,53 @@ mod tests {
         }
         assert_eq!(v_scale_for(512.0), 512.0);
         assert_eq!(v_scale_for(f32::NAN), 1.0);
+    }
+
+    /// Random lanes: positions, normals with zeros of either sign, zero normals and
+    /// normals below the horizon, texture coordinates past [0, 1].
+    fn random_lanes(rng: &mut crate::rng::Rng) -> [Vec4; 8] {
+        let mut x = || {
+            let r = rng.next_f64() as f32;
+            match (r * 16.0) as u32 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => 1.0,
+                3 => -1.0,
+                _ => r * 4.0 - 2.0,
+            }
+        };
+        std::array::from_fn(|_| Vec4::new(x(), x(), x(), x()))
+    }
+
+    #[test]
+    fn four_lanes_encode_as_four_single_vertices() {
+        let mut rng = crate::rng::Rng::new(31);
+        for _ in 0..20_000 {
+            let l = random_lanes(&mut rng);
+            let lanes = encode_lanes(&l);
+            for (k, got) in lanes.iter().enumerate() {
+                let c = |j: usize| l[j][k];
+                let one = VertexCompact::from_scaled(Vertex {
+                    position: [c(0), c(1), c(2)],
+                    normal: [c(3), c(4), c(5)],
+                    uv: [c(6), c(7)],
+                });
+                assert_eq!(*got, one, "lane {k} of {l:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_interleave_in_registers_is_the_one_lane_by_lane() {
+        let mut rng = crate::rng::Rng::new(32);
+        for _ in 0..1_000 {
+            let [a, b, c, d, e, f, g, _] = random_lanes(&mut rng);
+            // Any bits in the 16-bit fields' floats: only their low halves are kept.
+            assert_eq!(
+                interleave([a, b, c], [d, e], [f, g]),
+                interleave_lanes([a, b, c], [d, e], [f, g])
+            );
+        }
     }
 
     #[test]
