@@ -270,6 +270,10 @@ mod tests {
         let id = |name: &str| ls.symbols.names.iter().position(|n| n == name).unwrap() as u16;
         let (a, b) = (id("A"), id("B"));
         let mut rng = Rng::new(11);
+        // One table for every string, as a derivation keeps it: a string after one that
+        // needed the next-kept table makes it while its brackets are paired.
+        let mut links = Links::default();
+        let mut made_in_build = 0;
         for _ in 0..500 {
             // Long runs of B too, past the short scan.
             let n = (rng.next_u64() % 80) as usize;
@@ -287,8 +291,8 @@ mod tests {
                 syms: syms.clone(),
                 ..Default::default()
             };
-            let mut links = Links::default();
             links.build(&ls, &s);
+            made_in_build += usize::from(links.table_ready());
             let mut forward = Vec::new();
             super::super::rewrite::brackets(&s, &mut forward);
             assert_eq!(links.partner, forward, "{syms:?}");
@@ -299,6 +303,10 @@ mod tests {
                 assert_eq!(links.next_kept(&ls, &s, j), next, "{syms:?} at {j}");
             }
         }
+        assert!(
+            made_in_build > 50,
+            "the table was made in build {made_in_build} times"
+        );
     }
 
     #[test]

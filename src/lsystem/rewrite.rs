@@ -16,7 +16,9 @@ use crate::progress::Stage;
 /// module not skipped by `ignore:`/`consider:` is found by a short scan, and by a table of
 /// the whole string, built at most once a step, when a run of skipped modules is long
 /// (each module of a long run asking would make the step quadratic) or the scans have
-/// read more than a quarter of the string.
+/// read more than a quarter of the string. A step after one that needed the table makes
+/// it in the same pass from the right (the strings of one derivation are alike from step
+/// to step).
 #[derive(Default)]
 pub(crate) struct Links {
     pub(crate) partner: Vec<u32>,
@@ -44,7 +46,6 @@ impl Links {
         if rest {
             self.close.resize(n + 1, u32::MAX);
         }
-        self.next_built.set(false);
         self.scanned.set(0);
         // From the right, a `[` takes the nearest `]` not yet taken: the pairs a forward
         // scan with a stack of `[`s makes, balanced or not.
@@ -65,6 +66,33 @@ impl Links {
                 self.close[j] = self.unmatched.last().copied().unwrap_or(u32::MAX);
             }
         }
+        // The last string (of this derivation) needed the next-kept table: this one is
+        // likely to, and it costs least made at once, before any scan.
+        if self.next_built.get() {
+            self.fill_next(ls, s);
+        }
+    }
+
+    /// Makes the next-kept table of `s`.
+    fn fill_next(&self, ls: &LSystem, s: &ModuleString) {
+        let n = s.len();
+        let mut next = self.next.borrow_mut();
+        next.clear();
+        next.resize(n + 1, n as u32);
+        let mut after = n as u32;
+        for (j, (slot, &sym)) in next.iter_mut().zip(&s.syms).enumerate().rev() {
+            if kept(ls, sym) {
+                after = j as u32;
+            }
+            *slot = after;
+        }
+        self.next_built.set(true);
+    }
+
+    /// Whether the next-kept table of the string `build` read is made.
+    #[cfg(test)]
+    pub(crate) fn table_ready(&self) -> bool {
+        self.next_built.get()
     }
 
     /// The first module at or after `j` of `s` (the string `build` read; `s.len()` for
@@ -76,10 +104,7 @@ impl Links {
         if self.next_built.get() {
             return self.next.borrow()[j.min(n)] as usize;
         }
-        let kept = |k: usize| {
-            let sym = s.syms[k];
-            sym == PUSH || sym == POP || !ls.skip[sym as usize]
-        };
+        let kept = |k: usize| kept(ls, s.syms[k]);
         let start = j.min(n);
         let mut k = start;
         if self.scanned.get() <= n / 4 {
@@ -92,15 +117,16 @@ impl Links {
                 return k;
             }
         }
-        let mut next = self.next.borrow_mut();
-        next.clear();
-        next.resize(n + 1, n as u32);
-        for i in (0..n).rev() {
-            next[i] = if kept(i) { i as u32 } else { next[i + 1] };
-        }
-        self.next_built.set(true);
-        next[k] as usize
+        self.fill_next(ls, s);
+        self.next.borrow()[k] as usize
     }
+}
+
+/// Whether context matching reads module symbol `sym` (brackets always: they are the
+/// string's structure).
+#[inline(always)]
+fn kept(ls: &LSystem, sym: u16) -> bool {
+    sym == PUSH || sym == POP || !ls.skip[sym as usize]
 }
 
 /// For each bracket, the index of its partner (`u32::MAX` for none), by a forward scan:
