@@ -203,21 +203,22 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     let branches = skeleton.branches();
     let n = branches.len();
     let inner = o.curve_rings as usize;
-    // With two threads, the second faults in the frames' array (fresh memory costs a page
-    // fault per 4 KiB, about as much as the arithmetic) while this one makes the first pass.
+    // With two threads, the second faults in the second pass's arrays (fresh memory costs
+    // a page fault per 4 KiB, about as much as the arithmetic) while this one makes the
+    // first pass.
     let both = n >= PLAN_BRANCHES_PER_THREAD && plan_threads(o.threads) > 1;
-    let frame_p = both.then(|| {
-        std::thread::spawn(move || {
-            let mut frame_p = vec![Vec3::ZERO; n];
-            fault_in(&mut frame_p, Vec3::ZERO);
-            frame_p
-        })
-    });
+    let fresh = both.then(|| std::thread::spawn(move || SecondPass::faulted_in(n)));
     let sides = sides_and_continuations(branches, o);
     // Joined before any error is returned: no thread outlives the call.
-    let frame_p = match frame_p {
+    let SecondPass {
+        frame_p,
+        v_end,
+        mut flags,
+        mut first_vertex,
+        mut first_index,
+    } = match fresh {
         Some(h) => h.join().expect("faulting in memory does not panic"),
-        None => vec![Vec3::ZERO; n],
+        None => SecondPass::zeroed(n),
     };
     let (segs, cont) = sides?;
     // With a sweep, the joints' directions are the curves' tangents.
@@ -252,15 +253,13 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
         first_vertex: Vec::new(),
         first_index: Vec::new(),
         frame_p,
-        v_end: vec![0.0; n],
+        v_end,
         frame_end: if inner > 0 {
             vec![Vec3::ZERO; n]
         } else {
             Vec::new()
         },
     };
-    let mut flags = vec![0u8; n];
-    let (mut first_vertex, mut first_index) = (vec![0u32; n], vec![0u32; n]);
     let (nv, ni) = if inner == 0 {
         plan.straight_pass(
             skeleton,
@@ -290,6 +289,38 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     plan.flags = flags;
     plan.size = check_size(nv, ni, o)?;
     Ok((plan, l))
+}
+
+/// The arrays the plan's second pass fills, one element a branch, zero.
+struct SecondPass {
+    frame_p: Vec<Vec3>,
+    v_end: Vec<f32>,
+    flags: Vec<u8>,
+    first_vertex: Vec<u32>,
+    first_index: Vec<u32>,
+}
+
+impl SecondPass {
+    fn zeroed(n: usize) -> Self {
+        SecondPass {
+            frame_p: vec![Vec3::ZERO; n],
+            v_end: vec![0.0; n],
+            flags: vec![0; n],
+            first_vertex: vec![0; n],
+            first_index: vec![0; n],
+        }
+    }
+
+    /// [`zeroed`](Self::zeroed), every page touched (for a thread that has the time).
+    fn faulted_in(n: usize) -> Self {
+        let mut s = Self::zeroed(n);
+        fault_in(&mut s.frame_p, Vec3::ZERO);
+        fault_in(&mut s.v_end, 0.0);
+        fault_in(&mut s.flags, 0);
+        fault_in(&mut s.first_vertex, 0);
+        fault_in(&mut s.first_index, 0);
+        s
+    }
 }
 
 /// Writes `value` into one element of every 4 KiB of `v`: a fresh allocation's pages are
