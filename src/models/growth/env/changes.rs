@@ -177,14 +177,18 @@ pub(super) fn apply_layers(
 ) {
     let layer_cells = nx * nz;
     // Each change's column (x, z) and buds, found once; where each source layer's
-    // changes start.
+    // changes start, and the columns they span (min x, max x, min z, max z).
     let mut starts = vec![changes.len(); ny + 1];
+    let mut span = vec![[u32::MAX, 0, u32::MAX, 0]; ny];
     let mut at: Vec<(u32, u32, i32)> = Vec::with_capacity(changes.len());
     for (k, &(c, n)) in changes.iter().enumerate() {
         let c = c as usize;
         let (y, col) = (c / layer_cells, c % layer_cells);
+        let (x, z) = ((col % nx) as u32, (col / nx) as u32);
         starts[y] = starts[y].min(k);
-        at.push(((col % nx) as u32, (col / nx) as u32, n));
+        let b = &mut span[y];
+        *b = [b[0].min(x), b[1].max(x), b[2].min(z), b[3].max(z)];
+        at.push((x, z, n));
     }
     for y in (0..ny).rev() {
         starts[y] = starts[y].min(starts[y + 1]);
@@ -197,47 +201,55 @@ pub(super) fn apply_layers(
         diff.resize(w * (nz + 1), 0);
     }
     let mut colsum = vec![0i32; nx];
-    let (at, starts) = (&at[..], &starts[..]);
+    // A change's square in the layer q below it: the shadow it adds, and its bounds
+    // [x0, x1) × [z0, z1) clipped to the grid.
+    let square = |q: usize, f: i32, &(cx, cz, count): &(u32, u32, i32)| {
+        let (cx, cz) = (cx as usize, cz as usize);
+        let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
+        let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
+        (f.wrapping_mul(count), x, z)
+    };
+    let (at, starts, span) = (&at[..], &starts[..], &span[..]);
     for (i, layer) in layers.iter_mut().enumerate() {
         let t = first + i;
-        // The squares landing in layer t: (q, the shadow it adds, its clipped bounds
-        // [x0, x1) × [z0, z1)).
-        let squares = || {
+        // The squares landing in layer t: those of the changes q layers above it.
+        let sources = || {
             falloff
                 .iter()
                 .enumerate()
                 .take_while(move |&(q, _)| t + q < ny)
-                .flat_map(move |(q, &f)| {
-                    at[starts[t + q]..starts[t + q + 1]]
-                        .iter()
-                        .map(move |&(cx, cz, count)| {
-                            let (cx, cz) = (cx as usize, cz as usize);
-                            let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
-                            let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
-                            (q, f.wrapping_mul(count), x, z)
-                        })
-                })
+                .map(move |(q, &f)| (q, f, &at[starts[t + q]..starts[t + q + 1]]))
         };
-        // Their cost row by row (a square's rows are vector adds), and their bounds.
+        // Their cost row by row (a square's rows are vector adds), and their bounds: the
+        // union of the squares' clipped bounds, from each source layer's span.
         let (mut direct, mut n) = (0usize, 0usize);
         let (mut bx0, mut bx1, mut bz0, mut bz1) = (usize::MAX, 0, usize::MAX, 0);
-        for (q, _, (x0, x1), (z0, z1)) in squares() {
-            (bx0, bx1) = (bx0.min(x0), bx1.max(x1 - 1));
-            (bz0, bz1) = (bz0.min(z0), bz1.max(z1 - 1));
-            direct += 2 * (2 * q + 1);
-            n += 1;
+        for (q, _, here) in sources() {
+            if here.is_empty() {
+                continue;
+            }
+            let [x0, x1, z0, z1] = span[t + q].map(|v| v as usize);
+            (bx0, bx1) = (bx0.min(x0.saturating_sub(q)), bx1.max((x1 + q).min(nx - 1)));
+            (bz0, bz1) = (bz0.min(z0.saturating_sub(q)), bz1.max((z1 + q).min(nz - 1)));
+            direct += here.len() * 2 * (2 * q + 1);
+            n += here.len();
         }
         if n == 0 {
             continue;
         }
         let area = (bx1 - bx0 + 1) * (bz1 - bz0 + 1);
         if direct <= 4 * n + 3 * area {
-            for (_, v, x, z) in squares() {
-                add_rect(layer, x, z, nx, v);
+            for (q, f, here) in sources() {
+                for change in here {
+                    let (v, x, z) = square(q, f, change);
+                    add_rect(layer, x, z, nx, v);
+                }
             }
             continue;
         }
-        for (_, v, (x0, x1), (z0, z1)) in squares() {
+        for (v, (x0, x1), (z0, z1)) in
+            sources().flat_map(|(q, f, here)| here.iter().map(move |c| square(q, f, c)))
+        {
             let d = &mut diff[..];
             d[z0 * w + x0] = d[z0 * w + x0].wrapping_add(v);
             d[z0 * w + x1] = d[z0 * w + x1].wrapping_sub(v);
