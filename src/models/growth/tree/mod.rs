@@ -625,8 +625,15 @@ impl Tree {
         new_index.clear();
         new_index.resize(n - first, NO_PARENT);
         let nodes = &mut self.nodes;
+        // The side of internode `i`'s parent it grows on: 0 continues the axis.
+        let side = |nodes: &Nodes, i: usize, parent: u32| {
+            usize::from(parent != NO_PARENT && nodes.order[i] != nodes.order[parent as usize])
+        };
+        // First where each internode goes, in order (a shed one's buds' shadow goes, as
+        // it is met), and the parents' slots that shed roots leave empty; ...
         let mut roots = roots.iter().copied().peekable();
         let mut kept = first;
+        let mut emptied = Vec::new();
         for i in first..n {
             let p = nodes.parent[i];
             let parent = if p == NO_PARENT || (p as usize) < first {
@@ -635,29 +642,51 @@ impl Tree {
                 new_index[p as usize - first]
             };
             let root = roots.next_if_eq(&(i as u32)).is_some();
-            // The living parent is already at its new index (slots below `kept` are final).
-            let side =
-                usize::from(parent != NO_PARENT && nodes.order[i] != nodes.order[parent as usize]);
             if root || (p != NO_PARENT && parent == NO_PARENT) {
-                // Shed: its buds' shadow goes; a living parent keeps an empty slot.
                 let buds = buds(nodes.kids[i]);
                 if buds > 0 {
                     self.casts.extend(env.change(nodes.cell[i], -(buds as i32)));
                 }
                 if parent != NO_PARENT {
-                    nodes.kids[parent as usize][side] = GONE;
+                    emptied.push((parent, side(nodes, i, p)));
                 }
                 continue;
             }
             new_index[i - first] = kept as u32;
-            if kept != i {
-                nodes.move_to(i, kept);
-            }
-            nodes.parent[kept] = parent;
-            if parent != NO_PARENT {
-                nodes.kids[parent as usize][side] = kept as u32;
-            }
             kept += 1;
+        }
+        // ... then each run of kept internodes moved down at once, ...
+        let mut i = first;
+        while i < n {
+            let to = new_index[i - first];
+            if to == NO_PARENT {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            while i < n && new_index[i - first] != NO_PARENT {
+                i += 1;
+            }
+            if to as usize != start {
+                nodes.move_run(start..i, to as usize);
+            }
+        }
+        // ... and the links of the kept ones renumbered (their parents are in place).
+        for k in first..kept {
+            let p = nodes.parent[k];
+            let parent = if p == NO_PARENT || (p as usize) < first {
+                p
+            } else {
+                new_index[p as usize - first]
+            };
+            nodes.parent[k] = parent;
+            if parent != NO_PARENT {
+                let side = side(nodes, k, parent);
+                nodes.kids[parent as usize][side] = k as u32;
+            }
+        }
+        for (parent, side) in emptied {
+            nodes.kids[parent as usize][side] = GONE;
         }
         nodes.truncate(kept);
         self.shed += n - kept;

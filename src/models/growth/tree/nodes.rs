@@ -61,18 +61,18 @@ impl Nodes {
         self.along.push(n.along);
     }
 
-    /// Moves internode `from` to `to` (`to` ≤ `from`).
-    pub(super) fn move_to(&mut self, from: usize, to: usize) {
-        self.end[to] = self.end[from];
-        self.dir[to] = self.dir[from];
-        self.parent[to] = self.parent[from];
-        self.kids[to] = self.kids[from];
-        self.birth[to] = self.birth[from];
-        self.order[to] = self.order[from];
-        self.phyllo[to] = self.phyllo[from];
-        self.rn[to] = self.rn[from];
-        self.cell[to] = self.cell[from];
-        self.along[to] = self.along[from];
+    /// Moves internodes `from` to start at `to` (`to` ≤ `from.start`), every field.
+    pub(super) fn move_run(&mut self, from: std::ops::Range<usize>, to: usize) {
+        self.end.copy_within(from.clone(), to);
+        self.dir.copy_within(from.clone(), to);
+        self.parent.copy_within(from.clone(), to);
+        self.kids.copy_within(from.clone(), to);
+        self.birth.copy_within(from.clone(), to);
+        self.order.copy_within(from.clone(), to);
+        self.phyllo.copy_within(from.clone(), to);
+        self.rn.copy_within(from.clone(), to);
+        self.cell.copy_within(from.clone(), to);
+        self.along.copy_within(from, to);
     }
 
     /// Keeps the first `n` internodes; gives memory back when the arrays are mostly
