@@ -17,8 +17,8 @@ use crate::progress::Stage;
 /// the whole string, built at most once a step, when a run of skipped modules is long
 /// (each module of a long run asking would make the step quadratic) or the scans have
 /// read more than a quarter of the string. A step after one that needed the table makes
-/// it in the same pass from the right (the strings of one derivation are alike from step
-/// to step).
+/// it at once, right after pairing the brackets and before any scan (the strings of one
+/// derivation are alike from step to step).
 #[derive(Default)]
 pub(crate) struct Links {
     pub(crate) partner: Vec<u32>,
