@@ -64,6 +64,11 @@ pub(crate) trait Light {
     const ORDERED: bool;
     fn q(&self, ordinal: u32, word: Key) -> f32;
     fn v(&self, ordinal: u32, word: Key) -> Vec3;
+    /// Whether the buds' light is best read in a pass of its own before the basipetal
+    /// pass (a light of the cell only, from memory too large for the caches).
+    fn read_ahead(&self) -> bool {
+        false
+    }
 }
 
 /// The passes' working arrays, one set per thread and reused from cycle to cycle and tree
@@ -76,6 +81,9 @@ struct Scratch {
     split: Vec<[f32; 2]>,
     /// Internodes at and above each internode; the new indices while shedding.
     desc: Vec<u32>,
+    /// The light at each internode's buds, read before the basipetal pass (a light that
+    /// depends only on the bud's cell).
+    q: Vec<f32>,
     vig: Vec<f32>,
     dead: Vec<bool>,
     /// The buds that grow a shoot this cycle: (internode, 0 terminal / 1 lateral, vigour).
@@ -363,6 +371,19 @@ impl Tree {
                 ordinal += buds(kids);
             }
         }
+        let ahead = !L::ORDERED && light.read_ahead();
+        if ahead {
+            // The buds' light first, in a loop of independent reads of the shadow grid
+            // (a cache miss each in a forest), so more of them are under way at once.
+            s.q.clear();
+            s.q.extend(nodes.kids.iter().zip(&nodes.cell).map(|(&kids, &word)| {
+                if buds(kids) > 0 {
+                    light.q(0, word)
+                } else {
+                    0.0
+                }
+            }));
+        }
         // Basipetal, with the light of each bud: light above each internode, split into
         // main and lateral, and the number of internodes at and above each.
         s.split.clear();
@@ -383,7 +404,7 @@ impl Tree {
             for k in 0..2 {
                 pair[k] = match kids[k] {
                     BUD => {
-                        let q = light.q(bud, word);
+                        let q = if ahead { s.q[i] } else { light.q(bud, word) };
                         bud += 1;
                         q
                     }
@@ -781,6 +802,44 @@ mod tests {
         }
         nodes.truncate(kept);
         t.shed += n - kept;
+    }
+
+    /// The shadow light, with its buds read ahead or not.
+    struct Ahead<'a>(&'a Env, bool);
+
+    impl Light for Ahead<'_> {
+        const ORDERED: bool = false;
+        fn q(&self, _: u32, word: Key) -> f32 {
+            self.0.shadow_q(word)
+        }
+        fn v(&self, _: u32, word: Key) -> Vec3 {
+            self.0.shadow_v(word)
+        }
+        fn read_ahead(&self) -> bool {
+            self.1
+        }
+    }
+
+    /// Reading the buds' light in a pass of its own plans what reading it in the
+    /// basipetal pass plans, bit for bit, cycle after cycle of a growing tree.
+    #[test]
+    fn light_read_ahead_plans_the_same_cycle() {
+        let mut w = super::super::World::new(&super::super::WorldOptions::default()).unwrap();
+        w.plant(&GrowthParams::default(), [0.0, 0.0, 0.0], 1)
+            .unwrap();
+        let mut planned = 0;
+        for cycle in 1..=14 {
+            w.step(1).unwrap();
+            let mut a = w.trees[0].clone();
+            let mut b = w.trees[0].clone();
+            let pa = format!("{:?}", a.plan_cycle(&Ahead(&w.env, true), cycle + 1));
+            let pb = format!("{:?}", b.plan_cycle(&Ahead(&w.env, false), cycle + 1));
+            assert_eq!(pa, pb, "cycle {cycle}");
+            planned += a
+                .plan_cycle(&Ahead(&w.env, true), cycle + 1)
+                .new_internodes();
+        }
+        assert!(planned > 100, "only {planned} internodes planned");
     }
 
     /// Random trees (each internode on a free side of an earlier one, a lateral one order
