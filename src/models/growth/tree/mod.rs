@@ -832,12 +832,13 @@ mod tests {
             w.step(1).unwrap();
             let mut a = w.trees[0].clone();
             let mut b = w.trees[0].clone();
-            let pa = format!("{:?}", a.plan_cycle(&Ahead(&w.env, true), cycle + 1));
-            let pb = format!("{:?}", b.plan_cycle(&Ahead(&w.env, false), cycle + 1));
-            assert_eq!(pa, pb, "cycle {cycle}");
-            planned += a
-                .plan_cycle(&Ahead(&w.env, true), cycle + 1)
-                .new_internodes();
+            let (pa, pb) = (
+                a.plan_cycle(&Ahead(&w.env, true), cycle + 1),
+                b.plan_cycle(&Ahead(&w.env, false), cycle + 1),
+            );
+            // Debug prints each float's shortest exact form: equal text, equal bits.
+            assert_eq!(format!("{pa:?}"), format!("{pb:?}"), "cycle {cycle}");
+            planned += pa.new_internodes();
         }
         assert!(planned > 100, "only {planned} internodes planned");
     }
