@@ -1,5 +1,7 @@
 //! Shadow changes sorted by cell (a radix sort) and applied to the grid.
 
+use super::grid::Divisor;
+
 /// Sorts the shadow changes of `sources` (in that order) by storage index (`index` of
 /// their cell, below `cells`; those it gives none are left out) into `sorted`, stably
 /// (each cell's changes keep the order they were made in), through `scratch`: a
@@ -175,16 +177,15 @@ pub(super) fn apply_layers(
     first: usize,
     diff: &mut Vec<i32>,
 ) {
-    let layer_cells = nx * nz;
+    let (layer_cells, row) = (Divisor::new((nx * nz) as u32), Divisor::new(nx as u32));
     // Each change's column (x, z) and buds, found once; where each source layer's
     // changes start, and the columns they span (min x, max x, min z, max z).
     let mut starts = vec![changes.len(); ny + 1];
     let mut span = vec![[u32::MAX, 0, u32::MAX, 0]; ny];
     let mut at: Vec<(u32, u32, i32)> = Vec::with_capacity(changes.len());
     for (k, &(c, n)) in changes.iter().enumerate() {
-        let c = c as usize;
-        let (y, col) = (c / layer_cells, c % layer_cells);
-        let (x, z) = ((col % nx) as u32, (col / nx) as u32);
+        let (y, col) = (layer_cells.div(c) as usize, layer_cells.rem(c));
+        let (x, z) = (row.rem(col), row.div(col));
         starts[y] = starts[y].min(k);
         let b = &mut span[y];
         *b = [b[0].min(x), b[1].max(x), b[2].min(z), b[3].max(z)];

@@ -184,9 +184,12 @@ impl Grid {
 
     /// Counts sorted `changes` (storage index, buds) into the columns.
     pub(crate) fn count_columns(&mut self, changes: &[(u32, i32)]) {
-        let layer = self.dims[0] * self.dims[2];
+        if changes.is_empty() {
+            return;
+        }
+        let layer = Divisor::new((self.dims[0] * self.dims[2]) as u32);
         for &(c, n) in changes {
-            let col = &mut self.columns[c as usize % layer];
+            let col = &mut self.columns[layer.rem(c) as usize];
             *col = col.wrapping_add(n);
         }
     }
@@ -217,5 +220,45 @@ impl Grid {
             "a change at {c:?} outside the grid: cover it first"
         );
         i.map(|i| i as u32)
+    }
+}
+
+/// A fixed divisor of 32-bit storage indices, divided by with a multiplication instead
+/// of a division instruction (Lemire, Kaser & Kurz, "Faster remainder by direct
+/// computation", 2019): with `m = ceil(2^64 / d)`, `floor(a / d)` is the high 64 bits of
+/// `m · a` and `a mod d` the high 64 bits of `(m · a mod 2^64) · d`, exact for every
+/// 32-bit `a` and `d`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Divisor {
+    d: u32,
+    /// `ceil(2^64 / d)`; 0 for d = 1 (2^64 does not fit), which divides by itself.
+    m: u64,
+}
+
+impl Divisor {
+    /// Division by `d` (0 is taken as 1: a grid that stores no cell has no index to
+    /// divide).
+    pub(crate) fn new(d: u32) -> Self {
+        let d = d.max(1);
+        Divisor {
+            d,
+            m: (u64::MAX / d as u64).wrapping_add(1),
+        }
+    }
+
+    /// `a / d`.
+    #[inline(always)]
+    pub(crate) fn div(self, a: u32) -> u32 {
+        if self.m == 0 {
+            return a;
+        }
+        ((self.m as u128 * a as u128) >> 64) as u32
+    }
+
+    /// `a % d`.
+    #[inline(always)]
+    pub(crate) fn rem(self, a: u32) -> u32 {
+        let low = self.m.wrapping_mul(a as u64);
+        ((low as u128 * self.d as u128) >> 64) as u32
     }
 }

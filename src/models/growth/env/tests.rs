@@ -243,3 +243,21 @@ fn layers_get_the_same_shadow_either_way() {
         }
     }
 }
+
+#[test]
+fn divisors_divide_every_index_exactly() {
+    use grid::Divisor;
+    let mut rng = crate::rng::Rng::new(7);
+    let mut divisors: Vec<u32> = vec![1, 2, 3, 7, 33, 43 * 43, 65_535, 65_536, u32::MAX];
+    divisors.extend((0..200).map(|_| (rng.next_u64() as u32 >> (rng.next_u64() % 32)).max(1)));
+    for d in divisors {
+        let div = Divisor::new(d);
+        let mut values: Vec<u32> = vec![0, 1, d - 1, d, d.wrapping_add(1), u32::MAX, u32::MAX - 1];
+        values.extend((0..2_000).map(|_| rng.next_u64() as u32));
+        values.extend((0..200).map(|k| d.wrapping_mul(k).wrapping_sub(k % 2)));
+        for a in values {
+            assert_eq!(div.div(a), a / d, "{a} / {d}");
+            assert_eq!(div.rem(a), a % d, "{a} % {d}");
+        }
+    }
+}
