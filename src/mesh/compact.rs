@@ -99,7 +99,7 @@ impl VertexCompact {
 /// A texture coordinate in [0, 1] as unorm16, rounded to nearest (ties to even) as the
 /// four-lane path does.
 #[inline(always)]
-fn unorm16(c: f32) -> u16 {
+pub(crate) fn unorm16(c: f32) -> u16 {
     (c.clamp(0.0, 1.0) * 65535.0 + UNORM_MAGIC).to_bits() as u16
 }
 
@@ -120,6 +120,16 @@ pub(crate) fn v_scale_for(v_max: f32) -> f32 {
 #[inline(always)]
 pub(crate) fn encode_lanes(l: &[Vec4; 8]) -> [VertexCompact; 4] {
     let [px, py, pz, x, y, z, u, v] = *l;
+    interleave(
+        [px, py, pz],
+        octahedral([x, y, z]),
+        pack16(unorm(u), unorm(v)),
+    )
+}
+
+/// Four normals' octahedral snorm16 pairs, each pair in one 32-bit lane (x low).
+#[inline(always)]
+fn octahedral([x, y, z]: [Vec4; 3]) -> [u32; 4] {
     let l1 = x.abs() + y.abs() + z.abs();
     let inv = Vec4::ONE / l1.max(Vec4::splat(f32::MIN_POSITIVE));
     let (qx, qy) = (x * inv, y * inv);
@@ -131,40 +141,55 @@ pub(crate) fn encode_lanes(l: &[Vec4; 8]) -> [VertexCompact; 4] {
     let (ox, oy) = (Vec4::select(down, fx, qx), Vec4::select(down, fy, qy));
     // Each lane's 16-bit value in the low bits of a float's mantissa (see UNORM_MAGIC).
     let snorm = |c: Vec4| c * 32767.0 + SNORM_MAGIC;
-    let unorm = |c: Vec4| c.clamp(Vec4::ZERO, Vec4::ONE) * 65535.0 + UNORM_MAGIC;
-    interleave([px, py, pz], [snorm(ox), snorm(oy)], [unorm(u), unorm(v)])
+    pack16(snorm(ox), snorm(oy))
 }
 
-/// Four compact vertices from their lanes: positions, and the normal's and uv's two
-/// 16-bit values each in the low bits of a float (see [`UNORM_MAGIC`]). With SSE2 (every
-/// x86-64) the two values are packed into one 32-bit lane, and the five lanes are
-/// transposed in registers into the 80 bytes of the four vertices (four unpacks, four
-/// moves and eight shuffles), stored as five 16-byte vectors.
+/// Texture coordinates in [0, 1] as unorm16, each in the low bits of a float's mantissa
+/// (see [`UNORM_MAGIC`]).
+#[inline(always)]
+fn unorm(c: Vec4) -> Vec4 {
+    c.clamp(Vec4::ZERO, Vec4::ONE) * 65535.0 + UNORM_MAGIC
+}
+
+/// Per lane, the low 16 bits of `lo`'s float and, above them, the low 16 bits of `hi`'s.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn interleave(
-    [px, py, pz]: [Vec4; 3],
-    [nx, ny]: [Vec4; 2],
-    [tu, tv]: [Vec4; 2],
-) -> [VertexCompact; 4] {
+fn pack16(lo: Vec4, hi: Vec4) -> [u32; 4] {
     use safe_arch::{
-        bitand_m128i, bitor_m128i, cast_to_m128_from_m128i, cast_to_m128i_from_m128, m128, m128i,
-        move_high_low_m128 as hl, move_low_high_m128 as lh, shl_imm_u32_m128i,
+        bitand_m128i, bitor_m128i, cast_to_m128i_from_m128, m128, m128i, shl_imm_u32_m128i,
+    };
+    let bits = |v: Vec4| cast_to_m128i_from_m128(m128(v.into()));
+    let low = m128i::from([0xffff_i32; 4]);
+    bytemuck::cast(bitor_m128i(
+        bitand_m128i(bits(lo), low),
+        shl_imm_u32_m128i::<16>(bits(hi)),
+    ))
+}
+
+/// [`pack16`] lane by lane: where SSE2 is not there, and as its reference.
+#[cfg_attr(target_arch = "x86_64", cfg_attr(not(test), allow(dead_code)))]
+#[inline(always)]
+fn pack16_lanes(lo: Vec4, hi: Vec4) -> [u32; 4] {
+    std::array::from_fn(|k| (lo[k].to_bits() & 0xffff) | (hi[k].to_bits() << 16))
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+use pack16_lanes as pack16;
+
+/// Four compact vertices from their lanes: positions, and the normal's and uv's two
+/// 16-bit values each packed into one 32-bit lane ([`pack16`]). With SSE2 (every x86-64)
+/// the five lanes are transposed in registers into the 80 bytes of the four vertices
+/// (four unpacks, four moves and eight shuffles), stored as five 16-byte vectors.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn interleave([px, py, pz]: [Vec4; 3], n: [u32; 4], uv: [u32; 4]) -> [VertexCompact; 4] {
+    use safe_arch::{
+        cast_to_m128_from_m128i, m128, m128i, move_high_low_m128 as hl, move_low_high_m128 as lh,
         shuffle_abi_f32_all_m128 as shuf, unpack_high_m128, unpack_low_m128,
     };
     let m = |v: Vec4| m128(v.into());
-    let low = m128i::from([0xffff_i32; 4]);
-    let pack = |lo: Vec4, hi: Vec4| {
-        let (lo, hi) = (
-            cast_to_m128i_from_m128(m(lo)),
-            cast_to_m128i_from_m128(m(hi)),
-        );
-        cast_to_m128_from_m128i(bitor_m128i(
-            bitand_m128i(lo, low),
-            shl_imm_u32_m128i::<16>(hi),
-        ))
-    };
-    let (n, uv) = (pack(nx, ny), pack(tu, tv));
+    let packed = |v: [u32; 4]| cast_to_m128_from_m128i(bytemuck::cast::<_, m128i>(v));
+    let (n, uv) = (packed(n), packed(uv));
     let (px, py, pz) = (m(px), m(py), m(pz));
     // Each vertex's first 16 bytes (x, y, z, normal): a 4 x 4 transpose.
     let (t0, t1) = (unpack_low_m128(px, py), unpack_low_m128(pz, n));
@@ -186,18 +211,12 @@ fn interleave(
 /// form is tested against.
 #[cfg_attr(target_arch = "x86_64", cfg_attr(not(test), allow(dead_code)))]
 #[inline(always)]
-fn interleave_lanes(
-    [px, py, pz]: [Vec4; 3],
-    [nx, ny]: [Vec4; 2],
-    [tu, tv]: [Vec4; 2],
-) -> [VertexCompact; 4] {
-    let bits = |c: Vec4| c.to_array().map(f32::to_bits);
-    let (nx, ny, tu, tv) = (bits(nx), bits(ny), bits(tu), bits(tv));
+fn interleave_lanes([px, py, pz]: [Vec4; 3], n: [u32; 4], uv: [u32; 4]) -> [VertexCompact; 4] {
     let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
     std::array::from_fn(|k| VertexCompact {
         position: [px[k], py[k], pz[k]],
-        normal: [nx[k] as u16 as i16, ny[k] as u16 as i16],
-        uv: [tu[k] as u16, tv[k] as u16],
+        normal: [n[k] as u16 as i16, (n[k] >> 16) as u16 as i16],
+        uv: [uv[k] as u16, (uv[k] >> 16) as u16],
     })
 }
 
@@ -216,30 +235,45 @@ const SNORM_MAGIC: f32 = 12_582_912.0;
 /// each vertex of a last, partial four and the seam to `store`). The
 /// octahedral encoding divides by the normal's L1 norm, so a normal needs no unit length
 /// first: a mitred ring is written as its plain affine form. Positions and uv are those
-/// of the f32 writer bit for bit (the same terms summed in the same order).
+/// of the f32 writer bit for bit (the same terms summed in the same order). A tube's ring
+/// (u the circle's, v one value: [`Affine::tube_v`]) takes its u from the circle's
+/// encoded u and its v encoded once (the same bits: `0 + 0·c + 0·s + 1·u` is u, and
+/// `v + 0·c + 0·s + 0·u` is v but for the sign of a zero, which unorm16 does not keep).
 #[inline(always)]
 fn put_compact<S>(
     ring: &Affine,
     out: &mut [S],
     table: &Circle,
+    tube_v: Option<f32>,
     store: impl Fn(&mut S, VertexCompact),
     store4: impl Fn(&mut [S; 4], [VertexCompact; 4]),
 ) {
     let terms = ring.component_terms();
-    let quads = table.quads.iter().zip(&table.u_quads);
+    let quads = table.quads.iter().zip(&table.u_quads).zip(&table.u_unorm);
     // The seam (point 0 again with u = 1) is vertex 0 with u and v plus e's terms
     // (`Affine::seam_of`).
     let (body, seam) = table.body(out.len());
     let mut first = None;
-    for (slots, (&[c, s], &u)) in out[..body].chunks_mut(4).zip(quads) {
-        // Only u and v have a term in u (a ring's e is zero elsewhere).
-        let lanes: [Vec4; 8] = std::array::from_fn(|k| {
+    let v_high = tube_v.map(|v| (unorm16(v) as u32) << 16);
+    for (slots, ((&[c, s], &u), &u16s)) in out[..body].chunks_mut(4).zip(quads) {
+        let lane = |k: usize| {
             let [a, b, d, e] = terms[k];
             let x = a + b * c + d * s;
+            // Only u and v have a term in u (a ring's e is zero elsewhere).
             if k >= 6 { x + e * u } else { x }
-        });
-        let encoded = encode_lanes(&lanes);
-        first.get_or_insert_with(|| (encoded[0], lanes[6].x, lanes[7].x));
+        };
+        let (encoded, u0, v0) = match v_high {
+            Some(high) => {
+                let (p, n) = ([lane(0), lane(1), lane(2)], [lane(3), lane(4), lane(5)]);
+                let uv = u16s.map(|u| u | high);
+                (interleave(p, octahedral(n), uv), u.x, tube_v.unwrap_or(0.0))
+            }
+            None => {
+                let l: [Vec4; 8] = std::array::from_fn(lane);
+                (encode_lanes(&l), l[6].x, l[7].x)
+            }
+        };
+        first.get_or_insert((encoded[0], u0, v0));
         if let Ok(four) = <&mut [S; 4]>::try_from(&mut *slots) {
             store4(four, encoded);
         } else {
@@ -263,7 +297,15 @@ impl Slot<Vertex> for VertexCompact {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
-        put_compact(ring, out, table, |slot, e| *slot = e, |four, e| *four = e);
+        let tube_v = ring.tube_v();
+        put_compact(
+            ring,
+            out,
+            table,
+            tube_v,
+            |slot, e| *slot = e,
+            |four, e| *four = e,
+        );
         true
     }
 }
@@ -280,6 +322,7 @@ impl Slot<Vertex> for MaybeUninit<VertexCompact> {
             ring,
             out,
             table,
+            ring.tube_v(),
             |slot, e| {
                 slot.write(e);
             },
@@ -376,10 +419,64 @@ mod tests {
         for _ in 0..1_000 {
             let [a, b, c, d, e, f, g, _] = random_lanes(&mut rng);
             // Any bits in the 16-bit fields' floats: only their low halves are kept.
+            let (n, uv) = (pack16(d, e), pack16(f, g));
+            assert_eq!((n, uv), (pack16_lanes(d, e), pack16_lanes(f, g)));
             assert_eq!(
-                interleave([a, b, c], [d, e], [f, g]),
-                interleave_lanes([a, b, c], [d, e], [f, g])
+                interleave([a, b, c], n, uv),
+                interleave_lanes([a, b, c], n, uv)
             );
+        }
+    }
+
+    #[test]
+    fn a_tubes_ring_encodes_its_uv_once_as_every_ring_does() {
+        use glam::Vec3A;
+        let mut rng = crate::rng::Rng::new(33);
+        let mut f = || rng.next_f64() as f32 * 4.0 - 2.0;
+        for sides in [3, 4, 5, 8, 9, 12] {
+            let table = super::super::rings::circle(sides);
+            for _ in 0..300 {
+                let mut v3 = || Vec3A::new(f(), f(), f());
+                let (c, p, q, n, np, nq) = (v3(), v3(), v3(), v3(), v3(), v3());
+                let v = match (f() * 4.0) as i32 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    _ => f().abs() * 0.3,
+                };
+                let ring =
+                    Affine::new(c, p, q, n, np, nq, [0.0, v], [0.0; 2], [0.0; 2], [1.0, 0.0]);
+                assert_eq!(ring.tube_v(), Some(v));
+                for n in [table.len(), table.len() - 1, 5.min(table.len())] {
+                    let (mut once, mut each) = (
+                        vec![VertexCompact::default(); n],
+                        vec![VertexCompact::default(); n],
+                    );
+                    put_compact(
+                        &ring,
+                        &mut once,
+                        &table,
+                        Some(v),
+                        |s, e| *s = e,
+                        |s, e| *s = e,
+                    );
+                    put_compact(&ring, &mut each, &table, None, |s, e| *s = e, |s, e| *s = e);
+                    assert_eq!(once, each, "{sides} sides, {n} vertices, v {v}");
+                }
+            }
+            // A cap's texture coordinates are no tube's.
+            let cap = Affine::new(
+                Vec3A::ZERO,
+                Vec3A::X,
+                Vec3A::Z,
+                Vec3A::Y,
+                Vec3A::ZERO,
+                Vec3A::ZERO,
+                [0.5, 0.5],
+                [0.5, 0.0],
+                [0.0, 0.5],
+                [0.0; 2],
+            );
+            assert_eq!(cap.tube_v(), None);
         }
     }
 

@@ -17,6 +17,8 @@ pub struct Circle {
     pub(crate) quads: Vec<[Vec4; 2]>,
     /// Per four points, their u in four lanes (0 past the ring's end).
     pub(crate) u_quads: Vec<Vec4>,
+    /// Per four points, their u as the compact format's unorm16, one a lane.
+    pub(crate) u_unorm: Vec<[u32; 4]>,
 }
 
 impl Circle {
@@ -62,7 +64,7 @@ pub(crate) fn circle(segments: usize) -> Circle {
             [Vec4::from_array(c), Vec4::from_array(s)]
         })
         .collect();
-    let u_quads = points
+    let u_quads: Vec<Vec4> = points
         .chunks(4)
         .map(|chunk| {
             let mut u = [0.0f32; 4];
@@ -72,11 +74,16 @@ pub(crate) fn circle(segments: usize) -> Circle {
             Vec4::from_array(u)
         })
         .collect();
+    let u_unorm = u_quads
+        .iter()
+        .map(|u| u.to_array().map(|u| super::compact::unorm16(u) as u32))
+        .collect();
     Circle {
         points,
         splats,
         quads,
         u_quads,
+        u_unorm,
     }
 }
 
@@ -379,6 +386,16 @@ impl Affine {
         if let (true, Some(v0)) = (seam, first) {
             out[n].put(vertex(self.seam_of(v0)));
         }
+    }
+
+    /// `Some(v)` where the ring's texture coordinates are a tube's: u the circle's own
+    /// (no constant, no term in cos or sin, u's own term 1) and v one value for the whole
+    /// ring.
+    #[inline(always)]
+    pub(crate) fn tube_v(&self) -> Option<f32> {
+        let [a, b, d, e] = [self.a[1], self.b[1], self.d[1], self.e[1]];
+        let zero = |v: Vec4| v.z == 0.0 && v.w == 0.0;
+        (a.z == 0.0 && zero(b) && zero(d) && e.z == 1.0 && e.w == 0.0).then_some(a.w)
     }
 
     /// The terms of component k (0..8: position x, y, z, normal x, y, z, u, v) as splats:
