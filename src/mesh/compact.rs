@@ -254,7 +254,8 @@ fn put_compact<S>(
     // (`Affine::seam_of`).
     let (body, seam) = table.body(out.len());
     let mut first = None;
-    let v_high = tube_v.map(|v| (unorm16(v) as u32) << 16);
+    // A tube's v, and its unorm16 in the high half of a uv lane.
+    let tube = tube_v.map(|v| (v, (unorm16(v) as u32) << 16));
     for (slots, ((&[c, s], &u), &u16s)) in out[..body].chunks_mut(4).zip(quads) {
         let lane = |k: usize| {
             let [a, b, d, e] = terms[k];
@@ -262,11 +263,11 @@ fn put_compact<S>(
             // Only u and v have a term in u (a ring's e is zero elsewhere).
             if k >= 6 { x + e * u } else { x }
         };
-        let (encoded, u0, v0) = match v_high {
-            Some(high) => {
+        let (encoded, u0, v0) = match tube {
+            Some((v, high)) => {
                 let (p, n) = ([lane(0), lane(1), lane(2)], [lane(3), lane(4), lane(5)]);
                 let uv = u16s.map(|u| u | high);
-                (interleave(p, octahedral(n), uv), u.x, tube_v.unwrap_or(0.0))
+                (interleave(p, octahedral(n), uv), u.x, v)
             }
             None => {
                 let l: [Vec4; 8] = std::array::from_fn(lane);
@@ -297,12 +298,11 @@ impl Slot<Vertex> for VertexCompact {
 
     #[inline(always)]
     fn put_affine(out: &mut [Self], ring: &Affine, table: &Circle, _: bool) -> bool {
-        let tube_v = ring.tube_v();
         put_compact(
             ring,
             out,
             table,
-            tube_v,
+            ring.tube_v(),
             |slot, e| *slot = e,
             |four, e| *four = e,
         );
