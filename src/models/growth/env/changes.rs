@@ -206,9 +206,11 @@ pub(super) fn apply_layers(
     // [x0, x1) × [z0, z1) clipped to the grid.
     let square = |q: usize, f: i32, &(cx, cz, count): &(u32, u32, i32)| {
         let (cx, cz) = (cx as usize, cz as usize);
-        let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
-        let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
-        (f.wrapping_mul(count), x, z)
+        (
+            f.wrapping_mul(count),
+            clipped(cx, q, nx),
+            clipped(cz, q, nz),
+        )
     };
     let (at, starts, span) = (&at[..], &starts[..], &span[..]);
     for (i, layer) in layers.iter_mut().enumerate() {
@@ -308,11 +310,15 @@ fn add_squares<const W: usize>(
         if cx >= q && cz >= q && cx + q < nx && cz + q < nz {
             add_square::<W>(layer, (cz - q) * nx + cx - q, nx, v);
         } else {
-            let x = (cx.saturating_sub(q), (cx + q).min(nx - 1) + 1);
-            let z = (cz.saturating_sub(q), (cz + q).min(nz - 1) + 1);
-            add_rect(layer, x, z, nx, v);
+            add_rect(layer, clipped(cx, q, nx), clipped(cz, q, nz), nx, v);
         }
     }
+}
+
+/// The cells [c - q, c + q] of an axis `n` cells long, clipped to it, as [start, end).
+#[inline(always)]
+fn clipped(c: usize, q: usize, n: usize) -> (usize, usize) {
+    (c.saturating_sub(q), (c + q).min(n - 1) + 1)
 }
 
 /// Adds `add` to the cells [x0, x1) × [z0, z1) of a layer `nx` wide.
