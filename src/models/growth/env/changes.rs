@@ -6,12 +6,14 @@ use super::grid::Divisor;
 /// their cell, below `cells`; those it gives none are left out) into `sorted`, stably
 /// (each cell's changes keep the order they were made in), through `scratch`: a
 /// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) two
-/// threads each gather and sort the changes of one half of the grid.
+/// threads each gather and sort the changes of one half of the grid (each reads every
+/// change: a single gathering pass to split them would be as long as the sort it
+/// halves), the upper half in `scratch[1]` and `scratch[2]`; it is appended after.
 pub(super) fn sort_changes(
     sources: &[&[(u64, i32)]],
     index: impl Fn(u64) -> Option<u32> + Sync,
     sorted: &mut Vec<(u32, i32)>,
-    scratch: &mut Vec<(u32, i32)>,
+    scratch: &mut [Vec<(u32, i32)>; 3],
     cells: usize,
     parallel: bool,
 ) {
@@ -21,49 +23,39 @@ pub(super) fn sort_changes(
             .flat_map(|s| s.iter())
             .filter_map(|&(k, n)| Some((index(k)?, n)))
     };
+    // Gathers the changes `keep` takes into `out` and sorts them through `tmp`: true when
+    // they end in `tmp`.
+    let gather_sort = |out: &mut Vec<(u32, i32)>,
+                       tmp: &mut Vec<(u32, i32)>,
+                       keep: &(dyn Fn(u32) -> bool + Sync)| {
+        out.clear();
+        out.extend(each().filter(|&(c, _)| keep(c)));
+        // Buffers keep their length from flush to flush: every value is written below.
+        tmp.resize(out.len(), (0, 0));
+        if out.len() < 256 {
+            out.sort_by_key(|&(c, _)| c);
+            false
+        } else {
+            radix_sort(out, tmp, cells)
+        }
+    };
+    let [tmp, high, high_tmp] = scratch;
     #[cfg(feature = "parallel")]
     if parallel && sources.iter().map(|s| s.len()).sum::<usize>() > 1 << 15 {
         let mid = (cells / 2) as u32;
-        let low = each().filter(|&(c, _)| c < mid).count();
-        let total = low + each().filter(|&(c, _)| c >= mid).count();
-        // Buffers keep their length from flush to flush: every value is written below.
-        sorted.resize(total, (0, 0));
-        scratch.resize(total, (0, 0));
-        let gather = |out: &mut [(u32, i32)], lower: bool| {
-            for (slot, change) in out
-                .iter_mut()
-                .zip(each().filter(|&(c, _)| (c < mid) == lower))
-            {
-                *slot = change;
-            }
-        };
-        // The halves sort into the same buffer (both take the same passes).
-        let (a, b) = sorted.split_at_mut(low);
-        let (ta, tb) = scratch.split_at_mut(low);
-        let (in_scratch, _) = rayon::join(
-            || {
-                gather(a, true);
-                radix_sort(a, ta, cells)
-            },
-            || {
-                gather(b, false);
-                radix_sort(b, tb, cells)
-            },
+        let (in_tmp, high_in_tmp) = rayon::join(
+            || gather_sort(sorted, tmp, &|c| c < mid),
+            || gather_sort(high, high_tmp, &|c| c >= mid),
         );
-        if in_scratch {
-            std::mem::swap(sorted, scratch);
+        if in_tmp {
+            std::mem::swap(sorted, tmp);
         }
+        sorted.extend_from_slice(if high_in_tmp { high_tmp } else { high });
         return;
     }
-    let _ = parallel;
-    sorted.clear();
-    sorted.extend(each());
-    let total = sorted.len();
-    scratch.resize(total, (0, 0));
-    if total < 256 {
-        sorted.sort_by_key(|&(c, _)| c);
-    } else if radix_sort(sorted, scratch, cells) {
-        std::mem::swap(sorted, scratch);
+    let _ = (parallel, high, high_tmp);
+    if gather_sort(sorted, tmp, &|_| true) {
+        std::mem::swap(sorted, tmp);
     }
 }
 

@@ -163,22 +163,32 @@ impl Grid {
         if hi[1] > old_hi[1] {
             new_hi[1] = hi[1] + spare(1);
         }
-        let mut grown = Grid::new(new_lo, new_hi, max_cells)?;
-        let [nx, ny, nz] = self.dims;
-        for y in 0..ny {
-            for z in 0..nz {
-                let from = (y * nz + z) * nx;
-                let c = [self.lo[0], self.lo[1] + y as i64, self.lo[2] + z as i64];
-                let to = grown.index(c).expect("the grown grid holds the old one");
-                grown.cells[to..to + nx].copy_from_slice(&self.cells[from..from + nx]);
-                if y == 0 {
-                    let layer = grown.dims[0] * grown.dims[2];
-                    grown.columns[to % layer..to % layer + nx]
-                        .copy_from_slice(&self.columns[z * nx..(z + 1) * nx]);
-                }
-            }
+        let dims_of = |l: [i64; 3], h: [i64; 3]| [0, 1, 2].map(|k| (h[k] - l[k] + 1) as usize);
+        if Self::count(dims_of(new_lo, new_hi), max_cells).is_err() {
+            // No room to spare within `max_cells`: just what is asked.
+            new_lo = [0, 1, 2].map(|k| lo[k].min(self.lo[k]));
+            new_hi = [0, 1, 2].map(|k| hi[k].max(old_hi[k]));
         }
-        *self = grown;
+        let dims = dims_of(new_lo, new_hi);
+        let cells = Self::count(dims, max_cells)?;
+        let columns = dims[0] * dims[2];
+        // Both stores grow in place (the allocator moves their pages rather than copying
+        // them; a fresh store would take a page fault per 4 KiB of all of it) and only
+        // what they gain is new memory; then the rows move to their new places.
+        let more = (cells - self.cells.len(), columns - self.columns.len());
+        if self.cells.try_reserve_exact(more.0).is_err()
+            || self.columns.try_reserve_exact(more.1).is_err()
+        {
+            return Err(oom(format!(
+                "the shadow grid ({cells} cells, {} bytes)",
+                cells * 4
+            )));
+        }
+        let at = [0, 2].map(|k| (self.lo[k] - new_lo[k]) as usize);
+        relay(&mut self.cells, self.dims, dims, at);
+        let [nx, _, nz] = self.dims;
+        relay(&mut self.columns, [nx, 1, nz], [dims[0], 1, dims[2]], at);
+        (self.lo, self.dims) = (new_lo, dims);
         Ok(())
     }
 
@@ -261,4 +271,32 @@ impl Divisor {
         let low = self.m.wrapping_mul(a as u64);
         ((low as u128 * self.d as u128) >> 64) as u32
     }
+}
+
+/// Re-lays `data`, layers of `old[2]` rows of `old[0]` cells (x fastest) in place as
+/// layers of `new[2]` rows of `new[0]`, with `new[1]` layers, an old cell (x, y, z) going
+/// to (x + at[0], y, z + at[1]) and every other cell zero. No cell moves down, so the
+/// rows move from the last to the first, each into room that is stale or already moved
+/// out of, and the gaps between them are cleared on the way.
+fn relay(data: &mut Vec<i32>, old: [usize; 3], new: [usize; 3], [ox, oz]: [usize; 2]) {
+    let ([nx, ny, nz], [mx, my, mz]) = (old, new);
+    let stored = data.len();
+    data.resize(mx * my * mz, 0);
+    if (nx, nz, ox, oz) == (mx, mz, 0, 0) {
+        // Only layers above: the new ones are the zeros just added.
+        return;
+    }
+    // Everything from `end` up is in its place.
+    let mut end = stored;
+    for y in (0..ny).rev() {
+        for z in (0..nz).rev() {
+            let (from, to) = ((y * nz + z) * nx, (y * mz + z + oz) * mx + ox);
+            if to + nx < end {
+                data[to + nx..end].fill(0);
+            }
+            data.copy_within(from..from + nx, to);
+            end = to;
+        }
+    }
+    data[..end].fill(0);
 }

@@ -62,10 +62,10 @@ pub(crate) struct Env {
     max: Vec3,
     /// Shadow changes not applied yet: (cell, buds added there, negative for removed).
     pending: Vec<(Key, i32)>,
-    /// The changes of a flush by storage index, sorted, and the radix sort's second
-    /// buffer.
+    /// The changes of a flush by storage index, sorted, and the radix sort's other
+    /// buffers (see [`sort_changes`]).
     sorted: Vec<(u32, i32)>,
-    scratch: Vec<(u32, i32)>,
+    scratch: [Vec<(u32, i32)>; 3],
     /// The 2-D difference arrays of the two threads that apply a flush.
     diff: [Vec<i32>; 2],
     obstacles: Vec<Obstacle>,
@@ -100,7 +100,7 @@ impl Env {
             max,
             pending: Vec::new(),
             sorted: Vec::new(),
-            scratch: Vec::new(),
+            scratch: Default::default(),
             diff: [Vec::new(), Vec::new()],
             obstacles: Vec::new(),
             buckets: Default::default(),

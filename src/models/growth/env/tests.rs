@@ -141,7 +141,10 @@ fn shadow_changes_sort_stably_by_cell() {
         for parallel in [false, true] {
             // As a flush gathers them: from several places, in order.
             let (head, tail) = changes.split_at(len / 3);
-            let (mut got, mut scratch) = (vec![(9, 9); 5], vec![(7, 7); len + 9]);
+            let (mut got, mut scratch) = (
+                vec![(9, 9); 5],
+                [vec![(7, 7); len + 9], vec![(8, 8); 3], Vec::new()],
+            );
             sort_changes(
                 &[head, &[], tail],
                 index,
@@ -260,4 +263,112 @@ fn divisors_divide_every_index_exactly() {
             assert_eq!(div.rem(a), a % d, "{a} % {d}");
         }
     }
+}
+
+/// Growing the grid keeps every stored cell and column at its lattice coordinates, with
+/// zeros where it reaches anew: upward, sideways and both (the rows moved within the
+/// store), and, where the room to spare would pass `max_cells`, just over what is asked;
+/// past that it is refused, the grid unchanged.
+#[test]
+fn a_growing_grid_keeps_every_cell_where_it_was() {
+    use grid::Grid;
+    let mut rng = crate::rng::Rng::new(3);
+    let mut g = Grid::empty(0);
+    g.cover([0, 0, 0], [4, 3, 6], 1 << 20).unwrap();
+    let fill = |g: &mut Grid, rng: &mut crate::rng::Rng| {
+        for v in g.cells.iter_mut().chain(g.columns.iter_mut()) {
+            *v = rng.next_u64() as i32;
+        }
+    };
+    // The cells and columns as lattice coordinates, with their values.
+    let snapshot = |g: &Grid| {
+        let [nx, ny, nz] = g.dims;
+        let mut cells = Vec::new();
+        for y in 0..ny {
+            for z in 0..nz {
+                for x in 0..nx {
+                    let c = [g.lo[0] + x as i64, g.lo[1] + y as i64, g.lo[2] + z as i64];
+                    cells.push((c, g.cells[(y * nz + z) * nx + x]));
+                }
+            }
+        }
+        let columns: Vec<([i64; 3], i32)> = (0..nz)
+            .flat_map(|z| (0..nx).map(move |x| (x, z)))
+            .map(|(x, z)| {
+                let c = [g.lo[0] + x as i64, 0, g.lo[2] + z as i64];
+                (c, g.columns[z * nx + x])
+            })
+            .collect();
+        (cells, columns)
+    };
+    type Values = Vec<([i64; 3], i32)>;
+    let check = |g: &Grid, (cells, columns): &(Values, Values)| {
+        let stored: usize = g.dims.iter().product();
+        assert_eq!(g.cells.len(), stored);
+        assert_eq!(g.columns.len(), g.dims[0] * g.dims[2]);
+        for &(c, v) in cells {
+            assert_eq!(g.at(c), v, "cell {c:?}");
+        }
+        for &(c, v) in columns {
+            assert_eq!(g.column(c), v, "column {c:?}");
+        }
+        // Everything else is zero.
+        let old: i64 = cells.iter().map(|&(_, v)| v as i64).sum();
+        let all: i64 = g.cells.iter().map(|&v| v as i64).sum();
+        assert_eq!(old, all);
+        let old: i64 = columns.iter().map(|&(_, v)| v as i64).sum();
+        let all: i64 = g.columns.iter().map(|&v| v as i64).sum();
+        assert_eq!(old, all);
+    };
+    fill(&mut g, &mut rng);
+    // Up only: in place.
+    let before = snapshot(&g);
+    let (lo, dims) = (g.lo, g.dims);
+    g.cover([0, 0, 0], [4, dims[1] as i64 + 5, 6], 1 << 20)
+        .unwrap();
+    assert_eq!((g.lo, g.dims[0], g.dims[2]), (lo, dims[0], dims[2]));
+    assert!(g.dims[1] > dims[1]);
+    check(&g, &before);
+    // Sideways, toward -x and +z: rows move in the store, zeros around them.
+    fill(&mut g, &mut rng);
+    let before = snapshot(&g);
+    let hi = [0, 2].map(|k| g.lo[k] + g.dims[k] as i64 - 1);
+    g.cover([lo[0] - 3, 0, hi[1]], [hi[0] - 2, 1, hi[1] + 1], 1 << 20)
+        .unwrap();
+    assert!(g.lo[0] < lo[0] - 3 && g.lo[0] + g.dims[0] as i64 - 1 == hi[0]);
+    assert!(g.lo[2] == lo[2] && g.lo[2] + g.dims[2] as i64 - 1 > hi[1] + 1);
+    check(&g, &before);
+    // Toward +x and -z, with layers above.
+    fill(&mut g, &mut rng);
+    let before = snapshot(&g);
+    let (lo, dims) = (g.lo, g.dims);
+    g.cover(
+        [lo[0], 0, lo[2] - 1],
+        [lo[0] + dims[0] as i64, dims[1] as i64, lo[2]],
+        1 << 20,
+    )
+    .unwrap();
+    assert!(g.lo[2] < lo[2] - 1 && g.dims[0] > dims[0] && g.dims[1] > dims[1]);
+    check(&g, &before);
+    // No room to spare within max_cells: just what is asked.
+    fill(&mut g, &mut rng);
+    let before = snapshot(&g);
+    let (lo, dims) = (g.lo, g.dims);
+    let want = [lo[0], 0, lo[2]];
+    let top = [
+        lo[0] + dims[0] as i64 - 1,
+        dims[1] as i64 + 2,
+        lo[2] + dims[2] as i64,
+    ];
+    let exact = dims[0] * (dims[1] + 3) * (dims[2] + 1);
+    g.cover(want, top, exact).unwrap();
+    assert_eq!(g.cells.len(), exact);
+    check(&g, &before);
+    // Past max_cells: refused, unchanged.
+    let before = snapshot(&g);
+    let e = g
+        .cover(want, [top[0] + 1, top[1], top[2]], exact)
+        .unwrap_err();
+    assert!(e.to_string().contains("max_cells"), "{e}");
+    assert_eq!(snapshot(&g), before);
 }
