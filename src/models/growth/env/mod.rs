@@ -38,6 +38,9 @@ pub(crate) struct Bud {
     pub(crate) direction: Vec3,
 }
 
+/// Bands of layers a flush is applied in on several threads.
+const BANDS: usize = 4;
+
 /// The shared environment.
 #[derive(Clone, Debug)]
 pub(crate) struct Env {
@@ -66,8 +69,8 @@ pub(crate) struct Env {
     /// buffers (see [`sort_changes`]).
     sorted: Vec<(u32, i32)>,
     scratch: [Vec<(u32, i32)>; 3],
-    /// The 2-D difference arrays of the two threads that apply a flush.
-    diff: [Vec<i32>; 2],
+    /// The 2-D difference arrays of the bands a flush is applied in.
+    diff: [Vec<i32>; BANDS],
     obstacles: Vec<Obstacle>,
     /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
     /// point is tested only against those near it.
@@ -101,7 +104,7 @@ impl Env {
             pending: Vec::new(),
             sorted: Vec::new(),
             scratch: Default::default(),
-            diff: [Vec::new(), Vec::new()],
+            diff: Default::default(),
             obstacles: Vec::new(),
             buckets: Default::default(),
         };
@@ -300,8 +303,9 @@ impl Env {
 
     /// Adds the pyramids of merged, sorted `changes` to the grid: with `parallel`, the
     /// `parallel` feature and enough changes to pay for waking a second thread (16,384:
-    /// about half a millisecond of work), on two threads, each owning a band of layers
-    /// and adding what lands in it; else on this one.
+    /// about half a millisecond of work), in [`BANDS`] bands of layers of about equal work,
+    /// taken by the threads as they come free, each band adding what lands in it; else on
+    /// this thread.
     fn apply(&mut self, changes: &[(u32, i32)], parallel: bool) {
         if changes.is_empty() {
             return;
@@ -309,36 +313,57 @@ impl Env {
         let dims = self.grid.dims;
         let layer = dims[0] * dims[2];
         let falloff = &self.falloff;
-        let [diff_low, diff_high] = &mut self.diff;
         #[cfg(feature = "parallel")]
         if parallel && changes.len() > 1 << 14 {
-            let y_of = |c: u32| c as usize / layer;
-            // Band [0, split) takes the changes up to q_max layers above it, band
-            // [split, ny) the changes from its first layer up: split where the two take
-            // as many.
-            let bands = |split: usize| {
-                let below = changes.partition_point(|&(c, _)| y_of(c) < split + falloff.len());
-                let above = changes.partition_point(|&(c, _)| y_of(c) < split);
-                (below, above)
-            };
-            let split = (1..dims[1])
-                .min_by_key(|&y| {
-                    let (below, above) = bands(y);
-                    below.abs_diff(changes.len() - above)
-                })
-                .unwrap_or(1);
-            let (low, high) = self.grid.cells.split_at_mut(split * layer);
-            let mut low: Vec<&mut [i32]> = low.chunks_mut(layer).collect();
-            let mut high: Vec<&mut [i32]> = high.chunks_mut(layer).collect();
-            rayon::join(
-                || apply_layers(changes, dims, falloff, &mut low, 0, diff_low),
-                || apply_layers(changes, dims, falloff, &mut high, split, diff_high),
-            );
+            use rayon::prelude::*;
+            // Work by target layer: layer t takes the squares of the changes q layers
+            // above it, (2q + 1)² cells each. Bands cut where the work reaches each
+            // quantile (more bands than threads: the estimate is rough, and a thread that
+            // finishes early takes the next band).
+            let ny = dims[1];
+            let starts: Vec<usize> = (0..=ny)
+                .map(|y| changes.partition_point(|&(c, _)| (c as usize) < y * layer))
+                .collect();
+            let mut work = vec![0u64; ny + 1];
+            for t in 0..ny {
+                let cells: u64 = (0..falloff.len())
+                    .take_while(|q| t + q < ny)
+                    .map(|q| {
+                        let side = 2 * q as u64 + 1;
+                        (starts[t + q + 1] - starts[t + q]) as u64 * side * side
+                    })
+                    .sum();
+                work[t + 1] = work[t] + cells;
+            }
+            let mut bounds = vec![0];
+            for b in 1..BANDS as u64 {
+                let y = work.partition_point(|&w| w < work[ny] * b / BANDS as u64);
+                if y > bounds[bounds.len() - 1] && y < ny {
+                    bounds.push(y);
+                }
+            }
+            bounds.push(ny);
+            let mut rest = &mut self.grid.cells[..];
+            let mut bands = Vec::with_capacity(BANDS);
+            for w in bounds.windows(2) {
+                let (band, tail) = std::mem::take(&mut rest).split_at_mut((w[1] - w[0]) * layer);
+                rest = tail;
+                // Each band reads only the changes whose squares land in it.
+                let reach = (w[1] + falloff.len()).min(ny);
+                let band: Vec<&mut [i32]> = band.chunks_mut(layer).collect();
+                bands.push((band, w[0], &changes[starts[w[0]]..starts[reach]]));
+            }
+            bands
+                .into_par_iter()
+                .zip(self.diff.par_iter_mut())
+                .for_each(|((mut band, first, changes), diff)| {
+                    apply_layers(changes, dims, falloff, &mut band, first, diff)
+                });
             return;
         }
-        let _ = (parallel, diff_high);
+        let _ = parallel;
         let mut all: Vec<&mut [i32]> = self.grid.cells.chunks_mut(layer).collect();
-        apply_layers(changes, dims, falloff, &mut all, 0, diff_low);
+        apply_layers(changes, dims, falloff, &mut all, 0, &mut self.diff[0]);
     }
 
     /// Light at a bud of a shadow world from its cell word: Q = max(C − s + a, 0) (the
