@@ -298,8 +298,7 @@ fn bad_input_is_refused_by_name() {
 
 /// A forest large enough that every parallel path runs (trees planned and grown on all
 /// cores, over 32,768 shadow changes a cycle sorted on two threads and applied in bands of
-/// layers) grows the
-/// same trees as on one thread.
+/// layers) grows the same trees as on one thread.
 #[test]
 fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
     let grow = |parallel: bool| {
