@@ -5,57 +5,90 @@ use super::grid::Divisor;
 /// Sorts the shadow changes of `sources` (in that order) by storage index (`index` of
 /// their cell, below `cells`; those it gives none are left out) into `sorted`, stably
 /// (each cell's changes keep the order they were made in), through `scratch`: a
-/// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) two
-/// threads each gather and sort the changes of one half of the grid (each reads every
-/// change: a single gathering pass to split them would be as long as the sort it
-/// halves), the upper half in `scratch[1]` and `scratch[2]`; it is appended after.
+/// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) on two
+/// threads: each finds the cells of half of the changes and parts them by the half of the
+/// grid they fall in, then each sorts the changes of one half of the grid.
 pub(super) fn sort_changes(
     sources: &[&[(u64, i32)]],
     index: impl Fn(u64) -> Option<u32> + Sync,
     sorted: &mut Vec<(u32, i32)>,
-    scratch: &mut [Vec<(u32, i32)>; 3],
+    scratch: &mut [Vec<(u32, i32)>; 4],
     cells: usize,
     parallel: bool,
 ) {
-    let each = || {
-        sources
-            .iter()
-            .flat_map(|s| s.iter())
-            .filter_map(|&(k, n)| Some((index(k)?, n)))
-    };
-    // Gathers the changes `keep` takes into `out` and sorts them through `tmp`: true when
-    // they end in `tmp`.
-    let gather_sort = |out: &mut Vec<(u32, i32)>,
-                       tmp: &mut Vec<(u32, i32)>,
-                       keep: &(dyn Fn(u32) -> bool + Sync)| {
-        out.clear();
-        out.extend(each().filter(|&(c, _)| keep(c)));
+    // Sorts `data` through `tmp`: true when the result ends in `tmp`.
+    let sort = |data: &mut Vec<(u32, i32)>, tmp: &mut Vec<(u32, i32)>| {
         // Buffers keep their length from flush to flush: every value is written below.
-        tmp.resize(out.len(), (0, 0));
-        if out.len() < 256 {
-            out.sort_by_key(|&(c, _)| c);
+        tmp.resize(data.len(), (0, 0));
+        if data.len() < 256 {
+            data.sort_by_key(|&(c, _)| c);
             false
         } else {
-            radix_sort(out, tmp, cells)
+            radix_sort(data, tmp, cells)
         }
     };
-    let [tmp, high, high_tmp] = scratch;
+    let [a_low, a_high, b_low, b_high] = scratch;
     #[cfg(feature = "parallel")]
     if parallel && sources.iter().map(|s| s.len()).sum::<usize>() > 1 << 15 {
         let mid = (cells / 2) as u32;
-        let (in_tmp, high_in_tmp) = rayon::join(
-            || gather_sort(sorted, tmp, &|c| c < mid),
-            || gather_sort(high, high_tmp, &|c| c >= mid),
-        );
-        if in_tmp {
-            std::mem::swap(sorted, tmp);
+        // The sources cut in two runs of about as many changes.
+        let half = sources.iter().map(|s| s.len()).sum::<usize>() / 2;
+        let mut first: Vec<&[(u64, i32)]> = Vec::with_capacity(sources.len());
+        let mut second = first.clone();
+        let mut seen = 0;
+        for &s in sources {
+            let cut = half.saturating_sub(seen).min(s.len());
+            first.push(&s[..cut]);
+            second.push(&s[cut..]);
+            seen += s.len();
         }
-        sorted.extend_from_slice(if high_in_tmp { high_tmp } else { high });
+        let part =
+            |run: &[&[(u64, i32)]], low: &mut Vec<(u32, i32)>, high: &mut Vec<(u32, i32)>| {
+                low.clear();
+                high.clear();
+                for &(k, n) in run.iter().flat_map(|s| s.iter()) {
+                    if let Some(c) = index(k) {
+                        if c < mid {
+                            low.push((c, n))
+                        } else {
+                            high.push((c, n))
+                        }
+                    }
+                }
+            };
+        rayon::join(
+            || part(&first, a_low, a_high),
+            || part(&second, b_low, b_high),
+        );
+        // The first run's changes before the second's: the order they were made in.
+        let (low_in_tmp, high_in_tmp) = rayon::join(
+            || {
+                sorted.clear();
+                sorted.extend_from_slice(a_low);
+                sorted.extend_from_slice(b_low);
+                sort(sorted, a_low)
+            },
+            || {
+                a_high.extend_from_slice(b_high);
+                sort(a_high, b_high)
+            },
+        );
+        if low_in_tmp {
+            std::mem::swap(sorted, a_low);
+        }
+        sorted.extend_from_slice(if high_in_tmp { b_high } else { a_high });
         return;
     }
-    let _ = (parallel, high, high_tmp);
-    if gather_sort(sorted, tmp, &|_| true) {
-        std::mem::swap(sorted, tmp);
+    let _ = (parallel, a_high, b_low, b_high);
+    sorted.clear();
+    sorted.extend(
+        sources
+            .iter()
+            .flat_map(|s| s.iter())
+            .filter_map(|&(k, n)| Some((index(k)?, n))),
+    );
+    if sort(sorted, a_low) {
+        std::mem::swap(sorted, a_low);
     }
 }
 

@@ -68,7 +68,7 @@ pub(crate) struct Env {
     /// The changes of a flush by storage index, sorted, and the radix sort's other
     /// buffers (see [`sort_changes`]).
     sorted: Vec<(u32, i32)>,
-    scratch: [Vec<(u32, i32)>; 3],
+    scratch: [Vec<(u32, i32)>; 4],
     /// The 2-D difference arrays of the bands a flush is applied in.
     diff: [Vec<i32>; BANDS],
     obstacles: Vec<Obstacle>,
@@ -284,6 +284,7 @@ impl Env {
             std::mem::take(&mut self.sorted),
             std::mem::take(&mut self.scratch),
         );
+        let t0 = std::time::Instant::now();
         let grid = &self.grid;
         sort_changes(
             &sources,
@@ -293,6 +294,9 @@ impl Env {
             grid.cells.len(),
             parallel,
         );
+        if std::env::var_os("ARBOR_DBG_S").is_some() {
+            eprintln!("S {}", t0.elapsed().as_micros());
+        }
         merge_changes(&mut sorted);
         self.apply(&sorted, parallel);
         self.grid.count_columns(&sorted);

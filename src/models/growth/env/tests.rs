@@ -143,7 +143,12 @@ fn shadow_changes_sort_stably_by_cell() {
             let (head, tail) = changes.split_at(len / 3);
             let (mut got, mut scratch) = (
                 vec![(9, 9); 5],
-                [vec![(7, 7); len + 9], vec![(8, 8); 3], Vec::new()],
+                [
+                    vec![(7, 7); len + 9],
+                    vec![(8, 8); 3],
+                    Vec::new(),
+                    vec![(1, 1); 2],
+                ],
             );
             sort_changes(
                 &[head, &[], tail],
