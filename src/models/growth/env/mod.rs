@@ -284,7 +284,6 @@ impl Env {
             std::mem::take(&mut self.sorted),
             std::mem::take(&mut self.scratch),
         );
-        let t0 = std::time::Instant::now();
         let grid = &self.grid;
         sort_changes(
             &sources,
@@ -294,9 +293,6 @@ impl Env {
             grid.cells.len(),
             parallel,
         );
-        if std::env::var_os("ARBOR_DBG_S").is_some() {
-            eprintln!("S {}", t0.elapsed().as_micros());
-        }
         merge_changes(&mut sorted);
         self.apply(&sorted, parallel);
         self.grid.count_columns(&sorted);
