@@ -404,9 +404,9 @@ impl World {
         self.cycle
     }
 
-    /// Bytes of the shadow grid now: 4 per cell. It starts over the world box (and as far
-    /// around it as a bud's shadow reaches) and grows with the trees, since the sky is
-    /// open; 0 in a colonization world.
+    /// Bytes of the shadow grid now: 4 per cell. It holds nothing until the first bud
+    /// casts, then the cells the buds' shadow reaches with room to spare, and grows (in
+    /// place) with the trees, since the sky is open; 0 in a colonization world.
     pub fn grid_bytes(&self) -> usize {
         self.env.grid_cells() * 4
     }
