@@ -27,38 +27,40 @@ pub(super) fn sort_changes(
             radix_sort(data, tmp, cells)
         }
     };
+    // The changes of `run` with their cells, in order: those below `mid` into `low`, the
+    // others into `high`.
+    let part =
+        |run: &[&[(u64, i32)]], mid: u32, low: &mut Vec<(u32, i32)>, high: &mut Vec<(u32, i32)>| {
+            low.clear();
+            high.clear();
+            for &(k, n) in run.iter().flat_map(|s| s.iter()) {
+                if let Some(c) = index(k) {
+                    if c < mid {
+                        low.push((c, n))
+                    } else {
+                        high.push((c, n))
+                    }
+                }
+            }
+        };
     let [a_low, a_high, b_low, b_high] = scratch;
+    let total = sources.iter().map(|s| s.len()).sum::<usize>();
     #[cfg(feature = "parallel")]
-    if parallel && sources.iter().map(|s| s.len()).sum::<usize>() > 1 << 15 {
+    if parallel && total > 1 << 15 {
         let mid = (cells / 2) as u32;
         // The sources cut in two runs of about as many changes.
-        let half = sources.iter().map(|s| s.len()).sum::<usize>() / 2;
         let mut first: Vec<&[(u64, i32)]> = Vec::with_capacity(sources.len());
         let mut second = first.clone();
         let mut seen = 0;
         for &s in sources {
-            let cut = half.saturating_sub(seen).min(s.len());
+            let cut = (total / 2).saturating_sub(seen).min(s.len());
             first.push(&s[..cut]);
             second.push(&s[cut..]);
             seen += s.len();
         }
-        let part =
-            |run: &[&[(u64, i32)]], low: &mut Vec<(u32, i32)>, high: &mut Vec<(u32, i32)>| {
-                low.clear();
-                high.clear();
-                for &(k, n) in run.iter().flat_map(|s| s.iter()) {
-                    if let Some(c) = index(k) {
-                        if c < mid {
-                            low.push((c, n))
-                        } else {
-                            high.push((c, n))
-                        }
-                    }
-                }
-            };
         rayon::join(
-            || part(&first, a_low, a_high),
-            || part(&second, b_low, b_high),
+            || part(&first, mid, a_low, a_high),
+            || part(&second, mid, b_low, b_high),
         );
         // The first run's changes before the second's: the order they were made in.
         let (low_in_tmp, high_in_tmp) = rayon::join(
@@ -79,14 +81,9 @@ pub(super) fn sort_changes(
         sorted.extend_from_slice(if high_in_tmp { b_high } else { a_high });
         return;
     }
-    let _ = (parallel, a_high, b_low, b_high);
-    sorted.clear();
-    sorted.extend(
-        sources
-            .iter()
-            .flat_map(|s| s.iter())
-            .filter_map(|&(k, n)| Some((index(k)?, n))),
-    );
+    let _ = (parallel, total, b_low, b_high);
+    // Every cell is below u32::MAX (a grid holds at most 2^31 cells): all go to `sorted`.
+    part(sources, u32::MAX, sorted, a_high);
     if sort(sorted, a_low) {
         std::mem::swap(sorted, a_low);
     }

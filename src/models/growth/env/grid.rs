@@ -63,12 +63,7 @@ impl Grid {
         // Zeros written now: a lazily zeroed grid would be read through the shared zero
         // page and copied on its first write, two page faults per page, taken inside the
         // cycles' parallel passes.
-        v.try_reserve_exact(cells).map_err(|_| {
-            oom(format!(
-                "the shadow grid ({cells} cells, {} bytes)",
-                cells * 4
-            ))
-        })?;
+        reserve(&mut v, cells, cells)?;
         v.resize(cells, 0);
         Ok(Grid {
             lo,
@@ -176,14 +171,8 @@ impl Grid {
         // them; a fresh store would take a page fault per 4 KiB of all of it) and only
         // what they gain is new memory; then the rows move to their new places.
         let more = (cells - self.cells.len(), columns - self.columns.len());
-        if self.cells.try_reserve_exact(more.0).is_err()
-            || self.columns.try_reserve_exact(more.1).is_err()
-        {
-            return Err(oom(format!(
-                "the shadow grid ({cells} cells, {} bytes)",
-                cells * 4
-            )));
-        }
+        reserve(&mut self.cells, more.0, cells)?;
+        reserve(&mut self.columns, more.1, cells)?;
         let at = [0, 2].map(|k| (self.lo[k] - new_lo[k]) as usize);
         relay(&mut self.cells, self.dims, dims, at);
         let [nx, _, nz] = self.dims;
@@ -271,6 +260,17 @@ impl Divisor {
         let low = self.m.wrapping_mul(a as u64);
         ((low as u128 * self.d as u128) >> 64) as u32
     }
+}
+
+/// Room in `v` for `more` values, or the error of a grid of `cells` cells that the
+/// memory cannot hold.
+fn reserve(v: &mut Vec<i32>, more: usize, cells: usize) -> Result<()> {
+    v.try_reserve_exact(more).map_err(|_| {
+        oom(format!(
+            "the shadow grid ({cells} cells, {} bytes)",
+            cells * 4
+        ))
+    })
 }
 
 /// Re-lays `data`, layers of `old[2]` rows of `old[0]` cells (x fastest) in place as
