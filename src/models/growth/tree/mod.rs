@@ -86,12 +86,18 @@ struct Scratch {
     q: Vec<f32>,
     vig: Vec<f32>,
     dead: Vec<bool>,
+    /// The internodes of the subtrees being shed, with their living buds.
+    walk: Vec<(u32, u32)>,
     /// The buds that grow a shoot this cycle: (internode, 0 terminal / 1 lateral, vigour).
     shoots: Vec<(u32, u32, f32)>,
     /// Shedding costs by species: ((shed_multiplier, shed_exponent) bits, the cost
     /// multiplier·d^exponent of d internodes for d below [`COSTS`], NaN until needed).
     costs: Vec<((u32, u32), Vec<f32>)>,
 }
+
+/// A tree's shed internodes are removed from its store when they are more than one in
+/// this many of the internodes stored.
+const DEAD_SHARE: usize = 8;
 
 /// Descendant counts whose shedding cost a thread keeps (larger ones are computed).
 const COSTS: usize = 4096;
@@ -137,6 +143,10 @@ pub(crate) struct Tree {
     planted: u32,
     /// Internodes shed so far.
     pub(crate) shed: usize,
+    /// Shed internodes still stored (see [`Tree::shed_subtrees`]), and the first of
+    /// them (`usize::MAX` when none).
+    dead: usize,
+    first_dead: usize,
     /// Largest vigour residual of the last cycle's splits (a conservation check).
     pub(crate) residual: f32,
     /// Vigour at the base in the last cycle.
@@ -232,6 +242,8 @@ impl Tree {
             base,
             planted: cycle,
             shed: 0,
+            dead: 0,
+            first_dead: usize::MAX,
             residual: 0.0,
             root_vigour: 0.0,
             radii_stale: false,
@@ -241,8 +253,9 @@ impl Tree {
         }
     }
 
+    /// Living internodes.
     pub(crate) fn len(&self) -> usize {
-        self.nodes.len()
+        self.nodes.len() - self.dead
     }
 
     /// Where internode `i` starts: its parent's end, the base for the root.
@@ -570,7 +583,8 @@ impl Tree {
                 .filter_map(|(word, count)| env.change(word, count))
                 .collect();
             self.casts.extend(gone);
-            self.shed += self.nodes.len();
+            self.shed += self.len();
+            (self.dead, self.first_dead) = (0, usize::MAX);
             self.nodes.truncate(0);
             self.radii_stale = false;
             self.recycle(plan);
@@ -631,17 +645,70 @@ impl Tree {
         (self.new_buf, self.shed_buf) = (plan.new, plan.shed);
     }
 
-    /// Removes the subtrees whose base internodes are `roots` (in increasing order;
+    /// Sheds the subtrees whose base internodes are `roots` (in increasing order;
     /// internodes grown this cycle never grow on a shed one), taking their buds' shadow
-    /// away; indices stay parents-before-children. One forward pass: parents come before
-    /// children, so an internode learns from its parent's new index whether it lives, and
-    /// tells the parent its own new index (a lateral child has the next branching order,
-    /// a main child the same). The internodes are compacted in place, with the thread's
-    /// scratch (no allocation in proportion to the tree).
+    /// away: each subtree is walked from its root, so shedding costs what it sheds, not
+    /// the tree. The shed internodes stay stored, unlinked (no internode lists them, and they list no
+    /// children or buds), so every pass reads them as a bare internode nobody asks
+    /// about, until they are [`DEAD_SHARE`] of the store: then [`Tree::compact`] removes
+    /// them all at once, instead of moving the tree down every cycle something is shed.
     fn shed_subtrees(&mut self, roots: &[u32], env: &Env, s: &mut Scratch) {
+        let nodes = &mut self.nodes;
+        // Each subtree walked from its root (one still listed by its parent: a root
+        // inside another's subtree is walked with it), each internode unlinked as it is
+        // met: (internode, its living buds).
+        let walk = &mut s.walk;
+        walk.clear();
+        for &r in roots {
+            let p = nodes.parent[r as usize];
+            if p == NO_PARENT || !nodes.kids[p as usize].contains(&r) {
+                continue;
+            }
+            for slot in &mut nodes.kids[p as usize] {
+                if *slot == r {
+                    *slot = GONE;
+                }
+            }
+            let mut k = walk.len();
+            walk.push((r, 0));
+            while k < walk.len() {
+                let i = walk[k].0 as usize;
+                let kids = std::mem::replace(&mut nodes.kids[i], [GONE, GONE]);
+                walk[k].1 = buds(kids);
+                walk.extend(kids.into_iter().filter(|&c| is_child(c)).map(|c| (c, 0)));
+                k += 1;
+            }
+        }
+        // Their buds' shadow taken away in internode order.
+        walk.sort_unstable_by_key(|&(i, _)| i);
+        for &(i, buds) in walk.iter() {
+            if buds > 0 {
+                self.casts
+                    .extend(env.change(nodes.cell[i as usize], -(buds as i32)));
+            }
+        }
+        let Some(&(first, _)) = walk.first() else {
+            return;
+        };
+        let (first, count) = (first as usize, walk.len());
+        let n = nodes.len();
+        self.shed += count;
+        self.dead += count;
+        self.first_dead = self.first_dead.min(first);
+        if self.dead * DEAD_SHARE > n {
+            self.compact(s);
+        }
+    }
+
+    /// Removes the shed internodes still stored, keeping the order of the others
+    /// (parents before children): one forward pass finds where each goes (an internode
+    /// lives when its parent lists it), then each run of kept internodes moves down at
+    /// once and the links are renumbered. With the thread's scratch (no allocation in
+    /// proportion to the tree).
+    fn compact(&mut self, s: &mut Scratch) {
         let n = self.nodes.len();
-        // Internodes before the first root keep their places (and their indices).
-        let first = roots.first().map_or(n, |&r| r as usize);
+        let first = self.first_dead.min(n);
+        (self.dead, self.first_dead) = (0, usize::MAX);
         let new_index = &mut s.desc;
         new_index.clear();
         new_index.resize(n - first, NO_PARENT);
@@ -650,33 +717,14 @@ impl Tree {
         let side = |nodes: &Nodes, i: usize, parent: u32| {
             usize::from(parent != NO_PARENT && nodes.order[i] != nodes.order[parent as usize])
         };
-        // First where each internode goes, in order (a shed one's buds' shadow goes, as
-        // it is met), and the parents' slots that shed roots leave empty; ...
-        let mut roots = roots.iter().copied().peekable();
         let mut kept = first;
-        let mut emptied = Vec::new();
         for i in first..n {
             let p = nodes.parent[i];
-            let parent = if p == NO_PARENT || (p as usize) < first {
-                p
-            } else {
-                new_index[p as usize - first]
-            };
-            let root = roots.next_if_eq(&(i as u32)).is_some();
-            if root || (p != NO_PARENT && parent == NO_PARENT) {
-                let buds = buds(nodes.kids[i]);
-                if buds > 0 {
-                    self.casts.extend(env.change(nodes.cell[i], -(buds as i32)));
-                }
-                if parent != NO_PARENT {
-                    emptied.push((parent, side(nodes, i, p)));
-                }
-                continue;
+            if p == NO_PARENT || nodes.kids[p as usize].contains(&(i as u32)) {
+                new_index[i - first] = kept as u32;
+                kept += 1;
             }
-            new_index[i - first] = kept as u32;
-            kept += 1;
         }
-        // ... then each run of kept internodes moved down at once, ...
         let mut i = first;
         while i < n {
             let to = new_index[i - first];
@@ -692,7 +740,6 @@ impl Tree {
                 nodes.move_run(start..i, to as usize);
             }
         }
-        // ... and the links of the kept ones renumbered (their parents are in place).
         for k in first..kept {
             let p = nodes.parent[k];
             let parent = if p == NO_PARENT || (p as usize) < first {
@@ -706,11 +753,7 @@ impl Tree {
                 nodes.kids[parent as usize][side] = k as u32;
             }
         }
-        for (parent, side) in emptied {
-            nodes.kids[parent as usize][side] = GONE;
-        }
         nodes.truncate(kept);
-        self.shed += n - kept;
     }
 
     /// Seeds this tree drops this cycle: (species, position on the ground), at most
@@ -887,6 +930,9 @@ mod tests {
             let mut reference = t.clone();
             shed_one_at_a_time(&mut reference, &roots, &env);
             SCRATCH.with_borrow_mut(|s| t.shed_subtrees(&roots, &env, s));
+            assert_eq!(t.len(), reference.len(), "roots {roots:?}");
+            SCRATCH.with_borrow_mut(|s| t.compact(s));
+            assert_eq!(t.dead, 0);
             shed_some += usize::from(t.shed > 0);
             let n = &t.nodes;
             let m = &reference.nodes;
@@ -902,6 +948,40 @@ mod tests {
             assert_eq!((t.shed, &t.casts), (reference.shed, &reference.casts));
         }
         assert!(shed_some > 200, "only {shed_some} trees shed anything");
+    }
+
+    /// Shed internodes left stored until they are many give the skeletons that removing
+    /// them every cycle gives, byte for byte, through cycles that shed and compact.
+    #[test]
+    fn shed_internodes_kept_until_compaction_change_nothing() {
+        use super::super::{Species, World, WorldOptions};
+        for species in [Species::Bush, Species::Decurrent] {
+            let mut kept = World::new(&WorldOptions::default()).unwrap();
+            kept.plant(&GrowthParams::preset(species), [0.0; 3], 3)
+                .unwrap();
+            let mut removed = kept.clone();
+            let (mut stored, mut compacted) = (0, 0);
+            for cycle in 1..=45 {
+                kept.step(1).unwrap();
+                removed.step(1).unwrap();
+                for t in &mut removed.trees {
+                    SCRATCH.with_borrow_mut(|s| t.compact(s));
+                }
+                let t = &kept.trees[0];
+                stored += usize::from(t.dead > 0);
+                compacted += usize::from(t.dead == 0 && t.shed > 0);
+                assert_eq!(t.len(), removed.trees[0].len(), "cycle {cycle}");
+                assert_eq!(
+                    format!("{:?}", t.skeleton()),
+                    format!("{:?}", removed.trees[0].skeleton()),
+                    "{species:?}, cycle {cycle}"
+                );
+            }
+            assert!(
+                stored > 5 && compacted > 0,
+                "{species:?}: {stored}, {compacted}"
+            );
+        }
     }
 
     /// A fuzzer found an infinite root vigour asking for 2^32 seedlings (22 GB): the

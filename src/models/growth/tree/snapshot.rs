@@ -1,7 +1,7 @@
 //! A tree's snapshot as a skeleton.
 
 use super::{BUD, Tree, branch_turn, is_child, perpendicular, pipe};
-use crate::skeleton::{Branch, LeafSite, Skeleton, SkeletonParts};
+use crate::skeleton::{Branch, LeafSite, NO_PARENT, Skeleton, SkeletonParts};
 
 impl Tree {
     /// The tree as a skeleton: one branch per internode, radii from the pipe model
@@ -25,11 +25,30 @@ impl Tree {
         } else {
             &n.rn
         };
+        // Each stored internode's branch index (`NO_PARENT` for the shed ones still
+        // stored: those no parent lists).
+        let mut index = Vec::new();
+        if self.dead > 0 {
+            let mut k = 0;
+            index.extend((0..n.len()).map(|i| {
+                let p = n.parent[i];
+                if p == NO_PARENT || n.kids[p as usize].contains(&(i as u32)) {
+                    k += 1;
+                    k - 1
+                } else {
+                    NO_PARENT
+                }
+            }));
+        }
+        let at = |i: usize| index.get(i).copied().unwrap_or(i as u32);
         let mut parts = SkeletonParts {
-            branches: Vec::with_capacity(n.len()),
+            branches: Vec::with_capacity(self.len()),
             ..Default::default()
         };
         for i in 0..n.len() {
+            if at(i) == NO_PARENT {
+                continue;
+            }
             let r = radius(rn[i]);
             let [m, l] = n.kids[i];
             let end_radius = if is_child(m) {
@@ -42,7 +61,10 @@ impl Tree {
                 end: n.end[i].to_array(),
                 start_radius: r,
                 end_radius,
-                parent: n.parent[i],
+                parent: match n.parent[i] {
+                    NO_PARENT => NO_PARENT,
+                    p => at(p as usize),
+                },
                 birth: n.birth[i],
                 order: n.order[i],
                 flags: 0,
@@ -58,7 +80,7 @@ impl Tree {
                         position: n.end[i].to_array(),
                         heading: heading.to_array(),
                         up: perpendicular(heading).to_array(),
-                        branch: i as u32,
+                        branch: at(i),
                         birth: n.birth[i],
                     });
                 }
