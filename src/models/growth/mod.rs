@@ -462,6 +462,14 @@ impl tree::Light for ShadowLight<'_> {
     fn v(&self, _: u32, word: env::Key) -> Vec3 {
         self.0.shadow_v(word)
     }
+    #[inline]
+    fn prefetch(&self, word: env::Key) {
+        self.0.prefetch(word)
+    }
+    #[inline]
+    fn prefetch_v(&self, word: env::Key) {
+        self.0.prefetch_v(word)
+    }
     fn read_ahead(&self) -> bool {
         // Past 4 MiB of cells a bud's read is a cache miss more often than not.
         self.0.grid_cells() > READ_AHEAD_CELLS

@@ -377,6 +377,39 @@ impl Env {
         (self.full_light - s + self.strength).max(0.0)
     }
 
+    /// Asks the memory for the shadow [`Env::shadow_q`] of `word` will read.
+    #[inline]
+    pub(crate) fn prefetch(&self, word: Key) {
+        self.prefetch_cell(unkey(word));
+    }
+
+    /// Asks the memory for the shadow of lattice cell `c` (x86; elsewhere nothing).
+    #[inline]
+    fn prefetch_cell(&self, c: [i64; 3]) {
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+        if let Some(cell) = self.grid.index(c).and_then(|i| self.grid.cells.get(i)) {
+            safe_arch::prefetch_t0(cell);
+        }
+        #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+        let _ = c;
+    }
+
+    /// Asks the memory for the cells [`Env::shadow_v`] of `word` will read (x86; see
+    /// [`Env::prefetch`]).
+    #[inline]
+    pub(crate) fn prefetch_v(&self, word: Key) {
+        let [x, y, z] = unkey(word);
+        for c in [
+            [x, y, z - 1],
+            [x, y, z + 1],
+            [x, y - 1, z],
+            [x, y + 1, z],
+            [x, y, z],
+        ] {
+            self.prefetch_cell(c);
+        }
+    }
+
     /// Light on the ground at `p` (a shadow world): full light less a bud's shadow for
     /// every bud above it, at any height, counted over the 5 × 5 columns around its cell
     /// and taken per column: `max(C − a·buds / 25, 0)`; what a seed there gets.

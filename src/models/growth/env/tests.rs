@@ -377,3 +377,33 @@ fn a_growing_grid_keeps_every_cell_where_it_was() {
     assert!(e.to_string().contains("max_cells"), "{e}");
     assert_eq!(snapshot(&g), before);
 }
+
+/// Prefetching is only a hint: at cells inside the grid, on its edges, outside it, far
+/// beyond the lattice and dark, it reads nothing a read could not and changes nothing.
+#[test]
+fn prefetching_any_cell_changes_nothing() {
+    let mut env = Env::new(&WorldOptions::default()).unwrap();
+    env.cover([Vec3::new(0.0, 3.0, 0.0)]).unwrap();
+    env.cast(env.cell_word(Vec3::new(0.0, 3.0, 0.0)), 3);
+    env.flush(false);
+    let before = env.grid.cells.clone();
+    assert!(before.iter().any(|&v| v != 0), "nothing cast");
+    let [nx, ny, nz] = env.grid.dims;
+    let lo = env.grid.lo;
+    let mut words = vec![
+        env.cell_word(Vec3::new(0.0, 3.0, 0.0)),
+        env.cell_word(Vec3::new(1e9, -1e9, 1e9)),
+        key(lo),
+        key([lo[0] - 1, lo[1] - 1, lo[2] - 1]),
+        key([0, 1, 2].map(|k| lo[k] + [nx, ny, nz][k] as i64)),
+        u64::MAX,
+        0,
+    ];
+    words.extend(words.clone().into_iter().map(|w| w | DARK));
+    for w in words {
+        env.prefetch(w);
+        env.prefetch_v(w);
+        assert_eq!(env.shadow_q(w), env.shadow_q(w));
+    }
+    assert_eq!(env.grid.cells, before);
+}

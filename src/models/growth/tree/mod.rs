@@ -69,7 +69,20 @@ pub(crate) trait Light {
     fn read_ahead(&self) -> bool {
         false
     }
+    /// Asks the memory for what [`Light::q`] of `word` will read (a hint: nothing
+    /// changes).
+    #[inline]
+    fn prefetch(&self, _word: Key) {}
+    /// Asks the memory for what [`Light::v`] of `word` will read (a hint).
+    #[inline]
+    fn prefetch_v(&self, _word: Key) {}
 }
+
+/// Shoots ahead of the one grown whose optimal direction is prefetched.
+const PREFETCH_V: usize = 8;
+
+/// Buds ahead of the one read that a read-ahead pass prefetches.
+const PREFETCH: usize = 32;
 
 /// The passes' working arrays, one set per thread and reused from cycle to cycle and tree
 /// to tree, so a world's memory holds only the internodes themselves.
@@ -389,13 +402,27 @@ impl Tree {
             // The buds' light first, in a loop of independent reads of the shadow grid
             // (a cache miss each in a forest), so more of them are under way at once.
             s.q.clear();
-            s.q.extend(nodes.kids.iter().zip(&nodes.cell).map(|(&kids, &word)| {
-                if buds(kids) > 0 {
-                    light.q(0, word)
-                } else {
-                    0.0
-                }
-            }));
+            let cells = &nodes.cell;
+            for &word in &cells[..PREFETCH.min(n)] {
+                light.prefetch(word);
+            }
+            s.q.extend(
+                nodes
+                    .kids
+                    .iter()
+                    .zip(cells)
+                    .enumerate()
+                    .map(|(i, (&kids, &word))| {
+                        if let Some(&ahead) = cells.get(i + PREFETCH) {
+                            light.prefetch(ahead);
+                        }
+                        if buds(kids) > 0 {
+                            light.q(0, word)
+                        } else {
+                            0.0
+                        }
+                    }),
+            );
         }
         // Basipetal, with the light of each bud: light above each internode, split into
         // main and lateral, and the number of internodes at and above each.
@@ -481,8 +508,10 @@ impl Tree {
             } else {
                 (0.0, 0.0)
             };
-            if denom > 0.0 {
-                residual = residual.max((v - vm - vl).abs() / v.max(1e-30));
+            // The largest |v − vm − vl| / v, divided only where it grows.
+            let miss = (v - vm - vl).abs();
+            if denom > 0.0 && miss > residual * v.max(1e-30) {
+                residual = residual.max(miss / v.max(1e-30));
             }
             for (k, share) in [vm, vl].into_iter().enumerate() {
                 let slot = kids[k];
@@ -508,7 +537,12 @@ impl Tree {
         let nodes = &self.nodes;
         let up = Vec3::Y;
         let branch = branch_turn(p.branch_angle);
-        for &(i, k, share) in &s.shoots {
+        // Where the buds' light is read ahead, the grid is too large for the caches.
+        let prefetch = !L::ORDERED && light.read_ahead();
+        for (j, &(i, k, share)) in s.shoots.iter().enumerate() {
+            if let Some(&(ahead, _, _)) = s.shoots.get(j + PREFETCH_V).filter(|_| prefetch) {
+                light.prefetch_v(nodes.cell[ahead as usize]);
+            }
             let (i, kids) = (i as usize, nodes.kids[i as usize]);
             let count = (share.floor() as u32).min(p.max_shoot);
             let length = p.internode_length * (share / count as f32).min(2.0);
