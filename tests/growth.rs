@@ -207,6 +207,27 @@ fn the_same_world_grows_the_same_forest() {
     }
 }
 
+/// Seedlings stop at `max_branches` too: however close to it a cycle's growth leaves the
+/// world, the seedlings it drops never take the world past it.
+#[test]
+fn seedlings_never_pass_max_branches() {
+    let mut p = GrowthParams::preset(Species::Decurrent);
+    p.seed_age = 5;
+    let mut at_limit = 0;
+    for max in (100..=400).step_by(7) {
+        let mut options = WorldOptions::default();
+        options.max_branches = max;
+        let mut w = World::new(&options).unwrap();
+        w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
+        while w.step(1).is_ok() {
+            assert!(w.branch_count() <= max, "{} of {max}", w.branch_count());
+            at_limit += usize::from(w.branch_count() == max);
+        }
+        assert!(w.branch_count() <= max, "{} of {max}", w.branch_count());
+    }
+    assert!(at_limit > 0, "no world reached its limit through seedlings");
+}
+
 #[test]
 fn old_trees_seed_new_ones_around_them() {
     let mut p = GrowthParams::preset(Species::Decurrent);

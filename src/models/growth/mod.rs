@@ -368,11 +368,13 @@ impl World {
         for t in &self.trees {
             t.seeds(cycle, &mut self.rng, most, &mut seedlings);
         }
+        // Internodes of the world, counted once and then kept up as seedlings are planted.
+        let mut branches = self.branch_count();
         for (species, at) in seedlings {
             if self.trees.len() >= self.options.max_trees || !self.env.inside(at) {
                 continue;
             }
-            if self.check_branches(1).is_err() {
+            if branches >= self.options.max_branches {
                 break;
             }
             let end = at + Vec3::Y * species.internode_length;
@@ -390,6 +392,7 @@ impl World {
             let tree = Tree::plant(species, at, seed, cycle, &self.env);
             tree.cast(&mut self.env, 1);
             self.trees.push(tree);
+            branches += 1;
         }
         // The trees' changes, in tree order, then the seedlings' buds.
         let casts: Vec<&[(env::Key, i32)]> =
