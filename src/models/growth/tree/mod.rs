@@ -682,10 +682,11 @@ impl Tree {
     /// Sheds the subtrees whose base internodes are `roots` (in increasing order;
     /// internodes grown this cycle never grow on a shed one), taking their buds' shadow
     /// away: each subtree is walked from its root, so shedding costs what it sheds, not
-    /// the tree. The shed internodes stay stored, unlinked (no internode lists them, and they list no
-    /// children or buds), so every pass reads them as a bare internode nobody asks
-    /// about, until they are [`DEAD_SHARE`] of the store: then [`Tree::compact`] removes
-    /// them all at once, instead of moving the tree down every cycle something is shed.
+    /// the tree. The shed internodes stay stored, unlinked (no internode lists them, and
+    /// they list no children or buds), so every pass reads them as a bare internode
+    /// nobody asks about, until they pass one in [`DEAD_SHARE`] of the store: then
+    /// [`Tree::compact`] removes them all at once, instead of moving the tree down every
+    /// cycle something is shed.
     fn shed_subtrees(&mut self, roots: &[u32], env: &Env, s: &mut Scratch) {
         let nodes = &mut self.nodes;
         // Each subtree walked from its root (one still listed by its parent: a root
