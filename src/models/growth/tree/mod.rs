@@ -754,8 +754,7 @@ impl Tree {
         };
         let mut kept = first;
         for i in first..n {
-            let p = nodes.parent[i];
-            if p == NO_PARENT || nodes.kids[p as usize].contains(&(i as u32)) {
+            if nodes.lives(i) {
                 new_index[i - first] = kept as u32;
                 kept += 1;
             }

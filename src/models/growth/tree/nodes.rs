@@ -1,6 +1,7 @@
 //! A tree's internodes as a structure of arrays.
 
 use super::{BUD, Key};
+use crate::skeleton::NO_PARENT;
 use glam::Vec3;
 
 /// A tree's internodes (metamers), one entry per internode in each array (structure of
@@ -46,6 +47,13 @@ pub(super) struct NodeInit {
 impl Nodes {
     pub(super) fn len(&self) -> usize {
         self.parent.len()
+    }
+
+    /// Whether internode `i` lives: the root, or an internode its parent lists (shed
+    /// internodes still stored are listed by none).
+    pub(super) fn lives(&self, i: usize) -> bool {
+        let p = self.parent[i];
+        p == NO_PARENT || self.kids[p as usize].contains(&(i as u32))
     }
 
     pub(super) fn push(&mut self, n: NodeInit) {

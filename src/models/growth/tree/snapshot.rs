@@ -31,8 +31,7 @@ impl Tree {
         if self.dead > 0 {
             let mut k = 0;
             index.extend((0..n.len()).map(|i| {
-                let p = n.parent[i];
-                if p == NO_PARENT || n.kids[p as usize].contains(&(i as u32)) {
+                if n.lives(i) {
                     k += 1;
                     k - 1
                 } else {
