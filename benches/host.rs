@@ -10,7 +10,9 @@
 //! grown tree (grown outside the clock), on the default threads and on one: the size and
 //! write calls together (`first_write_*`), and the write call alone after the size call
 //! (`first_write_call_*`). The ratio memset time / mesh time is the fraction of memset
-//! bandwidth a host gets.
+//! bandwidth a host gets. Memset runs as one call (`c_memset`) and as two calls at once on
+//! the two halves (`c_memset_both_cores`): the bandwidth of the cores arbor writes with,
+//! where one core alone cannot fill the memory bus.
 
 // The C types ArborHondaParams, ArborTopology and ArborVertex are these Rust types.
 use arbor::ffi::{
@@ -99,6 +101,21 @@ fn c_memset<T>(v: &mut [T], byte: i32) {
     unsafe { libc::memset(v.as_mut_ptr().cast(), byte, std::mem::size_of_val(v)) };
 }
 
+/// [`c_memset`] on both cores: each buffer's two halves set by two threads at once (the
+/// bandwidth a host gets when it fills with as many threads as arbor writes with).
+fn c_memset_both_cores<T: Send>(v: &mut [T], i: &mut [u32], byte: i32) {
+    let (v0, v1) = v.split_at_mut(v.len() / 2);
+    let (i0, i1) = i.split_at_mut(i.len() / 2);
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            c_memset(v1, byte);
+            c_memset(i1, byte);
+        });
+        c_memset(v0, byte);
+        c_memset(i0, byte);
+    });
+}
+
 fn bench_host(c: &mut Criterion) {
     let mut group = c.benchmark_group("host_mesh");
     group.sample_size(10);
@@ -166,6 +183,9 @@ fn bench_host(c: &mut Criterion) {
                 c_memset(&mut vertices, black_box(0x5a));
                 c_memset(&mut indices, black_box(0x5a));
             })
+        });
+        group.bench_function(BenchmarkId::new("c_memset_both_cores", name), |b| {
+            b.iter(|| c_memset_both_cores(&mut vertices, &mut indices, black_box(0x5a)))
         });
     }
     group.finish();
