@@ -219,11 +219,20 @@ fn seedlings_never_pass_max_branches() {
         options.max_branches = max;
         let mut w = World::new(&options).unwrap();
         w.plant(&p, [0.0, 0.0, 0.0], 1).unwrap();
-        while w.step(1).is_ok() {
+        // Bounded: a world that stopped growing short of its limit ends the loop too.
+        let mut stopped = false;
+        for _ in 0..500 {
+            stopped = w.step(1).is_err();
             assert!(w.branch_count() <= max, "{} of {max}", w.branch_count());
+            if stopped {
+                break;
+            }
             at_limit += usize::from(w.branch_count() == max);
         }
-        assert!(w.branch_count() <= max, "{} of {max}", w.branch_count());
+        assert!(
+            stopped,
+            "max_branches {max}: still growing after 500 cycles"
+        );
     }
     assert!(at_limit > 0, "no world reached its limit through seedlings");
 }
