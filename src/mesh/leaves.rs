@@ -10,6 +10,7 @@ use super::strips::{StripRules, StripWriter, zigzag};
 use super::{Mesh, MeshOptions, MeshSize, RESTART_INDEX, Vertex};
 use crate::error::{Error, Result};
 use crate::geom::transport::ring_basis;
+use crate::geom::unit;
 use crate::rng::Rng;
 use crate::skeleton::Skeleton;
 use glam::{Mat3, Quat, Vec3};
@@ -662,7 +663,9 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
                 let position = at + q * (Vec3::from(v.position) * l.scale);
                 self.put(
                     position,
-                    (q * Vec3::from(v.normal)).normalize_or_zero(),
+                    // A prefab's normal may be of any length, even zero (an OBJ file's):
+                    // the leaf's face normal stands in for one without a direction.
+                    unit(q * Vec3::from(v.normal)).unwrap_or_else(|| q * Vec3::Z),
                     v.uv,
                 );
             }
@@ -689,8 +692,10 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
                     (a.x - b.x) * (a.y + b.y),
                 );
             }
-            let normal = normal.try_normalize().unwrap_or(Vec3::Z);
-            let e1 = (at(1) - at(0)).try_normalize().unwrap_or(Vec3::X);
+            // `unit`, not `try_normalize`: a nearly flat polygon's sum underflows, and
+            // glam would scale it by a reciprocal taken from a subnormal (not unit).
+            let e1 = unit(at(1) - at(0)).unwrap_or(Vec3::X);
+            let normal = unit(normal).unwrap_or_else(|| e1.any_orthonormal_vector());
             let e2 = normal.cross(e1);
             let plane = |p: Vec3| glam::Vec2::new((p - at(0)).dot(e1), (p - at(0)).dot(e2));
             let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
@@ -732,12 +737,13 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
             .collect();
         for o in skeleton.organs() {
             let c = Vec3::from(o.position);
-            let h = Vec3::from(o.heading).try_normalize().unwrap_or(Vec3::Y);
-            let u = Vec3::from(o.up).try_normalize().unwrap_or(Vec3::Z);
+            let h = unit(Vec3::from(o.heading)).unwrap_or(Vec3::Y);
+            let u = unit(Vec3::from(o.up)).unwrap_or(Vec3::Z);
             // L = H x U: U turning toward L is counter-clockwise about H.
-            let l = h
-                .cross(u)
-                .try_normalize()
+            // The cross product of nearly parallel vectors is mostly rounding: kept only
+            // where it stands square to H, so that H, U, L are orthonormal.
+            let l = unit(h.cross(u))
+                .filter(|l| l.dot(h).abs() < 1e-3)
                 .unwrap_or_else(|| h.any_orthonormal_vector());
             let u = l.cross(h);
             let r = 0.5 * o.size;
