@@ -100,3 +100,97 @@ fn hostile_text_is_refused_cleanly() {
     // Keywords are case-insensitive, as in cpfg.
     assert!(LSystem::parse("LSYSTEM: 1\nAXIOM: F\nDerivation Length: 2\nENDLSYSTEM").is_ok());
 }
+
+/// Where the character at byte `at` of `text` stands: its 1-based line and column (in
+/// characters).
+fn place_of(text: &str, at: usize) -> (u32, u32) {
+    let before = &text[..at];
+    let line = before.matches('\n').count() as u32 + 1;
+    let start = before.rfind('\n').map_or(0, |k| k + 1);
+    (line, before[start..].chars().count() as u32 + 1)
+}
+
+/// What may stand between two tokens of a production without changing it: a
+/// `\`-newline splice (LF or CRLF), a block comment on one line. (A comment over several
+/// lines, like a line comment, ends the production's line.)
+const JOINS: &[&str] = &[" \\\n", "\\\n", " /* a */ ", " \\\r\n ", "/**/"];
+
+proptest::proptest! {
+    /// The position of a parse error is the offending character's line and column in the
+    /// file's own text, whatever splices, comments and macros stand before it on its line
+    /// or on lines before it.
+    #[test]
+    fn error_positions_are_in_the_files_own_text(
+        joins in proptest::collection::vec((0usize..64, 0usize..JOINS.len()), 0..6),
+        macro_before in proptest::bool::ANY,
+    ) {
+        // Tokens of a production whose last token, `)`, is the error.
+        let head = if macro_before {
+            "#define W F(1)\n/* a comment\nover lines */ Axiom: A\n"
+        } else {
+            "Axiom: /* a */ A \\\n\n"
+        };
+        let tokens: &[&str] = &[
+            "A", "-->", if macro_before { "W" } else { "F(1)" }, "[", "+", "A", "]", "G",
+        ];
+        let mut text = head.to_string();
+        let mut seps = vec![" "; tokens.len()];
+        for (at, j) in &joins {
+            seps[at % tokens.len()] = JOINS[*j];
+        }
+        for (t, sep) in tokens.iter().zip(&seps) {
+            text += t;
+            text += sep;
+        }
+        let at = text.len();
+        text += ")\n";
+        let want = place_of(&text, at);
+        match LSystem::parse(&text) {
+            Err(Error::Parse { line, column, message }) => {
+                proptest::prop_assert_eq!((line, column), want, "{:?}: {}", text, message);
+            }
+            other => proptest::prop_assert!(false, "{:?}: {:?}", text, other.map(|_| ())),
+        }
+    }
+}
+
+/// round4/error_column_after_continuation.l, in kind: a line ending in `\` is joined
+/// with the next, and the error after the join is told on the next line, at its column
+/// there.
+#[test]
+fn an_error_after_a_continuation_is_told_on_its_own_line() {
+    let text = "Lsystem: 1\nignore: C~#\\\nangle increment: -30\nAxiom: F\n";
+    match LSystem::parse(text) {
+        Err(Error::Parse { line, column, .. }) => assert_eq!((line, column), (3, 16)),
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+/// An error inside an included file is told at that file's own name, line and column,
+/// after splices and comments there.
+#[test]
+fn an_error_in_an_included_file_is_told_in_that_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("rules.h"),
+        "/* rules */\nA --> F \\\n [+A] /* x */ )\n",
+    )
+    .unwrap();
+    let main = dir.path().join("plant.l");
+    std::fs::write(
+        &main,
+        "Lsystem: 1\nAxiom: A\n#include \"rules.h\"\nendlsystem\n",
+    )
+    .unwrap();
+    match LSystem::from_file(&main, None) {
+        Err(Error::Parse {
+            line,
+            column,
+            message,
+        }) => {
+            assert_eq!((line, column), (3, 15), "{message}");
+            assert!(message.contains("rules.h"), "{message}");
+        }
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}

@@ -28,7 +28,7 @@ use crate::files::Source;
 use expand::{err_unterminated, macro_name, skip_space};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use text::{join, logical_lines, tokenize};
+use text::{Logical, file_place, join, logical_lines, tokenize};
 
 /// Most bytes the preprocessed text of one grammar may reach (all includes together).
 pub(crate) const MAX_OUTPUT_BYTES: usize = 16 << 20;
@@ -63,6 +63,10 @@ pub(crate) struct Preprocessed {
     /// The original text of the output lines macro expansion changed (0-based output
     /// line), so error columns are told in the file's own text.
     pub(crate) changed: HashMap<u32, String>,
+    /// Where the characters of an output line's original text stand in its file (see
+    /// [`Logical::places`]), for the lines a splice or a comment joined or shifted
+    /// (0-based output line): an error is told at its file's own line and column.
+    pub(crate) places: HashMap<u32, Vec<[u32; 3]>>,
 }
 
 /// Column `column` (1-based, in characters) of `expanded`, as a column of `original`,
@@ -109,14 +113,19 @@ impl Preprocessed {
                 column,
                 message,
             } => {
-                let column = match self.changed.get(&line.saturating_sub(1)) {
+                let out = line.saturating_sub(1);
+                let column = match self.changed.get(&out) {
                     Some(original) => {
-                        let expanded = self.text.lines().nth(line as usize - 1).unwrap_or("");
+                        let expanded = self.text.lines().nth(out as usize).unwrap_or("");
                         original_column(original, expanded, column)
                     }
                     None => column,
                 };
-                let (file, line) = self.origin(line);
+                let (file, first) = self.origin(line);
+                let (line, column) = match self.places.get(&out) {
+                    Some(places) => file_place(places, first, column),
+                    None => (first, column),
+                };
                 Error::Parse {
                     line,
                     column,
@@ -302,7 +311,7 @@ impl Pre<'_> {
                     source.tick()?;
                 }
             }
-            let (line_no, line) = (lines[i].0, &lines[i].1);
+            let (line_no, line) = (lines[i].line, &lines[i].text);
             let active = frames.last().is_none_or(|f| f.active);
             if let Some(rest) = line.trim_start().strip_prefix('#') {
                 let rest = rest.trim_start();
@@ -323,13 +332,25 @@ impl Pre<'_> {
                 continue;
             }
             let (text, expanded, used) = self.expand_call(&lines, i, file)?;
+            let at = self.out.origins.len() as u32;
+            let call = &lines[i..i + used];
+            if used > 1 || !call[0].plain() {
+                // The places of the lines a macro call spans, one after another (each
+                // joined to the one before by a space).
+                let mut places = Vec::new();
+                let mut offset = 0;
+                for l in call {
+                    places.extend(l.places.iter().map(|&[k, ln, c]| [k + offset, ln, c]));
+                    offset += l.text.chars().count() as u32 + 1;
+                }
+                self.out.places.insert(at, places);
+            }
             if expanded != text {
-                let at = self.out.origins.len() as u32;
                 self.out.changed.insert(at, text);
             }
             self.push_line(&expanded, file_idx, line_no)?;
             for k in 1..used {
-                self.push_line("", file_idx, lines[i + k].0)?;
+                self.push_line("", file_idx, lines[i + k].line)?;
             }
             i += used;
         }
@@ -434,21 +455,21 @@ impl Pre<'_> {
     /// function-like macro call may continue on the following lines.
     fn expand_call(
         &mut self,
-        lines: &[(u32, String)],
+        lines: &[Logical],
         i: usize,
         file: &str,
     ) -> Result<(String, String, usize)> {
-        let line_no = lines[i].0;
-        let mut text = lines[i].1.clone();
+        let line_no = lines[i].line;
+        let mut text = lines[i].text.clone();
         let mut used = 1;
         loop {
             if let Some(e) = self.expand_line(&text, file, line_no)? {
                 return Ok((text, e, used));
             }
-            match lines.get(i + used).map(|l| l.1.trim_start()) {
+            match lines.get(i + used).map(|l| l.text.trim_start()) {
                 Some(n) if !n.starts_with('#') && used < MAX_CALL_LINES => {
                     text.push(' ');
-                    text.push_str(&lines[i + used].1);
+                    text.push_str(&lines[i + used].text);
                     used += 1;
                 }
                 _ => return Err(err_unterminated(file, line_no)),
