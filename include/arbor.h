@@ -1374,8 +1374,11 @@ typedef struct ArborLsystemOptions {
    */
   uint64_t variation_seed;
   /**
-   * Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED naming max_work before its steps
-   * together would rewrite more modules than this (a bound on time). Default 268,435,456.
+   * One work budget, in units, for everything a derivation and its interpretation do
+   * (rewriting, decomposition, interpretation rules, statements, queries; see
+   * docs/c-api.md, "Robustness"): past it the load stops with
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_work, and `progress` hears the work every
+   * 2^20 units. Default 268,435,456 (at most about 1.3 s on a 2-core x86-64 machine).
    * (Added after the first layout.)
    */
   uint64_t max_work;

@@ -110,7 +110,8 @@ fn multi_module_interpretation_rules_match_rule_output() {
 }
 
 /// HCTX: interpretation rules may have context (cpfg is built with it), read from the
-/// L-system string; rules made by rules are not in the string and take no context rule.
+/// L-system string; a module a rule made reads the context of the string's module whose
+/// rewriting made it (cpfg passes that module's context down every depth).
 #[test]
 fn interpretation_rules_read_context_from_the_string() {
     let text = "derivation length: 1\nAxiom: K J K\nJ --> J\nhomomorphism\n\
@@ -118,10 +119,11 @@ fn interpretation_rules_read_context_from_the_string() {
     assert_eq!(drawn(text), (2, 4.0));
     let left = "derivation length: 0\nAxiom: K J K\nhomomorphism\nJ < K --> F(5)\nK --> F(1)\n";
     assert_eq!(drawn(left), (2, 6.0));
-    // A K made by a rule has no context in the string: the context-free rule draws it.
+    // A K made by a rule from M reads M's context in the string: J on its right (cpfg
+    // draws F(3)).
     let made = "derivation length: 0\nAxiom: M J\nhomomorphism\nmaximum depth: 2\n\
                 M --> K\nK > J --> F(3)\nK --> F(1)\n";
-    assert_eq!(drawn(made), (1, 1.0));
+    assert_eq!(drawn(made), (1, 3.0));
     // Decomposition rules still may not have context.
     let e = LSystem::parse("Axiom: K\ndecomposition\nK > J --> F\n").unwrap_err();
     assert!(
@@ -339,4 +341,52 @@ fn a_cut_happens_as_the_rewriting_reaches_it() {
     assert_eq!(derived(text), "C(5)[]");
     let drawn = "seed: 3\nderivation length: 2\nAxiom: A[K%FF]A\nA --> AB : 1\nA --> AC : 1\n";
     assert_eq!(derived(drawn), "ABC[K]ABC");
+}
+
+/// HMM-DEPTH: cpfg's InterpretHomomorphism rewrites a module of the string at depth 0,
+/// the modules of that successor at depth 1, and so on; a module at `maximum depth:` is
+/// drawn as it is. At every depth the first rule in file order whose predecessor (one
+/// module or several of the same successor), context and condition match applies, and
+/// context is read around the string's module whose rewriting began it all. Segments
+/// (count, and the bounding box of their end points) as the real cpfg draws them with
+/// `maximum depth: 3`.
+#[test]
+fn homomorphism_depth_is_applied_as_cpfg_applies_it() {
+    #[rustfmt::skip]
+    let cases: &[(&str, &str, usize, Option<[f32; 4]>)] = &[
+        // axiom, rules, cpfg's segments, cpfg's box (min x, max x, min y, max y)
+        ("FBF", "B --> FB\nF --> G[+F]", 14, None),
+        ("FBF", "B --> F[+B]B\nF --> FF", 28, None),
+        ("BF", "BF --> FBF", 4, None),
+        ("BF", "BF --> F[+BF]BF", 15, Some([-2.7071, 0.0, 0.0, 4.0])),
+        ("FBFBF", "BF --> F[+BF]BF", 31, None),
+        ("CBF", "C < B --> F[+B]B", 8, Some([-1.7071, 0.0, 0.0, 4.0])),
+        ("BF", "B > F --> F[+B]B", 8, None),
+        ("FBFBF", "B > F --> F[+B]B", 17, Some([-1.7071, 0.0, 0.0, 9.0])),
+        ("BF", "B --> F[+B]B\nBF --> FBF", 8, None),
+        ("FBFBF", "B --> F[+B]B\nBF --> FBF", 17, None),
+        ("FBF", "B --> F[-B]\nF --> B", 4, None),
+    ];
+    for &(axiom, rules, segments, bbox) in cases {
+        let text = format!(
+            "Lsystem: 1\nderivation length: 1\nAxiom: A\nA --> {axiom}\nhomomorphism\n\
+             maximum depth: 3\n{rules}\nendlsystem\n"
+        );
+        let ls = LSystem::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let s = ls.skeleton(&LsystemOptions::default()).unwrap();
+        assert_eq!(s.len(), segments, "{axiom} with {rules:?}");
+        if let Some([x0, x1, y0, y1]) = bbox {
+            let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+            for b in s.branches() {
+                for p in [b.start(), b.end()] {
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
+            }
+            let got = [lo.x, hi.x, lo.y, hi.y];
+            for (g, w) in got.iter().zip([x0, x1, y0, y1]) {
+                assert!((g - w).abs() < 1e-3, "{axiom} with {rules:?}: box {got:?}");
+            }
+        }
+    }
 }

@@ -130,6 +130,23 @@ fn c_bad_input_and_every_buffer_capacity() {
     check_program("errors.c", "c11");
 }
 
+/// The round-4 findings of the outside fuzzer (`ffi-tests/hostile/`), with every option
+/// each names. Built with gcc and run as it is, and under ASan + UBSan; not under
+/// valgrind, whose fifty-fold slowdown would make the default-limited derivation the
+/// finding is about (seconds in a debug build) take minutes.
+#[test]
+fn c_hostile_inputs_of_round_four() {
+    let text = run(Command::new(build("hostile.c", "c11")).arg(out_dir()));
+    assert!(text.contains(" 0 failed"), "{text}");
+    require("clang");
+    let exe = build_with("hostile.c", "c11", true);
+    let text = run(Command::new(&exe)
+        .arg(out_dir())
+        .env("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
+        .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1"));
+    assert!(text.contains(" 0 failed"), "{text}");
+}
+
 #[test]
 fn c_trees_from_grammar_text() {
     check_program("lsystem.c", "c11");

@@ -176,3 +176,53 @@ fn mesh_writes_report_and_stop() {
     assert!(matches!(e, Error::Cancelled { .. }));
     assert!(!path.exists());
 }
+
+/// The work budget (`max_work`) counts the statements of one production as they run,
+/// and the progress callback hears that work (every 2^20 units: milliseconds), so a loop
+/// that never ends inside one production is stopped by the budget, and a callback that
+/// asks to stop is heard long before the budget is spent.
+#[test]
+fn statements_inside_one_production_report_and_stop() {
+    let ls =
+        LSystem::parse("derivation length: 1\nAxiom: A\nA : { while (1) { x = x + 1; } } --> F\n")
+            .unwrap();
+    let options = LsystemOptions::default().max_work(64 << 20);
+    let mut calls = 0usize;
+    let mut count = |_: Stage, _: f32| {
+        calls += 1;
+        true
+    };
+    match ls.skeleton_in(&options, &mut Run::reporting(&mut count)) {
+        Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, "max_work"),
+        other => panic!("{other:?}"),
+    }
+    // 64 Mi units heard every 1 Mi units: about 64 reports, all within the one step.
+    assert!(calls >= 60, "{calls} reports");
+    let mut calls = 0usize;
+    let mut stop = |_: Stage, _: f32| {
+        calls += 1;
+        calls < 3
+    };
+    match ls.skeleton_in(&options, &mut Run::reporting(&mut stop)) {
+        Err(Error::Cancelled { stage }) => assert_eq!(stage, "derivation"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(calls, 3);
+}
+
+/// Interpretation rules spend from what the derivation left of the budget: a derivation
+/// that spent most of it leaves too little for rules that expand every module a
+/// thousand levels deep.
+#[test]
+fn interpretation_rules_spend_what_the_derivation_left() {
+    let text = "derivation length: 12\nAxiom: A\nA --> AA\nhomomorphism\nmaximum depth: 1000\n\
+                A --> FA\n";
+    let ls = LSystem::parse(text).unwrap();
+    // 4,096 modules, each drawn as 1,000 F: about 8 Mi units of rules.
+    let enough = LsystemOptions::default().max_work(64 << 20);
+    assert!(ls.skeleton(&enough).is_ok());
+    match ls.skeleton(&enough.max_work(4 << 20)) {
+        Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, "max_work"),
+        other => panic!("{other:?}"),
+    }
+}

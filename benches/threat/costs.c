@@ -3,7 +3,8 @@
      cargo build --release && cc -O2 -Iinclude benches/threat/costs.c \
        target/release/libarbor.a -lpthread -ldl -lm -o target/threat_costs && \
        target/threat_costs target/threat
-   Each case runs in a child process so its peak memory (ru_maxrss) is its own. */
+   Each case runs in a child process so its peak memory (ru_maxrss) is its own. Run it from
+   the checkout's top folder: the derivation-work table reads ffi-tests/hostile/. */
 #define _POSIX_C_SOURCE 200809L
 #include "arbor.h"
 
@@ -67,10 +68,87 @@ static void measure(const char *what, const char *name, size_t model_bytes, int 
   waitpid(pid, &st, 0);
 }
 
+/* The longest time between two progress reports of one load, in seconds. */
+static double last_report, longest_gap;
+static int32_t note_report(void *user, uint32_t stage, float fraction) {
+  (void)user;
+  (void)stage;
+  (void)fraction;
+  double t = now();
+  if (t - last_report > longest_gap) longest_gap = t - last_report;
+  last_report = t;
+  return 0;
+}
+
+/* Derives `text` with `steps` (-1: its own) and the default limits, twice: without a
+   callback (the time a default-limited load takes), and with one (the longest gap between
+   its reports, the time a host waits at most for a cancel to be heard). */
+static void work(const char *what, const char *text, int32_t steps) {
+  ArborLsystemOptions o = arbor_lsystem_options_default();
+  o.steps = steps;
+  ArborTree *t = NULL;
+  double t0 = now();
+  ArborStatus s = arbor_tree_from_lsystem(text, strlen(text), &o, &t);
+  double ms = (now() - t0) * 1e3;
+  arbor_tree_free(t);
+  t = NULL;
+  o.progress = note_report;
+  longest_gap = 0;
+  last_report = now();
+  arbor_tree_from_lsystem(text, strlen(text), &o, &t);
+  double tail = now() - last_report;
+  arbor_tree_free(t);
+  printf("| %s | %s | %.0f ms | %.1f ms (then %.1f ms to return) |\n", what,
+         arbor_status_str((uint32_t)s), ms, longest_gap * 1e3, tail * 1e3);
+}
+
+/* The text of a file (NUL-terminated), or NULL. */
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *b = malloc((size_t)n + 1);
+  size_t got = fread(b, 1, (size_t)n, f);
+  b[got] = 0;
+  fclose(f);
+  return b;
+}
+
+static void derivation_work(void) {
+  printf("\n| derivation work (default limits, `max_work` 2^28 units) | status | time | "
+         "longest gap between progress reports |\n|---|---|---|---|\n");
+  char *finding = slurp("ffi-tests/hostile/derivation_runs_past_20s.l");
+  if (finding) work("round 4: `derivation_runs_past_20s.l`, steps 65,535", finding, 65535);
+  free(finding);
+  work("a statement loop: `x = x + 1`", "Axiom: A\nA : { while (1) { x = x + 1; } } --> A\n",
+       2);
+  work("a statement loop: `pow`", "Axiom: A\nA : { while (1) { x = pow(x + 1, 0.5); } } --> A\n",
+       2);
+  work("a statement loop: `bran(0.001, 1000)` (rejection tries)",
+       "Axiom: A\nA : { while (1) { x = bran(0.001, 1000); } } --> A\n", 2);
+  work("a statement loop: `biran(100000, 0.5)` (100,000 trials a call)",
+       "Axiom: A\nA : { while (1) { x = biran(100000, 0.5); } } --> A\n", 2);
+  static char big[1 << 16];
+  strcpy(big, "Axiom: ");
+  for (int k = 0; k < 5000; k++) strcat(big, "A(1)");
+  strcat(big, "\n");
+  for (int k = 0; k < 60; k++) {
+    char p[64];
+    sprintf(p, "A(x) : x > %d --> A(x)\n", k + 5);
+    strcat(big, p);
+  }
+  work("5,000 modules, 60 productions each tried and failing, every step", big, 65535);
+  work("interpretation rules 1,000 deep over a doubling string",
+       "Axiom: A\nA --> AA\nhomomorphism\nmaximum depth: 1000\nA --> FA\n", 16);
+}
+
 int main(int argc, char **argv) {
   snprintf(dir, sizeof dir, "%s", argc > 1 ? argv[1] : "threat");
   mkdir(dir, 0700);
-  printf("| worst input | model size | status | time | peak memory |\n|---|---|---|---|---|\n");
+  derivation_work();
+  printf("\n| worst input | model size | status | time | peak memory |\n|---|---|---|---|---|\n");
   /* 1. Includes of a 16 MiB comment, as many as fit in 1 KiB of grammar. */
   {
     char p[2048];

@@ -46,8 +46,11 @@ pub struct ArborLsystemOptions {
     /// that seed, so each value grows a distinct plant even from a file that fixes its
     /// `seed:` (a forest of one grammar). (Added after the first layout.)
     pub variation_seed: u64,
-    /// Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED naming max_work before its steps
-    /// together would rewrite more modules than this (a bound on time). Default 268,435,456.
+    /// One work budget, in units, for everything a derivation and its interpretation do
+    /// (rewriting, decomposition, interpretation rules, statements, queries; see
+    /// docs/c-api.md, "Robustness"): past it the load stops with
+    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_work, and `progress` hears the work every
+    /// 2^20 units. Default 268,435,456 (at most about 1.3 s on a 2-core x86-64 machine).
     /// (Added after the first layout.)
     pub max_work: u64,
     /// arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path);

@@ -24,20 +24,17 @@ pub(crate) struct Ctx<'a> {
     pub(crate) ls: &'a LSystem,
     /// The random stream and the global variables.
     pub(crate) env: Env,
-    /// The statements' budget, log and `stop()`.
-    pub(crate) fx: Effects,
+    /// The work budget, the statements' log and `stop()`, and the caller's progress
+    /// callback (`fx.progress`).
+    pub(crate) fx: Effects<'a>,
     /// The line of the production whose statements are running (for messages).
     pub(super) line: u32,
-    /// The caller's progress callback.
-    pub(crate) progress: crate::progress::Run<'a>,
     /// Steps of the derivation (for the fraction reported).
     pub(super) steps: u32,
     pub(crate) max_modules: usize,
     pub(crate) max_params: usize,
-    /// Most modules all steps together may rewrite (`LsystemOptions::max_work`).
+    /// The work budget all steps together may spend (`LsystemOptions::max_work`).
     pub(crate) max_work: u64,
-    /// Modules rewritten so far.
-    pub(crate) work: u64,
     pub(crate) step: u32,
     /// Bound parameter values of the production being tried.
     pub(super) args: Vec<f64>,
@@ -86,17 +83,12 @@ impl<'a> Ctx<'a> {
         Ctx {
             ls,
             env,
-            fx: Effects {
-                budget: options.max_work as u64,
-                ..Default::default()
-            },
+            fx: Effects::with_budget(options.max_work as u64),
             line: 0,
-            progress: Default::default(),
             steps: 0,
             max_modules: options.max_modules,
             max_params: options.max_params.min(u32::MAX as usize),
             max_work: options.max_work as u64,
-            work: 0,
             step: 0,
             args: Vec::new(),
             cands: Vec::new(),
@@ -115,19 +107,12 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    /// Counts a step that rewrites `modules` modules against `max_work`, before it runs.
-    pub(crate) fn spend(&mut self, modules: usize) -> Result<()> {
-        self.work = self.work.saturating_add(modules as u64);
-        if self.work > self.max_work {
-            return Err(Error::LimitExceeded {
-                limit_name: "max_work",
-                what: "modules rewritten by all steps together",
-                limit: self.max_work,
-                requested: self.work,
-                step: Some(self.step),
-            });
+    /// Spends `units` of work against `max_work` (a step's modules, before it runs).
+    pub(crate) fn spend(&mut self, units: usize) -> Result<()> {
+        if self.fx.spend(&mut self.env, units as u64) {
+            return Ok(());
         }
-        Ok(())
+        self.fault_error("the derivation")
     }
 
     /// Runs a block of statements without parameters (`Start:` and the like).
@@ -154,13 +139,19 @@ impl<'a> Ctx<'a> {
         let Some(fault) = self.env.fault.take() else {
             return Ok(());
         };
-        if fault.contains("max_work") {
+        if fault == stmt::OVER_BUDGET {
             return Err(Error::LimitExceeded {
                 limit_name: "max_work",
-                what: "statements executed (max_work)",
+                what: "work units (rewriting, decomposition, interpretation rules, \
+                       statements and queries together)",
                 limit: self.max_work,
                 requested: self.max_work.saturating_add(1),
                 step: Some(self.step),
+            });
+        }
+        if fault == stmt::CANCELLED {
+            return Err(Error::Cancelled {
+                stage: self.fx.stage.name(),
             });
         }
         let place = if self.line > 0 {

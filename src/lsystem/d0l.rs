@@ -80,8 +80,8 @@ impl D0l {
         let mut next = ModuleString::default();
         for step in 1..=steps {
             ctx.step = step;
-            ctx.progress
-                .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
+            ctx.fx.fraction = (step - 1) as f64 / steps as f64;
+            ctx.fx.progress.report(Stage::Derivation, ctx.fx.fraction)?;
             ctx.spend(cur.syms.len().max(super::ctx::STEP_WORK))?;
             let len: usize = cur
                 .syms
@@ -96,7 +96,7 @@ impl D0l {
             next.try_exact(len)?;
             let birth = super::ctx::birth(step);
             let n = cur.syms.len();
-            let chunk = if ctx.progress.active() {
+            let chunk = if ctx.fx.progress.active() {
                 crate::progress::EVERY
             } else {
                 n.max(1)
@@ -109,8 +109,8 @@ impl D0l {
             {
                 if k > 0 {
                     let done = (step - 1) as f64 + (k * chunk) as f64 / n as f64;
-                    ctx.progress
-                        .report(Stage::Derivation, done / steps as f64)?;
+                    ctx.fx.fraction = done / steps as f64;
+                    ctx.fx.progress.report(Stage::Derivation, ctx.fx.fraction)?;
                 }
                 for (&s, &b) in syms.iter().zip(births) {
                     if self.rewrites[s as usize] {

@@ -25,11 +25,12 @@ fn derive_string<'a>(
 ) -> Result<ModuleString> {
     let steps = options.steps.unwrap_or(ls.derivation_length);
     let mut ctx = Ctx::new(ls, options);
-    ctx.progress = progress;
+    ctx.fx.progress = progress;
     ctx.steps = steps;
     if let Some(d0l) = &ls.d0l {
-        let s = d0l.derive(&mut ctx, steps)?;
-        ctx.progress.report(Stage::Derivation, 1.0)?;
+        let mut s = d0l.derive(&mut ctx, steps)?;
+        ctx.fx.progress.report(Stage::Derivation, 1.0)?;
+        s.work_left = Some(ctx.fx.budget);
         return Ok(s);
     }
     let mut cur = ModuleString::new();
@@ -52,14 +53,17 @@ fn derive_string<'a>(
             break;
         }
         ctx.step = step;
-        ctx.progress
-            .report(Stage::Derivation, (step - 1) as f64 / steps as f64)?;
-        ctx.spend(cur.len().max(STEP_WORK))?;
+        ctx.fx.fraction = (step - 1) as f64 / steps as f64;
+        ctx.fx.progress.report(Stage::Derivation, ctx.fx.fraction)?;
+        ctx.spend((cur.len() + cur.params.len()).max(STEP_WORK))?;
         // A `%` cuts its branch in the next step, as the rewriting reaches it (see
         // `rewrite`): one made by the last step stays in the string and the turtle draws
         // past it, and until then context still sees what it will cut, as in cpfg.
         if queries {
-            super::interpret::answer_queries(ls, &mut cur, options)?;
+            // The turtle's walk to answer them: a unit a module, and its rules' work.
+            ctx.spend(cur.len())?;
+            super::interpret::answer_queries(ls, &mut cur, options, &mut ctx.fx)?;
+            ctx.fx.stage = Stage::Derivation;
         }
         ctx.run_block(&ls.blocks.start_each, "the StartEach: block")?;
         next.clear();
@@ -82,9 +86,10 @@ fn derive_string<'a>(
         ctx.run_block(&ls.blocks.end_each, "the EndEach: block")?;
     }
     ctx.run_block(&ls.blocks.end, "the End: block")?;
-    ctx.progress.report(Stage::Derivation, 1.0)?;
+    ctx.fx.progress.report(Stage::Derivation, 1.0)?;
     cur.globals = std::mem::take(&mut ctx.env.vars);
     cur.log = std::mem::take(&mut ctx.fx.log);
+    cur.work_left = Some(ctx.fx.budget);
     Ok(cur)
 }
 

@@ -183,6 +183,10 @@ pub(crate) struct ProductionTable {
     /// For each symbol id, bit k (k < 63) set when a production's predecessor takes k
     /// parameters, bit 63 for 63 or more: a module whose bit is clear has no production.
     pub(crate) arities: Vec<u64>,
+    /// For each production, the work units (against `max_work`) of trying it (matching
+    /// its predecessor and context, its condition and probability) and of making its
+    /// successor (its modules and their parameters' expressions).
+    pub(crate) costs: Vec<(u64, u64)>,
 }
 
 impl ProductionTable {
@@ -206,6 +210,20 @@ impl ProductionTable {
             .map(|v| match v[..] {
                 [p] if self.productions[p as usize].decides_nothing() => p,
                 _ => u32::MAX,
+            })
+            .collect();
+        self.costs = self
+            .productions
+            .iter()
+            .map(|p| {
+                let tried = 1
+                    + (p.pred_rest.len() + p.left.len() + p.right.len()) as u64
+                    + p.slots as u64
+                    + p.condition.as_ref().map_or(0, Expr::cost)
+                    + p.probability.as_ref().map_or(0, Expr::cost);
+                let made = p.successor.modules.len() as u64
+                    + p.successor.exprs.iter().map(Expr::cost).sum::<u64>();
+                (tried, made)
             })
             .collect();
         self.multi = vec![false; symbols];

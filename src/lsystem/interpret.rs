@@ -6,7 +6,7 @@ use crate::geom::{Frame, cos_sin_deg};
 use crate::lsystem::ctx::Ctx;
 use crate::lsystem::grammar::{POP, PUSH};
 use crate::lsystem::query::Asked;
-use crate::lsystem::rewrite::{Expander, Links, select, select_multi, successor_of};
+use crate::lsystem::rewrite::{Expander, Links, match_left, match_right, select, successor_of};
 use crate::lsystem::{LSystem, LsystemOptions, ModuleString};
 use crate::progress::{Run, Stage};
 use crate::skeleton::{
@@ -479,36 +479,62 @@ impl Turtle {
 /// is the step that produced the module, and whose order follows
 /// [`assign_axis_orders`]. Interpretation rules expand modules for the turtle only.
 /// Reads `string` with the turtle, reporting to `progress`.
-pub(crate) fn interpret_with(
-    ls: &LSystem,
+///
+/// Interpretation rules spend from the work budget the derivation left (`max_work` for
+/// a string that was not derived here).
+pub(crate) fn interpret_with<'p>(
+    ls: &'p LSystem,
     string: &ModuleString,
     options: &LsystemOptions,
-    progress: Run<'_>,
+    mut progress: Run<'p>,
 ) -> Result<Skeleton> {
-    interpret_answering(ls, string, options, None, progress)
+    let max_work = options.max_work as u64;
+    let mut budget = string.work_left.map_or(max_work, |w| w.min(max_work));
+    interpret_answering(ls, string, options, None, &mut progress, &mut budget, None)
 }
 
 /// cpfg's query modules: the turtle reads `string` and each `?P(x,y[,z])` (and `?H`,
 /// `?U`, `?L`) gets the position (heading, up, left) the turtle has there, in as many of
 /// its parameters as it has. Run after every derivation step, as cpfg does, so the next
 /// step's productions see the answers.
-pub(crate) fn answer_queries(
-    ls: &LSystem,
+///
+/// The walk spends from the derivation's work budget, `fx` (its interpretation rules as
+/// they run), and its progress callback hears it.
+pub(crate) fn answer_queries<'p>(
+    ls: &'p LSystem,
     string: &mut ModuleString,
     options: &LsystemOptions,
+    fx: &mut super::stmt::Effects<'p>,
 ) -> Result<()> {
     let mut asked = Asked::new(ls);
-    interpret_answering(ls, string, options, Some(&mut asked), Default::default())?;
+    let mut progress = std::mem::take(&mut fx.progress);
+    let mut budget = fx.budget;
+    let r = interpret_answering(
+        ls,
+        string,
+        options,
+        Some(&mut asked),
+        &mut progress,
+        &mut budget,
+        Some(fx.fraction),
+    );
+    fx.progress = progress;
+    fx.reset_budget(budget);
+    r?;
     asked.answer(string);
     Ok(())
 }
 
-fn interpret_answering(
-    ls: &LSystem,
+fn interpret_answering<'p>(
+    ls: &'p LSystem,
     string: &ModuleString,
     options: &LsystemOptions,
     mut asked: Option<&mut Asked>,
-    mut progress: Run<'_>,
+    progress: &mut Run<'p>,
+    budget: &mut u64,
+    // Answering a derivation's queries at this fraction of it: the walk reports as the
+    // derivation (its rules' work only), not as an interpretation.
+    derivation: Option<f64>,
 ) -> Result<Skeleton> {
     let n = string.len().max(1) as f64;
     let answering = asked.is_some();
@@ -583,7 +609,7 @@ fn interpret_answering(
         }
     } else if ls.homomorphism.is_empty() {
         for i in 0..string.len() {
-            if i % crate::progress::EVERY == 0 {
+            if i % crate::progress::EVERY == 0 && derivation.is_none() {
                 progress.report(Stage::Interpretation, i as f64 / n)?;
             }
             let birth = string.birth(i);
@@ -591,9 +617,16 @@ fn interpret_answering(
             t.module(string.symbol(i), string.params(i), birth, birth)?;
         }
     } else {
-        walk_with_rules(&mut t, ls, string, options, &mut progress, &mut ask)?;
+        let work = Work {
+            progress,
+            budget,
+            derivation,
+        };
+        walk_with_rules(&mut t, ls, string, options, work, &mut ask)?;
     }
-    progress.report(Stage::Interpretation, 1.0)?;
+    if derivation.is_none() {
+        progress.report(Stage::Interpretation, 1.0)?;
+    }
     if answering {
         // Answering queries wants the turtle's walk, not a skeleton.
         return Ok(Skeleton::default());
@@ -601,42 +634,84 @@ fn interpret_answering(
     Ok(t.into_skeleton())
 }
 
+/// Work units the turtle spends reading one module an interpretation rule made.
+const TURTLE_WORK: u64 = 8;
+
 /// The turtle walks `string` through the grammar's interpretation rules (`homomorphism`):
 /// each module is expanded, and the turtle reads what the rules produce.
-fn walk_with_rules(
+///
+/// The rules spend from `work.budget` (what is left of `max_work`), and `work.progress`
+/// hears the walk and the work.
+fn walk_with_rules<'p>(
+    t: &mut Turtle,
+    ls: &'p LSystem,
+    string: &ModuleString,
+    options: &LsystemOptions,
+    work: Work<'_, 'p>,
+    ask: &mut dyn FnMut(usize, &Frame),
+) -> Result<()> {
+    let mut ctx = Ctx::new(ls, options);
+    ctx.fx.reset_budget(*work.budget);
+    (ctx.fx.stage, ctx.fx.fraction) = match work.derivation {
+        Some(f) => (Stage::Derivation, f),
+        None => (Stage::Interpretation, 0.0),
+    };
+    ctx.fx.progress = std::mem::take(work.progress);
+    let r = walk_rules(t, ls, string, &mut ctx, ask);
+    *work.progress = std::mem::take(&mut ctx.fx.progress);
+    *work.budget = ctx.fx.budget;
+    r
+}
+
+/// What interpretation rules spend from and report to: the progress callback, the work
+/// budget left, and, when they answer a derivation's queries, the derivation's fraction
+/// done (they then report as the derivation).
+struct Work<'r, 'p> {
+    progress: &'r mut Run<'p>,
+    budget: &'r mut u64,
+    derivation: Option<f64>,
+}
+
+fn walk_rules(
     t: &mut Turtle,
     ls: &LSystem,
     string: &ModuleString,
-    options: &LsystemOptions,
-    progress: &mut Run<'_>,
+    ctx: &mut Ctx<'_>,
     ask: &mut dyn FnMut(usize, &Frame),
 ) -> Result<()> {
     let n = string.len().max(1) as f64;
     let table = &ls.homomorphism;
-    let mut ctx = Ctx::new(ls, options);
     if string.globals.len() == ctx.env.vars.len() {
         // Interpretation rules read the variables as the derivation left them.
         ctx.env.vars.clone_from(&string.globals);
     }
     let mut expander = Expander::default();
-    let links = table.has_context.then(|| {
-        let mut links = Links::default();
+    let mut links = Links::default();
+    if table.has_context {
         links.build(ls, string);
-        links
-    });
+    }
+    let links = &links;
     let mut read = 0usize;
     let mut produced = ModuleString::new();
     let mut i = 0;
     let mut report_at = 0;
     while i < string.len() {
-        if i >= report_at {
+        if i >= report_at && ctx.fx.stage == Stage::Interpretation {
             report_at = i + crate::progress::EVERY;
-            progress.report(Stage::Interpretation, i as f64 / n)?;
+            ctx.fx.fraction = i as f64 / n;
+            ctx.fx
+                .progress
+                .report(Stage::Interpretation, ctx.fx.fraction)?;
         }
         let birth = string.birth(i);
         ctx.step = birth;
         ask(i, &t.state.frame);
         let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
+            // The turtle's reading of a module the rules made: a few units (it costs
+            // several times a rule's try).
+            if !ctx.fx.spend(&mut ctx.env, TURTLE_WORK) {
+                ctx.check("an interpretation rule")?;
+            }
             read += 1;
             if read > ctx.max_modules {
                 return Err(Error::LimitExceeded {
@@ -654,43 +729,33 @@ fn walk_with_rules(
             }
             t.module(sym, params, birth, birth)
         };
-        // A rule whose predecessor is several modules replaces them all; with rules of
-        // context, every rule for the string's own modules is chosen against the string.
-        let chosen = if let Some(links) = &links {
-            let p = select(&mut ctx, table, string, links, i);
-            if p.is_none() {
-                ctx.check("an interpretation rule")?;
-                sink(&mut ctx, string.symbol(i), string.params(i), false)?;
-                i += 1;
-                continue;
-            }
-            p
-        } else {
-            select_multi(&mut ctx, table, string, i)
+        // cpfg's InterpretHomomorphism: the first rule in file order whose predecessor
+        // (of one module or several), context and condition match at module `i` rewrites
+        // it at depth 0; its successor's modules are rewritten at depth 1, and so on, and
+        // modules at `maximum depth:` are read as they are. Context is always read around
+        // module `i` of the string, at every depth.
+        let chosen = select(ctx, table, string, links, i);
+        let Some(p) = chosen else {
+            ctx.check("an interpretation rule")?;
+            sink(ctx, string.symbol(i), string.params(i), false)?;
+            i += 1;
+            continue;
         };
-        if let Some(p) = chosen {
-            successor_of(&mut ctx, table, p, birth as u16, &mut produced)?;
-            for k in 0..produced.len() {
-                expander.expand(
-                    &mut ctx,
-                    table,
-                    produced.symbol(k),
-                    produced.params(k),
-                    &mut sink,
-                )?;
-            }
-            i += 1 + table.productions[p as usize].pred_rest.len();
+        let rest = table.productions[p as usize].pred_rest.len();
+        if table.max_depth == 0 {
+            // No rule applies at depth 0 when the maximum depth is 0.
+            sink(ctx, string.symbol(i), string.params(i), false)?;
+            i += 1;
             continue;
         }
-        ctx.check("an interpretation rule")?;
-        expander.expand(
-            &mut ctx,
-            table,
-            string.symbol(i),
-            string.params(i),
-            &mut sink,
-        )?;
-        i += 1;
+        successor_of(ctx, table, p, birth as u16, &mut produced)?;
+        let ls = ctx.ls;
+        let context = |p: &super::grammar::Production, args: &mut [f64]| {
+            (p.left.is_empty() || match_left(ls, string, links, i, p, args))
+                && (p.right.is_empty() || match_right(ls, string, links, i + rest, p, args))
+        };
+        expander.expand_successor(ctx, table, &produced, 1, context, &mut sink)?;
+        i += 1 + rest;
     }
     Ok(())
 }

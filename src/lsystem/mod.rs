@@ -79,9 +79,14 @@ pub struct LsystemOptions {
     /// even from a grammar that fixes its own `seed:` (what a forest of one stochastic
     /// grammar needs): see [`LSystem::effective_seed`].
     pub variation_seed: u64,
-    /// Derivation stops with `LimitExceeded` naming `max_work` before its steps together
-    /// would rewrite more modules than this (a bound on time, where `max_modules` bounds
-    /// memory). Default [`DEFAULT_MAX_WORK`](crate::limits::DEFAULT_MAX_WORK).
+    /// One work budget, in units, for everything a derivation and its interpretation do
+    /// (a bound on time, where `max_modules` bounds memory): each step's modules and
+    /// parameters, each production tried (its predecessor, context, condition and
+    /// probability expressions) and each successor made, decomposition and
+    /// interpretation rules, statements and their loops, query answers, and the turtle's
+    /// reading of what interpretation rules make. Past it the work stops with
+    /// `LimitExceeded` naming `max_work`; a progress callback hears the work every 2^20
+    /// units. Default [`DEFAULT_MAX_WORK`](crate::limits::DEFAULT_MAX_WORK).
     pub max_work: usize,
 }
 }
@@ -436,6 +441,9 @@ pub struct ModuleString {
     pub(crate) globals: Vec<f64>,
     /// What the grammar's `printf` statements wrote (at most 64 KiB).
     pub(crate) log: String,
+    /// The work budget its derivation left (`max_work` less what it spent): the
+    /// interpretation rules that read it spend from the rest.
+    pub(crate) work_left: Option<u64>,
 }
 
 impl PartialEq for ModuleString {

@@ -97,13 +97,15 @@ impl Random {
     }
 
     /// `bran(a, b)`: a draw from Beta(a, b).
-    pub(crate) fn beta(&mut self, a: f64, b: f64) -> f64 {
+    /// `tries` counts the rejection method's tries (at most 1,000), for the work budget.
+    pub(crate) fn beta(&mut self, a: f64, b: f64, tries: &mut u64) -> f64 {
         if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
             return f64::NAN;
         }
         if let Random::Arbor(r) = self {
             // Jöhnk's method, at most 1,000 tries, then the mean.
             for _ in 0..1000 {
+                *tries += 1;
                 let x = r.next_f64().powf(1.0 / a);
                 let y = r.next_f64().powf(1.0 / b);
                 if x + y <= 1.0 && x + y > 0.0 {
@@ -121,6 +123,7 @@ impl Random {
         };
         let u = a + lambda;
         for _ in 0..1000 {
+            *tries += 1;
             let u1 = self.nonzero_uniform();
             let u2 = self.nonzero_uniform();
             let v = (1.0 / lambda) * libm::log(u1 / (1.0 - u1));

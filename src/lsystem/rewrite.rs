@@ -164,11 +164,12 @@ pub(super) fn rewrite(
     let mut i = 0;
     let mut report_at = crate::progress::EVERY;
     while i < n {
-        if i >= report_at && ctx.progress.active() {
+        if i >= report_at && ctx.fx.progress.active() {
             report_at = i + crate::progress::EVERY;
             let done = (ctx.step - 1) as f64 + i as f64 / n as f64;
-            ctx.progress
-                .report(Stage::Derivation, done / ctx.steps.max(1) as f64)?;
+            // The work's own reports (statements, rules) go on from here.
+            ctx.fx.fraction = done / ctx.steps.max(1) as f64;
+            ctx.fx.progress.report(Stage::Derivation, ctx.fx.fraction)?;
         }
         let sym = cur.syms[i];
         if sym == CUT && ctx.ls.has_cut && !has_rules[CUT as usize] {
@@ -368,6 +369,9 @@ fn emit_production<'t>(
     what: &str,
 ) -> Result<&'t Production> {
     let prod = &table.productions[p as usize];
+    if !ctx.fx.spend(&mut ctx.env, table.costs[p as usize].1) {
+        ctx.check(what)?;
+    }
     let args = std::mem::take(&mut ctx.args);
     let r = emit(ctx, &prod.successor, &args, birth, out);
     ctx.args = args;
@@ -411,6 +415,9 @@ fn select_with(
     let mut total = 0.0;
     for &pi in table.candidates(sym) {
         let p = &table.productions[pi as usize];
+        if !ctx.fx.spend(&mut ctx.env, table.costs[pi as usize].0) {
+            return None;
+        }
         let mut args = std::mem::take(&mut ctx.args);
         let mut ok = bind_pred(&mut args, p, params) && context(p, &mut args);
         if ok && !p.pre.is_empty() {
@@ -511,7 +518,7 @@ fn bind_module(s: &ModuleString, j: usize, pat: &Pattern, args: &mut [f64]) -> b
 
 /// Bracket-aware left context: walking back, a completed branch `[...]` is skipped whole
 /// and a `[` leads to the module the branch grows from.
-fn match_left(
+pub(crate) fn match_left(
     ls: &LSystem,
     s: &ModuleString,
     links: &Links,
@@ -556,7 +563,7 @@ fn match_left(
 /// Bracket-aware right context, as cpfg's: a branch in the string is skipped unless the
 /// context itself has a `[` there; a `]` in the context must meet the `]` that ends the
 /// branch (`=` before it skips the rest of the branch).
-fn match_right(
+pub(crate) fn match_right(
     ls: &LSystem,
     s: &ModuleString,
     links: &Links,
@@ -636,9 +643,8 @@ fn match_right(
 
 /// Whether the rest of `p`'s predecessor matches the modules after the one just taken
 /// from an expander's `stack` (its parameters end at `base` of `arena`): the next modules
-/// of the same successor (`depth`), in order, binding their parameters into `args`. A
-/// production of one module matches here unless it has context: rules made by rules are
-/// not in the L-system string, where context is read.
+/// of the same successor (`depth`), in order, binding their parameters into `args`.
+/// Context is checked by the caller.
 fn following_match(
     stack: &[(u16, u32, u32)],
     arena: &[f32],
@@ -647,9 +653,6 @@ fn following_match(
     p: &Production,
     args: &mut [f64],
 ) -> bool {
-    if !p.left.is_empty() || !p.right.is_empty() {
-        return false;
-    }
     let mut end = base;
     let mut next = stack.iter().rev();
     for pat in &p.pred_rest {
@@ -697,12 +700,64 @@ impl Expander {
         self.arena.clear();
         self.stack.push((sym, 0, params.len() as u32));
         self.arena.extend_from_slice(params);
+        self.run(
+            ctx,
+            table,
+            |p, _| p.left.is_empty() && p.right.is_empty(),
+            sink,
+        )
+    }
+
+    /// Expands the modules of `modules`, a successor a rule made at depth `depth - 1`,
+    /// together (a rule whose predecessor is several of them takes them all), and hands
+    /// every resulting module to `sink` in order. `context` checks a rule's left and right
+    /// context (cpfg's interpretation rules see the context of the module the first rule
+    /// rewrote, at every depth), binding their parameters.
+    pub(crate) fn expand_successor<F>(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        table: &ProductionTable,
+        modules: &ModuleString,
+        depth: u32,
+        context: impl Fn(&Production, &mut [f64]) -> bool,
+        sink: F,
+    ) -> Result<()>
+    where
+        F: FnMut(&mut Ctx<'_>, u16, &[f32], bool) -> Result<()>,
+    {
+        self.stack.clear();
+        self.arena.clear();
+        for k in (0..modules.len()).rev() {
+            self.stack
+                .push((modules.symbol(k), depth, modules.params(k).len() as u32));
+        }
+        // The arena holds the parameters of the stack's entries in the stack's order.
+        for k in (0..modules.len()).rev() {
+            self.arena.extend_from_slice(modules.params(k));
+        }
+        self.run(ctx, table, context, sink)
+    }
+
+    /// Applies the rules to the modules on the stack until none is left.
+    fn run<F>(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        table: &ProductionTable,
+        context: impl Fn(&Production, &mut [f64]) -> bool,
+        mut sink: F,
+    ) -> Result<()>
+    where
+        F: FnMut(&mut Ctx<'_>, u16, &[f32], bool) -> Result<()>,
+    {
         while let Some((sym, depth, n)) = self.stack.pop() {
+            if !ctx.fx.spend(&mut ctx.env, 1) {
+                return ctx.check("an interpretation or decomposition rule");
+            }
             let base = self.arena.len() - n as usize;
             let chosen = if depth < table.max_depth && !table.candidates(sym).is_empty() {
                 let (stack, arena) = (&self.stack, &self.arena);
                 select_with(ctx, table, sym, &arena[base..], |p, args| {
-                    following_match(stack, arena, base, depth, p, args)
+                    following_match(stack, arena, base, depth, p, args) && context(p, args)
                 })
             } else {
                 None
@@ -722,6 +777,9 @@ impl Expander {
                 base -= m as usize;
             }
             self.arena.truncate(base);
+            if !ctx.fx.spend(&mut ctx.env, table.costs[pi as usize].1) {
+                return ctx.check("an interpretation or decomposition rule");
+            }
             let succ = &table.productions[pi as usize].successor;
             self.produced.clear();
             self.produced_params.clear();

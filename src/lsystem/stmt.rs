@@ -35,14 +35,43 @@ pub(crate) enum Stmt {
     Stop,
 }
 
-/// The run-time state statements change besides the variables.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Effects {
-    /// Statements left before the budget (`max_work`) is spent.
+/// The run-time state statements change besides the variables, and the work budget
+/// every part of a derivation spends from.
+#[derive(Debug)]
+pub(crate) struct Effects<'a> {
+    /// Work units left before the budget (`max_work`) is spent: rewriting, decomposition,
+    /// interpretation rules, statements and queries all spend from it (see
+    /// docs/threat-model.md).
     pub(crate) budget: u64,
     pub(crate) log: String,
     pub(crate) stop: bool,
+    /// The caller's progress callback: it hears the work every [`REPORT_UNITS`] units.
+    pub(crate) progress: crate::progress::Run<'a>,
+    /// What it hears: the stage and the fraction done when the units were spent.
+    pub(crate) stage: crate::progress::Stage,
+    pub(crate) fraction: f64,
+    /// The budget left at which the next report is due.
+    report_at: u64,
 }
+
+impl Default for Effects<'_> {
+    fn default() -> Self {
+        Effects {
+            budget: 0,
+            log: String::new(),
+            stop: false,
+            progress: Default::default(),
+            stage: crate::progress::Stage::Derivation,
+            fraction: 0.0,
+            report_at: 0,
+        }
+    }
+}
+
+/// Work units between two reports to the progress callback: about 5 ms of the slowest
+/// work per unit measured on the machine the default limits were set on (see
+/// docs/threat-model.md), so that a callback that asks to stop is heard within 100 ms.
+pub(crate) const REPORT_UNITS: u64 = 1 << 20;
 
 /// Parses `{ statements }` at the cursor (which must be at `{`).
 pub(crate) fn block(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<Vec<Stmt>> {
@@ -382,9 +411,9 @@ fn string_literal(cur: &mut Cursor<'_>) -> PResult<String> {
 }
 
 /// Runs `stmts`; `false` when a fault stopped them (see `env.fault`).
-pub(crate) fn exec(stmts: &[Stmt], args: &mut [f64], env: &mut Env, fx: &mut Effects) -> bool {
+pub(crate) fn exec(stmts: &[Stmt], args: &mut [f64], env: &mut Env, fx: &mut Effects<'_>) -> bool {
     for s in stmts {
-        if !spend(env, fx) {
+        if !fx.spend(env, 1 + s.cost()) {
             return false;
         }
         match s {
@@ -424,7 +453,7 @@ pub(crate) fn exec(stmts: &[Stmt], args: &mut [f64], env: &mut Env, fx: &mut Eff
                     if !exec(body, args, env, fx) {
                         return false;
                     }
-                    if !spend(env, fx) {
+                    if !fx.spend(env, 1 + c.cost()) {
                         return false;
                     }
                 }
@@ -436,7 +465,7 @@ pub(crate) fn exec(stmts: &[Stmt], args: &mut [f64], env: &mut Env, fx: &mut Eff
                 if c.eval(args, env) == 0.0 {
                     break;
                 }
-                if !spend(env, fx) {
+                if !fx.spend(env, 1 + c.cost()) {
                     return false;
                 }
             },
@@ -464,17 +493,79 @@ pub(crate) fn exec(stmts: &[Stmt], args: &mut [f64], env: &mut Env, fx: &mut Eff
     true
 }
 
-/// Counts one statement or loop turn against the budget; `false` (with a fault) when it
-/// is spent.
-fn spend(env: &mut Env, fx: &mut Effects) -> bool {
-    if fx.budget == 0 {
-        if env.fault.is_none() {
-            env.fault = Some("statements ran past `max_work` (a loop that never ends?)".into());
+impl Stmt {
+    /// Work units of the statement's own expressions (not of the statements it holds,
+    /// which count as they run), evaluated once.
+    fn cost(&self) -> u64 {
+        match self {
+            Stmt::Set(target, _, e) => {
+                e.cost()
+                    + match target {
+                        Target::Elem(_, idx) => idx.iter().map(Expr::cost).sum(),
+                        _ => 0,
+                    }
+            }
+            Stmt::If(c, _, _) | Stmt::While(c, _) | Stmt::DoWhile(_, c) | Stmt::Eval(c) => c.cost(),
+            Stmt::Printf(_, values) => 16 + values.iter().map(Expr::cost).sum::<u64>(),
+            Stmt::Stop => 0,
         }
-        return false;
     }
-    fx.budget -= 1;
-    true
+}
+
+/// The fault a derivation notes when its work passes `max_work`.
+pub(crate) const OVER_BUDGET: &str = "the derivation's work passed `max_work` (a loop that never ends, or a string that \
+     stays large for very many steps?)";
+
+/// The fault a derivation notes when the progress callback asks it to stop.
+pub(crate) const CANCELLED: &str = "cancelled by the progress callback";
+
+impl Effects<'_> {
+    /// A budget of `units`, reporting to nobody.
+    pub(crate) fn with_budget(units: u64) -> Self {
+        let mut fx = Effects::default();
+        fx.reset_budget(units);
+        fx
+    }
+
+    /// Sets the budget left to `units`; the next report is due [`REPORT_UNITS`] on.
+    pub(crate) fn reset_budget(&mut self, units: u64) {
+        self.budget = units;
+        self.report_at = units.saturating_sub(REPORT_UNITS);
+    }
+
+    /// Spends `units` of work against the budget (`max_work`); `false`, with the fault
+    /// [`OVER_BUDGET`] noted, when it is spent, or with [`CANCELLED`] when the progress
+    /// callback, due to hear the work, asks to stop.
+    #[inline]
+    pub(crate) fn spend(&mut self, env: &mut Env, units: u64) -> bool {
+        let units = units.saturating_add(std::mem::take(&mut env.extra_work));
+        match self.budget.checked_sub(units) {
+            Some(left) => {
+                self.budget = left;
+                left >= self.report_at || self.report(env)
+            }
+            None => {
+                self.budget = 0;
+                if env.fault.is_none() {
+                    env.fault = Some(OVER_BUDGET.into());
+                }
+                false
+            }
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn report(&mut self, env: &mut Env) -> bool {
+        self.report_at = self.budget.saturating_sub(REPORT_UNITS);
+        if self.progress.report(self.stage, self.fraction).is_err() {
+            if env.fault.is_none() {
+                env.fault = Some(CANCELLED.into());
+            }
+            return false;
+        }
+        true
+    }
 }
 
 /// C's printf for numbers: `%d %i %f %e %g %c %%` with flags, width and precision.
@@ -582,7 +673,7 @@ mod tests {
     use std::cell::RefCell;
     use std::collections::HashMap;
 
-    fn run(text: &str) -> (Vec<f64>, Globals, Effects, Option<String>) {
+    fn run(text: &str) -> (Vec<f64>, Globals, Effects<'static>, Option<String>) {
         let mut g = Globals::default();
         g.arrays.push(ArrayDecl {
             name: "a".into(),
@@ -605,10 +696,7 @@ mod tests {
             &g,
             Vec::new().into(),
         );
-        let mut fx = Effects {
-            budget: 10_000,
-            ..Default::default()
-        };
+        let mut fx = Effects::with_budget(10_000);
         let mut args = vec![2.0];
         exec(&stmts, &mut args, &mut env, &mut fx);
         let mut all = args;

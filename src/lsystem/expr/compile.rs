@@ -56,7 +56,14 @@ pub(crate) fn compile(cur: &mut Cursor<'_>, scope: &Scope<'_>) -> PResult<Expr> 
         [a, b, op] if is_binary(*op) && operand(a).is_some() && operand(b).is_some() => {
             Expr::Binary(*op, operand(a).unwrap(), operand(b).unwrap())
         }
-        _ => Expr::Code(c.ops.into_boxed_slice(), c.max_depth),
+        _ => {
+            let cost = c.ops.iter().map(super::op_cost).sum::<u64>();
+            Expr::Code(
+                c.ops.into_boxed_slice(),
+                c.max_depth,
+                cost.min(u32::MAX as u64) as u32,
+            )
+        }
     })
 }
 

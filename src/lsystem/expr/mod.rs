@@ -89,6 +89,9 @@ pub(crate) struct Env {
     /// The view file's curves (`curve:`), read by `curveX/Y/Z` and `curveGAL`.
     pub(crate) curves: std::sync::Arc<[super::function_files::Curve]>,
     pub(crate) fault: Option<String>,
+    /// Work units the last operations spent beyond their cost (a draw from `bran` or
+    /// `biran` that took many tries), charged against `max_work` at the next spend.
+    pub(crate) extra_work: u64,
 }
 
 impl Env {
@@ -104,6 +107,7 @@ impl Env {
             functions,
             curves: Vec::new().into(),
             fault: None,
+            extra_work: 0,
         }
     }
 
@@ -116,6 +120,7 @@ impl Env {
             functions: Vec::new().into(),
             curves: Vec::new().into(),
             fault: None,
+            extra_work: 0,
         }
     }
 
@@ -280,8 +285,8 @@ pub(crate) enum Expr {
     Const(f64),
     Param(u16),
     Binary(Op, Operand, Operand),
-    /// Bytecode and the deepest stack it needs.
-    Code(Box<[Op]>, usize),
+    /// Bytecode, the deepest stack it needs, and its [`cost`](Expr::cost).
+    Code(Box<[Op]>, usize, u32),
 }
 
 impl Expr {
@@ -292,7 +297,20 @@ impl Expr {
             Expr::Const(c) => *c,
             Expr::Param(i) => args[*i as usize],
             Expr::Binary(op, a, b) => binary(*op, a.get(args), b.get(args)),
-            Expr::Code(ops, depth) => run_code(ops, *depth, args, env),
+            Expr::Code(ops, depth, _) => run_code(ops, *depth, args, env),
+        }
+    }
+
+    /// Work units one evaluation spends against `max_work` at most: one an operation,
+    /// more for the calls that take longer (a power or a function of the C library
+    /// four, a table or curve lookup sixteen). Jumps only shorten a run, so the count of
+    /// the code is a bound. Counted once, when the expression is compiled.
+    #[inline]
+    pub(crate) fn cost(&self) -> u64 {
+        match self {
+            Expr::Const(_) | Expr::Param(_) => 1,
+            Expr::Binary(op, _, _) => op_cost(op),
+            Expr::Code(_, _, cost) => *cost as u64,
         }
     }
 
@@ -301,7 +319,7 @@ impl Expr {
         match self {
             Expr::Const(c) => Some(*c),
             // Code without parameters or random draws (a `?:`, say) has one value.
-            Expr::Code(ops, depth)
+            Expr::Code(ops, depth, _)
                 if ops.iter().all(|op| {
                     !matches!(
                         op,
@@ -318,6 +336,15 @@ impl Expr {
             }
             _ => None,
         }
+    }
+}
+
+/// See [`Expr::cost`].
+pub(crate) fn op_cost(op: &Op) -> u64 {
+    match op {
+        Op::Pow | Op::F1(_) | Op::F2(_) | Op::Ran | Op::Nran => 4,
+        Op::Special(_) => 16,
+        _ => 1,
     }
 }
 
@@ -389,7 +416,9 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
             }
             Op::Special(Special::Bran) => {
                 sp -= 1;
-                stack[sp - 1] = env.rng.beta(stack[sp - 1], stack[sp]);
+                let mut tries = 0;
+                stack[sp - 1] = env.rng.beta(stack[sp - 1], stack[sp], &mut tries);
+                env.extra_work += 8 * tries;
             }
             Op::Special(Special::Func) => {
                 sp -= 1;
@@ -424,7 +453,12 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
             }
             Op::Special(Special::Biran) => {
                 sp -= 1;
-                stack[sp - 1] = env.rng.binomial(stack[sp - 1], stack[sp]);
+                let n = stack[sp - 1];
+                stack[sp - 1] = env.rng.binomial(n, stack[sp]);
+                if stack[sp - 1].is_finite() {
+                    // One draw a trial.
+                    env.extra_work += n as u64;
+                }
             }
             Op::F2(f) => {
                 sp -= 1;

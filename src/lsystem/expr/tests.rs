@@ -93,7 +93,8 @@ fn constants_fold_and_parameters_stay() {
         e,
         Expr::Code(
             vec![Op::Param(0), Op::Param(0), Op::Mul, Op::Const(1.0), Op::Add].into(),
-            2
+            2,
+            5
         )
     );
 }
