@@ -180,13 +180,14 @@ fn a_program_linked_in_the_build_folder_starts() {
 }
 
 /// Installed libraries carry no debug info or bitcode: the archive is well under the
-/// 36 MB it was, and the shared library has no .debug sections.
+/// 36 MB it was with them (12.8 MB once serde, serde_json and base64 came in for glTF's
+/// JSON), and the shared library has no .debug sections.
 #[test]
 fn installed_libraries_are_lean() {
     let (_, prefix) = setup_in("packaging_lean");
     let lib = prefix.join("lib");
     let archive = std::fs::metadata(lib.join("libarbor.a")).unwrap().len();
-    assert!(archive < 12 << 20, "libarbor.a is {archive} bytes");
+    assert!(archive < 14 << 20, "libarbor.a is {archive} bytes");
     let sections = run(Command::new("readelf")
         .arg("-S")
         .arg(lib.join("libarbor.a")));
@@ -358,7 +359,8 @@ fn the_documented_link_lines_work() {
 }
 
 /// The library alone (`default-features = false`, as an engine embeds it) depends on no
-/// command-line crates: clap, ctrlc and serde_json come only with the `cli` feature.
+/// command-line crates: clap and ctrlc come only with the `cli` feature. (serde_json is the
+/// glTF writer's, so the library has it.)
 #[test]
 fn the_library_alone_has_no_cli_dependencies() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -369,7 +371,7 @@ fn the_library_alone_has_no_cli_dependencies() {
             .args(features))
     };
     let lean = tree(&["--no-default-features"]);
-    for name in ["clap ", "ctrlc ", "serde_json "] {
+    for name in ["clap ", "ctrlc "] {
         assert!(!lean.contains(name), "{name}in the library's tree:\n{lean}");
     }
     let cli = tree(&[]);

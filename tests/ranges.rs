@@ -280,7 +280,7 @@ fn mesh_options_ranges_are_the_documented_ones() {
         true
     };
     let n = check(
-        "src/mesh/mod.rs",
+        "src/mesh/options.rs",
         "MeshOptions",
         "ArborMeshOptions",
         &set,

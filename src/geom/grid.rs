@@ -7,14 +7,14 @@
 //! cells instead of the box.
 
 use glam::DVec3;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Cells are cubes of edge `cell`; cell (i, j, k) covers `[i·cell, (i+1)·cell)` on each axis.
 #[derive(Clone, Debug)]
 pub struct Grid {
     cell: f64,
     max_cells_per_item: u64,
-    cells: HashMap<[i64; 3], Vec<u32>>,
+    cells: FxHashMap<[i64; 3], Vec<u32>>,
     large: Vec<u32>,
     /// Boxes of the large items, for queries that walk stored cells.
     large_boxes: Vec<(DVec3, DVec3)>,
@@ -45,7 +45,7 @@ impl Grid {
                 1.0
             },
             max_cells_per_item: max_cells_per_item.max(1),
-            cells: HashMap::new(),
+            cells: FxHashMap::default(),
             large: Vec::new(),
             large_boxes: Vec::new(),
         }

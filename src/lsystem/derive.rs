@@ -2,8 +2,9 @@
 //! double-buffered, with cpfg's blocks, cuts and query answers between the steps.
 
 use super::ctx::{Ctx, STEP_WORK, birth as birth_of, emit};
+use super::links::Links;
 use super::query;
-use super::rewrite::{Expander, Links, copy_run, rewrite, select_multi, successor_of};
+use super::rewrite::{Expander, copy_run, rewrite, select_multi, successor_of};
 use super::{LSystem, LsystemOptions, ModuleString};
 use crate::error::Result;
 use crate::progress::Stage;
@@ -299,7 +300,7 @@ mod tests {
             links.build(&ls, &s);
             made_in_build += usize::from(links.table_ready());
             let mut forward = Vec::new();
-            super::super::rewrite::brackets(&s, &mut forward);
+            super::super::links::brackets(&s, &mut forward);
             assert_eq!(links.partner, forward, "{syms:?}");
             for j in 0..=n {
                 let scan = branch_end(&syms, j).map_or(u32::MAX, |k| k as u32);

@@ -23,6 +23,7 @@ mod expr;
 mod function_files;
 pub(crate) mod grammar;
 mod interpret;
+mod links;
 mod parse;
 pub(crate) mod preprocess;
 mod query;

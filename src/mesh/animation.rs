@@ -71,10 +71,8 @@ impl AnimationVertexCompact {
 
 /// A per-branch phase in [0, 1) from the branch index (the same on every run).
 pub(crate) fn branch_phase(i: u32) -> f32 {
-    let mut z = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    // The first SplitMix64 output seeded with the index.
+    (crate::rng::Rng::new(i as u64).next_u64() >> 40) as f32 / (1u64 << 24) as f32
 }
 
 /// When each branch starts to grow, and the length of the whole growth, in units of one

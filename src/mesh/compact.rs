@@ -7,6 +7,7 @@
 //! is written, with no second pass over the mesh: a ring four vertices at a time, in
 //! vector lanes ([`encode_lanes`]), anything else one by one.
 
+use super::quantize::{SNORM_MAGIC, UNORM_MAGIC, unorm16};
 use super::rings::{Affine, Circle, Slot};
 use super::{Vertex, VertexFormat};
 use bytemuck::{Pod, Zeroable};
@@ -94,13 +95,6 @@ impl VertexCompact {
             uv: vertex.uv.map(unorm16),
         }
     }
-}
-
-/// A texture coordinate in [0, 1] as unorm16, rounded to nearest (ties to even) as the
-/// four-lane path does.
-#[inline(always)]
-pub(crate) fn unorm16(c: f32) -> u16 {
-    (c.clamp(0.0, 1.0) * 65535.0 + UNORM_MAGIC).to_bits() as u16
 }
 
 /// The smallest power of two at least `v_max` and at least 1: the compact format's
@@ -222,13 +216,6 @@ fn interleave_lanes([px, py, pz]: [Vec4; 3], n: [u32; 4], uv: [u32; 4]) -> [Vert
 
 #[cfg(not(target_arch = "x86_64"))]
 use interleave_lanes as interleave;
-
-/// Adding 2^23 to a float in [0, 2^16) leaves the nearest integer (ties to even) in the
-/// low bits of its mantissa; so no float-to-integer conversion is needed, which is a
-/// checked, per-lane one in Rust.
-const UNORM_MAGIC: f32 = 8_388_608.0;
-/// 1.5 x 2^23: the same for integers in (-2^22, 2^22), two's complement in the low bits.
-const SNORM_MAGIC: f32 = 12_582_912.0;
 
 /// Writes the ring `ring` as compact vertices, four at a time in lanes (position, normal and
 /// uv of four vertices, each component one vector), handing each four to `store4` (and

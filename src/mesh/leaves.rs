@@ -3,7 +3,8 @@
 //! and the turtle's `{ . }` polygons triangulated).
 
 use super::animation::{AnimationVertex, branch_phase, growth_times};
-use super::plan::{check_options, kept_branches};
+use super::check_options;
+use super::plan::kept_branches;
 use super::rings::AxisMap;
 use super::rings::Slot;
 use super::strips::{StripRules, StripWriter, zigzag};

@@ -76,7 +76,7 @@ pub(crate) fn circle(segments: usize) -> Circle {
         .collect();
     let u_unorm = u_quads
         .iter()
-        .map(|u| u.to_array().map(|u| super::compact::unorm16(u) as u32))
+        .map(|u| u.to_array().map(|u| super::quantize::unorm16(u) as u32))
         .collect();
     Circle {
         points,

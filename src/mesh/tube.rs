@@ -5,7 +5,6 @@ use super::plan::{BASE_CAP, MITRE_END, MeshPlan, SHARES_START, TIP, axis};
 use super::rings::Slot;
 use super::rings::{Affine, Circle, Out, to_f32};
 use super::strips::{StripWriter, zigzag};
-use super::tubes::slope_of;
 use super::{MeshOptions, Tip, Vertex};
 use crate::geom::lanes::{cross3, dot3, unit3, unit3_or_zero};
 use crate::skeleton::{NO_PARENT, Skeleton};
@@ -380,6 +379,23 @@ impl Tube<'_> {
                     writer.strip(&[tip_first + j, self.end_ring + j, self.end_ring + j + 1]);
                 }
             }
+        }
+    }
+}
+
+/// (radial, axial) parts of the unit outward normal of a cone with radii `r0`, `r1` and
+/// height `h`: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
+/// overflows).
+#[inline(always)]
+pub(super) fn slope_of(r0: f32, r1: f32, h: f64) -> (f32, f32) {
+    let slope = glam::Vec2::new(h as f32, r0 - r1);
+    match slope.try_normalize() {
+        Some(n) => (n.x, n.y),
+        None if slope == glam::Vec2::ZERO => (1.0, 0.0),
+        None => {
+            let dr = (r0 - r1) as f64;
+            let slant = (h * h + dr * dr).sqrt();
+            ((h / slant) as f32, (dr / slant) as f32)
         }
     }
 }

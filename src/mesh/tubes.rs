@@ -8,7 +8,6 @@ use super::{MAX_RADIAL_SEGMENTS, Mesh, MeshOptions, MeshSize, Vertex, VertexSlot
 use crate::error::Result;
 use crate::progress::{self, Run, Stage};
 use crate::skeleton::{NO_PARENT, Skeleton};
-use glam::Vec2;
 use std::mem::MaybeUninit;
 
 /// The exact vertex and index counts [`write_mesh`] needs for `skeleton`.
@@ -396,23 +395,6 @@ impl MeshPlan {
         }
         debug_assert_eq!(writer.pos, writer.out.len());
         writer.last
-    }
-}
-
-/// (radial, axial) parts of the unit outward normal of a cone with radii `r0`, `r1` and
-/// height `h`: radial·h + axis·(r0 − r1), normalised (in f64 when the f32 sum of squares
-/// overflows).
-#[inline(always)]
-pub(super) fn slope_of(r0: f32, r1: f32, h: f64) -> (f32, f32) {
-    let slope = Vec2::new(h as f32, r0 - r1);
-    match slope.try_normalize() {
-        Some(n) => (n.x, n.y),
-        None if slope == Vec2::ZERO => (1.0, 0.0),
-        None => {
-            let dr = (r0 - r1) as f64;
-            let slant = (h * h + dr * dr).sqrt();
-            ((h / slant) as f32, (dr / slant) as f32)
-        }
     }
 }
 

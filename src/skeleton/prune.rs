@@ -117,8 +117,7 @@ fn colliding(skeleton: &Skeleton) -> Vec<bool> {
     // A capsule identical to one already judged gets the same verdict (it meets the same
     // branches, and its twin at every end point) and is not put in the grid again: many
     // coincident branches (zero-length internodes at one point) stay linear.
-    let mut judged: std::collections::HashMap<([u32; 3], [u32; 3], u32), bool> =
-        std::collections::HashMap::new();
+    let mut judged: rustc_hash::FxHashMap<([u32; 3], [u32; 3], u32), bool> = Default::default();
     for &i in &order {
         let x = &b[i as usize];
         if x.parent != NO_PARENT && removed[x.parent as usize] {

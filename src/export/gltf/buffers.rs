@@ -1,6 +1,7 @@
-//! The binary buffer of a glTF file and the JSON of its views and accessors, as meshes are
-//! added: f32 vertices, or quantized ones (KHR_mesh_quantization).
+//! The binary buffer of a glTF file and its views and accessors, as meshes are added: f32
+//! vertices, or quantized ones (KHR_mesh_quantization).
 
+use super::json::{Accessor, Attributes, BufferView};
 use crate::mesh::Mesh;
 
 pub(super) fn pad4(v: &mut Vec<u8>, byte: u8) {
@@ -9,91 +10,76 @@ pub(super) fn pad4(v: &mut Vec<u8>, byte: u8) {
     }
 }
 
-pub(super) fn base64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(data.len().div_ceil(3) * 4);
-    for c in data.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                s.push(T[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
-}
-
-pub(super) fn num(v: f32) -> String {
-    // Shortest round-trip form; glTF's JSON has no NaN or infinity (never produced).
-    let s = format!("{v:?}");
-    if s.contains("inf") || s.contains("NaN") {
-        "0".into()
-    } else {
-        s
-    }
-}
-
 /// glTF componentType values.
 pub(super) const FLOAT: u32 = 5126;
 pub(super) const SHORT: u32 = 5122;
+const UNSIGNED_INT: u32 = 5125;
+/// glTF bufferView targets.
+pub(super) const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
-/// The binary buffer and the JSON of its views and accessors, as they are added.
+/// The binary buffer and its views and accessors, as they are added.
 #[derive(Default)]
 pub(super) struct Buffers {
     pub(super) bin: Vec<u8>,
-    pub(super) views: Vec<String>,
-    pub(super) accessors: Vec<String>,
+    pub(super) views: Vec<BufferView>,
+    pub(super) accessors: Vec<Accessor>,
     /// Vertices as KHR_mesh_quantization allows: normals in snorm16, uv in unorm16.
     pub(super) quantized: bool,
 }
 
 impl Buffers {
-    /// Appends `bytes` (padded to 4) as a buffer view; returns its index.
-    pub(super) fn view(&mut self, bytes: &[u8], stride_target: &str) -> usize {
+    /// Appends `bytes` (padded to 4) as a buffer view with this stride and target; returns
+    /// its index.
+    pub(super) fn view(
+        &mut self,
+        bytes: &[u8],
+        byte_stride: Option<u32>,
+        target: Option<u32>,
+    ) -> usize {
         let start = self.bin.len();
         self.bin.extend_from_slice(bytes);
-        let len = bytes.len();
         pad4(&mut self.bin, 0);
-        self.views.push(format!(
-            "{{\"buffer\":0,\"byteOffset\":{start},\"byteLength\":{len}{stride_target}}}"
-        ));
+        self.views.push(BufferView {
+            buffer: 0,
+            byte_offset: start,
+            byte_length: bytes.len(),
+            byte_stride,
+            target,
+        });
         self.views.len() - 1
     }
 
-    /// Adds a float accessor into `view`; returns its index.
+    /// Adds `accessor`; returns its index.
+    pub(super) fn push(&mut self, accessor: Accessor) -> usize {
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// Adds a float accessor of `count` elements of `kind` at `offset` in `view`; returns
+    /// its index.
     pub(super) fn accessor(
         &mut self,
         view: usize,
         offset: usize,
         count: usize,
-        ty: &str,
-        extra: &str,
+        kind: &'static str,
     ) -> usize {
-        self.accessor_of(view, offset, count, (FLOAT, ty), extra)
+        self.push(Accessor {
+            buffer_view: view,
+            byte_offset: Some(offset),
+            component_type: FLOAT,
+            count,
+            kind,
+            min: None,
+            max: None,
+            normalized: false,
+        })
     }
 
-    /// Adds an accessor of `component` (a glTF componentType) into `view`; returns its
-    /// index.
-    pub(super) fn accessor_of(
-        &mut self,
-        view: usize,
-        offset: usize,
-        count: usize,
-        (component, ty): (u32, &str),
-        extra: &str,
-    ) -> usize {
-        self.accessors.push(format!(
-            "{{\"bufferView\":{view},\"byteOffset\":{offset},\"componentType\":{component},\"count\":{count},\"type\":\"{ty}\"{extra}}}"
-        ));
-        self.accessors.len() - 1
-    }
-
-    /// A triangle-list mesh's vertices and indices: the primitive's attributes and
-    /// indices as JSON (`"attributes":{...},"indices":n`) and its vertex count.
-    pub(super) fn mesh(&mut self, m: &Mesh) -> (String, usize) {
+    /// A triangle-list mesh's vertices and indices: the primitive's attributes, its
+    /// indices' accessor, and its vertex count.
+    pub(super) fn mesh(&mut self, m: &Mesh) -> (Attributes, usize, usize) {
         let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
         for v in &m.vertices {
             for c in 0..3 {
@@ -102,39 +88,43 @@ impl Buffers {
             }
         }
         let n = m.vertices.len();
-        let bounds = format!(
-            ",\"min\":[{},{},{}],\"max\":[{},{},{}]",
-            num(lo[0]),
-            num(lo[1]),
-            num(lo[2]),
-            num(hi[0]),
-            num(hi[1]),
-            num(hi[2])
-        );
         let (pos, nor, uv) = if self.quantized {
-            self.quantized_vertices(m, &bounds)
+            self.quantized_vertices(m)
         } else {
             let vv = self.view(
                 bytemuck::cast_slice(&m.vertices),
-                ",\"byteStride\":32,\"target\":34962",
+                Some(32),
+                Some(ARRAY_BUFFER),
             );
-            let pos = self.accessor(vv, 0, n, "VEC3", &bounds);
-            let nor = self.accessor(vv, 12, n, "VEC3", "");
-            let uv = self.accessor(vv, 24, n, "VEC2", "");
+            let pos = self.accessor(vv, 0, n, "VEC3");
+            let nor = self.accessor(vv, 12, n, "VEC3");
+            let uv = self.accessor(vv, 24, n, "VEC2");
             (pos, nor, uv)
         };
-        let iv = self.view(bytemuck::cast_slice(&m.indices), ",\"target\":34963");
-        self.accessors.push(format!(
-            "{{\"bufferView\":{iv},\"byteOffset\":0,\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
-            m.indices.len()
-        ));
-        let idx = self.accessors.len() - 1;
-        (
-            format!(
-                "\"attributes\":{{\"POSITION\":{pos},\"NORMAL\":{nor},\"TEXCOORD_0\":{uv}}},\"indices\":{idx}"
-            ),
-            n,
-        )
+        (self.accessors[pos].min, self.accessors[pos].max) = (Some(lo), Some(hi));
+        let iv = self.view(
+            bytemuck::cast_slice(&m.indices),
+            None,
+            Some(ELEMENT_ARRAY_BUFFER),
+        );
+        let indices = self.push(Accessor {
+            buffer_view: iv,
+            byte_offset: Some(0),
+            component_type: UNSIGNED_INT,
+            count: m.indices.len(),
+            kind: "SCALAR",
+            min: None,
+            max: None,
+            normalized: false,
+        });
+        let attributes = Attributes {
+            position: pos,
+            normal: nor,
+            texcoord_0: uv,
+            growth: None,
+            wind: None,
+        };
+        (attributes, indices, n)
     }
 
     /// The vertices as KHR_mesh_quantization allows, 28 bytes each: position in f32 at 0,
@@ -143,7 +133,7 @@ impl Buffers {
     /// every importer, and glTF scales it back only through a texture's
     /// KHR_texture_transform, which an untextured file has nowhere to put. Returns the
     /// position, normal and uv accessors.
-    fn quantized_vertices(&mut self, m: &Mesh, bounds: &str) -> (usize, usize, usize) {
+    fn quantized_vertices(&mut self, m: &Mesh) -> (usize, usize, usize) {
         let n = m.vertices.len();
         let mut bytes = Vec::with_capacity(n * 28);
         for v in &m.vertices {
@@ -155,11 +145,19 @@ impl Buffers {
             bytes.extend_from_slice(&[0, 0]);
             bytes.extend_from_slice(bytemuck::cast_slice(&v.uv));
         }
-        let vv = self.view(&bytes, ",\"byteStride\":28,\"target\":34962");
-        (
-            self.accessor(vv, 0, n, "VEC3", bounds),
-            self.accessor_of(vv, 12, n, (SHORT, "VEC3"), ",\"normalized\":true"),
-            self.accessor(vv, 20, n, "VEC2", ""),
-        )
+        let vv = self.view(&bytes, Some(28), Some(ARRAY_BUFFER));
+        let pos = self.accessor(vv, 0, n, "VEC3");
+        let nor = self.push(Accessor {
+            buffer_view: vv,
+            byte_offset: Some(12),
+            component_type: SHORT,
+            count: n,
+            kind: "VEC3",
+            min: None,
+            max: None,
+            normalized: true,
+        });
+        let uv = self.accessor(vv, 20, n, "VEC2");
+        (pos, nor, uv)
     }
 }

@@ -16,11 +16,12 @@ use crate::error::{Error, Result};
 use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
 use crate::progress::Run;
 use crate::skeleton::Skeleton;
-use std::fmt::Write as _;
 use std::path::Path;
 
 mod buffers;
-use buffers::{Buffers, base64, num, pad4};
+mod json;
+use buffers::{ARRAY_BUFFER, Buffers, FLOAT, pad4};
+use json::Extras;
 
 /// A primitive of the file: its mesh, its material, and for bark the animation stream
 /// (custom attributes `_GROWTH` and `_WIND`).
@@ -37,14 +38,19 @@ enum Material {
 }
 
 impl Material {
-    fn json(self) -> &'static str {
-        match self {
-            Material::Bark => {
-                "{\"name\":\"bark\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.36,0.24,0.14,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.9}}"
-            }
-            Material::Leaves => {
-                "{\"name\":\"leaves\",\"doubleSided\":true,\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.22,0.52,0.16,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}"
-            }
+    fn json(self) -> json::Material {
+        let (name, double_sided, base_color_factor, roughness_factor) = match self {
+            Material::Bark => ("bark", false, [0.36, 0.24, 0.14, 1.0], 0.9),
+            Material::Leaves => ("leaves", true, [0.22, 0.52, 0.16, 1.0], 0.8),
+        };
+        json::Material {
+            name,
+            double_sided,
+            pbr_metallic_roughness: json::Pbr {
+                base_color_factor,
+                metallic_factor: 0.0,
+                roughness_factor,
+            },
         }
     }
 }
@@ -111,18 +117,18 @@ fn gltf_bytes_with(
     run: &mut Run<'_>,
 ) -> Result<Vec<u8>> {
     let (o, prims) = primitives(skeleton, options, leaves, run)?;
-    let extras = format!(
-        "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"curve_rings\":{},\"scale\":{},\"leaves\":{}}}",
-        skeleton.len(),
-        o.radial_segments,
-        o.curve_rings,
-        num(o.scale),
+    let extras = Extras {
+        branches: Some(skeleton.len()),
+        radial_segments: o.radial_segments,
+        curve_rings: Some(o.curve_rings),
+        scale: Some(o.scale),
         // Whether the file holds leaf geometry (asked for and found somewhere to go).
-        prims.iter().any(|p| matches!(p.material, Material::Leaves))
-    );
+        leaves: Some(prims.iter().any(|p| matches!(p.material, Material::Leaves))),
+        ..Extras::arbor()
+    };
     encode(
         one_tree(prims),
-        &extras,
+        extras,
         Form::of(options, binary),
         NO_INSTANCES,
     )
@@ -181,15 +187,15 @@ pub fn gltf_bytes_instanced(
         topology: Topology::TriangleList,
         ranges: Vec::new(),
     };
-    let extras = format!(
-        "{{\"generator\":\"arbor\",\"branches\":{},\"radial_segments\":{},\"leaf_instances\":{}}}",
-        skeleton.len(),
-        o.radial_segments,
-        instances.len()
-    );
+    let extras = Extras {
+        branches: Some(skeleton.len()),
+        radial_segments: o.radial_segments,
+        leaf_instances: Some(instances.len()),
+        ..Extras::arbor()
+    };
     encode(
         one_tree(prims),
-        &extras,
+        extras,
         Form::of(options, binary),
         Some((quad, instances)),
     )
@@ -204,12 +210,12 @@ pub fn gltf_forest_bytes(
 ) -> Result<Vec<u8>> {
     let o = gltf_options(options)?;
     let m = crate::forest::merged(placed, &o)?;
-    let extras = format!(
-        "{{\"generator\":\"arbor\",\"trees\":{},\"radial_segments\":{},\"scale\":{}}}",
-        placed.len(),
-        o.radial_segments,
-        num(o.scale)
-    );
+    let extras = Extras {
+        trees: Some(placed.len()),
+        radial_segments: o.radial_segments,
+        scale: Some(o.scale),
+        ..Extras::arbor()
+    };
     let prims = if m.indices.is_empty() {
         Vec::new()
     } else {
@@ -221,7 +227,7 @@ pub fn gltf_forest_bytes(
     };
     encode(
         one_tree(prims),
-        &extras,
+        extras,
         Form::of(options, binary),
         NO_INSTANCES,
     )
@@ -262,16 +268,16 @@ pub fn gltf_forest_nodes_bytes(
             }
         })
         .collect();
-    let extras = format!(
-        "{{\"generator\":\"arbor\",\"trees\":{},\"distinct_trees\":{},\"radial_segments\":{},\"scale\":{}}}",
-        placed.len(),
-        trees.len(),
-        o.radial_segments,
-        num(o.scale)
-    );
+    let extras = Extras {
+        trees: Some(placed.len()),
+        distinct_trees: Some(trees.len()),
+        radial_segments: o.radial_segments,
+        scale: Some(o.scale),
+        ..Extras::arbor()
+    };
     encode(
         (trees, nodes),
-        &extras,
+        extras,
         Form::of(options, binary),
         NO_INSTANCES,
     )
@@ -347,29 +353,15 @@ fn materials_in_use(trees: &[Vec<Primitive>], leaves: bool) -> Vec<Material> {
     materials
 }
 
-/// A node's JSON: its name, its mesh (none for a tree without triangles) and placement.
-fn node_json(n: &Node, mesh: Option<usize>) -> String {
-    let mut node = format!("{{\"name\":\"{}\"", n.name);
-    if let Some(m) = mesh {
-        let _ = write!(node, ",\"mesh\":{m}");
-    }
+/// A node of the file: its name, its mesh (none for a tree without triangles) and
+/// placement.
+fn node_json(n: &Node, mesh: Option<usize>) -> json::Node {
+    let mut node = json::Node::new(n.name.clone(), mesh);
     if let Some((t, r, sc)) = n.trs {
-        let _ = write!(
-            node,
-            ",\"translation\":[{},{},{}],\"rotation\":[{},{},{},{}],\"scale\":[{},{},{}]",
-            num(t[0]),
-            num(t[1]),
-            num(t[2]),
-            num(r[0]),
-            num(r[1]),
-            num(r[2]),
-            num(r[3]),
-            num(sc),
-            num(sc),
-            num(sc)
-        );
+        node.translation = Some(t);
+        node.rotation = Some(r);
+        node.scale = Some([sc; 3]);
     }
-    node.push('}');
     node
 }
 
@@ -383,56 +375,68 @@ fn instanced_leaves(
     instances: &[mesh::LeafInstance],
     mesh: usize,
     material: usize,
-) -> (String, String) {
+) -> (json::Node, json::Mesh) {
     // The prefab as a mesh of its own, and per instance its translation, rotation and
     // scale (tightly packed, as the extension reads them).
-    let (attributes, _) = b.mesh(m);
+    let (attributes, indices, _) = b.mesh(m);
     let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
     let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
     let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
-    let k = instances.len();
-    let mut per_instance = |bytes: &[u8], ty: &str| {
-        let v = b.view(bytes, "");
-        b.accessors.push(format!(
-            "{{\"bufferView\":{v},\"componentType\":5126,\"count\":{k},\"type\":\"{ty}\"}}"
-        ));
-        b.accessors.len() - 1
+    let count = instances.len();
+    let mut per_instance = |bytes: &[u8], kind: &'static str| {
+        let v = b.view(bytes, None, None);
+        b.push(json::Accessor {
+            buffer_view: v,
+            byte_offset: None,
+            component_type: FLOAT,
+            count,
+            kind,
+            min: None,
+            max: None,
+            normalized: false,
+        })
     };
-    let (ta, ra, sa) = (
-        per_instance(bytemuck::cast_slice(&t), "VEC3"),
-        per_instance(bytemuck::cast_slice(&r), "VEC4"),
-        per_instance(bytemuck::cast_slice(&sc), "VEC3"),
-    );
-    let node = format!(
-        "{{\"name\":\"leaves\",\"mesh\":{mesh},\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{ta},\"ROTATION\":{ra},\"SCALE\":{sa}}}}}}}}}"
-    );
-    let mesh = format!(
-        "{{\"name\":\"leaf\",\"primitives\":[{{{attributes},\"material\":{material},\"mode\":4}}]}}"
-    );
+    let attributes_of_instances = json::InstanceAttributes {
+        translation: per_instance(bytemuck::cast_slice(&t), "VEC3"),
+        rotation: per_instance(bytemuck::cast_slice(&r), "VEC4"),
+        scale: per_instance(bytemuck::cast_slice(&sc), "VEC3"),
+    };
+    let mut node = json::Node::new("leaves", Some(mesh));
+    node.extensions = Some(json::NodeExtensions {
+        instancing: json::Instancing {
+            attributes: attributes_of_instances,
+        },
+    });
+    let mesh = json::Mesh {
+        name: "leaf",
+        primitives: vec![json::Primitive {
+            attributes,
+            indices,
+            material,
+            mode: 4,
+        }],
+    };
     (node, mesh)
 }
 
-/// The file's `extensionsUsed` and `extensionsRequired` (with their leading commas), or
-/// nothing. Quantized attributes are required: a reader without the extension cannot read
-/// them as floats. Instancing is used, not required: a viewer without it draws one leaf at
-/// the node (export baked leaves, save_gltf, for such viewers).
-fn extensions(quantized: bool, instanced: bool) -> String {
-    let used: Vec<&str> = [
-        (quantized, "\"KHR_mesh_quantization\""),
-        (instanced, "\"EXT_mesh_gpu_instancing\""),
+/// The file's `extensionsUsed` and `extensionsRequired`. Quantized attributes are
+/// required: a reader without the extension cannot read them as floats. Instancing is
+/// used, not required: a viewer without it draws one leaf at the node (export baked
+/// leaves, save_gltf, for such viewers).
+fn extensions(quantized: bool, instanced: bool) -> (Vec<&'static str>, Vec<&'static str>) {
+    let used = [
+        (quantized, "KHR_mesh_quantization"),
+        (instanced, "EXT_mesh_gpu_instancing"),
     ]
     .into_iter()
     .filter_map(|(on, name)| on.then_some(name))
     .collect();
-    if used.is_empty() {
-        return String::new();
-    }
     let required = if quantized {
-        ",\"extensionsRequired\":[\"KHR_mesh_quantization\"]"
+        vec!["KHR_mesh_quantization"]
     } else {
-        ""
+        Vec::new()
     };
-    format!(",\"extensionsUsed\":[{}]{required}", used.join(","))
+    (used, required)
 }
 
 /// How a file is written: `.glb` or `.gltf`, and with quantized vertices (the options
@@ -454,7 +458,7 @@ impl Form {
 
 fn encode(
     (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
-    extras: &str,
+    extras: Extras,
     Form { binary, quantized }: Form,
     instanced: Option<Instanced>,
 ) -> Result<Vec<u8>> {
@@ -483,35 +487,30 @@ fn encode(
     let mut meshes = Vec::new();
     let mut mesh_of = Vec::with_capacity(trees.len());
     for prims in &trees {
-        let mut prim_json = Vec::new();
+        let mut primitives = Vec::new();
         for p in prims.iter().filter(|p| !p.mesh.indices.is_empty()) {
-            let (mut attributes, n) = b.mesh(&p.mesh);
+            let (mut attributes, indices, n) = b.mesh(&p.mesh);
             // The animation stream: growth time, and (order, along, phase) for wind.
             if let Some(a) = p.anim.as_ref().filter(|a| a.len() == n) {
-                let av = b.view(
-                    bytemuck::cast_slice(a),
-                    ",\"byteStride\":16,\"target\":34962",
-                );
-                let growth = b.accessor(av, 0, n, "SCALAR", "");
-                let wind = b.accessor(av, 4, n, "VEC3", "");
-                let at = attributes
-                    .find("},\"indices\"")
-                    .expect("the attributes close there");
-                attributes.insert_str(at, &format!(",\"_GROWTH\":{growth},\"_WIND\":{wind}"));
+                let av = b.view(bytemuck::cast_slice(a), Some(16), Some(ARRAY_BUFFER));
+                attributes.growth = Some(b.accessor(av, 0, n, "SCALAR"));
+                attributes.wind = Some(b.accessor(av, 4, n, "VEC3"));
             }
-            prim_json.push(format!(
-                "{{{attributes},\"material\":{},\"mode\":4}}",
-                material(p.material)
-            ));
+            primitives.push(json::Primitive {
+                attributes,
+                indices,
+                material: material(p.material),
+                mode: 4,
+            });
         }
-        if prim_json.is_empty() {
+        if primitives.is_empty() {
             mesh_of.push(None);
         } else {
             mesh_of.push(Some(meshes.len()));
-            meshes.push(format!(
-                "{{\"name\":\"tree\",\"primitives\":[{}]}}",
-                prim_json.join(",")
-            ));
+            meshes.push(json::Mesh {
+                name: "tree",
+                primitives,
+            });
         }
     }
     let mut nodes = Vec::new();
@@ -524,48 +523,52 @@ fn encode(
         nodes.push(node);
         meshes.push(mesh);
     }
-    let used = extensions(quantized, instanced.is_some());
-    let uri = if binary {
-        String::new()
-    } else {
-        format!(
-            ",\"uri\":\"data:application/octet-stream;base64,{}\"",
-            base64(&b.bin)
-        )
-    };
-    let mut json = format!(
-        "{{\"asset\":{{\"version\":\"2.0\",\"generator\":\"arbor {}\",\"extras\":{extras}}}{used}",
-        env!("CARGO_PKG_VERSION")
-    );
+    let (extensions_used, extensions_required) = extensions(quantized, instanced.is_some());
     if nodes.is_empty() {
-        nodes.push("{\"name\":\"tree\"}".into());
+        nodes.push(json::Node::new("tree", None));
     }
-    let list: Vec<String> = (0..nodes.len()).map(|k| k.to_string()).collect();
-    let _ = write!(
-        json,
-        ",\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}]",
-        list.join(","),
-        nodes.join(",")
-    );
     // glTF has no empty arrays: a file without triangles has nodes only.
-    if !meshes.is_empty() {
-        let materials: Vec<&str> = materials.iter().map(|m| m.json()).collect();
-        let _ = write!(
-            json,
-            ",\"meshes\":[{}],\"materials\":[{}],\
-             \"accessors\":[{}],\"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]",
-            meshes.join(","),
-            materials.join(","),
-            b.accessors.join(","),
-            b.views.join(","),
-            b.bin.len()
-        );
-    }
-    json.push('}');
+    let (materials, buffers) = if meshes.is_empty() {
+        (Vec::new(), Vec::new())
+    } else {
+        let uri = (!binary).then(|| {
+            use base64::Engine as _;
+            format!(
+                "data:application/octet-stream;base64,{}",
+                base64::engine::general_purpose::STANDARD.encode(&b.bin)
+            )
+        });
+        let buffer = json::Buffer {
+            byte_length: b.bin.len(),
+            uri,
+        };
+        (materials.iter().map(|m| m.json()).collect(), vec![buffer])
+    };
+    let has_meshes = !meshes.is_empty();
+    let root = json::Root {
+        asset: json::Asset {
+            version: "2.0",
+            generator: format!("arbor {}", env!("CARGO_PKG_VERSION")),
+            extras,
+        },
+        extensions_used,
+        extensions_required,
+        scene: 0,
+        scenes: [json::Scene {
+            nodes: (0..nodes.len()).collect(),
+        }],
+        nodes,
+        meshes,
+        materials,
+        accessors: if has_meshes { b.accessors } else { Vec::new() },
+        buffer_views: if has_meshes { b.views } else { Vec::new() },
+        buffers,
+    };
+    let json = serde_json::to_vec(&root).map_err(|e| Error::invalid("glTF", e.to_string()))?;
     if !binary {
-        return Ok(json.into_bytes());
+        return Ok(json);
     }
-    glb(json.into_bytes(), &b.bin)
+    glb(json, &b.bin)
 }
 
 /// The GLB container: header, the JSON chunk (padded with spaces), the BIN chunk.

@@ -26,6 +26,7 @@ mod text;
 use crate::error::{Error, Result};
 use crate::files::Source;
 use expand::{err_unterminated, macro_name, skip_space};
+use rustc_hash::FxHashMap;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use text::{Logical, file_place, join, logical_lines, tokenize};
@@ -62,11 +63,11 @@ pub(crate) struct Preprocessed {
     pub(crate) files: Vec<String>,
     /// The original text of the output lines macro expansion changed (0-based output
     /// line), so error columns are told in the file's own text.
-    pub(crate) changed: HashMap<u32, String>,
+    pub(crate) changed: FxHashMap<u32, String>,
     /// Where the characters of an output line's original text stand in its file (see
     /// [`Logical::places`]), for the lines a splice or a comment joined or shifted
     /// (0-based output line): an error is told at its file's own line and column.
-    pub(crate) places: HashMap<u32, Vec<[u32; 3]>>,
+    pub(crate) places: FxHashMap<u32, Vec<[u32; 3]>>,
 }
 
 /// Column `column` (1-based, in characters) of `expanded`, as a column of `original`,
@@ -194,8 +195,8 @@ struct Frame {
 #[derive(Default)]
 struct HideSets {
     sets: Vec<Vec<u32>>,
-    index: HashMap<Vec<u32>, u32>,
-    unions: HashMap<(u32, u32), u32>,
+    index: FxHashMap<Vec<u32>, u32>,
+    unions: FxHashMap<(u32, u32), u32>,
 }
 
 impl HideSets {

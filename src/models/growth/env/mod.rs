@@ -74,7 +74,7 @@ pub(crate) struct Env {
     obstacles: Vec<Obstacle>,
     /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
     /// point is tested only against those near it.
-    buckets: std::collections::HashMap<[i64; 3], Vec<u32>>,
+    buckets: rustc_hash::FxHashMap<[i64; 3], Vec<u32>>,
 }
 
 impl Env {
@@ -463,7 +463,7 @@ impl Env {
             }
         }
         // Perception: the nearest perceiving bud wins each marker.
-        let mut best: std::collections::HashMap<u32, (f32, u32, u32)> = Default::default();
+        let mut best: rustc_hash::FxHashMap<u32, (f32, u32, u32)> = Default::default();
         for (t, (tree, p)) in buds.iter().zip(species).enumerate() {
             let reach = p.perception_reach * p.internode_length;
             let cos = libm::cosf(p.perception_angle.to_radians());

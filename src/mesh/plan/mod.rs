@@ -7,14 +7,22 @@
 use super::rings::{Circle, circle, to_f32};
 use super::strips::StripRules;
 use super::{
-    Axes, Joints, MAX_RADIAL_SEGMENTS, MIN_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX,
-    Tip, UpAxis, VertexFormat, Winding,
+    Joints, MAX_RADIAL_SEGMENTS, MeshOptions, MeshSize, RESTART_INDEX, Tip, VertexFormat,
+    check_options,
 };
 use crate::error::{Error, Result};
 use crate::geom::transport::{ring_basis, transport};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
+
+mod counts;
+mod edit;
+mod layout;
+
+use counts::{check_size, sides_and_continuations};
+pub(crate) use layout::Layout;
+use layout::{frames, set_v_end, start_frame, v_after, v_scale};
 
 /// The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
 /// and `first_index..first_index + index_count`. Ranges of consecutive branches are
@@ -59,86 +67,6 @@ pub(crate) struct Plan {
     pub(crate) t1: Vec<Vec3>,
     pub(crate) size: MeshSize,
     pub(crate) rules: StripRules,
-}
-
-pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
-    check_fields(o)?;
-    if !o.out().scale.is_finite() {
-        return Err(Error::invalid(
-            "scale",
-            format!(
-                "{}; in {:?}'s units it leaves the f32 range",
-                o.scale, o.axes
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Each field in its range, and no field that contradicts an engine preset: what the
-/// options say, whatever space they are written in (glTF checks these, then writes its
-/// own conventions).
-pub(crate) fn check_fields(o: &MeshOptions) -> Result<()> {
-    let s = o.radial_segments;
-    if !(MIN_RADIAL_SEGMENTS..=MAX_RADIAL_SEGMENTS).contains(&s) {
-        return Err(Error::invalid(
-            "radial_segments",
-            format!("{s}; expected {MIN_RADIAL_SEGMENTS}..={MAX_RADIAL_SEGMENTS}"),
-        ));
-    }
-    let m = o.min_radial_segments;
-    if m != 0 && !(MIN_RADIAL_SEGMENTS..=s).contains(&m) {
-        return Err(Error::invalid(
-            "min_radial_segments",
-            format!("{m}; expected 0 (no LOD) or {MIN_RADIAL_SEGMENTS}..=radial_segments ({s})"),
-        ));
-    }
-    if !(o.cull_radius.is_finite() && o.cull_radius >= 0.0) {
-        return Err(Error::invalid(
-            "cull_radius",
-            format!("{}; expected a finite number >= 0", o.cull_radius),
-        ));
-    }
-    if o.curve_rings > 64 {
-        return Err(Error::invalid(
-            "curve_rings",
-            format!(
-                "{}; expected 0..=64 rings inside each branch",
-                o.curve_rings
-            ),
-        ));
-    }
-    for (field, v) in [("texture_scale", o.texture_scale), ("scale", o.scale)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(
-                field,
-                format!("{v}; expected a finite number > 0"),
-            ));
-        }
-    }
-    if o.axes != Axes::Arbor {
-        let (up, winding) = (
-            o.up_axis != UpAxis::Y,
-            o.winding != Winding::CounterClockwise,
-        );
-        if up || winding {
-            let (field, value) = if up {
-                ("up_axis", format!("{:?}", o.up_axis))
-            } else {
-                ("winding", format!("{:?}", o.winding))
-            };
-            return Err(Error::invalid(
-                field,
-                format!(
-                    "{value} with axes {:?}; an engine preset sets the axes and winding \
-                     itself, so leave up_axis and winding at their defaults (Y, \
-                     CounterClockwise)",
-                    o.axes
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Unit direction of a branch (+Y for a zero-length branch); in f64 only when the f32
@@ -621,7 +549,7 @@ impl Plan {
 /// Ring frames and v at the ends of branches before a part of a straight tree (see
 /// [`joints_part`](Plan::joints_part)), worked out so far.
 #[derive(Default)]
-struct Earlier(HashMap<u32, (Vec3, f32)>);
+struct Earlier(FxHashMap<u32, (Vec3, f32)>);
 
 impl Earlier {
     /// The ring frame and v at the end of branch `p`, before the part. Rare (a part's
@@ -653,230 +581,6 @@ impl Earlier {
         }
         self.0[&(p as u32)]
     }
-}
-
-/// The mesh's size, within `max_vertices` and the u32 index range.
-fn check_size(nv: u64, ni: u64, o: &MeshOptions) -> Result<MeshSize> {
-    if nv > o.max_vertices as u64 {
-        return Err(Error::LimitExceeded {
-            limit_name: "max_vertices",
-            what: "mesh vertices",
-            limit: o.max_vertices as u64,
-            requested: nv,
-            step: None,
-        });
-    }
-    if nv > RESTART_INDEX as u64 || ni > u32::MAX as u64 {
-        return Err(Error::LimitExceeded {
-            limit_name: "u32 index range",
-            what: if nv > RESTART_INDEX as u64 {
-                "vertices"
-            } else {
-                "indices"
-            },
-            limit: RESTART_INDEX as u64,
-            requested: nv.max(ni),
-            step: None,
-        });
-    }
-    Ok(MeshSize {
-        vertices: nv as usize,
-        indices: ni as usize,
-    })
-}
-
-/// Each branch's sides (0: culled, with its subtree; in proportion to its radius when
-/// `min_radial_segments` is set) and the kept branch that continues its axis (its first
-/// kept child of the same order), once the tree's scaled extent is known to stay finite.
-fn sides_and_continuations(branches: &[Branch], o: &MeshOptions) -> Result<(Vec<u8>, Vec<u32>)> {
-    let lod = o.min_radial_segments != 0;
-    // LOD needs the largest radius before the first branch's sides.
-    let r_max = if lod {
-        branches
-            .iter()
-            .fold(0.0f32, |m, b| m.max(b.start_radius.max(b.end_radius)))
-    } else {
-        0.0
-    };
-    let max_seg = o.radial_segments;
-    let n = branches.len();
-    let (mut segs, mut cont) = (vec![0u8; n], vec![NO_PARENT; n]);
-    let mut extent = 0.0f64;
-    for (i, b) in branches.iter().enumerate() {
-        let r = b.start_radius.max(b.end_radius);
-        let far = Vec3::from(b.start)
-            .abs()
-            .max(Vec3::from(b.end).abs())
-            .max_element();
-        extent = extent.max(far as f64 + 2.0 * r as f64);
-        let p = b.parent as usize;
-        let parent_kept = b.parent == NO_PARENT || segs[p] != 0;
-        if !parent_kept || r < o.cull_radius {
-            continue;
-        }
-        segs[i] = if !lod || r_max <= 0.0 {
-            max_seg
-        } else {
-            ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
-        } as u8;
-        if b.parent != NO_PARENT && cont[p] == NO_PARENT && b.order == branches[p].order {
-            cont[p] = i as u32;
-        }
-    }
-    if extent * o.out().scale as f64 > f32::MAX as f64 / 4.0 {
-        return Err(Error::invalid(
-            "scale",
-            format!(
-                "{}; the tree reaches {:e} units, so positions would leave the f32 range",
-                o.scale, extent
-            ),
-        ));
-    }
-    Ok((segs, cont))
-}
-
-impl Plan {
-    /// Vertices and indices branch `i` owns with flags `f`; `first`: no strip has been
-    /// written yet.
-    #[inline]
-    fn counts(&self, i: usize, f: u8, tip: Tip, first: &mut bool) -> (usize, usize) {
-        let s = self.segs[i] as usize;
-        if s == 0 {
-            return (0, 0);
-        }
-        let rules = self.rules;
-        let ring = s + 1;
-        let mut v = ring * (1 + self.inner) + if f & SHARES_START != 0 { 0 } else { ring };
-        let mut idx = rules.tube_count(ring, *first, f & SHARES_START == 0);
-        *first = false;
-        idx += self.inner * rules.count(2 * ring, false);
-        if f & BASE_CAP != 0 {
-            v += s;
-            idx += rules.count(s, false);
-        }
-        if f & TIP != 0 {
-            v += s;
-            idx += match tip {
-                Tip::Cap => rules.count(s, false),
-                _ => s * rules.count(3, false),
-            };
-        }
-        (v, idx)
-    }
-}
-
-/// Per-branch values the writer reads, computed in one pass from parents to children (ring
-/// frames and arc length flow down the tree); the writing itself can then run on chunks of
-/// branches independently. Each branch's direction and end ring are recomputed where they
-/// are needed, which is cheaper than storing them.
-#[derive(Clone)]
-pub(crate) struct Layout {
-    pub(crate) first_vertex: Vec<u32>,
-    pub(crate) first_index: Vec<u32>,
-    /// Ring frame vector p of each branch.
-    pub(crate) frame_p: Vec<Vec3>,
-    /// v at each branch's end.
-    pub(crate) v_end: Vec<f32>,
-    /// With inner rings: the frame vector at each branch's end (carried along its curve by
-    /// rotation-minimising frames); empty otherwise.
-    pub(crate) frame_end: Vec<Vec3>,
-}
-
-/// The plan's v_scale: 1 for f32 vertices; for compact ones the power of two at or above
-/// the largest v a vertex can get (a branch's end, plus the radius a point tip reaches
-/// beyond it).
-fn v_scale(skeleton: &Skeleton, o: &MeshOptions, l: &Layout) -> f32 {
-    if o.vertex_format == VertexFormat::F32 {
-        return 1.0;
-    }
-    let v_end = l.v_end.iter().fold(0.0f32, |m, &v| m.max(v));
-    let r = skeleton
-        .branches()
-        .iter()
-        .fold(0.0f32, |m, b| m.max(b.start_radius).max(b.end_radius));
-    super::compact::v_scale_for(to_f32(v_end as f64 + r as f64 / o.texture_scale as f64))
-}
-
-/// Branch `i`'s ring frame at its start, from its parent's (with a sweep, also the frame
-/// and v at its end; straight branches get v from [`set_v_end`]): the part of the layout an
-/// edit of a branch changes for it and its subtree.
-/// `d` is the branch's direction at its start (its curve's tangent in a sweep) and `from`
-/// the parent's at the joint when the caller has it.
-#[inline(always)]
-fn frames(
-    skeleton: &Skeleton,
-    plan: &Plan,
-    l: &mut Layout,
-    i: usize,
-    (d, from): (Vec3, Option<Vec3>),
-    own_ring: bool,
-    inv_ts: f64,
-) {
-    let b = &skeleton.branches()[i];
-    let sweep = plan.inner > 0;
-    let frame = start_frame(skeleton, i, d, own_ring, |parent| {
-        if sweep {
-            transport(l.frame_end[parent], plan.t1[parent], d)
-        } else {
-            let from = from.unwrap_or_else(|| direction(&skeleton.branches()[parent]));
-            transport(l.frame_p[parent], from, d)
-        }
-    });
-    l.frame_p[i] = frame;
-    if sweep {
-        // The arc through the ring centres, and the frame at the end.
-        let mut arc = 0.0f32;
-        l.frame_end[i] = skeleton.curve(i).rotation_minimising_frames(
-            d,
-            l.frame_p[i],
-            plan.inner + 1,
-            |_, _, _, _, a| arc = a,
-        );
-        set_v_end(&mut l.v_end, b, i, arc as f64, inv_ts);
-    }
-}
-
-/// Branch `i`'s ring frame vector at its start, `d` its direction there. A ring of its own
-/// starts its seam at the turtle's up vector where the generator had a turtle (so a
-/// grammar's rolls reach the bark); a root's comes from [`ring_basis`]; any other is
-/// `carried(parent)`, the parent's frame carried along the joint, so an axis's tube never
-/// twists at a joint.
-#[inline(always)]
-fn start_frame(
-    skeleton: &Skeleton,
-    i: usize,
-    d: Vec3,
-    own_ring: bool,
-    carried: impl FnOnce(usize) -> Vec3,
-) -> Vec3 {
-    let turtle = skeleton
-        .up(i)
-        .filter(|_| own_ring)
-        .and_then(|u| (u - d * u.dot(d)).try_normalize());
-    match (turtle, skeleton.branches()[i].parent) {
-        (Some(p), _) => p,
-        (None, NO_PARENT) => ring_basis(d.as_dvec3()).0.as_vec3(),
-        (None, parent) => carried(parent as usize),
-    }
-}
-
-/// v at the end of branch `b` (number `i`), `len` along from its parent's end (its
-/// own start for a root); clamped so that absurd lengths cannot push uv past the f32 range.
-#[inline(always)]
-fn set_v_end(v_end: &mut [f32], b: &Branch, i: usize, len: f64, inv_ts: f64) {
-    let v0 = if b.parent == NO_PARENT {
-        0.0
-    } else {
-        v_end[b.parent as usize]
-    };
-    v_end[i] = v_after(v0, len, inv_ts);
-}
-
-/// v at a branch's end, `len` along from `v0` at its start (clamped so that absurd
-/// lengths cannot push uv past the f32 range).
-#[inline(always)]
-fn v_after(v0: f32, len: f64, inv_ts: f64) -> f32 {
-    to_f32(v0 as f64 + len * inv_ts)
 }
 
 /// Everything the writer needs for one tree and one set of options, computed once: a host
@@ -1041,114 +745,5 @@ impl MeshPlan {
             ));
         }
         Ok(())
-    }
-}
-
-impl MeshPlan {
-    /// Brings the plan up to date after [`Skeleton::set_curve`] edited branch `i` of
-    /// `skeleton` (the tree the plan was made for): recomputes the directions, joints and
-    /// ring frames of the branch, its subtree and its parent, in time proportional to the
-    /// subtree. Returns the branches whose vertices changed (in increasing order), for
-    /// [`MeshPlan::rewrite`].
-    ///
-    /// Branch ranges stay as they were; an edit that would change them (a joint that
-    /// stops or starts being mitred, or any edit while LOD or culling is on, whose sides
-    /// depend on every radius) is [`Error::InvalidArgument`], and the mesh must be sized
-    /// and written again (make a new plan).
-    pub fn update_after_edit(&mut self, skeleton: &Skeleton, i: usize) -> Result<Vec<u32>> {
-        self.check_skeleton(skeleton)?;
-        let n = skeleton.len();
-        if i >= n {
-            return Err(Error::invalid(
-                "branch",
-                format!("{i}; the tree has {n} branches"),
-            ));
-        }
-        let o = self.options;
-        if o.min_radial_segments != 0 || o.cull_radius != 0.0 {
-            return Err(Error::invalid(
-                "options",
-                "an edit cannot be rewritten in place while LOD (min_radial_segments) or \
-                 cull_radius is on: write the mesh again",
-            ));
-        }
-        let branches = skeleton.branches();
-        let adjacency = skeleton.adjacency();
-        // The subtree of i, then its parent (its end ring meets i), in index order.
-        let mut affected = vec![i as u32];
-        let mut k = 0;
-        while k < affected.len() {
-            let b = affected[k] as usize;
-            affected.extend_from_slice(adjacency.children(b));
-            k += 1;
-        }
-        if branches[i].parent != NO_PARENT {
-            affected.push(branches[i].parent);
-        }
-        affected.sort_unstable();
-        let plan = &mut self.plan;
-        let inner = plan.inner;
-        for &b in &affected {
-            let b = b as usize;
-            if inner > 0 {
-                let (c, d) = (skeleton.curve(b), direction(&branches[b]));
-                plan.t0[b] = c.tangent(0.0).try_normalize().unwrap_or(d);
-                plan.t1[b] = c.tangent(1.0).try_normalize().unwrap_or(d);
-            }
-        }
-        // The joints must stay as they were.
-        for &b in &affected {
-            let b = b as usize;
-            if plan.segs[b] == 0 || branches[b].parent == NO_PARENT {
-                continue;
-            }
-            let shares = plan.own_flags(branches, &o, b) & SHARES_START != 0;
-            if shares != (plan.flags[b] & SHARES_START != 0) {
-                return Err(Error::invalid(
-                    "curve",
-                    format!(
-                        "the edit changes whether branch {b} shares its parent's ring (a bend \
-                         past 90°): write the mesh again"
-                    ),
-                ));
-            }
-        }
-        let inv_ts = 1.0 / o.texture_scale as f64;
-        for &b in &affected {
-            if plan.segs[b as usize] != 0 {
-                let (b, sweep) = (b as usize, inner > 0);
-                let own_ring = plan.flags[b] & SHARES_START == 0;
-                let d = if sweep {
-                    plan.t0[b]
-                } else {
-                    direction(&branches[b])
-                };
-                frames(
-                    skeleton,
-                    plan,
-                    &mut self.layout,
-                    b,
-                    (d, None),
-                    own_ring,
-                    inv_ts,
-                );
-                if !sweep {
-                    set_v_end(
-                        &mut self.layout.v_end,
-                        &branches[b],
-                        b,
-                        length(&branches[b]),
-                        inv_ts,
-                    );
-                }
-            }
-        }
-        let v_scale = v_scale(skeleton, &o, &self.layout);
-        if v_scale != self.v_scale {
-            // Every compact vertex's v is stored over the scale: all of them change.
-            self.v_scale = v_scale;
-            return Ok((0..n as u32).collect());
-        }
-        Ok(affected)
     }
 }

@@ -1,0 +1,207 @@
+//! The glTF 2.0 document as typed values, serialized by serde_json: every string escaped,
+//! every f32 written in its shortest round-trip form, optional members left out.
+
+use serde::Serialize;
+
+/// The document (glTF's root object).
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Root {
+    pub(super) asset: Asset,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) extensions_used: Vec<&'static str>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) extensions_required: Vec<&'static str>,
+    pub(super) scene: usize,
+    pub(super) scenes: [Scene; 1],
+    pub(super) nodes: Vec<Node>,
+    // glTF has no empty arrays: a file without triangles has nodes only.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) meshes: Vec<Mesh>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) materials: Vec<Material>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) accessors: Vec<Accessor>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) buffer_views: Vec<BufferView>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) buffers: Vec<Buffer>,
+}
+
+#[derive(Serialize)]
+pub(super) struct Asset {
+    pub(super) version: &'static str,
+    pub(super) generator: String,
+    /// The generator's settings.
+    pub(super) extras: Extras,
+}
+
+/// `asset.extras`: what arbor made the file from (each file kind fills its own members).
+#[derive(Default, Serialize)]
+pub(super) struct Extras {
+    pub(super) generator: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) branches: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) trees: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) distinct_trees: Option<usize>,
+    pub(super) radial_segments: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) curve_rings: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) scale: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) leaves: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) leaf_instances: Option<usize>,
+}
+
+impl Extras {
+    /// What every file says: arbor made it.
+    pub(super) fn arbor() -> Self {
+        Extras {
+            generator: "arbor",
+            ..Default::default()
+        }
+    }
+}
+
+#[derive(Serialize)]
+pub(super) struct Scene {
+    pub(super) nodes: Vec<usize>,
+}
+
+#[derive(Serialize)]
+pub(super) struct Node {
+    pub(super) name: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) mesh: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) translation: Option<[f32; 3]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) rotation: Option<[f32; 4]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) scale: Option<[f32; 3]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) extensions: Option<NodeExtensions>,
+}
+
+impl Node {
+    /// A node named `name` drawing `mesh` (none: a tree without triangles), at the origin.
+    pub(super) fn new(name: impl Into<String>, mesh: Option<usize>) -> Self {
+        Node {
+            name: name.into(),
+            mesh,
+            translation: None,
+            rotation: None,
+            scale: None,
+            extensions: None,
+        }
+    }
+}
+
+#[derive(Serialize)]
+pub(super) struct NodeExtensions {
+    #[serde(rename = "EXT_mesh_gpu_instancing")]
+    pub(super) instancing: Instancing,
+}
+
+#[derive(Serialize)]
+pub(super) struct Instancing {
+    pub(super) attributes: InstanceAttributes,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub(super) struct InstanceAttributes {
+    pub(super) translation: usize,
+    pub(super) rotation: usize,
+    pub(super) scale: usize,
+}
+
+#[derive(Serialize)]
+pub(super) struct Mesh {
+    pub(super) name: &'static str,
+    pub(super) primitives: Vec<Primitive>,
+}
+
+#[derive(Serialize)]
+pub(super) struct Primitive {
+    pub(super) attributes: Attributes,
+    pub(super) indices: usize,
+    pub(super) material: usize,
+    /// 4: triangles.
+    pub(super) mode: u32,
+}
+
+/// A primitive's vertex attributes (accessor indices), with arbor's animation stream as
+/// custom attributes where it is written.
+#[derive(Serialize)]
+pub(super) struct Attributes {
+    #[serde(rename = "POSITION")]
+    pub(super) position: usize,
+    #[serde(rename = "NORMAL")]
+    pub(super) normal: usize,
+    #[serde(rename = "TEXCOORD_0")]
+    pub(super) texcoord_0: usize,
+    #[serde(rename = "_GROWTH", skip_serializing_if = "Option::is_none")]
+    pub(super) growth: Option<usize>,
+    #[serde(rename = "_WIND", skip_serializing_if = "Option::is_none")]
+    pub(super) wind: Option<usize>,
+}
+
+#[derive(Clone, Copy, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Material {
+    pub(super) name: &'static str,
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub(super) double_sided: bool,
+    pub(super) pbr_metallic_roughness: Pbr,
+}
+
+#[derive(Clone, Copy, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Pbr {
+    pub(super) base_color_factor: [f32; 4],
+    pub(super) metallic_factor: f32,
+    pub(super) roughness_factor: f32,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Accessor {
+    pub(super) buffer_view: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) byte_offset: Option<usize>,
+    pub(super) component_type: u32,
+    pub(super) count: usize,
+    #[serde(rename = "type")]
+    pub(super) kind: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) min: Option<[f32; 3]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) max: Option<[f32; 3]>,
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub(super) normalized: bool,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct BufferView {
+    pub(super) buffer: usize,
+    pub(super) byte_offset: usize,
+    pub(super) byte_length: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) byte_stride: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) target: Option<u32>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Buffer {
+    pub(super) byte_length: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) uri: Option<String>,
+}
