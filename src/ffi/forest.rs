@@ -41,7 +41,7 @@ pub unsafe extern "C" fn arbor_forest_mesh_create(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let mesh = crate::forest::merged(&trees, &options)?;
-        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        *out = ArborMesh { mesh }.into_handle();
         Ok(())
     })
 }

@@ -168,11 +168,12 @@ pub unsafe extern "C" fn arbor_world_create(
             unsafe { read_growing(options, "options") }?
         };
         let world = World::new(&raw.to_rust()?)?;
-        *out = Box::into_raw(Box::new(ArborWorld {
+        *out = ArborWorld {
             world,
             progress: raw.progress,
             progress_user_data: raw.progress_user_data,
-        }));
+        }
+        .into_handle();
         Ok(())
     })
 }
@@ -183,13 +184,8 @@ pub unsafe extern "C" fn arbor_world_create(
 /// `world` is NULL or a world from arbor_world_create() not yet freed.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_world_free(world: *mut ArborWorld) {
-    if world.is_null() {
-        return;
-    }
-    guard_value((), || {
-        // SAFETY: the caller promises `world` came from Box::into_raw here, freed once.
-        drop(unsafe { Box::from_raw(world) });
-    })
+    // SAFETY: the caller promises `world` is NULL or a live world of this library.
+    unsafe { ArborWorld::free_handle(world) }
 }
 
 /// The mutable world behind a handle.
@@ -379,7 +375,7 @@ pub unsafe extern "C" fn arbor_world_tree(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let skeleton = world.world.tree(index)?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }

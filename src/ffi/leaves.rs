@@ -102,7 +102,7 @@ pub unsafe extern "C" fn arbor_leaf_prefab_load(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let prefab = LeafPrefab::from_obj_with(path, &files)?;
-        *out = Box::into_raw(Box::new(ArborLeafPrefab(std::sync::Arc::new(prefab))));
+        *out = ArborLeafPrefab(std::sync::Arc::new(prefab)).into_handle();
         Ok(())
     })
 }
@@ -125,10 +125,8 @@ pub unsafe extern "C" fn arbor_leaf_prefab_triangle_count(prefab: *const ArborLe
 /// `prefab` is NULL or a live handle from arbor_leaf_prefab_load(), freed once.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_leaf_prefab_free(prefab: *mut ArborLeafPrefab) {
-    if !prefab.is_null() {
-        // SAFETY: the caller passes a live handle from Box::into_raw, freed once.
-        guard_value((), || drop(unsafe { Box::from_raw(prefab) }));
-    }
+    // SAFETY: the caller promises `prefab` is NULL or a live prefab of this library.
+    unsafe { ArborLeafPrefab::free_handle(prefab) }
 }
 
 /// sizeof(ArborLeafOptions) of its first layout (up to `prefab_obj_path`): the smallest
@@ -371,7 +369,7 @@ pub unsafe extern "C" fn arbor_leaf_mesh_create(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let mesh = mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?;
-        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        *out = ArborMesh { mesh }.into_handle();
         Ok(())
     })
 }

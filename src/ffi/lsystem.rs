@@ -240,7 +240,7 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem_file(
         let grammar =
             LSystem::from_file_with(path, view.as_deref(), &files, &mut run_of(&mut progress))?;
         let skeleton = grow(&grammar, &options, &raw)?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }
@@ -342,7 +342,7 @@ pub unsafe extern "C" fn arbor_tree_from_lsystem(
             None => LSystem::parse(text)?,
         };
         let skeleton = grow(&grammar, &options, &raw)?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }

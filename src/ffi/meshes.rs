@@ -544,7 +544,7 @@ pub unsafe extern "C" fn arbor_mesh_create(
             tree.skeleton(),
             &mut run_of(&mut f).threads(options.threads),
         )?;
-        *out = Box::into_raw(Box::new(ArborMesh { mesh }));
+        *out = ArborMesh { mesh }.into_handle();
         Ok(())
     })
 }
@@ -621,13 +621,8 @@ pub unsafe extern "C" fn arbor_mesh_topology(mesh: *const ArborMesh) -> u32 {
 /// `mesh` is NULL or a mesh from this library not yet freed.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_mesh_free(mesh: *mut ArborMesh) {
-    if mesh.is_null() {
-        return;
-    }
-    guard_value((), || {
-        // SAFETY: the caller promises `mesh` came from Box::into_raw here and is freed once.
-        drop(unsafe { Box::from_raw(mesh) });
-    })
+    // SAFETY: the caller promises `mesh` is NULL or a live mesh of this library.
+    unsafe { ArborMesh::free_handle(mesh) }
 }
 
 /// Writes the animation stream of the mesh arbor_mesh_write() makes with `options` (NULL:

@@ -15,6 +15,7 @@ mod forest;
 mod formats;
 mod growth;
 mod guard;
+mod handle;
 mod layout;
 mod leaves;
 mod lsystem;
@@ -50,6 +51,7 @@ use guard::{
     FfiError, arg_ref, copy_out, guard, guard_value, in_slice, mesh_buffers, out_ref, out_slice,
     with_last_error,
 };
+use handle::Handle;
 use std::ffi::{CStr, c_char, c_void};
 
 #[cfg(test)]

@@ -70,7 +70,7 @@ pub unsafe extern "C" fn arbor_tree_from_honda(
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
         let skeleton = honda::build(&params)?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }
@@ -110,7 +110,7 @@ pub unsafe extern "C" fn arbor_tree_from_branches(
         // share one layout, checked field by field in layout.rs).
         let src = unsafe { in_slice(branches.cast::<Branch>(), count, "branches") }?;
         let skeleton = Skeleton::new(src.to_vec())?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }
@@ -121,14 +121,8 @@ pub unsafe extern "C" fn arbor_tree_from_branches(
 /// `tree` is NULL or a tree from this library not yet freed.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn arbor_tree_free(tree: *mut ArborTree) {
-    if tree.is_null() {
-        return;
-    }
-    guard_value((), || {
-        // SAFETY: the caller promises `tree` came from Box::into_raw in this library and is
-        // freed once.
-        drop(unsafe { Box::from_raw(tree) });
-    })
+    // SAFETY: the caller promises `tree` is NULL or a live tree of this library.
+    unsafe { ArborTree::free_handle(tree) }
 }
 
 /// Number of branches of `tree`; 0 for NULL.
@@ -286,7 +280,7 @@ pub unsafe extern "C" fn arbor_tree_from_honda_varied(
             ..Default::default()
         };
         let skeleton = honda::build_varied(&params, &variation)?;
-        *out = Box::into_raw(Box::new(ArborTree::new(skeleton)));
+        *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
 }
@@ -314,7 +308,7 @@ pub unsafe extern "C" fn arbor_tree_prune_collisions(
             // SAFETY: the caller promises a non-NULL `removed` is writable.
             *unsafe { out_ref(removed, "removed") }? = pruned.removed;
         }
-        *out = Box::into_raw(Box::new(ArborTree::new(pruned.skeleton)));
+        *out = ArborTree::new(pruned.skeleton).into_handle();
         Ok(())
     })
 }
