@@ -79,16 +79,9 @@ pub trait Numbered: Copy + 'static {
 }
 
 /// `TriangleList` → `TRIANGLE_LIST`, `ArborUpAxis` → `ARBOR_UP_AXIS` (cbindgen's rule for
-/// enumerators).
+/// enumerators; the test below holds it to the header's spelling).
 fn screaming_snake(name: &str) -> String {
-    let mut out = String::with_capacity(name.len() + 4);
-    for (i, c) in name.chars().enumerate() {
-        if c.is_ascii_uppercase() && i > 0 {
-            out.push('_');
-        }
-        out.push(c.to_ascii_uppercase());
-    }
-    out
+    heck::ToShoutySnakeCase::to_shouty_snake_case(name)
 }
 
 /// Implements [`Numbered`] (and `Display`, `FromStr`) for a `#[repr(u32)]` enum from one

@@ -135,18 +135,9 @@ pub(crate) unsafe fn write_growing<T: Growing>(p: *mut T, size: usize, value: &T
     }
 }
 
-fn init_name<T: Growing>() -> String {
+pub(super) fn init_name<T: Growing>() -> String {
     // ArborMeshOptions -> arbor_mesh_options_init()
-    let mut s = String::from("arbor");
-    for c in T::NAME.trim_start_matches("Arbor").chars() {
-        if c.is_ascii_uppercase() {
-            s.push('_');
-            s.push(c.to_ascii_lowercase());
-        } else {
-            s.push(c);
-        }
-    }
-    s + "_init()"
+    heck::ToSnakeCase::to_snake_case(T::NAME) + "_init()"
 }
 
 /// How a field of a C struct carries a field of the Rust struct it mirrors: the same type

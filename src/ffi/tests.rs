@@ -648,3 +648,22 @@ mod fuzz {
         }
     }
 }
+
+/// The init function a struct-size error names is the header's.
+#[test]
+fn struct_size_errors_name_the_headers_init_function() {
+    let header = include_str!("../../include/arbor.h");
+    for name in [
+        super::options::init_name::<ArborMeshOptions>(),
+        super::options::init_name::<ArborLsystemOptions>(),
+        super::options::init_name::<ArborLeafOptions>(),
+        super::options::init_name::<ArborWorldOptions>(),
+        super::options::init_name::<crate::models::growth::GrowthParams>(),
+    ] {
+        let function = name.trim_end_matches("()");
+        assert!(
+            header.contains(&format!("void {function}(")),
+            "{name} is not in the header"
+        );
+    }
+}
