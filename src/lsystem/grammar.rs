@@ -248,8 +248,11 @@ impl ProductionTable {
     }
 }
 
-/// Settings cpfg keeps in its view file, written as directives in the grammar.
+/// Settings cpfg keeps in its view file, written as directives in the grammar. Read it
+/// with [`LSystem::view`](crate::lsystem::LSystem::view); `#[non_exhaustive]`: settings
+/// may be added.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ViewSettings {
     /// `angle increment:` degrees turned by `+ - & ^ / \` without a parameter. Default 45.
     pub angle_increment: f64,
@@ -279,6 +282,7 @@ pub struct ViewSettings {
 /// by asin(e·(T·U)) about L (toward U) and by asin(e·(T·L)) about U (toward L); `_(e)`
 /// sets e and `_` adds the increment.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct OldTropism {
     /// T, a unit vector.
     pub direction: DVec3,
