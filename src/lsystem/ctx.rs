@@ -146,7 +146,8 @@ impl<'a> Ctx<'a> {
                        statements and queries together)",
                 limit: self.max_work,
                 requested: self.max_work.saturating_add(1),
-                step: Some(self.step),
+                // The interpretation's context counts modules' births, not steps.
+                step: (self.fx.stage == crate::progress::Stage::Derivation).then_some(self.step),
             });
         }
         if fault == stmt::CANCELLED {
