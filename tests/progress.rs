@@ -210,19 +210,33 @@ fn statements_inside_one_production_report_and_stop() {
     assert_eq!(calls, 3);
 }
 
-/// Interpretation rules spend from what the derivation left of the budget: a derivation
-/// that spent most of it leaves too little for rules that expand every module a
-/// thousand levels deep.
+/// Interpretation rules spend from what the derivation left of the budget, not from a
+/// fresh one: a `Start:` loop and rules that each fit the budget alone do not fit it
+/// together.
 #[test]
 fn interpretation_rules_spend_what_the_derivation_left() {
-    let text = "derivation length: 12\nAxiom: A\nA --> AA\nhomomorphism\nmaximum depth: 1000\n\
-                A --> FA\n";
-    let ls = LSystem::parse(text).unwrap();
-    // 4,096 modules, each drawn as 1,000 F: about 8 Mi units of rules.
-    let enough = LsystemOptions::default().max_work(64 << 20);
-    assert!(ls.skeleton(&enough).is_ok());
-    match ls.skeleton(&enough.max_work(4 << 20)) {
+    let rules = "homomorphism\nmaximum depth: 100\nA --> FA\n";
+    let grammar = |start: &str| {
+        LSystem::parse(&format!(
+            "{start}derivation length: 12\nAxiom: A\nA --> AA\n{rules}"
+        ))
+        .unwrap()
+    };
+    let work = LsystemOptions::default().max_work(8 << 20);
+    let spin = "Start: { i = 0; while (i < 600000) { i = i + 1; } }\n";
+    // The rules alone (4,096 modules drawn 100 levels deep) fit.
+    assert!(grammar("").skeleton(&work).is_ok());
+    // The loop alone fits: the same grammar without its rules.
+    let no_rules = LSystem::parse(&format!(
+        "{spin}derivation length: 12\nAxiom: A\nA --> AA\n"
+    ))
+    .unwrap();
+    assert!(no_rules.skeleton(&work).is_ok());
+    // Together they do not: the rules got what the loop left.
+    match grammar(spin).skeleton(&work) {
         Err(Error::LimitExceeded { limit_name, .. }) => assert_eq!(limit_name, "max_work"),
-        other => panic!("{other:?}"),
+        other => panic!("{:?}", other.map(|s| s.len())),
     }
+    // With room for both, the same grammar grows.
+    assert!(grammar(spin).skeleton(&work.max_work(32 << 20)).is_ok());
 }
