@@ -337,3 +337,19 @@ fn leaf_size_products_are_checked_as_formed() {
     let e = mesh::leaf_instances(&s, &leaves, &o).unwrap_err();
     assert!(e.to_string().contains("`size`"), "{e}");
 }
+
+/// An interpretation rule that fails while the derivation answers its query modules is
+/// told at the derivation's step (the walk before step 3's rewriting), not at the birth
+/// of the module it read (step 2).
+#[test]
+fn a_rule_failing_in_a_query_walk_names_the_derivation_step() {
+    let text = "derivation length: 5\nAxiom: ?P(0,0,0) B(0)\nB(n) --> B(n+1)\n\
+                homomorphism\nB(n) --> F(1/(n-2))\n";
+    match LSystem::parse(text)
+        .unwrap()
+        .skeleton(&LsystemOptions::default())
+    {
+        Err(arbor::Error::Eval { step, .. }) => assert_eq!(step, 3),
+        other => panic!("{:?}", other.map(|s| s.len())),
+    }
+}

@@ -63,7 +63,7 @@ fn derive_string<'a>(
         if queries {
             // The turtle's walk to answer them: a unit a module, and its rules' work.
             ctx.spend(cur.len())?;
-            super::interpret::answer_queries(ls, &mut cur, options, &mut ctx.fx)?;
+            super::interpret::answer_queries(ls, &mut cur, options, &mut ctx.fx, step)?;
             ctx.fx.stage = Stage::Derivation;
         }
         ctx.run_block(&ls.blocks.start_each, "the StartEach: block")?;

@@ -41,7 +41,7 @@ pub(crate) enum Stmt {
 pub(crate) struct Effects<'a> {
     /// Work units left before the budget (`max_work`) is spent: rewriting, decomposition,
     /// interpretation rules, statements and queries all spend from it (see
-    /// docs/threat-model.md).
+    /// docs/c-api.md, "Robustness").
     pub(crate) budget: u64,
     pub(crate) log: String,
     pub(crate) stop: bool,
@@ -68,9 +68,10 @@ impl Default for Effects<'_> {
     }
 }
 
-/// Work units between two reports to the progress callback: about 5 ms of the slowest
-/// work per unit measured on the machine the default limits were set on (see
-/// docs/threat-model.md), so that a callback that asks to stop is heard within 100 ms.
+/// Work units between two reports to the progress callback: at most 7.5 ms of the
+/// slowest work measured on the machine the default limits were set on (see
+/// docs/c-api.md, "Robustness"), so that a callback that asks to stop is heard well within
+/// 100 ms.
 pub(crate) const REPORT_UNITS: u64 = 1 << 20;
 
 /// Parses `{ statements }` at the cursor (which must be at `{`).

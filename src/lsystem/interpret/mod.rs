@@ -11,7 +11,7 @@ use crate::skeleton::{
     Branch, LeafSite, NO_PARENT, Polygon, Skeleton, SkeletonParts, assign_axis_orders,
 };
 use glam::DVec3;
-use rules::{Work, walk_with_rules};
+use rules::{Derivation, Work, walk_with_rules};
 
 mod rules;
 
@@ -491,7 +491,12 @@ pub(crate) fn interpret_with<'p>(
 ) -> Result<Skeleton> {
     let max_work = options.max_work as u64;
     let mut budget = string.work_left.map_or(max_work, |w| w.min(max_work));
-    interpret_answering(ls, string, options, None, &mut progress, &mut budget, None)
+    let work = Work {
+        progress: &mut progress,
+        budget: &mut budget,
+        derivation: None,
+    };
+    interpret_answering(ls, string, options, None, work)
 }
 
 /// cpfg's query modules: the turtle reads `string` and each `?P(x,y[,z])` (and `?H`,
@@ -506,19 +511,20 @@ pub(crate) fn answer_queries<'p>(
     string: &mut ModuleString,
     options: &LsystemOptions,
     fx: &mut super::stmt::Effects<'p>,
+    step: u32,
 ) -> Result<()> {
     let mut asked = Asked::new(ls);
     let mut progress = std::mem::take(&mut fx.progress);
     let mut budget = fx.budget;
-    let r = interpret_answering(
-        ls,
-        string,
-        options,
-        Some(&mut asked),
-        &mut progress,
-        &mut budget,
-        Some(fx.fraction),
-    );
+    let work = Work {
+        progress: &mut progress,
+        budget: &mut budget,
+        derivation: Some(Derivation {
+            step,
+            fraction: fx.fraction,
+        }),
+    };
+    let r = interpret_answering(ls, string, options, Some(&mut asked), work);
     fx.progress = progress;
     fx.reset_budget(budget);
     r?;
@@ -531,12 +537,11 @@ fn interpret_answering<'p>(
     string: &ModuleString,
     options: &LsystemOptions,
     mut asked: Option<&mut Asked>,
-    progress: &mut Run<'p>,
-    budget: &mut u64,
-    // Answering a derivation's queries at this fraction of it: the walk reports as the
-    // derivation (its rules' work only), not as an interpretation.
-    derivation: Option<f64>,
+    mut work: Work<'_, 'p>,
 ) -> Result<Skeleton> {
+    // Answering a derivation's queries, the walk reports as the derivation (its rules'
+    // work only), not as an interpretation.
+    let interpreting = work.derivation.is_none();
     let n = string.len().max(1) as f64;
     let answering = asked.is_some();
     // Only what the queries need: the walk up to the last one, past branches without
@@ -610,23 +615,18 @@ fn interpret_answering<'p>(
         }
     } else if ls.homomorphism.is_empty() {
         for i in 0..string.len() {
-            if i % crate::progress::EVERY == 0 && derivation.is_none() {
-                progress.report(Stage::Interpretation, i as f64 / n)?;
+            if i % crate::progress::EVERY == 0 && interpreting {
+                work.progress.report(Stage::Interpretation, i as f64 / n)?;
             }
             let birth = string.birth(i);
             ask(i, &t.state.frame);
             t.module(string.symbol(i), string.params(i), birth, birth)?;
         }
     } else {
-        let work = Work {
-            progress,
-            budget,
-            derivation,
-        };
-        walk_with_rules(&mut t, ls, string, options, work, &mut ask)?;
+        walk_with_rules(&mut t, ls, string, options, work.reborrow(), &mut ask)?;
     }
-    if derivation.is_none() {
-        progress.report(Stage::Interpretation, 1.0)?;
+    if interpreting {
+        work.progress.report(Stage::Interpretation, 1.0)?;
     }
     if answering {
         // Answering queries wants the turtle's walk, not a skeleton.

@@ -28,7 +28,10 @@ pub(super) fn walk_with_rules<'p>(
     let mut ctx = Ctx::new(ls, options);
     ctx.fx.reset_budget(*work.budget);
     (ctx.fx.stage, ctx.fx.fraction) = match work.derivation {
-        Some(f) => (Stage::Derivation, f),
+        Some(d) => {
+            ctx.step = d.step;
+            (Stage::Derivation, d.fraction)
+        }
         None => (Stage::Interpretation, 0.0),
     };
     ctx.fx.progress = std::mem::take(work.progress);
@@ -39,12 +42,31 @@ pub(super) fn walk_with_rules<'p>(
 }
 
 /// What interpretation rules spend from and report to: the progress callback, the work
-/// budget left, and, when they answer a derivation's queries, the derivation's fraction
-/// done (they then report as the derivation).
+/// budget left, and, when they answer a derivation's queries, where the derivation stands
+/// (they then report and fail as the derivation).
 pub(super) struct Work<'r, 'p> {
     pub(super) progress: &'r mut Run<'p>,
     pub(super) budget: &'r mut u64,
-    pub(super) derivation: Option<f64>,
+    pub(super) derivation: Option<Derivation>,
+}
+
+impl<'p> Work<'_, 'p> {
+    /// The same work, borrowed again for a call.
+    pub(super) fn reborrow(&mut self) -> Work<'_, 'p> {
+        Work {
+            progress: self.progress,
+            budget: self.budget,
+            derivation: self.derivation,
+        }
+    }
+}
+
+/// A derivation step whose query modules a walk answers.
+#[derive(Clone, Copy)]
+pub(super) struct Derivation {
+    pub(super) step: u32,
+    /// The fraction of the derivation done.
+    pub(super) fraction: f64,
 }
 
 fn walk_rules(
@@ -79,7 +101,10 @@ fn walk_rules(
                 .report(Stage::Interpretation, ctx.fx.fraction)?;
         }
         let birth = string.birth(i);
-        ctx.step = birth;
+        if ctx.fx.stage == Stage::Interpretation {
+            // Messages name the step that made the module being read.
+            ctx.step = birth;
+        }
         ask(i, &t.state.frame);
         let mut sink = |ctx: &mut Ctx<'_>, sym: u16, params: &[f32], _: bool| {
             // The turtle's reading of a module the rules made: a few units (it costs
