@@ -65,16 +65,7 @@ impl Buffers {
         count: usize,
         kind: &'static str,
     ) -> usize {
-        self.push(Accessor {
-            buffer_view: view,
-            byte_offset: Some(offset),
-            component_type: FLOAT,
-            count,
-            kind,
-            min: None,
-            max: None,
-            normalized: false,
-        })
+        self.push(Accessor::new(view, Some(offset), (FLOAT, kind), count))
     }
 
     /// A triangle-list mesh's vertices and indices: the primitive's attributes, its
@@ -107,16 +98,12 @@ impl Buffers {
             None,
             Some(ELEMENT_ARRAY_BUFFER),
         );
-        let indices = self.push(Accessor {
-            buffer_view: iv,
-            byte_offset: Some(0),
-            component_type: UNSIGNED_INT,
-            count: m.indices.len(),
-            kind: "SCALAR",
-            min: None,
-            max: None,
-            normalized: false,
-        });
+        let indices = self.push(Accessor::new(
+            iv,
+            Some(0),
+            (UNSIGNED_INT, "SCALAR"),
+            m.indices.len(),
+        ));
         let attributes = Attributes {
             position: pos,
             normal: nor,
@@ -148,14 +135,8 @@ impl Buffers {
         let vv = self.view(&bytes, Some(28), Some(ARRAY_BUFFER));
         let pos = self.accessor(vv, 0, n, "VEC3");
         let nor = self.push(Accessor {
-            buffer_view: vv,
-            byte_offset: Some(12),
-            component_type: SHORT,
-            count: n,
-            kind: "VEC3",
-            min: None,
-            max: None,
             normalized: true,
+            ..Accessor::new(vv, Some(12), (SHORT, "VEC3"), n)
         });
         let uv = self.accessor(vv, 20, n, "VEC2");
         (pos, nor, uv)

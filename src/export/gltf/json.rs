@@ -186,6 +186,28 @@ pub(super) struct Accessor {
     pub(super) normalized: bool,
 }
 
+impl Accessor {
+    /// `count` elements of `kind` (`"VEC3"`, ...) in `component` (a glTF componentType),
+    /// at `byte_offset` in `buffer_view`; no bounds, not normalized.
+    pub(super) fn new(
+        buffer_view: usize,
+        byte_offset: Option<usize>,
+        (component_type, kind): (u32, &'static str),
+        count: usize,
+    ) -> Self {
+        Accessor {
+            buffer_view,
+            byte_offset,
+            component_type,
+            count,
+            kind,
+            min: None,
+            max: None,
+            normalized: false,
+        }
+    }
+}
+
 #[derive(Serialize)]
 #[serde(rename_all = "camelCase")]
 pub(super) struct BufferView {

@@ -385,16 +385,7 @@ fn instanced_leaves(
     let count = instances.len();
     let mut per_instance = |bytes: &[u8], kind: &'static str| {
         let v = b.view(bytes, None, None);
-        b.push(json::Accessor {
-            buffer_view: v,
-            byte_offset: None,
-            component_type: FLOAT,
-            count,
-            kind,
-            min: None,
-            max: None,
-            normalized: false,
-        })
+        b.push(json::Accessor::new(v, None, (FLOAT, kind), count))
     };
     let attributes_of_instances = json::InstanceAttributes {
         translation: per_instance(bytemuck::cast_slice(&t), "VEC3"),
