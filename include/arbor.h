@@ -354,7 +354,8 @@ enum ArborStage
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
   /**
-   * Rewriting the string (fraction: steps done, and modules within a step).
+   * Rewriting the string (fraction: steps done, and modules within a step). The
+   * default.
    */
   ARBOR_STAGE_DERIVATION = 0,
   /**

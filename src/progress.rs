@@ -41,9 +41,11 @@ use crate::error::{Error, Result};
 
 /// What is being reported (C: ArborStage, the `stage` a progress callback receives).
 #[repr(u32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Stage {
-    /// Rewriting the string (fraction: steps done, and modules within a step).
+    /// Rewriting the string (fraction: steps done, and modules within a step). The
+    /// default.
+    #[default]
     Derivation = 0,
     /// The turtle reading the string (fraction: modules read).
     Interpretation = 1,

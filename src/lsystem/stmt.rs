@@ -37,7 +37,7 @@ pub(crate) enum Stmt {
 
 /// The run-time state statements change besides the variables, and the work budget
 /// every part of a derivation spends from.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub(crate) struct Effects<'a> {
     /// Work units left before the budget (`max_work`) is spent: rewriting, decomposition,
     /// interpretation rules, statements and queries all spend from it (see
@@ -52,20 +52,6 @@ pub(crate) struct Effects<'a> {
     pub(crate) fraction: f64,
     /// The budget left at which the next report is due.
     report_at: u64,
-}
-
-impl Default for Effects<'_> {
-    fn default() -> Self {
-        Effects {
-            budget: 0,
-            log: String::new(),
-            stop: false,
-            progress: Default::default(),
-            stage: crate::progress::Stage::Derivation,
-            fraction: 0.0,
-            report_at: 0,
-        }
-    }
 }
 
 /// Work units between two reports to the progress callback: at most 7.5 ms of the
