@@ -535,7 +535,6 @@ fn encode(
         };
         (materials.iter().map(|m| m.json()).collect(), vec![buffer])
     };
-    let has_meshes = !meshes.is_empty();
     let root = json::Root {
         asset: json::Asset {
             version: "2.0",
@@ -551,8 +550,9 @@ fn encode(
         nodes,
         meshes,
         materials,
-        accessors: if has_meshes { b.accessors } else { Vec::new() },
-        buffer_views: if has_meshes { b.views } else { Vec::new() },
+        // Accessors and views come only with meshes (none when there are none).
+        accessors: b.accessors,
+        buffer_views: b.views,
         buffers,
     };
     let json = serde_json::to_vec(&root).map_err(|e| Error::invalid("glTF", e.to_string()))?;

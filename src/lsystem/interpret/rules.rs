@@ -143,7 +143,8 @@ fn walk_rules(
         };
         let rest = table.productions[p as usize].pred_rest.len();
         if table.max_depth == 0 {
-            // No rule applies at depth 0 when the maximum depth is 0.
+            // cpfg finds the rule (running its condition and statements) before it looks
+            // at the depth: at a maximum depth of 0 the module is then read as it is.
             sink(ctx, string.symbol(i), string.params(i), false)?;
             i += 1;
             continue;

@@ -342,7 +342,7 @@ impl Pre<'_> {
                 let mut offset = 0;
                 for l in call {
                     places.extend(l.places.iter().map(|&[k, ln, c]| [k + offset, ln, c]));
-                    offset += l.text.chars().count() as u32 + 1;
+                    offset += l.chars + 1;
                 }
                 self.out.places.insert(at, places);
             }

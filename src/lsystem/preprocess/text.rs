@@ -10,7 +10,7 @@ pub(crate) struct Logical {
     pub(crate) line: u32,
     pub(crate) text: String,
     /// Characters in `text`.
-    chars: u32,
+    pub(crate) chars: u32,
     /// `[k, line, column]` (k 0-based in characters, line and column 1-based in the file)
     /// for the first character and for every character that does not stand right after
     /// the one before it in the file (after a `\`-newline splice or a comment).
