@@ -16,8 +16,9 @@
 
 // The C types ArborHondaParams, ArborTopology and ArborVertex are these Rust types.
 use arbor::ffi::{
-    ArborMeshOptions, ArborStatus, ArborTree, arbor_honda_preset, arbor_mesh_options_init,
-    arbor_mesh_size, arbor_mesh_write, arbor_tree_free, arbor_tree_from_honda,
+    ArborMeshOptions, ArborStatus, ArborTree, arbor_honda_preset, arbor_mesh_create,
+    arbor_mesh_free, arbor_mesh_options_init, arbor_mesh_size, arbor_mesh_write, arbor_tree_free,
+    arbor_tree_from_honda,
 };
 use arbor::{HondaParams as ArborHondaParams, Topology as ArborTopology, Vertex as ArborVertex};
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -300,5 +301,47 @@ fn bench_rewrite(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_host, bench_rewrite, bench_compact);
+/// An owned mesh through the C ABI (`arbor_mesh_create`, then `arbor_mesh_free`): its
+/// buffers are the library's, allocated at their exact size and written once. The first
+/// create of a freshly grown tree a (n = 20, grown outside the clock), and repeated creates
+/// of smaller trees, whose buffers come from memory the allocator reuses.
+fn bench_owned(c: &mut Criterion) {
+    let mut group = c.benchmark_group("host_owned");
+    group.sample_size(10);
+    let create = |tree: &HostTree, o: &ArborMeshOptions| {
+        let mut mesh = std::ptr::null_mut();
+        // SAFETY: the tree is live, the options readable, `mesh` writable.
+        let status = unsafe { arbor_mesh_create(tree.tree, o, &mut mesh) };
+        assert_eq!(status, ArborStatus::Ok);
+        // SAFETY: `mesh` came from arbor_mesh_create and is freed once.
+        unsafe { arbor_mesh_free(black_box(mesh)) };
+    };
+    let o = options(ArborTopology::TriangleList as u32);
+    group.bench_function("first_create_a20", |b| {
+        b.iter_batched(
+            || honda('a', 20),
+            |fresh| {
+                create(&fresh, &o);
+                fresh
+            },
+            BatchSize::PerIteration,
+        )
+    });
+    for (letter, steps, name) in [
+        ('a', 14, "repeat_create_a14"),
+        ('g', 10, "repeat_create_g10"),
+    ] {
+        let tree = honda(letter, steps);
+        group.bench_function(name, |b| b.iter(|| create(&tree, &o)));
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_host,
+    bench_rewrite,
+    bench_compact,
+    bench_owned
+);
 criterion_main!(benches);

@@ -70,7 +70,8 @@ pub unsafe extern "C" fn arbor_export_obj(
         let mut run = run_of(&mut f);
         // OBJ is text: its numbers are f32 whatever vertex_format asks.
         let mo = mo.vertex_format(mesh::VertexFormat::F32);
-        let bark = mesh::MeshPlan::new(tree.skeleton(), &mo)?.mesh_in(tree.skeleton(), &mut run)?;
+        let plan = mesh::MeshPlan::new(tree.skeleton(), &mo)?;
+        let bark = super::owned::owned_mesh(&plan, tree.skeleton(), &mut run)?;
         let leaves = match leaves {
             Some(lo) => Some(mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?),
             None => None,

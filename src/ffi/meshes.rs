@@ -540,7 +540,8 @@ pub unsafe extern "C" fn arbor_mesh_create(
         let out = unsafe { out_ref(out, "out") }?;
         let plan = tree.plan(&options)?;
         let mut f = progress_closure(progress, user);
-        let mesh = plan.mesh_in(
+        let mesh = super::owned::owned_mesh(
+            &plan,
             tree.skeleton(),
             &mut run_of(&mut f).threads(options.threads),
         )?;

@@ -1,21 +1,18 @@
-//! Owned mesh buffers that the tube writer fills straight, without a zero fill first: the
-//! one use of `unsafe` that serves the Rust API rather than a C entry point, kept here so
-//! that every `unsafe` block of the crate lives in this module.
+//! Owned meshes for the C ABI (`arbor_mesh_create`, the OBJ export): the tube writer fills
+//! the buffers' fresh capacity straight, without the zero fill of the Rust API's
+//! [`MeshPlan::mesh_in`], which a host that creates and frees meshes would pay on every
+//! call (the allocator hands reused memory back, which `calloc` must clear).
 
 use crate::error::{Error, Result};
-use crate::mesh::{MeshPlan, Vertex};
+use crate::mesh::{Mesh, MeshPlan, Vertex};
 use crate::progress::Run;
 use crate::skeleton::Skeleton;
 
-/// The vertices and indices of `plan`'s mesh of `skeleton` in vectors of exactly the
-/// plan's size, written in `run` by [`MeshPlan::write_uninit_in`] into their fresh
-/// capacity. A zeroed allocation of reused memory is a `memset` of the whole mesh that the
-/// write then overwrites (a tenth of building and meshing a small tree).
-pub(crate) fn tube_buffers(
-    plan: &MeshPlan,
-    skeleton: &Skeleton,
-    run: &mut Run<'_>,
-) -> Result<(Vec<Vertex>, Vec<u32>)> {
+/// `plan`'s owned mesh of `skeleton`, its buffers of exactly the plan's size, written in
+/// `run` by [`MeshPlan::write_uninit_in`] into their fresh capacity. A zeroed allocation of
+/// reused memory is a `memset` of the whole mesh that the write then overwrites (a third
+/// of creating the mesh of a small tree).
+pub(crate) fn owned_mesh(plan: &MeshPlan, skeleton: &Skeleton, run: &mut Run<'_>) -> Result<Mesh> {
     let size = plan.size();
     let mut vertices =
         crate::limits::try_with_capacity::<Vertex>(size.vertices, "the mesh's vertices")?;
@@ -41,5 +38,5 @@ pub(crate) fn tube_buffers(
         vertices.set_len(size.vertices);
         indices.set_len(size.indices);
     }
-    Ok((vertices, indices))
+    Ok(plan.owned_mesh(vertices, indices))
 }

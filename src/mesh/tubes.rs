@@ -105,14 +105,26 @@ impl MeshPlan {
     }
 
     /// [`mesh`](Self::mesh) in `run`, as [`write_uninit_in`](Self::write_uninit_in).
+    ///
+    /// The buffers are asked of the allocator zeroed (`calloc`: fresh pages come zeroed
+    /// from the system and are not written twice). The C ABI's `arbor_mesh_create` writes
+    /// into uninitialised capacity instead, which also spares reused memory its zero fill.
     pub fn mesh_in(&self, skeleton: &Skeleton, run: &mut Run<'_>) -> Result<Mesh> {
-        let (vertices, indices) = crate::ffi::owned::tube_buffers(self, skeleton, run)?;
-        Ok(Mesh {
+        let size = self.size();
+        let mut vertices = crate::limits::try_zeroed_vec(size.vertices, "the mesh's vertices")?;
+        let mut indices = crate::limits::try_zeroed_vec(size.indices, "the mesh's indices")?;
+        self.write_with(skeleton, &mut vertices[..], &mut indices[..], run)?;
+        Ok(self.owned_mesh(vertices, indices))
+    }
+
+    /// The owned mesh of buffers this plan has filled.
+    pub(crate) fn owned_mesh(&self, vertices: Vec<Vertex>, indices: Vec<u32>) -> Mesh {
+        Mesh {
             vertices,
             indices,
             topology: self.options.topology,
             ranges: self.ranges(),
-        })
+        }
     }
 
     /// Every write's one path: checks the skeleton and the buffers' room, then writes on
