@@ -9,13 +9,11 @@
 //!
 //! `cargo bench --bench growth` (add `--features parallel` for the parallel rows).
 
-// The C type ArborGrowthParams is this Rust type.
 use arbor::ffi::{
-    ArborStatus, ArborWorld, ArborWorldOptions, arbor_growth_params_init,
+    ArborGrowthParams, ArborStatus, ArborWorld, ArborWorldOptions, arbor_growth_params_init,
     arbor_growth_params_preset, arbor_world_branch_count, arbor_world_create, arbor_world_free,
     arbor_world_options_init, arbor_world_plant, arbor_world_step,
 };
-use arbor::models::growth::GrowthParams as ArborGrowthParams;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::mem::{MaybeUninit, size_of};

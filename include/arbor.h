@@ -1147,17 +1147,15 @@ typedef struct ArborWorldOptions {
 } ArborWorldOptions;
 
 /**
- * One species: how a tree grows. `Default` is the excurrent species' values with neutral
- * apical control; start from it (or `preset`) and change the fields you need. Lengths are
- * world units, angles degrees.
+ * One species: how a tree grows. The defaults are the excurrent species' values with
+ * neutral apical control. Lengths are world units, angles degrees.
  *
- * C: ArborGrowthParams, a struct that grows (see "Structs that grow" in docs/c-api.md):
- * start from arbor_growth_params_default() or arbor_growth_params_preset().
+ * A struct that grows (see "Structs that grow" in docs/c-api.md): start from
+ * arbor_growth_params_default() or arbor_growth_params_preset().
  */
 typedef struct ArborGrowthParams {
   /**
-   * sizeof(ArborGrowthParams) as the host was compiled (C only; Rust keeps it at its own
-   * size).
+   * sizeof(ArborGrowthParams) as the host was compiled; set by arbor_growth_params_init().
    */
   uint32_t struct_size;
   /**

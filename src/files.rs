@@ -101,20 +101,11 @@ crate::options::options! {
 #[derive(Clone, Debug)]
 pub struct FileOptions {
     /// Which files. Default [`FileAccess::Bundle`].
-    pub access: FileAccess,
+    pub access: FileAccess = FileAccess::Bundle,
     /// Bytes over all files of one load (the model file, its view file, includes,
     /// functions, curves, surfaces, a prefab). Default [`DEFAULT_MAX_FILE_BYTES`].
-    pub max_bytes: u64,
+    pub max_bytes: u64 = DEFAULT_MAX_FILE_BYTES,
 }
-}
-
-impl Default for FileOptions {
-    fn default() -> Self {
-        FileOptions {
-            access: FileAccess::Bundle,
-            max_bytes: DEFAULT_MAX_FILE_BYTES,
-        }
-    }
 }
 
 /// One file read.

@@ -1,6 +1,7 @@
-//! Option structs that can grow: each is `#[non_exhaustive]`, so a field added in a later
-//! version breaks no Rust user, and has a setter per field for building one in an
-//! expression:
+//! Option structs declared once: each field with its documentation, its default and, where
+//! it has one, its bound, from which come the struct (`#[non_exhaustive]`, so a field
+//! added in a later version breaks no Rust user), its `Default`, the checks of single
+//! fields ([`Bound`]) and a setter per field for building one in an expression:
 //!
 //! ```
 //! use arbor::mesh::{MeshOptions, Topology};
@@ -18,16 +19,108 @@
 //! let e = o.radial_segments(1).validate().unwrap_err();
 //! assert!(e.to_string().contains("radial_segments"));
 //! ```
+//!
+//! Each struct's `validate()` runs these checks in the order the fields are declared,
+//! then what ties fields together (a box's corners, a range of segments).
 
-/// Declares an option struct as written (its attributes, documentation and public fields)
-/// with `#[non_exhaustive]` and one setter per field: `field(self, value) -> Self`.
+use crate::error::{Error, Result};
+
+/// The range a field must lie in; a floating-point field must also be finite.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Bound<T> {
+    /// Any (finite) value.
+    Any,
+    /// `lo..=hi`.
+    In(T, T),
+    /// `lo..hi`.
+    InBelow(T, T),
+    /// `> lo`.
+    Above(T),
+    /// `>= lo`.
+    AtLeast(T),
+    /// `<= hi`.
+    AtMost(T),
+    /// `(lo, hi]`.
+    AboveTo(T, T),
+}
+
+/// A value a [`Bound`] can hold: ordered and shown in messages; finite unless a float
+/// says otherwise.
+pub(crate) trait Bounded: PartialOrd + Copy + std::fmt::Display {
+    /// Whether the value is a finite number (always, for an integer).
+    fn finite(self) -> bool {
+        true
+    }
+}
+
+impl Bounded for f32 {
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+impl Bounded for f64 {
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+impl Bounded for u32 {}
+impl Bounded for u64 {}
+impl Bounded for usize {}
+
+impl<T: Bounded> Bound<T> {
+    /// Whether `v` lies in the bound (and is finite).
+    pub(crate) fn holds(self, v: T) -> bool {
+        v.finite()
+            && match self {
+                Bound::Any => true,
+                Bound::In(lo, hi) => lo <= v && v <= hi,
+                Bound::InBelow(lo, hi) => lo <= v && v < hi,
+                Bound::Above(lo) => v > lo,
+                Bound::AtLeast(lo) => v >= lo,
+                Bound::AtMost(hi) => v <= hi,
+                Bound::AboveTo(lo, hi) => v > lo && v <= hi,
+            }
+    }
+
+    /// `Ok`, or [`Error::InvalidArgument`] naming `field`: "`v`; expected `expected`".
+    pub(crate) fn check(
+        self,
+        field: &'static str,
+        v: T,
+        expected: impl FnOnce() -> String,
+    ) -> Result<()> {
+        if self.holds(v) {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                field,
+                format!("{v}; expected {}", expected()),
+            ))
+        }
+    }
+}
+
+/// Declares an option struct once. Each field is written with its documentation, its
+/// default and, optionally, its bound and what a message says was expected:
+///
+/// ```text
+/// /// Documentation.
+/// pub apical_control: f32 = 0.5, checked In(0.0, 1.0), "0..=1",
+/// pub topology: Topology = Topology::TriangleList,
+/// ```
+///
+/// From it come the struct (with `#[non_exhaustive]`), `Default`, `check_fields()` (the
+/// bounds in declaration order, naming the first field out of its bound) and one setter
+/// per field: `field(self, value) -> Self`. The message of a bound may be any expression
+/// that gives a `&str` or a `String`; it is built only when the check fails.
 macro_rules! options {
     (
         $(#[$meta:meta])*
         pub struct $name:ident {
             $(
                 $(#[$field_meta:meta])*
-                pub $field:ident : $ty:ty,
+                pub $field:ident : $ty:ty = $default:expr
+                $(, checked $bound:expr, $expected:expr)? ,
             )*
         }
     ) => {
@@ -40,7 +133,32 @@ macro_rules! options {
             )*
         }
 
+        impl Default for $name {
+            fn default() -> Self {
+                $name {
+                    $($field: $default,)*
+                }
+            }
+        }
+
         impl $name {
+            /// Each field's own bound, in declaration order: `Ok`, or
+            /// [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) naming
+            /// the first field out of its bound.
+            #[allow(unused_imports, dead_code)]
+            pub(crate) fn check_fields(&self) -> crate::error::Result<()> {
+                use $crate::options::Bound::*;
+                $($(
+                    $crate::options::Bound::<$ty>::check(
+                        $bound,
+                        stringify!($field),
+                        self.$field,
+                        || ($expected).to_string(),
+                    )?;
+                )?)*
+                Ok(())
+            }
+
             $(
                 #[doc = concat!(
                     "These options with [`", stringify!($field), "`](Self::",

@@ -65,7 +65,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         9 => size_of::<AnimationVertex>(),
         10 => size_of::<ArborForestTree>(),
         11 => size_of::<ArborWorldOptions>(),
-        12 => size_of::<crate::models::growth::GrowthParams>(),
+        12 => size_of::<super::ArborGrowthParams>(),
         13 => size_of::<ArborCurve>(),
         14 => size_of::<CurveRecord>(),
         15 => size_of::<CurveGrowthRecord>(),

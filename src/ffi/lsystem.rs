@@ -85,7 +85,9 @@ pub struct ArborLsystemOptions {
 }
 
 impl ArborLsystemOptions {
-    fn to_rust(self) -> crate::Result<LsystemOptions> {
+    /// `value` when `override_flags` has `bit`, else none (the grammar's own); an error
+    /// when `override_flags` has a bit no ARBOR_OVERRIDE_* names.
+    fn overridden(&self, bit: u32, value: f32) -> crate::Result<Option<f64>> {
         let known = ARBOR_OVERRIDE_ANGLE_INCREMENT
             | ARBOR_OVERRIDE_INITIAL_WIDTH
             | ARBOR_OVERRIDE_WIDTH_INCREMENT;
@@ -98,49 +100,17 @@ impl ArborLsystemOptions {
                 ),
             ));
         }
-        let flag = |bit: u32, v: f32| (self.override_flags & bit != 0).then_some(v as f64);
-        let size = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
-        Ok(LsystemOptions {
-            steps: u32::try_from(self.steps).ok(),
-            seed: self.seed,
-            max_modules: size(self.max_modules),
-            max_params: size(self.max_params),
-            max_branches: size(self.max_branches),
-            angle_increment: flag(ARBOR_OVERRIDE_ANGLE_INCREMENT, self.angle_increment),
-            initial_width: flag(ARBOR_OVERRIDE_INITIAL_WIDTH, self.initial_width),
-            width_increment: flag(ARBOR_OVERRIDE_WIDTH_INCREMENT, self.width_increment),
-            turn_jitter: self.turn_jitter as f64,
-            variation_seed: self.variation_seed,
-            max_work: size(self.max_work),
-        })
+        Ok((self.override_flags & bit != 0).then_some(value as f64))
     }
 }
 
-/// sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
-/// smallest `struct_size` accepted.
-pub const ARBOR_LSYSTEM_OPTIONS_MIN_SIZE: usize = 64;
-
-growing!(ArborLsystemOptions as "ArborLsystemOptions", ARBOR_LSYSTEM_OPTIONS_MIN_SIZE,
-    first_added: variation_seed, defaults: lsystem_defaults());
-
-/// The default L-system options at this library's size.
-fn lsystem_defaults() -> ArborLsystemOptions {
-    let d = LsystemOptions::default();
-    let view = crate::lsystem::ViewSettings::default();
-    ArborLsystemOptions {
-        struct_size: std::mem::size_of::<ArborLsystemOptions>() as u32,
-        steps: -1,
-        seed: d.seed,
-        max_modules: d.max_modules as u64,
-        max_params: d.max_params as u64,
-        max_branches: d.max_branches as u64,
-        override_flags: 0,
-        angle_increment: view.angle_increment as f32,
-        initial_width: view.initial_width as f32,
-        width_increment: view.width_increment as f32,
-        turn_jitter: d.turn_jitter as f32,
-        variation_seed: d.variation_seed,
-        max_work: d.max_work as u64,
+mirror!(ArborLsystemOptions => LsystemOptions {
+    same {
+        steps, seed, max_modules, max_params, max_branches, turn_jitter, variation_seed,
+        max_work,
+    }
+    renamed {}
+    c_only {
         view_path: std::ptr::null(),
         view_text: std::ptr::null(),
         progress: None,
@@ -150,7 +120,37 @@ fn lsystem_defaults() -> ArborLsystemOptions {
         read_file_user_data: std::ptr::null_mut(),
         max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
     }
-}
+    rust_only {}
+    to_rust(c) {
+        angle_increment: c.overridden(ARBOR_OVERRIDE_ANGLE_INCREMENT, c.angle_increment)?,
+        initial_width: c.overridden(ARBOR_OVERRIDE_INITIAL_WIDTH, c.initial_width)?,
+        width_increment: c.overridden(ARBOR_OVERRIDE_WIDTH_INCREMENT, c.width_increment)?,
+    }
+    to_c(r) {
+        override_flags: [
+            (r.angle_increment, ARBOR_OVERRIDE_ANGLE_INCREMENT),
+            (r.initial_width, ARBOR_OVERRIDE_INITIAL_WIDTH),
+            (r.width_increment, ARBOR_OVERRIDE_WIDTH_INCREMENT),
+        ]
+        .iter()
+        .filter(|(v, _)| v.is_some())
+        .fold(0, |flags, (_, bit)| flags | bit),
+        angle_increment: r
+            .angle_increment
+            .unwrap_or(crate::lsystem::ViewSettings::default().angle_increment) as f32,
+        initial_width: r.initial_width.unwrap_or(crate::lsystem::ViewSettings::default().initial_width) as f32,
+        width_increment: r
+            .width_increment
+            .unwrap_or(crate::lsystem::ViewSettings::default().width_increment) as f32,
+    }
+});
+
+/// sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
+/// smallest `struct_size` accepted.
+pub const ARBOR_LSYSTEM_OPTIONS_MIN_SIZE: usize = 64;
+
+growing!(ArborLsystemOptions as "ArborLsystemOptions", ARBOR_LSYSTEM_OPTIONS_MIN_SIZE,
+    first_added: variation_seed, defaults: Self::from_rust(&LsystemOptions::default()));
 
 /// Derives and interprets, with the host's progress callback if it gave one.
 fn grow(

@@ -197,6 +197,26 @@ impl CField<usize> for u64 {
     }
 }
 
+/// A step count, or none: negative in C.
+impl CField<Option<u32>> for i32 {
+    fn c_to_rust(self, _: &'static str) -> crate::Result<Option<u32>> {
+        Ok(u32::try_from(self).ok())
+    }
+    fn c_from_rust(value: Option<u32>) -> Self {
+        value.map_or(-1, |v| i32::try_from(v).unwrap_or(i32::MAX))
+    }
+}
+
+/// A number C keeps in single precision.
+impl CField<f64> for f32 {
+    fn c_to_rust(self, _: &'static str) -> crate::Result<f64> {
+        Ok(self as f64)
+    }
+    fn c_from_rust(value: f64) -> Self {
+        value as f32
+    }
+}
+
 /// A count kept in 32 bits.
 impl CField<usize> for u32 {
     fn c_to_rust(self, _: &'static str) -> crate::Result<usize> {
@@ -210,39 +230,49 @@ impl CField<usize> for u32 {
 /// The one field list of a growing C struct and the Rust struct it mirrors, from which
 /// both conversions come: `to_rust` (validating, naming the C field in errors) and
 /// `from_rust` (with `struct_size` this library's size). Both are struct literals, so a
-/// field added to either struct and not listed here does not compile.
+/// field added to either struct and not listed here does not compile. Every C struct of
+/// options is converted by it.
 ///
 /// - `same { a, b }`: fields of one name (the types convert by [`CField`]);
 /// - `renamed { c_name = rust_name }`: fields whose names differ;
 /// - `c_only { field: value }`: C fields the Rust struct lacks, and what `from_rust` writes;
 /// - `rust_only { field: value }`: Rust fields the C struct lacks, and what `to_rust` gives
-///   (the caller fills them in).
+///   (the caller fills them in);
+/// - optionally `to_rust(c) { field: expr }` and `to_c(r) { field: expr }`: fields whose
+///   value is computed from the whole other struct (`c` the C value, `r` the Rust one),
+///   such as an `Option` carried by a flag bit; `to_rust`'s expressions may use `?`.
 macro_rules! mirror {
     ($c:ident => $rust:ident {
         same { $($f:ident),* $(,)? }
         renamed { $($cf:ident = $rf:ident),* $(,)? }
         c_only { $($co:ident: $cov:expr),* $(,)? }
         rust_only { $($ro:ident: $rov:expr),* $(,)? }
+        $(to_rust($cv:ident) { $($tf:ident: $te:expr),* $(,)? })?
+        $(to_c($rv:ident) { $($uf:ident: $ue:expr),* $(,)? })?
     }) => {
         impl $c {
             /// The Rust value this means; an error names the first field out of range.
             pub(crate) fn to_rust(self) -> crate::Result<$rust> {
                 use $crate::ffi::options::CField;
+                $(let $cv = &self;)?
                 Ok($rust {
                     $($f: CField::c_to_rust(self.$f, stringify!($f))?,)*
                     $($rf: CField::c_to_rust(self.$cf, stringify!($cf))?,)*
                     $($ro: $rov,)*
+                    $($($tf: $te,)*)?
                 })
             }
 
             /// The C value of `r`, with `struct_size` this library's size.
             pub(crate) fn from_rust(r: &$rust) -> Self {
                 use $crate::ffi::options::CField;
+                $(let $rv = r;)?
                 $c {
                     struct_size: std::mem::size_of::<$c>() as u32,
                     $($f: CField::c_from_rust(r.$f),)*
                     $($cf: CField::c_from_rust(r.$rf),)*
                     $($co: $cov,)*
+                    $($($uf: $ue,)*)?
                 }
             }
         }

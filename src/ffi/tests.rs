@@ -167,7 +167,7 @@ mod fuzz {
     use super::*;
     use crate::ffi::options::Growing;
     use crate::mesh::{Axes, Topology, UpAxis, Winding};
-    use crate::models::growth::GrowthParams;
+
     use proptest::prelude::*;
 
     proptest! {
@@ -388,7 +388,7 @@ mod fuzz {
                 prop_assert!(world.is_null());
                 return Ok(());
             }
-            let species = GrowthParams {
+            let species = ArborGrowthParams {
                 apical_control: r(10, 0.0, 1.0),
                 vigor_multiplier: r(11, 0.5, 4.0),
                 internode_length: r(12, 0.05, 1.0),
@@ -407,7 +407,7 @@ mod fuzz {
                 perception_reach: r(23, 1.0, 10.0),
                 occupancy_reach: r(24, 0.5, 3.0),
                 max_shoot: ints[6] % 6,
-                ..<GrowthParams as Growing>::defaults()
+                ..<ArborGrowthParams as Growing>::defaults()
             };
             let at = [r(25, -5.0, 5.0), r(26, 0.0, 0.5), r(27, -5.0, 5.0)];
             // SAFETY: `world` is live; the species and position are locals.
@@ -658,7 +658,7 @@ fn struct_size_errors_name_the_headers_init_function() {
         super::options::init_name::<ArborLsystemOptions>(),
         super::options::init_name::<ArborLeafOptions>(),
         super::options::init_name::<ArborWorldOptions>(),
-        super::options::init_name::<crate::models::growth::GrowthParams>(),
+        super::options::init_name::<ArborGrowthParams>(),
     ] {
         let function = name.trim_end_matches("()");
         assert!(

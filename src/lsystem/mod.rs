@@ -51,35 +51,35 @@ crate::options::options! {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LsystemOptions {
     /// Rewriting steps; `None`: the grammar's `derivation length:` (0 if it has none).
-    pub steps: Option<u32>,
+    pub steps: Option<u32> = None,
     /// Seed of stochastic productions, `ran` and `nran`, used when the grammar has no
     /// `seed:`. Default 0.
-    pub seed: u64,
+    pub seed: u64 = 0,
     /// Derivation stops with `LimitExceeded` before a string would pass this many modules;
     /// the same limit bounds the modules the turtle reads after interpretation rules.
     /// Default [`DEFAULT_MAX_MODULES`].
-    pub max_modules: usize,
+    pub max_modules: usize = DEFAULT_MAX_MODULES,
     /// Derivation stops with `LimitExceeded` before a string would hold more parameter
     /// values than this (at most 2^32 − 1). Default [`DEFAULT_MAX_PARAMS`].
-    pub max_params: usize,
+    pub max_params: usize = DEFAULT_MAX_PARAMS,
     /// Interpretation stops with `LimitExceeded` past this many branches. Default
     /// [`crate::limits::DEFAULT_MAX_BRANCHES`].
-    pub max_branches: usize,
+    pub max_branches: usize = crate::limits::DEFAULT_MAX_BRANCHES,
     /// Overrides `angle increment:` (degrees).
-    pub angle_increment: Option<f64>,
+    pub angle_increment: Option<f64> = None,
     /// Overrides `initial line width:`.
-    pub initial_width: Option<f64>,
+    pub initial_width: Option<f64> = None,
     /// Overrides `line width increment:`.
-    pub width_increment: Option<f64>,
+    pub width_increment: Option<f64> = None,
     /// Each turn of `+ - & ^ / \` is off by a random amount up to ± this many degrees,
     /// the way hand-made stochastic tree grammars vary their plants (seeded by the
     /// grammar's `seed:` or `seed`). Default 0.
-    pub turn_jitter: f64,
+    pub turn_jitter: f64 = 0.0, checked AtLeast(0.0), "a finite angle >= 0",
     /// 0 (default): the plant's seed is the grammar's `seed:` (else `seed`), as written.
     /// Otherwise this value is mixed into that seed, so every value grows a distinct plant
     /// even from a grammar that fixes its own `seed:` (what a forest of one stochastic
     /// grammar needs): see [`LSystem::effective_seed`].
-    pub variation_seed: u64,
+    pub variation_seed: u64 = 0,
     /// One work budget, in units, for everything a derivation and its interpretation do
     /// (a bound on time, where `max_modules` bounds memory): each step's modules and
     /// parameters, each production tried (its predecessor, context, condition and
@@ -88,7 +88,7 @@ pub struct LsystemOptions {
     /// reading of what interpretation rules make. Past it the work stops with
     /// `LimitExceeded` naming `max_work`; a progress callback hears the work every 2^20
     /// units. Default [`DEFAULT_MAX_WORK`](crate::limits::DEFAULT_MAX_WORK).
-    pub max_work: usize,
+    pub max_work: usize = crate::limits::DEFAULT_MAX_WORK,
 }
 }
 
@@ -97,12 +97,7 @@ impl LsystemOptions {
     /// width or width increment that is not finite, or is negative where it must not be).
     pub fn validate(&self) -> Result<()> {
         let options = self;
-        if !(options.turn_jitter.is_finite() && options.turn_jitter >= 0.0) {
-            return Err(Error::invalid(
-                "turn_jitter",
-                format!("{}; expected a finite angle >= 0", options.turn_jitter),
-            ));
-        }
+        options.check_fields()?;
         for (field, v) in [
             ("angle_increment", options.angle_increment),
             ("initial_width", options.initial_width),
@@ -118,24 +113,6 @@ impl LsystemOptions {
             }
         }
         Ok(())
-    }
-}
-
-impl Default for LsystemOptions {
-    fn default() -> Self {
-        LsystemOptions {
-            steps: None,
-            seed: 0,
-            max_modules: DEFAULT_MAX_MODULES,
-            max_params: DEFAULT_MAX_PARAMS,
-            max_branches: crate::limits::DEFAULT_MAX_BRANCHES,
-            angle_increment: None,
-            initial_width: None,
-            width_increment: None,
-            turn_jitter: 0.0,
-            variation_seed: 0,
-            max_work: crate::limits::DEFAULT_MAX_WORK,
-        }
     }
 }
 

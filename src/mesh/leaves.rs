@@ -163,89 +163,42 @@ crate::options::options! {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LeafOptions {
     /// A leaf at every `~` site the turtle recorded. Default true.
-    pub sites: bool,
+    pub sites: bool = true,
     /// The turtle's `{ . }` polygons in the baked leaf mesh. Default true.
-    pub polygons: bool,
+    pub polygons: bool = true,
     /// Leaves at the tips of terminal branches (those no branch grows from). Default false.
-    pub tips: bool,
+    pub tips: bool = false,
     /// Only tips of branches born at this rewriting step or later get leaves, so leaves
     /// sit on the young twigs. Default 0.
-    pub min_birth: u32,
+    pub min_birth: u32 = 0,
     /// Expected leaves per tip: the whole part always, the fraction by chance. Finite,
     /// 0..=64. Default 1.
-    pub density: f32,
+    pub density: f32 = 1.0, checked In(0.0, 64.0), "0..=64 leaves per tip",
     /// Leaf size in model units (the prefab is scaled by it). Finite, > 0. Default 1.
-    pub size: f32,
+    pub size: f32 = 1.0, checked Above(0.0), "a finite number > 0",
     /// Each leaf's size varies by up to ± this fraction, in [0, 1). Default 0.2.
-    pub size_jitter: f32,
+    pub size_jitter: f32 = 0.2, checked InBelow(0.0, 1.0), "0 <= size_jitter < 1",
     /// Each leaf turns about its stem by up to ± this many degrees. Finite. Default 180.
-    pub rotation_jitter: f32,
+    pub rotation_jitter: f32 = 180.0, checked Any, "a finite angle",
     /// How far tip leaves lean out from the branch, degrees. Finite. Default 30.
-    pub tilt: f32,
+    pub tilt: f32 = 30.0, checked Any, "a finite angle",
     /// Seed of the variation. Default 0.
-    pub seed: u64,
+    pub seed: u64 = 0,
     /// The baked shape, loaded once and shared by every call that uses it; `None` is
     /// [`LeafPrefab::quad`].
-    pub prefab: Option<std::sync::Arc<LeafPrefab>>,
+    pub prefab: Option<std::sync::Arc<LeafPrefab>> = None,
     /// Placing more leaves than this fails with
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_leaves`, before
     /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
-    pub max_leaves: usize,
+    pub max_leaves: usize = crate::limits::DEFAULT_MAX_LEAVES,
 }
-}
-
-impl Default for LeafOptions {
-    fn default() -> Self {
-        LeafOptions {
-            sites: true,
-            polygons: true,
-            tips: false,
-            min_birth: 0,
-            density: 1.0,
-            size: 1.0,
-            size_jitter: 0.2,
-            rotation_jitter: 180.0,
-            tilt: 30.0,
-            seed: 0,
-            prefab: None,
-            max_leaves: crate::limits::DEFAULT_MAX_LEAVES,
-        }
-    }
 }
 
 impl LeafOptions {
     /// Refuses options out of their documented ranges (density, sizes, jitters, tilt,
     /// `max_leaves`, a prefab's data), naming the first.
     pub fn validate(&self) -> Result<()> {
-        if !(self.density.is_finite() && (0.0..=64.0).contains(&self.density)) {
-            return Err(Error::invalid(
-                "density",
-                format!("{}; expected 0..=64 leaves per tip", self.density),
-            ));
-        }
-        if !(self.size.is_finite() && self.size > 0.0) {
-            return Err(Error::invalid(
-                "size",
-                format!("{}; expected a finite number > 0", self.size),
-            ));
-        }
-        if !(self.size_jitter.is_finite() && (0.0..1.0).contains(&self.size_jitter)) {
-            return Err(Error::invalid(
-                "size_jitter",
-                format!("{}; expected 0 <= size_jitter < 1", self.size_jitter),
-            ));
-        }
-        for (field, v) in [
-            ("rotation_jitter", self.rotation_jitter),
-            ("tilt", self.tilt),
-        ] {
-            if !v.is_finite() {
-                return Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite angle"),
-                ));
-            }
-        }
+        self.check_fields()?;
         if let Some(p) = &self.prefab {
             p.validate("the prefab")?;
         }

@@ -134,83 +134,59 @@ crate::options::options! {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshOptions {
     /// Sides of each truncated cone, 3..=64 (the most, when LOD is on). Default 8.
-    pub radial_segments: u32,
+    pub radial_segments: u32 = 8, checked In(MIN_RADIAL_SEGMENTS, MAX_RADIAL_SEGMENTS), format!("{MIN_RADIAL_SEGMENTS}..={MAX_RADIAL_SEGMENTS}"),
     /// Index buffer layout. Default [`Topology::TriangleList`].
-    pub topology: Topology,
+    pub topology: Topology = Topology::TriangleList,
     /// LOD by radius: 0 (default) gives every branch `radial_segments`; otherwise a branch
     /// gets ⌈radial_segments * r / r_max⌉ sides clamped to `min_radial_segments..=
     /// radial_segments`, where r is its larger radius and r_max the tree's largest.
-    pub min_radial_segments: u32,
+    pub min_radial_segments: u32 = 0,
     /// Branches whose larger radius is below this are dropped with their whole subtree.
     /// Default 0 (none).
-    pub cull_radius: f32,
+    pub cull_radius: f32 = 0.0, checked AtLeast(0.0), "a finite number >= 0",
     /// Joints between a branch and the branch it continues. Default [`Joints::Mitred`].
-    pub joints: Joints,
+    pub joints: Joints = Joints::Mitred,
     /// A branch's end radius becomes the start radius of the branch that continues it, so
     /// widths fall smoothly instead of in steps. Default false.
-    pub smooth_taper: bool,
+    pub smooth_taper: bool = false,
     /// A flat disc closing the base of each root. Default false.
-    pub base_cap: bool,
+    pub base_cap: bool = false,
     /// How axes end. Default [`Tip::Open`].
-    pub tip: Tip,
+    pub tip: Tip = Tip::Open,
     /// `v` = arc length from the root / texture_scale (model units). Finite, > 0. Default 1.
-    pub texture_scale: f32,
+    pub texture_scale: f32 = 1.0, checked Above(0.0), "a finite number > 0",
     /// Front-face winding. Default [`Winding::CounterClockwise`].
-    pub winding: Winding,
+    pub winding: Winding = Winding::CounterClockwise,
     /// Up axis of the output. Default [`UpAxis::Y`].
-    pub up_axis: UpAxis,
+    pub up_axis: UpAxis = UpAxis::Y,
     /// Uniform scale applied to positions. Finite, > 0. Default 1.
-    pub scale: f32,
+    pub scale: f32 = 1.0, checked Above(0.0), "a finite number > 0",
     /// Engine conventions. Default [`Axes::Arbor`]; an engine preset sets the axes and
     /// winding itself, so `up_axis` and `winding` must then stay at their defaults, and
     /// `scale` applies before the preset's units.
-    pub axes: Axes,
+    pub axes: Axes = Axes::Arbor,
     /// Threads a large write may use: 0 (default) the machine's cores (at most 8), 1 only
     /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
     /// Making the plan (the size query) of a tree of 32,768 branches or more takes two
     /// when this allows more than one.
     /// The output is the same byte for byte whatever the count.
-    pub threads: u32,
+    pub threads: u32 = 0,
     /// Sizing or writing a mesh of more vertices than this fails with
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_vertices`, before
     /// any buffer is allocated. Default [`DEFAULT_MAX_VERTICES`](crate::limits::DEFAULT_MAX_VERTICES).
-    pub max_vertices: usize,
+    pub max_vertices: usize = crate::limits::DEFAULT_MAX_VERTICES,
     /// Extra rings inside every branch, placed along its curve (a sweep), 0..=64: 0 (the
     /// default) draws each branch as one truncated cone between its end rings, exactly as
     /// without curves; k >= 1 adds k rings at equal curve parameters, framed by rotation-
     /// minimising frames continuous across joints, with radii interpolated and v by arc
     /// length.
-    pub curve_rings: u32,
+    pub curve_rings: u32 = 0, checked AtMost(64), "0..=64 rings inside each branch",
     /// The vertex the writes take: [`VertexFormat::F32`] ([`Vertex`], the default) or
     /// [`VertexFormat::Compact`] ([`VertexCompact`]). A write into the other kind of buffer
     /// is [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) naming
     /// `vertex_format`.
-    pub vertex_format: VertexFormat,
+    pub vertex_format: VertexFormat = VertexFormat::F32,
 }
-}
-
-impl Default for MeshOptions {
-    fn default() -> Self {
-        MeshOptions {
-            radial_segments: 8,
-            topology: Topology::TriangleList,
-            min_radial_segments: 0,
-            cull_radius: 0.0,
-            joints: Joints::Mitred,
-            smooth_taper: false,
-            base_cap: false,
-            tip: Tip::Open,
-            texture_scale: 1.0,
-            winding: Winding::CounterClockwise,
-            up_axis: UpAxis::Y,
-            scale: 1.0,
-            axes: Axes::Arbor,
-            threads: 0,
-            max_vertices: crate::limits::DEFAULT_MAX_VERTICES,
-            curve_rings: 0,
-            vertex_format: VertexFormat::F32,
-        }
-    }
 }
 
 impl MeshOptions {
@@ -270,42 +246,13 @@ pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
 /// options say, whatever space they are written in (glTF checks these, then writes its
 /// own conventions).
 pub(crate) fn check_fields(o: &MeshOptions) -> Result<()> {
-    let s = o.radial_segments;
-    if !(MIN_RADIAL_SEGMENTS..=MAX_RADIAL_SEGMENTS).contains(&s) {
-        return Err(Error::invalid(
-            "radial_segments",
-            format!("{s}; expected {MIN_RADIAL_SEGMENTS}..={MAX_RADIAL_SEGMENTS}"),
-        ));
-    }
-    let m = o.min_radial_segments;
+    o.check_fields()?;
+    let (s, m) = (o.radial_segments, o.min_radial_segments);
     if m != 0 && !(MIN_RADIAL_SEGMENTS..=s).contains(&m) {
         return Err(Error::invalid(
             "min_radial_segments",
             format!("{m}; expected 0 (no LOD) or {MIN_RADIAL_SEGMENTS}..=radial_segments ({s})"),
         ));
-    }
-    if !(o.cull_radius.is_finite() && o.cull_radius >= 0.0) {
-        return Err(Error::invalid(
-            "cull_radius",
-            format!("{}; expected a finite number >= 0", o.cull_radius),
-        ));
-    }
-    if o.curve_rings > 64 {
-        return Err(Error::invalid(
-            "curve_rings",
-            format!(
-                "{}; expected 0..=64 rings inside each branch",
-                o.curve_rings
-            ),
-        ));
-    }
-    for (field, v) in [("texture_scale", o.texture_scale), ("scale", o.scale)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(
-                field,
-                format!("{v}; expected a finite number > 0"),
-            ));
-        }
     }
     if o.axes != Axes::Arbor {
         let (up, winding) = (

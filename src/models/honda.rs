@@ -203,50 +203,22 @@ crate::options::options! {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Variation {
     /// Seed of the variation; 0: none (the paper's tree exactly).
-    pub seed: u64,
+    pub seed: u64 = 0,
     /// Largest change of a branching angle (`+`), degrees. Default 4.
-    pub branching: f32,
+    pub branching: f32 = 4.0, checked AtLeast(0.0), "a finite angle >= 0",
     /// Largest change of a divergence angle (`/`), degrees. Default 10.
-    pub divergence: f32,
+    pub divergence: f32 = 10.0, checked AtLeast(0.0), "a finite angle >= 0",
     /// Largest relative change of a length, 0..1. Default 0.06.
-    pub length: f32,
+    pub length: f32 = 0.06, checked InBelow(0.0, 1.0), "0 <= x < 1",
     /// Largest relative change of a width, 0..1. Default 0.06.
-    pub width: f32,
+    pub width: f32 = 0.06, checked InBelow(0.0, 1.0), "0 <= x < 1",
 }
-}
-
-impl Default for Variation {
-    fn default() -> Self {
-        Variation {
-            seed: 0,
-            branching: 4.0,
-            divergence: 10.0,
-            length: 0.06,
-            width: 0.06,
-        }
-    }
 }
 
 impl Variation {
     /// Refuses amounts that are not finite or are negative, naming the first.
     pub fn validate(&self) -> Result<()> {
-        for (field, v) in [
-            ("branching", self.branching),
-            ("divergence", self.divergence),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite angle >= 0"),
-                ));
-            }
-        }
-        for (field, v) in [("length", self.length), ("width", self.width)] {
-            if !(v.is_finite() && (0.0..1.0).contains(&v)) {
-                return Err(Error::invalid(field, format!("{v}; expected 0 <= x < 1")));
-            }
-        }
-        Ok(())
+        self.check_fields()
     }
 }
 

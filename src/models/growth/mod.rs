@@ -63,60 +63,40 @@ crate::options::options! {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldOptions {
     /// Shadow (default) or space colonization.
-    pub environment: Environment,
+    pub environment: Environment = Environment::Shadow,
     /// Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
-    pub min: [f32; 3],
+    pub min: [f32; 3] = [-10.0, 0.0, -10.0],
     /// Upper corner. Default (10, 20, 10).
-    pub max: [f32; 3],
+    pub max: [f32; 3] = [10.0, 20.0, 10.0],
     /// Voxel edge of the shadow grid, or the spacing of attraction markers (one per cell,
     /// jittered). Finite, > 0. Default 0.25 (one internode of the presets).
-    pub cell_size: f32,
+    pub cell_size: f32 = 0.25, checked Above(0.0), "a finite number > 0",
     /// Seeds the markers and the seeding of new trees. Default 0.
-    pub seed: u64,
+    pub seed: u64 = 0,
     /// Shadow a bud casts into its own cell and the layer below (`a`), > 0. Default 0.2.
-    pub shadow_strength: f32,
+    pub shadow_strength: f32 = 0.2, checked Above(0.0), "a finite number > 0",
     /// Falloff per layer (`b` > 1: layer q gets a*b^-q). Default 2.
-    pub shadow_falloff: f32,
+    pub shadow_falloff: f32 = 2.0, checked Above(1.0), "a finite number > 1",
     /// Layers of the shadow pyramid below a bud (`q_max`), 0..=16. Default 5.
-    pub shadow_depth: u32,
+    pub shadow_depth: u32 = 5, checked AtMost(16), "0..=16 layers",
     /// Full exposure (`C`), > 0. Default 1.5.
-    pub full_light: f32,
+    pub full_light: f32 = 1.5, checked Above(0.0), "a finite number > 0",
     /// Most cells the grid may have (4 bytes each for shadow; never more than 2^31): the
     /// box's cells at `cell_size`, and the shadow grid as it grows with what is shaded (a
     /// step, plant or obstacle that would pass it is `LimitExceeded`, the world unchanged).
     /// Default 2^25 (128 MiB).
-    pub max_cells: usize,
+    pub max_cells: usize = 1 << 25,
     /// Growth stops with `LimitExceeded` naming `max_branches` before the world's
     /// internodes would pass this. Default 2^24.
-    pub max_branches: usize,
+    pub max_branches: usize = crate::limits::DEFAULT_MAX_BRANCHES,
     /// Most trees (seeding stops adding trees at this count). Default 1,024.
-    pub max_trees: usize,
+    pub max_trees: usize = 1024,
     /// Grow the trees of one cycle and update the shadow grid on all cores with the
     /// `parallel` feature (the result is identical to the serial path). A world under
     /// 4,096 internodes runs on the calling thread: waking threads would cost more than
     /// they give. Default true.
-    pub parallel: bool,
+    pub parallel: bool = true,
 }
-}
-
-impl Default for WorldOptions {
-    fn default() -> Self {
-        WorldOptions {
-            environment: Environment::Shadow,
-            min: [-10.0, 0.0, -10.0],
-            max: [10.0, 20.0, 10.0],
-            cell_size: 0.25,
-            seed: 0,
-            shadow_strength: 0.2,
-            shadow_falloff: 2.0,
-            shadow_depth: 5,
-            full_light: 1.5,
-            max_cells: 1 << 25,
-            max_branches: crate::limits::DEFAULT_MAX_BRANCHES,
-            max_trees: 1024,
-            parallel: true,
-        }
-    }
 }
 
 impl WorldOptions {
@@ -136,31 +116,7 @@ impl WorldOptions {
                 ),
             ));
         }
-        let positive = |field: &'static str, v: f32| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::invalid(
-                    field,
-                    format!("{v}; expected a finite number > 0"),
-                ))
-            }
-        };
-        positive("cell_size", self.cell_size)?;
-        positive("shadow_strength", self.shadow_strength)?;
-        positive("full_light", self.full_light)?;
-        if !(self.shadow_falloff.is_finite() && self.shadow_falloff > 1.0) {
-            return Err(Error::invalid(
-                "shadow_falloff",
-                format!("{}; expected a finite number > 1", self.shadow_falloff),
-            ));
-        }
-        if self.shadow_depth > 16 {
-            return Err(Error::invalid(
-                "shadow_depth",
-                format!("{}; expected 0..=16 layers", self.shadow_depth),
-            ));
-        }
+        self.check_fields()?;
         let cells = self.cells();
         // A cell index shares 32 bits with a flag: no grid has more than 2^31 cells.
         let most = self.max_cells.min(env::MOST_CELLS);
