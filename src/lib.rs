@@ -84,6 +84,7 @@ pub mod models;
 mod options;
 pub mod progress;
 pub mod rng;
+pub mod scene;
 pub mod skeleton;
 
 pub use error::{Error, Result};

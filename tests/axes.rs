@@ -8,6 +8,7 @@ use arbor::export;
 use arbor::forest::{Item, Placed, Source};
 use arbor::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, UpAxis, Winding};
 use arbor::models::honda::{self, HondaParams};
+use arbor::scene::Scene;
 use arbor::skeleton::{NO_PARENT, Skeleton};
 use glam::{Mat3, Quat, Vec3};
 
@@ -241,8 +242,8 @@ fn presets_refuse_conflicting_options_by_name() {
                     export::gltf_bytes(&s, o, None, binary).err(),
                     export::gltf_bytes(&s, o, Some(&leaves), binary).err(),
                     export::gltf_bytes_instanced(&s, o, &leaves, binary).err(),
-                    export::gltf_forest_bytes(&placed, o, binary).err(),
-                    export::gltf_forest_nodes_bytes(&placed, o, binary).err(),
+                    forest_bytes(Scene::forest, &placed, o, binary).err(),
+                    forest_bytes(Scene::forest_nodes, &placed, o, binary).err(),
                 ]
             })
             .map(|e| e.map(|e| e.to_string()))
@@ -287,4 +288,15 @@ fn presets_refuse_conflicting_options_by_name() {
             );
         }
     }
+}
+
+/// A forest's glTF file as a host makes it: the scene in glTF's conventions, then its bytes.
+fn forest_bytes(
+    scene: fn(&[arbor::forest::Placed<'_>], &MeshOptions) -> arbor::Result<Scene>,
+    placed: &[arbor::forest::Placed<'_>],
+    o: &MeshOptions,
+    binary: bool,
+) -> arbor::Result<Vec<u8>> {
+    let s = scene(placed, &export::gltf_mesh_options(o)?)?;
+    export::gltf_scene_bytes(&s, o, binary)
 }

@@ -198,7 +198,7 @@ fn exported_files_read_back_and_pass_the_validator() {
         .collect();
     for ext in ["glb", "gltf"] {
         let path = out_dir().join(format!("forest.{ext}"));
-        arbor::export::save_gltf_forest(&placed, &MeshOptions::default(), &path).unwrap();
+        save_forest(arbor::scene::Scene::forest, &placed, &path);
         let merged = arbor::forest::merged(&placed, &list_options()).unwrap();
         let prims = read_back(&path);
         assert_eq!(prims.len(), 1);
@@ -223,7 +223,7 @@ fn exported_files_read_back_and_pass_the_validator() {
     assert_eq!(distinct.len(), 3);
     for ext in ["glb", "gltf"] {
         let path = out_dir().join(format!("forest_nodes.{ext}"));
-        arbor::export::save_gltf_forest_nodes(&shared, &MeshOptions::default(), &path).unwrap();
+        save_forest(arbor::scene::Scene::forest_nodes, &shared, &path);
         let prims = read_back(&path);
         assert_eq!(prims.len(), 3, "one mesh per distinct tree");
         for (p, m) in prims.iter().zip(&distinct) {
@@ -349,4 +349,15 @@ fn compact_exports_are_quantized_and_pass_the_validator() {
         }
     }
     validator::assert_valid(&files);
+}
+
+/// Saves a forest's scene, built in glTF's conventions from the default options.
+fn save_forest(
+    scene: fn(&[arbor::forest::Placed<'_>], &MeshOptions) -> arbor::Result<arbor::scene::Scene>,
+    placed: &[arbor::forest::Placed<'_>],
+    path: &std::path::Path,
+) {
+    let o = MeshOptions::default();
+    let s = scene(placed, &arbor::export::gltf_mesh_options(&o).unwrap()).unwrap();
+    arbor::export::save_gltf_scene(&s, &o, path).unwrap();
 }

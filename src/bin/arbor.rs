@@ -349,17 +349,7 @@ fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
     let mut show = |s: Stage, f: f32| bar.show(s, f);
     let mut run = Run::reporting(&mut show);
     let r = if lower.ends_with(".obj") {
-        let bark = arbor::mesh::MeshPlan::new(skeleton, &o)
-            .and_then(|plan| plan.mesh_in(skeleton, &mut run))
-            .map_err(|e| e.to_string())?;
-        match &leaves {
-            Some(l) => {
-                let lm = arbor::mesh::leaf_mesh(skeleton, l, &o).map_err(|e| e.to_string())?;
-                let parts = [("bark", &bark), ("leaves", &lm)];
-                arbor::export::save_obj_parts_in(&parts, out, &mut run)
-            }
-            None => arbor::export::save_obj_parts_in(&[("bark", &bark)], out, &mut run),
-        }
+        arbor::export::save_obj_tree_in(skeleton, &o, leaves.as_ref(), out, &mut run)
     } else if instanced {
         let l = leaves.as_ref().expect("instanced leaves are placed");
         arbor::export::save_gltf_instanced_in(skeleton, &o, l, out, &mut run)

@@ -1,4 +1,4 @@
-//! Writing meshes to files other tools read.
+//! Writing meshes and [scenes](crate::scene) to files other tools read.
 //!
 //! Every `save_*` function writes its file whole or not at all (a temporary file beside
 //! it, flushed and renamed over it): a failure or a cancel leaves an existing file as it
@@ -9,8 +9,10 @@ mod gltf;
 mod obj;
 
 pub use gltf::{
-    gltf_bytes, gltf_bytes_instanced, gltf_forest_bytes, gltf_forest_nodes_bytes, save_gltf,
-    save_gltf_forest, save_gltf_forest_nodes, save_gltf_in, save_gltf_instanced,
-    save_gltf_instanced_in,
+    gltf_bytes, gltf_bytes_instanced, gltf_mesh_options, gltf_scene_bytes, save_gltf, save_gltf_in,
+    save_gltf_instanced, save_gltf_instanced_in, save_gltf_scene,
 };
-pub use obj::{save_obj, save_obj_parts, save_obj_parts_in, write_obj, write_obj_parts};
+pub use obj::{
+    save_obj, save_obj_parts, save_obj_parts_in, save_obj_tree, save_obj_tree_in, write_obj,
+    write_obj_parts,
+};

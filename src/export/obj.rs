@@ -1,8 +1,9 @@
 //! Wavefront OBJ: positions, texture coordinates, normals and triangles, one group per part.
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{self, LeafOptions, Mesh, MeshOptions};
 use crate::progress::{EVERY, Run, Stage};
+use crate::skeleton::Skeleton;
 use std::io::Write;
 use std::path::Path;
 
@@ -101,4 +102,38 @@ pub fn save_obj_parts_in(
             other => other,
         })
     })
+}
+
+/// Writes the bark of `skeleton` (group `bark`) and, when `leaves` is given, its baked
+/// leaves (group `leaves`) as OBJ to `path`, whole or not at all. OBJ is text: its numbers
+/// are f32 whatever `options.vertex_format` asks.
+pub fn save_obj_tree(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    save_obj_tree_in(skeleton, options, leaves, path, &mut Run::default())
+}
+
+/// [`save_obj_tree`] in `run`: the bark is meshed on the run's threads, reporting
+/// [`Stage::Mesh`], then [`Stage::Write`]; `false` stops with
+/// [`Error::Cancelled`](crate::error::Error::Cancelled) and leaves an existing file as it
+/// was.
+pub fn save_obj_tree_in(
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    path: impl AsRef<Path>,
+    run: &mut Run<'_>,
+) -> Result<()> {
+    let o = options.vertex_format(mesh::VertexFormat::F32);
+    let bark = mesh::MeshPlan::new(skeleton, &o)?.mesh_in(skeleton, run)?;
+    let leaves = match leaves {
+        Some(l) => Some(mesh::leaf_mesh(skeleton, l, &o)?),
+        None => None,
+    };
+    let mut parts = vec![("bark", &bark)];
+    parts.extend(leaves.as_ref().map(|l| ("leaves", l)));
+    save_obj_parts_in(&parts, path, run)
 }

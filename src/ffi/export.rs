@@ -68,17 +68,7 @@ pub unsafe extern "C" fn arbor_export_obj(
             unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
         let mut run = run_of(&mut f);
-        // OBJ is text: its numbers are f32 whatever vertex_format asks.
-        let mo = mo.vertex_format(mesh::VertexFormat::F32);
-        let plan = mesh::MeshPlan::new(tree.skeleton(), &mo)?;
-        let bark = super::owned::owned_mesh(&plan, tree.skeleton(), &mut run)?;
-        let leaves = match leaves {
-            Some(lo) => Some(mesh::leaf_mesh(tree.skeleton(), &lo, &mo)?),
-            None => None,
-        };
-        let mut parts = vec![("bark", &bark)];
-        parts.extend(leaves.as_ref().map(|l| ("leaves", l)));
-        crate::export::save_obj_parts_in(&parts, path, &mut run)?;
+        crate::export::save_obj_tree_in(tree.skeleton(), &mo, leaves.as_ref(), path, &mut run)?;
         Ok(())
     })
 }

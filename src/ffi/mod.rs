@@ -1,5 +1,5 @@
-//! The C ABI: the only module with `unsafe` code (with `owned`, the Rust API's buffers
-//! that a writer fills without a zero fill first).
+//! The C ABI: the only module with `unsafe` code, a thin shell over the Rust API that
+//! nothing below it imports.
 //!
 //! `include/arbor.h` is generated from this module by cbindgen (see `cbindgen.toml`) and
 //! committed; a test regenerates it and fails on any difference. Each export is a thin

@@ -57,16 +57,6 @@ pub(super) struct Extras {
     pub(super) leaf_instances: Option<usize>,
 }
 
-impl Extras {
-    /// What every file says: arbor made it.
-    pub(super) fn arbor() -> Self {
-        Extras {
-            generator: "arbor",
-            ..Default::default()
-        }
-    }
-}
-
 #[derive(Serialize)]
 pub(super) struct Scene {
     pub(super) nodes: Vec<usize>,
@@ -122,7 +112,7 @@ pub(super) struct InstanceAttributes {
 
 #[derive(Serialize)]
 pub(super) struct Mesh {
-    pub(super) name: &'static str,
+    pub(super) name: String,
     pub(super) primitives: Vec<Primitive>,
 }
 
@@ -151,10 +141,10 @@ pub(super) struct Attributes {
     pub(super) wind: Option<usize>,
 }
 
-#[derive(Clone, Copy, Serialize)]
+#[derive(Clone, Serialize)]
 #[serde(rename_all = "camelCase")]
 pub(super) struct Material {
-    pub(super) name: &'static str,
+    pub(super) name: String,
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub(super) double_sided: bool,
     pub(super) pbr_metallic_roughness: Pbr,

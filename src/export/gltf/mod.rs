@@ -1,20 +1,21 @@
 //! glTF 2.0: `.glb` (binary) or `.gltf` (JSON with the buffer embedded as a data URI),
-//! as every engine and DCC tool reads it.
+//! as every engine and DCC tool reads it, serialized from a [`Scene`].
 //!
-//! One node, one mesh: the bark as a primitive with a bark material, and the baked leaves
-//! (leaf quads, polygons, spheres, surfaces) as a second primitive with a double-sided
-//! leaf material when leaf options are given. Vertices are interleaved (position, normal,
-//! uv; stride 32) as arbor writes them; indices are 32-bit triangle lists (glTF has no
-//! restart index). glTF is right-handed, Y up, counter-clockwise: the mesh options'
-//! topology, winding and up axis are overridden to that, whatever they ask; their scale,
-//! sides, joints, tips and curve rings stand. Options that contradict themselves (an engine
-//! preset with another up axis or winding) are refused with the mesh writer's error; the
-//! f32 range of positions is checked in the space written. The generator's settings are in
-//! `asset.extras`.
+//! A tree's file is one node and one mesh: the bark as a primitive with a bark material,
+//! and the baked leaves (leaf quads, polygons, spheres, surfaces) as a second primitive
+//! with a double-sided leaf material when leaf options are given. Vertices are interleaved
+//! (position, normal, uv; stride 32) as arbor writes them; indices are 32-bit triangle
+//! lists (glTF has no restart index). glTF is right-handed, Y up, counter-clockwise: the
+//! mesh options' topology, winding and up axis are overridden to that, whatever they ask
+//! ([`gltf_mesh_options`]); their scale, sides, joints, tips and curve rings stand. Options
+//! that contradict themselves (an engine preset with another up axis or winding) are
+//! refused with the mesh writer's error; the f32 range of positions is checked in the
+//! space written. The scene's settings are in `asset.extras`.
 
 use crate::error::{Error, Result};
-use crate::mesh::{self, Axes, LeafOptions, Mesh, MeshOptions, Topology, UpAxis, Winding};
+use crate::mesh::{self, Axes, LeafOptions, MeshOptions, Topology, UpAxis, Winding};
 use crate::progress::Run;
+use crate::scene::{Material, Node, Scene, Settings};
 use crate::skeleton::Skeleton;
 use std::path::Path;
 
@@ -23,35 +24,29 @@ mod json;
 use buffers::{ARRAY_BUFFER, Buffers, FLOAT, pad4};
 use json::Extras;
 
-/// A primitive of the file: its mesh, its material, and for bark the animation stream
-/// (custom attributes `_GROWTH` and `_WIND`).
-struct Primitive {
-    mesh: Mesh,
-    material: Material,
-    anim: Option<Vec<mesh::AnimationVertex>>,
+fn material_json(m: &Material) -> json::Material {
+    json::Material {
+        name: m.name.clone(),
+        double_sided: m.double_sided,
+        pbr_metallic_roughness: json::Pbr {
+            base_color_factor: m.base_color,
+            metallic_factor: m.metallic,
+            roughness_factor: m.roughness,
+        },
+    }
 }
 
-#[derive(Clone, Copy, PartialEq)]
-enum Material {
-    Bark,
-    Leaves,
-}
-
-impl Material {
-    fn json(self) -> json::Material {
-        let (name, double_sided, base_color_factor, roughness_factor) = match self {
-            Material::Bark => ("bark", false, [0.36, 0.24, 0.14, 1.0], 0.9),
-            Material::Leaves => ("leaves", true, [0.22, 0.52, 0.16, 1.0], 0.8),
-        };
-        json::Material {
-            name,
-            double_sided,
-            pbr_metallic_roughness: json::Pbr {
-                base_color_factor,
-                metallic_factor: 0.0,
-                roughness_factor,
-            },
-        }
+fn extras(s: &Settings) -> Extras {
+    Extras {
+        generator: "arbor",
+        branches: s.branches,
+        trees: s.trees,
+        distinct_trees: s.distinct_trees,
+        radial_segments: s.radial_segments,
+        curve_rings: s.curve_rings,
+        scale: s.scale,
+        leaves: s.leaves,
+        leaf_instances: s.leaf_instances,
     }
 }
 
@@ -60,7 +55,7 @@ impl Material {
 /// another up axis, say) is refused with the mesh writer's error; the limits that depend
 /// on the output space (positions in the f32 range) are those of the space glTF is written
 /// in. The vertices are written as f32 whatever `vertex_format` asks.
-fn gltf_options(options: &MeshOptions) -> Result<MeshOptions> {
+pub fn gltf_mesh_options(options: &MeshOptions) -> Result<MeshOptions> {
     mesh::check_fields(options)?;
     Ok(MeshOptions {
         vertex_format: mesh::VertexFormat::F32,
@@ -72,34 +67,8 @@ fn gltf_options(options: &MeshOptions) -> Result<MeshOptions> {
     })
 }
 
-/// The meshes a glTF file of `skeleton` holds. The bark's mesh and animation stream come
-/// from one plan.
-fn primitives(
-    skeleton: &Skeleton,
-    options: &MeshOptions,
-    leaves: Option<&LeafOptions>,
-    run: &mut Run<'_>,
-) -> Result<(MeshOptions, Vec<Primitive>)> {
-    let o = gltf_options(options)?;
-    let plan = mesh::MeshPlan::new(skeleton, &o)?;
-    let bark = plan.mesh_in(skeleton, run)?;
-    let mut out = vec![Primitive {
-        mesh: bark,
-        material: Material::Bark,
-        anim: Some(plan.animation(skeleton)?),
-    }];
-    if let Some(l) = leaves {
-        out.push(Primitive {
-            mesh: mesh::leaf_mesh(skeleton, l, &o)?,
-            material: Material::Leaves,
-            anim: None,
-        });
-    }
-    out.retain(|p| !p.mesh.indices.is_empty());
-    Ok((o, out))
-}
-
-/// The file's bytes: GLB when `binary`, else glTF JSON with the buffer embedded.
+/// The file's bytes of one tree: GLB when `binary`, else glTF JSON with the buffer
+/// embedded ([`Scene::tree`] in glTF's conventions).
 pub fn gltf_bytes(
     skeleton: &Skeleton,
     options: &MeshOptions,
@@ -116,22 +85,9 @@ fn gltf_bytes_with(
     binary: bool,
     run: &mut Run<'_>,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, leaves, run)?;
-    let extras = Extras {
-        branches: Some(skeleton.len()),
-        radial_segments: o.radial_segments,
-        curve_rings: Some(o.curve_rings),
-        scale: Some(o.scale),
-        // Whether the file holds leaf geometry (asked for and found somewhere to go).
-        leaves: Some(prims.iter().any(|p| matches!(p.material, Material::Leaves))),
-        ..Extras::arbor()
-    };
-    encode(
-        one_tree(prims),
-        extras,
-        Form::of(options, binary),
-        NO_INSTANCES,
-    )
+    let o = gltf_mesh_options(options)?;
+    let scene = Scene::tree_in(skeleton, &o, leaves, run)?;
+    gltf_scene_bytes(&scene, options, binary)
 }
 
 /// [`gltf_bytes_instanced`] saved to `path` (`.glb` or `.gltf` by the extension), whole or
@@ -164,250 +120,134 @@ pub fn save_gltf_instanced_in(
     })
 }
 
-/// [`gltf_bytes`] with the leaves as instances of one leaf mesh (the leaf options'
-/// prefab, else the quad) through `EXT_mesh_gpu_instancing`, declared used, not required:
-/// engines that draw instances get one small mesh and a transform per leaf; a viewer
-/// without the extension draws a single leaf at the node, so export baked leaves
-/// ([`gltf_bytes`]) for those. Only the leaf sites are instanced (no polygons or spheres).
+/// [`gltf_bytes`] with the leaves as instances of one leaf mesh ([`Scene::tree_instanced`])
+/// through `EXT_mesh_gpu_instancing`, declared used, not required: engines that draw
+/// instances get one small mesh and a transform per leaf; a viewer without the extension
+/// draws a single leaf at the node, so export baked leaves ([`gltf_bytes`]) for those.
 pub fn gltf_bytes_instanced(
     skeleton: &Skeleton,
     options: &MeshOptions,
     leaves: &LeafOptions,
     binary: bool,
 ) -> Result<Vec<u8>> {
-    let (o, prims) = primitives(skeleton, options, None, &mut Run::default())?;
-    let instances = mesh::leaf_instances(skeleton, leaves, &o)?;
-    let prefab = leaves
-        .prefab
-        .clone()
-        .unwrap_or_else(|| std::sync::Arc::new(mesh::LeafPrefab::quad()));
-    let quad = Mesh {
-        vertices: prefab.vertices.clone(),
-        indices: prefab.triangles.iter().flatten().copied().collect(),
-        topology: Topology::TriangleList,
-        ranges: Vec::new(),
-    };
-    let extras = Extras {
-        branches: Some(skeleton.len()),
-        radial_segments: o.radial_segments,
-        leaf_instances: Some(instances.len()),
-        ..Extras::arbor()
-    };
-    encode(
-        one_tree(prims),
-        extras,
-        Form::of(options, binary),
-        Some((quad, instances)),
-    )
+    let o = gltf_mesh_options(options)?;
+    let scene = Scene::tree_instanced(skeleton, &o, leaves)?;
+    gltf_scene_bytes(&scene, options, binary)
 }
 
-/// A forest as glTF: the trees merged into one bark mesh (one draw call), as
-/// [`crate::forest::merged`] places them.
-pub fn gltf_forest_bytes(
-    placed: &[crate::forest::Placed<'_>],
-    options: &MeshOptions,
-    binary: bool,
-) -> Result<Vec<u8>> {
-    let o = gltf_options(options)?;
-    let m = crate::forest::merged(placed, &o)?;
-    let extras = Extras {
-        trees: Some(placed.len()),
-        radial_segments: o.radial_segments,
-        scale: Some(o.scale),
-        ..Extras::arbor()
-    };
-    let prims = if m.indices.is_empty() {
-        Vec::new()
-    } else {
-        vec![Primitive {
-            mesh: m,
-            material: Material::Bark,
-            anim: None,
-        }]
-    };
-    encode(
-        one_tree(prims),
-        extras,
-        Form::of(options, binary),
-        NO_INSTANCES,
-    )
+/// A scene's file: GLB when `binary`, else glTF JSON with the buffer embedded. Build the
+/// scene with [`gltf_mesh_options`] of `options` (glTF's conventions); `options` says here
+/// only whether the vertices are quantized (`vertex_format` compact:
+/// `KHR_mesh_quantization`).
+///
+/// ```
+/// use arbor::mesh::MeshOptions;
+/// use arbor::scene::Scene;
+///
+/// let mut p = arbor::HondaParams::preset('g').unwrap();
+/// p.steps = 4;
+/// let placed: Vec<arbor::forest::Placed> = (0..3)
+///     .map(|k| arbor::forest::Placed {
+///         item: arbor::forest::Item { source: arbor::forest::Source::Honda(p), seed: 0 },
+///         position: [k as f32 * 2.0, 0.0, 0.0],
+///         rotation: 0.0,
+///         scale: 1.0,
+///     })
+///     .collect();
+/// let options = MeshOptions::default();
+/// let scene = Scene::forest_nodes(&placed, &arbor::export::gltf_mesh_options(&options)?)?;
+/// let gltf = arbor::export::gltf_scene_bytes(&scene, &options, false)?;
+/// assert!(std::str::from_utf8(&gltf).unwrap().contains("tree 2"));
+/// # Ok::<(), arbor::Error>(())
+/// ```
+pub fn gltf_scene_bytes(scene: &Scene, options: &MeshOptions, binary: bool) -> Result<Vec<u8>> {
+    encode(scene, Form::of(options, binary))
 }
 
-/// A forest as one node per placed tree: one mesh per distinct tree (same source and
-/// seed, as [`forest::instanced`](crate::forest::instanced) finds them), shared by every
-/// node that places it, each node with the placement's translation, rotation about Y and
-/// uniform scale. Smaller than the merged file when trees repeat, and an engine keeps
-/// each tree a node of its own (to move, cull or swap); [`gltf_forest_bytes`] merges.
-pub fn gltf_forest_nodes_bytes(
-    placed: &[crate::forest::Placed<'_>],
-    options: &MeshOptions,
-    binary: bool,
-) -> Result<Vec<u8>> {
-    let o = gltf_options(options)?;
-    let (meshes, which) = crate::forest::instanced(placed, &o)?;
-    let trees: Vec<Vec<Primitive>> = meshes
-        .into_iter()
-        .map(|mesh| {
-            vec![Primitive {
-                mesh,
-                material: Material::Bark,
-                anim: None,
-            }]
-        })
-        .collect();
-    let nodes = placed
-        .iter()
-        .zip(which)
-        .enumerate()
-        .map(|(k, (p, (mesh, _)))| {
-            let q = crate::geom::rotation::axis_angle(glam::Vec3::Y, p.rotation.to_radians());
-            Node {
-                name: format!("tree {k}"),
-                mesh: mesh as usize,
-                trs: Some((p.position, q.to_array(), p.scale)),
-            }
-        })
-        .collect();
-    let extras = Extras {
-        trees: Some(placed.len()),
-        distinct_trees: Some(trees.len()),
-        radial_segments: o.radial_segments,
-        scale: Some(o.scale),
-        ..Extras::arbor()
-    };
-    encode(
-        (trees, nodes),
-        extras,
-        Form::of(options, binary),
-        NO_INSTANCES,
-    )
-}
-
-/// Writes [`gltf_forest_nodes_bytes`] to `path` (`.glb` or `.gltf`, as [`save_gltf`]).
-pub fn save_gltf_forest_nodes(
-    placed: &[crate::forest::Placed<'_>],
-    options: &MeshOptions,
-    path: impl AsRef<Path>,
-) -> Result<()> {
+/// [`gltf_scene_bytes`] saved to `path` (`.glb` or `.gltf` by the extension, as
+/// [`save_gltf`]), whole or not at all.
+pub fn save_gltf_scene(scene: &Scene, options: &MeshOptions, path: impl AsRef<Path>) -> Result<()> {
     save(path.as_ref(), &mut Run::default(), |binary, _| {
-        gltf_forest_nodes_bytes(placed, options, binary)
+        gltf_scene_bytes(scene, options, binary)
     })
 }
 
-/// Leaves drawn as instances of one prefab (`EXT_mesh_gpu_instancing`).
-type Instanced = (Mesh, Vec<mesh::LeafInstance>);
-
-const NO_INSTANCES: Option<Instanced> = None;
-
-/// A node of the scene: which tree mesh it draws and where (none: the identity).
-struct Node {
-    name: String,
-    mesh: usize,
-    trs: Option<([f32; 3], [f32; 4], f32)>,
-}
-
-/// One tree mesh drawn by one node at the origin, as single-tree files are.
-fn one_tree(prims: Vec<Primitive>) -> (Vec<Vec<Primitive>>, Vec<Node>) {
-    let node = Node {
-        name: "tree".into(),
-        mesh: 0,
-        trs: None,
-    };
-    (vec![prims], vec![node])
-}
-
-/// Bytes of the buffer the meshes and instances make (what the file is made from).
-fn buffer_bytes(trees: &[Vec<Primitive>], instanced: Option<&Instanced>) -> usize {
-    trees
+/// Bytes of the buffer the scene's meshes and instances make (what the file is made from).
+fn buffer_bytes(scene: &Scene) -> usize {
+    let meshes: usize = scene
+        .meshes
         .iter()
-        .flatten()
+        .flat_map(|m| &m.primitives)
         .map(|p| {
             std::mem::size_of_val(p.mesh.vertices.as_slice())
                 + std::mem::size_of_val(p.mesh.indices.as_slice())
-                + p.anim
+                + p.animation
                     .as_ref()
                     .map_or(0, |a| std::mem::size_of_val(a.as_slice()))
         })
-        .sum::<usize>()
-        + instanced.as_ref().map_or(0, |(m, i)| {
-            std::mem::size_of_val(m.vertices.as_slice())
-                + std::mem::size_of_val(m.indices.as_slice())
-                + i.len() * 40
-        })
-}
-
-/// The materials in use, bark first.
-fn materials_in_use(trees: &[Vec<Primitive>], leaves: bool) -> Vec<Material> {
-    let mut materials: Vec<Material> = Vec::new();
-    for m in trees
+        .sum();
+    let instances: usize = scene
+        .nodes
         .iter()
-        .flatten()
-        .map(|p| p.material)
-        .chain(leaves.then_some(Material::Leaves))
-    {
-        if !materials.contains(&m) {
-            materials.push(m);
-        }
-    }
-    materials.sort_by_key(|m| *m == Material::Leaves);
-    materials
+        .filter_map(|n| n.instances.as_ref())
+        .map(|i| i.len() * 40)
+        .sum();
+    meshes + instances
 }
 
-/// A node of the file: its name, its mesh (none for a tree without triangles) and
-/// placement.
-fn node_json(n: &Node, mesh: Option<usize>) -> json::Node {
-    let mut node = json::Node::new(n.name.clone(), mesh);
-    if let Some((t, r, sc)) = n.trs {
-        node.translation = Some(t);
-        node.rotation = Some(r);
-        node.scale = Some([sc; 3]);
+/// A node of the file: its name, its mesh and placement, and for instances their
+/// translations, rotations and scales (tightly packed, as EXT_mesh_gpu_instancing reads
+/// them) written to the buffer.
+fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
+    let mut node = json::Node::new(n.name.clone(), n.mesh);
+    if let Some(t) = n.transform {
+        node.translation = Some(t.translation);
+        node.rotation = Some(t.rotation);
+        node.scale = Some([t.scale; 3]);
+    }
+    if let Some(instances) = &n.instances {
+        let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
+        let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
+        let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
+        let count = instances.len();
+        let mut per_instance = |bytes: &[u8], kind: &'static str| {
+            let v = b.view(bytes, None, None);
+            b.push(json::Accessor::new(v, None, (FLOAT, kind), count))
+        };
+        let attributes = json::InstanceAttributes {
+            translation: per_instance(bytemuck::cast_slice(&t), "VEC3"),
+            rotation: per_instance(bytemuck::cast_slice(&r), "VEC4"),
+            scale: per_instance(bytemuck::cast_slice(&sc), "VEC3"),
+        };
+        node.extensions = Some(json::NodeExtensions {
+            instancing: json::Instancing { attributes },
+        });
     }
     node
 }
 
-/// The instanced leaves: the prefab as a mesh of its own (number `mesh`, material
-/// `material`), and a node that draws it per instance with its translation, rotation and
-/// scale (tightly packed, as EXT_mesh_gpu_instancing reads them). Returns the node's JSON
-/// and the mesh's.
-fn instanced_leaves(
-    b: &mut Buffers,
-    m: &Mesh,
-    instances: &[mesh::LeafInstance],
-    mesh: usize,
-    material: usize,
-) -> (json::Node, json::Mesh) {
-    // The prefab as a mesh of its own, and per instance its translation, rotation and
-    // scale (tightly packed, as the extension reads them).
-    let (attributes, indices, _) = b.mesh(m);
-    let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
-    let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
-    let sc: Vec<[f32; 3]> = instances.iter().map(|l| [l.scale; 3]).collect();
-    let count = instances.len();
-    let mut per_instance = |bytes: &[u8], kind: &'static str| {
-        let v = b.view(bytes, None, None);
-        b.push(json::Accessor::new(v, None, (FLOAT, kind), count))
-    };
-    let attributes_of_instances = json::InstanceAttributes {
-        translation: per_instance(bytemuck::cast_slice(&t), "VEC3"),
-        rotation: per_instance(bytemuck::cast_slice(&r), "VEC4"),
-        scale: per_instance(bytemuck::cast_slice(&sc), "VEC3"),
-    };
-    let mut node = json::Node::new("leaves", Some(mesh));
-    node.extensions = Some(json::NodeExtensions {
-        instancing: json::Instancing {
-            attributes: attributes_of_instances,
-        },
-    });
-    let mesh = json::Mesh {
-        name: "leaf",
-        primitives: vec![json::Primitive {
+/// A mesh of the file, its vertices, indices and animation streams written to the buffer.
+fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh) -> json::Mesh {
+    let mut primitives = Vec::with_capacity(m.primitives.len());
+    for p in &m.primitives {
+        let (mut attributes, indices, n) = b.mesh(&p.mesh);
+        // The animation stream: growth time, and (order, along, phase) for wind.
+        if let Some(a) = p.animation.as_ref().filter(|a| a.len() == n) {
+            let av = b.view(bytemuck::cast_slice(a), Some(16), Some(ARRAY_BUFFER));
+            attributes.growth = Some(b.accessor(av, 0, n, "SCALAR"));
+            attributes.wind = Some(b.accessor(av, 4, n, "VEC3"));
+        }
+        primitives.push(json::Primitive {
             attributes,
             indices,
-            material,
+            material: p.material,
             mode: 4,
-        }],
-    };
-    (node, mesh)
+        });
+    }
+    json::Mesh {
+        name: m.name.clone(),
+        primitives,
+    }
 }
 
 /// The file's `extensionsUsed` and `extensionsRequired`. Quantized attributes are
@@ -447,74 +287,22 @@ impl Form {
     }
 }
 
-fn encode(
-    (trees, placements): (Vec<Vec<Primitive>>, Vec<Node>),
-    extras: Extras,
-    Form { binary, quantized }: Form,
-    instanced: Option<Instanced>,
-) -> Result<Vec<u8>> {
-    let instanced = instanced.filter(|(m, i)| !m.indices.is_empty() && !i.is_empty());
+fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
     // The buffer and the file are made from it: ask for their memory once, fallibly,
     // before building them (binary: the buffer and the .glb; JSON: the buffer, its base64
     // text and the copies that make the file).
-    let meshes_bytes = buffer_bytes(&trees, instanced.as_ref());
     crate::limits::check_available(
-        meshes_bytes.saturating_mul(if binary { 2 } else { 6 }),
+        buffer_bytes(scene).saturating_mul(if binary { 2 } else { 6 }),
         "the glTF buffer and file",
     )?;
-    let materials = materials_in_use(&trees, instanced.is_some());
-    let material = |m: Material| {
-        materials
-            .iter()
-            .position(|&x| x == m)
-            .expect("listed above")
-    };
     let mut b = Buffers {
         quantized,
         ..Buffers::default()
     };
-    // Meshes and the nodes that hold them: the trees (a tree without triangles gets no
-    // mesh, and its node none), then the instanced leaves.
-    let mut meshes = Vec::new();
-    let mut mesh_of = Vec::with_capacity(trees.len());
-    for prims in &trees {
-        let mut primitives = Vec::new();
-        for p in prims.iter().filter(|p| !p.mesh.indices.is_empty()) {
-            let (mut attributes, indices, n) = b.mesh(&p.mesh);
-            // The animation stream: growth time, and (order, along, phase) for wind.
-            if let Some(a) = p.anim.as_ref().filter(|a| a.len() == n) {
-                let av = b.view(bytemuck::cast_slice(a), Some(16), Some(ARRAY_BUFFER));
-                attributes.growth = Some(b.accessor(av, 0, n, "SCALAR"));
-                attributes.wind = Some(b.accessor(av, 4, n, "VEC3"));
-            }
-            primitives.push(json::Primitive {
-                attributes,
-                indices,
-                material: material(p.material),
-                mode: 4,
-            });
-        }
-        if primitives.is_empty() {
-            mesh_of.push(None);
-        } else {
-            mesh_of.push(Some(meshes.len()));
-            meshes.push(json::Mesh {
-                name: "tree",
-                primitives,
-            });
-        }
-    }
-    let mut nodes = Vec::new();
-    for n in &placements {
-        nodes.push(node_json(n, mesh_of.get(n.mesh).copied().flatten()));
-    }
-    if let Some((m, instances)) = &instanced {
-        let leaf = material(Material::Leaves);
-        let (node, mesh) = instanced_leaves(&mut b, m, instances, meshes.len(), leaf);
-        nodes.push(node);
-        meshes.push(mesh);
-    }
-    let (extensions_used, extensions_required) = extensions(quantized, instanced.is_some());
+    let meshes: Vec<json::Mesh> = scene.meshes.iter().map(|m| mesh_json(&mut b, m)).collect();
+    let mut nodes: Vec<json::Node> = scene.nodes.iter().map(|n| node_json(&mut b, n)).collect();
+    let instanced = scene.nodes.iter().any(|n| n.instances.is_some());
+    let (extensions_used, extensions_required) = extensions(quantized, instanced);
     if nodes.is_empty() {
         nodes.push(json::Node::new("tree", None));
     }
@@ -533,13 +321,16 @@ fn encode(
             byte_length: b.bin.len(),
             uri,
         };
-        (materials.iter().map(|m| m.json()).collect(), vec![buffer])
+        (
+            scene.materials.iter().map(material_json).collect(),
+            vec![buffer],
+        )
     };
     let root = json::Root {
         asset: json::Asset {
             version: "2.0",
             generator: format!("arbor {}", env!("CARGO_PKG_VERSION")),
-            extras,
+            extras: extras(&scene.settings),
         },
         extensions_used,
         extensions_required,
@@ -587,17 +378,6 @@ fn glb(mut j: Vec<u8>, bin: &[u8]) -> Result<Vec<u8>> {
         out.extend_from_slice(bin);
     }
     Ok(out)
-}
-
-/// Writes a forest ([`gltf_forest_bytes`]) to `path` (`.glb` or `.gltf`).
-pub fn save_gltf_forest(
-    placed: &[crate::forest::Placed<'_>],
-    options: &MeshOptions,
-    path: impl AsRef<Path>,
-) -> Result<()> {
-    save(path.as_ref(), &mut Run::default(), |binary, _| {
-        gltf_forest_bytes(placed, options, binary)
-    })
 }
 
 /// Writes the bytes `make` gives for the form `path`'s extension asks (binary or not); a
