@@ -4,28 +4,16 @@
 //!
 //! [`merged`] places trees (position, turn about the up axis, scale) into one mesh;
 //! [`instanced`] makes one mesh per distinct tree and a transform per placement, for
-//! instanced drawing. A 1996-model tree with a non-zero seed gets seeded
-//! [`Variation`](crate::models::honda::Variation), so neighbours differ.
+//! instanced drawing. Each tree grows from a [`Source`] with its seed: the 1996 model,
+//! a grammar or a self-organizing species.
 
 use crate::error::Result;
-use crate::lsystem::{LSystem, LsystemOptions};
 use crate::mesh::Slot;
 use crate::mesh::{self, Mesh, MeshOptions, MeshPlan, MeshSize, RESTART_INDEX, Topology, Vertex};
-use crate::models::honda::{self, HondaParams};
 use crate::progress::Run;
 use crate::skeleton::Skeleton;
 
-/// What one tree of the forest grows from.
-#[derive(Clone, Copy, Debug)]
-pub enum Source<'a> {
-    /// The 1996 model with these parameters.
-    Honda(HondaParams),
-    /// A grammar with derivation options. The item's seed varies the plant: it becomes the
-    /// options' `variation_seed`, mixed into the grammar's own `seed:` (or the options'
-    /// `seed`), so each seed grows a distinct tree even from a file that fixes its seed;
-    /// seed 0 grows the grammar's tree as written.
-    Grammar(&'a LSystem, LsystemOptions),
-}
+pub use crate::source::Source;
 
 /// One tree of a forest.
 #[derive(Clone, Copy, Debug)]
@@ -37,19 +25,7 @@ pub struct Item<'a> {
 }
 
 fn grow(item: &Item<'_>) -> Result<Skeleton> {
-    match item.source {
-        Source::Honda(p) => honda::build_varied(
-            &p,
-            &honda::Variation {
-                seed: item.seed,
-                ..Default::default()
-            },
-        ),
-        Source::Grammar(ls, o) => ls.skeleton(&LsystemOptions {
-            variation_seed: item.seed,
-            ..o
-        }),
-    }
+    item.source.grow(item.seed)
 }
 
 fn build_one(item: &Item<'_>, options: &MeshOptions) -> Result<Mesh> {
@@ -365,16 +341,7 @@ pub fn instanced(
     let mut distinct: Vec<Item<'_>> = Vec::new();
     let mut which = Vec::with_capacity(placed.len());
     for p in placed {
-        let same = |a: &Item<'_>| {
-            a.seed == p.item.seed
-                && match (a.source, p.item.source) {
-                    (Source::Honda(x), Source::Honda(y)) => x == y,
-                    (Source::Grammar(x, ox), Source::Grammar(y, oy)) => {
-                        std::ptr::eq(x, y) && ox == oy
-                    }
-                    _ => false,
-                }
-        };
+        let same = |a: &Item<'_>| a.seed == p.item.seed && a.source.same(&p.item.source);
         let k = match distinct.iter().position(same) {
             Some(k) => k,
             None => {

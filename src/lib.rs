@@ -86,6 +86,7 @@ pub mod progress;
 pub mod rng;
 pub mod scene;
 pub mod skeleton;
+pub mod source;
 
 pub use error::{Error, Result};
 pub use mesh::{Mesh, MeshOptions, Topology, Vertex};

@@ -198,3 +198,51 @@ fn merged_forest_into_buffers_and_its_limit() {
         assert!(err.to_string().contains("max_vertices"), "{err}");
     }
 }
+
+/// A forest of self-organizing trees: each grows alone in its own world, so the forest
+/// built at once equals the serial build and each tree equals the one its source grows;
+/// placements of one species and seed share one mesh, another seed or species does not.
+#[test]
+fn forests_hold_self_organizing_trees() {
+    use arbor::models::growth::{GrowthParams, Species};
+    let species = [
+        GrowthParams::preset(Species::Excurrent),
+        GrowthParams::preset(Species::Bush),
+    ];
+    let items: Vec<Item> = (0..6u64)
+        .map(|k| Item {
+            source: Source::Growth(species[(k % 2) as usize], 8),
+            seed: k / 4,
+        })
+        .collect();
+    let options = MeshOptions::default();
+    let serial = forest::build_serial(&items, &options).unwrap();
+    let at_once = forest::build(&items, &options).unwrap();
+    for (k, ((a, b), item)) in serial.iter().zip(&at_once).zip(&items).enumerate() {
+        assert_eq!(a, b, "tree {k}");
+        let alone = arbor::mesh::tubes(&item.source.grow(item.seed).unwrap(), &options).unwrap();
+        assert_eq!(*a, alone, "tree {k} as its source grows it");
+        assert!(
+            a.indices.len() > 100,
+            "tree {k} grew: {} indices",
+            a.indices.len()
+        );
+    }
+    assert_ne!(serial[0], serial[1], "two species differ");
+    assert_ne!(serial[0], serial[4], "two seeds differ");
+    let placed: Vec<forest::Placed> = items
+        .iter()
+        .enumerate()
+        .map(|(k, &item)| forest::Placed {
+            item,
+            position: [k as f32 * 5.0, 0.0, 0.0],
+            rotation: 0.0,
+            scale: 1.0,
+        })
+        .collect();
+    let (meshes, which) = forest::instanced(&placed, &options).unwrap();
+    // Items 0, 2 (excurrent, seed 0), 1, 3 (bush, seed 0), 4 (excurrent, seed 1), 5 (bush, seed 1).
+    assert_eq!(meshes.len(), 4);
+    let ids: Vec<u32> = which.iter().map(|w| w.0).collect();
+    assert_eq!(ids, [0, 1, 0, 1, 2, 3]);
+}

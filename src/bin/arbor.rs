@@ -12,10 +12,11 @@
 
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{LeafOptions, MeshOptions};
-use arbor::models::growth::{GrowthParams, Species, World, WorldOptions};
-use arbor::models::honda::{self, HondaParams};
+use arbor::models::growth::{GrowthParams, Species};
+use arbor::models::honda::HondaParams;
 use arbor::progress::{Run, Stage};
 use arbor::skeleton::Skeleton;
+use arbor::source::Source;
 use clap::{Arg, ArgAction, ArgMatches, Command, value_parser};
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -176,6 +177,8 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     let steps = m.get_one::<u32>("steps").copied();
     let seed = m.get_one::<u64>("seed").copied().unwrap_or(0);
     let err = |e: arbor::Error| format!("{source}: {e}");
+    let mut show = |s: Stage, f: f32| bar.show(s, f);
+    let mut run = Run::reporting(&mut show);
     if let Some(species) = source.strip_prefix("growth:") {
         let kind = Species::from_name(species).ok_or_else(|| {
             format!(
@@ -183,13 +186,10 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
                 species_names()
             )
         })?;
-        let mut w = World::new(&WorldOptions::default().seed(seed)).map_err(err)?;
-        w.plant(&GrowthParams::preset(kind), [0.0, 0.0, 0.0], seed)
-            .map_err(err)?;
         let cycles = steps.unwrap_or(12);
-        w.step_in(cycles, &mut Run::reporting(&mut |s, f| bar.show(s, f)))
+        let s = Source::Growth(GrowthParams::preset(kind), cycles)
+            .grow_in(seed, &mut run)
             .map_err(err)?;
-        let s = w.tree(0).map_err(err)?;
         return Ok((s, format!("{species}, {cycles} growth cycles")));
     }
     let mut chars = source.chars();
@@ -198,12 +198,7 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
         if let Some(n) = steps {
             p.steps = n;
         }
-        let s = if seed == 0 {
-            honda::build(&p)
-        } else {
-            honda::build_varied(&p, &honda::Variation::default().seed(seed))
-        }
-        .map_err(err)?;
+        let s = Source::Honda(p).grow_in(seed, &mut run).map_err(err)?;
         return Ok((s, format!("1996 tree {c}, {} steps", p.steps)));
     }
     let path = std::path::Path::new(source);
@@ -217,9 +212,9 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     for w in ls.warnings() {
         eprintln!("warning: {source}: {w}");
     }
-    let options = LsystemOptions::default().steps(steps).variation_seed(seed);
-    let s = ls
-        .skeleton_in(&options, &mut Run::reporting(&mut |st, f| bar.show(st, f)))
+    let options = LsystemOptions::default().steps(steps);
+    let s = Source::Grammar(&ls, options)
+        .grow_in(seed, &mut run)
         .map_err(err)?;
     let n = steps.unwrap_or(ls.derivation_length());
     Ok((s, format!("cpfg file, {n} steps")))

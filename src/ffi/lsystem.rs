@@ -159,7 +159,8 @@ fn grow(
     raw: &ArborLsystemOptions,
 ) -> crate::Result<Skeleton> {
     let mut progress = progress_closure(raw.progress, raw.progress_user_data);
-    grammar.skeleton_in(options, &mut run_of(&mut progress))
+    crate::source::Source::Grammar(grammar, *options)
+        .grow_in(options.variation_seed, &mut run_of(&mut progress))
 }
 
 /// The host's options as given (NULL: the defaults) and as the Rust options they mean.

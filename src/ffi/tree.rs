@@ -69,7 +69,7 @@ pub unsafe extern "C" fn arbor_tree_from_honda(
         let params: HondaParams = *unsafe { arg_ref(params, "params") }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let skeleton = honda::build(&params)?;
+        let skeleton = crate::source::Source::Honda(params).grow(0)?;
         *out = ArborTree::new(skeleton).into_handle();
         Ok(())
     })
