@@ -410,56 +410,7 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
                 stack[sp] = v;
                 sp += 1;
             }
-            Op::Special(Special::Srand) => {
-                env.rng.srand(stack[sp - 1]);
-                stack[sp - 1] = 0.0;
-            }
-            Op::Special(Special::Bran) => {
-                sp -= 1;
-                let mut tries = 0;
-                stack[sp - 1] = env.rng.beta(stack[sp - 1], stack[sp], &mut tries);
-                env.extra_work += 8 * tries;
-            }
-            Op::Special(Special::Func) => {
-                sp -= 1;
-                let (id, x) = (stack[sp - 1], stack[sp]);
-                let n = env.functions.len();
-                stack[sp - 1] = if id >= 1.0 && id < n as f64 + 1.0 {
-                    env.functions[id as usize - 1].eval(x)
-                } else {
-                    if env.fault.is_none() {
-                        env.fault = Some(format!(
-                            "func({id}, ...): the view file lists {n} function(s) \
-                             (`function: file.func` or `function set: file.fset`)"
-                        ));
-                    }
-                    0.0
-                };
-            }
-            Op::Special(Special::CurveLength) => {
-                let id = stack[sp - 1];
-                stack[sp - 1] = match env.curve(id) {
-                    Some(c) => c.length(),
-                    None => 0.0,
-                };
-            }
-            Op::Special(Special::Curve(axis)) => {
-                sp -= 1;
-                let (id, t) = (stack[sp - 1], stack[sp]);
-                stack[sp - 1] = match env.curve(id) {
-                    Some(c) => c.at(t, axis as usize),
-                    None => 0.0,
-                };
-            }
-            Op::Special(Special::Biran) => {
-                sp -= 1;
-                let n = stack[sp - 1];
-                stack[sp - 1] = env.rng.binomial(n, stack[sp]);
-                if stack[sp - 1].is_finite() {
-                    // One draw a trial.
-                    env.extra_work += n as u64;
-                }
-            }
+            Op::Special(special) => sp = run_special(special, stack, sp, env),
             Op::F2(f) => {
                 sp -= 1;
                 stack[sp - 1] = f.apply(stack[sp - 1], stack[sp]);
@@ -483,4 +434,62 @@ fn run(ops: &[Op], args: &[f64], env: &mut Env, stack: &mut [f64]) -> f64 {
     }
     debug_assert_eq!(sp, 1);
     stack[0]
+}
+
+/// The operations of [`Special`] (rare in a production, so out of the main loop): pops
+/// and pushes on `stack` as [`run`] does, and returns the new stack height.
+fn run_special(special: Special, stack: &mut [f64], mut sp: usize, env: &mut Env) -> usize {
+    match special {
+        Special::Srand => {
+            env.rng.srand(stack[sp - 1]);
+            stack[sp - 1] = 0.0;
+        }
+        Special::Bran => {
+            sp -= 1;
+            let mut tries = 0;
+            stack[sp - 1] = env.rng.beta(stack[sp - 1], stack[sp], &mut tries);
+            env.extra_work += 8 * tries;
+        }
+        Special::Func => {
+            sp -= 1;
+            let (id, x) = (stack[sp - 1], stack[sp]);
+            let n = env.functions.len();
+            stack[sp - 1] = if id >= 1.0 && id < n as f64 + 1.0 {
+                env.functions[id as usize - 1].eval(x)
+            } else {
+                if env.fault.is_none() {
+                    env.fault = Some(format!(
+                        "func({id}, ...): the view file lists {n} function(s) \
+                         (`function: file.func` or `function set: file.fset`)"
+                    ));
+                }
+                0.0
+            };
+        }
+        Special::CurveLength => {
+            let id = stack[sp - 1];
+            stack[sp - 1] = match env.curve(id) {
+                Some(c) => c.length(),
+                None => 0.0,
+            };
+        }
+        Special::Curve(axis) => {
+            sp -= 1;
+            let (id, t) = (stack[sp - 1], stack[sp]);
+            stack[sp - 1] = match env.curve(id) {
+                Some(c) => c.at(t, axis as usize),
+                None => 0.0,
+            };
+        }
+        Special::Biran => {
+            sp -= 1;
+            let n = stack[sp - 1];
+            stack[sp - 1] = env.rng.binomial(n, stack[sp]);
+            if stack[sp - 1].is_finite() {
+                // One draw a trial.
+                env.extra_work += n as u64;
+            }
+        }
+    }
+    sp
 }

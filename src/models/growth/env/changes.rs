@@ -265,24 +265,7 @@ pub(super) fn apply_layers(
         let area = (bx1 - bx0 + 1) * (bz1 - bz0 + 1);
         if direct <= 4 * n + 3 * area {
             for (q, f, here) in sources() {
-                // One width for every square of a source layer, chosen once here rather
-                // than a square at a time (an indirect jump, mispredicted as q changes).
-                let dims = (nx, nz);
-                match q {
-                    0 => add_squares::<1>(layer, here, f, dims),
-                    1 => add_squares::<3>(layer, here, f, dims),
-                    2 => add_squares::<5>(layer, here, f, dims),
-                    3 => add_squares::<7>(layer, here, f, dims),
-                    4 => add_squares::<9>(layer, here, f, dims),
-                    5 => add_squares::<11>(layer, here, f, dims),
-                    6 => add_squares::<13>(layer, here, f, dims),
-                    _ => {
-                        for change in here {
-                            let (v, x, z) = square(q, f, change);
-                            add_rect(layer, x, z, nx, v);
-                        }
-                    }
-                }
+                add_source_squares(layer, q, f, here, (nx, nz));
             }
             continue;
         }
@@ -313,6 +296,35 @@ pub(super) fn apply_layers(
         diff[(bz1 + 1) * w + bx0..=(bz1 + 1) * w + bx1 + 1]
             .iter_mut()
             .for_each(|v| *v = 0);
+    }
+}
+
+/// Adds the squares of one source layer, `q` layers above the target `layer`
+/// (`nx` × `nz`), cell by cell: `f` units a bud over half-width `q`.
+fn add_source_squares(
+    layer: &mut [i32],
+    q: usize,
+    f: i32,
+    here: &[(u32, u32, i32)],
+    (nx, nz): (usize, usize),
+) {
+    // One width for every square of a source layer, chosen once here rather than a
+    // square at a time (an indirect jump, mispredicted as q changes).
+    let dims = (nx, nz);
+    match q {
+        0 => add_squares::<1>(layer, here, f, dims),
+        1 => add_squares::<3>(layer, here, f, dims),
+        2 => add_squares::<5>(layer, here, f, dims),
+        3 => add_squares::<7>(layer, here, f, dims),
+        4 => add_squares::<9>(layer, here, f, dims),
+        5 => add_squares::<11>(layer, here, f, dims),
+        6 => add_squares::<13>(layer, here, f, dims),
+        _ => {
+            for &(cx, cz, count) in here {
+                let (x, z) = (clipped(cx as usize, q, nx), clipped(cz as usize, q, nz));
+                add_rect(layer, x, z, nx, f.wrapping_mul(count));
+            }
+        }
     }
 }
 
