@@ -10,6 +10,7 @@
 //! SOURCE: a letter a–i (the 1996 trees), a `.l` file (read as cpfg reads it), or
 //! `growth:SPECIES` (excurrent, decurrent, columnar, bush, weeping; `--steps` cycles).
 
+use anyhow::{Result, anyhow, bail};
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{LeafOptions, MeshOptions};
 use arbor::models::growth::{GrowthParams, Species};
@@ -17,8 +18,9 @@ use arbor::models::honda::HondaParams;
 use arbor::progress::{Run, Stage};
 use arbor::skeleton::Skeleton;
 use arbor::source::Source;
-use clap::{Arg, ArgAction, ArgMatches, Command, value_parser};
-use std::io::{IsTerminal, Write};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -32,22 +34,85 @@ fn species_names() -> String {
     Species::ALL.map(Species::name).join(", ")
 }
 
-fn cli() -> Command {
-    let source = Arg::new("source").required(true).help(format!(
+/// Grow 3-D trees from L-systems and turn them into meshes
+#[derive(Parser)]
+#[command(name = "arbor", version, subcommand_required = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Write the tree as .glb, .gltf or .obj
+    Export(ExportArgs),
+    /// Print counts and timings
+    Info(InfoArgs),
+}
+
+/// What to grow: the source, its steps and its seed (the source's help names the species
+/// at run time, in `cli`).
+#[derive(Args)]
+struct TreeArgs {
+    #[arg(value_name = "source")]
+    source: String,
+    /// derivation steps (cycles for growth:); default: the source's own
+    #[arg(long, value_name = "steps")]
+    steps: Option<u32>,
+    /// seed: varies stochastic grammars, the 1996 trees and growth
+    #[arg(long, value_name = "seed")]
+    seed: Option<u64>,
+}
+
+#[derive(Args)]
+struct ExportArgs {
+    #[command(flatten)]
+    tree: TreeArgs,
+    /// OUT.glb, OUT.gltf or OUT.obj
+    #[arg(short = 'o', long = "output", value_name = "out", display_order = 0)]
+    out: String,
+    /// bake leaves into the file: at the model's leaf sites (~, with its polygons, spheres
+    /// and surfaces), at the tips of the youngest branches, or auto (sites when the model
+    /// has any, else tips)
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "auto",
+          value_name = "leaves", value_parser = ["auto", "sites", "tips"])]
+    leaves: Option<String>,
+    /// leaf size in model units (default: 1 at sites, 4% of the tree's size at tips)
+    #[arg(long, value_name = "leaf-size")]
+    leaf_size: Option<f32>,
+    /// glTF only: one leaf mesh drawn per leaf (EXT_mesh_gpu_instancing); placed as
+    /// --leaves says (auto)
+    #[arg(long)]
+    instanced_leaves: bool,
+    /// sides of every branch (3–64, default 8)
+    #[arg(long, value_name = "radial-segments")]
+    radial_segments: Option<u32>,
+    /// rings inside every branch along its curve (default 0)
+    #[arg(long, value_name = "curve-rings")]
+    curve_rings: Option<u32>,
+    /// glTF only: quantized vertices (KHR_mesh_quantization: normals in snorm16, 28 bytes
+    /// a vertex)
+    #[arg(long)]
+    compact_vertices: bool,
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    #[command(flatten)]
+    tree: TreeArgs,
+    /// print JSON
+    #[arg(long)]
+    json: bool,
+}
+
+/// The command line's description, with the species named where SOURCE is explained.
+fn cli() -> clap::Command {
+    let source_help = format!(
         "a–i (the 1996 trees), FILE.l (a cpfg file), FOLDER (a vlab object), or \
          growth:SPECIES (a self-organizing tree: {})",
         species_names()
-    ));
-    let steps = Arg::new("steps")
-        .long("steps")
-        .value_parser(value_parser!(u32))
-        .help("derivation steps (cycles for growth:); default: the source's own");
-    let seed = Arg::new("seed")
-        .long("seed")
-        .value_parser(value_parser!(u64))
-        .help("seed: varies stochastic grammars, the 1996 trees and growth");
-    Command::new("arbor")
-        .version(env!("CARGO_PKG_VERSION"))
+    );
+    Cli::command()
         .about("Grow 3-D trees from L-systems and turn them into meshes")
         .after_help(format!(
             "SOURCE: a–i (the nine trees of the 1996 paper), FILE.l (a cpfg L-system, read \
@@ -57,91 +122,29 @@ fn cli() -> Command {
              arbor export growth:weeping --steps 30 -o weeping.obj\n  arbor info a --json",
             species_names()
         ))
-        .subcommand_required(true)
-        .subcommand(
-            Command::new("export")
-                .about("Write the tree as .glb, .gltf or .obj")
-                .arg(source.clone())
-                .arg(
-                    Arg::new("out")
-                        .short('o')
-                        .long("output")
-                        .required(true)
-                        .help("OUT.glb, OUT.gltf or OUT.obj"),
-                )
-                .arg(steps.clone())
-                .arg(seed.clone())
-                .arg(
-                    Arg::new("leaves")
-                        .long("leaves")
-                        .num_args(0..=1)
-                        .require_equals(true)
-                        .default_missing_value("auto")
-                        .value_parser(["auto", "sites", "tips"])
-                        .help(
-                            "bake leaves into the file: at the model's leaf sites (~, with its \
-                             polygons, spheres and surfaces), at the tips of the youngest \
-                             branches, or auto (sites when the model has any, else tips)",
-                        ),
-                )
-                .arg(
-                    Arg::new("leaf-size")
-                        .long("leaf-size")
-                        .value_parser(value_parser!(f32))
-                        .help("leaf size in model units (default: 1 at sites, 4% of the tree's size at tips)"),
-                )
-                .arg(
-                    Arg::new("instanced-leaves")
-                        .long("instanced-leaves")
-                        .action(ArgAction::SetTrue)
-                        .help("glTF only: one leaf mesh drawn per leaf (EXT_mesh_gpu_instancing); placed as --leaves says (auto)"),
-                )
-                .arg(
-                    Arg::new("radial-segments")
-                        .long("radial-segments")
-                        .value_parser(value_parser!(u32))
-                        .help("sides of every branch (3–64, default 8)"),
-                )
-                .arg(
-                    Arg::new("curve-rings")
-                        .long("curve-rings")
-                        .value_parser(value_parser!(u32))
-                        .help("rings inside every branch along its curve (default 0)"),
-                )
-                .arg(
-                    Arg::new("compact-vertices")
-                        .long("compact-vertices")
-                        .action(ArgAction::SetTrue)
-                        .help("glTF only: quantized vertices (KHR_mesh_quantization: normals in snorm16, 28 bytes a vertex)"),
-                ),
-        )
-        .subcommand(
-            Command::new("info")
-                .about("Print counts and timings")
-                .arg(source)
-                .arg(steps)
-                .arg(seed)
-                .arg(
-                    Arg::new("json")
-                        .long("json")
-                        .action(ArgAction::SetTrue)
-                        .help("print JSON"),
-                ),
-        )
+        .mut_subcommand("export", |c| {
+            c.mut_arg("source", |a| a.help(source_help.clone()))
+        })
+        .mut_subcommand("info", |c| {
+            c.mut_arg("source", |a| a.help(source_help.clone()))
+        })
 }
 
-/// A progress bar on stderr when it is a terminal.
-struct Bar {
-    on: bool,
-    last: (Stage, u32),
-}
+/// A progress bar on stderr when it is a terminal (indicatif), hidden otherwise.
+struct Bar(ProgressBar);
 
 impl Bar {
     fn new() -> Self {
-        Bar {
-            on: std::io::stderr().is_terminal(),
-            last: (Stage::Derivation, u32::MAX),
+        if !std::io::stderr().is_terminal() {
+            return Bar(ProgressBar::hidden());
         }
+        let bar = ProgressBar::new(100);
+        bar.set_style(
+            ProgressStyle::with_template("{msg:<14} [{bar:20}] {pos:>3}%")
+                .expect("a valid template")
+                .progress_chars("## "),
+        );
+        Bar(bar)
     }
 
     /// Draws the bar; false (stop) once Ctrl-C was pressed.
@@ -149,39 +152,25 @@ impl Bar {
         if INTERRUPTED.load(Ordering::SeqCst) {
             return false;
         }
-        let pct = (fraction * 100.0) as u32;
-        if self.on && (stage, pct) != self.last {
-            self.last = (stage, pct);
-            let filled = (pct / 5) as usize;
-            eprint!(
-                "\r{:<14} [{}{}] {pct:3}%",
-                stage.name(),
-                "#".repeat(filled),
-                " ".repeat(20 - filled.min(20))
-            );
-            let _ = std::io::stderr().flush();
-        }
+        self.0.set_message(stage.name());
+        self.0.set_position((fraction * 100.0) as u64);
         true
     }
 
     fn done(&self) {
-        if self.on && self.last.1 != u32::MAX {
-            eprint!("\r{:50}\r", "");
-        }
+        self.0.finish_and_clear();
     }
 }
 
 /// Grows the source; returns the skeleton and a description.
-fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
-    let source: &String = m.get_one("source").expect("required");
-    let steps = m.get_one::<u32>("steps").copied();
-    let seed = m.get_one::<u64>("seed").copied().unwrap_or(0);
-    let err = |e: arbor::Error| format!("{source}: {e}");
+fn grow(t: &TreeArgs, bar: &mut Bar) -> Result<(Skeleton, String)> {
+    let (source, steps, seed) = (&t.source, t.steps, t.seed.unwrap_or(0));
+    let err = |e: arbor::Error| anyhow!("{source}: {e}");
     let mut show = |s: Stage, f: f32| bar.show(s, f);
     let mut run = Run::reporting(&mut show);
     if let Some(species) = source.strip_prefix("growth:") {
         let kind = Species::from_name(species).ok_or_else(|| {
-            format!(
+            anyhow!(
                 "{source}: unknown species; expected one of {}",
                 species_names()
             )
@@ -203,10 +192,10 @@ fn grow(m: &ArgMatches, bar: &mut Bar) -> Result<(Skeleton, String), String> {
     }
     let path = std::path::Path::new(source);
     if !(path.is_file() || path.is_dir()) {
-        return Err(format!(
+        bail!(
             "{source}: no such file; SOURCE is a letter a–i, a cpfg .l file, a vlab object's \
              folder or growth:SPECIES"
-        ));
+        );
     }
     let ls = LSystem::from_file(source, None).map_err(err)?;
     for w in ls.warnings() {
@@ -226,21 +215,21 @@ fn leaf_options(
     place: &str,
     size: Option<f32>,
     source: &str,
-) -> Result<(LeafOptions, String), String> {
+) -> Result<(LeafOptions, String)> {
     let has_sites = !skeleton.leaves().is_empty()
         || !skeleton.polygons().is_empty()
         || !skeleton.organs().is_empty();
     if let Some(s) = size
         && !(s.is_finite() && s > 0.0)
     {
-        return Err(format!("--leaf-size {s}: expected a finite size above 0"));
+        bail!("--leaf-size {s}: expected a finite size above 0");
     }
     let tips = match place {
         "sites" if !has_sites => {
-            return Err(format!(
+            bail!(
                 "{source}: the model has no leaf sites (~) or organs; --leaves=tips puts \
                  leaves at the branch tips"
-            ));
+            );
         }
         "sites" => false,
         "tips" => true,
@@ -283,57 +272,55 @@ fn leaf_options(
     Ok((l, why.to_string()))
 }
 
-fn run() -> Result<(), String> {
-    let matches = cli().get_matches();
-    let (name, m) = matches.subcommand().expect("a subcommand is required");
+fn run() -> Result<()> {
+    let cli = Cli::from_arg_matches(&cli().get_matches()).unwrap_or_else(|e| e.exit());
+    let tree = match &cli.command {
+        Command::Export(e) => &e.tree,
+        Command::Info(i) => &i.tree,
+    };
     let mut bar = Bar::new();
     let t0 = Instant::now();
-    let grown = grow(m, &mut bar);
+    let grown = grow(tree, &mut bar);
     bar.done();
     let (skeleton, what) = grown?;
     let grow_ms = t0.elapsed().as_secs_f64() * 1e3;
-    match name {
-        "export" => export(m, &skeleton, &what, grow_ms),
-        _ => info(m, &skeleton, &what, grow_ms),
+    match &cli.command {
+        Command::Export(e) => export(e, &skeleton, &what, grow_ms),
+        Command::Info(i) => info(i, &skeleton, &what, grow_ms),
     }
 }
 
 /// `arbor export`: writes the tree (and its leaves) as glTF, GLB or OBJ.
-fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<(), String> {
-    let out: &String = m.get_one("out").expect("required");
+fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<()> {
+    let out = &m.out;
     let mut o = MeshOptions::default();
-    if let Some(&k) = m.get_one::<u32>("radial-segments") {
+    if let Some(k) = m.radial_segments {
         o.radial_segments = k;
     }
-    if let Some(&k) = m.get_one::<u32>("curve-rings") {
+    if let Some(k) = m.curve_rings {
         o.curve_rings = k;
     }
     let lower = out.to_ascii_lowercase();
     let format = [".glb", ".gltf", ".obj"]
         .into_iter()
         .find(|e| lower.ends_with(e))
-        .ok_or_else(|| format!("{out}: expected a .glb, .gltf or .obj file name"))?;
-    if m.get_flag("compact-vertices") {
+        .ok_or_else(|| anyhow!("{out}: expected a .glb, .gltf or .obj file name"))?;
+    if m.compact_vertices {
         if format == ".obj" {
-            return Err(format!(
-                "{out}: --compact-vertices is for glTF (KHR_mesh_quantization); OBJ is text"
-            ));
+            bail!("{out}: --compact-vertices is for glTF (KHR_mesh_quantization); OBJ is text");
         }
         o.vertex_format = arbor::mesh::VertexFormat::Compact;
     }
-    let instanced = m.get_flag("instanced-leaves");
+    let instanced = m.instanced_leaves;
     if instanced && format == ".obj" {
-        return Err(format!(
+        bail!(
             "{out}: --instanced-leaves is for glTF (EXT_mesh_gpu_instancing); OBJ has \
              no instancing, use --leaves to bake them"
-        ));
+        );
     }
-    let placement = m
-        .get_one::<String>("leaves")
-        .map(String::as_str)
-        .or(instanced.then_some("auto"));
-    if m.get_one::<f32>("leaf-size").is_some() && placement.is_none() {
-        return Err("--leaf-size needs --leaves or --instanced-leaves".to_string());
+    let placement = m.leaves.as_deref().or(instanced.then_some("auto"));
+    if m.leaf_size.is_some() && placement.is_none() {
+        bail!("--leaf-size needs --leaves or --instanced-leaves");
     }
     let leaves = match placement {
         Some(place) => Some(placed_leaves(m, skeleton, place)?),
@@ -353,11 +340,9 @@ fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
     };
     bar.done();
     if INTERRUPTED.load(Ordering::SeqCst) && r.is_err() {
-        return Err(format!(
-            "interrupted; {out} was not written (an existing file is as it was)"
-        ));
+        bail!("interrupted; {out} was not written (an existing file is as it was)");
     }
-    r.map_err(|e| format!("{out}: {e}"))?;
+    r.map_err(|e| anyhow!("{out}: {e}"))?;
     eprintln!(
         "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
         skeleton.len(),
@@ -367,14 +352,11 @@ fn export(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
 }
 
 /// The leaves `--leaves PLACE` (or `--instanced-leaves`) places, reported on stderr.
-fn placed_leaves(m: &ArgMatches, skeleton: &Skeleton, place: &str) -> Result<LeafOptions, String> {
-    let size = m.get_one::<f32>("leaf-size").copied();
-    let source: &String = m.get_one("source").expect("required");
-    let (l, note) = leaf_options(skeleton, place, size, source)?;
+fn placed_leaves(m: &ExportArgs, skeleton: &Skeleton, place: &str) -> Result<LeafOptions> {
+    let source = &m.tree.source;
+    let (l, note) = leaf_options(skeleton, place, m.leaf_size, source)?;
     let o = MeshOptions::default();
-    let n = arbor::mesh::leaf_instances(skeleton, &l, &o)
-        .map_err(|e| e.to_string())?
-        .len();
+    let n = arbor::mesh::leaf_instances(skeleton, &l, &o)?.len();
     let (polygons, organs) = if l.sites {
         (skeleton.polygons().len(), skeleton.organs().len())
     } else {
@@ -391,10 +373,10 @@ fn placed_leaves(m: &ArgMatches, skeleton: &Skeleton, place: &str) -> Result<Lea
 }
 
 /// `arbor info`: counts and sizes, as text or JSON.
-fn info(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<(), String> {
+fn info(m: &InfoArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result<()> {
     let o = MeshOptions::default();
     let t1 = Instant::now();
-    let size = arbor::mesh::mesh_size(skeleton, &o).map_err(|e| e.to_string())?;
+    let size = arbor::mesh::mesh_size(skeleton, &o)?;
     let mesh_ms = t1.elapsed().as_secs_f64() * 1e3;
     let (branches, leaves, polygons, organs) = (
         skeleton.len(),
@@ -402,9 +384,9 @@ fn info(m: &ArgMatches, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Result
         skeleton.polygons().len(),
         skeleton.organs().len(),
     );
-    if m.get_flag("json") {
+    if m.json {
         let json = serde_json::json!({
-            "source": m.get_one::<String>("source").expect("required"),
+            "source": m.tree.source,
             "what": what,
             "branches": branches,
             "leaf_sites": leaves,
