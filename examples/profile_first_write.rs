@@ -17,7 +17,6 @@ fn main() {
     let reps: u32 = args.get(4).map_or(5, |s| s.parse().unwrap());
     let compact = args.get(5).is_some_and(|s| s == "compact");
     let mut o = MeshOptions::default();
-    o.threads = threads;
     if compact {
         o.vertex_format = VertexFormat::Compact;
     }
@@ -35,30 +34,34 @@ fn main() {
     };
     if compact {
         let v = vec![VertexCompact::encode(&one, 1.0); size.vertices];
-        run(&p, &o, v, reps);
+        run(&p, &o, threads, v, reps);
     } else {
-        run(&p, &o, vec![one; size.vertices], reps);
+        run(&p, &o, threads, vec![one; size.vertices], reps);
     }
 }
 
-/// Sizes and writes fresh trees of `p` into `v` (and touched indices), `reps` times.
+/// Sizes and writes fresh trees of `p` into `v` (and touched indices) on `threads`,
+/// `reps` times.
 fn run<V: VertexSlot>(
     p: &arbor::models::honda::HondaParams,
     o: &MeshOptions,
+    threads: u32,
     mut v: Vec<V>,
     reps: u32,
 ) {
+    let on = || arbor::progress::Run::default().threads(threads);
     let s = arbor::models::honda::build(p).unwrap();
     let size = MeshPlan::new(&s, o).unwrap().size();
-    let mut i = vec![0x0101_0101u32; size.indices];
+    let mut i = vec![std::mem::MaybeUninit::new(0x0101_0101u32); size.indices];
     let (mut plan_t, mut write_t) = (Duration::MAX, Duration::MAX);
     for _ in 0..reps {
         let fresh = arbor::models::honda::build(p).unwrap();
         let t = Instant::now();
-        let plan = MeshPlan::new(&fresh, o).unwrap();
+        let plan = MeshPlan::new_in(&fresh, o, &on()).unwrap();
         let t1 = t.elapsed();
         let t = Instant::now();
-        plan.write(&fresh, &mut v, &mut i).unwrap();
+        plan.write_uninit_in(&fresh, &mut v, &mut i, &mut on())
+            .unwrap();
         let t2 = t.elapsed();
         plan_t = plan_t.min(t1);
         write_t = write_t.min(t2);

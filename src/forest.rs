@@ -65,11 +65,12 @@ fn each<T: Sync, R: Send>(
 fn grow_and_plan(
     placed: &[Placed<'_>],
     options: &MeshOptions,
+    threads: u32,
 ) -> Result<(Vec<(Skeleton, MeshPlan)>, MeshSize)> {
     check_placed(placed)?;
     let planned = each(placed, |p| {
         let s = grow(&p.item)?;
-        let plan = MeshPlan::new(&s, options)?;
+        let plan = MeshPlan::new_in(&s, options, &Run::default().threads(threads))?;
         Ok((s, plan))
     })?;
     let size = total(planned.iter().map(|(_, plan)| plan.size()), options)?;
@@ -182,15 +183,32 @@ fn total(sizes: impl Iterator<Item = MeshSize>, options: &MeshOptions) -> Result
 /// Fails with `LimitExceeded` when the forest would pass 32-bit indices or
 /// [`MeshOptions::max_vertices`].
 pub fn merged_size(placed: &[Placed<'_>], options: &MeshOptions) -> Result<MeshSize> {
-    Ok(grow_and_plan(placed, options)?.1)
+    merged_size_in(placed, options, &Run::default())
+}
+
+/// [`merged_size`], each tree planned on `run`'s threads.
+pub fn merged_size_in(
+    placed: &[Placed<'_>],
+    options: &MeshOptions,
+    run: &Run<'_>,
+) -> Result<MeshSize> {
+    Ok(grow_and_plan(placed, options, run.threads_or(0))?.1)
 }
 
 /// Every placed tree in one mesh (one draw call): each tree's vertices are moved by its
 /// placement (normals turned with it) and its indices offset, joined as the topology asks.
 /// The counts are checked against the limits before any tree is meshed.
 pub fn merged(placed: &[Placed<'_>], options: &MeshOptions) -> Result<Mesh> {
-    let (planned, size) = grow_and_plan(placed, options)?;
-    let meshes = each(&planned, |(s, plan)| plan.mesh(s))?;
+    merged_in(placed, options, &Run::default())
+}
+
+/// [`merged`] on `run`'s threads: each tree planned and meshed on them.
+pub fn merged_in(placed: &[Placed<'_>], options: &MeshOptions, run: &Run<'_>) -> Result<Mesh> {
+    let threads = run.threads_or(0);
+    let (planned, size) = grow_and_plan(placed, options, threads)?;
+    let meshes = each(&planned, |(s, plan)| {
+        plan.mesh_in(s, &mut Run::default().threads(threads))
+    })?;
     let mut vertices = crate::limits::try_zeroed::<Vertex>(size.vertices, "the forest's vertices")?;
     let mut indices = crate::limits::try_zeroed::<u32>(size.indices, "the forest's indices")?;
     place(placed, &meshes, options, &mut vertices, &mut indices);
@@ -224,8 +242,7 @@ pub fn write_merged_uninit(
     write_merged_into(placed, options, vertices, indices, &mut Run::default())
 }
 
-/// [`write_merged_uninit`] in `run`: each tree meshed on the run's threads (or the
-/// options'), reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) (the fraction of the
+/// [`write_merged_uninit`] in `run`: each tree meshed on the run's threads, reporting [`Stage::Mesh`](crate::progress::Stage::Mesh) (the fraction of the
 /// trees meshed) on the calling thread after each tree; `false` stops with
 /// [`Error::Cancelled`](crate::error::Error::Cancelled) before anything is written into the
 /// buffers.
@@ -246,8 +263,8 @@ fn write_merged_into<V: Slot<Vertex>, I: Slot<u32>>(
     indices: &mut [I],
     run: &mut Run<'_>,
 ) -> Result<MeshSize> {
-    let (planned, size) = grow_and_plan(placed, options)?;
-    let threads = run.threads_or(options.threads);
+    let threads = run.threads_or(0);
+    let (planned, size) = grow_and_plan(placed, options, threads)?;
     let mesh =
         |(s, plan): &(Skeleton, MeshPlan)| plan.mesh_in(s, &mut Run::default().threads(threads));
     size.check_capacity(vertices.len(), indices.len())?;

@@ -56,16 +56,6 @@ pub(crate) fn try_with_capacity<T>(n: usize, what: &str) -> crate::error::Result
     Ok(v)
 }
 
-/// A vector of `n` zeroed values, allocated zeroed (`calloc`) and fallibly: an
-/// allocation that fails is [`Error::OutOfMemory`](crate::error::Error::OutOfMemory)
-/// naming `what`, not an abort.
-pub(crate) fn try_zeroed_vec<T: bytemuck::Zeroable>(
-    n: usize,
-    what: &str,
-) -> crate::error::Result<Vec<T>> {
-    bytemuck::allocation::try_zeroed_vec(n).map_err(|()| out_of_memory::<T>(n, what))
-}
-
 /// Asks for `bytes` once, fallibly, and gives them back: work that then builds several
 /// arrays of that total size (a mesh plan) finds the address space there, and a process
 /// short of memory gets [`Error::OutOfMemory`](crate::error::Error::OutOfMemory) naming `what`

@@ -105,11 +105,13 @@ impl<'a> Run<'a> {
         }
     }
 
-    /// The same run on up to `threads` threads (0: one per core), in place of the
-    /// stage's own setting ([`MeshOptions::threads`](crate::mesh::MeshOptions::threads)
-    /// for meshes and exports). Growth runs on the calling thread when `threads` is 1 and
-    /// otherwise as [`WorldOptions::parallel`](crate::models::growth::WorldOptions::parallel)
-    /// says; the L-system stages run on the calling thread.
+    /// The same run on up to `threads` threads (0, the default: the machine's cores, at
+    /// most 8 for a mesh write; 1: the calling thread only). The thread count lives here
+    /// only, never in an options struct: mesh plans and writes (a tree under 16,384
+    /// branches a thread is written on fewer; a plan of 32,768 branches or more takes two),
+    /// forests, exports and growth (on all cores with the `parallel` feature unless
+    /// `threads` is 1) take it from their run; the L-system stages run on the calling
+    /// thread. The output is the same byte for byte whatever the count.
     pub fn threads(mut self, threads: u32) -> Self {
         self.threads = Some(threads);
         self

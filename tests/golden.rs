@@ -7,6 +7,7 @@
 use arbor::lsystem::{LSystem, LsystemOptions};
 use arbor::mesh::{self, MeshOptions, Tip, Topology};
 use arbor::models::honda::{self, HondaParams, PRESET_NAMES};
+use arbor::progress::Run;
 use arbor::skeleton::Skeleton;
 
 /// FNV-1a, 64 bits.
@@ -116,17 +117,13 @@ fn threaded_writes_equal_the_single_thread_write() {
     let s = honda::build(&p).unwrap();
     for topology in Topology::ALL {
         for tip in [Tip::Open, Tip::Point] {
-            let one = MeshOptions::default()
-                .topology(topology)
-                .tip(tip)
-                .threads(1);
-            let want = mesh::tubes(&s, &one).unwrap();
+            let one = MeshOptions::default().topology(topology).tip(tip);
+            let want = tubes_on(&s, &one, 1);
             for threads in [2, 3, 4, 0] {
-                let o = one.threads(threads);
-                let plan = mesh::MeshPlan::new(&s, &o).unwrap();
-                assert!(plan.serves(&one), "threads do not change the plan");
+                let run = || Run::default().threads(threads);
+                let plan = mesh::MeshPlan::new_in(&s, &one, &run()).unwrap();
                 for _ in 0..2 {
-                    let got = plan.mesh(&s).unwrap();
+                    let got = plan.mesh_in(&s, &mut run()).unwrap();
                     assert!(
                         got.vertices == want.vertices && got.indices == want.indices,
                         "{topology:?} {tip:?} with {threads} threads"
@@ -138,9 +135,9 @@ fn threaded_writes_equal_the_single_thread_write() {
     // A sweep's texture v comes with its frames, a straight tree's with the offsets: both
     // plans split across threads as they are made.
     for rings in [0, 2] {
-        let one = MeshOptions::default().curve_rings(rings).threads(1);
-        let want = mesh::tubes(&s, &one).unwrap();
-        let got = mesh::tubes(&s, &one.threads(2)).unwrap();
+        let one = MeshOptions::default().curve_rings(rings);
+        let want = tubes_on(&s, &one, 1);
+        let got = tubes_on(&s, &one, 2);
         assert!(
             got.vertices == want.vertices
                 && got.indices == want.indices
@@ -257,9 +254,9 @@ fn split_plans_equal_the_one_thread_plan_in_any_branch_order() {
                 "thin branches culled" => o.cull_radius(r * 1e-4),
                 _ => *o,
             };
-            let want = mesh::tubes(s, &o.threads(1)).unwrap();
+            let want = tubes_on(s, &o, 1);
             assert!(!want.indices.is_empty(), "{name}, options {k}");
-            let got = mesh::tubes(s, &o.threads(2)).unwrap();
+            let got = tubes_on(s, &o, 2);
             assert!(
                 got.vertices == want.vertices
                     && got.indices == want.indices
@@ -341,4 +338,11 @@ fn triangle_set_hash(s: &Skeleton) -> String {
 #[test]
 fn triangle_sets_match_their_golden_hashes() {
     check_golden("triangle_sets.txt", triangle_set_hash);
+}
+
+/// The tube mesh of `s` planned and written on `threads` threads.
+fn tubes_on(s: &arbor::Skeleton, o: &MeshOptions, threads: u32) -> arbor::Mesh {
+    let run = || Run::default().threads(threads);
+    let plan = mesh::MeshPlan::new_in(s, o, &run()).unwrap();
+    plan.mesh_in(s, &mut run()).unwrap()
 }

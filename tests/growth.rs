@@ -184,7 +184,7 @@ fn vigour_is_conserved_and_radii_follow_the_pipe_model() {
 #[test]
 fn the_same_world_grows_the_same_forest() {
     let grow = |parallel: bool| {
-        let mut w = World::new(&WorldOptions::default().parallel(parallel)).unwrap();
+        let mut w = World::new(&WorldOptions::default()).unwrap();
         for (k, species) in Species::ALL.iter().enumerate() {
             let angle = k as f32 * 1.2566;
             w.plant(
@@ -194,7 +194,9 @@ fn the_same_world_grows_the_same_forest() {
             )
             .unwrap();
         }
-        w.step(10).unwrap();
+        let threads = if parallel { 0 } else { 1 };
+        w.step_in(10, &mut arbor::progress::Run::default().threads(threads))
+            .unwrap();
         (0..w.tree_count())
             .map(|i| w.tree(i).unwrap())
             .collect::<Vec<_>>()
@@ -335,8 +337,10 @@ fn a_big_forest_grows_the_same_on_one_thread_and_on_all() {
         let mut species = GrowthParams::preset(Species::Decurrent);
         species.seed_age = 8;
         species.germination_light = 0.0;
-        let mut w = forest_world(WorldOptions::default().parallel(parallel), &species);
-        w.step(15).unwrap();
+        let mut w = forest_world(WorldOptions::default(), &species);
+        let threads = if parallel { 0 } else { 1 };
+        w.step_in(15, &mut arbor::progress::Run::default().threads(threads))
+            .unwrap();
         assert!(w.branch_count() > 200_000, "{} branches", w.branch_count());
         (0..w.tree_count())
             .map(|i| w.tree(i).unwrap())

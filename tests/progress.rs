@@ -130,9 +130,11 @@ fn mesh_writes_report_and_stop() {
         Topology::TriangleStripDegenerate,
     ] {
         for threads in [1, 2] {
-            let o = MeshOptions::default().topology(topology).threads(threads);
-            let plan = MeshPlan::new(&s, &o).unwrap();
-            let plain = plan.mesh(&s).unwrap();
+            let o = MeshOptions::default().topology(topology);
+            let plan = MeshPlan::new_in(&s, &o, &Run::default().threads(threads)).unwrap();
+            let plain = plan
+                .mesh_in(&s, &mut Run::default().threads(threads))
+                .unwrap();
             let mut seen = Vec::new();
             let mut record = |stage: Stage, f: f32| {
                 seen.push((stage, f));

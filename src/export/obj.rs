@@ -128,7 +128,7 @@ pub fn save_obj_tree_in(
     run: &mut Run<'_>,
 ) -> Result<()> {
     let o = options.vertex_format(mesh::VertexFormat::F32);
-    let bark = mesh::MeshPlan::new(skeleton, &o)?.mesh_in(skeleton, run)?;
+    let bark = mesh::MeshPlan::new_in(skeleton, &o, run)?.mesh_in(skeleton, run)?;
     let leaves = match leaves {
         Some(l) => Some(mesh::leaf_mesh(skeleton, l, &o)?),
         None => None,

@@ -17,7 +17,7 @@ unsafe fn export_args<'a>(
     // SAFETY: the caller promises `tree` is NULL or live.
     let tree = unsafe { arg_ref(tree, "tree") }?;
     // SAFETY: the caller promises `mesh_options` is NULL or readable.
-    let (mo, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
+    let (mo, threads, progress, user) = unsafe { read_mesh_options_with_progress(mesh_options) }?;
     if path.is_null() {
         return Err(FfiError::null("path"));
     }
@@ -31,15 +31,15 @@ unsafe fn export_args<'a>(
         // SAFETY: the caller promises a non-NULL `leaf_options` is readable.
         Some(unsafe { read_leaf_options(leaf_options, true) }?)
     };
-    Ok((tree, mo, (progress, user), path, leaves))
+    Ok((tree, mo, (threads, progress, user), path, leaves))
 }
 
-/// What [`export_args`] reads: tree, mesh options, (progress callback, user data), path,
+/// What [`export_args`] reads: tree, mesh options, (threads, progress callback, user data), path,
 /// leaf options.
 type ExportArgs<'a> = (
     &'a ArborTree,
     MeshOptions,
-    (ArborProgressFn, *mut c_void),
+    (u32, ArborProgressFn, *mut c_void),
     &'a str,
     Option<LeafOptions>,
 );
@@ -64,10 +64,10 @@ pub unsafe extern "C" fn arbor_export_obj(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, (progress, user), path, leaves) =
+        let (tree, mo, (threads, progress, user), path, leaves) =
             unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
-        let mut run = run_of(&mut f);
+        let mut run = run_of(&mut f).threads(threads);
         crate::export::save_obj_tree_in(tree.skeleton(), &mo, leaves.as_ref(), path, &mut run)?;
         Ok(())
     })
@@ -92,7 +92,7 @@ pub unsafe extern "C" fn arbor_export_gltf(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, (progress, user), path, leaves) =
+        let (tree, mo, (threads, progress, user), path, leaves) =
             unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
         crate::export::save_gltf_in(
@@ -100,7 +100,7 @@ pub unsafe extern "C" fn arbor_export_gltf(
             &mo,
             leaves.as_ref(),
             path,
-            &mut run_of(&mut f),
+            &mut run_of(&mut f).threads(threads),
         )?;
         Ok(())
     })

@@ -37,10 +37,10 @@ pub unsafe extern "C" fn arbor_forest_mesh_create(
         // SAFETY: the caller promises `trees` is readable for `count` elements.
         let trees = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let mesh = crate::forest::merged(&trees, &options)?;
+        let mesh = crate::forest::merged_in(&trees, &options, &on_threads(threads))?;
         *out = ArborMesh { mesh }.into_handle();
         Ok(())
     })
@@ -88,12 +88,12 @@ pub unsafe extern "C" fn arbor_forest_mesh_size(
         // SAFETY: the caller promises `trees` is readable for `count` elements.
         let placed = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises both counts are NULL or writable.
         let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
         // SAFETY: as above.
         let ic = unsafe { out_ref(index_count, "index_count") }?;
-        let size = crate::forest::merged_size(&placed, &options)?;
+        let size = crate::forest::merged_size_in(&placed, &options, &on_threads(threads))?;
         *vc = size.vertices;
         *ic = size.indices;
         Ok(())
@@ -120,7 +120,8 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
         // SAFETY: the caller promises `trees` is readable for `count` elements.
         let placed = unsafe { read_forest(trees, count) }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
+        let (options, threads, progress, user) =
+            unsafe { read_mesh_options_with_progress(options) }?;
         let whole = mesh::MeshSize {
             vertices: vertex_capacity,
             indices: index_capacity,
@@ -130,7 +131,8 @@ pub unsafe extern "C" fn arbor_forest_mesh_write(
             unsafe { mesh_buffers(vertices, vertex_capacity, indices, index_capacity, whole) }?;
         // Grows and meshes every tree once; checks the capacities before writing.
         let mut f = progress_closure(progress, user);
-        crate::forest::write_merged_uninit_in(&placed, &options, v, i, &mut run_of(&mut f))?;
+        let mut run = run_of(&mut f).threads(threads);
+        crate::forest::write_merged_uninit_in(&placed, &options, v, i, &mut run)?;
         Ok(())
     })
 }

@@ -102,10 +102,10 @@ pub unsafe extern "C" fn arbor_mesh_v_scale(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises `v_scale` is NULL or writable.
         let out = unsafe { out_ref(v_scale, "v_scale") }?;
-        *out = tree.plan(&options)?.v_scale();
+        *out = tree.plan_in(&options, &on_threads(threads))?.v_scale();
         Ok(())
     })
 }
@@ -131,7 +131,7 @@ pub unsafe extern "C" fn arbor_mesh_rewrite_branch_bytes(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: the caller promises `options` is NULL or readable.
-        let format = unsafe { read_mesh_options(options) }?.vertex_format;
+        let format = unsafe { read_mesh_options(options) }?.0.vertex_format;
         let stride = stride_of(format, vertices)?;
         if vertex_bytes % stride != 0 {
             return Err(crate::Error::invalid(
@@ -189,8 +189,8 @@ pub unsafe extern "C" fn arbor_mesh_animation_write_bytes(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
-        let plan = tree.plan(&options)?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
+        let plan = tree.plan_in(&options, &on_threads(threads))?;
         let data: Vec<u8> = match options.vertex_format {
             VertexFormat::F32 => bytemuck::cast_slice(&plan.animation(tree.skeleton())?).to_vec(),
             VertexFormat::Compact => {

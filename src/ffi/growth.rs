@@ -62,10 +62,10 @@ growing!(ArborWorldOptions as "ArborWorldOptions", ARBOR_WORLD_OPTIONS_MIN_SIZE,
 mirror!(ArborWorldOptions => WorldOptions {
     same {
         environment, min, max, cell_size, seed, shadow_strength, shadow_falloff,
-        shadow_depth, full_light, max_cells, max_branches, max_trees, parallel,
+        shadow_depth, full_light, max_cells, max_branches, max_trees,
     }
     renamed {}
-    c_only { progress: None, progress_user_data: std::ptr::null_mut() }
+    c_only { parallel: 1, progress: None, progress_user_data: std::ptr::null_mut() }
     rust_only {}
 });
 
@@ -177,6 +177,8 @@ mirror!(ArborGrowthParams => GrowthParams {
 /// stepping or planting needs it to yourself.
 pub struct ArborWorld {
     world: World,
+    /// `parallel` of the options it was made with: 0 grows on the calling thread only.
+    parallel: u32,
     progress: ArborProgressFn,
     progress_user_data: *mut c_void,
 }
@@ -267,9 +269,18 @@ pub unsafe extern "C" fn arbor_world_create(
             // SAFETY: the caller promises `options` is readable for its struct_size.
             unsafe { read_growing(options, "options") }?
         };
-        let world = World::new(&raw.to_rust()?)?;
+        let options = raw.to_rust()?;
+        if raw.parallel > 1 {
+            return Err(crate::Error::invalid(
+                "parallel",
+                format!("{}; expected 0 (false) or 1 (true)", raw.parallel),
+            )
+            .into());
+        }
+        let world = World::new(&options)?;
         *out = ArborWorld {
             world,
+            parallel: raw.parallel,
             progress: raw.progress,
             progress_user_data: raw.progress_user_data,
         }
@@ -424,7 +435,11 @@ pub unsafe extern "C" fn arbor_world_step(world: *mut ArborWorld, cycles: u32) -
         // SAFETY: non-null; the caller promises it is live and unshared for the call.
         let w = unsafe { &mut *world };
         let mut progress = progress_closure(w.progress, w.progress_user_data);
-        w.world.step_in(cycles, &mut run_of(&mut progress))?;
+        let mut run = run_of(&mut progress);
+        if w.parallel == 0 {
+            run = run.threads(1);
+        }
+        w.world.step_in(cycles, &mut run)?;
         Ok(())
     })
 }

@@ -243,7 +243,7 @@ unsafe fn leaf_args<'t>(
     // SAFETY: the caller promises `leaf_options` is NULL or readable.
     let lo = unsafe { read_leaf_options(leaf_options, load_prefab) }?;
     // SAFETY: the caller promises `mesh_options` is NULL or readable.
-    let mo = unsafe { read_mesh_options(mesh_options) }?;
+    let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
     Ok((tree, lo, mo))
 }
 

@@ -87,11 +87,11 @@ impl Default for ArborMeshOptions {
 mirror!(ArborMeshOptions => MeshOptions {
     same {
         radial_segments, topology, min_radial_segments, cull_radius, joints, smooth_taper,
-        base_cap, tip, texture_scale, winding, up_axis, scale, threads, max_vertices,
-        curve_rings, axes, vertex_format,
+        base_cap, tip, texture_scale, winding, up_axis, scale, max_vertices, curve_rings,
+        axes, vertex_format,
     }
     renamed {}
-    c_only { progress: None, progress_user_data: std::ptr::null_mut() }
+    c_only { threads: 0, progress: None, progress_user_data: std::ptr::null_mut() }
     rust_only {}
 });
 
@@ -111,31 +111,39 @@ pub unsafe extern "C" fn arbor_mesh_options_init(
     unsafe { init_for_host(options, struct_size) }
 }
 
-/// The options behind `options`, or the defaults for NULL.
+/// The options behind `options`, or the defaults for NULL, with the host's thread count
+/// (`threads`, which the Rust API keeps in a [`Run`]).
 ///
 /// # Safety
 /// `options` is NULL or points to a readable ArborMeshOptions.
 pub(crate) unsafe fn read_mesh_options(
     options: *const ArborMeshOptions,
-) -> Result<MeshOptions, FfiError> {
+) -> Result<(MeshOptions, u32), FfiError> {
     // SAFETY: passed on from the caller.
-    Ok(unsafe { read_mesh_options_with_progress(options) }?.0)
+    let (o, threads, _, _) = unsafe { read_mesh_options_with_progress(options) }?;
+    Ok((o, threads))
 }
 
-/// The mesh options at `options` with the host's progress callback (NULL: none).
+/// The mesh options at `options` with the host's thread count and progress callback
+/// (NULL: none).
 ///
 /// # Safety
 /// As [`read_mesh_options`].
 pub(crate) unsafe fn read_mesh_options_with_progress(
     options: *const ArborMeshOptions,
-) -> Result<(MeshOptions, ArborProgressFn, *mut c_void), FfiError> {
+) -> Result<(MeshOptions, u32, ArborProgressFn, *mut c_void), FfiError> {
     if options.is_null() {
-        return Ok((MeshOptions::default(), None, std::ptr::null_mut()));
+        return Ok((MeshOptions::default(), 0, None, std::ptr::null_mut()));
     }
     // SAFETY: the caller promises `options` is readable for its struct_size bytes; NULL
     // was handled above.
     let o = unsafe { read_growing(options, "options") }?;
-    Ok((o.to_rust()?, o.progress, o.progress_user_data))
+    Ok((o.to_rust()?, o.threads, o.progress, o.progress_user_data))
+}
+
+/// A run on the host's `threads` (no callback).
+pub(crate) fn on_threads(threads: u32) -> Run<'static> {
+    Run::default().threads(threads)
 }
 
 /// The `count` mesh options of a host's array: its elements are the host's
@@ -148,7 +156,7 @@ pub(crate) unsafe fn read_mesh_options_with_progress(
 pub(crate) unsafe fn read_mesh_options_array(
     levels: *const ArborMeshOptions,
     count: usize,
-) -> Result<Vec<MeshOptions>, FfiError> {
+) -> Result<Vec<(MeshOptions, u32)>, FfiError> {
     if count == 0 {
         return Ok(Vec::new());
     }
@@ -167,7 +175,8 @@ pub(crate) unsafe fn read_mesh_options_array(
             let p = unsafe { levels.cast::<u8>().add(k * stride) }.cast::<ArborMeshOptions>();
             // SAFETY: the caller promises element k is readable.
             let o = unsafe { read_growing(p, &name) }?;
-            o.to_rust().map_err(|e| FfiError::from(e).at_level(k))
+            let rust = o.to_rust().map_err(|e| FfiError::from(e).at_level(k))?;
+            Ok((rust, o.threads))
         })
         .collect()
 }
@@ -189,12 +198,12 @@ pub unsafe extern "C" fn arbor_mesh_size(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
         // SAFETY: the caller promises both are NULL or writable.
         let vc = unsafe { out_ref(vertex_count, "vertex_count") }?;
         // SAFETY: as above.
         let ic = unsafe { out_ref(index_count, "index_count") }?;
-        let size = tree.plan(&options)?.size();
+        let size = tree.plan_in(&options, &on_threads(threads))?.size();
         *vc = size.vertices;
         *ic = size.indices;
         Ok(())
@@ -234,6 +243,7 @@ pub unsafe extern "C" fn arbor_mesh_write(
 pub(super) struct MeshWrite<'a> {
     tree: &'a ArborTree,
     pub(super) options: MeshOptions,
+    threads: u32,
     progress: ArborProgressFn,
     user: *mut c_void,
     plan: std::sync::Arc<mesh::MeshPlan>,
@@ -249,11 +259,13 @@ impl MeshWrite<'_> {
         // SAFETY: passed on from the caller.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: passed on from the caller.
-        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
-        let plan = tree.plan(&options)?;
+        let (options, threads, progress, user) =
+            unsafe { read_mesh_options_with_progress(options) }?;
+        let plan = tree.plan_in(&options, &on_threads(threads))?;
         Ok(MeshWrite {
             tree,
             options,
+            threads,
             progress,
             user,
             plan,
@@ -272,7 +284,7 @@ impl MeshWrite<'_> {
         indices: &mut [std::mem::MaybeUninit<u32>],
     ) -> Result<(), FfiError> {
         let mut f = progress_closure(self.progress, self.user);
-        let mut run = run_of(&mut f).threads(self.options.threads);
+        let mut run = run_of(&mut f).threads(self.threads);
         self.plan
             .write_uninit_in(self.tree.skeleton(), vertices, indices, &mut run)?;
         Ok(())
@@ -344,7 +356,7 @@ where
     // SAFETY: the caller promises `tree` is NULL or live.
     let tree = unsafe { arg_ref(tree, "tree") }?;
     // SAFETY: the caller promises `options` is NULL or readable.
-    let options = unsafe { read_mesh_options(options) }?;
+    let (options, threads) = unsafe { read_mesh_options(options) }?;
     let n = tree.skeleton().len();
     if branch >= n {
         return Err(crate::Error::invalid(
@@ -356,7 +368,7 @@ where
     let kept = tree.pending(&options);
     let (plan, pending) = match &kept {
         Some((plan, pending)) => (plan.clone(), pending.clone()),
-        None => (tree.plan(&options)?, Vec::new()),
+        None => (tree.plan_in(&options, &on_threads(threads))?, Vec::new()),
     };
     let size = plan.size();
     if vertex_count != size.vertices || index_count != size.indices {
@@ -376,12 +388,7 @@ where
         // No plan was kept through the edits: write everything (the indices too).
         // SAFETY: the caller promises `indices` holds `index_count` indices.
         let i = unsafe { out_slice(indices, index_count, size.indices, "indices") }?;
-        plan.write_uninit_in(
-            tree.skeleton(),
-            v,
-            i,
-            &mut Run::default().threads(options.threads),
-        )?;
+        plan.write_uninit_in(tree.skeleton(), v, i, &mut on_threads(threads))?;
         return Ok(());
     }
     plan.rewrite_uninit(tree.skeleton(), &pending, v)?;
@@ -407,11 +414,11 @@ pub unsafe extern "C" fn arbor_mesh_branch_ranges(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
         let n = tree.skeleton().len();
         // SAFETY: the caller promises `out` holds `capacity` writable elements.
         let dst = unsafe { out_slice(out.cast::<BranchRange>(), capacity, n, "out") }?;
-        let ranges = tree.plan(&options)?.ranges();
+        let ranges = tree.plan_in(&options, &on_threads(threads))?.ranges();
         for (d, r) in dst.iter_mut().zip(ranges) {
             d.write(r);
         }
@@ -442,7 +449,7 @@ pub unsafe extern "C" fn arbor_mesh_lod_size(
         let levels = unsafe { read_mesh_options_array(levels, level_count) }?;
         let sizes = levels
             .iter()
-            .map(|o| Ok(tree.plan(o)?.size()))
+            .map(|(o, threads)| Ok(tree.plan_in(o, &on_threads(*threads))?.size()))
             .collect::<Result<Vec<_>, FfiError>>()?;
         // SAFETY: the caller promises both arrays hold `level_count` writable elements.
         let vc = unsafe { out_slice(vertex_counts, level_count, level_count, "vertex_counts") }?;
@@ -489,8 +496,8 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
             )
         };
         let mut plans = Vec::with_capacity(level_count);
-        for (k, o) in levels.iter().enumerate() {
-            let plan = tree.plan(o)?;
+        for (k, (o, threads)) in levels.iter().enumerate() {
+            let plan = tree.plan_in(o, &on_threads(*threads))?;
             let size = plan.size();
             size.check_capacity(vcaps[k], icaps[k])
                 .map_err(|e| FfiError::from(e).at_level(k))?;
@@ -504,7 +511,7 @@ pub unsafe extern "C" fn arbor_mesh_lod_write(
             // SAFETY: as above.
             let i = unsafe { out_slice(is[k], icaps[k], size.indices, "indices") }
                 .map_err(|e| e.at_level(k))?;
-            let mut run = Run::default().threads(levels[k].threads);
+            let mut run = on_threads(levels[k].1);
             plan.write_uninit_in(tree.skeleton(), v, i, &mut run)?;
         }
         Ok(())
@@ -535,16 +542,14 @@ pub unsafe extern "C" fn arbor_mesh_create(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let (options, progress, user) = unsafe { read_mesh_options_with_progress(options) }?;
+        let (options, threads, progress, user) =
+            unsafe { read_mesh_options_with_progress(options) }?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let plan = tree.plan(&options)?;
+        let plan = tree.plan_in(&options, &on_threads(threads))?;
         let mut f = progress_closure(progress, user);
-        let mesh = super::owned::owned_mesh(
-            &plan,
-            tree.skeleton(),
-            &mut run_of(&mut f).threads(options.threads),
-        )?;
+        let mesh =
+            super::owned::owned_mesh(&plan, tree.skeleton(), &mut run_of(&mut f).threads(threads))?;
         *out = ArborMesh { mesh }.into_handle();
         Ok(())
     })
@@ -643,8 +648,10 @@ pub unsafe extern "C" fn arbor_mesh_animation_write(
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
         // SAFETY: the caller promises `options` is NULL or readable.
-        let options = unsafe { read_mesh_options(options) }?;
-        let data = tree.plan(&options)?.animation(tree.skeleton())?;
+        let (options, threads) = unsafe { read_mesh_options(options) }?;
+        let data = tree
+            .plan_in(&options, &on_threads(threads))?
+            .animation(tree.skeleton())?;
         // SAFETY: the caller promises `out` holds `capacity` writable elements.
         let dst = unsafe {
             out_slice(

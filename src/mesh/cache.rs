@@ -4,6 +4,7 @@
 
 use super::{MeshOptions, MeshPlan};
 use crate::error::Result;
+use crate::progress::Run;
 use crate::skeleton::Skeleton;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -104,11 +105,16 @@ impl PlanCache {
 
     /// The plan for `options`: kept from an earlier call, or made now and kept.
     pub fn plan(&self, options: &MeshOptions) -> Result<Arc<MeshPlan>> {
+        self.plan_in(options, &Run::default())
+    }
+
+    /// [`plan`](Self::plan), a missing plan made on `run`'s threads.
+    pub fn plan_in(&self, options: &MeshOptions, run: &Run<'_>) -> Result<Arc<MeshPlan>> {
         if let Some(k) = self.lock().iter().find(|k| k.plan.serves(options)) {
             return Ok(k.plan.clone());
         }
         // Made outside the lock, so other threads keep meshing meanwhile.
-        let plan = Arc::new(MeshPlan::new(&self.skeleton, options)?);
+        let plan = Arc::new(MeshPlan::new_in(&self.skeleton, options, run)?);
         let mut kept = self.lock();
         kept.retain(|k| !k.plan.serves(options));
         kept.insert(

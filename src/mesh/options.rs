@@ -165,12 +165,6 @@ pub struct MeshOptions {
     /// winding itself, so `up_axis` and `winding` must then stay at their defaults, and
     /// `scale` applies before the preset's units.
     pub axes: Axes = Axes::Arbor,
-    /// Threads a large write may use: 0 (default) the machine's cores (at most 8), 1 only
-    /// the calling thread. Trees under 16,384 branches per thread are written on fewer.
-    /// Making the plan (the size query) of a tree of 32,768 branches or more takes two
-    /// when this allows more than one.
-    /// The output is the same byte for byte whatever the count.
-    pub threads: u32 = 0,
     /// Sizing or writing a mesh of more vertices than this fails with
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_vertices`, before
     /// any buffer is allocated. Default [`DEFAULT_MAX_VERTICES`](crate::limits::DEFAULT_MAX_VERTICES).

@@ -111,8 +111,8 @@ impl MeshPlan {
     /// into uninitialised capacity instead, which also spares reused memory its zero fill.
     pub fn mesh_in(&self, skeleton: &Skeleton, run: &mut Run<'_>) -> Result<Mesh> {
         let size = self.size();
-        let mut vertices = crate::limits::try_zeroed_vec(size.vertices, "the mesh's vertices")?;
-        let mut indices = crate::limits::try_zeroed_vec(size.indices, "the mesh's indices")?;
+        let mut vertices = crate::limits::try_zeroed(size.vertices, "the mesh's vertices")?;
+        let mut indices = crate::limits::try_zeroed(size.indices, "the mesh's indices")?;
         self.write_with(skeleton, &mut vertices[..], &mut indices[..], run)?;
         Ok(self.owned_mesh(vertices, indices))
     }
@@ -128,7 +128,8 @@ impl MeshPlan {
     }
 
     /// Every write's one path: checks the skeleton and the buffers' room, then writes on
-    /// the run's threads (or the plan's), reporting to its callback.
+    /// the run's threads (by default the machine's cores, at most 8), reporting to its
+    /// callback.
     fn write_with<V: VertexSlot, I: Slot<u32> + Send>(
         &self,
         skeleton: &Skeleton,
@@ -136,7 +137,7 @@ impl MeshPlan {
         indices: &mut [I],
         run: &mut Run<'_>,
     ) -> Result<MeshSize> {
-        let threads = run.threads_or(self.options.threads);
+        let threads = run.threads_or(0);
         self.check_skeleton(skeleton)?;
         self.check_format(V::FORMAT)?;
         let size = self.size();

@@ -177,7 +177,7 @@ impl Scene {
         run: &mut Run<'_>,
     ) -> Result<Scene> {
         let mut scene = Scene::default();
-        let plan = mesh::MeshPlan::new(skeleton, options)?;
+        let plan = mesh::MeshPlan::new_in(skeleton, options, run)?;
         let bark = plan.mesh_in(skeleton, run)?;
         let animation = plan.animation(skeleton)?;
         let mut primitives = Vec::new();
@@ -207,7 +207,17 @@ impl Scene {
         options: &MeshOptions,
         leaves: &LeafOptions,
     ) -> Result<Scene> {
-        let mut scene = Scene::tree(skeleton, options, None)?;
+        Scene::tree_instanced_in(skeleton, options, leaves, &mut Run::default())
+    }
+
+    /// [`tree_instanced`](Self::tree_instanced) in `run`, as [`tree_in`](Self::tree_in).
+    pub fn tree_instanced_in(
+        skeleton: &Skeleton,
+        options: &MeshOptions,
+        leaves: &LeafOptions,
+        run: &mut Run<'_>,
+    ) -> Result<Scene> {
+        let mut scene = Scene::tree_in(skeleton, options, None, run)?;
         let instances = mesh::leaf_instances(skeleton, leaves, options)?;
         let prefab = leaves
             .prefab

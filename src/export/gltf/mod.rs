@@ -111,12 +111,10 @@ pub fn save_gltf_instanced_in(
     path: impl AsRef<Path>,
     run: &mut Run<'_>,
 ) -> Result<()> {
-    let o = MeshOptions {
-        threads: run.threads_or(options.threads),
-        ..*options
-    };
-    save(path.as_ref(), run, |binary, _| {
-        gltf_bytes_instanced(skeleton, &o, leaves, binary)
+    save(path.as_ref(), run, |binary, run| {
+        let o = gltf_mesh_options(options)?;
+        let scene = Scene::tree_instanced_in(skeleton, &o, leaves, run)?;
+        gltf_scene_bytes(&scene, options, binary)
     })
 }
 

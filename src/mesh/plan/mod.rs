@@ -12,6 +12,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::geom::transport::{ring_basis, transport};
+use crate::progress::Run;
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use glam::Vec3;
 use rustc_hash::FxHashMap;
@@ -126,7 +127,7 @@ pub(crate) fn kept_branches(skeleton: &Skeleton, cull_radius: f32) -> Vec<bool> 
 /// two threads a straight tree's second pass is cut in two parts of branches, one a thread
 /// (see [`joints_part`](Plan::joints_part)); a sweep's runs its frames on one thread and
 /// its counts on the other.
-fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
+fn plan(skeleton: &Skeleton, o: &MeshOptions, threads: u32) -> Result<(Plan, Layout)> {
     check_options(o)?;
     let branches = skeleton.branches();
     let n = branches.len();
@@ -134,7 +135,7 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions) -> Result<(Plan, Layout)> {
     // With two threads, the second faults in the second pass's arrays (fresh memory costs
     // a page fault per 4 KiB, about as much as the arithmetic) while this one makes the
     // first pass.
-    let both = n >= PLAN_BRANCHES_PER_THREAD && plan_threads(o.threads) > 1;
+    let both = n >= PLAN_BRANCHES_PER_THREAD && plan_threads(threads) > 1;
     let fresh = both.then(|| std::thread::spawn(move || SecondPass::faulted_in(n)));
     let sides = sides_and_continuations(branches, o);
     // Joined before any error is returned: no thread outlives the call.
@@ -264,7 +265,7 @@ fn fault_in<T: Copy>(v: &mut [T], value: T) {
 /// Fewest branches for which a plan's second pass is split across two threads.
 const PLAN_BRANCHES_PER_THREAD: usize = 32_768;
 
-/// The threads `threads` (a [`MeshOptions::threads`]) asks for.
+/// The threads a run's thread count asks for ([`Run::threads`](crate::progress::Run::threads)).
 fn plan_threads(threads: u32) -> usize {
     match threads {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -627,12 +628,18 @@ impl MeshPlan {
     /// when the vertices or indices could not all be addressed with 32 bits
     /// ([`RESTART_INDEX`] is reserved).
     pub fn new(skeleton: &Skeleton, options: &MeshOptions) -> Result<Self> {
+        Self::new_in(skeleton, options, &Run::default())
+    }
+
+    /// [`new`](Self::new) on `run`'s threads: a tree of 32,768 branches or more is planned
+    /// on two when the run allows more than one (by default it does).
+    pub fn new_in(skeleton: &Skeleton, options: &MeshOptions, run: &Run<'_>) -> Result<Self> {
         // Per branch: the plan's sides, flags and continuation (6 bytes), the layout's
         // offsets, frame and texture end (24), with inner rings two tangents and an end
         // frame (36).
         let per_branch = 6 + 24 + if options.curve_rings > 0 { 36 } else { 0 };
         crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
-        let (plan, layout) = plan(skeleton, options)?;
+        let (plan, layout) = plan(skeleton, options, run.threads_or(0))?;
         let mut tables = vec![Circle::default(); MAX_RADIAL_SEGMENTS as usize + 1];
         for &s in &plan.segs {
             if s > 0 && tables[s as usize].is_empty() {
@@ -682,10 +689,9 @@ impl MeshPlan {
         &self.options
     }
 
-    /// Whether this plan serves `options`: equal in everything but
-    /// [`MeshOptions::threads`], which only says how to write.
+    /// Whether this plan serves `options` (they are the options it was made with).
     pub fn serves(&self, options: &MeshOptions) -> bool {
-        (*options).threads(self.options.threads) == self.options
+        *options == self.options
     }
 
     /// For each branch, the vertices and indices it owns.

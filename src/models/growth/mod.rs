@@ -91,11 +91,6 @@ pub struct WorldOptions {
     pub max_branches: usize = crate::limits::DEFAULT_MAX_BRANCHES,
     /// Most trees (seeding stops adding trees at this count). Default 1,024.
     pub max_trees: usize = 1024,
-    /// Grow the trees of one cycle and update the shadow grid on all cores with the
-    /// `parallel` feature (the result is identical to the serial path). A world under
-    /// 4,096 internodes runs on the calling thread: waking threads would cost more than
-    /// they give. Default true.
-    pub parallel: bool = true,
 }
 }
 
@@ -204,7 +199,8 @@ impl World {
         self.env.cover([end])?;
         let tree = Tree::plant(*species, Vec3::from(position), seed, self.cycle, &self.env);
         tree.cast(&mut self.env, 1);
-        self.env.flush(self.options.parallel);
+        // One tree's first shadow: a handful of cells, sorted on the calling thread.
+        self.env.flush(false);
         self.trees.push(tree);
         Ok(self.trees.len() as u32 - 1)
     }
@@ -254,12 +250,15 @@ impl World {
     }
 
     /// [`step`](Self::step) in `run`: on the calling thread when the run asks for one
-    /// thread (else as [`WorldOptions::parallel`] says), reporting
+    /// thread, else the trees of a cycle grow and the shadow grid is updated on all cores
+    /// with the `parallel` feature (the result is identical to the serial path; a world
+    /// under 4,096 internodes stays on the calling thread, where waking threads would cost
+    /// more than they give), reporting
     /// [`Stage::Growth`](crate::progress::Stage) before every cycle and at the end (on the
     /// calling thread); `false` from the callback stops with [`Error::Cancelled`] before
     /// the next cycle, the world as it was after the last whole cycle.
     pub fn step_in(&mut self, cycles: u32, run: &mut Run<'_>) -> Result<()> {
-        let parallel = self.options.parallel && run.threads_or(0) != 1;
+        let parallel = run.threads_or(0) != 1;
         for k in 0..cycles {
             if run.active() {
                 run.report(crate::progress::Stage::Growth, k as f64 / cycles as f64)?;
