@@ -51,21 +51,41 @@ pub(crate) trait Bounded: PartialOrd + Copy + std::fmt::Display {
     fn finite(self) -> bool {
         true
     }
+    /// `v` as this type (an integer saturates; a negative value is 0).
+    fn from_f64(v: f64) -> Self;
 }
 
 impl Bounded for f32 {
     fn finite(self) -> bool {
         self.is_finite()
     }
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
 }
 impl Bounded for f64 {
     fn finite(self) -> bool {
         self.is_finite()
     }
+    fn from_f64(v: f64) -> Self {
+        v
+    }
 }
-impl Bounded for u32 {}
-impl Bounded for u64 {}
-impl Bounded for usize {}
+impl Bounded for u32 {
+    fn from_f64(v: f64) -> Self {
+        v as u32
+    }
+}
+impl Bounded for u64 {
+    fn from_f64(v: f64) -> Self {
+        v as u64
+    }
+}
+impl Bounded for usize {
+    fn from_f64(v: f64) -> Self {
+        v as usize
+    }
+}
 
 impl<T: Bounded> Bound<T> {
     /// Whether `v` lies in the bound (and is finite).
@@ -157,6 +177,23 @@ macro_rules! options {
                     )?;
                 )?)*
                 Ok(())
+            }
+
+            /// Sets the field named `field`, if it is one with a bound, to `v` converted
+            /// to its type (an integer saturates), and says whether it was: for tools and
+            /// tests that walk every bound (sliders, the documented-range checks) without
+            /// a list of their own.
+            #[doc(hidden)]
+            pub fn set_bounded(&mut self, field: &str, v: f64) -> bool {
+                $($(
+                    if field == stringify!($field) {
+                        let _ = stringify!($bound);
+                        self.$field = <$ty as $crate::options::Bounded>::from_f64(v);
+                        return true;
+                    }
+                )?)*
+                let _ = (field, v);
+                false
             }
 
             $(

@@ -196,36 +196,8 @@ fn check<T: Default>(
 
 #[test]
 fn growth_params_ranges_are_the_documented_ones() {
-    let set = |p: &mut GrowthParams, field: &str, v: f64| {
-        let f = v as f32;
-        match field {
-            "apical_control" => p.apical_control = f,
-            "vigor_multiplier" => p.vigor_multiplier = f,
-            "internode_length" => p.internode_length = f,
-            "branch_angle" => p.branch_angle = f,
-            "tropism" => p.tropism = f,
-            "environment_weight" => p.environment_weight = f,
-            "pipe_exponent" => p.pipe_exponent = f,
-            "tip_radius" => p.tip_radius = f,
-            "shed_multiplier" => p.shed_multiplier = f,
-            "shed_exponent" => p.shed_exponent = f,
-            "seed_spread" => p.seed_spread = f,
-            "perception_angle" => p.perception_angle = f,
-            "perception_reach" => p.perception_reach = f,
-            "occupancy_reach" => p.occupancy_reach = f,
-            "max_shoot" => p.max_shoot = v.max(0.0) as u32,
-            "shed_light" => p.shed_light = f,
-            "young_apical_control" => p.young_apical_control = f,
-            "young_vigor_multiplier" => p.young_vigor_multiplier = f,
-            "maturity_age" => p.maturity_age = v.max(0.0) as u32,
-            "max_age" => p.max_age = v.max(0.0) as u32,
-            "max_height" => p.max_height = f,
-            "droop" => p.droop = f,
-            "germination_light" => p.germination_light = f,
-            _ => return false,
-        }
-        true
-    };
+    // The declaration's own bounded fields: a documented range without a bound fails.
+    let set = |p: &mut GrowthParams, field: &str, v: f64| p.set_bounded(field, v);
     let n = check(
         "src/models/growth/params.rs",
         "GrowthParams",
@@ -239,22 +211,13 @@ fn growth_params_ranges_are_the_documented_ones() {
 #[test]
 fn world_options_ranges_are_the_documented_ones() {
     let set = |o: &mut WorldOptions, field: &str, v: f64| {
-        let f = v as f32;
-        match field {
+        if field == "cell_size" {
             // A small box, so a fine grid stays within max_cells.
-            "cell_size" => {
-                o.cell_size = f;
-                o.max = [0.5, 0.5, 0.5];
-                o.min = [0.0, 0.0, 0.0];
-                o.max_cells = 1 << 31;
-            }
-            "shadow_strength" => o.shadow_strength = f,
-            "shadow_falloff" => o.shadow_falloff = f,
-            "shadow_depth" => o.shadow_depth = v.max(0.0) as u32,
-            "full_light" => o.full_light = f,
-            _ => return false,
+            o.max = [0.5, 0.5, 0.5];
+            o.min = [0.0, 0.0, 0.0];
+            o.max_cells = 1 << 31;
         }
-        true
+        o.set_bounded(field, v)
     };
     let n = check(
         "src/models/growth/mod.rs",
@@ -268,17 +231,7 @@ fn world_options_ranges_are_the_documented_ones() {
 
 #[test]
 fn mesh_options_ranges_are_the_documented_ones() {
-    let set = |o: &mut MeshOptions, field: &str, v: f64| {
-        let u = v.max(0.0) as u32;
-        match field {
-            "radial_segments" => o.radial_segments = u,
-            "texture_scale" => o.texture_scale = v as f32,
-            "scale" => o.scale = v as f32,
-            "curve_rings" => o.curve_rings = u,
-            _ => return false,
-        }
-        true
-    };
+    let set = |o: &mut MeshOptions, field: &str, v: f64| o.set_bounded(field, v);
     let n = check(
         "src/mesh/options.rs",
         "MeshOptions",
@@ -291,16 +244,7 @@ fn mesh_options_ranges_are_the_documented_ones() {
 
 #[test]
 fn leaf_options_ranges_are_the_documented_ones() {
-    let set = |o: &mut LeafOptions, field: &str, v: f64| {
-        let f = v as f32;
-        match field {
-            "density" => o.density = f,
-            "size" => o.size = f,
-            "size_jitter" => o.size_jitter = f,
-            _ => return false,
-        }
-        true
-    };
+    let set = |o: &mut LeafOptions, field: &str, v: f64| o.set_bounded(field, v);
     let n = check(
         "src/mesh/leaves.rs",
         "LeafOptions",
