@@ -62,15 +62,16 @@ pub unsafe extern "C" fn arbor_export_obj(
     leaf_options: *const ArborLeafOptions,
     path: *const c_char,
 ) -> ArborStatus {
-    guard(|| {
-        // SAFETY: as the caller promises (see the function's # Safety).
-        let (tree, mo, (threads, progress, user), path, leaves) =
-            unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
-        let mut f = progress_closure(progress, user);
-        let mut run = run_of(&mut f).threads(threads);
-        crate::export::save_obj_tree_in(tree.skeleton(), &mo, leaves.as_ref(), path, &mut run)?;
-        Ok(())
-    })
+    // SAFETY: as the caller promises (see the function's # Safety).
+    unsafe {
+        export_with(
+            tree,
+            mesh_options,
+            leaf_options,
+            path,
+            |s, mo, leaves, path, run| crate::export::save_obj_tree_in(s, mo, leaves, path, run),
+        )
+    }
 }
 
 /// Writes bark (and leaves, when `leaf_options` is not NULL) as glTF 2.0: binary `.glb`,
@@ -90,18 +91,43 @@ pub unsafe extern "C" fn arbor_export_gltf(
     leaf_options: *const ArborLeafOptions,
     path: *const c_char,
 ) -> ArborStatus {
+    // SAFETY: as the caller promises (see the function's # Safety).
+    unsafe {
+        export_with(
+            tree,
+            mesh_options,
+            leaf_options,
+            path,
+            |s, mo, leaves, path, run| crate::export::save_gltf_in(s, mo, leaves, path, run),
+        )
+    }
+}
+
+/// What both exports do: read the arguments, then `save` the tree's skeleton with the
+/// options and leaves to the path, on the host's threads and reporting to its callback.
+///
+/// # Safety
+/// As [`export_args`].
+unsafe fn export_with(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    leaf_options: *const ArborLeafOptions,
+    path: *const c_char,
+    save: impl FnOnce(
+        &Skeleton,
+        &MeshOptions,
+        Option<&LeafOptions>,
+        &str,
+        &mut crate::progress::Run<'_>,
+    ) -> crate::Result<()>,
+) -> ArborStatus {
     guard(|| {
-        // SAFETY: as the caller promises (see the function's # Safety).
+        // SAFETY: passed on from the caller.
         let (tree, mo, (threads, progress, user), path, leaves) =
             unsafe { export_args(tree, mesh_options, leaf_options, path) }?;
         let mut f = progress_closure(progress, user);
-        crate::export::save_gltf_in(
-            tree.skeleton(),
-            &mo,
-            leaves.as_ref(),
-            path,
-            &mut run_of(&mut f).threads(threads),
-        )?;
+        let mut run = run_of(&mut f).threads(threads);
+        save(tree.skeleton(), &mo, leaves.as_ref(), path, &mut run)?;
         Ok(())
     })
 }
