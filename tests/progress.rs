@@ -146,7 +146,7 @@ fn mesh_writes_report_and_stop() {
                 "{topology:?} on {threads}: progress changes nothing"
             );
             assert!(seen.iter().all(|x| x.0 == Stage::Mesh));
-            // The run's thread count stands in for the plan's, and changes nothing.
+            // Another thread count in the run changes nothing.
             let other = plan.mesh_in(&s, &mut Run::default().threads(3 - threads));
             assert!(
                 other.unwrap() == plain,

@@ -165,7 +165,11 @@ growing!(ArborGrowthParams as "ArborGrowthParams", ARBOR_GROWTH_PARAMS_MIN_SIZE,
 
 mirror!(ArborGrowthParams => GrowthParams {
     same {
-        apical_control, vigor_multiplier, internode_length, branch_angle, phyllotaxis, tropism, environment_weight, pipe_exponent, tip_radius, shed_multiplier, shed_exponent, shed_delay, seed_age, seed_spread, perception_angle, perception_reach, occupancy_reach, max_shoot, shed_light, young_apical_control, young_vigor_multiplier, maturity_age, max_age, max_height, droop, germination_light,
+        apical_control, vigor_multiplier, internode_length, branch_angle, phyllotaxis,
+        tropism, environment_weight, pipe_exponent, tip_radius, shed_multiplier,
+        shed_exponent, shed_delay, seed_age, seed_spread, perception_angle,
+        perception_reach, occupancy_reach, max_shoot, shed_light, young_apical_control,
+        young_vigor_multiplier, maturity_age, max_age, max_height, droop, germination_light,
     }
     renamed {}
     c_only {}
@@ -177,8 +181,8 @@ mirror!(ArborGrowthParams => GrowthParams {
 /// stepping or planting needs it to yourself.
 pub struct ArborWorld {
     world: World,
-    /// `parallel` of the options it was made with: 0 grows on the calling thread only.
-    parallel: u32,
+    /// `parallel` of the options it was made with: false grows on the calling thread only.
+    parallel: bool,
     progress: ArborProgressFn,
     progress_user_data: *mut c_void,
 }
@@ -270,17 +274,11 @@ pub unsafe extern "C" fn arbor_world_create(
             unsafe { read_growing(options, "options") }?
         };
         let options = raw.to_rust()?;
-        if raw.parallel > 1 {
-            return Err(crate::Error::invalid(
-                "parallel",
-                format!("{}; expected 0 (false) or 1 (true)", raw.parallel),
-            )
-            .into());
-        }
+        let parallel: bool = CField::c_to_rust(raw.parallel, "parallel")?;
         let world = World::new(&options)?;
         *out = ArborWorld {
             world,
-            parallel: raw.parallel,
+            parallel,
             progress: raw.progress,
             progress_user_data: raw.progress_user_data,
         }
@@ -436,7 +434,7 @@ pub unsafe extern "C" fn arbor_world_step(world: *mut ArborWorld, cycles: u32) -
         let w = unsafe { &mut *world };
         let mut progress = progress_closure(w.progress, w.progress_user_data);
         let mut run = run_of(&mut progress);
-        if w.parallel == 0 {
+        if !w.parallel {
             run = run.threads(1);
         }
         w.world.step_in(cycles, &mut run)?;

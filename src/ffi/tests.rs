@@ -667,3 +667,31 @@ fn struct_size_errors_name_the_headers_init_function() {
         );
     }
 }
+
+/// `ArborWorldOptions.parallel` is a flag: 0 and 1 make a world, anything else is refused
+/// by name (the same rule and message as every flag of a C struct).
+#[test]
+fn world_parallel_is_a_flag() {
+    for (parallel, ok) in [(0, true), (1, true), (2, false), (u32::MAX, false)] {
+        let o = ArborWorldOptions {
+            parallel,
+            ..<ArborWorldOptions as Growing>::defaults()
+        };
+        let mut world: *mut ArborWorld = std::ptr::null_mut();
+        // SAFETY: local struct and out-pointer.
+        let status = unsafe { arbor_world_create(&o, &mut world) };
+        assert_eq!(status == ArborStatus::Ok, ok, "parallel = {parallel}");
+        if ok {
+            // SAFETY: made above, freed once.
+            unsafe { arbor_world_free(world) };
+        } else {
+            assert_eq!(status, ArborStatus::InvalidArgument);
+            assert!(world.is_null());
+            let e = last_error();
+            assert!(
+                e.contains("parallel") && e.contains("expected 0 (false) or 1 (true)"),
+                "{e}"
+            );
+        }
+    }
+}

@@ -235,16 +235,15 @@ impl Scene {
             leaf_instances: Some(instances.len()),
             ..Settings::default()
         };
-        if !leaf.indices.is_empty() && !instances.is_empty() {
+        if !instances.is_empty() {
+            // A prefab without triangles adds nothing (`add` leaves it out).
             let mut primitives = Vec::new();
             scene.add(&mut primitives, leaf, Material::leaves(), None);
-            scene.meshes.push(SceneMesh {
-                name: "leaf".into(),
-                primitives,
-            });
-            let mut node = Node::new("leaves", Some(scene.meshes.len() - 1));
-            node.instances = Some(instances);
-            scene.nodes.push(node);
+            if let Some(mesh) = scene.push_mesh("leaf", primitives) {
+                let mut node = Node::new("leaves", Some(mesh));
+                node.instances = Some(instances);
+                scene.nodes.push(node);
+            }
         }
         Ok(scene)
     }
