@@ -746,10 +746,10 @@ typedef struct ArborCurveGrowthRecord {
 typedef int32_t (*ArborProgressFn)(void *user_data, uint32_t stage, float fraction);
 
 /**
- * Options of the tube mesher: a struct that grows (see "Structs that grow" in
- * docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
- * change what you need. Enum-like fields are validated (unknown values give
- * ARBOR_STATUS_INVALID_ARGUMENT naming the field).
+ * Options of the tube mesher: a struct that grows (see "Structs that grow" in docs/c-api.md).
+ * Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and change what you need.
+ * Enum-like fields are validated (unknown values give ARBOR_STATUS_INVALID_ARGUMENT naming the
+ * field).
  */
 typedef struct ArborMeshOptions {
   /**
@@ -765,9 +765,8 @@ typedef struct ArborMeshOptions {
    */
   uint32_t topology;
   /**
-   * 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
-   * clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
-   * tree's largest).
+   * 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides, clamped to
+   * min_radial_segments..=radial_segments (r: its larger radius, r_max: the tree's largest).
    */
   uint32_t min_radial_segments;
   /**
@@ -807,31 +806,30 @@ typedef struct ArborMeshOptions {
    */
   float scale;
   /**
-   * Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
-   * calling thread. Trees under 16,384 branches per thread use fewer. Sizing a tree of
-   * 32,768 branches or more takes two when this allows more than one. The output is the
-   * same whatever the count. (Added after the first layout.)
+   * Threads a large write may use: 0 (default) all cores (at most 8), 1 only the calling thread.
+   * Trees under 16,384 branches per thread use fewer. Sizing a tree of 32,768 branches or more
+   * takes two when this allows more than one. The output is the same whatever the count. (Added
+   * after the first layout.)
    */
   uint32_t threads;
   /**
-   * Sizing or writing a mesh of more vertices than this stops with
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_vertices, before any memory is spent.
-   * Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
+   * Sizing or writing a mesh of more vertices than this stops with ARBOR_STATUS_LIMIT_EXCEEDED
+   * naming max_vertices, before any memory is spent. Default 4,294,967,295 (what 32-bit indices
+   * address). (Added after the first layout.)
    */
   uint64_t max_vertices;
   /**
-   * Extra rings inside every branch along its curve, 0..=64: 0 (default) one cone per
-   * branch, exactly as without curves; k >= 1 a sweep with k inner rings,
-   * rotation-minimising frames, interpolated radii and v by arc length. (Added after the
-   * first layout.)
+   * Extra rings inside every branch along its curve, 0..=64: 0 (default) one cone per branch,
+   * exactly as without curves; k >= 1 a sweep with k inner rings, rotation-minimising frames,
+   * interpolated radii and v by arc length. (Added after the first layout.)
    */
   uint32_t curve_rings;
   /**
    * Called while a mesh is written (arbor_mesh_write, arbor_mesh_create,
-   * arbor_forest_mesh_write, arbor_export_obj, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
-   * every 65,536 branches and at the end, on the calling thread; non-zero stops with
-   * ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an export writes no
-   * file). NULL (default): none. (Added after the first layout.)
+   * arbor_forest_mesh_write, arbor_export_obj, arbor_export_gltf): ARBOR_STAGE_MESH with the
+   * fraction of branches written, after every 65,536 branches and at the end, on the calling
+   * thread; non-zero stops with ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an
+   * export writes no file). NULL (default): none. (Added after the first layout.)
    */
   ArborProgressFn progress;
   /**
@@ -839,14 +837,14 @@ typedef struct ArborMeshOptions {
    */
   void *progress_user_data;
   /**
-   * An ArborAxes value: ARBOR_AXES_UNITY or ARBOR_AXES_UNREAL set the axes, units and
-   * winding of that engine (then up_axis and winding must stay at their defaults, and
-   * scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
+   * An ArborAxes value: ARBOR_AXES_UNITY or ARBOR_AXES_UNREAL set the axes, units and winding of
+   * that engine (then up_axis and winding must stay at their defaults, and scale applies first).
+   * Default ARBOR_AXES_ARBOR. (Added after the first layout.)
    */
   uint32_t axes;
   /**
-   * An ArborVertexFormat value: ARBOR_VERTEX_FORMAT_F32 (ArborVertex, 32 bytes; the
-   * default) or ARBOR_VERTEX_FORMAT_COMPACT (ArborVertexCompact, 20 bytes), which only
+   * An ArborVertexFormat value: ARBOR_VERTEX_FORMAT_F32 (ArborVertex, 32 bytes; the default) or
+   * ARBOR_VERTEX_FORMAT_COMPACT (ArborVertexCompact, 20 bytes), which only
    * arbor_mesh_write_bytes() writes. (Added after the first layout.)
    */
   uint32_t vertex_format;
@@ -888,8 +886,8 @@ typedef struct ArborLeafOptions {
    */
   uint32_t tips;
   /**
-   * Only tips of branches made at this rewriting step or later (their `depth`, the birth
-   * step) get leaves. Default 0.
+   * Only tips of branches made at this rewriting step or later (their `depth`, the birth step)
+   * get leaves. Default 0.
    */
   uint32_t min_depth;
   /**
@@ -917,28 +915,26 @@ typedef struct ArborLeafOptions {
    */
   uint64_t seed;
   /**
-   * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
-   * (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by each
-   * leaf-mesh call (to read it once, load it into `prefab` instead);
-   * ARBOR_STATUS_IO_ERROR if it cannot be loaded.
+   * NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape (+Y along
+   * the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by each leaf-mesh call (to
+   * read it once, load it into `prefab` instead); ARBOR_STATUS_IO_ERROR if it cannot be loaded.
    */
   const char *prefab_obj_path;
   /**
    * Making more leaves than this (instances, or copies in the baked mesh) stops with
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
-   * Default 16,777,216. (Added after the first layout.)
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent. Default
+   * 16,777,216. (Added after the first layout.)
    */
   uint64_t max_leaves;
   /**
-   * How `prefab_obj_path` is read (ArborFileAccess): ARBOR_FILE_ACCESS_HOST reads it
-   * through `read_file`; every other policy reads it from disk as a regular file (never
-   * a device or FIFO), its `mtllib` never. Default ARBOR_FILE_ACCESS_BUNDLE. (Added
-   * after the first layout.)
+   * How `prefab_obj_path` is read (ArborFileAccess): ARBOR_FILE_ACCESS_HOST reads it through
+   * `read_file`; every other policy reads it from disk as a regular file (never a device or
+   * FIFO), its `mtllib` never. Default ARBOR_FILE_ACCESS_BUNDLE. (Added after the first layout.)
    */
   uint32_t file_access;
   /**
-   * The host's reader for ARBOR_FILE_ACCESS_HOST; NULL (default) otherwise. (Added
-   * after the first layout.)
+   * The host's reader for ARBOR_FILE_ACCESS_HOST; NULL (default) otherwise. (Added after the
+   * first layout.)
    */
   ArborReadFileFn read_file;
   /**
@@ -946,14 +942,14 @@ typedef struct ArborLeafOptions {
    */
   void *read_file_user_data;
   /**
-   * Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming
-   * max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
+   * Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes.
+   * Default 67,108,864 (64 MiB). (Added after the first layout.)
    */
   uint64_t max_file_bytes;
   /**
-   * A leaf shape loaded once with arbor_leaf_prefab_load(), used by every call without
-   * reading its file again (set this or `prefab_obj_path`, not both); it must outlive
-   * the calls. NULL (default): none. (Added after the first layout.)
+   * A leaf shape loaded once with arbor_leaf_prefab_load(), used by every call without reading
+   * its file again (set this or `prefab_obj_path`, not both); it must outlive the calls. NULL
+   * (default): none. (Added after the first layout.)
    */
   const struct ArborLeafPrefab *prefab;
 } ArborLeafOptions;
@@ -1066,8 +1062,8 @@ typedef struct ArborVertex {
 } ArborVertex;
 
 /**
- * Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md).
- * Start from arbor_world_options_default() (or arbor_world_options_init()).
+ * Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
+ * arbor_world_options_default() (or arbor_world_options_init()).
  */
 typedef struct ArborWorldOptions {
   /**
@@ -1112,14 +1108,13 @@ typedef struct ArborWorldOptions {
   float full_light;
   /**
    * Most grid cells (4 bytes each; never more than 2^31): a finer box is
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle
-   * whose shadow would need more (the shadow grid grows with what is shaded). Default
-   * 33,554,432.
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle whose
+   * shadow would need more (the shadow grid grows with what is shaded). Default 33,554,432.
    */
   uint64_t max_cells;
   /**
-   * Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
-   * this. Default 16,777,216.
+   * Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass this.
+   * Default 16,777,216.
    */
   uint64_t max_branches;
   /**
@@ -1127,17 +1122,16 @@ typedef struct ArborWorldOptions {
    */
   uint32_t max_trees;
   /**
-   * 1 (default): grow the trees of a cycle and update the shadow grid on all cores
-   * when arbor is built with its `parallel` feature (the result is identical; a world
-   * under 4,096 internodes stays on the calling thread); 0: the calling thread only.
+   * 1 (default): grow the trees of a cycle and update the shadow grid on all cores when arbor is
+   * built with its `parallel` feature (the result is identical; a world under 4,096 internodes
+   * stays on the calling thread); 0: the calling thread only.
    */
   uint32_t parallel;
   /**
-   * Called by arbor_world_step() before every cycle and at the end
-   * (ARBOR_STAGE_GROWTH, the fraction of the cycles asked), on the calling thread;
-   * non-zero stops with ARBOR_STATUS_CANCELLED before the next cycle (the world as it
-   * was after the last whole cycle). NULL (default): none. (Added after the first
-   * layout.)
+   * Called by arbor_world_step() before every cycle and at the end (ARBOR_STAGE_GROWTH, the
+   * fraction of the cycles asked), on the calling thread; non-zero stops with
+   * ARBOR_STATUS_CANCELLED before the next cycle (the world as it was after the last whole
+   * cycle). NULL (default): none. (Added after the first layout.)
    */
   ArborProgressFn progress;
   /**
@@ -1147,11 +1141,10 @@ typedef struct ArborWorldOptions {
 } ArborWorldOptions;
 
 /**
- * One species: how a tree grows. The defaults are the excurrent species' values with
- * neutral apical control. Lengths are world units, angles degrees.
- *
- * A struct that grows (see "Structs that grow" in docs/c-api.md): start from
- * arbor_growth_params_default() or arbor_growth_params_preset().
+ * One species: how a tree grows. The defaults are the excurrent species' values with neutral
+ * apical control. Lengths are world units, angles degrees. A struct that grows (see "Structs that
+ * grow" in docs/c-api.md): start from arbor_growth_params_default() or
+ * arbor_growth_params_preset().
  */
 typedef struct ArborGrowthParams {
   /**
@@ -1159,8 +1152,8 @@ typedef struct ArborGrowthParams {
    */
   uint32_t struct_size;
   /**
-   * lambda in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
-   * laterals (decurrent). Default 0.5.
+   * lambda in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the laterals
+   * (decurrent). Default 0.5.
    */
   float apical_control;
   /**
@@ -1180,8 +1173,8 @@ typedef struct ArborGrowthParams {
    */
   float phyllotaxis;
   /**
-   * eta: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
-   * -1..=1. Default 0.1.
+   * eta: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite, -1..=1.
+   * Default 0.1.
    */
   float tropism;
   /**
@@ -1197,8 +1190,8 @@ typedef struct ArborGrowthParams {
    */
   float tip_radius;
   /**
-   * A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent
-   * (its internodes counted with everything above it). >= 0 (0: never). Default 0.03.
+   * A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent (its
+   * internodes counted with everything above it). >= 0 (0: never). Default 0.03.
    */
   float shed_multiplier;
   /**
@@ -1218,18 +1211,17 @@ typedef struct ArborGrowthParams {
    */
   float seed_spread;
   /**
-   * Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180].
-   * Default 90.
+   * Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180]. Default 90.
    */
   float perception_angle;
   /**
-   * Space colonization: reach of the perception cone, in internode lengths, in
-   * (0, 64]. Default 4.
+   * Space colonization: reach of the perception cone, in internode lengths, in (0, 64]. Default
+   * 4.
    */
   float perception_reach;
   /**
-   * Space colonization: markers closer than this many internode lengths to a bud are
-   * removed (occupied), 0..=64. Default 2.
+   * Space colonization: markers closer than this many internode lengths to a bud are removed
+   * (occupied), 0..=64. Default 2.
    */
   float occupancy_reach;
   /**
@@ -1237,53 +1229,48 @@ typedef struct ArborGrowthParams {
    */
   uint32_t max_shoot;
   /**
-   * Palubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
-   * the light its buds gather, per internode it carries, is below this (a tree whose
-   * whole light per internode falls below it dies). Light is Q as the environment gives
-   * it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
-   * Default 0.1. (Added after the first layout.)
+   * Palubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when the light
+   * its buds gather, per internode it carries, is below this (a tree whose whole light per
+   * internode falls below it dies). Light is Q as the environment gives it (at most `full_light`
+   * in a shadow world, 1 with markers). >= 0 (0: off). Default 0.1. (Added after the first
+   * layout.)
    */
   float shed_light;
   /**
-   * Apical control (lambda) of a new tree, in [0, 1]: it moves linearly to
-   * `apical_control` over `maturity_age` cycles. Default 0.5. (Added after the first
-   * layout.)
+   * Apical control (lambda) of a new tree, in [0, 1]: it moves linearly to `apical_control` over
+   * `maturity_age` cycles. Default 0.5. (Added after the first layout.)
    */
   float young_apical_control;
   /**
-   * Vigour multiplier (alpha) of a new tree, > 0: it moves linearly to
-   * `vigor_multiplier` over `maturity_age` cycles. Default 2. (Added after the first
-   * layout.)
+   * Vigour multiplier (alpha) of a new tree, > 0: it moves linearly to `vigor_multiplier` over
+   * `maturity_age` cycles. Default 2. (Added after the first layout.)
    */
   float young_vigor_multiplier;
   /**
-   * Growth cycles from planting until a tree has its adult apical control and vigour
-   * multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
-   * layout.)
+   * Growth cycles from planting until a tree has its adult apical control and vigour multiplier,
+   * 0..=10000 (0: adult from the start). Default 0. (Added after the first layout.)
    */
   uint32_t maturity_age;
   /**
-   * A tree this many cycles old grows no more shoots (it still sheds); 0: it never
-   * stops. Default 0. (Added after the first layout.)
+   * A tree this many cycles old grows no more shoots (it still sheds); 0: it never stops.
+   * Default 0. (Added after the first layout.)
    */
   uint32_t max_age;
   /**
-   * No internode grows to end higher than this above the tree's base, world units,
-   * >= 0 (0: no limit). Default 0. (Added after the first layout.)
+   * No internode grows to end higher than this above the tree's base, world units, >= 0 (0: no
+   * limit). Default 0. (Added after the first layout.)
    */
   float max_height;
   /**
-   * Weeping: a lateral axis's tropism falls by this for each internode of the axis
-   * before the new one, so a longer branch hangs more. 0..=1. Default 0. (Added after
-   * the first layout.)
+   * Weeping: a lateral axis's tropism falls by this for each internode of the axis before the
+   * new one, so a longer branch hangs more. 0..=1. Default 0. (Added after the first layout.)
    */
   float droop;
   /**
-   * In a shadow world, a seed of this species grows into a tree only where the light on
-   * the ground is at least this: full light less `shadow_strength` per bud above the
-   * ground there, at any height (buds counted over the 5 x 5 columns of cells around
-   * it, per column; see `shed_light` for the unit). >= 0. Default 0. (Added after the
-   * first layout.)
+   * In a shadow world, a seed of this species grows into a tree only where the light on the
+   * ground is at least this: full light less `shadow_strength` per bud above the ground there,
+   * at any height (buds counted over the 5 x 5 columns of cells around it, per column; see
+   * `shed_light` for the unit). >= 0. Default 0. (Added after the first layout.)
    */
   float germination_light;
 } ArborGrowthParams;
@@ -1313,13 +1300,12 @@ typedef struct ArborLeafInstance {
 
 /**
  * Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
- * docs/c-api.md). Start from arbor_lsystem_options_default() (or
- * arbor_lsystem_options_init()) and change what you need.
+ * docs/c-api.md). Start from arbor_lsystem_options_default() (or arbor_lsystem_options_init()) and
+ * change what you need.
  */
 typedef struct ArborLsystemOptions {
   /**
-   * sizeof(ArborLsystemOptions) as the host was compiled; set by
-   * arbor_lsystem_options_init().
+   * sizeof(ArborLsystemOptions) as the host was compiled; set by arbor_lsystem_options_init().
    */
   uint32_t struct_size;
   /**
@@ -1327,14 +1313,13 @@ typedef struct ArborLsystemOptions {
    */
   int32_t steps;
   /**
-   * Seed of stochastic productions, ran() and nran(), used when the grammar has no
-   * `seed:`. Default 0.
+   * Seed of stochastic productions, ran() and nran(), used when the grammar has no `seed:`.
+   * Default 0.
    */
   uint64_t seed;
   /**
-   * Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this
-   * many modules (also bounds what the turtle reads after interpretation rules).
-   * Default 16,777,216.
+   * Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this many
+   * modules (also bounds what the turtle reads after interpretation rules). Default 16,777,216.
    */
   uint64_t max_modules;
   /**
@@ -1346,8 +1331,8 @@ typedef struct ArborLsystemOptions {
    */
   uint64_t max_branches;
   /**
-   * ARBOR_OVERRIDE_* bits saying which of the three settings below replace the
-   * grammar's directives. Default 0 (none).
+   * ARBOR_OVERRIDE_* bits saying which of the three settings below replace the grammar's
+   * directives. Default 0 (none).
    */
   uint32_t override_flags;
   /**
@@ -1367,37 +1352,35 @@ typedef struct ArborLsystemOptions {
    */
   float turn_jitter;
   /**
-   * 0 (default): the grammar's `seed:` (else `seed`) as written. Otherwise mixed into
-   * that seed, so each value grows a distinct plant even from a file that fixes its
-   * `seed:` (a forest of one grammar). (Added after the first layout.)
+   * 0 (default): the grammar's `seed:` (else `seed`) as written. Otherwise mixed into that seed,
+   * so each value grows a distinct plant even from a file that fixes its `seed:` (a forest of
+   * one grammar). (Added after the first layout.)
    */
   uint64_t variation_seed;
   /**
-   * One work budget, in units, for everything a derivation and its interpretation do
-   * (rewriting, decomposition, interpretation rules, statements, queries; see
-   * docs/c-api.md, "Robustness"): past it the load stops with
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_work, and `progress` hears the work every
-   * 2^20 units. Default 268,435,456 (at most about 1.3 s on a 2-core x86-64 machine).
-   * (Added after the first layout.)
+   * One work budget, in units, for everything a derivation and its interpretation do (rewriting,
+   * decomposition, interpretation rules, statements, queries; see docs/c-api.md, "Robustness"):
+   * past it the load stops with ARBOR_STATUS_LIMIT_EXCEEDED naming max_work, and `progress`
+   * hears the work every 2^20 units. Default 268,435,456 (at most about 1.3 s on a 2-core x86-64
+   * machine). (Added after the first layout.)
    */
   uint64_t max_work;
   /**
-   * arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path);
-   * NULL (default): the `.v` file beside the grammar with the same stem, if any.
-   * (Added after the first layout.)
+   * arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path); NULL
+   * (default): the `.v` file beside the grammar with the same stem, if any. (Added after the
+   * first layout.)
    */
   const char *view_path;
   /**
-   * arbor_tree_from_lsystem(): the text of the grammar's view file (NUL-terminated
-   * UTF-8), applied as cpfg applies a `.v` file; NULL (default): none. (Added after
-   * the first layout.)
+   * arbor_tree_from_lsystem(): the text of the grammar's view file (NUL-terminated UTF-8),
+   * applied as cpfg applies a `.v` file; NULL (default): none. (Added after the first layout.)
    */
   const char *view_text;
   /**
-   * Called during derivation and interpretation (ARBOR_STAGE_DERIVATION at every step
-   * and every 65,536 modules, ARBOR_STAGE_INTERPRETATION every 65,536 modules) on the
-   * calling thread; non-zero stops with ARBOR_STATUS_CANCELLED. NULL (default): none.
-   * (Added after the first layout.)
+   * Called during derivation and interpretation (ARBOR_STAGE_DERIVATION at every step and every
+   * 65,536 modules, ARBOR_STAGE_INTERPRETATION every 65,536 modules) on the calling thread;
+   * non-zero stops with ARBOR_STATUS_CANCELLED. NULL (default): none. (Added after the first
+   * layout.)
    */
   ArborProgressFn progress;
   /**
@@ -1406,9 +1389,9 @@ typedef struct ArborLsystemOptions {
   void *progress_user_data;
   /**
    * Which files the model may read (ArborFileAccess): arbor_tree_from_lsystem_file()'s
-   * `#include`s, the `.v` beside the grammar and the view file's `function:`,
-   * `function set:`, `curve:` and `surface:` files. Default ARBOR_FILE_ACCESS_BUNDLE
-   * (the model's folder). (Added after the first layout.)
+   * `#include`s, the `.v` beside the grammar and the view file's `function:`, `function set:`,
+   * `curve:` and `surface:` files. Default ARBOR_FILE_ACCESS_BUNDLE (the model's folder). (Added
+   * after the first layout.)
    */
   uint32_t file_access;
   /**
@@ -1422,8 +1405,8 @@ typedef struct ArborLsystemOptions {
   void *read_file_user_data;
   /**
    * Bytes read over all files of one load; past it the load stops with
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes. Default 67,108,864 (64 MiB).
-   * (Added after the first layout.)
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes. Default 67,108,864 (64 MiB). (Added after
+   * the first layout.)
    */
   uint64_t max_file_bytes;
 } ArborLsystemOptions;

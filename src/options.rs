@@ -120,6 +120,19 @@ impl<T: Bounded> Bound<T> {
     }
 }
 
+/// One field of an option struct as its `options!` declaration wrote it.
+#[cfg_attr(not(test), allow(dead_code))]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FieldInfo {
+    /// The field's name.
+    pub name: &'static str,
+    /// Its Rust type, as written (`f32`, `Topology`, `Option<u32>`).
+    pub ty: &'static str,
+    /// Its documentation, one entry per `///` line (each starting with the space after
+    /// the slashes).
+    pub doc: &'static [&'static str],
+}
+
 /// Declares an option struct once. Each field is written with its documentation, its
 /// default and, optionally, its bound and what a message says was expected:
 ///
@@ -138,7 +151,7 @@ macro_rules! options {
         $(#[$meta:meta])*
         pub struct $name:ident {
             $(
-                $(#[$field_meta:meta])*
+                $(#[doc = $doc:literal])*
                 pub $field:ident : $ty:ty = $default:expr
                 $(, checked $bound:expr, $expected:expr)? ,
             )*
@@ -148,7 +161,7 @@ macro_rules! options {
         #[non_exhaustive]
         pub struct $name {
             $(
-                $(#[$field_meta])*
+                $(#[doc = $doc])*
                 pub $field: $ty,
             )*
         }
@@ -162,6 +175,17 @@ macro_rules! options {
         }
 
         impl $name {
+            /// Every field as declared, in order: for generators (the C ABI's mirror
+            /// structs) and tools that walk the options.
+            #[allow(dead_code)]
+            pub(crate) const FIELDS: &'static [$crate::options::FieldInfo] = &[
+                $($crate::options::FieldInfo {
+                    name: stringify!($field),
+                    ty: stringify!($ty),
+                    doc: &[$($doc),*],
+                },)*
+            ];
+
             /// Each field's own bound, in declaration order: `Ok`, or
             /// [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) naming
             /// the first field out of its bound.

@@ -4,177 +4,17 @@ use super::*;
 use crate::enums::Numbered;
 use crate::models::growth::{GrowthParams, Obstacle, Species, World, WorldOptions};
 
-/// Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md).
-/// Start from arbor_world_options_default() (or arbor_world_options_init()).
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct ArborWorldOptions {
-    /// sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
-    pub struct_size: u32,
-    /// An ArborEnvironment value. Default ARBOR_ENVIRONMENT_SHADOW.
-    pub environment: u32,
-    /// Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
-    pub min: [f32; 3],
-    /// Upper corner. Default (10, 20, 10).
-    pub max: [f32; 3],
-    /// Voxel edge (shadow) or marker spacing (colonization), > 0. Default 0.25.
-    pub cell_size: f32,
-    /// Seeds the markers and the seeding of new trees. Default 0.
-    pub seed: u64,
-    /// Shadow a bud casts (a), > 0. Default 0.2.
-    pub shadow_strength: f32,
-    /// Falloff per layer below a bud (b > 1). Default 2.
-    pub shadow_falloff: f32,
-    /// Layers of the shadow pyramid (q_max), 0..=16. Default 5.
-    pub shadow_depth: u32,
-    /// Full exposure (C), > 0. Default 1.5.
-    pub full_light: f32,
-    /// Most grid cells (4 bytes each; never more than 2^31): a finer box is
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle
-    /// whose shadow would need more (the shadow grid grows with what is shaded). Default
-    /// 33,554,432.
-    pub max_cells: u64,
-    /// Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass
-    /// this. Default 16,777,216.
-    pub max_branches: u64,
-    /// Most trees (seeding stops there). Default 1,024.
-    pub max_trees: u32,
-    /// 1 (default): grow the trees of a cycle and update the shadow grid on all cores
-    /// when arbor is built with its `parallel` feature (the result is identical; a world
-    /// under 4,096 internodes stays on the calling thread); 0: the calling thread only.
-    pub parallel: u32,
-    /// Called by arbor_world_step() before every cycle and at the end
-    /// (ARBOR_STAGE_GROWTH, the fraction of the cycles asked), on the calling thread;
-    /// non-zero stops with ARBOR_STATUS_CANCELLED before the next cycle (the world as it
-    /// was after the last whole cycle). NULL (default): none. (Added after the first
-    /// layout.)
-    pub progress: ArborProgressFn,
-    /// Passed to `progress`. (Added after the first layout.)
-    pub progress_user_data: *mut c_void,
-}
-
 /// sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_WORLD_OPTIONS_MIN_SIZE: usize = 88;
 
 growing!(ArborWorldOptions as "ArborWorldOptions", ARBOR_WORLD_OPTIONS_MIN_SIZE,
     first_added: progress, defaults: Self::from_rust(&WorldOptions::default()));
 
-mirror!(ArborWorldOptions => WorldOptions {
-    same {
-        environment, min, max, cell_size, seed, shadow_strength, shadow_falloff,
-        shadow_depth, full_light, max_cells, max_branches, max_trees,
-    }
-    renamed {}
-    c_only { parallel: 1, progress: None, progress_user_data: std::ptr::null_mut() }
-    rust_only {}
-});
-
 /// sizeof(ArborGrowthParams) of its first layout: the smallest `struct_size` accepted.
 pub const ARBOR_GROWTH_PARAMS_MIN_SIZE: usize = 76;
 
-/// One species: how a tree grows. The defaults are the excurrent species' values with
-/// neutral apical control. Lengths are world units, angles degrees.
-///
-/// A struct that grows (see "Structs that grow" in docs/c-api.md): start from
-/// arbor_growth_params_default() or arbor_growth_params_preset().
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ArborGrowthParams {
-    /// sizeof(ArborGrowthParams) as the host was compiled; set by arbor_growth_params_init().
-    pub struct_size: u32,
-    /// lambda in [0, 1]: 0.5 neutral, above favours the main axis (excurrent), below the
-    /// laterals (decurrent). Default 0.5.
-    pub apical_control: f32,
-    /// alpha > 0: vigour at the base = alpha * light gathered. Default 2.
-    pub vigor_multiplier: f32,
-    /// Length of an internode at vigour 1, in (0, 10000]. Default 0.25.
-    pub internode_length: f32,
-    /// Angle between a lateral bud and its internode's heading, 0..=180. Default 45.
-    pub branch_angle: f32,
-    /// Turn about the heading from one lateral bud to the next, finite. Default 137.5.
-    pub phyllotaxis: f32,
-    /// eta: weight of up (gravitropism) in a shoot's heading; negative bends down. Finite,
-    /// -1..=1. Default 0.1.
-    pub tropism: f32,
-    /// xi >= 0: weight of the environment's optimal direction. Default 0.25.
-    pub environment_weight: f32,
-    /// n in [1, 4]: a parent's r^n is the sum of its children's. Default 2.5.
-    pub pipe_exponent: f32,
-    /// Radius of a branch tip, in (0, 10000]. Default 0.01.
-    pub tip_radius: f32,
-    /// A lateral branch is shed when its vigour < shed_multiplier * internodes^shed_exponent
-    /// (its internodes counted with everything above it). >= 0 (0: never). Default 0.03.
-    pub shed_multiplier: f32,
-    /// 0..=8. Default 1.3.
-    pub shed_exponent: f32,
-    /// A branch younger than this many cycles is never shed. Default 4.
-    pub shed_delay: u32,
-    /// A tree older than this many cycles drops seeds each cycle; 0 (default): never.
-    pub seed_age: u32,
-    /// Seeds land within ln(root vigour) * seed_spread of the base, >= 0. Default 2.
-    pub seed_spread: f32,
-    /// Space colonization: half-angle of a bud's perception cone, degrees, in (0, 180].
-    /// Default 90.
-    pub perception_angle: f32,
-    /// Space colonization: reach of the perception cone, in internode lengths, in
-    /// (0, 64]. Default 4.
-    pub perception_reach: f32,
-    /// Space colonization: markers closer than this many internode lengths to a bud are
-    /// removed (occupied), 0..=64. Default 2.
-    pub occupancy_reach: f32,
-    /// Most internodes one shoot grows in a cycle, 1..=64. Default 8.
-    pub max_shoot: u32,
-    /// Palubicki's shedding: a lateral branch older than `shed_delay` cycles is shed when
-    /// the light its buds gather, per internode it carries, is below this (a tree whose
-    /// whole light per internode falls below it dies). Light is Q as the environment gives
-    /// it (at most `full_light` in a shadow world, 1 with markers). >= 0 (0: off).
-    /// Default 0.1. (Added after the first layout.)
-    pub shed_light: f32,
-    /// Apical control (lambda) of a new tree, in [0, 1]: it moves linearly to
-    /// `apical_control` over `maturity_age` cycles. Default 0.5. (Added after the first
-    /// layout.)
-    pub young_apical_control: f32,
-    /// Vigour multiplier (alpha) of a new tree, > 0: it moves linearly to
-    /// `vigor_multiplier` over `maturity_age` cycles. Default 2. (Added after the first
-    /// layout.)
-    pub young_vigor_multiplier: f32,
-    /// Growth cycles from planting until a tree has its adult apical control and vigour
-    /// multiplier, 0..=10000 (0: adult from the start). Default 0. (Added after the first
-    /// layout.)
-    pub maturity_age: u32,
-    /// A tree this many cycles old grows no more shoots (it still sheds); 0: it never
-    /// stops. Default 0. (Added after the first layout.)
-    pub max_age: u32,
-    /// No internode grows to end higher than this above the tree's base, world units,
-    /// >= 0 (0: no limit). Default 0. (Added after the first layout.)
-    pub max_height: f32,
-    /// Weeping: a lateral axis's tropism falls by this for each internode of the axis
-    /// before the new one, so a longer branch hangs more. 0..=1. Default 0. (Added after
-    /// the first layout.)
-    pub droop: f32,
-    /// In a shadow world, a seed of this species grows into a tree only where the light on
-    /// the ground is at least this: full light less `shadow_strength` per bud above the
-    /// ground there, at any height (buds counted over the 5 x 5 columns of cells around
-    /// it, per column; see `shed_light` for the unit). >= 0. Default 0. (Added after the
-    /// first layout.)
-    pub germination_light: f32,
-}
-
 growing!(ArborGrowthParams as "ArborGrowthParams", ARBOR_GROWTH_PARAMS_MIN_SIZE,
     first_added: shed_light, defaults: Self::from_rust(&GrowthParams::default()));
-
-mirror!(ArborGrowthParams => GrowthParams {
-    same {
-        apical_control, vigor_multiplier, internode_length, branch_angle, phyllotaxis,
-        tropism, environment_weight, pipe_exponent, tip_radius, shed_multiplier,
-        shed_exponent, shed_delay, seed_age, seed_spread, perception_angle,
-        perception_reach, occupancy_reach, max_shoot, shed_light, young_apical_control,
-        young_vigor_multiplier, maturity_age, max_age, max_height, droop, germination_light,
-    }
-    renamed {}
-    c_only {}
-    rust_only {}
-});
 
 /// A world of trees growing together (see arbor_world_create()). Opaque; free with
 /// arbor_world_free(). A `const ArborWorld *` may be read from several threads at once;

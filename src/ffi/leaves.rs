@@ -2,62 +2,6 @@
 
 use super::*;
 
-/// Where leaves go and how they vary: a struct that grows (see "Structs that grow" in
-/// docs/c-api.md). Start from arbor_leaf_options_default() (or arbor_leaf_options_init()).
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct ArborLeafOptions {
-    /// sizeof(ArborLeafOptions) as the host was compiled; set by arbor_leaf_options_init().
-    pub struct_size: u32,
-    /// 1: a leaf at every `~` site of the grammar. Default 1.
-    pub sites: u32,
-    /// 1: the grammar's `{ . }` polygons go into the baked leaf mesh. Default 1.
-    pub polygons: u32,
-    /// 1: leaves at the tips of terminal branches. Default 0.
-    pub tips: u32,
-    /// Only tips of branches made at this rewriting step or later (their `depth`, the birth
-    /// step) get leaves. Default 0.
-    pub min_depth: u32,
-    /// Expected leaves per tip (whole part always, fraction by chance), 0..=64. Default 1.
-    pub density: f32,
-    /// Leaf size in model units; > 0. Default 1.
-    pub size: f32,
-    /// Size varies by up to +- this fraction, in [0, 1). Default 0.2.
-    pub size_jitter: f32,
-    /// Each leaf turns about its stem by up to +- this many degrees. Default 180.
-    pub rotation_jitter: f32,
-    /// Tip leaves lean out from the branch by this many degrees. Default 30.
-    pub tilt: f32,
-    /// Seed of the variation. Default 0.
-    pub seed: u64,
-    /// NUL-terminated UTF-8 path of an OBJ file whose triangles are the baked leaf shape
-    /// (+Y along the blade, +Z its face); NULL (default) for a 0.5 x 1 quad. Read by each
-    /// leaf-mesh call (to read it once, load it into `prefab` instead);
-    /// ARBOR_STATUS_IO_ERROR if it cannot be loaded.
-    pub prefab_obj_path: *const c_char,
-    /// Making more leaves than this (instances, or copies in the baked mesh) stops with
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_leaves before their memory is spent.
-    /// Default 16,777,216. (Added after the first layout.)
-    pub max_leaves: u64,
-    /// How `prefab_obj_path` is read (ArborFileAccess): ARBOR_FILE_ACCESS_HOST reads it
-    /// through `read_file`; every other policy reads it from disk as a regular file (never
-    /// a device or FIFO), its `mtllib` never. Default ARBOR_FILE_ACCESS_BUNDLE. (Added
-    /// after the first layout.)
-    pub file_access: u32,
-    /// The host's reader for ARBOR_FILE_ACCESS_HOST; NULL (default) otherwise. (Added
-    /// after the first layout.)
-    pub read_file: ArborReadFileFn,
-    /// Passed to `read_file`. (Added after the first layout.)
-    pub read_file_user_data: *mut c_void,
-    /// Most bytes of the prefab read; past it ARBOR_STATUS_LIMIT_EXCEEDED naming
-    /// max_file_bytes. Default 67,108,864 (64 MiB). (Added after the first layout.)
-    pub max_file_bytes: u64,
-    /// A leaf shape loaded once with arbor_leaf_prefab_load(), used by every call without
-    /// reading its file again (set this or `prefab_obj_path`, not both); it must outlive
-    /// the calls. NULL (default): none. (Added after the first layout.)
-    pub prefab: *const ArborLeafPrefab,
-}
-
 /// A leaf shape loaded once (see arbor_leaf_prefab_load()). Opaque; free with
 /// arbor_leaf_prefab_free(). A `const ArborLeafPrefab *` may be used from several threads
 /// at once.
@@ -135,23 +79,6 @@ pub const ARBOR_LEAF_OPTIONS_MIN_SIZE: usize = 56;
 
 growing!(ArborLeafOptions as "ArborLeafOptions", ARBOR_LEAF_OPTIONS_MIN_SIZE,
     first_added: max_leaves, defaults: Self::from_rust(&LeafOptions::default()));
-
-mirror!(ArborLeafOptions => LeafOptions {
-    same {
-        sites, polygons, tips, density, size, size_jitter, rotation_jitter, tilt, seed,
-        max_leaves,
-    }
-    renamed { min_depth = min_birth }
-    c_only {
-        prefab_obj_path: std::ptr::null(),
-        file_access: ArborFileAccess::Bundle as u32,
-        read_file: None,
-        read_file_user_data: std::ptr::null_mut(),
-        max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
-        prefab: std::ptr::null(),
-    }
-    rust_only { prefab: None }
-});
 
 impl Default for ArborLeafOptions {
     /// What arbor_leaf_options_init() writes for this library's size.

@@ -9,85 +9,30 @@ pub const ARBOR_OVERRIDE_INITIAL_WIDTH: u32 = 2;
 /// ArborLsystemOptions.override_flags bit: use `width_increment` instead of the grammar's.
 pub const ARBOR_OVERRIDE_WIDTH_INCREMENT: u32 = 4;
 
-/// Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
-/// docs/c-api.md). Start from arbor_lsystem_options_default() (or
-/// arbor_lsystem_options_init()) and change what you need.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct ArborLsystemOptions {
-    /// sizeof(ArborLsystemOptions) as the host was compiled; set by
-    /// arbor_lsystem_options_init().
-    pub struct_size: u32,
-    /// Rewriting steps; < 0 (default -1): the grammar's own `derivation length:`.
-    pub steps: i32,
-    /// Seed of stochastic productions, ran() and nran(), used when the grammar has no
-    /// `seed:`. Default 0.
-    pub seed: u64,
-    /// Derivation stops with ARBOR_STATUS_LIMIT_EXCEEDED before a string would pass this
-    /// many modules (also bounds what the turtle reads after interpretation rules).
-    /// Default 16,777,216.
-    pub max_modules: u64,
-    /// Same for the parameter values of a string. Default 33,554,432.
-    pub max_params: u64,
-    /// Same for the branches of the tree. Default 16,777,216.
-    pub max_branches: u64,
-    /// ARBOR_OVERRIDE_* bits saying which of the three settings below replace the
-    /// grammar's directives. Default 0 (none).
-    pub override_flags: u32,
-    /// Degrees turned by + - & ^ / \ without a parameter (`angle increment:`).
-    pub angle_increment: f32,
-    /// The turtle's starting width (`initial line width:`), a diameter.
-    pub initial_width: f32,
-    /// What ! and # without a parameter subtract and add (`line width increment:`).
-    pub width_increment: f32,
-    /// Each turn is off by a random amount up to +- this many degrees (seeded). Default 0.
-    pub turn_jitter: f32,
-    /// 0 (default): the grammar's `seed:` (else `seed`) as written. Otherwise mixed into
-    /// that seed, so each value grows a distinct plant even from a file that fixes its
-    /// `seed:` (a forest of one grammar). (Added after the first layout.)
-    pub variation_seed: u64,
-    /// One work budget, in units, for everything a derivation and its interpretation do
-    /// (rewriting, decomposition, interpretation rules, statements, queries; see
-    /// docs/c-api.md, "Robustness"): past it the load stops with
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_work, and `progress` hears the work every
-    /// 2^20 units. Default 268,435,456 (at most about 1.3 s on a 2-core x86-64 machine).
-    /// (Added after the first layout.)
-    pub max_work: u64,
-    /// arbor_tree_from_lsystem_file(): the view file to read (NUL-terminated UTF-8 path);
-    /// NULL (default): the `.v` file beside the grammar with the same stem, if any.
-    /// (Added after the first layout.)
-    pub view_path: *const c_char,
-    /// arbor_tree_from_lsystem(): the text of the grammar's view file (NUL-terminated
-    /// UTF-8), applied as cpfg applies a `.v` file; NULL (default): none. (Added after
-    /// the first layout.)
-    pub view_text: *const c_char,
-    /// Called during derivation and interpretation (ARBOR_STAGE_DERIVATION at every step
-    /// and every 65,536 modules, ARBOR_STAGE_INTERPRETATION every 65,536 modules) on the
-    /// calling thread; non-zero stops with ARBOR_STATUS_CANCELLED. NULL (default): none.
-    /// (Added after the first layout.)
-    pub progress: ArborProgressFn,
-    /// Passed to `progress`. (Added after the first layout.)
-    pub progress_user_data: *mut c_void,
-    /// Which files the model may read (ArborFileAccess): arbor_tree_from_lsystem_file()'s
-    /// `#include`s, the `.v` beside the grammar and the view file's `function:`,
-    /// `function set:`, `curve:` and `surface:` files. Default ARBOR_FILE_ACCESS_BUNDLE
-    /// (the model's folder). (Added after the first layout.)
-    pub file_access: u32,
-    /// The host's reader for ARBOR_FILE_ACCESS_HOST (then it also reads the model file and
-    /// `view_path`); NULL (default) otherwise. (Added after the first layout.)
-    pub read_file: ArborReadFileFn,
-    /// Passed to `read_file`. (Added after the first layout.)
-    pub read_file_user_data: *mut c_void,
-    /// Bytes read over all files of one load; past it the load stops with
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_file_bytes. Default 67,108,864 (64 MiB).
-    /// (Added after the first layout.)
-    pub max_file_bytes: u64,
-}
-
 impl ArborLsystemOptions {
+    /// The ARBOR_OVERRIDE_* bits of the settings `r` overrides.
+    pub(super) fn override_flags_of(r: &LsystemOptions) -> u32 {
+        [
+            (r.angle_increment, ARBOR_OVERRIDE_ANGLE_INCREMENT),
+            (r.initial_width, ARBOR_OVERRIDE_INITIAL_WIDTH),
+            (r.width_increment, ARBOR_OVERRIDE_WIDTH_INCREMENT),
+        ]
+        .iter()
+        .filter(|(v, _)| v.is_some())
+        .fold(0, |flags, (_, bit)| flags | bit)
+    }
+
+    /// The C value of an overridable setting: the override, else the view's default.
+    pub(super) fn setting_of(
+        value: Option<f64>,
+        default: impl FnOnce(crate::lsystem::ViewSettings) -> f64,
+    ) -> f32 {
+        value.unwrap_or_else(|| default(crate::lsystem::ViewSettings::default())) as f32
+    }
+
     /// `value` when `override_flags` has `bit`, else none (the grammar's own); an error
     /// when `override_flags` has a bit no ARBOR_OVERRIDE_* names.
-    fn overridden(&self, bit: u32, value: f32) -> crate::Result<Option<f64>> {
+    pub(super) fn overridden(&self, bit: u32, value: f32) -> crate::Result<Option<f64>> {
         let known = ARBOR_OVERRIDE_ANGLE_INCREMENT
             | ARBOR_OVERRIDE_INITIAL_WIDTH
             | ARBOR_OVERRIDE_WIDTH_INCREMENT;
@@ -103,47 +48,6 @@ impl ArborLsystemOptions {
         Ok((self.override_flags & bit != 0).then_some(value as f64))
     }
 }
-
-mirror!(ArborLsystemOptions => LsystemOptions {
-    same {
-        steps, seed, max_modules, max_params, max_branches, turn_jitter, variation_seed,
-        max_work,
-    }
-    renamed {}
-    c_only {
-        view_path: std::ptr::null(),
-        view_text: std::ptr::null(),
-        progress: None,
-        progress_user_data: std::ptr::null_mut(),
-        file_access: ArborFileAccess::Bundle as u32,
-        read_file: None,
-        read_file_user_data: std::ptr::null_mut(),
-        max_file_bytes: crate::files::DEFAULT_MAX_FILE_BYTES,
-    }
-    rust_only {}
-    to_rust(c) {
-        angle_increment: c.overridden(ARBOR_OVERRIDE_ANGLE_INCREMENT, c.angle_increment)?,
-        initial_width: c.overridden(ARBOR_OVERRIDE_INITIAL_WIDTH, c.initial_width)?,
-        width_increment: c.overridden(ARBOR_OVERRIDE_WIDTH_INCREMENT, c.width_increment)?,
-    }
-    to_c(r) {
-        override_flags: [
-            (r.angle_increment, ARBOR_OVERRIDE_ANGLE_INCREMENT),
-            (r.initial_width, ARBOR_OVERRIDE_INITIAL_WIDTH),
-            (r.width_increment, ARBOR_OVERRIDE_WIDTH_INCREMENT),
-        ]
-        .iter()
-        .filter(|(v, _)| v.is_some())
-        .fold(0, |flags, (_, bit)| flags | bit),
-        angle_increment: r
-            .angle_increment
-            .unwrap_or(crate::lsystem::ViewSettings::default().angle_increment) as f32,
-        initial_width: r.initial_width.unwrap_or(crate::lsystem::ViewSettings::default().initial_width) as f32,
-        width_increment: r
-            .width_increment
-            .unwrap_or(crate::lsystem::ViewSettings::default().width_increment) as f32,
-    }
-});
 
 /// sizeof(ArborLsystemOptions) of its first layout (up to `turn_jitter`, padded): the
 /// smallest `struct_size` accepted.

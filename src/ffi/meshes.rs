@@ -3,73 +3,6 @@
 use super::*;
 use crate::progress::Run;
 
-/// Options of the tube mesher: a struct that grows (see "Structs that grow" in
-/// docs/c-api.md). Start from arbor_mesh_options_default() (or arbor_mesh_options_init()) and
-/// change what you need. Enum-like fields are validated (unknown values give
-/// ARBOR_STATUS_INVALID_ARGUMENT naming the field).
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct ArborMeshOptions {
-    /// sizeof(ArborMeshOptions) as the host was compiled; set by arbor_mesh_options_init().
-    pub struct_size: u32,
-    /// Sides of each truncated cone, 3..=64 (the most, with LOD). Default 8.
-    pub radial_segments: u32,
-    /// An ArborTopology value. Default ARBOR_TOPOLOGY_TRIANGLE_LIST.
-    pub topology: u32,
-    /// 0 (default): no LOD. Else a branch gets ceil(radial_segments * r / r_max) sides,
-    /// clamped to min_radial_segments..=radial_segments (r: its larger radius, r_max: the
-    /// tree's largest).
-    pub min_radial_segments: u32,
-    /// Branches whose larger radius is below this are dropped with their subtree. Default 0.
-    pub cull_radius: f32,
-    /// An ArborJoints value. Default ARBOR_JOINTS_MITRED.
-    pub joints: u32,
-    /// 1: a branch's end radius becomes its continuation's start radius. Default 0.
-    pub smooth_taper: u32,
-    /// 1: a disc closes the base of each root. Default 0.
-    pub base_cap: u32,
-    /// An ArborTip value. Default ARBOR_TIP_OPEN.
-    pub tip: u32,
-    /// v = arc length from the root / texture_scale; finite, > 0. Default 1.
-    pub texture_scale: f32,
-    /// An ArborWinding value. Default ARBOR_WINDING_COUNTER_CLOCKWISE.
-    pub winding: u32,
-    /// An ArborUpAxis value. Default ARBOR_UP_AXIS_Y.
-    pub up_axis: u32,
-    /// Uniform scale of positions; finite, > 0. Default 1.
-    pub scale: f32,
-    /// Threads a large write may use: 0 (default) all cores (at most 8), 1 only the
-    /// calling thread. Trees under 16,384 branches per thread use fewer. Sizing a tree of
-    /// 32,768 branches or more takes two when this allows more than one. The output is the
-    /// same whatever the count. (Added after the first layout.)
-    pub threads: u32,
-    /// Sizing or writing a mesh of more vertices than this stops with
-    /// ARBOR_STATUS_LIMIT_EXCEEDED naming max_vertices, before any memory is spent.
-    /// Default 4,294,967,295 (what 32-bit indices address). (Added after the first layout.)
-    pub max_vertices: u64,
-    /// Extra rings inside every branch along its curve, 0..=64: 0 (default) one cone per
-    /// branch, exactly as without curves; k >= 1 a sweep with k inner rings,
-    /// rotation-minimising frames, interpolated radii and v by arc length. (Added after the
-    /// first layout.)
-    pub curve_rings: u32,
-    /// Called while a mesh is written (arbor_mesh_write, arbor_mesh_create,
-    /// arbor_forest_mesh_write, arbor_export_obj, arbor_export_gltf): ARBOR_STAGE_MESH with the fraction of branches written, after
-    /// every 65,536 branches and at the end, on the calling thread; non-zero stops with
-    /// ARBOR_STATUS_CANCELLED (the buffers then hold a partial mesh; an export writes no
-    /// file). NULL (default): none. (Added after the first layout.)
-    pub progress: ArborProgressFn,
-    /// Passed to `progress`. (Added after the first layout.)
-    pub progress_user_data: *mut c_void,
-    /// An ArborAxes value: ARBOR_AXES_UNITY or ARBOR_AXES_UNREAL set the axes, units and
-    /// winding of that engine (then up_axis and winding must stay at their defaults, and
-    /// scale applies first). Default ARBOR_AXES_ARBOR. (Added after the first layout.)
-    pub axes: u32,
-    /// An ArborVertexFormat value: ARBOR_VERTEX_FORMAT_F32 (ArborVertex, 32 bytes; the
-    /// default) or ARBOR_VERTEX_FORMAT_COMPACT (ArborVertexCompact, 20 bytes), which only
-    /// arbor_mesh_write_bytes() writes. (Added after the first layout.)
-    pub vertex_format: u32,
-}
-
 /// sizeof(ArborMeshOptions) of its first layout (up to `scale`): the smallest
 /// `struct_size` accepted.
 pub const ARBOR_MESH_OPTIONS_MIN_SIZE: usize = 52;
@@ -83,17 +16,6 @@ impl Default for ArborMeshOptions {
         Self::defaults()
     }
 }
-
-mirror!(ArborMeshOptions => MeshOptions {
-    same {
-        radial_segments, topology, min_radial_segments, cull_radius, joints, smooth_taper,
-        base_cap, tip, texture_scale, winding, up_axis, scale, max_vertices, curve_rings,
-        axes, vertex_format,
-    }
-    renamed {}
-    c_only { threads: 0, progress: None, progress_user_data: std::ptr::null_mut() }
-    rust_only {}
-});
 
 /// Writes the default mesh options (see ArborMeshOptions for each default) into the first
 /// `struct_size` bytes at `options`, with `options->struct_size = struct_size`, and

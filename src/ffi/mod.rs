@@ -20,6 +20,10 @@ mod layout;
 mod leaves;
 mod lsystem;
 mod meshes;
+#[cfg(test)]
+mod mirror_gen;
+#[rustfmt::skip]
+mod mirrors;
 mod options;
 pub(crate) mod owned;
 mod status;
@@ -35,6 +39,7 @@ pub use layout::*;
 pub use leaves::*;
 pub use lsystem::*;
 pub use meshes::*;
+pub use mirrors::*;
 use options::*;
 pub use status::*;
 pub use tree::*;
