@@ -255,12 +255,26 @@ macro_rules! mirror {
             pub(crate) fn to_rust(self) -> crate::Result<$rust> {
                 use $crate::ffi::options::CField;
                 $(let $cv = &self;)?
-                Ok($rust {
+                // Every field named: a Rust field the mirror lacks does not compile, until
+                // the generator (src/ffi/mirror_gen) writes the mirror again. While it
+                // does (the `regen-mirrors` feature), a missing field is its default.
+                #[cfg(not(feature = "regen-mirrors"))]
+                let r = $rust {
                     $($f: CField::c_to_rust(self.$f, stringify!($f))?,)*
                     $($rf: CField::c_to_rust(self.$cf, stringify!($cf))?,)*
                     $($ro: $rov,)*
                     $($($tf: $te,)*)?
-                })
+                };
+                #[cfg(feature = "regen-mirrors")]
+                #[allow(clippy::needless_update)]
+                let r = $rust {
+                    $($f: CField::c_to_rust(self.$f, stringify!($f))?,)*
+                    $($rf: CField::c_to_rust(self.$cf, stringify!($cf))?,)*
+                    $($ro: $rov,)*
+                    $($($tf: $te,)*)?
+                    ..Default::default()
+                };
+                Ok(r)
             }
 
             /// The C value of `r`, with `struct_size` this library's size.
