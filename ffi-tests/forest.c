@@ -25,6 +25,107 @@ static int same_branches(ArborTree *a, ArborTree *b) {
   return same;
 }
 
+/* Whether the calling thread's last error names `what`. */
+static int last_error_names(const char *what) {
+  char m[512];
+  arbor_last_error_message(m, sizeof m);
+  return strstr(m, what) != NULL;
+}
+
+/* Vertices of the mesh of one self-organizing tree grown as a forest plant grows it: alone
+ * at the origin of a default world seeded with `seed`. */
+static size_t grown_vertices(const ArborGrowthParams *species, uint32_t cycles, uint64_t seed) {
+  ArborWorldOptions wo = arbor_world_options_default();
+  wo.seed = seed;
+  ArborWorld *w = NULL;
+  CHECK_STATUS(arbor_world_create(&wo, &w), ARBOR_STATUS_OK);
+  const float origin[3] = {0, 0, 0};
+  CHECK_STATUS(arbor_world_plant(w, species, origin, seed, NULL), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_step(w, cycles), ARBOR_STATUS_OK);
+  ArborTree *t = NULL;
+  CHECK_STATUS(arbor_world_tree(w, 0, &t), ARBOR_STATUS_OK);
+  size_t v = 0, i = 0;
+  arbor_mesh_size(t, NULL, &v, &i);
+  arbor_tree_free(t);
+  arbor_world_free(w);
+  return v;
+}
+
+/* Forests of plants of any source: the 1996 model and self-organizing trees in one mesh,
+ * read with the host's stride (a newer, larger struct with a zero tail). */
+static void plants(void) {
+  enum { N = 3, STRIDE = sizeof(ArborForestPlant) + 8 };
+  unsigned char *block = calloc(N, STRIDE);
+  ArborForestPlant *p[N];
+  for (int k = 0; k < N; k++) {
+    p[k] = (ArborForestPlant *)(block + k * STRIDE);
+    arbor_forest_plant_init(p[k], STRIDE);
+    CHECK(p[k]->struct_size == STRIDE && p[k]->scale == 1.0f && p[k]->cycles == 30,
+          "defaults of plant %d", k);
+  }
+  ArborGrowthParams decurrent;
+  CHECK_STATUS(arbor_growth_params_preset(ARBOR_SPECIES_DECURRENT, &decurrent, sizeof decurrent),
+               ARBOR_STATUS_OK);
+  arbor_honda_preset('g', &p[0]->honda);
+  p[0]->seed = 1;
+  p[1]->source = ARBOR_PLANT_SOURCE_GROWTH;
+  p[1]->species = &decurrent;
+  p[1]->cycles = 12;
+  p[1]->seed = 5;
+  p[1]->position[0] = 40.0f;
+  p[2]->source = ARBOR_PLANT_SOURCE_GROWTH;
+  p[2]->cycles = 8;
+  p[2]->seed = 2;
+  p[2]->position[2] = -40.0f;
+  const ArborForestPlant *plants = p[0];
+
+  ArborTree *g1 = varied('g', 1);
+  size_t gv = 0, gi = 0;
+  arbor_mesh_size(g1, NULL, &gv, &gi);
+  arbor_tree_free(g1);
+  size_t expected = gv + grown_vertices(&decurrent, 12, 5) + grown_vertices(NULL, 8, 2);
+
+  ArborMesh *owned = NULL;
+  CHECK_STATUS(arbor_forest_plants_mesh_create(plants, N, NULL, &owned), ARBOR_STATUS_OK);
+  size_t ov = 0, oi = 0, sv = 0, si = 0;
+  const ArborVertex *vv = arbor_mesh_vertices(owned, &ov);
+  const uint32_t *ii = arbor_mesh_indices(owned, &oi);
+  CHECK(ov == expected && ov > gv, "plants forest: %zu vertices, expected %zu", ov, expected);
+  CHECK_STATUS(arbor_forest_plants_mesh_size(plants, N, NULL, &sv, &si), ARBOR_STATUS_OK);
+  CHECK(sv == ov && si == oi, "plant sizes %zu/%zu vs %zu/%zu", sv, si, ov, oi);
+  ArborVertex *w = malloc(sv * sizeof *w);
+  uint32_t *j = malloc(si * sizeof *j);
+  CHECK_STATUS(arbor_forest_plants_mesh_write(plants, N, NULL, w, sv - 1, j, si),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK_STATUS(arbor_forest_plants_mesh_write(plants, N, NULL, w, sv, j, si), ARBOR_STATUS_OK);
+  CHECK(memcmp(w, vv, sv * sizeof *w) == 0 && memcmp(j, ii, si * sizeof *j) == 0,
+        "written plants forest differs from the owned one");
+  free(w);
+  free(j);
+  arbor_mesh_free(owned);
+
+  /* Bad plants are refused by name, and nothing is written. */
+  ArborMesh *none = NULL;
+  p[1]->cycles = 0;
+  CHECK_STATUS(arbor_forest_plants_mesh_create(plants, N, NULL, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(last_error_names("plants[1].cycles"), "names the cycles");
+  p[1]->cycles = 12;
+  p[2]->source = 7;
+  CHECK_STATUS(arbor_forest_plants_mesh_create(plants, N, NULL, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(last_error_names("plants[2].source"), "names the source");
+  p[2]->source = ARBOR_PLANT_SOURCE_GROWTH;
+  decurrent.apical_control = 2.0f;
+  CHECK_STATUS(arbor_forest_plants_mesh_create(plants, N, NULL, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(last_error_names("apical_control"), "names the species field");
+  block[STRIDE - 1] = 1; /* a field this library does not have */
+  CHECK_STATUS(arbor_forest_plants_mesh_create(plants, N, NULL, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(none == NULL, "out written on failure");
+  CHECK_STATUS(arbor_forest_plants_mesh_create(NULL, 2, NULL, &none), ARBOR_STATUS_NULL_ARGUMENT);
+  CHECK_STATUS(arbor_forest_plants_mesh_create(NULL, 0, NULL, &none), ARBOR_STATUS_OK);
+  arbor_mesh_free(none);
+  free(block);
+}
+
 int main(void) {
   ArborHondaParams p;
   ArborTree *paper = NULL;
@@ -116,5 +217,6 @@ int main(void) {
   arbor_tree_free(a);
   arbor_tree_free(pruned);
   arbor_tree_free(v0);
+  plants();
   return check_report("forest");
 }

@@ -469,6 +469,10 @@ typedef enum ArborStructId {
    * ArborAnimationVertexCompact.
    */
   ARBOR_STRUCT_ID_ANIMATION_VERTEX_COMPACT = 18,
+  /**
+   * ArborForestPlant.
+   */
+  ARBOR_STRUCT_ID_FOREST_PLANT = 19,
 } ArborStructId;
 
 /**
@@ -561,6 +565,21 @@ typedef enum ArborFileAccess {
    */
   ARBOR_FILE_ACCESS_HOST = 3,
 } ArborFileAccess;
+
+/**
+ * What an ArborForestPlant grows from.
+ */
+typedef enum ArborPlantSource {
+  /**
+   * The 1996 model with `honda` (seed: its variation, 0 for none).
+   */
+  ARBOR_PLANT_SOURCE_HONDA = 0,
+  /**
+   * A self-organizing tree of `species`, grown alone for `cycles` cycles in a default
+   * world (a shadow world 20 units wide and tall) seeded with `seed`.
+   */
+  ARBOR_PLANT_SOURCE_GROWTH = 1,
+} ArborPlantSource;
 
 /**
  * Which vertex a mesh is written as (C: ArborVertexFormat, in
@@ -1062,85 +1081,6 @@ typedef struct ArborVertex {
 } ArborVertex;
 
 /**
- * Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
- * arbor_world_options_default() (or arbor_world_options_init()).
- */
-typedef struct ArborWorldOptions {
-  /**
-   * sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
-   */
-  uint32_t struct_size;
-  /**
-   * An ArborEnvironment value. Default ARBOR_ENVIRONMENT_SHADOW.
-   */
-  uint32_t environment;
-  /**
-   * Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
-   */
-  float min[3];
-  /**
-   * Upper corner. Default (10, 20, 10).
-   */
-  float max[3];
-  /**
-   * Voxel edge (shadow) or marker spacing (colonization), > 0. Default 0.25.
-   */
-  float cell_size;
-  /**
-   * Seeds the markers and the seeding of new trees. Default 0.
-   */
-  uint64_t seed;
-  /**
-   * Shadow a bud casts (a), > 0. Default 0.2.
-   */
-  float shadow_strength;
-  /**
-   * Falloff per layer below a bud (b > 1). Default 2.
-   */
-  float shadow_falloff;
-  /**
-   * Layers of the shadow pyramid (q_max), 0..=16. Default 5.
-   */
-  uint32_t shadow_depth;
-  /**
-   * Full exposure (C), > 0. Default 1.5.
-   */
-  float full_light;
-  /**
-   * Most grid cells (4 bytes each; never more than 2^31): a finer box is
-   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle whose
-   * shadow would need more (the shadow grid grows with what is shaded). Default 33,554,432.
-   */
-  uint64_t max_cells;
-  /**
-   * Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass this.
-   * Default 16,777,216.
-   */
-  uint64_t max_branches;
-  /**
-   * Most trees (seeding stops there). Default 1,024.
-   */
-  uint32_t max_trees;
-  /**
-   * 1 (default): grow the trees of a cycle and update the shadow grid on all cores when arbor is
-   * built with its `parallel` feature (the result is identical; a world under 4,096 internodes
-   * stays on the calling thread); 0: the calling thread only.
-   */
-  uint32_t parallel;
-  /**
-   * Called by arbor_world_step() before every cycle and at the end (ARBOR_STAGE_GROWTH, the
-   * fraction of the cycles asked), on the calling thread; non-zero stops with
-   * ARBOR_STATUS_CANCELLED before the next cycle (the world as it was after the last whole
-   * cycle). NULL (default): none. (Added after the first layout.)
-   */
-  ArborProgressFn progress;
-  /**
-   * Passed to `progress`. (Added after the first layout.)
-   */
-  void *progress_user_data;
-} ArborWorldOptions;
-
-/**
  * One species: how a tree grows. The defaults are the excurrent species' values with neutral
  * apical control. Lengths are world units, angles degrees. A struct that grows (see "Structs that
  * grow" in docs/c-api.md): start from arbor_growth_params_default() or
@@ -1274,6 +1214,130 @@ typedef struct ArborGrowthParams {
    */
   float germination_light;
 } ArborGrowthParams;
+
+/**
+ * One tree of a forest of any source: a struct that grows (see "Structs that grow" in
+ * docs/c-api.md), passed as an array read with the stride `plants[0].struct_size`. Start
+ * each from arbor_forest_plant_init().
+ */
+typedef struct ArborForestPlant {
+  /**
+   * sizeof(ArborForestPlant) as the host was compiled; set by arbor_forest_plant_init().
+   */
+  uint32_t struct_size;
+  /**
+   * An ArborPlantSource value. Default ARBOR_PLANT_SOURCE_HONDA.
+   */
+  uint32_t source;
+  /**
+   * ARBOR_PLANT_SOURCE_HONDA: the model's parameters. Default the paper's tree a.
+   */
+  struct ArborHondaParams honda;
+  /**
+   * ARBOR_PLANT_SOURCE_GROWTH: the species (read as arbor_world_plant() reads it); NULL
+   * (default): the default species.
+   */
+  const struct ArborGrowthParams *species;
+  /**
+   * ARBOR_PLANT_SOURCE_GROWTH: growth cycles, 1..=1000. Default 30.
+   */
+  uint32_t cycles;
+  /**
+   * The 1996 model's variation seed (0: none) or the growth world's seed. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * Where the root stands, in the output space of the mesh options. Default (0, 0, 0).
+   */
+  float position[3];
+  /**
+   * Turn about the up axis, degrees. Default 0.
+   */
+  float rotation;
+  /**
+   * Uniform scale, > 0. Default 1.
+   */
+  float scale;
+} ArborForestPlant;
+
+/**
+ * Options of a world: a struct that grows (see "Structs that grow" in docs/c-api.md). Start from
+ * arbor_world_options_default() (or arbor_world_options_init()).
+ */
+typedef struct ArborWorldOptions {
+  /**
+   * sizeof(ArborWorldOptions) as the host was compiled; set by arbor_world_options_init().
+   */
+  uint32_t struct_size;
+  /**
+   * An ArborEnvironment value. Default ARBOR_ENVIRONMENT_SHADOW.
+   */
+  uint32_t environment;
+  /**
+   * Lower corner of the box trees grow in (world units, Y up). Default (-10, 0, -10).
+   */
+  float min[3];
+  /**
+   * Upper corner. Default (10, 20, 10).
+   */
+  float max[3];
+  /**
+   * Voxel edge (shadow) or marker spacing (colonization), > 0. Default 0.25.
+   */
+  float cell_size;
+  /**
+   * Seeds the markers and the seeding of new trees. Default 0.
+   */
+  uint64_t seed;
+  /**
+   * Shadow a bud casts (a), > 0. Default 0.2.
+   */
+  float shadow_strength;
+  /**
+   * Falloff per layer below a bud (b > 1). Default 2.
+   */
+  float shadow_falloff;
+  /**
+   * Layers of the shadow pyramid (q_max), 0..=16. Default 5.
+   */
+  uint32_t shadow_depth;
+  /**
+   * Full exposure (C), > 0. Default 1.5.
+   */
+  float full_light;
+  /**
+   * Most grid cells (4 bytes each; never more than 2^31): a finer box is
+   * ARBOR_STATUS_LIMIT_EXCEEDED naming max_cells, and so is a step, plant or obstacle whose
+   * shadow would need more (the shadow grid grows with what is shaded). Default 33,554,432.
+   */
+  uint64_t max_cells;
+  /**
+   * Growth stops with ARBOR_STATUS_LIMIT_EXCEEDED before the world's internodes pass this.
+   * Default 16,777,216.
+   */
+  uint64_t max_branches;
+  /**
+   * Most trees (seeding stops there). Default 1,024.
+   */
+  uint32_t max_trees;
+  /**
+   * 1 (default): grow the trees of a cycle and update the shadow grid on all cores when arbor is
+   * built with its `parallel` feature (the result is identical; a world under 4,096 internodes
+   * stays on the calling thread); 0: the calling thread only.
+   */
+  uint32_t parallel;
+  /**
+   * Called by arbor_world_step() before every cycle and at the end (ARBOR_STAGE_GROWTH, the
+   * fraction of the cycles asked), on the calling thread; non-zero stops with
+   * ARBOR_STATUS_CANCELLED before the next cycle (the world as it was after the last whole
+   * cycle). NULL (default): none. (Added after the first layout.)
+   */
+  ArborProgressFn progress;
+  /**
+   * Passed to `progress`. (Added after the first layout.)
+   */
+  void *progress_user_data;
+} ArborWorldOptions;
 
 /**
  * One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes; C: ArborLeafInstance.
@@ -1774,6 +1838,60 @@ enum ArborStatus arbor_forest_mesh_write(const struct ArborForestTree *trees,
                                          size_t vertex_capacity,
                                          uint32_t *indices,
                                          size_t index_capacity);
+
+/**
+ * Writes the default plant into the first `struct_size` bytes at `plant` (pass
+ * `sizeof(ArborForestPlant)`), with `plant->struct_size = struct_size`, and nothing
+ * beyond. NULL does nothing.
+ *
+ * # Safety
+ * `plant` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_forest_plant_init(struct ArborForestPlant *plant, size_t struct_size);
+
+/**
+ * arbor_forest_mesh_create() for plants of any source (ArborForestPlant): grows them (on
+ * all cores when arbor is built with its `parallel` feature), places them and merges them
+ * into one new mesh object written to `*out`.
+ *
+ * # Safety
+ * `plants` is NULL (only with `count` 0) or readable for `count` elements of the host's
+ * ArborForestPlant (stride `plants[0].struct_size`), each `species` NULL or readable;
+ * `options` is NULL or readable; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_forest_plants_mesh_create(const struct ArborForestPlant *plants,
+                                                 size_t count,
+                                                 const struct ArborMeshOptions *options,
+                                                 struct ArborMesh **out);
+
+/**
+ * arbor_forest_mesh_size() for plants of any source (the plants are grown to count
+ * them; arbor_forest_plants_mesh_create() grows them once).
+ *
+ * # Safety
+ * As arbor_forest_plants_mesh_create(); the counts are NULL or writable.
+ */
+enum ArborStatus arbor_forest_plants_mesh_size(const struct ArborForestPlant *plants,
+                                               size_t count,
+                                               const struct ArborMeshOptions *options,
+                                               size_t *vertex_count,
+                                               size_t *index_count);
+
+/**
+ * arbor_forest_mesh_write() for plants of any source; the buffer rules of
+ * arbor_mesh_write().
+ *
+ * # Safety
+ * As arbor_forest_plants_mesh_size(), and `vertices` / `indices` are NULL or valid for
+ * writes of their capacities and do not overlap.
+ */
+enum ArborStatus arbor_forest_plants_mesh_write(const struct ArborForestPlant *plants,
+                                                size_t count,
+                                                const struct ArborMeshOptions *options,
+                                                struct ArborVertex *vertices,
+                                                size_t vertex_capacity,
+                                                uint32_t *indices,
+                                                size_t index_capacity);
 
 /**
  * Writes the mesh of `tree` into a byte buffer of `vertex_bytes` bytes, in the vertex
@@ -2525,6 +2643,12 @@ static inline ArborMeshOptions arbor_mesh_options_default(void) {
   ArborMeshOptions o;
   arbor_mesh_options_init(&o, sizeof o);
   return o;
+}
+
+static inline ArborForestPlant arbor_forest_plant_default(void) {
+  ArborForestPlant p;
+  arbor_forest_plant_init(&p, sizeof p);
+  return p;
 }
 
 static inline ArborLsystemOptions arbor_lsystem_options_default(void) {

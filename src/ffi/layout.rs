@@ -44,6 +44,8 @@ pub enum ArborStructId {
     VertexCompact = 17,
     /// ArborAnimationVertexCompact.
     AnimationVertexCompact = 18,
+    /// ArborForestPlant.
+    ForestPlant = 19,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -72,6 +74,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         16 => size_of::<Organ>(),
         17 => size_of::<VertexCompact>(),
         18 => size_of::<mesh::AnimationVertexCompact>(),
+        19 => size_of::<ArborForestPlant>(),
         _ => 0,
     }
 }

@@ -62,7 +62,7 @@ namespace Arbor
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
         Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
-        AnimationVertexCompact = 18,
+        AnimationVertexCompact = 18, ForestPlant = 19,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -207,6 +207,33 @@ namespace Arbor
     public enum Environment : uint { Shadow = 0, SpaceColonization = 1 }
     public enum Species : uint { Excurrent = 0, Decurrent = 1, Columnar = 2, Bush = 3, Weeping = 4 }
 
+    /// What a ForestPlant grows from (ArborPlantSource).
+    public enum PlantSource : uint { Honda = 0, Growth = 1 }
+
+    /// One tree of a forest of any source (ArborForestPlant): the 1996 model's parameters or
+    /// a species (a pointer to a GrowthParams the caller keeps alive, IntPtr.Zero for the
+    /// default) grown alone for Cycles cycles, and its placement. Pass an array of them to
+    /// arbor_forest_plants_mesh_create.
+    [StructLayout(LayoutKind.Sequential)]
+    public struct ForestPlant
+    {
+        public uint StructSize;
+        public PlantSource Source;
+        public HondaParams Honda;
+        public IntPtr Species;
+        public uint Cycles;
+        public ulong Seed;
+        public float PositionX, PositionY, PositionZ;
+        public float Rotation, Scale;
+
+        public static ForestPlant Default()
+        {
+            var p = new ForestPlant();
+            Native.arbor_forest_plant_init(ref p, (UIntPtr)Marshal.SizeOf(typeof(ForestPlant)));
+            return p;
+        }
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct WorldOptions
     {
@@ -344,6 +371,10 @@ namespace Arbor
         public static extern void arbor_world_options_init(ref WorldOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_growth_params_init(ref GrowthParams p, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_forest_plant_init(ref ForestPlant p, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_forest_plants_mesh_create(ForestPlant[] plants, UIntPtr count, ref MeshOptions options, out IntPtr mesh);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_growth_params_preset(uint species, ref GrowthParams p, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
