@@ -274,24 +274,14 @@ unsafe fn read_plants(
     plants: *const ArborForestPlant,
     count: usize,
 ) -> Result<Vec<crate::forest::Placed<'static>>, FfiError> {
-    if count == 0 {
-        return Ok(Vec::new());
-    }
-    if plants.is_null() {
-        return Err(FfiError::null("plants"));
-    }
-    // SAFETY: the caller promises the first element is readable.
-    unsafe { read_growing(plants, "plants[0]") }?;
-    // SAFETY: as above; read_growing accepted the size.
-    let stride = unsafe { plants.cast::<u32>().read_unaligned() } as usize;
-    (0..count)
-        .map(|k| {
-            // SAFETY: element k starts k strides in, inside the caller's array.
-            let p = unsafe { plants.cast::<u8>().add(k * stride) }.cast::<ArborForestPlant>();
-            // SAFETY: the caller promises element k is readable.
-            let plant = unsafe { read_growing(p, &format!("plants[{k}]")) }?;
+    // SAFETY: passed on from the caller.
+    let plants = unsafe { read_growing_array(plants, count, "plants") }?;
+    plants
+        .iter()
+        .enumerate()
+        .map(|(k, plant)| {
             // SAFETY: the caller promises `species` is NULL or readable.
-            let source = unsafe { plant_source(&plant, k) }?;
+            let source = unsafe { plant_source(plant, k) }?;
             Ok(crate::forest::Placed {
                 item: crate::forest::Item {
                     source,

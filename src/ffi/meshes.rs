@@ -79,24 +79,12 @@ pub(crate) unsafe fn read_mesh_options_array(
     levels: *const ArborMeshOptions,
     count: usize,
 ) -> Result<Vec<(MeshOptions, u32)>, FfiError> {
-    if count == 0 {
-        return Ok(Vec::new());
-    }
-    if levels.is_null() {
-        return Err(FfiError::null("levels"));
-    }
-    // SAFETY: the caller promises the first element is readable.
-    unsafe { read_growing(levels, "levels[0]") }?;
-    // SAFETY: as above; read_growing accepted the size, so it is at least the first
-    // layout's.
-    let stride = unsafe { levels.cast::<u32>().read_unaligned() } as usize;
-    (0..count)
-        .map(|k| {
-            let name = format!("levels[{k}]");
-            // SAFETY: element k starts k strides in, inside the caller's array.
-            let p = unsafe { levels.cast::<u8>().add(k * stride) }.cast::<ArborMeshOptions>();
-            // SAFETY: the caller promises element k is readable.
-            let o = unsafe { read_growing(p, &name) }?;
+    // SAFETY: passed on from the caller.
+    let levels = unsafe { read_growing_array(levels, count, "levels") }?;
+    levels
+        .into_iter()
+        .enumerate()
+        .map(|(k, o)| {
             let rust = o.to_rust().map_err(|e| FfiError::from(e).at_level(k))?;
             Ok((rust, o.threads))
         })

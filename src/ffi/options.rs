@@ -74,6 +74,39 @@ pub(crate) unsafe fn read_growing<T: Growing>(p: *const T, name: &str) -> Result
     Ok(out)
 }
 
+/// Reads an array of a host's growing structs, `count` elements with the stride of the
+/// first one's `struct_size` (a host built against another header has another size), each
+/// as [`read_growing`] reads one; messages name `name[k]`.
+///
+/// # Safety
+/// `p` is NULL (only with `count` 0) or points to `count` elements of the host's layout,
+/// each readable for the first one's `struct_size` bytes.
+pub(crate) unsafe fn read_growing_array<T: Growing>(
+    p: *const T,
+    count: usize,
+    name: &str,
+) -> Result<Vec<T>, FfiError> {
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    if p.is_null() {
+        return Err(FfiError::null(name));
+    }
+    // SAFETY: the caller promises the first element is readable.
+    unsafe { read_growing(p, &format!("{name}[0]")) }?;
+    // SAFETY: as above; read_growing accepted the size, so it is at least the first
+    // layout's and at most MAX_STRUCT_SIZE.
+    let stride = unsafe { p.cast::<u32>().read_unaligned() } as usize;
+    (0..count)
+        .map(|k| {
+            // SAFETY: element k starts k strides in, inside the caller's array.
+            let e = unsafe { p.cast::<u8>().add(k * stride) }.cast::<T>();
+            // SAFETY: the caller promises element k is readable.
+            unsafe { read_growing(e, &format!("{name}[{k}]")) }
+        })
+        .collect()
+}
+
 /// What every `arbor_*_init` does: [`init_growing`], with no panic crossing into C.
 ///
 /// # Safety
