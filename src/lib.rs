@@ -87,6 +87,7 @@ pub mod rng;
 pub mod scene;
 pub mod skeleton;
 pub mod source;
+pub mod texture;
 
 pub use error::{Error, Result};
 pub use mesh::{Mesh, MeshOptions, Topology, Vertex};
