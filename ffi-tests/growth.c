@@ -251,15 +251,16 @@ int main(void) {
     arbor_last_error_message(msg, sizeof msg);
     CHECK(strstr(msg, "max_branches") != NULL, "%s", msg);
     CHECK(arbor_world_branch_count(g) <= 300, "limit kept");
-    CHECK_STATUS(arbor_growth_params_preset(9, &p, sizeof p), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_growth_params_preset(99, &p, sizeof p), ARBOR_STATUS_INVALID_ARGUMENT);
     /* Species are listed by name, counting up until NULL: every named one has a preset. */
     uint32_t species = 0;
     while (arbor_species_name(species) != NULL) {
       CHECK_STATUS(arbor_growth_params_preset(species, &p, sizeof p), ARBOR_STATUS_OK);
       species++;
     }
-    CHECK(species == ARBOR_SPECIES_WEEPING + 1, "%u species named", species);
+    CHECK(species == ARBOR_SPECIES_SHRUB + 1, "%u species named", species);
     CHECK(strcmp(arbor_species_name(ARBOR_SPECIES_BUSH), "bush") == 0, "bush");
+    CHECK(strcmp(arbor_species_name(ARBOR_SPECIES_OAK), "oak") == 0, "oak");
     CHECK_STATUS(arbor_growth_params_preset(species, &p, sizeof p), ARBOR_STATUS_INVALID_ARGUMENT);
     CHECK_STATUS(arbor_world_step(NULL, 1), ARBOR_STATUS_NULL_ARGUMENT);
     CHECK(arbor_world_tree_count(NULL) == 0 && arbor_world_branch_count(NULL) == 0, "NULL counts");

@@ -531,6 +531,38 @@ enum ArborSpecies
    * Drooping shoots: lambda 0.5, tropism -0.25 (shoots bend down).
    */
   ARBOR_SPECIES_WEEPING = 4,
+  /**
+   * English oak: a broad, open crown on a short trunk; 18 m (see `arbor::species`).
+   */
+  ARBOR_SPECIES_OAK = 5,
+  /**
+   * Norway maple: a dense, rounded crown; 15 m.
+   */
+  ARBOR_SPECIES_MAPLE = 6,
+  /**
+   * Silver birch: slender, with a narrow crown and hanging twigs; 16 m.
+   */
+  ARBOR_SPECIES_BIRCH = 7,
+  /**
+   * Weeping willow: long shoots that hang toward the ground; 12 m.
+   */
+  ARBOR_SPECIES_WILLOW = 8,
+  /**
+   * Lombardy poplar: a tall, narrow column; 22 m.
+   */
+  ARBOR_SPECIES_POPLAR = 9,
+  /**
+   * Scots pine: a leader over wide-angled, upturned branches; 18 m.
+   */
+  ARBOR_SPECIES_PINE = 10,
+  /**
+   * Norway spruce: a narrow cone of whorled, drooping branches; 20 m.
+   */
+  ARBOR_SPECIES_SPRUCE = 11,
+  /**
+   * A shrub: many stems from near the ground; 2.5 m.
+   */
+  ARBOR_SPECIES_SHRUB = 12,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -971,6 +1003,17 @@ typedef struct ArborLeafOptions {
    * (default): none. (Added after the first layout.)
    */
   const struct ArborLeafPrefab *prefab;
+  /**
+   * Columns of the leaf atlas the baked leaves sample, 1..=16: each baked leaf maps its prefab's
+   * uv (0..=1) into one cell of a grid of `atlas_columns` by `atlas_rows` cells (as a leaf atlas
+   * lays out its variants), the cell chosen by the leaf's index and `seed`. Default 1 (the
+   * prefab's uv as it is).
+   */
+  uint32_t atlas_columns;
+  /**
+   * Rows of the leaf atlas, 1..=16. Default 1.
+   */
+  uint32_t atlas_rows;
 } ArborLeafOptions;
 
 /**

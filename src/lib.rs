@@ -87,6 +87,7 @@ pub mod rng;
 pub mod scene;
 pub mod skeleton;
 pub mod source;
+pub mod species;
 pub mod texture;
 
 pub use error::{Error, Result};

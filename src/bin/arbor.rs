@@ -94,6 +94,10 @@ struct ExportArgs {
     /// a vertex)
     #[arg(long)]
     compact_vertices: bool,
+    /// a named species (growth:oak ...): edge of its bark and leaf textures in pixels
+    /// (16–4096, default 1024)
+    #[arg(long, value_name = "pixels")]
+    texture_size: Option<u32>,
 }
 
 #[derive(Args)]
@@ -175,7 +179,8 @@ fn grow(t: &TreeArgs, bar: &mut Bar) -> Result<(Skeleton, String)> {
                 species_names()
             )
         })?;
-        let cycles = steps.unwrap_or(12);
+        let look = arbor::species::Look::of(kind);
+        let cycles = steps.unwrap_or(look.map_or(12, |l| l.cycles));
         let s = Source::Growth(GrowthParams::preset(kind), cycles)
             .grow_in(seed, &mut run)
             .map_err(err)?;
@@ -311,6 +316,18 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         }
         o.vertex_format = arbor::mesh::VertexFormat::Compact;
     }
+    let look = m
+        .tree
+        .source
+        .strip_prefix("growth:")
+        .and_then(Species::from_name)
+        .and_then(arbor::species::Look::of);
+    if let Some(look) = look {
+        return export_species(m, &look, skeleton, &o, what, grow_ms);
+    }
+    if m.texture_size.is_some() {
+        bail!("--texture-size is for a named species (growth:oak, growth:pine, ...)");
+    }
     let instanced = m.instanced_leaves;
     if instanced && format == ".obj" {
         bail!(
@@ -346,6 +363,45 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
     eprintln!(
         "{out}: {} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
         skeleton.len(),
+        t1.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+/// `arbor export growth:SPECIES` of a named species: its textured, leafy tree at its
+/// height, as one glTF scene.
+fn export_species(
+    m: &ExportArgs,
+    look: &arbor::species::Look,
+    skeleton: &Skeleton,
+    o: &MeshOptions,
+    what: &str,
+    grow_ms: f64,
+) -> Result<()> {
+    let out = &m.out;
+    if m.leaves.is_some() || m.leaf_size.is_some() || m.instanced_leaves {
+        bail!(
+            "{}: a named species places its own leaves; --leaves, --leaf-size and \
+             --instanced-leaves are for the other sources",
+            m.tree.source
+        );
+    }
+    if out.to_ascii_lowercase().ends_with(".obj") {
+        bail!("{out}: a named species is written as glTF (.glb or .gltf), with its textures");
+    }
+    let t1 = Instant::now();
+    let size = m.texture_size.unwrap_or(1024);
+    let seed = m.tree.seed.unwrap_or(0);
+    let go = arbor::export::gltf_mesh_options(o).map_err(|e| anyhow!("{out}: {e}"))?;
+    let skeleton = &look.finish(skeleton);
+    let scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
+        .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+    arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+    eprintln!(
+        "{out}: {} branches ({what}), {} m tall, textures {size} px; grown in {grow_ms:.1} ms, \
+         written in {:.1} ms",
+        skeleton.len(),
+        look.height,
         t1.elapsed().as_secs_f64() * 1e3
     );
     Ok(())

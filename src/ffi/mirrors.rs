@@ -261,6 +261,13 @@ pub struct ArborLeafOptions {
     /// its file again (set this or `prefab_obj_path`, not both); it must outlive the calls. NULL
     /// (default): none. (Added after the first layout.)
     pub prefab: *const ArborLeafPrefab,
+    /// Columns of the leaf atlas the baked leaves sample, 1..=16: each baked leaf maps its prefab's
+    /// uv (0..=1) into one cell of a grid of `atlas_columns` by `atlas_rows` cells (as a leaf atlas
+    /// lays out its variants), the cell chosen by the leaf's index and `seed`. Default 1 (the
+    /// prefab's uv as it is).
+    pub atlas_columns: u32,
+    /// Rows of the leaf atlas, 1..=16. Default 1.
+    pub atlas_rows: u32,
 }
 
 mirror!(ArborLeafOptions => LeafOptions {
@@ -275,6 +282,8 @@ mirror!(ArborLeafOptions => LeafOptions {
         tilt,
         seed,
         max_leaves,
+        atlas_columns,
+        atlas_rows,
     }
     renamed {
         min_depth = min_birth,

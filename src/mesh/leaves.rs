@@ -191,6 +191,13 @@ pub struct LeafOptions {
     /// [`Error::LimitExceeded`](crate::error::Error::LimitExceeded) naming `max_leaves`, before
     /// their memory is spent. Default [`DEFAULT_MAX_LEAVES`](crate::limits::DEFAULT_MAX_LEAVES).
     pub max_leaves: usize = crate::limits::DEFAULT_MAX_LEAVES,
+    /// Columns of the leaf atlas the baked leaves sample, 1..=16: each baked leaf maps
+    /// its prefab's uv (0..=1) into one cell of a grid of `atlas_columns` by `atlas_rows`
+    /// cells (as a leaf atlas lays out its variants), the cell chosen by the leaf's index
+    /// and `seed`. Default 1 (the prefab's uv as it is).
+    pub atlas_columns: u32 = 1, checked In(1, 16), "1..=16 cells",
+    /// Rows of the leaf atlas, 1..=16. Default 1.
+    pub atlas_rows: u32 = 1, checked In(1, 16), "1..=16 cells",
 }
 }
 
@@ -422,6 +429,8 @@ pub fn leaf_animation(
 /// What the baked leaf mesh holds.
 struct LeafPlan {
     instances: Vec<LeafInstance>,
+    /// Atlas columns and rows, and the seed that picks each leaf's cell.
+    atlas: (u32, u32, u64),
     prefab: std::sync::Arc<LeafPrefab>,
     /// Polygons to triangulate: (first point, count).
     polygons: Vec<(usize, usize)>,
@@ -499,6 +508,7 @@ fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> R
         });
     }
     Ok(LeafPlan {
+        atlas: (leaves.atlas_columns, leaves.atlas_rows, leaves.seed),
         instances,
         prefab,
         polygons,
@@ -609,18 +619,35 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
 
     /// Every leaf instance a copy of the prefab.
     fn instances(&mut self, plan: &LeafPlan) {
-        for l in &plan.instances {
+        let (columns, rows, seed) = plan.atlas;
+        let cells = columns * rows;
+        for (k, l) in plan.instances.iter().enumerate() {
             let q = Quat::from_array(l.rotation);
             let at = Vec3::from(l.position);
             let base = self.vi as u32;
+            // The leaf's atlas cell (with one cell, the prefab's uv as it is).
+            let cell = if cells > 1 {
+                (crate::rng::Rng::new(seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
+                    .next_u64()
+                    % cells as u64) as u32
+            } else {
+                0
+            };
+            let (cu, cv) = ((cell % columns) as f32, (cell / columns) as f32);
+            let (su, sv) = (columns as f32, rows as f32);
             for v in &plan.prefab.vertices {
+                let uv = if cells > 1 {
+                    [(cu + v.uv[0]) / su, (cv + v.uv[1]) / sv]
+                } else {
+                    v.uv
+                };
                 let position = at + q * (Vec3::from(v.position) * l.scale);
                 self.put(
                     position,
                     // A prefab's normal may be of any length, even zero (an OBJ file's):
                     // the leaf's face normal stands in for one without a direction.
                     unit(q * Vec3::from(v.normal)).unwrap_or_else(|| q * Vec3::Z),
-                    v.uv,
+                    uv,
                 );
             }
             for t in &plan.prefab.triangles {

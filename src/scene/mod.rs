@@ -33,6 +33,8 @@ pub struct Scene {
     pub meshes: Vec<SceneMesh>,
     /// The materials the primitives name; the bark's first.
     pub materials: Vec<Material>,
+    /// The images the materials sample (PNG in a file).
+    pub textures: Vec<Texture>,
     /// The nodes, in the order a file lists them.
     pub nodes: Vec<Node>,
     /// What the scene was made from.
@@ -72,6 +74,22 @@ pub struct Material {
     pub metallic: f32,
     /// 0 (mirror) ..= 1 (matte).
     pub roughness: f32,
+    /// Index into [`Scene::textures`] of the base colour (sRGB, times `base_color`).
+    pub base_color_texture: Option<usize>,
+    /// Index into [`Scene::textures`] of a tangent-space normal map.
+    pub normal_texture: Option<usize>,
+    /// Alpha-cut: texels whose alpha is below this are not drawn (glTF's `MASK`); none:
+    /// opaque.
+    pub alpha_cutoff: Option<f32>,
+}
+
+/// An image of the scene, sampled with repeat in both directions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    /// Its name in the file.
+    pub name: String,
+    /// The pixels.
+    pub image: crate::texture::Image,
 }
 
 impl Material {
@@ -83,6 +101,9 @@ impl Material {
             base_color: [0.36, 0.24, 0.14, 1.0],
             metallic: 0.0,
             roughness: 0.9,
+            base_color_texture: None,
+            normal_texture: None,
+            alpha_cutoff: None,
         }
     }
 
@@ -94,6 +115,9 @@ impl Material {
             base_color: [0.22, 0.52, 0.16, 1.0],
             metallic: 0.0,
             roughness: 0.8,
+            base_color_texture: None,
+            normal_texture: None,
+            alpha_cutoff: None,
         }
     }
 }
@@ -298,6 +322,46 @@ impl Scene {
             ..Settings::default()
         };
         Ok(scene)
+    }
+
+    /// Textures the bark and leaf materials: the bark samples `bark`'s colour and normal
+    /// maps (its colour factor white), the leaves `atlas` (alpha-cut at 0.5, double-sided,
+    /// white). The meshes must carry the uvs these images expect: bark with
+    /// `texture_scale` the bark's tile, baked leaves with the atlas' columns and rows
+    /// ([`LeafOptions::atlas_columns`]). A material of another name is left as it is.
+    pub fn texture(
+        &mut self,
+        bark: &crate::texture::BarkTextures,
+        atlas: &crate::texture::LeafAtlas,
+    ) {
+        let mut push = |name: &str, image: &crate::texture::Image| {
+            self.textures.push(Texture {
+                name: name.into(),
+                image: image.clone(),
+            });
+            self.textures.len() - 1
+        };
+        let (color, normal, leaves) = (
+            push("bark", &bark.color),
+            push("bark normal", &bark.normal),
+            push("leaves", &atlas.image),
+        );
+        for m in &mut self.materials {
+            match m.name.as_str() {
+                "bark" => {
+                    m.base_color = [1.0; 4];
+                    m.base_color_texture = Some(color);
+                    m.normal_texture = Some(normal);
+                }
+                "leaves" => {
+                    m.base_color = [1.0; 4];
+                    m.base_color_texture = Some(leaves);
+                    m.alpha_cutoff = Some(0.5);
+                    m.double_sided = true;
+                }
+                _ => {}
+            }
+        }
     }
 
     /// Adds `mesh` with `material` to `primitives` unless it has no triangles; the

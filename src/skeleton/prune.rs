@@ -161,6 +161,37 @@ fn colliding(skeleton: &Skeleton) -> Vec<bool> {
     removed
 }
 
+/// The skeleton without the branches that leave the trunk (an order-0 branch) below
+/// `height` above its lowest point, with everything they carry: a clear bole, as a tree
+/// that grew among others has. `height` 0 (or less) removes nothing.
+pub fn clear_trunk(skeleton: &Skeleton, height: f32) -> Pruned {
+    let b = skeleton.branches();
+    let base = b
+        .iter()
+        .flat_map(|x| [x.start[1], x.end[1]])
+        .fold(f32::INFINITY, f32::min);
+    let mut removed = vec![false; b.len()];
+    for (i, x) in b.iter().enumerate() {
+        if x.parent == NO_PARENT {
+            continue;
+        }
+        let p = x.parent as usize;
+        // Parents come before children, so a subtree follows its root.
+        removed[i] = removed[p] || (x.order > 0 && b[p].order == 0 && x.start[1] < base + height);
+    }
+    let count = removed.iter().filter(|&&r| r).count();
+    if count == 0 {
+        return Pruned {
+            skeleton: skeleton.clone(),
+            removed: 0,
+        };
+    }
+    Pruned {
+        skeleton: Skeleton::from_trusted(kept_parts(skeleton, &removed)),
+        removed: count,
+    }
+}
+
 /// The skeleton without the `removed` branches: the kept ones renumbered (tips that lost
 /// every child closed), with their frames, curves and colours, and the organs, leaf sites
 /// and polygons on kept branches (or on none).

@@ -34,6 +34,10 @@ pub struct LeafLook {
     pub veins: f32,
     /// The card's length in metres (its width is half of it).
     pub size: f32,
+    /// Blades on a card: 1, one leaf filling it; more, a spray of that many on a twig
+    /// (alternate, the last at its tip), as trees are drawn with far fewer cards than
+    /// they have leaves. 1..=16.
+    pub leaves: u32,
 }
 
 impl LeafLook {
@@ -44,7 +48,8 @@ impl LeafLook {
             color: [62, 96, 34],
             variation: 0.35,
             veins: 0.35,
-            size: 0.12,
+            size: 0.55,
+            leaves: 7,
         }
     }
     /// Palmate, bright green, 14 cm.
@@ -54,7 +59,8 @@ impl LeafLook {
             color: [78, 118, 36],
             variation: 0.35,
             veins: 0.3,
-            size: 0.14,
+            size: 0.6,
+            leaves: 5,
         }
     }
     /// Small ovate, light green, 6 cm.
@@ -64,7 +70,8 @@ impl LeafLook {
             color: [96, 132, 44],
             variation: 0.3,
             veins: 0.3,
-            size: 0.06,
+            size: 0.4,
+            leaves: 9,
         }
     }
     /// Lanceolate, grey-green, 10 cm.
@@ -74,7 +81,8 @@ impl LeafLook {
             color: [100, 126, 62],
             variation: 0.3,
             veins: 0.25,
-            size: 0.1,
+            size: 0.6,
+            leaves: 9,
         }
     }
     /// Broad ovate, green, 8 cm.
@@ -84,7 +92,8 @@ impl LeafLook {
             color: [70, 110, 38],
             variation: 0.3,
             veins: 0.3,
-            size: 0.08,
+            size: 0.5,
+            leaves: 7,
         }
     }
     /// Long needles in clusters, dark green, 14 cm.
@@ -94,7 +103,8 @@ impl LeafLook {
             color: [44, 78, 36],
             variation: 0.25,
             veins: 0.0,
-            size: 0.14,
+            size: 0.5,
+            leaves: 5,
         }
     }
     /// Short needles, blue-green, 8 cm.
@@ -104,7 +114,8 @@ impl LeafLook {
             color: [34, 66, 42],
             variation: 0.2,
             veins: 0.0,
-            size: 0.08,
+            size: 0.4,
+            leaves: 7,
         }
     }
     /// Small ovate, mid green, 5 cm.
@@ -114,7 +125,8 @@ impl LeafLook {
             color: [66, 104, 38],
             variation: 0.35,
             veins: 0.3,
-            size: 0.05,
+            size: 0.3,
+            leaves: 9,
         }
     }
 }
@@ -196,7 +208,7 @@ pub fn leaf_atlas(look: &LeafLook, size: u32, seed: u64) -> Result<LeafAtlas> {
         let ly = ((y - r * ch) as f32 + 0.5) / ch as f32;
         // Card space: x across in [-0.25, 0.25], y from the stem (0) to the tip (1).
         let (cx, cy) = ((lx - 0.5) * 0.5, ly);
-        let (inside, vein) = blade(look.shape, v, cx, cy);
+        let (inside, vein, twig) = card(look, v, cx, cy);
         let alpha = (inside * px_per_unit + 0.5).clamp(0.0, 1.0);
         let yellow = [
             look.color[0].saturating_add(60),
@@ -218,6 +230,9 @@ pub fn leaf_atlas(look: &LeafLook, size: u32, seed: u64) -> Result<LeafAtlas> {
             col[2].saturating_add(30),
         ];
         col = mix(col, light, vein * look.veins);
+        if twig {
+            col = [92, 70, 52];
+        }
         [col[0], col[1], col[2], (alpha * 255.0 + 0.5) as u8]
     });
     Ok(LeafAtlas {
@@ -225,6 +240,101 @@ pub fn leaf_atlas(look: &LeafLook, size: u32, seed: u64) -> Result<LeafAtlas> {
         columns: COLUMNS,
         rows: ROWS,
     })
+}
+
+/// Where card point (x, y) is on a card of `look`: its distance inside the drawn shape
+/// (card units), how much of a vein it is, and whether it is the twig.
+fn card(look: &LeafLook, v: &Variant, x: f32, y: f32) -> (f32, f32, bool) {
+    let n = look.leaves.clamp(1, 16);
+    if n == 1 {
+        let (d, vein) = blade(look.shape, v, x, y);
+        return (d, vein, false);
+    }
+    // The twig: from the stem's end to two thirds of the card, slightly bent; the
+    // terminal blade reaches on to the card's tip.
+    let tip_y = 0.66 * v.length;
+    let twig_x = |t: f32| v.bend * 2.0 * t * t;
+    let t = (y / tip_y).clamp(0.0, 1.0);
+    let twig = if y <= tip_y {
+        0.007 * (1.0 - 0.5 * t) - (x - twig_x(t)).abs()
+    } else {
+        -1.0
+    };
+    let (mut best, mut vein) = (twig, 0.0f32);
+    let mut on_twig = twig > 0.0;
+    if look.shape == LeafShape::Needles {
+        let (d, on) = bottlebrush(v, x, y, tip_y, n * 6);
+        return if d > best {
+            (d, 0.0, on)
+        } else {
+            (best, 0.0, on_twig)
+        };
+    }
+    let size = if look.shape == LeafShape::Palmate {
+        0.5
+    } else {
+        0.36
+    };
+    for k in 0..n {
+        let last = k == n - 1;
+        let at = if last {
+            1.0
+        } else {
+            0.22 + 0.7 * k as f32 / (n - 1) as f32
+        };
+        let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+        let jitter = unit(k, 17, v.seed) - 0.5;
+        let angle = if last {
+            0.0
+        } else {
+            side * (0.62 + 0.2 * jitter)
+        };
+        let len = size * (if last { 0.9 } else { 0.75 + 0.25 * at }) * (1.0 + 0.1 * jitter);
+        let (px, py) = (twig_x(at), at * tip_y);
+        let (dx, dy) = (angle.sin(), angle.cos());
+        let (qx, qy) = (x - px, y - py);
+        // Far from this leaf: skip it (its blade lies within `len` of its base).
+        if qx * qx + qy * qy > len * len * 1.05 {
+            continue;
+        }
+        // Leaf space: along the blade / len, across it / len.
+        let ly = (qx * dx + qy * dy) / len;
+        let lx = (qx * dy - qy * dx) / len;
+        let (d, vn) = blade(look.shape, v, lx, ly);
+        let d = d * len;
+        if d > best {
+            best = d;
+            vein = vn;
+            on_twig = false;
+        }
+    }
+    (best, vein, on_twig && best == twig)
+}
+
+/// Needles all along a twig from the stem's end to `tip_y` (a bottlebrush): `count`
+/// needles leaving it alternately on both sides, leaning toward the tip. Returns the
+/// distance inside the nearest needle and whether that is none (false: a needle).
+fn bottlebrush(v: &Variant, x: f32, y: f32, tip_y: f32, count: u32) -> (f32, bool) {
+    let twig_x = |t: f32| v.bend * 2.0 * t * t;
+    let mut best = -1.0f32;
+    for k in 0..count {
+        let at = 0.08 + 0.92 * k as f32 / (count - 1) as f32;
+        let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+        let jitter = unit(k, 23, v.seed) - 0.5;
+        let angle = side * (0.75 + 0.35 * jitter) * (1.0 - 0.5 * at);
+        let len = 0.2 * (1.0 - 0.35 * at) * (1.0 + 0.2 * jitter) * v.width;
+        let (bx, by) = (twig_x(at), at * tip_y);
+        let (qx, qy) = (x - bx, y - by);
+        if qx * qx + qy * qy > len * len * 1.1 {
+            continue;
+        }
+        let (dx, dy) = (angle.sin(), angle.cos());
+        let t = ((qx * dx + qy * dy) / len).clamp(0.0, 1.0);
+        let (ex, ey) = (qx - dx * len * t, qy - dy * len * t);
+        let half = 0.006 * (1.0 - 0.6 * t);
+        best = best.max(half - (ex * ex + ey * ey).sqrt());
+    }
+    (best, false)
 }
 
 /// Where card point (x, y) is for the blade of `shape`: its distance inside the outline

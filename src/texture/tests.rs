@@ -82,22 +82,27 @@ fn every_atlas_cell_holds_a_blade_with_its_colour_bled_around_it() {
             let [u0, v0, u1, v1] = a.rect(k);
             let (x0, x1) = ((u0 * 256.0) as u32, (u1 * 256.0) as u32);
             let (y0, y1) = ((v0 * 256.0) as u32, (v1 * 256.0) as u32);
-            let (mut inside, mut total) = (0, 0);
+            let (mut inside, mut green, mut total) = (0, 0, 0);
             for y in y0..y1 {
                 for x in x0..x1 {
                     let p = a.image.pixel(x, y);
                     total += 1;
+                    let is_green = p[1] > p[2] && p[1] >= p[0];
                     if p[3] >= 128 {
                         inside += 1;
+                        green += is_green as usize;
+                    } else {
+                        // Green where transparent (for filtering), even by the twig.
+                        assert!(is_green, "{:?} cell {k} pixel {p:?}", look.shape);
                     }
-                    // Green leaves, and green where transparent too (for filtering).
-                    assert!(
-                        p[1] > p[2] && p[1] >= p[0],
-                        "{:?} cell {k} pixel {p:?}",
-                        look.shape
-                    );
                 }
             }
+            // The blades are green; the rest is the twig.
+            assert!(
+                green * 10 >= inside * 7,
+                "{:?} cell {k}: {green} of {inside} green",
+                look.shape
+            );
             let f = inside as f64 / total as f64;
             let lo = if look.shape == LeafShape::Needles {
                 0.03

@@ -205,7 +205,11 @@ namespace Arbor
     }
 
     public enum Environment : uint { Shadow = 0, SpaceColonization = 1 }
-    public enum Species : uint { Excurrent = 0, Decurrent = 1, Columnar = 2, Bush = 3, Weeping = 4 }
+    public enum Species : uint
+    {
+        Excurrent = 0, Decurrent = 1, Columnar = 2, Bush = 3, Weeping = 4,
+        Oak = 5, Maple = 6, Birch = 7, Willow = 8, Poplar = 9, Pine = 10, Spruce = 11, Shrub = 12,
+    }
 
     /// What a ForestPlant grows from (ArborPlantSource).
     public enum PlantSource : uint { Honda = 0, Growth = 1 }

@@ -108,6 +108,7 @@ impl Buffers {
             position: pos,
             normal: nor,
             texcoord_0: uv,
+            tangent: None,
             growth: None,
             wind: None,
         };
@@ -141,4 +142,51 @@ impl Buffers {
         let uv = self.accessor(vv, 20, n, "VEC2");
         (pos, nor, uv)
     }
+}
+
+/// Per-vertex tangents (x, y, z, w) of a triangle-list mesh for a normal map: the
+/// direction of increasing u, from each triangle's uv derivatives summed over the
+/// triangles at the vertex, made perpendicular to the normal; w (±1) says whether the
+/// bitangent is n × t or its opposite (glTF's convention). A vertex whose triangles give
+/// no direction takes one perpendicular to its normal.
+pub(super) fn tangents(m: &Mesh) -> Vec<[f32; 4]> {
+    use glam::Vec3;
+    let n = m.vertices.len();
+    let (mut t, mut b) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+    for tri in m.indices.chunks_exact(3) {
+        let [i0, i1, i2] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let (v0, v1, v2) = (&m.vertices[i0], &m.vertices[i1], &m.vertices[i2]);
+        let e1 = Vec3::from(v1.position) - Vec3::from(v0.position);
+        let e2 = Vec3::from(v2.position) - Vec3::from(v0.position);
+        let (du1, dv1) = (v1.uv[0] - v0.uv[0], v1.uv[1] - v0.uv[1]);
+        let (du2, dv2) = (v2.uv[0] - v0.uv[0], v2.uv[1] - v0.uv[1]);
+        let det = du1 * dv2 - du2 * dv1;
+        if det.abs() < 1e-20 {
+            continue;
+        }
+        let r = 1.0 / det;
+        let tangent = (e1 * dv2 - e2 * dv1) * r;
+        let bitangent = (e2 * du1 - e1 * du2) * r;
+        for i in [i0, i1, i2] {
+            t[i] += tangent;
+            b[i] += bitangent;
+        }
+    }
+    m.vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let normal = Vec3::from(v.normal).normalize_or(Vec3::Y);
+            let mut tangent = (t[i] - normal * normal.dot(t[i])).normalize_or_zero();
+            if tangent == Vec3::ZERO {
+                tangent = normal.any_orthonormal_vector();
+            }
+            let w = if normal.cross(tangent).dot(b[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            [tangent.x, tangent.y, tangent.z, w]
+        })
+        .collect()
 }

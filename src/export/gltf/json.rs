@@ -21,6 +21,12 @@ pub(super) struct Root {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) materials: Vec<Material>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) textures: Vec<Texture>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) images: Vec<Image>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) samplers: Vec<Sampler>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) accessors: Vec<Accessor>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) buffer_views: Vec<BufferView>,
@@ -135,6 +141,8 @@ pub(super) struct Attributes {
     pub(super) normal: usize,
     #[serde(rename = "TEXCOORD_0")]
     pub(super) texcoord_0: usize,
+    #[serde(rename = "TANGENT", skip_serializing_if = "Option::is_none")]
+    pub(super) tangent: Option<usize>,
     #[serde(rename = "_GROWTH", skip_serializing_if = "Option::is_none")]
     pub(super) growth: Option<usize>,
     #[serde(rename = "_WIND", skip_serializing_if = "Option::is_none")]
@@ -148,14 +156,54 @@ pub(super) struct Material {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub(super) double_sided: bool,
     pub(super) pbr_metallic_roughness: Pbr,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) normal_texture: Option<TextureInfo>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) alpha_mode: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) alpha_cutoff: Option<f32>,
 }
 
 #[derive(Clone, Copy, Serialize)]
 #[serde(rename_all = "camelCase")]
 pub(super) struct Pbr {
     pub(super) base_color_factor: [f32; 4],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) base_color_texture: Option<TextureInfo>,
     pub(super) metallic_factor: f32,
     pub(super) roughness_factor: f32,
+}
+
+/// A material's reference to a texture (texture coordinates 0).
+#[derive(Clone, Copy, Serialize)]
+pub(super) struct TextureInfo {
+    pub(super) index: usize,
+}
+
+#[derive(Serialize)]
+pub(super) struct Texture {
+    pub(super) sampler: usize,
+    pub(super) source: usize,
+    pub(super) name: String,
+}
+
+/// A PNG image in a buffer view.
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Image {
+    pub(super) buffer_view: usize,
+    pub(super) mime_type: &'static str,
+    pub(super) name: String,
+}
+
+/// Linear filtering with mipmaps, repeat in both directions.
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Sampler {
+    pub(super) mag_filter: u32,
+    pub(super) min_filter: u32,
+    pub(super) wrap_s: u32,
+    pub(super) wrap_t: u32,
 }
 
 #[derive(Serialize)]

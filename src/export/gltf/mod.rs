@@ -25,15 +25,55 @@ use buffers::{ARRAY_BUFFER, Buffers, FLOAT, pad4};
 use json::Extras;
 
 fn material_json(m: &Material) -> json::Material {
+    let info = |t: Option<usize>| t.map(|index| json::TextureInfo { index });
     json::Material {
         name: m.name.clone(),
         double_sided: m.double_sided,
         pbr_metallic_roughness: json::Pbr {
             base_color_factor: m.base_color,
+            base_color_texture: info(m.base_color_texture),
             metallic_factor: m.metallic,
             roughness_factor: m.roughness,
         },
+        normal_texture: info(m.normal_texture),
+        alpha_mode: m.alpha_cutoff.map(|_| "MASK"),
+        alpha_cutoff: m.alpha_cutoff,
     }
+}
+
+/// The scene's textures as PNG images in the buffer, one sampler (linear, mipmapped,
+/// repeating) and a texture per image; empty when there are none.
+fn textures_json(
+    b: &mut Buffers,
+    scene: &Scene,
+) -> Result<(Vec<json::Texture>, Vec<json::Image>, Vec<json::Sampler>)> {
+    let (mut textures, mut images) = (Vec::new(), Vec::new());
+    for (k, t) in scene.textures.iter().enumerate() {
+        let png = t.image.png()?;
+        let view = b.view(&png, None, None);
+        images.push(json::Image {
+            buffer_view: view,
+            mime_type: "image/png",
+            name: t.name.clone(),
+        });
+        textures.push(json::Texture {
+            sampler: 0,
+            source: k,
+            name: t.name.clone(),
+        });
+    }
+    let samplers = if textures.is_empty() {
+        Vec::new()
+    } else {
+        // LINEAR, LINEAR_MIPMAP_LINEAR, REPEAT, REPEAT.
+        vec![json::Sampler {
+            mag_filter: 9729,
+            min_filter: 9987,
+            wrap_s: 10497,
+            wrap_t: 10497,
+        }]
+    };
+    Ok((textures, images, samplers))
 }
 
 fn extras(s: &Settings) -> Extras {
@@ -190,7 +230,21 @@ fn buffer_bytes(scene: &Scene) -> usize {
         .filter_map(|n| n.instances.as_ref())
         .map(|i| i.len() * 40)
         .sum();
-    meshes + instances
+    let textures: usize = scene.textures.iter().map(|t| t.image.pixels.len()).sum();
+    // Tangents (16 bytes a vertex) of normal-mapped primitives.
+    let tangents: usize = scene
+        .meshes
+        .iter()
+        .flat_map(|m| &m.primitives)
+        .filter(|p| {
+            scene
+                .materials
+                .get(p.material)
+                .is_some_and(|m| m.normal_texture.is_some())
+        })
+        .map(|p| p.mesh.vertices.len() * 16)
+        .sum();
+    meshes + instances + textures + tangents
 }
 
 /// A node of the file: its name, its mesh and placement, and for instances their
@@ -225,10 +279,19 @@ fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
 }
 
 /// A mesh of the file, its vertices, indices and animation streams written to the buffer.
-fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh) -> json::Mesh {
+fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh, materials: &[Material]) -> json::Mesh {
     let mut primitives = Vec::with_capacity(m.primitives.len());
     for p in &m.primitives {
         let (mut attributes, indices, n) = b.mesh(&p.mesh);
+        // A normal map needs the tangent space it was drawn in.
+        if materials
+            .get(p.material)
+            .is_some_and(|m| m.normal_texture.is_some())
+        {
+            let t = buffers::tangents(&p.mesh);
+            let tv = b.view(bytemuck::cast_slice(&t), None, Some(ARRAY_BUFFER));
+            attributes.tangent = Some(b.accessor(tv, 0, n, "VEC4"));
+        }
         // The animation stream: growth time, and (order, along, phase) for wind.
         if let Some(a) = p.animation.as_ref().filter(|a| a.len() == n) {
             let av = b.view(bytemuck::cast_slice(a), Some(16), Some(ARRAY_BUFFER));
@@ -297,8 +360,17 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
         quantized,
         ..Buffers::default()
     };
-    let meshes: Vec<json::Mesh> = scene.meshes.iter().map(|m| mesh_json(&mut b, m)).collect();
+    let meshes: Vec<json::Mesh> = scene
+        .meshes
+        .iter()
+        .map(|m| mesh_json(&mut b, m, &scene.materials))
+        .collect();
     let mut nodes: Vec<json::Node> = scene.nodes.iter().map(|n| node_json(&mut b, n)).collect();
+    let (textures, images, samplers) = if meshes.is_empty() {
+        (Vec::new(), Vec::new(), Vec::new())
+    } else {
+        textures_json(&mut b, scene)?
+    };
     let instanced = scene.nodes.iter().any(|n| n.instances.is_some());
     let (extensions_used, extensions_required) = extensions(quantized, instanced);
     if nodes.is_empty() {
@@ -339,6 +411,9 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
         nodes,
         meshes,
         materials,
+        textures,
+        images,
+        samplers,
         // Accessors and views come only with meshes (none when there are none).
         accessors: b.accessors,
         buffer_views: b.views,

@@ -106,6 +106,22 @@ pub enum Species {
     Bush = 3,
     /// Drooping shoots: lambda 0.5, tropism -0.25 (shoots bend down).
     Weeping = 4,
+    /// English oak: a broad, open crown on a short trunk; 18 m (see `arbor::species`).
+    Oak = 5,
+    /// Norway maple: a dense, rounded crown; 15 m.
+    Maple = 6,
+    /// Silver birch: slender, with a narrow crown and hanging twigs; 16 m.
+    Birch = 7,
+    /// Weeping willow: long shoots that hang toward the ground; 12 m.
+    Willow = 8,
+    /// Lombardy poplar: a tall, narrow column; 22 m.
+    Poplar = 9,
+    /// Scots pine: a leader over wide-angled, upturned branches; 18 m.
+    Pine = 10,
+    /// Norway spruce: a narrow cone of whorled, drooping branches; 20 m.
+    Spruce = 11,
+    /// A shrub: many stems from near the ground; 2.5 m.
+    Shrub = 12,
 }
 
 crate::enums::numbered!(Species as "ArborSpecies" {
@@ -114,6 +130,14 @@ crate::enums::numbered!(Species as "ArborSpecies" {
     Columnar = "columnar",
     Bush = "bush",
     Weeping = "weeping",
+    Oak = "oak",
+    Maple = "maple",
+    Birch = "birch",
+    Willow = "willow",
+    Poplar = "poplar",
+    Pine = "pine",
+    Spruce = "spruce",
+    Shrub = "shrub",
 });
 
 impl GrowthParams {
@@ -181,6 +205,78 @@ impl GrowthParams {
                 tropism: 0.05,
                 droop: 0.06,
                 environment_weight: 0.15,
+                ..d
+            },
+            Species::Oak => GrowthParams {
+                apical_control: 0.45,
+                vigor_multiplier: 1.35,
+                branch_angle: 55.0,
+                tropism: 0.02,
+                environment_weight: 0.35,
+                droop: 0.004,
+                ..d
+            },
+            Species::Maple => GrowthParams {
+                apical_control: 0.49,
+                vigor_multiplier: 1.3,
+                branch_angle: 42.0,
+                tropism: 0.08,
+                environment_weight: 0.25,
+                ..d
+            },
+            Species::Birch => GrowthParams {
+                apical_control: 0.56,
+                young_apical_control: 0.6,
+                branch_angle: 38.0,
+                tropism: 0.1,
+                droop: 0.03,
+                environment_weight: 0.2,
+                ..d
+            },
+            Species::Willow => GrowthParams {
+                apical_control: 0.48,
+                vigor_multiplier: 1.3,
+                branch_angle: 45.0,
+                tropism: 0.0,
+                droop: 0.09,
+                environment_weight: 0.15,
+                ..d
+            },
+            Species::Poplar => GrowthParams {
+                apical_control: 0.57,
+                branch_angle: 24.0,
+                tropism: 0.3,
+                environment_weight: 0.1,
+                ..d
+            },
+            Species::Pine => GrowthParams {
+                apical_control: 0.58,
+                young_apical_control: 0.62,
+                vigor_multiplier: 1.0,
+                young_vigor_multiplier: 1.4,
+                branch_angle: 70.0,
+                tropism: 0.06,
+                environment_weight: 0.1,
+                ..d
+            },
+            Species::Spruce => GrowthParams {
+                apical_control: 0.63,
+                young_apical_control: 0.63,
+                vigor_multiplier: 0.9,
+                young_vigor_multiplier: 1.3,
+                branch_angle: 85.0,
+                tropism: 0.03,
+                droop: 0.02,
+                environment_weight: 0.0,
+                ..d
+            },
+            Species::Shrub => GrowthParams {
+                apical_control: 0.4,
+                vigor_multiplier: 1.4,
+                internode_length: 0.15,
+                branch_angle: 55.0,
+                tropism: 0.05,
+                environment_weight: 0.3,
                 ..d
             },
         }

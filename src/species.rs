@@ -1,0 +1,188 @@
+//! Named species as a user asks for them: an oak, a pine, a birch. Each is a preset of the
+//! self-organizing model ([`GrowthParams::preset`]) with its cycles, its adult height in
+//! metres, its leaves (shape, colour, size, where they grow) and its bark, and
+//! [`tree_scene`] turns one into a textured, leafy asset at real scale.
+//!
+//! ```
+//! use arbor::models::growth::Species;
+//! use arbor::species::{Look, tree_scene};
+//!
+//! let look = Look::of(Species::Birch).unwrap();
+//! let skeleton = look.grow(3).unwrap();
+//! let scene = tree_scene(&look, &skeleton, &arbor::mesh::MeshOptions::default(), 64, 3).unwrap();
+//! assert_eq!(scene.textures.len(), 3); // bark colour and normal, the leaf atlas
+//! assert!(scene.materials.iter().any(|m| m.alpha_cutoff.is_some()));
+//! ```
+
+use crate::error::{Error, Result};
+use crate::mesh::{LeafOptions, MeshOptions};
+use crate::models::growth::{GrowthParams, Species};
+use crate::scene::Scene;
+use crate::skeleton::Skeleton;
+use crate::source::Source;
+use crate::texture::{BarkLook, LeafLook, bark_textures, leaf_atlas};
+
+/// How a named species grows and looks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Look {
+    /// The species (its growth parameters are [`GrowthParams::preset`]).
+    pub species: Species,
+    /// Growth cycles of an adult tree.
+    pub cycles: u32,
+    /// The adult tree's height in metres: the mesh is scaled to it.
+    pub height: f32,
+    /// Its leaves' blade, colour and size.
+    pub leaf: LeafLook,
+    /// Leaves per young tip (the whole part always, the fraction by chance).
+    pub leaves_per_tip: f32,
+    /// Leaves grow on the branches of the last this many cycles.
+    pub leaf_cycles: u32,
+    /// The trunk is clear of branches up to this fraction of the tree's height.
+    pub clear_trunk: f32,
+    /// Its bark.
+    pub bark: BarkLook,
+}
+
+impl Look {
+    /// The look of a named species; none for the five crown archetypes (excurrent,
+    /// decurrent, columnar, bush, weeping), which have no leaves or bark of their own.
+    pub fn of(species: Species) -> Option<Look> {
+        let l = |cycles, height, clear_trunk, leaf, leaves_per_tip, leaf_cycles, bark| Look {
+            species,
+            cycles,
+            height,
+            clear_trunk,
+            leaf,
+            leaves_per_tip,
+            leaf_cycles,
+            bark,
+        };
+        Some(match species {
+            Species::Oak => l(36, 18.0, 0.22, LeafLook::oak(), 6.0, 3, BarkLook::oak()),
+            Species::Maple => l(34, 15.0, 0.22, LeafLook::maple(), 5.0, 3, BarkLook::maple()),
+            Species::Birch => l(34, 16.0, 0.3, LeafLook::birch(), 8.0, 3, BarkLook::birch()),
+            Species::Willow => l(
+                34,
+                12.0,
+                0.18,
+                LeafLook::willow(),
+                8.0,
+                4,
+                BarkLook::willow(),
+            ),
+            Species::Poplar => l(
+                34,
+                22.0,
+                0.1,
+                LeafLook::poplar(),
+                6.0,
+                3,
+                BarkLook::poplar(),
+            ),
+            Species::Pine => l(32, 18.0, 0.45, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
+            Species::Spruce => l(
+                26,
+                20.0,
+                0.06,
+                LeafLook::spruce(),
+                4.0,
+                5,
+                BarkLook::spruce(),
+            ),
+            Species::Shrub => l(24, 2.5, 0.0, LeafLook::shrub(), 5.0, 3, BarkLook::shrub()),
+            _ => return None,
+        })
+    }
+
+    /// Every named species' look, in the enum's order.
+    pub fn all() -> Vec<Look> {
+        Species::ALL.iter().filter_map(|&s| Look::of(s)).collect()
+    }
+
+    /// The species' tree grown alone for its cycles, seeded with `seed`, its trunk
+    /// cleared of branches up to [`clear_trunk`](Self::clear_trunk) of its height.
+    pub fn grow(&self, seed: u64) -> Result<Skeleton> {
+        let grown = Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)?;
+        Ok(self.finish(&grown))
+    }
+
+    /// A grown tree of this species with its trunk cleared (what [`grow`](Self::grow)
+    /// does after growing).
+    pub fn finish(&self, grown: &Skeleton) -> Skeleton {
+        let h = height_of(grown);
+        crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton
+    }
+}
+
+/// The height of `skeleton` (its highest branch end above its lowest), in model units.
+fn height_of(skeleton: &Skeleton) -> f32 {
+    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+    for b in skeleton.branches() {
+        for p in [b.start, b.end] {
+            lo = lo.min(p[1]);
+            hi = hi.max(p[1]);
+        }
+    }
+    hi - lo
+}
+
+/// The mesh and leaf options that draw `skeleton` as `look` at its height: `options`
+/// with its scale multiplied so the tree is `look.height` metres tall and its
+/// `texture_scale` one bark tile, and leaves at the tips and buds of the youngest
+/// branches, sized in metres, on the atlas' cells.
+pub fn options(
+    look: &Look,
+    skeleton: &Skeleton,
+    options: &MeshOptions,
+) -> Result<(MeshOptions, LeafOptions)> {
+    let h = height_of(skeleton);
+    if !(h.is_finite() && h > 0.0) {
+        return Err(Error::invalid(
+            "skeleton",
+            format!("a tree of height {h}; expected a grown tree"),
+        ));
+    }
+    // Model units to metres.
+    let to_m = look.height / h;
+    let mut o = *options;
+    o.scale *= to_m;
+    o.texture_scale = look.bark.tile / to_m;
+    let last = skeleton
+        .branches()
+        .iter()
+        .map(|b| b.birth)
+        .max()
+        .unwrap_or(0);
+    let leaves = LeafOptions::default()
+        .sites(true)
+        .polygons(false)
+        .tips(true)
+        .min_birth(last.saturating_sub(look.leaf_cycles.saturating_sub(1)))
+        .density(look.leaves_per_tip)
+        .size(look.leaf.size / to_m)
+        .size_jitter(0.25)
+        .tilt(40.0)
+        .atlas_columns(4)
+        .atlas_rows(2);
+    Ok((o, leaves))
+}
+
+/// One tree of `look` as a scene: bark and baked leaves at the species' height
+/// ([`options`]), the bark textured with its colour and normal maps and the leaves with
+/// the species' atlas, all `texture_size` pixels square (16..=4096) and drawn from `seed`.
+pub fn tree_scene(
+    look: &Look,
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    texture_size: u32,
+    seed: u64,
+) -> Result<Scene> {
+    let (o, leaves) = options(look, skeleton, mesh)?;
+    let leaves = leaves.seed(seed);
+    // The textures are checked (their size) before the meshes are built.
+    let bark = bark_textures(&look.bark, texture_size, seed)?;
+    let atlas = leaf_atlas(&look.leaf, texture_size, seed)?;
+    let mut scene = Scene::tree(skeleton, &o, Some(&leaves))?;
+    scene.texture(&bark, &atlas);
+    Ok(scene)
+}

@@ -1,0 +1,141 @@
+//! Named species: each grows to its height with textured bark and leaves, and its file
+//! passes the Khronos validator.
+
+#[path = "common/validator.rs"]
+mod validator;
+
+use arbor::mesh::MeshOptions;
+use arbor::models::growth::Species;
+use arbor::species::{Look, tree_scene};
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("species");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn eight_named_species_and_the_five_archetypes_without_a_look() {
+    let named: Vec<&str> = Look::all().iter().map(|l| l.species.name()).collect();
+    assert_eq!(
+        named,
+        [
+            "oak", "maple", "birch", "willow", "poplar", "pine", "spruce", "shrub"
+        ]
+    );
+    for s in [
+        Species::Excurrent,
+        Species::Decurrent,
+        Species::Columnar,
+        Species::Bush,
+        Species::Weeping,
+    ] {
+        assert!(Look::of(s).is_none(), "{s:?}");
+    }
+}
+
+#[test]
+fn every_species_is_a_textured_tree_of_its_height() {
+    let options = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    let mut files = Vec::new();
+    for look in Look::all() {
+        let name = look.species.name();
+        let skeleton = look.grow(1).unwrap();
+        let scene = tree_scene(&look, &skeleton, &options, 64, 1).unwrap();
+        // Three images: the bark's colour and normal maps and the leaf atlas.
+        assert_eq!(scene.textures.len(), 3, "{name}");
+        let bark = scene.materials.iter().find(|m| m.name == "bark").unwrap();
+        assert!(bark.base_color_texture.is_some() && bark.normal_texture.is_some());
+        let leaves = scene.materials.iter().find(|m| m.name == "leaves").unwrap();
+        assert_eq!(leaves.alpha_cutoff, Some(0.5), "{name}");
+        assert!(leaves.double_sided && leaves.base_color_texture.is_some());
+        // The bark's height is the species' (the mesh scaled to metres).
+        let prims = &scene.meshes[0].primitives;
+        let ys = prims[0].mesh.vertices.iter().map(|v| v.position[1]);
+        let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(y), b.max(y)));
+        let h = hi - lo;
+        assert!(
+            (h - look.height).abs() <= 0.08 * look.height,
+            "{name}: {h} m tall, expected {}",
+            look.height
+        );
+        // Leaves: many, with unit normals, their uvs inside the atlas.
+        let leaf = &prims[1].mesh;
+        assert!(
+            leaf.vertices.len() >= 4 * 500,
+            "{name}: {} leaf vertices",
+            leaf.vertices.len()
+        );
+        for v in &leaf.vertices {
+            let n = v.normal;
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-3, "{name}: leaf normal {n:?}");
+            assert!(
+                v.uv.iter().all(|&t| (0.0..=1.0).contains(&t)),
+                "{name}: uv {:?}",
+                v.uv
+            );
+        }
+        let path = tmp(&format!("{name}.glb"));
+        arbor::export::save_gltf_scene(&scene, &options, &path).unwrap();
+        files.push(path);
+    }
+    validator::assert_valid(&files);
+}
+
+#[test]
+fn a_species_trunk_is_clear_below_its_crown() {
+    let look = Look::of(Species::Oak).unwrap();
+    let raw = arbor::source::Source::Growth(
+        arbor::models::growth::GrowthParams::preset(Species::Oak),
+        look.cycles,
+    )
+    .grow(2)
+    .unwrap();
+    let ys = raw.branches().iter().flat_map(|x| [x.start[1], x.end[1]]);
+    let (base, top) = ys.fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(y), b.max(y)));
+    let clear = base + look.clear_trunk * (top - base);
+    let tree = look.finish(&raw);
+    assert_eq!(tree, look.grow(2).unwrap());
+    assert!(tree.len() < raw.len());
+    let b = tree.branches();
+    let mut above = 0;
+    for x in b {
+        if x.parent != arbor::skeleton::NO_PARENT && x.order > 0 && b[x.parent as usize].order == 0
+        {
+            assert!(
+                x.start[1] >= clear,
+                "a branch leaves the trunk at {} below {clear}",
+                x.start[1]
+            );
+            above += 1;
+        }
+    }
+    assert!(above > 0, "no branch left on the trunk");
+}
+
+#[test]
+fn the_cli_exports_a_species_with_its_textures() {
+    let out = tmp("cli_birch.glb");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args(["export", "growth:birch", "--texture-size", "64", "-o"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let bytes = std::fs::read(&out).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    assert_eq!(json["images"].as_array().unwrap().len(), 3);
+    assert_eq!(json["materials"][1]["alphaMode"], "MASK");
+    assert_eq!(json["images"][0]["mimeType"], "image/png");
+    // A texture size out of range is refused before anything is written.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args(["export", "growth:birch", "--texture-size", "8", "-o"])
+        .arg(tmp("bad.glb"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("size"));
+}
