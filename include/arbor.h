@@ -899,6 +899,15 @@ typedef struct ArborMeshOptions {
    * arbor_mesh_write_bytes() writes. (Added after the first layout.)
    */
   uint32_t vertex_format;
+  /**
+   * 1 or 0. Bark texels of one size everywhere: around each branch u runs from 0 to
+   * round(circumference / `texture_scale`) (at least 1) instead of to 1, so a texture that tiles
+   * covers the bark at the same scale around as along (v), on the trunk as on a twig. Where a
+   * continuation's count differs from its parent's, it starts a ring of its own (no smear across
+   * the joint). Not with ARBOR_VERTEX_FORMAT_COMPACT, whose u is a unorm16 (at most 1). Default
+   * 0.
+   */
+  uint32_t even_texels;
 } ArborMeshOptions;
 
 /**

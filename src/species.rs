@@ -147,6 +147,7 @@ pub fn options(
     let mut o = *options;
     o.scale *= to_m;
     o.texture_scale = look.bark.tile / to_m;
+    o.even_texels = true;
     let last = skeleton
         .branches()
         .iter()

@@ -142,7 +142,8 @@ fn check<T: Default>(
             || field.starts_with("max_")
             || field.ends_with("depth")
             || field.ends_with("segments")
-            || field.ends_with("rings");
+            || field.ends_with("rings")
+            || field.starts_with("atlas_");
         let step = |v: f64| {
             if integer {
                 1.0

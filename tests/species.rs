@@ -139,3 +139,89 @@ fn the_cli_exports_a_species_with_its_textures() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("size"));
 }
+
+/// Metres of bark per unit of uv of every bark triangle of `m` (the square root of the
+/// ratio of its areas).
+fn texel_sizes(m: &arbor::mesh::Mesh) -> Vec<f32> {
+    let mut d = Vec::new();
+    for t in m.indices.chunks_exact(3) {
+        let p = |k: usize| glam::Vec3::from(m.vertices[t[k] as usize].position);
+        let u = |k: usize| glam::Vec2::from(m.vertices[t[k] as usize].uv);
+        let world = (p(1) - p(0)).cross(p(2) - p(0)).length();
+        let (e1, e2) = (u(1) - u(0), u(2) - u(0));
+        let uv = (e1.x * e2.y - e1.y * e2.x).abs();
+        if uv > 1e-12 && world > 1e-12 {
+            d.push((world / uv).sqrt());
+        }
+    }
+    d
+}
+
+fn spread(mut d: Vec<f32>) -> (f32, f32) {
+    d.sort_by(|a, b| a.total_cmp(b));
+    let q = |f: f64| d[((d.len() - 1) as f64 * f) as usize];
+    (q(0.1), q(0.9))
+}
+
+#[test]
+fn bark_texels_are_of_one_size() {
+    let (mut even, mut once) = (Vec::new(), Vec::new());
+    for look in Look::all() {
+        let skeleton = look.grow(1).unwrap();
+        let (o, _) = arbor::species::options(&look, &skeleton, &MeshOptions::default()).unwrap();
+        assert!(o.even_texels);
+        let mesh = arbor::mesh::MeshPlan::new(&skeleton, &o)
+            .unwrap()
+            .mesh(&skeleton)
+            .unwrap();
+        let d = texel_sizes(&mesh);
+        let (p10, p90) = spread(d.clone());
+        assert!(p90 / p10 <= 1.5, "{:?}: {p10}..{p90}", look.species);
+        // About the tile (integer repeats round it by up to a factor √1.5).
+        assert!(
+            p10 > 0.6 * look.bark.tile && p90 < 1.3 * look.bark.tile,
+            "{:?}",
+            look.species
+        );
+        even.extend(d);
+        let plain = arbor::mesh::MeshPlan::new(&skeleton, &o.even_texels(false)).unwrap();
+        once.extend(texel_sizes(&plain.mesh(&skeleton).unwrap()));
+    }
+    let (p10, p90) = spread(even);
+    assert!(p90 / p10 <= 1.5, "every species: {p10}..{p90}");
+    // Without it, u once around every branch: far from one size.
+    let (q10, q90) = spread(once);
+    assert!(q90 / q10 > 1.5, "{q10}..{q90}");
+}
+
+#[test]
+fn even_texels_wrap_u_whole_or_mirrored_without_a_seam() {
+    let look = Look::of(Species::Oak).unwrap();
+    let skeleton = look.grow(4).unwrap();
+    let (o, _) = arbor::species::options(&look, &skeleton, &MeshOptions::default()).unwrap();
+    let plan = arbor::mesh::MeshPlan::new(&skeleton, &o).unwrap();
+    let mesh = plan.mesh(&skeleton).unwrap();
+    let ring = o.radial_segments as usize + 1;
+    let (mut whole, mut mirrored) = (0, 0);
+    for r in plan.ranges() {
+        let vs =
+            &mesh.vertices[r.first_vertex as usize..(r.first_vertex + r.vertex_count) as usize];
+        // Each of the branch's own rings: vertex 0 and the seam at the same place, their
+        // u equal (mirrored) or a whole number apart.
+        for ringv in vs.chunks_exact(ring).take(1) {
+            let (u0, us) = (ringv[0].uv[0], ringv[ring - 1].uv[0]);
+            assert_eq!(ringv[0].position, ringv[ring - 1].position);
+            let gap = us - u0;
+            assert!((gap - gap.round()).abs() < 1e-4, "u {u0} .. {us}");
+            if gap.round() == 0.0 {
+                mirrored += 1;
+            } else {
+                whole += 1;
+            }
+        }
+    }
+    assert!(
+        whole > 0 && mirrored > 0,
+        "{whole} whole, {mirrored} mirrored"
+    );
+}

@@ -280,6 +280,7 @@ mod fuzz {
                 progress_user_data: std::ptr::null_mut(),
                 axes: (fields[1] / 5) % 4,
                 vertex_format: (fields[2] / 80) % 3,
+                even_texels: (fields[4] / 4) % 3,
             };
             let mut p = HondaParams::zeroed();
             // SAFETY: `p` is a local struct.

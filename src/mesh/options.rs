@@ -180,6 +180,13 @@ pub struct MeshOptions {
     /// is [`Error::InvalidArgument`](crate::error::Error::InvalidArgument) naming
     /// `vertex_format`.
     pub vertex_format: VertexFormat = VertexFormat::F32,
+    /// Bark texels of one size everywhere: around each branch u runs from 0 to
+    /// round(circumference / `texture_scale`) (at least 1) instead of to 1, so a texture
+    /// that tiles covers the bark at the same scale around as along (v), on the trunk as
+    /// on a twig. Where a continuation's count differs from its parent's, it starts a
+    /// ring of its own (no smear across the joint). Not with
+    /// [`VertexFormat::Compact`], whose u is a unorm16 (at most 1). Default false.
+    pub even_texels: bool = false,
 }
 }
 
@@ -224,6 +231,13 @@ impl MeshOptions {
 
 pub(crate) fn check_options(o: &MeshOptions) -> Result<()> {
     check_fields(o)?;
+    if o.even_texels && o.vertex_format == VertexFormat::Compact {
+        return Err(Error::invalid(
+            "even_texels",
+            "true with vertex_format Compact, whose u is unorm16 in 0..=1; expected F32 \
+             vertices (or even_texels false)",
+        ));
+    }
     if !o.out().scale.is_finite() {
         return Err(Error::invalid(
             "scale",

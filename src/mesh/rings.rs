@@ -19,6 +19,9 @@ pub struct Circle {
     pub(crate) u_quads: Vec<Vec4>,
     /// Per four points, their u as the compact format's unorm16, one a lane.
     pub(crate) u_unorm: Vec<[u32; 4]>,
+    /// u runs 0 → 1 → 0 around the circle (a mirrored repeat, see [`circle_mirrored`])
+    /// instead of 0 → 1: the seam's u is point 0's.
+    pub(crate) mirrored: bool,
 }
 
 impl Circle {
@@ -43,11 +46,28 @@ impl std::ops::Deref for Circle {
 }
 
 pub(crate) fn circle(segments: usize) -> Circle {
+    circle_with(segments, false)
+}
+
+/// The unit circle with u running 0 → 1 at the half-turn → 0 again (1 − |2j/n − 1|): a
+/// texture repeated mirrored, so u meets itself at the seam whatever it is multiplied by
+/// (a branch thinner than the texture's tile takes a fraction of it, twice).
+pub(crate) fn circle_mirrored(segments: usize) -> Circle {
+    circle_with(segments, true)
+}
+
+fn circle_with(segments: usize, mirrored: bool) -> Circle {
     let step = std::f64::consts::TAU / segments as f64;
     let points: Vec<(f32, f32, f32)> = (0..=segments)
         .map(|j| {
             let (s, c) = libm::sincos((j % segments) as f64 * step);
-            (c as f32, s as f32, j as f32 / segments as f32)
+            let t = j as f32 / segments as f32;
+            let u = if mirrored {
+                1.0 - (2.0 * t - 1.0).abs()
+            } else {
+                t
+            };
+            (c as f32, s as f32, u)
         })
         .collect();
     let splats = points
@@ -84,6 +104,7 @@ pub(crate) fn circle(segments: usize) -> Circle {
         quads,
         u_quads,
         u_unorm,
+        mirrored,
     }
 }
 
@@ -384,7 +405,8 @@ impl Affine {
             }
         }
         if let (true, Some(v0)) = (seam, first) {
-            out[n].put(vertex(self.seam_of(v0)));
+            // A mirrored circle's seam has point 0's u: vertex 0 again.
+            out[n].put(vertex(if table.mirrored { v0 } else { self.seam_of(v0) }));
         }
     }
 

@@ -27,7 +27,7 @@ fn ring_at(t: &Tube<'_>, center: Vec3A, tangent: Vec3A, p: Vec3A, r: f32, v: f32
         [0.0, v],
         [0.0; 2],
         [0.0; 2],
-        [1.0, 0.0],
+        [t.wrap, 0.0],
     )
 }
 

@@ -59,7 +59,11 @@ impl MeshPlan {
         Tube {
             i,
             segments: s,
-            table: &self.tables[s],
+            table: if self.plan.wrap(i) < 0.0 {
+                &self.mirrored_tables[s]
+            } else {
+                &self.tables[s]
+            },
             flags,
             out,
             po: rot(p),
@@ -77,6 +81,7 @@ impl MeshPlan {
             v1: lay.v_end[i] * vk,
             inv_ts,
             vk,
+            wrap: self.plan.wrap(i).abs(),
             cont,
             first_vertex: lay.first_vertex[i],
             end_ring: self.end_ring(i),
@@ -154,6 +159,8 @@ pub(super) struct Tube<'a> {
     pub(super) inv_ts: f64,
     /// 1 / the plan's v_scale: what a cap's v is multiplied by.
     pub(super) vk: f32,
+    /// How many times u wraps around the tube (once without `even_texels`).
+    pub(super) wrap: f32,
     /// The continuing branch, when the end ring is mitred.
     pub(super) cont: Option<Known>,
     pub(super) first_vertex: u32,
@@ -188,7 +195,7 @@ impl Tube<'_> {
             [0.0, v],
             [0.0; 2],
             [0.0; 2],
-            [1.0, 0.0],
+            [self.wrap, 0.0],
         )
     }
 
@@ -266,7 +273,7 @@ impl Tube<'_> {
             [0.0, self.v1],
             [0.0; 2],
             [0.0; 2],
-            [1.0, 0.0],
+            [self.wrap, 0.0],
         )
     }
 

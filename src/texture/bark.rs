@@ -94,23 +94,23 @@ impl BarkLook {
             relief: 0.7,
         }
     }
-    /// Grey-brown, finely scaled; a 0.4 m tile.
+    /// Grey-brown, finely scaled; a 0.5 m tile.
     pub fn spruce() -> Self {
         BarkLook {
             kind: BarkKind::Fissured,
             light: [106, 82, 64],
             dark: [46, 34, 28],
-            tile: 0.4,
+            tile: 0.5,
             relief: 0.5,
         }
     }
-    /// Brown-grey, fine; a 0.3 m tile.
+    /// Brown-grey, fine; a 0.4 m tile.
     pub fn shrub() -> Self {
         BarkLook {
             kind: BarkKind::Fissured,
             light: [104, 90, 74],
             dark: [52, 44, 36],
-            tile: 0.3,
+            tile: 0.4,
             relief: 0.4,
         }
     }

@@ -130,6 +130,8 @@ namespace Arbor
         public uint Axes;
         /// A VertexFormat value. Default VertexFormat.F32; Compact is written by MeshCompact.
         public uint VertexFormat;
+        /// 1: bark texels of one size (u wraps by circumference over TextureScale). Default 0.
+        public uint EvenTexels;
 
         public static MeshOptions Default()
         {
@@ -187,6 +189,8 @@ namespace Arbor
         /// An ArborLeafPrefab from Native.arbor_leaf_prefab_load (the file read once);
         /// IntPtr.Zero for none. Set this or PrefabObjPath, not both.
         public IntPtr Prefab;
+        /// The leaf atlas' grid: each baked leaf samples one cell. Default 1 x 1.
+        public uint AtlasColumns, AtlasRows;
 
         public static LeafOptions Default()
         {

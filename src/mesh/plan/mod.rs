@@ -68,6 +68,10 @@ pub(crate) struct Plan {
     pub(crate) t1: Vec<Vec3>,
     pub(crate) size: MeshSize,
     pub(crate) rules: StripRules,
+    /// With `even_texels`, per branch what u is multiplied by around it: a whole number
+    /// of repeats (> 0), or for a branch thinner than the tile the fraction of it taken
+    /// twice, mirrored (< 0, its magnitude); empty otherwise (once).
+    pub(crate) wraps: Vec<f32>,
 }
 
 /// Unit direction of a branch (+Y for a zero-length branch); in f64 only when the f32
@@ -165,7 +169,13 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions, threads: u32) -> Result<(Plan, Lay
     } else {
         (Vec::new(), Vec::new())
     };
+    let wraps = if o.even_texels {
+        wraps(branches, o.texture_scale)
+    } else {
+        Vec::new()
+    };
     let mut plan = Plan {
+        wraps,
         flags: Vec::new(),
         segs,
         cont,
@@ -218,6 +228,34 @@ fn plan(skeleton: &Skeleton, o: &MeshOptions, threads: u32) -> Result<(Plan, Lay
     plan.flags = flags;
     plan.size = check_size(nv, ni, o)?;
     Ok((plan, l))
+}
+
+/// The most times u wraps around a branch with `even_texels`.
+const MAX_WRAPS: f64 = 4096.0;
+
+/// Steps of the mirrored fraction per doubling: a branch's texels are within 2^(1/8)
+/// (9 %) of the tile's, and a continuation whose step is its parent's shares its ring.
+const MIRROR_STEPS: f64 = 4.0;
+
+/// What u is multiplied by around each branch for texels of one size (see
+/// [`Plan::wraps`]): its mean circumference over the texture's scale, rounded to a whole
+/// number of repeats when it is at least one; below, half of it (taken twice, mirrored),
+/// rounded to a step of [`MIRROR_STEPS`] per doubling.
+fn wraps(branches: &[Branch], texture_scale: f32) -> Vec<f32> {
+    branches
+        .iter()
+        .map(|b| {
+            let r = 0.5 * (b.start_radius as f64 + b.end_radius as f64);
+            let turns = std::f64::consts::TAU * r / texture_scale as f64;
+            if turns >= 1.0 || !turns.is_finite() {
+                turns.round().clamp(1.0, MAX_WRAPS) as f32
+            } else {
+                let half = (0.5 * turns).max(1e-6);
+                let stepped = ((half.log2() * MIRROR_STEPS).round() / MIRROR_STEPS).exp2();
+                -(stepped.min(0.5) as f32)
+            }
+        })
+        .collect()
 }
 
 /// The arrays the plan's second pass fills, one element a branch, zero.
@@ -274,6 +312,13 @@ fn plan_threads(threads: u32) -> usize {
 }
 
 impl Plan {
+    /// What u is multiplied by around branch `i` (1 without `even_texels`; see
+    /// [`wraps`](Self::wraps) for its sign).
+    #[inline(always)]
+    pub(crate) fn wrap(&self, i: usize) -> f32 {
+        self.wraps.get(i).map_or(1.0, |&w| w)
+    }
+
     /// The flags of kept branch `i` that it decides itself: base cap, a start ring shared
     /// with its parent (a mitred joint: the parent then has [`MITRE_END`]), tip.
     #[inline]
@@ -306,6 +351,7 @@ impl Plan {
             if o.joints == Joints::Mitred
                 && self.cont[p] == i as u32
                 && self.segs[p] == self.segs[i]
+                && self.wrap(p) == self.wrap(i)
             {
                 let dp = parent_d(p);
                 from = Some(dp);
@@ -606,6 +652,8 @@ pub struct MeshPlan {
     pub(crate) layout: Layout,
     /// Unit circle per side count in use (empty for the others).
     pub(crate) tables: Vec<Circle>,
+    /// With `even_texels`, the same circles with u mirrored ([`circle_mirrored`](super::rings::circle_mirrored)); empty otherwise.
+    pub(crate) mirrored_tables: Vec<Circle>,
     /// What the writers divide v by: 1, or for compact vertices the power of two at or
     /// above the mesh's largest v.
     pub(crate) v_scale: f32,
@@ -641,9 +689,17 @@ impl MeshPlan {
         crate::limits::check_available(skeleton.len().saturating_mul(per_branch), "the mesh plan")?;
         let (plan, layout) = plan(skeleton, options, run.threads_or(0))?;
         let mut tables = vec![Circle::default(); MAX_RADIAL_SEGMENTS as usize + 1];
+        let mut mirrored = if options.even_texels {
+            tables.clone()
+        } else {
+            Vec::new()
+        };
         for &s in &plan.segs {
             if s > 0 && tables[s as usize].is_empty() {
                 tables[s as usize] = circle(s as usize);
+                if let Some(m) = mirrored.get_mut(s as usize) {
+                    *m = super::rings::circle_mirrored(s as usize);
+                }
             }
         }
         let v_scale = v_scale(skeleton, options, &layout);
@@ -653,6 +709,7 @@ impl MeshPlan {
             plan,
             layout,
             tables,
+            mirrored_tables: mirrored,
             v_scale,
         })
     }
