@@ -614,6 +614,26 @@ typedef enum ArborPlantSource {
 } ArborPlantSource;
 
 /**
+ * Which texture of a species arbor_species_texture_write() draws.
+ */
+typedef enum ArborTexture {
+  /**
+   * The leaf atlas: sprays of the species' blades (or needles) in a grid of cells (see
+   * arbor_leaf_atlas_rect()), alpha 0 around them; sRGB.
+   */
+  ARBOR_TEXTURE_LEAF_ATLAS = 0,
+  /**
+   * The bark's colour, tiling; sRGB.
+   */
+  ARBOR_TEXTURE_BARK_COLOR = 1,
+  /**
+   * The bark's tangent-space normal map (+X right, +Y up the image, +Z out), tiling;
+   * linear.
+   */
+  ARBOR_TEXTURE_BARK_NORMAL = 2,
+} ArborTexture;
+
+/**
  * Which vertex a mesh is written as (C: ArborVertexFormat, in
  * ArborMeshOptions.vertex_format).
  */
@@ -2508,6 +2528,72 @@ enum ArborStatus arbor_mesh_animation_write(const struct ArborTree *tree,
                                             const struct ArborMeshOptions *options,
                                             struct ArborAnimationVertex *out,
                                             size_t capacity);
+
+/**
+ * Grows the adult tree of a named species (ARBOR_SPECIES_OAK and after: its cycles, its
+ * trunk cleared below its crown) seeded with `seed`, and writes it to `*out` (free it
+ * with arbor_tree_free()). Its model units are the growth model's: draw it with
+ * arbor_species_options() for metres. A crown archetype (excurrent ... weeping) or an
+ * unknown number: ARBOR_STATUS_INVALID_ARGUMENT naming `species`.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_species(uint32_t species, uint64_t seed, struct ArborTree **out);
+
+/**
+ * The options that draw `tree` as species `species` does: `*mesh_options` (read, then
+ * written back at the host's struct_size) gets a scale that makes the tree the species'
+ * height in metres, `texture_scale` one bark tile and `even_texels` 1; `*leaf_options`
+ * (written at its struct_size, over the defaults) places the species' leaf cards on the
+ * buds and young tips, in metres, on the atlas' cells. Either may be NULL to skip it.
+ *
+ * # Safety
+ * `tree` is NULL or live; each options pointer is NULL or readable and writable for its
+ * `struct_size` bytes.
+ */
+enum ArborStatus arbor_species_options(uint32_t species,
+                                       const struct ArborTree *tree,
+                                       struct ArborMeshOptions *mesh_options,
+                                       struct ArborLeafOptions *leaf_options);
+
+/**
+ * Draws texture `which` (an ArborTexture) of a named species as `size` x `size` RGBA8
+ * pixels (16..=4096; rows from the top, glTF's uv origin) into `rgba`, which holds
+ * `capacity` bytes: at least `size * size * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written. The same species, size and seed give the same bytes on every
+ * platform; the textures of arbor's own glTF export of the species are these.
+ *
+ * # Safety
+ * `rgba` is NULL or writable for `capacity` bytes.
+ */
+enum ArborStatus arbor_species_texture_write(uint32_t species,
+                                             uint32_t which,
+                                             uint32_t size,
+                                             uint64_t seed,
+                                             uint8_t *rgba,
+                                             size_t capacity);
+
+/**
+ * Writes cell `cell`'s rectangle of a species' leaf atlas as (u0, v0, u1, v1) into
+ * `rect` (4 floats; v0 is the stem's end), and the atlas' cell count to `*cells` when it
+ * is not NULL. Every species' atlas has the same grid (4 by 2); `cell` is taken modulo
+ * the count. A baked leaf mesh already samples its cells; an instanced leaf `k` samples
+ * cell arbor_leaf_cell(leaf_options, k).
+ *
+ * # Safety
+ * `rect` is NULL or writable for 4 floats; `cells` is NULL or writable.
+ */
+enum ArborStatus arbor_leaf_atlas_rect(uint32_t cell, float *rect, uint32_t *cells);
+
+/**
+ * The atlas cell that leaf `k` (in the order of arbor_leaf_instances_write()) samples
+ * with these leaf options (NULL: the defaults, one cell: 0); 0 for unreadable options.
+ *
+ * # Safety
+ * `leaf_options` is NULL or readable.
+ */
+uint32_t arbor_leaf_cell(const struct ArborLeafOptions *leaf_options, size_t k);
 
 /**
  * A static, NUL-terminated description of `status` ("ok", "null argument", ...);

@@ -163,8 +163,8 @@ pub fn options(
         .size(look.leaf.size / to_m)
         .size_jitter(0.25)
         .tilt(40.0)
-        .atlas_columns(4)
-        .atlas_rows(2);
+        .atlas_columns(crate::texture::ATLAS_COLUMNS)
+        .atlas_rows(crate::texture::ATLAS_ROWS);
     Ok((o, leaves))
 }
 

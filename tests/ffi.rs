@@ -168,6 +168,11 @@ fn cpp_wrapper_raii_exceptions_and_unreal_fill() {
 }
 
 #[test]
+fn c_species_trees_options_and_textures() {
+    check_program("species.c", "c11");
+}
+
+#[test]
 fn c_forests_variation_pruning_animation() {
     check_program("forest.c", "c11");
 }

@@ -26,6 +26,7 @@ mod mirror_gen;
 mod mirrors;
 mod options;
 pub(crate) mod owned;
+mod species;
 mod status;
 mod tree;
 
@@ -41,6 +42,7 @@ pub use lsystem::*;
 pub use meshes::*;
 pub use mirrors::*;
 use options::*;
+pub use species::*;
 pub use status::*;
 pub use tree::*;
 

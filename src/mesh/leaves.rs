@@ -18,6 +18,23 @@ use glam::{Mat3, Quat, Vec3};
 use std::mem::MaybeUninit;
 use std::path::Path;
 
+/// The atlas cell (0..columns × rows, row by row) of leaf `k` (the order of
+/// [`leaf_instances`]) with these options: the cell whose rectangle
+/// ([`LeafAtlas::rect`](crate::texture::LeafAtlas::rect)) the baked leaf `k` samples, and
+/// an instanced one should.
+pub fn leaf_cell(leaves: &LeafOptions, k: usize) -> u32 {
+    cell_of(leaves.seed, leaves.atlas_columns * leaves.atlas_rows, k)
+}
+
+fn cell_of(seed: u64, cells: u32, k: usize) -> u32 {
+    if cells > 1 {
+        (crate::rng::Rng::new(seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)).next_u64()
+            % cells as u64) as u32
+    } else {
+        0
+    }
+}
+
 /// One leaf for instanced drawing (glDrawElementsInstanced), 32 bytes; C: ArborLeafInstance.
 ///
 /// The leaf's own space has +Y along the blade (stem to tip), +Z its face normal and +X
@@ -626,13 +643,7 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
             let at = Vec3::from(l.position);
             let base = self.vi as u32;
             // The leaf's atlas cell (with one cell, the prefab's uv as it is).
-            let cell = if cells > 1 {
-                (crate::rng::Rng::new(seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
-                    .next_u64()
-                    % cells as u64) as u32
-            } else {
-                0
-            };
+            let cell = cell_of(seed, cells, k);
             let (cu, cv) = ((cell % columns) as f32, (cell / columns) as f32);
             let (su, sv) = (columns as f32, rows as f32);
             for v in &plan.prefab.vertices {

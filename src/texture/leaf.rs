@@ -131,9 +131,27 @@ impl LeafLook {
     }
 }
 
-/// Variants per atlas: `COLUMNS` × `ROWS` cells.
-const COLUMNS: u32 = 4;
-const ROWS: u32 = 2;
+/// Cells across every leaf atlas (its variants: `ATLAS_COLUMNS` × `ATLAS_ROWS`).
+pub const ATLAS_COLUMNS: u32 = 4;
+/// Cells down every leaf atlas.
+pub const ATLAS_ROWS: u32 = 2;
+const COLUMNS: u32 = ATLAS_COLUMNS;
+const ROWS: u32 = ATLAS_ROWS;
+
+/// Cell `k`'s rectangle (u0, v0, u1, v1) in a grid of `columns` × `rows` cells, row by
+/// row, `k` taken modulo the count; v0 is the stem's end.
+pub fn atlas_rect(columns: u32, rows: u32, k: usize) -> [f32; 4] {
+    let (columns, rows) = (columns.max(1), rows.max(1));
+    let k = (k % (columns * rows) as usize) as u32;
+    let (c, r) = (k % columns, k / columns);
+    let (w, h) = (1.0 / columns as f32, 1.0 / rows as f32);
+    [
+        c as f32 * w,
+        r as f32 * h,
+        (c + 1) as f32 * w,
+        (r + 1) as f32 * h,
+    ]
+}
 
 /// A leaf atlas: the image and its grid of variants.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,15 +174,7 @@ impl LeafAtlas {
     /// Variant `k`'s rectangle in uv (u0, v0, u1, v1), `k` taken modulo
     /// [`variants`](Self::variants); v0 is the stem's end.
     pub fn rect(&self, k: usize) -> [f32; 4] {
-        let k = (k % self.variants()) as u32;
-        let (c, r) = (k % self.columns, k / self.columns);
-        let (w, h) = (1.0 / self.columns as f32, 1.0 / self.rows as f32);
-        [
-            c as f32 * w,
-            r as f32 * h,
-            (c + 1) as f32 * w,
-            (r + 1) as f32 * h,
-        ]
+        atlas_rect(self.columns, self.rows, k)
     }
 }
 

@@ -23,7 +23,7 @@ mod leaf;
 mod noise;
 
 pub use bark::{BarkKind, BarkLook, BarkTextures, bark_textures};
-pub use leaf::{LeafAtlas, LeafLook, LeafShape, leaf_atlas};
+pub use leaf::{ATLAS_COLUMNS, ATLAS_ROWS, LeafAtlas, LeafLook, LeafShape, atlas_rect, leaf_atlas};
 
 use crate::error::{Error, Result};
 
@@ -75,7 +75,7 @@ impl Image {
 }
 
 /// Checks a requested edge before anything is allocated.
-fn check_size(field: &'static str, size: u32) -> Result<()> {
+pub(crate) fn check_size(field: &'static str, size: u32) -> Result<()> {
     if (MIN_TEXTURE_SIZE..=MAX_TEXTURE_SIZE).contains(&size) {
         Ok(())
     } else {

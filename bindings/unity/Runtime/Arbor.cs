@@ -215,6 +215,11 @@ namespace Arbor
         Oak = 5, Maple = 6, Birch = 7, Willow = 8, Poplar = 9, Pine = 10, Spruce = 11, Shrub = 12,
     }
 
+    /// Which texture of a named species Native.arbor_species_texture_write draws
+    /// (ArborTexture): RGBA8 rows from the top, for Texture2D.LoadRawTextureData after a
+    /// vertical flip (Unity's rows start at the bottom).
+    public enum Texture : uint { LeafAtlas = 0, BarkColor = 1, BarkNormal = 2 }
+
     /// What a ForestPlant grows from (ArborPlantSource).
     public enum PlantSource : uint { Honda = 0, Growth = 1 }
 
@@ -381,6 +386,14 @@ namespace Arbor
         public static extern void arbor_growth_params_init(ref GrowthParams p, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_forest_plant_init(ref ForestPlant p, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_species(uint species, ulong seed, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_species_options(uint species, IntPtr tree, ref MeshOptions meshOptions, ref LeafOptions leafOptions);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_species_texture_write(uint species, uint which, uint size, ulong seed, [Out] byte[] rgba, UIntPtr capacity);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_leaf_atlas_rect(uint cell, [Out] float[] rect, out uint cells);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_forest_plants_mesh_create(ForestPlant[] plants, UIntPtr count, ref MeshOptions options, out IntPtr mesh);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]

@@ -1,0 +1,85 @@
+/* Named species through the C ABI: the adult tree, the options that draw it in metres,
+ * its textures into the host's memory and the leaf atlas' cells. */
+#include "arbor.h"
+#include "check.h"
+
+#include <string.h>
+
+int main(void) {
+  ArborTree *oak = NULL;
+  CHECK_STATUS(arbor_tree_from_species(ARBOR_SPECIES_OAK, 1, &oak), ARBOR_STATUS_OK);
+  CHECK(arbor_tree_branch_count(oak) > 1000, "%zu branches", arbor_tree_branch_count(oak));
+  ArborTree *none = NULL;
+  CHECK_STATUS(arbor_tree_from_species(ARBOR_SPECIES_BUSH, 1, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_tree_from_species(99, 1, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(none == NULL, "nothing written on failure");
+
+  /* The options that draw it 18 m tall with the species' leaves. */
+  ArborMeshOptions mo = arbor_mesh_options_default();
+  mo.threads = 1;
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  CHECK_STATUS(arbor_species_options(ARBOR_SPECIES_OAK, oak, &mo, &lo), ARBOR_STATUS_OK);
+  CHECK(mo.even_texels == 1 && mo.scale > 0.0f && mo.threads == 1, "mesh options");
+  CHECK(lo.atlas_columns * lo.atlas_rows == 8 && lo.sites == 1, "leaf options");
+  size_t nv = 0, ni = 0;
+  CHECK_STATUS(arbor_mesh_size(oak, &mo, &nv, &ni), ARBOR_STATUS_OK);
+  ArborVertex *v = malloc(nv * sizeof *v);
+  uint32_t *ix = malloc(ni * sizeof *ix);
+  CHECK_STATUS(arbor_mesh_write(oak, &mo, v, nv, ix, ni), ARBOR_STATUS_OK);
+  float lo_y = 1e30f, hi_y = -1e30f;
+  for (size_t k = 0; k < nv; k++) {
+    lo_y = v[k].position[1] < lo_y ? v[k].position[1] : lo_y;
+    hi_y = v[k].position[1] > hi_y ? v[k].position[1] : hi_y;
+  }
+  CHECK(hi_y - lo_y > 16.0f && hi_y - lo_y < 20.0f, "%.2f m tall", (double)(hi_y - lo_y));
+  free(v);
+  free(ix);
+  size_t lv = 0, li = 0;
+  CHECK_STATUS(arbor_leaf_mesh_size(oak, &lo, &mo, &lv, &li), ARBOR_STATUS_OK);
+  CHECK(lv >= 4 * 1000, "%zu leaf vertices", lv);
+
+  /* Textures: size, then fill; a short buffer is refused with nothing written. */
+  const uint32_t size = 64;
+  size_t bytes = (size_t)size * size * 4;
+  uint8_t *px = malloc(bytes);
+  memset(px, 7, bytes);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, ARBOR_TEXTURE_LEAF_ATLAS, size, 1, px, bytes - 1),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(px[0] == 7, "nothing written on failure");
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, ARBOR_TEXTURE_LEAF_ATLAS, size, 1, px, bytes),
+               ARBOR_STATUS_OK);
+  size_t clear = 0, solid = 0;
+  for (size_t k = 0; k < bytes; k += 4) {
+    clear += px[k + 3] == 0;
+    solid += px[k + 3] == 255;
+  }
+  CHECK(clear > 0 && solid > 0, "alpha-cut atlas: %zu clear, %zu solid", clear, solid);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_PINE, ARBOR_TEXTURE_BARK_NORMAL, size, 1, px, bytes),
+               ARBOR_STATUS_OK);
+  size_t out = 0;
+  for (size_t k = 0; k < bytes; k += 4) out += px[k + 2] > 128 && px[k + 3] == 255;
+  CHECK(out == bytes / 4, "normals face out: %zu of %zu", out, bytes / 4);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 3, size, 1, px, bytes), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 1, 8, 1, px, bytes), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 1, size, 1, NULL, bytes), ARBOR_STATUS_NULL_ARGUMENT);
+  free(px);
+
+  /* The atlas' cells and each leaf's. */
+  float rect[4];
+  uint32_t cells = 0;
+  CHECK_STATUS(arbor_leaf_atlas_rect(5, rect, &cells), ARBOR_STATUS_OK);
+  CHECK(cells == 8 && rect[0] == 0.25f && rect[1] == 0.5f && rect[2] == 0.5f && rect[3] == 1.0f,
+        "cell 5: %g %g %g %g of %u", (double)rect[0], (double)rect[1], (double)rect[2], (double)rect[3], cells);
+  CHECK_STATUS(arbor_leaf_atlas_rect(0, NULL, NULL), ARBOR_STATUS_NULL_ARGUMENT);
+  uint32_t seen = 0;
+  for (size_t k = 0; k < 64; k++) {
+    uint32_t c = arbor_leaf_cell(&lo, k);
+    CHECK(c < 8, "cell %u", c);
+    seen |= 1u << c;
+  }
+  CHECK(seen == 0xff, "every cell used: %x", seen);
+  CHECK(arbor_leaf_cell(NULL, 3) == 0, "one cell by default");
+
+  arbor_tree_free(oak);
+  return check_report("species");
+}

@@ -1,0 +1,207 @@
+//! Named species: their adult trees, the options that draw them at their height, and
+//! their textures into the host's memory.
+
+use super::*;
+use crate::enums::Numbered;
+use crate::models::growth::Species;
+use crate::species::Look;
+use crate::texture::{bark_textures, leaf_atlas};
+
+/// Which texture of a species arbor_species_texture_write() draws.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArborTexture {
+    /// The leaf atlas: sprays of the species' blades (or needles) in a grid of cells (see
+    /// arbor_leaf_atlas_rect()), alpha 0 around them; sRGB.
+    LeafAtlas = 0,
+    /// The bark's colour, tiling; sRGB.
+    BarkColor = 1,
+    /// The bark's tangent-space normal map (+X right, +Y up the image, +Z out), tiling;
+    /// linear.
+    BarkNormal = 2,
+}
+
+/// The look of a named species, or an error naming `species`.
+fn look_of(species: u32) -> Result<Look, FfiError> {
+    let s = Species::from_field("species", species)?;
+    Look::of(s).ok_or_else(|| {
+        crate::Error::invalid(
+            "species",
+            format!(
+                "{species} ({}) is a crown archetype without leaves or bark; expected a named \
+                 species, ARBOR_SPECIES_OAK ({}) or after",
+                s.c_enumerator(),
+                Species::Oak as u32
+            ),
+        )
+        .into()
+    })
+}
+
+/// Grows the adult tree of a named species (ARBOR_SPECIES_OAK and after: its cycles, its
+/// trunk cleared below its crown) seeded with `seed`, and writes it to `*out` (free it
+/// with arbor_tree_free()). Its model units are the growth model's: draw it with
+/// arbor_species_options() for metres. A crown archetype (excurrent ... weeping) or an
+/// unknown number: ARBOR_STATUS_INVALID_ARGUMENT naming `species`.
+///
+/// # Safety
+/// `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_species(
+    species: u32,
+    seed: u64,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let skeleton = look.grow(seed)?;
+        *out = ArborTree::new(skeleton).into_handle();
+        Ok(())
+    })
+}
+
+/// The options that draw `tree` as species `species` does: `*mesh_options` (read, then
+/// written back at the host's struct_size) gets a scale that makes the tree the species'
+/// height in metres, `texture_scale` one bark tile and `even_texels` 1; `*leaf_options`
+/// (written at its struct_size, over the defaults) places the species' leaf cards on the
+/// buds and young tips, in metres, on the atlas' cells. Either may be NULL to skip it.
+///
+/// # Safety
+/// `tree` is NULL or live; each options pointer is NULL or readable and writable for its
+/// `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_options(
+    species: u32,
+    tree: *const ArborTree,
+    mesh_options: *mut ArborMeshOptions,
+    leaf_options: *mut ArborLeafOptions,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        let host = if mesh_options.is_null() {
+            None
+        } else {
+            // SAFETY: the caller promises a readable struct of its struct_size.
+            Some(unsafe { read_growing(mesh_options.cast_const(), "mesh_options") }?)
+        };
+        let base = match &host {
+            Some(c) => c.to_rust()?,
+            None => MeshOptions::default(),
+        };
+        let (mesh, leaves) = crate::species::options(&look, tree.skeleton(), &base)?;
+        if let Some(c) = host {
+            let size = c.struct_size as usize;
+            let mut out = ArborMeshOptions::from_rust(&mesh);
+            // What only C has stays the host's.
+            (out.threads, out.progress, out.progress_user_data) =
+                (c.threads, c.progress, c.progress_user_data);
+            // SAFETY: the caller promises `struct_size` writable bytes (read above).
+            unsafe { write_growing(mesh_options, size, &out) };
+        }
+        if !leaf_options.is_null() {
+            // SAFETY: the caller promises `struct_size` readable bytes at the pointer.
+            let size = unsafe { leaf_options.cast::<u32>().read_unaligned() } as usize;
+            if !(ARBOR_LEAF_OPTIONS_MIN_SIZE..=super::options::MAX_STRUCT_SIZE).contains(&size) {
+                return Err(FfiError::invalid(format!(
+                    "`leaf_options.struct_size` is {size}; expected sizeof(ArborLeafOptions) \
+                     (set it with arbor_leaf_options_init())"
+                )));
+            }
+            let out = ArborLeafOptions::from_rust(&leaves);
+            // SAFETY: as above, `size` writable bytes.
+            unsafe { write_growing(leaf_options, size, &out) };
+        }
+        Ok(())
+    })
+}
+
+/// Draws texture `which` (an ArborTexture) of a named species as `size` x `size` RGBA8
+/// pixels (16..=4096; rows from the top, glTF's uv origin) into `rgba`, which holds
+/// `capacity` bytes: at least `size * size * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+/// nothing written. The same species, size and seed give the same bytes on every
+/// platform; the textures of arbor's own glTF export of the species are these.
+///
+/// # Safety
+/// `rgba` is NULL or writable for `capacity` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_texture_write(
+    species: u32,
+    which: u32,
+    size: u32,
+    seed: u64,
+    rgba: *mut u8,
+    capacity: usize,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        if which > ArborTexture::BarkNormal as u32 {
+            return Err(FfiError::invalid(format!(
+                "`which` is {which}; expected an ArborTexture (0 leaf atlas, 1 bark colour, 2 \
+                 bark normal)"
+            )));
+        }
+        crate::texture::check_size("size", size)?;
+        let needed = size as usize * size as usize * 4;
+        // SAFETY: the caller promises `capacity` writable bytes at `rgba`.
+        let out = unsafe { out_slice(rgba, capacity, needed, "rgba") }?;
+        let image = match which {
+            0 => leaf_atlas(&look.leaf, size, seed)?.image,
+            1 => bark_textures(&look.bark, size, seed)?.color,
+            _ => bark_textures(&look.bark, size, seed)?.normal,
+        };
+        for (slot, &b) in out.iter_mut().zip(&image.pixels) {
+            slot.write(b);
+        }
+        Ok(())
+    })
+}
+
+/// Writes cell `cell`'s rectangle of a species' leaf atlas as (u0, v0, u1, v1) into
+/// `rect` (4 floats; v0 is the stem's end), and the atlas' cell count to `*cells` when it
+/// is not NULL. Every species' atlas has the same grid (4 by 2); `cell` is taken modulo
+/// the count. A baked leaf mesh already samples its cells; an instanced leaf `k` samples
+/// cell arbor_leaf_cell(leaf_options, k).
+///
+/// # Safety
+/// `rect` is NULL or writable for 4 floats; `cells` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_atlas_rect(
+    cell: u32,
+    rect: *mut f32,
+    cells: *mut u32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises 4 writable floats.
+        let r = unsafe { out_slice(rect, 4, 4, "rect") }?;
+        let (columns, rows) = (crate::texture::ATLAS_COLUMNS, crate::texture::ATLAS_ROWS);
+        for (slot, v) in r
+            .iter_mut()
+            .zip(crate::texture::atlas_rect(columns, rows, cell as usize))
+        {
+            slot.write(v);
+        }
+        if !cells.is_null() {
+            // SAFETY: the caller promises a non-NULL `cells` is writable.
+            *unsafe { out_ref(cells, "cells") }? = columns * rows;
+        }
+        Ok(())
+    })
+}
+
+/// The atlas cell that leaf `k` (in the order of arbor_leaf_instances_write()) samples
+/// with these leaf options (NULL: the defaults, one cell: 0); 0 for unreadable options.
+///
+/// # Safety
+/// `leaf_options` is NULL or readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_leaf_cell(leaf_options: *const ArborLeafOptions, k: usize) -> u32 {
+    guard_value(0, || {
+        // SAFETY: the caller promises NULL or readable options.
+        unsafe { super::leaves::read_leaf_options(leaf_options, false) }
+            .map_or(0, |o| crate::mesh::leaf_cell(&o, k))
+    })
+}
