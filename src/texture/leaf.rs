@@ -114,7 +114,7 @@ impl LeafLook {
             color: [34, 66, 42],
             variation: 0.2,
             veins: 0.0,
-            size: 0.4,
+            size: 0.6,
             leaves: 7,
         }
     }
@@ -125,7 +125,7 @@ impl LeafLook {
             color: [66, 104, 38],
             variation: 0.35,
             veins: 0.3,
-            size: 0.3,
+            size: 0.16,
             leaves: 9,
         }
     }

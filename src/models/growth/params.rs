@@ -238,7 +238,7 @@ impl GrowthParams {
                 vigor_multiplier: 1.3,
                 branch_angle: 45.0,
                 tropism: 0.0,
-                droop: 0.09,
+                droop: 0.16,
                 environment_weight: 0.15,
                 ..d
             },
