@@ -397,6 +397,14 @@ fn export_species(
     let scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
     arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+    let cards = scene
+        .meshes
+        .iter()
+        .flat_map(|m| &m.primitives)
+        .filter(|p| scene.materials[p.material].name == "leaves")
+        .map(|p| p.mesh.vertices.len() / 4)
+        .sum::<usize>();
+    eprintln!("leaves: {cards} leaf cards of the species, at its buds and young tips");
     eprintln!(
         "{out}: {} branches ({what}), {} m tall, textures {size} px; grown in {grow_ms:.1} ms, \
          written in {:.1} ms",

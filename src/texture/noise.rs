@@ -43,10 +43,12 @@ impl Value {
         let (x, y) = (u * self.px as f32, v * self.py as f32);
         let (xf, yf) = (x.floor(), y.floor());
         let (tx, ty) = (smooth(x - xf), smooth(y - yf));
-        let x0 = (xf as i64).rem_euclid(self.px as i64) as u32;
-        let y0 = (yf as i64).rem_euclid(self.py as i64) as u32;
-        let x1 = (x0 + 1) % self.px;
-        let y1 = (y0 + 1) % self.py;
+        // The tile's coordinates are in [0, 1) (a little outside at most): wrap without a
+        // division.
+        let x0 = wrap(xf as i32, self.px);
+        let y0 = wrap(yf as i32, self.py);
+        let x1 = if x0 + 1 == self.px { 0 } else { x0 + 1 };
+        let y1 = if y0 + 1 == self.py { 0 } else { y0 + 1 };
         let t = |x: u32, y: u32| self.table[(y * self.px + x) as usize];
         let a = t(x0, y0) + (t(x1, y0) - t(x0, y0)) * tx;
         let b = t(x0, y1) + (t(x1, y1) - t(x0, y1)) * tx;
@@ -103,8 +105,7 @@ impl Cells {
         for dy in -1..=1 {
             for dx in -1..=1 {
                 let (gx, gy) = (cx + dx, cy + dy);
-                let wx = gx.rem_euclid(self.px as i64) as u32;
-                let wy = gy.rem_euclid(self.py as i64) as u32;
+                let (wx, wy) = (wrap(gx as i32, self.px), wrap(gy as i32, self.py));
                 let h = hash(wx, wy, self.seed);
                 let jx = (h & 0xffff) as f32 / 65536.0;
                 let jy = (h >> 16) as f32 / 65536.0;
@@ -121,6 +122,22 @@ impl Cells {
             }
         }
         (d1, d2, id)
+    }
+}
+
+/// `k` modulo `n`: a compare or two for the lattice steps the tiles take (k within one
+/// period of [0, n)), the remainder otherwise.
+#[inline(always)]
+fn wrap(k: i32, n: u32) -> u32 {
+    let n = n as i32;
+    if (0..n).contains(&k) {
+        k as u32
+    } else if (n..2 * n).contains(&k) {
+        (k - n) as u32
+    } else if (-n..0).contains(&k) {
+        (k + n) as u32
+    } else {
+        k.rem_euclid(n) as u32
     }
 }
 

@@ -1,0 +1,63 @@
+//! Named species: the textures as a host draws them into its own memory through the C ABI
+//! (`arbor_species_texture_write`, 1024² RGBA8, the buffer prefaulted with a non-zero
+//! byte), and an adult oak exported whole as the CLI does it (`arbor export growth:oak`:
+//! grow, clear the trunk, mesh bark and leaves at 18 m, draw the 1024² leaf atlas and
+//! bark maps, encode the PNGs and the GLB). Throughput of the textures is in pixels.
+//!
+//! `cargo bench --bench species`
+
+use arbor::ffi::{ArborStatus, ArborTexture, arbor_species_texture_write};
+use arbor::mesh::MeshOptions;
+use arbor::models::growth::Species;
+use arbor::species::{Look, tree_scene};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::hint::black_box;
+
+fn bench_species(c: &mut Criterion) {
+    let mut group = c.benchmark_group("species");
+    group.sample_size(10);
+    let size = 1024u32;
+    let mut rgba = vec![1u8; (size * size * 4) as usize];
+    group.throughput(Throughput::Elements(u64::from(size * size)));
+    for (name, which) in [
+        ("texture_leaf_atlas_oak_1024", ArborTexture::LeafAtlas),
+        ("texture_bark_color_oak_1024", ArborTexture::BarkColor),
+        ("texture_bark_normal_oak_1024", ArborTexture::BarkNormal),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                // SAFETY: `rgba` holds `len` writable bytes.
+                let s = unsafe {
+                    arbor_species_texture_write(
+                        Species::Oak as u32,
+                        which as u32,
+                        size,
+                        1,
+                        rgba.as_mut_ptr(),
+                        rgba.len(),
+                    )
+                };
+                assert_eq!(s, ArborStatus::Ok);
+                black_box(rgba[0])
+            })
+        });
+    }
+    group.throughput(Throughput::Elements(1));
+    let look = Look::of(Species::Oak).unwrap();
+    let options = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    group.bench_function("export_oak_glb_textures_1024", |b| {
+        b.iter(|| {
+            let tree = look.grow(1).unwrap();
+            let scene = tree_scene(&look, &tree, &options, size, 1).unwrap();
+            black_box(
+                arbor::export::gltf_scene_bytes(&scene, &options, true)
+                    .unwrap()
+                    .len(),
+            )
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_species);
+criterion_main!(benches);
