@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::mesh::{LeafOptions, MeshOptions};
 use crate::models::growth::{GrowthParams, Species};
 use crate::scene::Scene;
-use crate::skeleton::Skeleton;
+use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use crate::source::Source;
 use crate::texture::{BarkLook, LeafLook, bark_textures, leaf_atlas};
 
@@ -39,6 +39,10 @@ pub struct Look {
     pub leaf_cycles: u32,
     /// The trunk is clear of branches up to this fraction of the tree's height.
     pub clear_trunk: f32,
+    /// The trunk's radius at the ground over its radius above the flare (1: no flare).
+    pub flare: f32,
+    /// Surface roots spreading from the trunk's foot into the ground (0: none).
+    pub roots: u32,
     /// Its bark.
     pub bark: BarkLook,
 }
@@ -52,6 +56,8 @@ impl Look {
             cycles,
             height,
             clear_trunk,
+            flare: 1.0,
+            roots: 0,
             leaf,
             leaves_per_tip,
             leaf_cycles,
@@ -92,6 +98,19 @@ impl Look {
             Species::Shrub => l(24, 2.5, 0.0, LeafLook::shrub(), 5.0, 3, BarkLook::shrub()),
             _ => return None,
         })
+        .map(|l| {
+            let (flare, roots) = match species {
+                Species::Oak => (1.7, 5),
+                Species::Maple => (1.5, 4),
+                Species::Birch => (1.3, 0),
+                Species::Willow => (1.6, 4),
+                Species::Poplar => (1.4, 3),
+                Species::Pine => (1.3, 0),
+                Species::Spruce => (1.5, 4),
+                _ => (1.0, 0),
+            };
+            Look { flare, roots, ..l }
+        })
     }
 
     /// Every named species' look, in the enum's order.
@@ -110,8 +129,79 @@ impl Look {
     /// does after growing).
     pub fn finish(&self, grown: &Skeleton) -> Skeleton {
         let h = height_of(grown);
-        crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton
+        let cleared = crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton;
+        flare_and_roots(&cleared, self.flare, self.roots)
     }
+}
+
+/// `skeleton` with its trunk flared toward the ground (radius times `flare` at the foot,
+/// easing to none at four foot radii up) and `roots` surface roots: chains of three
+/// tapering branches that leave the foot evenly around it, spread and sink into the
+/// ground. A skeleton without a single trunk comes back as it is.
+fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
+    let b = skeleton.branches();
+    let Some(trunk) = b.iter().position(|x| x.parent == NO_PARENT) else {
+        return skeleton.clone();
+    };
+    let foot = b[trunk].start;
+    let r0 = b[trunk].start_radius;
+    if !(r0 > 0.0) || (flare <= 1.0 && roots == 0) {
+        return skeleton.clone();
+    }
+    let mut parts = skeleton.clone().into_parts();
+    let up_to = 4.0 * r0;
+    let widen = |p: [f32; 3], r: f32| {
+        let t = ((p[1] - foot[1]) / up_to).clamp(0.0, 1.0);
+        r * (1.0 + (flare - 1.0).max(0.0) * (1.0 - t) * (1.0 - t))
+    };
+    for x in parts.branches.iter_mut().filter(|x| x.order == 0) {
+        x.start_radius = widen(x.start, x.start_radius);
+        x.end_radius = widen(x.end, x.end_radius);
+    }
+    let color = parts.colors.get(trunk).copied();
+    let (has_ups, has_curves) = (!parts.ups.is_empty(), !parts.curves.is_empty());
+    for k in 0..roots {
+        let a =
+            std::f32::consts::TAU * (k as f32 + 0.3 * ((k * 7 % 5) as f32 / 5.0)) / roots as f32;
+        let (c, s) = (a.cos(), a.sin());
+        // Out and down from inside the foot: (reach out, drop) per segment, in foot radii.
+        let steps = [(0.0, -0.7), (1.0, 0.45), (1.0, 0.7), (0.8, 0.9)];
+        let radii = [0.42, 0.3, 0.18, 0.08];
+        let mut at = [foot[0], foot[1] - steps[0].1 * r0, foot[2]];
+        let mut out = 0.4 * r0;
+        at = [at[0] + c * out, at[1], at[2] + s * out];
+        for seg in 1..4 {
+            out = steps[seg].0 * r0;
+            let end = [at[0] + c * out, at[1] - steps[seg].1 * r0, at[2] + s * out];
+            let parent = if seg == 1 {
+                NO_PARENT
+            } else {
+                (parts.branches.len() - 1) as u32
+            };
+            parts.branches.push(Branch {
+                start: at,
+                end,
+                start_radius: radii[seg - 1] * flare.max(1.0) * r0,
+                end_radius: radii[seg] * flare.max(1.0) * r0,
+                parent,
+                birth: 0,
+                order: 1,
+                flags: 0,
+            });
+            if has_ups {
+                parts.ups.push([0.0, 1.0, 0.0]);
+            }
+            if has_curves {
+                let third = |t: f32| std::array::from_fn(|i| at[i] + (end[i] - at[i]) * t);
+                parts.curves.push([third(1.0 / 3.0), third(2.0 / 3.0)]);
+            }
+            if let Some(c) = color {
+                parts.colors.push(c);
+            }
+            at = end;
+        }
+    }
+    parts.build().unwrap_or_else(|_| skeleton.clone())
 }
 
 /// The height of `skeleton` (its highest branch end above its lowest), in model units.

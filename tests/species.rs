@@ -225,3 +225,44 @@ fn even_texels_wrap_u_whole_or_mirrored_without_a_seam() {
         "{whole} whole, {mirrored} mirrored"
     );
 }
+
+#[test]
+fn trunks_flare_and_roots_spread_into_the_ground() {
+    let look = Look::of(Species::Oak).unwrap();
+    assert!(look.flare > 1.0 && look.roots > 0);
+    let raw = arbor::source::Source::Growth(
+        arbor::models::growth::GrowthParams::preset(Species::Oak),
+        look.cycles,
+    )
+    .grow(3)
+    .unwrap();
+    let cleared = arbor::skeleton::prune::clear_trunk(&raw, 0.0).skeleton;
+    let tree = look.finish(&raw);
+    let trunk = |s: &arbor::skeleton::Skeleton| {
+        s.branches()
+            .iter()
+            .find(|b| b.parent == arbor::skeleton::NO_PARENT)
+            .map(|b| (b.start, b.start_radius))
+            .unwrap()
+    };
+    let ((foot, r), (_, flared)) = (trunk(&cleared), trunk(&tree));
+    assert!((flared / r - look.flare).abs() < 1e-4, "{flared} vs {r}");
+    // Roots: chains of three from the foot, the last ends below the ground.
+    let roots: Vec<_> = tree
+        .branches()
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b.parent == arbor::skeleton::NO_PARENT && b.order == 1)
+        .collect();
+    assert_eq!(roots.len(), look.roots as usize);
+    for (i, b) in roots {
+        let ends = &tree.branches()[i + 2];
+        assert_eq!(ends.parent as usize, i + 1);
+        assert!(ends.end[1] < foot[1] - r, "a root ends at {:?}", ends.end);
+        let out = ((b.start[0] - foot[0]).powi(2) + (b.start[2] - foot[2]).powi(2)).sqrt();
+        assert!(out < r, "a root starts {out} from the trunk's axis");
+    }
+    // Archetypes and the shrub keep their foot as grown.
+    let shrub = Look::of(Species::Shrub).unwrap();
+    assert_eq!((shrub.flare, shrub.roots), (1.0, 0));
+}
