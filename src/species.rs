@@ -145,7 +145,7 @@ fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
     };
     let foot = b[trunk].start;
     let r0 = b[trunk].start_radius;
-    if !(r0 > 0.0) || (flare <= 1.0 && roots == 0) {
+    if r0.is_nan() || r0 <= 0.0 || (flare <= 1.0 && roots == 0) {
         return skeleton.clone();
     }
     let mut parts = skeleton.clone().into_parts();
