@@ -165,8 +165,8 @@ fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
             std::f32::consts::TAU * (k as f32 + 0.3 * ((k * 7 % 5) as f32 / 5.0)) / roots as f32;
         let (c, s) = (a.cos(), a.sin());
         // Out and down from inside the foot: (reach out, drop) per segment, in foot radii.
-        let steps = [(0.0, -0.7), (1.0, 0.45), (1.0, 0.7), (0.8, 0.9)];
-        let radii = [0.42, 0.3, 0.18, 0.08];
+        let steps = [(0.0, -0.5), (0.9, 0.6), (0.9, 0.8), (0.7, 1.0)];
+        let radii = [0.4, 0.26, 0.15, 0.06];
         let mut at = [foot[0], foot[1] - steps[0].1 * r0, foot[2]];
         let mut out = 0.4 * r0;
         at = [at[0] + c * out, at[1], at[2] + s * out];
@@ -181,8 +181,8 @@ fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
             parts.branches.push(Branch {
                 start: at,
                 end,
-                start_radius: radii[seg - 1] * flare.max(1.0) * r0,
-                end_radius: radii[seg] * flare.max(1.0) * r0,
+                start_radius: radii[seg - 1] * r0,
+                end_radius: radii[seg] * r0,
                 parent,
                 birth: 0,
                 order: 1,
