@@ -85,5 +85,6 @@ scene.view_settings.view_transform = "Filmic"
 scene.render.image_settings.file_format = "PNG"
 scene.render.filepath = out
 bpy.ops.render.render(write_still=True)
-print(f"rendered {src} -> {out}: {len(meshes)} meshes, {extent.z:.2f} m tall, "
-      f"{extent.x:.2f} x {extent.y:.2f} m wide")
+images = [i for i in bpy.data.images if i.size[0] > 0]
+print(f"rendered {src} -> {out}: {len(meshes)} meshes, {len(images)} textures, "
+      f"{extent.z:.2f} m tall, {extent.x:.2f} x {extent.y:.2f} m wide")
