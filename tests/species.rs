@@ -266,3 +266,61 @@ fn trunks_flare_and_roots_spread_into_the_ground() {
     let shrub = Look::of(Species::Shrub).unwrap();
     assert_eq!((shrub.flare, shrub.roots), (1.0, 0));
 }
+
+#[test]
+fn a_species_as_obj_with_its_materials_and_images() {
+    let out = tmp("obj/willow.obj");
+    std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args(["export", "growth:willow", "--texture-size", "32", "-o"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let dir = out.parent().unwrap();
+    let mtl = std::fs::read_to_string(dir.join("willow.mtl")).unwrap();
+    for line in [
+        "newmtl bark",
+        "newmtl leaves",
+        "map_Kd willow_bark.png",
+        "map_Bump willow_bark_normal.png",
+        "map_Kd willow_leaves.png",
+        "map_d willow_leaves.png",
+    ] {
+        assert!(mtl.contains(line), "{line} not in\n{mtl}");
+    }
+    for png in [
+        "willow_bark.png",
+        "willow_bark_normal.png",
+        "willow_leaves.png",
+    ] {
+        let bytes = std::fs::read(dir.join(png)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{png}");
+    }
+    let (models, materials) = tobj::load_obj(&out, &tobj::GPU_LOAD_OPTIONS).unwrap();
+    let materials = materials.unwrap();
+    assert_eq!(materials.len(), 2);
+    assert_eq!(models.len(), 2);
+    let leaves = models.iter().find(|m| m.name == "leaves").unwrap();
+    let m = &materials[leaves.mesh.material_id.unwrap()];
+    assert_eq!(m.name, "leaves");
+    assert_eq!(m.diffuse_texture.as_deref(), Some("willow_leaves.png"));
+    // The images are upside down for OBJ: the atlas' stem row (the top of a glTF image)
+    // is the PNG's last row.
+    let look = Look::of(Species::Willow).unwrap();
+    let atlas = arbor::texture::leaf_atlas(&look.leaf, 32, 0).unwrap();
+    let first_row = &atlas.image.pixels[..32 * 4];
+    let decoded = decode_rgba(&std::fs::read(dir.join("willow_leaves.png")).unwrap());
+    assert_eq!(&decoded[decoded.len() - 32 * 4..], first_row);
+}
+
+/// The RGBA8 pixels of a PNG arbor wrote.
+fn decode_rgba(bytes: &[u8]) -> Vec<u8> {
+    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; r.output_buffer_size().unwrap()];
+    let info = r.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    buf
+}

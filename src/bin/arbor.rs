@@ -386,9 +386,7 @@ fn export_species(
             m.tree.source
         );
     }
-    if out.to_ascii_lowercase().ends_with(".obj") {
-        bail!("{out}: a named species is written as glTF (.glb or .gltf), with its textures");
-    }
+    let obj = out.to_ascii_lowercase().ends_with(".obj");
     let t1 = Instant::now();
     let size = m.texture_size.unwrap_or(1024);
     let seed = m.tree.seed.unwrap_or(0);
@@ -396,7 +394,11 @@ fn export_species(
     let skeleton = &look.finish(skeleton);
     let scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
-    arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+    if obj {
+        arbor::export::save_obj_scene(&scene, out).map_err(|e| anyhow!("{out}: {e}"))?;
+    } else {
+        arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+    }
     let cards = scene
         .meshes
         .iter()

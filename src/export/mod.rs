@@ -13,6 +13,6 @@ pub use gltf::{
     save_gltf_instanced, save_gltf_instanced_in, save_gltf_scene,
 };
 pub use obj::{
-    save_obj, save_obj_parts, save_obj_parts_in, save_obj_tree, save_obj_tree_in, write_obj,
-    write_obj_parts,
+    save_obj, save_obj_parts, save_obj_parts_in, save_obj_scene, save_obj_tree, save_obj_tree_in,
+    write_obj, write_obj_parts,
 };

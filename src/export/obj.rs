@@ -27,6 +27,16 @@ pub fn write_obj_parts<W: Write>(parts: &[(&str, &Mesh)], out: W) -> Result<()> 
 /// The lines of [`write_obj_parts`], reporting [`Stage::Write`] (lines written) every
 /// [`EVERY`] lines.
 fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Run<'_>) -> Result<()> {
+    write_lines_with(parts, w, p, false)
+}
+
+/// [`write_lines`], each group with `usemtl` of its name when `materials`.
+fn write_lines_with<W: Write>(
+    parts: &[(&str, &Mesh)],
+    w: &mut W,
+    p: &mut Run<'_>,
+    materials: bool,
+) -> Result<()> {
     let vertices: usize = parts.iter().map(|(_, m)| m.vertices.len()).sum();
     let triangles: usize = parts.iter().map(|(_, m)| m.triangles().count()).sum();
     writeln!(
@@ -51,6 +61,9 @@ fn write_lines<W: Write>(parts: &[(&str, &Mesh)], w: &mut W, p: &mut Run<'_>) ->
             .map(|c| if c.is_whitespace() { '_' } else { c })
             .collect();
         writeln!(w, "g {name}")?;
+        if materials {
+            writeln!(w, "usemtl {name}")?;
+        }
         for v in &mesh.vertices {
             let [x, y, z] = v.position;
             writeln!(w, "v {x} {y} {z}")?;
@@ -136,4 +149,94 @@ pub fn save_obj_tree_in(
     let mut parts = vec![("bark", &bark)];
     parts.extend(leaves.as_ref().map(|l| ("leaves", l)));
     save_obj_parts_in(&parts, path, run)
+}
+
+/// A scene's tree as OBJ with its materials: `path` (the first node's mesh, a group per
+/// primitive, each with `usemtl` of its material), `<stem>.mtl` beside it (colour, and
+/// `map_Kd`, `map_d` for alpha-cut materials, `map_Bump` for normal maps), and each texture
+/// as `<stem>_<name>.png` (spaces as `_`). OBJ reads uv from the image's bottom row, so
+/// the images are written upside down (a normal map's green turned with them) and the
+/// uvs stay as arbor writes them. Every file is written whole or not at all; the images
+/// and the `.mtl` first, the `.obj` last.
+pub fn save_obj_scene(scene: &crate::scene::Scene, path: impl AsRef<Path>) -> Result<()> {
+    let path = path.as_ref();
+    let stem = path.file_stem().and_then(|s| s.to_str()).ok_or_else(|| {
+        Error::invalid("path", format!("{}; expected a file name", path.display()))
+    })?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let file_of = |name: &str| format!("{stem}_{}.png", name.replace(char::is_whitespace, "_"));
+    let mut run = Run::default();
+    for (k, t) in scene.textures.iter().enumerate() {
+        let normal = scene.materials.iter().any(|m| m.normal_texture == Some(k));
+        let png = flipped(&t.image, normal).png()?;
+        let target = dir.join(file_of(&t.name));
+        super::atomic::write_atomic(&target, &mut run, |w, _| Ok(w.write_all(&png)?))?;
+    }
+    let mut mtl = String::new();
+    for m in &scene.materials {
+        let [r, g, b, a] = m.base_color;
+        mtl += &format!(
+            "newmtl {}\nKd {r} {g} {b}\nKs 0 0 0\nd {a}\nillum 1\n",
+            m.name
+        );
+        if let Some(k) = m.base_color_texture {
+            let png = file_of(&scene.textures[k].name);
+            mtl += &format!("map_Kd {png}\n");
+            if m.alpha_cutoff.is_some() {
+                mtl += &format!("map_d {png}\n");
+            }
+        }
+        if let Some(k) = m.normal_texture {
+            mtl += &format!("map_Bump {}\n", file_of(&scene.textures[k].name));
+        }
+        mtl += "\n";
+    }
+    let mtl_name = format!("{stem}.mtl");
+    super::atomic::write_atomic(&dir.join(&mtl_name), &mut run, |w, _| {
+        Ok(w.write_all(mtl.as_bytes())?)
+    })?;
+    let prims = scene
+        .nodes
+        .iter()
+        .find_map(|n| n.mesh)
+        .map_or(&[][..], |k| &scene.meshes[k].primitives[..]);
+    let names: Vec<&str> = prims
+        .iter()
+        .map(|p| scene.materials[p.material].name.as_str())
+        .collect();
+    let parts: Vec<(&str, &Mesh)> = names
+        .iter()
+        .zip(prims)
+        .map(|(n, p)| (*n, &p.mesh))
+        .collect();
+    super::atomic::write_atomic(path, &mut run, |w, p| {
+        writeln!(w, "mtllib {mtl_name}")?;
+        write_lines_with(&parts, w, p, true).map_err(|e| match e {
+            Error::Io(e) => super::atomic::io(path, "write", e),
+            other => other,
+        })
+    })
+}
+
+/// `image` upside down (OBJ's uv origin is the bottom row); a normal map's green (up the
+/// image) turned with it.
+fn flipped(image: &crate::texture::Image, normal: bool) -> crate::texture::Image {
+    let row = image.width as usize * 4;
+    let mut pixels: Vec<u8> = image
+        .pixels
+        .chunks_exact(row)
+        .rev()
+        .flatten()
+        .copied()
+        .collect();
+    if normal {
+        for px in pixels.chunks_exact_mut(4) {
+            px[1] = 255 - px[1];
+        }
+    }
+    crate::texture::Image {
+        width: image.width,
+        height: image.height,
+        pixels,
+    }
 }
