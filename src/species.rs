@@ -100,10 +100,10 @@ impl Look {
         })
         .map(|l| {
             let (flare, roots) = match species {
-                Species::Oak => (1.7, 5),
-                Species::Maple => (1.5, 4),
+                Species::Oak => (1.4, 5),
+                Species::Maple => (1.35, 4),
                 Species::Birch => (1.3, 0),
-                Species::Willow => (1.6, 4),
+                Species::Willow => (1.4, 4),
                 Species::Poplar => (1.4, 3),
                 Species::Pine => (1.3, 0),
                 Species::Spruce => (1.5, 4),
@@ -165,8 +165,8 @@ fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
             std::f32::consts::TAU * (k as f32 + 0.3 * ((k * 7 % 5) as f32 / 5.0)) / roots as f32;
         let (c, s) = (a.cos(), a.sin());
         // Out and down from inside the foot: (reach out, drop) per segment, in foot radii.
-        let steps = [(0.0, -0.5), (0.9, 0.6), (0.9, 0.8), (0.7, 1.0)];
-        let radii = [0.4, 0.26, 0.15, 0.06];
+        let steps = [(0.0, -0.4), (0.8, 0.7), (0.7, 0.9), (0.5, 1.0)];
+        let radii = [0.3, 0.2, 0.12, 0.05];
         let mut at = [foot[0], foot[1] - steps[0].1 * r0, foot[2]];
         let mut out = 0.4 * r0;
         at = [at[0] + c * out, at[1], at[2] + s * out];

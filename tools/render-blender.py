@@ -3,8 +3,9 @@ and light, so trees can be judged by eye and compared with other tools' trees.
 
 Run through tools/render: blender -b -P tools/render-blender.py -- IN OUT.png SIZE SAMPLES
 The camera looks at the model from the side (from -Y in Blender's Z-up space, 6 degrees
-above), framing its bounding box with a margin; a sun from the front left and a pale sky
-light it; a grey ground plane sits under it. Nothing depends on the file but its bounds.
+above), framing what stands above the ground with a margin; a sun from the front left and
+a pale sky light it; a grey ground plane sits at height 0 (under the model when it does
+not reach below 0). Nothing depends on the file but its bounds.
 """
 import math
 import sys
@@ -34,9 +35,11 @@ hi = mathutils.Vector([max(p[k] for p in points) for k in range(3)])
 center = (lo + hi) / 2
 extent = hi - lo
 
-# Ground.
+# Ground: at height 0 when the model reaches below it (a tree's roots sink into the
+# ground its trunk stands on), else under the model.
+ground_z = 0.0 if lo.z < 0.0 < hi.z else lo.z
 bpy.ops.mesh.primitive_plane_add(size=max(extent.x, extent.y, extent.z) * 6,
-                                 location=(center.x, center.y, lo.z))
+                                 location=(center.x, center.y, ground_z))
 ground = bpy.context.active_object
 gm = bpy.data.materials.new("ground")
 gm.use_nodes = True
@@ -50,10 +53,10 @@ cam_data.lens = 50
 cam = bpy.data.objects.new("camera", cam_data)
 scene.collection.objects.link(cam)
 fov = cam_data.angle
-span = max(extent.z, extent.x, extent.y) * 1.12
+span = max(hi.z - ground_z, extent.x, extent.y) * 1.12
 dist = span / 2 / math.tan(fov / 2)
 elev = math.radians(6)
-target = mathutils.Vector((center.x, center.y, lo.z + extent.z * 0.5))
+target = mathutils.Vector((center.x, center.y, ground_z + (hi.z - ground_z) * 0.5))
 cam.location = target + mathutils.Vector((0, -dist * math.cos(elev), dist * math.sin(elev)))
 cam.rotation_euler = (target - cam.location).to_track_quat("-Z", "Y").to_euler()
 cam_data.clip_end = dist * 10

@@ -5,7 +5,7 @@ use super::*;
 use crate::enums::Numbered;
 use crate::models::growth::Species;
 use crate::species::Look;
-use crate::texture::{bark_textures, leaf_atlas};
+use crate::texture::leaf_atlas;
 
 /// Which texture of a species arbor_species_texture_write() draws.
 #[repr(C)]
@@ -150,8 +150,8 @@ pub unsafe extern "C" fn arbor_species_texture_write(
         let out = unsafe { out_slice(rgba, capacity, needed, "rgba") }?;
         let image = match which {
             0 => leaf_atlas(&look.leaf, size, seed)?.image,
-            1 => bark_textures(&look.bark, size, seed)?.color,
-            _ => bark_textures(&look.bark, size, seed)?.normal,
+            1 => crate::texture::bark_map(&look.bark, size, seed, false)?,
+            _ => crate::texture::bark_map(&look.bark, size, seed, true)?,
         };
         for (slot, &b) in out.iter_mut().zip(&image.pixels) {
             slot.write(b);

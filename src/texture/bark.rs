@@ -128,6 +128,27 @@ pub struct BarkTextures {
 /// Draws `look`'s bark as `size` × `size` maps (16..=4096 pixels, checked before any
 /// allocation) that tile in both directions.
 pub fn bark_textures(look: &BarkLook, size: u32, seed: u64) -> Result<BarkTextures> {
+    let (color, normal) = bark_maps(look, size, seed, true, true)?;
+    Ok(BarkTextures {
+        color: color.expect("asked for"),
+        normal: normal.expect("asked for"),
+    })
+}
+
+/// One of a bark's maps alone (the normal map with `normal`, else the colour map): the
+/// same pixels as [`bark_textures`] gives, without drawing the other.
+pub(crate) fn bark_map(look: &BarkLook, size: u32, seed: u64, normal: bool) -> Result<Image> {
+    let (color, normal_map) = bark_maps(look, size, seed, !normal, normal)?;
+    Ok(color.or(normal_map).expect("one was asked for"))
+}
+
+fn bark_maps(
+    look: &BarkLook,
+    size: u32,
+    seed: u64,
+    want_color: bool,
+    want_normal: bool,
+) -> Result<(Option<Image>, Option<Image>)> {
     check_size("size", size)?;
     let seed32 = (seed ^ (seed >> 32)) as u32;
     let n = size as usize;
@@ -141,32 +162,36 @@ pub fn bark_textures(look: &BarkLook, size: u32, seed: u64) -> Result<BarkTextur
     });
     let h = |x: usize, y: usize| heights[(y % n) * n + (x % n)];
     let fine = Fractal::new(32, 32, 2, seed32 ^ 0xfa11);
-    let color = fill(size, size, |x, y| {
-        let (x, y) = (x as usize, y as usize);
-        let mut c = field.color(
-            look,
-            h(x, y),
-            (x as f32 + 0.5) / n as f32,
-            (y as f32 + 0.5) / n as f32,
-        );
-        c = scale(
-            c,
-            0.9 + 0.2 * fine.at(x as f32 / n as f32, y as f32 / n as f32),
-        );
-        [c[0], c[1], c[2], 255]
+    let color = want_color.then(|| {
+        fill(size, size, |x, y| {
+            let (x, y) = (x as usize, y as usize);
+            let mut c = field.color(
+                look,
+                h(x, y),
+                (x as f32 + 0.5) / n as f32,
+                (y as f32 + 0.5) / n as f32,
+            );
+            c = scale(
+                c,
+                0.9 + 0.2 * fine.at(x as f32 / n as f32, y as f32 / n as f32),
+            );
+            [c[0], c[1], c[2], 255]
+        })
     });
     let k = look.relief.clamp(0.0, 1.0) * n as f32 / 64.0;
-    let normal = fill(size, size, |x, y| {
-        let (x, y) = (x as usize, y as usize);
-        let gx = (h(x + 1, y) - h(x + n - 1, y)) * 0.5 * k;
-        let g_down = (h(x, y + 1) - h(x, y + n - 1)) * 0.5 * k;
-        // Up the image is minus rows: the normal leans against the slope.
-        let (nx, ny, nz) = (-gx, g_down, 1.0f32);
-        let len = (nx * nx + ny * ny + nz * nz).sqrt();
-        let enc = |c: f32| ((c / len * 0.5 + 0.5) * 255.0 + 0.5) as u8;
-        [enc(nx), enc(ny), enc(nz), 255]
+    let normal = want_normal.then(|| {
+        fill(size, size, |x, y| {
+            let (x, y) = (x as usize, y as usize);
+            let gx = (h(x + 1, y) - h(x + n - 1, y)) * 0.5 * k;
+            let g_down = (h(x, y + 1) - h(x, y + n - 1)) * 0.5 * k;
+            // Up the image is minus rows: the normal leans against the slope.
+            let (nx, ny, nz) = (-gx, g_down, 1.0f32);
+            let len = (nx * nx + ny * ny + nz * nz).sqrt();
+            let enc = |c: f32| ((c / len * 0.5 + 0.5) * 255.0 + 0.5) as u8;
+            [enc(nx), enc(ny), enc(nz), 255]
+        })
     });
-    Ok(BarkTextures { color, normal })
+    Ok((color, normal))
 }
 
 /// The noises of one bark pattern.

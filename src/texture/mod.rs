@@ -22,6 +22,7 @@ mod bark;
 mod leaf;
 mod noise;
 
+pub(crate) use bark::bark_map;
 pub use bark::{BarkKind, BarkLook, BarkTextures, bark_textures};
 pub use leaf::{ATLAS_COLUMNS, ATLAS_ROWS, LeafAtlas, LeafLook, LeafShape, atlas_rect, leaf_atlas};
 

@@ -120,3 +120,16 @@ fn every_atlas_cell_holds_a_blade_with_its_colour_bled_around_it() {
         }
     }
 }
+
+#[test]
+fn one_bark_map_is_the_same_as_both() {
+    let both = bark_textures(&BarkLook::pine(), 64, 9).unwrap();
+    assert_eq!(
+        bark::bark_map(&BarkLook::pine(), 64, 9, false).unwrap(),
+        both.color
+    );
+    assert_eq!(
+        bark::bark_map(&BarkLook::pine(), 64, 9, true).unwrap(),
+        both.normal
+    );
+}

@@ -214,6 +214,7 @@ impl GrowthParams {
                 tropism: 0.02,
                 environment_weight: 0.35,
                 droop: 0.004,
+                pipe_exponent: 2.2,
                 ..d
             },
             Species::Maple => GrowthParams {
@@ -222,6 +223,7 @@ impl GrowthParams {
                 branch_angle: 42.0,
                 tropism: 0.08,
                 environment_weight: 0.25,
+                pipe_exponent: 2.2,
                 ..d
             },
             Species::Birch => GrowthParams {
@@ -240,6 +242,7 @@ impl GrowthParams {
                 tropism: 0.0,
                 droop: 0.16,
                 environment_weight: 0.15,
+                pipe_exponent: 2.2,
                 ..d
             },
             Species::Poplar => GrowthParams {
