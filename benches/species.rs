@@ -33,6 +33,7 @@ fn bench_species(c: &mut Criterion) {
                         which as u32,
                         size,
                         1,
+                        0,
                         rgba.as_mut_ptr(),
                         rgba.len(),
                     )

@@ -2561,8 +2561,10 @@ enum ArborStatus arbor_species_options(uint32_t species,
  * Draws texture `which` (an ArborTexture) of a named species as `size` x `size` RGBA8
  * pixels (16..=4096; rows from the top, glTF's uv origin) into `rgba`, which holds
  * `capacity` bytes: at least `size * size * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and
- * nothing written. The same species, size and seed give the same bytes on every
- * platform; the textures of arbor's own glTF export of the species are these.
+ * nothing written. `threads`: 0 all cores (at most 8), 1 the calling thread only (an
+ * image under 256 x 256 is drawn on it whatever this asks). The same species, size and
+ * seed give the same bytes on every platform and any thread count; the textures of
+ * arbor's own glTF export of the species are these.
  *
  * # Safety
  * `rgba` is NULL or writable for `capacity` bytes.
@@ -2571,6 +2573,7 @@ enum ArborStatus arbor_species_texture_write(uint32_t species,
                                              uint32_t which,
                                              uint32_t size,
                                              uint64_t seed,
+                                             uint32_t threads,
                                              uint8_t *rgba,
                                              size_t capacity);
 

@@ -122,12 +122,12 @@ impl Look {
     /// cleared of branches up to [`clear_trunk`](Self::clear_trunk) of its height.
     pub fn grow(&self, seed: u64) -> Result<Skeleton> {
         let grown = Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)?;
-        Ok(self.finish(&grown))
+        self.finish(&grown)
     }
 
     /// A grown tree of this species with its trunk cleared (what [`grow`](Self::grow)
     /// does after growing).
-    pub fn finish(&self, grown: &Skeleton) -> Skeleton {
+    pub fn finish(&self, grown: &Skeleton) -> Result<Skeleton> {
         let h = height_of(grown);
         let cleared = crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton;
         flare_and_roots(&cleared, self.flare, self.roots)
@@ -138,15 +138,15 @@ impl Look {
 /// easing to none at four foot radii up) and `roots` surface roots: chains of three
 /// tapering branches that leave the foot evenly around it, spread and sink into the
 /// ground. A skeleton without a single trunk comes back as it is.
-fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
+fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Result<Skeleton> {
     let b = skeleton.branches();
     let Some(trunk) = b.iter().position(|x| x.parent == NO_PARENT) else {
-        return skeleton.clone();
+        return Ok(skeleton.clone());
     };
     let foot = b[trunk].start;
     let r0 = b[trunk].start_radius;
     if r0.is_nan() || r0 <= 0.0 || (flare <= 1.0 && roots == 0) {
-        return skeleton.clone();
+        return Ok(skeleton.clone());
     }
     let mut parts = skeleton.clone().into_parts();
     let up_to = 4.0 * r0;
@@ -201,19 +201,12 @@ fn flare_and_roots(skeleton: &Skeleton, flare: f32, roots: u32) -> Skeleton {
             at = end;
         }
     }
-    parts.build().unwrap_or_else(|_| skeleton.clone())
+    parts.build()
 }
 
 /// The height of `skeleton` (its highest branch end above its lowest), in model units.
 fn height_of(skeleton: &Skeleton) -> f32 {
-    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
-    for b in skeleton.branches() {
-        for p in [b.start, b.end] {
-            lo = lo.min(p[1]);
-            hi = hi.max(p[1]);
-        }
-    }
-    hi - lo
+    skeleton.bounds().map_or(0.0, |(lo, hi)| hi.y - lo.y)
 }
 
 /// The mesh and leaf options that draw `skeleton` as `look` at its height: `options`
@@ -274,6 +267,6 @@ pub fn tree_scene(
     let bark = bark_textures(&look.bark, texture_size, seed)?;
     let atlas = leaf_atlas(&look.leaf, texture_size, seed)?;
     let mut scene = Scene::tree(skeleton, &o, Some(&leaves))?;
-    scene.texture(&bark, &atlas);
+    scene.texture(bark, atlas);
     Ok(scene)
 }

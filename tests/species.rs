@@ -96,7 +96,7 @@ fn a_species_trunk_is_clear_below_its_crown() {
     let ys = raw.branches().iter().flat_map(|x| [x.start[1], x.end[1]]);
     let (base, top) = ys.fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(y), b.max(y)));
     let clear = base + look.clear_trunk * (top - base);
-    let tree = look.finish(&raw);
+    let tree = look.finish(&raw).unwrap();
     assert_eq!(tree, look.grow(2).unwrap());
     assert!(tree.len() < raw.len());
     let b = tree.branches();
@@ -237,7 +237,7 @@ fn trunks_flare_and_roots_spread_into_the_ground() {
     .grow(3)
     .unwrap();
     let cleared = arbor::skeleton::prune::clear_trunk(&raw, 0.0).skeleton;
-    let tree = look.finish(&raw);
+    let tree = look.finish(&raw).unwrap();
     let trunk = |s: &arbor::skeleton::Skeleton| {
         s.branches()
             .iter()

@@ -252,16 +252,9 @@ fn leaf_options(
         .map(|b| b.birth)
         .max()
         .unwrap_or(0);
-    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-    for b in skeleton.branches() {
-        for p in [b.start, b.end] {
-            for c in 0..3 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-    }
-    let extent = (0..3).map(|c| hi[c] - lo[c]).fold(0.0f32, f32::max);
+    let extent = skeleton
+        .bounds()
+        .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
     let l = LeafOptions::default()
         .sites(false)
         .polygons(false)
@@ -391,7 +384,9 @@ fn export_species(
     let size = m.texture_size.unwrap_or(1024);
     let seed = m.tree.seed.unwrap_or(0);
     let go = arbor::export::gltf_mesh_options(o).map_err(|e| anyhow!("{out}: {e}"))?;
-    let skeleton = &look.finish(skeleton);
+    let skeleton = &look
+        .finish(skeleton)
+        .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
     let scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
     if obj {

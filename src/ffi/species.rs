@@ -5,7 +5,7 @@ use super::*;
 use crate::enums::Numbered;
 use crate::models::growth::Species;
 use crate::species::Look;
-use crate::texture::leaf_atlas;
+use crate::texture::leaf_atlas_in;
 
 /// Which texture of a species arbor_species_texture_write() draws.
 #[repr(C)]
@@ -103,17 +103,12 @@ pub unsafe extern "C" fn arbor_species_options(
             unsafe { write_growing(mesh_options, size, &out) };
         }
         if !leaf_options.is_null() {
-            // SAFETY: the caller promises `struct_size` readable bytes at the pointer.
-            let size = unsafe { leaf_options.cast::<u32>().read_unaligned() } as usize;
-            if !(ARBOR_LEAF_OPTIONS_MIN_SIZE..=super::options::MAX_STRUCT_SIZE).contains(&size) {
-                return Err(FfiError::invalid(format!(
-                    "`leaf_options.struct_size` is {size}; expected sizeof(ArborLeafOptions) \
-                     (set it with arbor_leaf_options_init())"
-                )));
-            }
+            // Read first: the host's struct_size is checked as every call checks it.
+            // SAFETY: the caller promises a readable struct of its struct_size.
+            let host = unsafe { read_growing(leaf_options.cast_const(), "leaf_options") }?;
             let out = ArborLeafOptions::from_rust(&leaves);
-            // SAFETY: as above, `size` writable bytes.
-            unsafe { write_growing(leaf_options, size, &out) };
+            // SAFETY: the caller promises `struct_size` writable bytes (read above).
+            unsafe { write_growing(leaf_options, host.struct_size as usize, &out) };
         }
         Ok(())
     })
@@ -122,8 +117,10 @@ pub unsafe extern "C" fn arbor_species_options(
 /// Draws texture `which` (an ArborTexture) of a named species as `size` x `size` RGBA8
 /// pixels (16..=4096; rows from the top, glTF's uv origin) into `rgba`, which holds
 /// `capacity` bytes: at least `size * size * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and
-/// nothing written. The same species, size and seed give the same bytes on every
-/// platform; the textures of arbor's own glTF export of the species are these.
+/// nothing written. `threads`: 0 all cores (at most 8), 1 the calling thread only (an
+/// image under 256 x 256 is drawn on it whatever this asks). The same species, size and
+/// seed give the same bytes on every platform and any thread count; the textures of
+/// arbor's own glTF export of the species are these.
 ///
 /// # Safety
 /// `rgba` is NULL or writable for `capacity` bytes.
@@ -133,6 +130,7 @@ pub unsafe extern "C" fn arbor_species_texture_write(
     which: u32,
     size: u32,
     seed: u64,
+    threads: u32,
     rgba: *mut u8,
     capacity: usize,
 ) -> ArborStatus {
@@ -148,10 +146,11 @@ pub unsafe extern "C" fn arbor_species_texture_write(
         let needed = size as usize * size as usize * 4;
         // SAFETY: the caller promises `capacity` writable bytes at `rgba`.
         let out = unsafe { out_slice(rgba, capacity, needed, "rgba") }?;
+        let run = on_threads(threads);
         let image = match which {
-            0 => leaf_atlas(&look.leaf, size, seed)?.image,
-            1 => crate::texture::bark_map(&look.bark, size, seed, false)?,
-            _ => crate::texture::bark_map(&look.bark, size, seed, true)?,
+            0 => leaf_atlas_in(&look.leaf, size, seed, &run)?.image,
+            1 => crate::texture::bark_map(&look.bark, size, seed, false, &run)?,
+            _ => crate::texture::bark_map(&look.bark, size, seed, true, &run)?,
         };
         for (slot, &b) in out.iter_mut().zip(&image.pixels) {
             slot.write(b);

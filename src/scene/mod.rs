@@ -331,20 +331,20 @@ impl Scene {
     /// ([`LeafOptions::atlas_columns`]). A material of another name is left as it is.
     pub fn texture(
         &mut self,
-        bark: &crate::texture::BarkTextures,
-        atlas: &crate::texture::LeafAtlas,
+        bark: crate::texture::BarkTextures,
+        atlas: crate::texture::LeafAtlas,
     ) {
-        let mut push = |name: &str, image: &crate::texture::Image| {
+        let mut push = |name: &str, image: crate::texture::Image| {
             self.textures.push(Texture {
                 name: name.into(),
-                image: image.clone(),
+                image,
             });
             self.textures.len() - 1
         };
         let (color, normal, leaves) = (
-            push("bark", &bark.color),
-            push("bark normal", &bark.normal),
-            push("leaves", &atlas.image),
+            push("bark", bark.color),
+            push("bark normal", bark.normal),
+            push("leaves", atlas.image),
         );
         for m in &mut self.materials {
             match m.name.as_str() {

@@ -166,10 +166,7 @@ fn colliding(skeleton: &Skeleton) -> Vec<bool> {
 /// that grew among others has. `height` 0 (or less) removes nothing.
 pub fn clear_trunk(skeleton: &Skeleton, height: f32) -> Pruned {
     let b = skeleton.branches();
-    let base = b
-        .iter()
-        .flat_map(|x| [x.start[1], x.end[1]])
-        .fold(f32::INFINITY, f32::min);
+    let base = skeleton.bounds().map_or(0.0, |(lo, _)| lo.y);
     let mut removed = vec![false; b.len()];
     for (i, x) in b.iter().enumerate() {
         if x.parent == NO_PARENT {

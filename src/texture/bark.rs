@@ -4,6 +4,7 @@
 use super::noise::{Cells, Fractal, unit};
 use super::{Image, check_size, fill, grid, mix, scale};
 use crate::error::Result;
+use crate::progress::Run;
 
 /// The pattern of a bark.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,7 +129,17 @@ pub struct BarkTextures {
 /// Draws `look`'s bark as `size` × `size` maps (16..=4096 pixels, checked before any
 /// allocation) that tile in both directions.
 pub fn bark_textures(look: &BarkLook, size: u32, seed: u64) -> Result<BarkTextures> {
-    let (color, normal) = bark_maps(look, size, seed, true, true)?;
+    bark_textures_in(look, size, seed, &Run::default())
+}
+
+/// [`bark_textures`] on the run's threads (1: the calling thread only); the same pixels.
+pub fn bark_textures_in(
+    look: &BarkLook,
+    size: u32,
+    seed: u64,
+    run: &Run<'_>,
+) -> Result<BarkTextures> {
+    let (color, normal) = bark_maps(look, size, seed, (true, true), run)?;
     Ok(BarkTextures {
         color: color.expect("asked for"),
         normal: normal.expect("asked for"),
@@ -137,8 +148,14 @@ pub fn bark_textures(look: &BarkLook, size: u32, seed: u64) -> Result<BarkTextur
 
 /// One of a bark's maps alone (the normal map with `normal`, else the colour map): the
 /// same pixels as [`bark_textures`] gives, without drawing the other.
-pub(crate) fn bark_map(look: &BarkLook, size: u32, seed: u64, normal: bool) -> Result<Image> {
-    let (color, normal_map) = bark_maps(look, size, seed, !normal, normal)?;
+pub(crate) fn bark_map(
+    look: &BarkLook,
+    size: u32,
+    seed: u64,
+    normal: bool,
+    run: &Run<'_>,
+) -> Result<Image> {
+    let (color, normal_map) = bark_maps(look, size, seed, (!normal, normal), run)?;
     Ok(color.or(normal_map).expect("one was asked for"))
 }
 
@@ -146,15 +163,15 @@ fn bark_maps(
     look: &BarkLook,
     size: u32,
     seed: u64,
-    want_color: bool,
-    want_normal: bool,
+    (want_color, want_normal): (bool, bool),
+    run: &Run<'_>,
 ) -> Result<(Option<Image>, Option<Image>)> {
     check_size("size", size)?;
     let seed32 = (seed ^ (seed >> 32)) as u32;
     let n = size as usize;
     let field = Field::new(look.kind, seed32);
     // The height field first (the normals read its neighbours).
-    let heights = grid(size, size, |x, y| {
+    let heights = grid(size, size, run, |x, y| {
         field.height(
             (x as f32 + 0.5) / size as f32,
             (y as f32 + 0.5) / size as f32,
@@ -163,7 +180,7 @@ fn bark_maps(
     let h = |x: usize, y: usize| heights[(y % n) * n + (x % n)];
     let fine = Fractal::new(32, 32, 2, seed32 ^ 0xfa11);
     let color = want_color.then(|| {
-        fill(size, size, |x, y| {
+        fill(size, size, run, |x, y| {
             let (x, y) = (x as usize, y as usize);
             let mut c = field.color(
                 look,
@@ -180,7 +197,7 @@ fn bark_maps(
     });
     let k = look.relief.clamp(0.0, 1.0) * n as f32 / 64.0;
     let normal = want_normal.then(|| {
-        fill(size, size, |x, y| {
+        fill(size, size, run, |x, y| {
             let (x, y) = (x as usize, y as usize);
             let gx = (h(x + 1, y) - h(x + n - 1, y)) * 0.5 * k;
             let g_down = (h(x, y + 1) - h(x, y + n - 1)) * 0.5 * k;

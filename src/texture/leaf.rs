@@ -5,6 +5,7 @@
 use super::noise::{Fractal, unit};
 use super::{Image, check_size, fill, mix, scale};
 use crate::error::Result;
+use crate::progress::Run;
 
 /// The outline of a blade.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,6 +193,11 @@ struct Variant {
 /// Draws a `size` × `size` atlas of `look`'s blades (16..=4096 pixels, checked before any
 /// allocation), the variants differing in width, length, curve and tint by `seed`.
 pub fn leaf_atlas(look: &LeafLook, size: u32, seed: u64) -> Result<LeafAtlas> {
+    leaf_atlas_in(look, size, seed, &Run::default())
+}
+
+/// [`leaf_atlas`] on the run's threads (1: the calling thread only); the same pixels.
+pub fn leaf_atlas_in(look: &LeafLook, size: u32, seed: u64, run: &Run<'_>) -> Result<LeafAtlas> {
     check_size("size", size)?;
     let seed32 = (seed ^ (seed >> 32)) as u32;
     let var = look.variation.clamp(0.0, 1.0);
@@ -211,7 +217,7 @@ pub fn leaf_atlas(look: &LeafLook, size: u32, seed: u64) -> Result<LeafAtlas> {
     let mottle = Fractal::new(6, 12, 3, seed32 ^ 0x51ed);
     let (cw, ch) = (size / COLUMNS, size / ROWS);
     let px_per_unit = cw as f32 / 0.5;
-    let image = fill(size, size, |x, y| {
+    let image = fill(size, size, run, |x, y| {
         let (c, r) = ((x / cw).min(COLUMNS - 1), (y / ch).min(ROWS - 1));
         let v = &variants[(r * COLUMNS + c) as usize];
         let lx = ((x - c * cw) as f32 + 0.5) / cw as f32;

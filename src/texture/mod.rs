@@ -23,10 +23,14 @@ mod leaf;
 mod noise;
 
 pub(crate) use bark::bark_map;
-pub use bark::{BarkKind, BarkLook, BarkTextures, bark_textures};
-pub use leaf::{ATLAS_COLUMNS, ATLAS_ROWS, LeafAtlas, LeafLook, LeafShape, atlas_rect, leaf_atlas};
+pub use bark::{BarkKind, BarkLook, BarkTextures, bark_textures, bark_textures_in};
+pub use leaf::{
+    ATLAS_COLUMNS, ATLAS_ROWS, LeafAtlas, LeafLook, LeafShape, atlas_rect, leaf_atlas,
+    leaf_atlas_in,
+};
 
 use crate::error::{Error, Result};
+use crate::progress::Run;
 
 /// Smallest and largest edge of a drawn texture, in pixels.
 pub const MIN_TEXTURE_SIZE: u32 = 16;
@@ -87,11 +91,12 @@ pub(crate) fn check_size(field: &'static str, size: u32) -> Result<()> {
     }
 }
 
-/// A `width` × `height` grid of `draw(x, y)`, rows from the top, drawn on up to eight
+/// A `width` × `height` grid of `draw(x, y)`, rows from the top, drawn on the run's
 /// threads when large (the result does not depend on the split).
 fn grid<T: Copy + Default + Send>(
     width: u32,
     height: u32,
+    run: &Run<'_>,
     draw: impl Fn(u32, u32) -> T + Sync,
 ) -> Vec<T> {
     let w = width as usize;
@@ -104,10 +109,11 @@ fn grid<T: Copy + Default + Send>(
             }
         }
     };
-    let threads = if out.len() >= 1 << 16 {
-        std::thread::available_parallelism().map_or(1, |n| n.get().min(8))
-    } else {
-        1
+    // The run's thread count (0: the cores, at most 8); small images on the calling thread.
+    let threads = match run.threads_or(0) {
+        _ if out.len() < 1 << 16 => 1,
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
+        t => t as usize,
     };
     if threads <= 1 {
         draw_rows(0, &mut out);
@@ -124,8 +130,13 @@ fn grid<T: Copy + Default + Send>(
 }
 
 /// An RGBA8 image of `draw(x, y)`.
-fn fill(width: u32, height: u32, draw: impl Fn(u32, u32) -> [u8; 4] + Sync) -> Image {
-    let px = grid(width, height, draw);
+fn fill(
+    width: u32,
+    height: u32,
+    run: &Run<'_>,
+    draw: impl Fn(u32, u32) -> [u8; 4] + Sync,
+) -> Image {
+    let px = grid(width, height, run, draw);
     Image {
         width,
         height,

@@ -124,12 +124,22 @@ fn every_atlas_cell_holds_a_blade_with_its_colour_bled_around_it() {
 #[test]
 fn one_bark_map_is_the_same_as_both() {
     let both = bark_textures(&BarkLook::pine(), 64, 9).unwrap();
+    let run = Run::default();
+    let color = bark::bark_map(&BarkLook::pine(), 64, 9, false, &run).unwrap();
+    assert_eq!(color, both.color);
+    let normal = bark::bark_map(&BarkLook::pine(), 64, 9, true, &run).unwrap();
+    assert_eq!(normal, both.normal);
+}
+
+#[test]
+fn textures_are_the_same_on_any_threads() {
+    // 256² is large enough to be split when the run allows it.
+    let (one, three) = (Run::default().threads(1), Run::default().threads(3));
+    let a = leaf_atlas_in(&LeafLook::oak(), 256, 4, &one).unwrap();
+    assert_eq!(a, leaf_atlas_in(&LeafLook::oak(), 256, 4, &three).unwrap());
+    let b = bark_textures_in(&BarkLook::birch(), 256, 4, &one).unwrap();
     assert_eq!(
-        bark::bark_map(&BarkLook::pine(), 64, 9, false).unwrap(),
-        both.color
-    );
-    assert_eq!(
-        bark::bark_map(&BarkLook::pine(), 64, 9, true).unwrap(),
-        both.normal
+        b,
+        bark_textures_in(&BarkLook::birch(), 256, 4, &three).unwrap()
     );
 }

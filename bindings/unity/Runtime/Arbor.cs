@@ -391,7 +391,7 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_options(uint species, IntPtr tree, ref MeshOptions meshOptions, ref LeafOptions leafOptions);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
-        public static extern Status arbor_species_texture_write(uint species, uint which, uint size, ulong seed, [Out] byte[] rgba, UIntPtr capacity);
+        public static extern Status arbor_species_texture_write(uint species, uint which, uint size, ulong seed, uint threads, [Out] byte[] rgba, UIntPtr capacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_atlas_rect(uint cell, [Out] float[] rect, out uint cells);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
