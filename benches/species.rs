@@ -19,17 +19,46 @@ fn bench_species(c: &mut Criterion) {
     let size = 1024u32;
     let mut rgba = vec![1u8; (size * size * 4) as usize];
     group.throughput(Throughput::Elements(u64::from(size * size)));
-    for (name, which) in [
-        ("texture_leaf_atlas_oak_1024", ArborTexture::LeafAtlas),
-        ("texture_bark_color_oak_1024", ArborTexture::BarkColor),
-        ("texture_bark_normal_oak_1024", ArborTexture::BarkNormal),
+    // The oak's three maps, and the costliest of every species' (the pine's plated bark,
+    // cellular noise; the spruce's needle atlas is cheaper than any blade atlas).
+    for (name, species, which) in [
+        (
+            "texture_leaf_atlas_oak_1024",
+            Species::Oak,
+            ArborTexture::LeafAtlas,
+        ),
+        (
+            "texture_bark_color_oak_1024",
+            Species::Oak,
+            ArborTexture::BarkColor,
+        ),
+        (
+            "texture_bark_normal_oak_1024",
+            Species::Oak,
+            ArborTexture::BarkNormal,
+        ),
+        (
+            "texture_leaf_atlas_birch_1024",
+            Species::Birch,
+            ArborTexture::LeafAtlas,
+        ),
+        (
+            "texture_bark_color_pine_1024",
+            Species::Pine,
+            ArborTexture::BarkColor,
+        ),
+        (
+            "texture_bark_normal_pine_1024",
+            Species::Pine,
+            ArborTexture::BarkNormal,
+        ),
     ] {
         group.bench_function(name, |b| {
             b.iter(|| {
                 // SAFETY: `rgba` holds `len` writable bytes.
                 let s = unsafe {
                     arbor_species_texture_write(
-                        Species::Oak as u32,
+                        species as u32,
                         which as u32,
                         size,
                         1,

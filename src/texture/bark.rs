@@ -1,8 +1,8 @@
 //! Tiling bark: a height field drawn from noise that wraps, coloured between a dark and a
 //! light tone and turned into a tangent-space normal map.
 
-use super::noise::{Cells, Fractal, unit};
-use super::{Image, check_size, fill, grid, mix, scale};
+use super::noise::{Cells, Curve, Fractal, Near, Sampled, centre, unit};
+use super::{Image, check_size, fill_rows, grid_rows, lerp, rgb};
 use crate::error::Result;
 use crate::progress::Run;
 
@@ -170,45 +170,95 @@ fn bark_maps(
     let seed32 = (seed ^ (seed >> 32)) as u32;
     let n = size as usize;
     let field = Field::new(look.kind, seed32);
-    // The height field first (the normals read its neighbours).
-    let heights = grid(size, size, run, |x, y| {
-        field.height(
-            (x as f32 + 0.5) / size as f32,
-            (y as f32 + 0.5) / size as f32,
-        )
-    });
-    let h = |x: usize, y: usize| heights[(y % n) * n + (x % n)];
-    let fine = Fractal::new(32, 32, 2, seed32 ^ 0xfa11);
+    let sampled = field.sample(size);
+    // The height field first (the normals read its neighbours), with each pixel's shade:
+    // how dark a smooth bark is there, or the tint of a plate.
+    let field_rows = grid_rows(
+        size,
+        size,
+        run,
+        || Rows::new(n),
+        |rows, y, out| field.heights(&sampled, rows, y, out),
+    );
     let color = want_color.then(|| {
-        fill(size, size, run, |x, y| {
-            let (x, y) = (x as usize, y as usize);
-            let mut c = field.color(
-                look,
-                h(x, y),
-                (x as f32 + 0.5) / n as f32,
-                (y as f32 + 0.5) / n as f32,
-            );
-            c = scale(
-                c,
-                0.9 + 0.2 * fine.at(x as f32 / n as f32, y as f32 / n as f32),
-            );
-            [c[0], c[1], c[2], 255]
-        })
+        let fine = Fractal::new(32, 32, 2, seed32 ^ 0xfa11);
+        let fine = fine.columns(size);
+        let tone = Curve::new(|h| h.powf(0.8));
+        let (dark, light) = (look.dark.map(f32::from), look.light.map(f32::from));
+        fill_rows(
+            size,
+            size,
+            run,
+            || Rows::new(n),
+            |rows, y, out| {
+                fine.row(centre(y, size), &mut rows.a, &mut rows.line);
+                let field_row = &field_rows[y as usize * n..][..n];
+                for ((px, &[h, shade]), &fine) in out.iter_mut().zip(field_row).zip(&rows.a) {
+                    // In floats, rounded once.
+                    let (t, f) = match field.kind {
+                        BarkKind::Smooth => (1.0 - shade, 1.0),
+                        BarkKind::Plated => (h, shade),
+                        _ => (tone.at(h), 1.0),
+                    };
+                    let c = rgb(lerp(dark, light, t), f * (0.9 + 0.2 * fine));
+                    *px = [c[0], c[1], c[2], 255];
+                }
+            },
+        )
     });
     let k = look.relief.clamp(0.0, 1.0) * n as f32 / 64.0;
     let normal = want_normal.then(|| {
-        fill(size, size, run, |x, y| {
-            let (x, y) = (x as usize, y as usize);
-            let gx = (h(x + 1, y) - h(x + n - 1, y)) * 0.5 * k;
-            let g_down = (h(x, y + 1) - h(x, y + n - 1)) * 0.5 * k;
-            // Up the image is minus rows: the normal leans against the slope.
-            let (nx, ny, nz) = (-gx, g_down, 1.0f32);
-            let len = (nx * nx + ny * ny + nz * nz).sqrt();
-            let enc = |c: f32| ((c / len * 0.5 + 0.5) * 255.0 + 0.5) as u8;
-            [enc(nx), enc(ny), enc(nz), 255]
-        })
+        fill_rows(
+            size,
+            size,
+            run,
+            || (),
+            |_, y, out| {
+                let y = y as usize;
+                let row = &field_rows[y * n..][..n];
+                let up = &field_rows[(y + n - 1) % n * n..][..n];
+                let down = &field_rows[(y + 1) % n * n..][..n];
+                for (x, px) in out.iter_mut().enumerate() {
+                    let (left, right) = (
+                        if x == 0 { row[n - 1] } else { row[x - 1] }[0],
+                        if x + 1 == n { row[0] } else { row[x + 1] }[0],
+                    );
+                    let gx = (right - left) * 0.5 * k;
+                    let g_down = (down[x][0] - up[x][0]) * 0.5 * k;
+                    // Up the image is minus rows: the normal leans against the slope.
+                    let (nx, ny) = (-gx, g_down);
+                    let inv = 1.0 / (nx * nx + ny * ny + 1.0).sqrt();
+                    let enc = |c: f32| ((c * inv * 0.5 + 0.5) * 255.0 + 0.5) as u8;
+                    *px = [enc(nx), enc(ny), enc(1.0), 255];
+                }
+            },
+        )
     });
     Ok((color, normal))
+}
+
+/// One thread's rows of scratch: three noise rows, a lattice line, a row of cells and the
+/// points near it.
+struct Rows {
+    a: Vec<f32>,
+    b: Vec<f32>,
+    c: Vec<f32>,
+    line: Vec<f32>,
+    cells: Vec<(f32, f32, u32)>,
+    near: Vec<Near>,
+}
+
+impl Rows {
+    fn new(n: usize) -> Self {
+        Rows {
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            c: vec![0.0; n],
+            line: Vec::new(),
+            cells: vec![(0.0, 0.0, 0); n],
+            near: Vec::new(),
+        }
+    }
 }
 
 /// The noises of one bark pattern.
@@ -218,6 +268,14 @@ struct Field {
     detail: Fractal,
     cells: Cells,
     seed: u32,
+    ridge: Curve,
+}
+
+/// A [`Field`]'s noises sampled at the pixel centres of one image width.
+struct FieldSampled<'a> {
+    coarse: Sampled<'a>,
+    detail: Sampled<'a>,
+    width: u32,
 }
 
 impl Field {
@@ -244,70 +302,94 @@ impl Field {
                 Cells::new(8, 8, seed),
             ),
         };
+        let ridge = match kind {
+            BarkKind::Furrowed => Curve::new(|r| r.powf(0.6)),
+            _ => Curve::new(f32::sqrt),
+        };
         Field {
             kind,
             coarse,
             detail,
             cells,
             seed,
+            ridge,
         }
     }
 
-    /// Height in 0..=1 at (u, v) of the tile: 0 in a furrow, 1 on the surface.
-    fn height(&self, u: f32, v: f32) -> f32 {
+    fn sample(&self, width: u32) -> FieldSampled<'_> {
+        FieldSampled {
+            coarse: self.coarse.columns(width),
+            detail: self.detail.columns(width),
+            width,
+        }
+    }
+
+    /// Row `y`'s heights in 0..=1 (0 in a furrow, 1 on the surface), each with its shade
+    /// (smooth bark: how dark, from lenticels and patches; plates: the plate's tint).
+    fn heights(&self, s: &FieldSampled<'_>, rows: &mut Rows, y: u32, out: &mut [[f32; 2]]) {
+        let v = centre(y, s.width);
+        s.detail.row(v, &mut rows.b, &mut rows.line);
+        let detail = &rows.b;
         match self.kind {
             BarkKind::Furrowed => {
                 // Furrows run where the noise crosses its middle: thin, connected lines.
-                let n = self.coarse.at(u, v);
-                let ridge = ((2.0 * n - 1.0).abs() * 5.0).min(1.0);
-                ridge.powf(0.6) * (0.7 + 0.3 * self.detail.at(u, v))
+                s.coarse.row(v, &mut rows.a, &mut rows.line);
+                for ((h, &n), &d) in out.iter_mut().zip(&rows.a).zip(detail) {
+                    let ridge = (2.0 * n - 1.0).abs() * 5.0;
+                    *h = [self.ridge.at(ridge) * (0.7 + 0.3 * d), 0.0];
+                }
             }
-            BarkKind::Smooth => 0.8 + 0.2 * self.detail.at(u, v) - 0.4 * self.lenticel(u, v),
+            BarkKind::Smooth => {
+                self.lenticels(v, s.width, &mut rows.c);
+                s.coarse.row(v, &mut rows.a, &mut rows.line);
+                for (((h, &l), &d), &p) in out.iter_mut().zip(&rows.c).zip(detail).zip(&rows.a) {
+                    let patch = ((p - 0.68) / 0.1).clamp(0.0, 1.0) * 0.85;
+                    *h = [0.8 + 0.2 * d - 0.4 * l, l.max(patch)];
+                }
+            }
             BarkKind::Plated => {
-                let (d1, d2, _) = self.cells.at(u, v);
-                let crack = ((d2 - d1) / 0.22).clamp(0.0, 1.0);
-                crack.sqrt() * (0.7 + 0.3 * self.detail.at(u, v))
+                self.cells.row(v, &mut rows.cells, &mut rows.near);
+                for ((h, &d), &(d1, d2, id)) in out.iter_mut().zip(detail).zip(&rows.cells) {
+                    let crack = (d2 - d1) / 0.22;
+                    let tint = 0.85 + 0.3 * ((id >> 8) & 0xff) as f32 / 255.0;
+                    *h = [self.ridge.at(crack) * (0.7 + 0.3 * d), tint];
+                }
             }
             BarkKind::Fissured => {
-                let n = self.coarse.at(u, v);
-                let fissure = ((2.0 * n - 1.0).abs() * 7.0).min(1.0);
-                (0.35 + 0.65 * fissure) * (0.75 + 0.25 * self.detail.at(u, v))
+                s.coarse.row(v, &mut rows.a, &mut rows.line);
+                for ((h, &n), &d) in out.iter_mut().zip(&rows.a).zip(detail) {
+                    let fissure = ((2.0 * n - 1.0).abs() * 7.0).min(1.0);
+                    *h = [(0.35 + 0.65 * fissure) * (0.75 + 0.25 * d), 0.0];
+                }
             }
         }
     }
 
-    /// The colour of the surface at height `h`.
-    fn color(&self, look: &BarkLook, h: f32, u: f32, v: f32) -> [u8; 3] {
-        match self.kind {
-            BarkKind::Smooth => {
-                let patch = ((self.coarse.at(u, v) - 0.68) / 0.1).clamp(0.0, 1.0);
-                let dark = self.lenticel(u, v).max(patch * 0.85);
-                mix(look.light, look.dark, dark)
-            }
-            BarkKind::Plated => {
-                let (_, _, id) = self.cells.at(u, v);
-                let tint = 0.85 + 0.3 * ((id >> 8) & 0xff) as f32 / 255.0;
-                scale(mix(look.dark, look.light, h), tint)
-            }
-            _ => mix(look.dark, look.light, h.powf(0.8)),
-        }
-    }
-
-    /// 1 on a birch's lenticel (a short dark horizontal dash), 0 elsewhere.
-    fn lenticel(&self, u: f32, v: f32) -> f32 {
+    /// Along the row at `v`: 1 on a birch's lenticel (a short dark horizontal dash), 0
+    /// elsewhere.
+    fn lenticels(&self, v: f32, width: u32, out: &mut [f32]) {
         let rows = 40u32;
         let band = ((v * rows as f32) as u32).min(rows - 1);
         let within = v * rows as f32 - band as f32;
-        let mut best = 0.0f32;
+        out.fill(0.0);
         for k in 0..2 {
-            let centre = unit(band, k, self.seed);
+            let centre_u = unit(band, k, self.seed);
             let half = 0.02 + 0.06 * unit(band, k + 7, self.seed);
-            let du = (u - centre + 1.5).rem_euclid(1.0) - 0.5;
             let thick = 0.22 + 0.1 * unit(band, k + 3, self.seed);
-            let along = (1.0 - du.abs() / half).clamp(0.0, 1.0);
-            let across = (1.0 - (within - 0.5).abs() / thick).clamp(0.0, 1.0);
-            best = best.max((along * 3.0).min(1.0) * (across * 3.0).min(1.0));
+            let across = ((1.0 - (within - 0.5).abs() / thick).clamp(0.0, 1.0) * 3.0).min(1.0);
+            if across <= 0.0 {
+                continue;
+            }
+            for (x, o) in out.iter_mut().enumerate() {
+                let mut du = centre(x as u32, width) - centre_u;
+                if du > 0.5 {
+                    du -= 1.0;
+                } else if du < -0.5 {
+                    du += 1.0;
+                }
+                let along = (1.0 - du.abs() / half).clamp(0.0, 1.0);
+                *o = o.max((along * 3.0).min(1.0) * across);
+            }
         }
-        best
     }
 }

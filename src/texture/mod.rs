@@ -91,22 +91,21 @@ pub(crate) fn check_size(field: &'static str, size: u32) -> Result<()> {
     }
 }
 
-/// A `width` × `height` grid of `draw(x, y)`, rows from the top, drawn on the run's
+/// A `width` × `height` grid drawn a row at a time, rows from the top: `draw(scratch, y,
+/// row)` fills row `y`, with `scratch` made by `init` once per thread. Drawn on the run's
 /// threads when large (the result does not depend on the split).
-fn grid<T: Copy + Default + Send>(
+fn grid_rows<T: Copy + Default + Send, S>(
     width: u32,
     height: u32,
     run: &Run<'_>,
-    draw: impl Fn(u32, u32) -> T + Sync,
+    init: impl Fn() -> S + Sync,
+    draw: impl Fn(&mut S, u32, &mut [T]) + Sync,
 ) -> Vec<T> {
     let w = width as usize;
     let mut out = vec![T::default(); w * height as usize];
-    let draw_rows = |first: usize, chunk: &mut [T]| {
+    let draw_rows = |scratch: &mut S, first: usize, chunk: &mut [T]| {
         for (dy, row) in chunk.chunks_exact_mut(w).enumerate() {
-            let y = (first + dy) as u32;
-            for (x, px) in row.iter_mut().enumerate() {
-                *px = draw(x as u32, y);
-            }
+            draw(scratch, (first + dy) as u32, row);
         }
     };
     // The run's thread count (0: the cores, at most 8); small images on the calling thread.
@@ -116,27 +115,41 @@ fn grid<T: Copy + Default + Send>(
         t => t as usize,
     };
     if threads <= 1 {
-        draw_rows(0, &mut out);
+        draw_rows(&mut init(), 0, &mut out);
         return out;
     }
-    let rows_each = (height as usize).div_ceil(threads);
+    // More bands than threads, handed out in turn, so a band of costly rows (a leaf
+    // atlas' cells differ) does not keep one thread busy while the others wait.
+    let bands = (threads * 8).min(height as usize).max(1);
+    let rows_each = (height as usize).div_ceil(bands);
+    let queue = std::sync::Mutex::new(out.chunks_mut(rows_each * w).enumerate());
     std::thread::scope(|s| {
-        for (k, chunk) in out.chunks_mut(rows_each * w).enumerate() {
-            let draw_rows = &draw_rows;
-            s.spawn(move || draw_rows(k * rows_each, chunk));
+        for _ in 0..threads {
+            s.spawn(|| {
+                let mut scratch = init();
+                loop {
+                    let next = queue
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .next();
+                    let Some((k, chunk)) = next else { break };
+                    draw_rows(&mut scratch, k * rows_each, chunk);
+                }
+            });
         }
     });
     out
 }
 
-/// An RGBA8 image of `draw(x, y)`.
-fn fill(
+/// An RGBA8 image drawn a row at a time (see [`grid_rows`]).
+fn fill_rows<S>(
     width: u32,
     height: u32,
     run: &Run<'_>,
-    draw: impl Fn(u32, u32) -> [u8; 4] + Sync,
+    init: impl Fn() -> S + Sync,
+    draw: impl Fn(&mut S, u32, &mut [[u8; 4]]) + Sync,
 ) -> Image {
-    let px = grid(width, height, run, draw);
+    let px = grid_rows(width, height, run, init, draw);
     Image {
         width,
         height,
@@ -148,6 +161,20 @@ fn fill(
 fn mix(a: [u8; 3], b: [u8; 3], t: f32) -> [u8; 3] {
     let t = t.clamp(0.0, 1.0);
     std::array::from_fn(|k| (a[k] as f32 + (b[k] as f32 - a[k] as f32) * t + 0.5) as u8)
+}
+
+/// `a` to `b` by `t` in 0..=1, per channel, in floats (0..=255).
+#[inline]
+fn lerp(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
+    let t = t.clamp(0.0, 1.0);
+    std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t)
+}
+
+/// A float colour (0..=255 a channel) times `f`, rounded to bytes, saturating.
+#[inline]
+fn rgb(c: [f32; 3], f: f32) -> [u8; 3] {
+    let f = f.max(0.0);
+    c.map(|v| (v * f + 0.5).min(255.0) as u8)
 }
 
 /// `c` times `f` per channel, saturating.
