@@ -20,7 +20,8 @@ int main(void) {
   ArborLeafOptions lo = arbor_leaf_options_default();
   CHECK_STATUS(arbor_species_options(ARBOR_SPECIES_OAK, oak, &mo, &lo), ARBOR_STATUS_OK);
   CHECK(mo.even_texels == 1 && mo.scale > 0.0f && mo.threads == 1, "mesh options");
-  CHECK(lo.atlas_columns * lo.atlas_rows == 8 && lo.sites == 1, "leaf options");
+  /* The oak carries its leaves on twigs: on tips, not buds. */
+  CHECK(lo.atlas_columns * lo.atlas_rows == 8 && lo.sites == 0 && lo.tips == 1, "leaf options");
   size_t nv = 0, ni = 0;
   CHECK_STATUS(arbor_mesh_size(oak, &mo, &nv, &ni), ARBOR_STATUS_OK);
   ArborVertex *v = malloc(nv * sizeof *v);
@@ -37,6 +38,48 @@ int main(void) {
   size_t lv = 0, li = 0;
   CHECK_STATUS(arbor_leaf_mesh_size(oak, &lo, &mo, &lv, &li), ARBOR_STATUS_OK);
   CHECK(lv >= 4 * 1000, "%zu leaf vertices", lv);
+
+  /* Instanced twigs: the bare tree, one prototype per variant meshed once, and the
+   * transforms; the stems they place are the twigs the tree above has baked in. */
+  ArborTree *bare = NULL;
+  CHECK_STATUS(arbor_tree_from_species_bare(ARBOR_SPECIES_OAK, 1, &bare), ARBOR_STATUS_OK);
+  size_t twigs = 0;
+  CHECK_STATUS(arbor_species_twig_instances_write(ARBOR_SPECIES_OAK, bare, &mo, NULL, 0, &twigs), ARBOR_STATUS_OK);
+  CHECK(twigs > 500, "%zu twigs", twigs);
+  ArborLeafInstance *ti = malloc(twigs * sizeof *ti);
+  ti[0].scale = -1.0f;
+  CHECK_STATUS(arbor_species_twig_instances_write(ARBOR_SPECIES_OAK, bare, &mo, ti, twigs - 1, NULL),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(ti[0].scale == -1.0f, "nothing written on failure");
+  CHECK_STATUS(arbor_species_twig_instances_write(ARBOR_SPECIES_OAK, bare, &mo, ti, twigs, NULL), ARBOR_STATUS_OK);
+  size_t stems[ARBOR_TWIG_VARIANTS], placed = 0;
+  ArborMeshOptions tmo = arbor_mesh_options_default();
+  ArborLeafOptions tlo = arbor_leaf_options_default();
+  tmo.threads = 1;
+  CHECK_STATUS(arbor_species_twig_options(ARBOR_SPECIES_OAK, &tmo, &tlo), ARBOR_STATUS_OK);
+  CHECK(tlo.sites == 1 && tlo.tips == 0 && tmo.even_texels == 1 && tmo.radial_segments <= 4, "twig options");
+  for (uint32_t k = 0; k < ARBOR_TWIG_VARIANTS; k++) {
+    ArborTree *twig = NULL;
+    CHECK_STATUS(arbor_species_twig_create(ARBOR_SPECIES_OAK, k, &twig), ARBOR_STATUS_OK);
+    stems[k] = arbor_tree_branch_count(twig);
+    size_t tv = 0, tl = 0, unused = 0;
+    CHECK_STATUS(arbor_mesh_size(twig, &tmo, &tv, &unused), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_leaf_instance_count(twig, &tlo, &tmo, &tl), ARBOR_STATUS_OK);
+    CHECK(tv > 0 && tl >= stems[k], "twig %u: %zu vertices, %zu leaves on %zu stems", k, tv, tl, stems[k]);
+    arbor_tree_free(twig);
+  }
+  for (size_t k = 0; k < twigs; k++) {
+    const float *q = ti[k].rotation;
+    float n = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    CHECK(n > 0.999f && n < 1.001f && ti[k].scale > 0.8f && ti[k].scale < 1.2f, "twig %zu", k);
+    CHECK(ti[k].position[1] > -1.0f && ti[k].position[1] < 20.0f, "twig %zu at %g m", k, (double)ti[k].position[1]);
+    placed += stems[k % ARBOR_TWIG_VARIANTS];
+  }
+  CHECK(arbor_tree_branch_count(bare) + placed == arbor_tree_branch_count(oak), "%zu + %zu stems vs %zu",
+        arbor_tree_branch_count(bare), placed, arbor_tree_branch_count(oak));
+  CHECK_STATUS(arbor_species_twig_create(ARBOR_SPECIES_BUSH, 0, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  free(ti);
+  arbor_tree_free(bare);
 
   /* Textures: size, then fill; a short buffer is refused with nothing written. */
   const uint32_t size = 64;

@@ -118,6 +118,11 @@
 #define ARBOR_ORGAN_DISC 1
 
 /**
+ * Variants of a twig a tree draws from (chosen in turn).
+ */
+#define ARBOR_TWIG_VARIANTS 4
+
+/**
  * Result of every fallible function. The numbers are fixed forever and never reused.
  */
 typedef enum ArborStatus {
@@ -924,8 +929,10 @@ typedef struct ArborMeshOptions {
    * round(circumference / `texture_scale`) (at least 1) instead of to 1, so a texture that tiles
    * covers the bark at the same scale around as along (v), on the trunk as on a twig. Where a
    * continuation's count differs from its parent's, it starts a ring of its own (no smear across
-   * the joint). Not with ARBOR_VERTEX_FORMAT_COMPACT, whose u is a unorm16 (at most 1). Default
-   * 0.
+   * the joint). A branch thinner than one repeat takes a fraction of it twice, mirrored (u 0 to
+   * w and back), and every branch an even number of sides (an odd count rounded up) so the turn
+   * is on a vertex. Not with ARBOR_VERTEX_FORMAT_COMPACT, whose u is a unorm16 (at most 1).
+   * Default 0.
    */
   uint32_t even_texels;
 } ArborMeshOptions;
@@ -2556,6 +2563,69 @@ enum ArborStatus arbor_species_options(uint32_t species,
                                        const struct ArborTree *tree,
                                        struct ArborMeshOptions *mesh_options,
                                        struct ArborLeafOptions *leaf_options);
+
+/**
+ * Grows the adult tree of a named species as arbor_tree_from_species() does, without
+ * its twigs: the tree a host draws instanced twigs on (arbor_species_twig_create(),
+ * arbor_species_twig_instances_write()). Its bark and leaf options are still
+ * arbor_species_options()'s; its leaves there sit on the young tips the twigs leave.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_from_species_bare(uint32_t species,
+                                              uint64_t seed,
+                                              struct ArborTree **out);
+
+/**
+ * Writes twig `variant` (taken modulo ARBOR_TWIG_VARIANTS) of a named species to `*out`
+ * as a tree of its own (free it with arbor_tree_free()): its stems in metres (+Y along
+ * the twig, +Z the side its spray faces) and leaf sites at their tips. Mesh it once
+ * with the options of arbor_species_twig_options() (bark and leaves) and draw it at each
+ * transform of arbor_species_twig_instances_write(): the twigs
+ * arbor_tree_from_species() bakes in.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ */
+enum ArborStatus arbor_species_twig_create(uint32_t species,
+                                           uint32_t variant,
+                                           struct ArborTree **out);
+
+/**
+ * The options that draw a species' twig (arbor_species_twig_create()) in the host's
+ * conventions: `*mesh_options` (read, then written back at the host's struct_size)
+ * keeps its up axis, scale, winding and layout and gets the bark's texture scale and
+ * even texels, 3 or 4 sides; `*leaf_options` (written at its struct_size) puts the
+ * species' leaf cards on the twig's sites, in metres, on the atlas' cells. Either may
+ * be NULL to skip it.
+ *
+ * # Safety
+ * Each options pointer is NULL or readable and writable for its `struct_size` bytes.
+ */
+enum ArborStatus arbor_species_twig_options(uint32_t species,
+                                            struct ArborMeshOptions *mesh_options,
+                                            struct ArborLeafOptions *leaf_options);
+
+/**
+ * Writes where `tree` (from arbor_tree_from_species_bare() for this species) carries its
+ * twigs: one ArborLeafInstance each (position, rotation x y z w, scale) that places the
+ * twig meshed with arbor_species_twig_options(`mesh_options`) into the tree meshed with
+ * arbor_species_options(`mesh_options`); instance k is twig variant k %
+ * ARBOR_TWIG_VARIANTS. `*count` (when not NULL) gets the number of twigs; `out` (NULL:
+ * count only) holds `capacity` instances: at least that many, else
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written. `mesh_options` NULL: the defaults.
+ *
+ * # Safety
+ * `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+ * for `capacity` instances; `count` is NULL or writable.
+ */
+enum ArborStatus arbor_species_twig_instances_write(uint32_t species,
+                                                    const struct ArborTree *tree,
+                                                    const struct ArborMeshOptions *mesh_options,
+                                                    struct ArborLeafInstance *out,
+                                                    size_t capacity,
+                                                    size_t *count);
 
 /**
  * Draws texture `which` (an ArborTexture) of a named species as `size` x `size` RGBA8

@@ -15,9 +15,11 @@
 //! ```
 
 use crate::error::{Error, Result};
+use crate::mesh::LeafInstance;
 use crate::mesh::{LeafOptions, MeshOptions};
 use crate::models::growth::{GrowthParams, Species};
 use crate::scene::Scene;
+use crate::skeleton::twig::{TWIG_VARIANTS, Twig, TwigShape, graft, twig_sites};
 use crate::skeleton::{Branch, NO_PARENT, Skeleton};
 use crate::source::Source;
 use crate::texture::{BarkLook, LeafLook, bark_textures, leaf_atlas};
@@ -45,6 +47,14 @@ pub struct Look {
     pub roots: u32,
     /// Its bark.
     pub bark: BarkLook,
+    /// Its twigs, placed at the young tips and along the young shoots and carrying the
+    /// leaves (`length` 0: none; the leaves sit on the tips and buds themselves).
+    pub twig: TwigShape,
+    /// A twig's length in metres (0: no twigs).
+    pub twig_length: f32,
+    /// Twigs grow on the branches of the last this many cycles (the leaves on the
+    /// twigs, and on the tips of the last `leaf_cycles`).
+    pub twig_cycles: u32,
 }
 
 impl Look {
@@ -62,6 +72,9 @@ impl Look {
             leaves_per_tip,
             leaf_cycles,
             bark,
+            twig: TwigShape::new(),
+            twig_length: 0.0,
+            twig_cycles: 0,
         };
         Some(match species {
             Species::Oak => l(36, 18.0, 0.22, LeafLook::oak(), 6.0, 3, BarkLook::oak()),
@@ -109,7 +122,33 @@ impl Look {
                 Species::Spruce => (1.5, 4),
                 _ => (1.0, 0),
             };
-            Look { flare, roots, ..l }
+            // Twigs: length in metres, side stems, their angle, how far they hang, and
+            // leaf cards on each stem's tip.
+            let (twig_length, stems, spread, droop, leaves_per_tip) = match species {
+                Species::Oak => (0.45, 4, 50.0, 0.15, 1.3),
+                Species::Maple => (0.45, 4, 45.0, 0.1, 1.3),
+                Species::Birch => (0.5, 5, 35.0, 0.6, 1.2),
+                Species::Willow => (0.8, 5, 25.0, 0.9, 1.5),
+                Species::Poplar => (0.35, 3, 35.0, 0.05, 1.3),
+                Species::Pine => (0.35, 3, 40.0, 0.0, 1.5),
+                Species::Spruce => (0.4, 6, 60.0, 0.3, 1.0),
+                _ => (0.2, 4, 45.0, 0.1, 1.3),
+            };
+            let twig = TwigShape {
+                stems,
+                spread,
+                droop,
+                ..TwigShape::new()
+            };
+            Look {
+                flare,
+                roots,
+                twig,
+                twig_length,
+                twig_cycles: 14,
+                leaves_per_tip,
+                ..l
+            }
         })
     }
 
@@ -125,13 +164,121 @@ impl Look {
         self.finish(&grown)
     }
 
+    /// The species' tree grown alone without its twigs ([`finish_bare`](Self::finish_bare)):
+    /// the tree a host draws instanced twigs on ([`twig_instances`]).
+    pub fn grow_bare(&self, seed: u64) -> Result<Skeleton> {
+        let grown = Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)?;
+        self.finish_bare(&grown)
+    }
+
     /// A grown tree of this species with its trunk cleared (what [`grow`](Self::grow)
     /// does after growing).
     pub fn finish(&self, grown: &Skeleton) -> Result<Skeleton> {
+        let bare = self.finish_bare(grown)?;
+        let sites = self.twig_sites(&bare);
+        if sites.is_empty() {
+            return Ok(bare);
+        }
+        let twigs = self.twigs()?;
+        graft(&bare, &twigs, &sites, newest(&bare) + 1)
+    }
+
+    /// [`finish`](Self::finish) without the twigs: the tree a host draws its instanced
+    /// twigs on ([`twig_sites`](Self::twig_sites)).
+    pub fn finish_bare(&self, grown: &Skeleton) -> Result<Skeleton> {
         let h = height_of(grown);
         let cleared = crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton;
-        flare_and_roots(&cleared, self.flare, self.roots)
+        let bole = bole(&cleared, h * self.clear_trunk.max(0.1));
+        flare_and_roots(&bole, self.flare, self.roots)
     }
+
+    /// The species' twig prototypes ([`TWIG_VARIANTS`] of them, the same for every tree
+    /// of the species), one unit long; none when the species has no twigs.
+    pub fn twigs(&self) -> Result<Vec<Twig>> {
+        if self.twig_length <= 0.0 {
+            return Ok(Vec::new());
+        }
+        (0..TWIG_VARIANTS as u64)
+            .map(|k| Twig::new(&self.twig, k))
+            .collect()
+    }
+
+    /// Where `bare` (a tree from [`finish_bare`](Self::finish_bare)) carries its twigs:
+    /// the young tips and shoots (of the last `leaf_cycles` cycles), each with its
+    /// branch and its transform from twig space at the species' twig length; twig `k`
+    /// is variant `k % TWIG_VARIANTS`.
+    pub fn twig_sites(&self, bare: &Skeleton) -> Vec<(u32, LeafInstance)> {
+        let h = height_of(bare);
+        if self.twig_length <= 0.0 || !(h.is_finite() && h > 0.0) {
+            return Vec::new();
+        }
+        let length = self.twig_length * h / self.height;
+        let min_birth = newest(bare).saturating_sub(self.twig_cycles.saturating_sub(1));
+        let mut sites = twig_sites(bare, min_birth, length, self.twig.droop, 0);
+        // At most MAX_TWIGS, an even choice among them (the other tips carry leaves).
+        if sites.len() > MAX_TWIGS {
+            let keep = MAX_TWIGS as f64 / sites.len() as f64;
+            let mut rng = crate::rng::Rng::new(0x0007_7196);
+            sites.retain(|_| rng.next_f64() < keep);
+        }
+        sites
+    }
+}
+
+/// The most twigs a species' tree carries (about): a fine-branched tree has more young
+/// tips than its crown needs twigs, and every twig is stems in the bark mesh.
+pub const MAX_TWIGS: usize = 2500;
+
+/// The latest birth of a branch of `skeleton`.
+fn newest(skeleton: &Skeleton) -> u32 {
+    skeleton
+        .branches()
+        .iter()
+        .map(|b| b.birth)
+        .max()
+        .unwrap_or(0)
+}
+
+/// `skeleton` with its trunk below `height` (above its foot) a bole: nearly a cylinder,
+/// its radius the trunk's at `height` and a quarter more at the foot, where the pipe
+/// model (each branch as thick as all it carries) would make it a steep cone. Never
+/// thicker than it was.
+fn bole(skeleton: &Skeleton, height: f32) -> Skeleton {
+    let b = skeleton.branches();
+    let Some(foot) = b.iter().position(|x| x.parent == NO_PARENT && x.order == 0) else {
+        return skeleton.clone();
+    };
+    let base = b[foot].start[1];
+    let top = base + height;
+    // The trunk's radius where it reaches `height`: along its axis from the foot.
+    let adjacency = skeleton.adjacency();
+    let (mut i, mut r_top) = (foot, None);
+    loop {
+        let x = &b[i];
+        if x.end[1] >= top && x.start[1] <= top {
+            let t = ((top - x.start[1]) / (x.end[1] - x.start[1]).max(1e-6)).clamp(0.0, 1.0);
+            r_top = Some(x.start_radius + (x.end_radius - x.start_radius) * t);
+            break;
+        }
+        match adjacency.continuation(i) {
+            Some(c) => i = c as usize,
+            None => break,
+        }
+    }
+    let Some(r_top) = r_top else {
+        return skeleton.clone();
+    };
+    let profile = |y: f32| r_top * (1.0 + 0.25 * (1.0 - ((y - base) / height).clamp(0.0, 1.0)));
+    let mut parts = skeleton.clone().into_parts();
+    for x in parts.branches.iter_mut().filter(|x| x.order == 0) {
+        if x.start[1] < top {
+            x.start_radius = x.start_radius.min(profile(x.start[1]));
+        }
+        if x.end[1] < top {
+            x.end_radius = x.end_radius.min(profile(x.end[1]));
+        }
+    }
+    parts.build().unwrap_or_else(|_| skeleton.clone())
 }
 
 /// `skeleton` with its trunk flared toward the ground (radius times `flare` at the foot,
@@ -231,14 +378,17 @@ pub fn options(
     o.scale *= to_m;
     o.texture_scale = look.bark.tile / to_m;
     o.even_texels = true;
-    let last = skeleton
-        .branches()
-        .iter()
-        .map(|b| b.birth)
-        .max()
-        .unwrap_or(0);
+    // Radii fall smoothly along an axis (no step at each node), as bark does.
+    o.smooth_taper = true;
+    // Sides by radius (down to 3 for the twigs' stems), unless the host chose.
+    if o.min_radial_segments == 0 {
+        o.min_radial_segments = 3;
+    }
+    let last = newest(skeleton);
+    // The leaves are on the tips of the last `leaf_cycles` cycles (the twigs' stems are
+    // the newest), and on the buds there when the species has no twigs.
     let leaves = LeafOptions::default()
-        .sites(true)
+        .sites(look.twig_length <= 0.0)
         .polygons(false)
         .tips(true)
         .min_birth(last.saturating_sub(look.leaf_cycles.saturating_sub(1)))
@@ -269,4 +419,149 @@ pub fn tree_scene(
     let mut scene = Scene::tree(skeleton, &o, Some(&leaves))?;
     scene.texture(bark, atlas);
     Ok(scene)
+}
+
+/// Twig `variant` of `look` (taken modulo [`TWIG_VARIANTS`]) as a prototype of its own:
+/// its stems in metres (twig space: +Y along the twig, +Z the side its spray faces) and
+/// leaf sites at their tips, as many as the species' leaves per tip (rounded, at least
+/// one). Mesh it once with [`twig_options`]; draw it at each of [`twig_instances`]: the
+/// twigs [`Look::grow`] bakes into the tree. A species without twigs: an error naming
+/// `look`.
+pub fn twig_prototype(look: &Look, variant: usize) -> Result<Skeleton> {
+    let twigs = look.twigs()?;
+    let Some(twig) = twigs.get(variant % TWIG_VARIANTS.max(1)) else {
+        return Err(Error::invalid(
+            "look",
+            format!(
+                "{:?} has no twigs (twig_length {})",
+                look.species, look.twig_length
+            ),
+        ));
+    };
+    twig.skeleton(
+        look.twig_length,
+        look.leaves_per_tip.round().max(1.0) as u32,
+    )
+}
+
+/// The options that draw a [`twig_prototype`] of `look` with the host's `mesh`
+/// conventions (its up axis, scale, winding, layout): the stems at an even bark texel
+/// density, the leaves on the prototype's sites, in metres, on the atlas' cells.
+pub fn twig_options(look: &Look, mesh: &MeshOptions) -> (MeshOptions, LeafOptions) {
+    let mut o = *mesh;
+    o.texture_scale = look.bark.tile;
+    o.even_texels = true;
+    o.smooth_taper = true;
+    o.radial_segments = o.radial_segments.clamp(3, 4);
+    o.min_radial_segments = 0;
+    let leaves = LeafOptions::default()
+        .sites(true)
+        .tips(false)
+        .polygons(false)
+        .size(look.leaf.size)
+        .size_jitter(0.25)
+        .tilt(40.0)
+        .atlas_columns(crate::texture::ATLAS_COLUMNS)
+        .atlas_rows(crate::texture::ATLAS_ROWS);
+    (o, leaves)
+}
+
+/// Where `bare` (a tree of `look` from [`Look::grow_bare`]) carries its twigs, as the
+/// transforms that place a [`twig_prototype`] meshed with [`twig_options`] into the
+/// tree's mesh drawn with [`options`]`(look, bare, mesh)`: position in the tree's
+/// output space, rotation (x, y, z, w) and scale (the twig's size over the prototype's,
+/// about 1) in the same conventions. Instance `k` is variant `k % TWIG_VARIANTS`, as are
+/// the twigs [`Look::grow`] bakes.
+pub fn twig_instances(
+    look: &Look,
+    bare: &Skeleton,
+    mesh: &MeshOptions,
+) -> Result<Vec<LeafInstance>> {
+    let (tree, _) = options(look, bare, mesh)?;
+    let (out, twig_out) = (tree.out(), twig_options(look, mesh).0.out());
+    let conjugate = out.map.conjugate();
+    let unit = look.twig_length * twig_out.scale;
+    Ok(look
+        .twig_sites(bare)
+        .into_iter()
+        .map(|(_, t)| LeafInstance {
+            position: out.pos(glam::Vec3::from(t.position)),
+            rotation: conjugate(glam::Quat::from_array(t.rotation)).to_array(),
+            scale: t.scale * out.scale / unit,
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Axes, UpAxis};
+    use glam::{Quat, Vec3};
+
+    /// The baked twigs' stems, and the prototypes placed by the instances, in the output
+    /// space of `mesh`: the same points.
+    fn check_instances(species: Species, mesh: &MeshOptions) {
+        let look = Look::of(species).unwrap();
+        let bare = look.grow_bare(1).unwrap();
+        let baked = look.grow(1).unwrap();
+        let instances = twig_instances(&look, &bare, mesh).unwrap();
+        assert!(instances.len() > 50, "{}", instances.len());
+        let tree = options(&look, &bare, mesh).unwrap().0.out();
+        let proto_out = twig_options(&look, mesh).0.out();
+        let added = &baked.branches()[bare.branches().len()..];
+        let scale = tree.scale * look.height;
+        let mut k = 0;
+        for (i, t) in instances.iter().enumerate() {
+            let proto = twig_prototype(&look, i).unwrap();
+            let (p, q) = (Vec3::from(t.position), Quat::from_array(t.rotation));
+            for s in proto.branches() {
+                // The prototype's vertex as the host's mesh of it has it, then placed.
+                let local = Vec3::from(proto_out.pos(Vec3::from(s.end)));
+                let placed = p + q * (local * t.scale);
+                let want = Vec3::from(tree.pos(Vec3::from(added[k].end)));
+                assert!(
+                    (placed - want).length() < 1e-4 * scale,
+                    "{species:?} twig {i} stem: {placed} vs {want}"
+                );
+                k += 1;
+            }
+        }
+        assert_eq!(k, added.len());
+    }
+
+    #[test]
+    fn instanced_twigs_are_the_baked_ones_in_any_conventions() {
+        check_instances(Species::Poplar, &MeshOptions::default());
+        check_instances(Species::Poplar, &MeshOptions::default().up_axis(UpAxis::Z));
+        check_instances(Species::Willow, &MeshOptions::default().axes(Axes::Unity));
+        check_instances(
+            Species::Willow,
+            &MeshOptions::default().axes(Axes::Unreal).scale(2.0),
+        );
+    }
+
+    #[test]
+    fn a_prototype_carries_its_leaves_on_its_stems_tips() {
+        let look = Look::of(Species::Oak).unwrap();
+        let p = twig_prototype(&look, 5).unwrap();
+        assert_eq!(p.branches().len(), look.twig.stems as usize + 1);
+        let per = look.leaves_per_tip.round() as usize;
+        assert_eq!(p.leaves().len(), p.branches().len() * per);
+        for l in p.leaves() {
+            assert_eq!(l.position, p.branches()[l.branch as usize].end);
+        }
+        // One twig_length long, in metres.
+        let (lo, hi) = p.bounds().unwrap();
+        assert!((hi.y - lo.y - look.twig_length).abs() < 0.2 * look.twig_length);
+        let none = Look {
+            twig_length: 0.0,
+            ..look
+        };
+        assert!(
+            twig_prototype(&none, 0)
+                .unwrap_err()
+                .to_string()
+                .contains("`look`")
+        );
+    }
 }

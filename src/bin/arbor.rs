@@ -401,7 +401,11 @@ fn export_species(
         .filter(|p| scene.materials[p.material].name == "leaves")
         .map(|p| p.mesh.vertices.len() / 4)
         .sum::<usize>();
-    eprintln!("leaves: {cards} leaf cards of the species, at its buds and young tips");
+    if look.twig_length > 0.0 {
+        eprintln!("leaves: {cards} leaf cards of the species, on its twigs and young tips");
+    } else {
+        eprintln!("leaves: {cards} leaf cards of the species, at its buds and young tips");
+    }
     eprintln!(
         "{out}: {} branches ({what}), {} m tall, textures {size} px; grown in {grow_ms:.1} ms, \
          written in {:.1} ms",

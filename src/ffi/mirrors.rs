@@ -76,8 +76,10 @@ pub struct ArborMeshOptions {
     /// round(circumference / `texture_scale`) (at least 1) instead of to 1, so a texture that tiles
     /// covers the bark at the same scale around as along (v), on the trunk as on a twig. Where a
     /// continuation's count differs from its parent's, it starts a ring of its own (no smear across
-    /// the joint). Not with ARBOR_VERTEX_FORMAT_COMPACT, whose u is a unorm16 (at most 1). Default
-    /// 0.
+    /// the joint). A branch thinner than one repeat takes a fraction of it twice, mirrored (u 0 to
+    /// w and back), and every branch an even number of sides (an odd count rounded up) so the turn
+    /// is on a vertex. Not with ARBOR_VERTEX_FORMAT_COMPACT, whose u is a unorm16 (at most 1).
+    /// Default 0.
     pub even_texels: u32,
 }
 

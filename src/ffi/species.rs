@@ -82,33 +82,170 @@ pub unsafe extern "C" fn arbor_species_options(
         let look = look_of(species)?;
         // SAFETY: the caller promises `tree` is NULL or live.
         let tree = unsafe { arg_ref(tree, "tree") }?;
-        let host = if mesh_options.is_null() {
-            None
-        } else {
-            // SAFETY: the caller promises a readable struct of its struct_size.
-            Some(unsafe { read_growing(mesh_options.cast_const(), "mesh_options") }?)
-        };
-        let base = match &host {
-            Some(c) => c.to_rust()?,
-            None => MeshOptions::default(),
-        };
-        let (mesh, leaves) = crate::species::options(&look, tree.skeleton(), &base)?;
-        if let Some(c) = host {
-            let size = c.struct_size as usize;
-            let mut out = ArborMeshOptions::from_rust(&mesh);
-            // What only C has stays the host's.
-            (out.threads, out.progress, out.progress_user_data) =
-                (c.threads, c.progress, c.progress_user_data);
-            // SAFETY: the caller promises `struct_size` writable bytes (read above).
-            unsafe { write_growing(mesh_options, size, &out) };
+        // SAFETY: the caller promises each options pointer as this function does.
+        unsafe {
+            rewrite_options(mesh_options, leaf_options, |base| {
+                crate::species::options(&look, tree.skeleton(), &base)
+            })
         }
-        if !leaf_options.is_null() {
-            // Read first: the host's struct_size is checked as every call checks it.
-            // SAFETY: the caller promises a readable struct of its struct_size.
-            let host = unsafe { read_growing(leaf_options.cast_const(), "leaf_options") }?;
-            let out = ArborLeafOptions::from_rust(&leaves);
-            // SAFETY: the caller promises `struct_size` writable bytes (read above).
-            unsafe { write_growing(leaf_options, host.struct_size as usize, &out) };
+    })
+}
+
+/// Reads the host's mesh options (NULL: defaults), lets `make` turn them into the options
+/// to write back, and writes them: the mesh options at the host's struct_size (what only
+/// C has stays the host's), the leaf options at theirs (read first, so their struct_size
+/// is checked as every call checks it). Either pointer may be NULL to skip it.
+///
+/// # Safety
+/// Each options pointer is NULL or readable and writable for its `struct_size` bytes.
+unsafe fn rewrite_options(
+    mesh_options: *mut ArborMeshOptions,
+    leaf_options: *mut ArborLeafOptions,
+    make: impl FnOnce(MeshOptions) -> crate::Result<(MeshOptions, crate::mesh::LeafOptions)>,
+) -> Result<(), FfiError> {
+    let host = if mesh_options.is_null() {
+        None
+    } else {
+        // SAFETY: the caller promises a readable struct of its struct_size.
+        Some(unsafe { read_growing(mesh_options.cast_const(), "mesh_options") }?)
+    };
+    let base = match &host {
+        Some(c) => c.to_rust()?,
+        None => MeshOptions::default(),
+    };
+    let (mesh, leaves) = make(base)?;
+    let host_leaves = if leaf_options.is_null() {
+        None
+    } else {
+        // SAFETY: the caller promises a readable struct of its struct_size.
+        Some(unsafe { read_growing(leaf_options.cast_const(), "leaf_options") }?)
+    };
+    if let Some(c) = host {
+        let size = c.struct_size as usize;
+        let mut out = ArborMeshOptions::from_rust(&mesh);
+        (out.threads, out.progress, out.progress_user_data) =
+            (c.threads, c.progress, c.progress_user_data);
+        // SAFETY: the caller promises `struct_size` writable bytes (read above).
+        unsafe { write_growing(mesh_options, size, &out) };
+    }
+    if let Some(host) = host_leaves {
+        let out = ArborLeafOptions::from_rust(&leaves);
+        // SAFETY: the caller promises `struct_size` writable bytes (read above).
+        unsafe { write_growing(leaf_options, host.struct_size as usize, &out) };
+    }
+    Ok(())
+}
+
+/// Grows the adult tree of a named species as arbor_tree_from_species() does, without
+/// its twigs: the tree a host draws instanced twigs on (arbor_species_twig_create(),
+/// arbor_species_twig_instances_write()). Its bark and leaf options are still
+/// arbor_species_options()'s; its leaves there sit on the young tips the twigs leave.
+///
+/// # Safety
+/// `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_from_species_bare(
+    species: u32,
+    seed: u64,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        *out = ArborTree::new(look.grow_bare(seed)?).into_handle();
+        Ok(())
+    })
+}
+
+/// Writes twig `variant` (taken modulo ARBOR_TWIG_VARIANTS) of a named species to `*out`
+/// as a tree of its own (free it with arbor_tree_free()): its stems in metres (+Y along
+/// the twig, +Z the side its spray faces) and leaf sites at their tips. Mesh it once
+/// with the options of arbor_species_twig_options() (bark and leaves) and draw it at each
+/// transform of arbor_species_twig_instances_write(): the twigs
+/// arbor_tree_from_species() bakes in.
+///
+/// # Safety
+/// `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_twig_create(
+    species: u32,
+    variant: u32,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        let twig = crate::species::twig_prototype(&look, variant as usize)?;
+        *out = ArborTree::new(twig).into_handle();
+        Ok(())
+    })
+}
+
+/// The options that draw a species' twig (arbor_species_twig_create()) in the host's
+/// conventions: `*mesh_options` (read, then written back at the host's struct_size)
+/// keeps its up axis, scale, winding and layout and gets the bark's texture scale and
+/// even texels, 3 or 4 sides; `*leaf_options` (written at its struct_size) puts the
+/// species' leaf cards on the twig's sites, in metres, on the atlas' cells. Either may
+/// be NULL to skip it.
+///
+/// # Safety
+/// Each options pointer is NULL or readable and writable for its `struct_size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_twig_options(
+    species: u32,
+    mesh_options: *mut ArborMeshOptions,
+    leaf_options: *mut ArborLeafOptions,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises each options pointer as this function does.
+        unsafe {
+            rewrite_options(mesh_options, leaf_options, |base| {
+                Ok(crate::species::twig_options(&look, &base))
+            })
+        }
+    })
+}
+
+/// Writes where `tree` (from arbor_tree_from_species_bare() for this species) carries its
+/// twigs: one ArborLeafInstance each (position, rotation x y z w, scale) that places the
+/// twig meshed with arbor_species_twig_options(`mesh_options`) into the tree meshed with
+/// arbor_species_options(`mesh_options`); instance k is twig variant k %
+/// ARBOR_TWIG_VARIANTS. `*count` (when not NULL) gets the number of twigs; `out` (NULL:
+/// count only) holds `capacity` instances: at least that many, else
+/// ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written. `mesh_options` NULL: the defaults.
+///
+/// # Safety
+/// `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+/// for `capacity` instances; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_twig_instances_write(
+    species: u32,
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut LeafInstance,
+    capacity: usize,
+    count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `tree` is NULL or live.
+        let tree = unsafe { arg_ref(tree, "tree") }?;
+        // SAFETY: the caller promises `mesh_options` is NULL or readable.
+        let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
+        let twigs = crate::species::twig_instances(&look, tree.skeleton(), &mo)?;
+        if !out.is_null() {
+            // SAFETY: the caller promises `out` holds `capacity` writable instances.
+            let dst = unsafe { out_slice(out, capacity, twigs.len(), "out") }?;
+            for (d, t) in dst.iter_mut().zip(&twigs) {
+                d.write(*t);
+            }
+        }
+        if !count.is_null() {
+            // SAFETY: the caller promises a non-NULL `count` is writable.
+            *unsafe { out_ref(count, "count") }? = twigs.len();
         }
         Ok(())
     })

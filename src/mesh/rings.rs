@@ -197,6 +197,25 @@ impl AxisMap {
     }
 }
 
+impl AxisMap {
+    /// Rotation `q` of model space as a rotation of the mapped space: `M q M⁻¹`, for a
+    /// prototype meshed with the same map (a twig) and placed by `q`.
+    pub(crate) fn conjugate(self) -> impl Fn(glam::Quat) -> glam::Quat {
+        let turn = (!self.mirrors()).then(|| {
+            glam::Quat::from_mat3(&glam::Mat3::from_cols(
+                glam::Vec3::from(self.apply(glam::Vec3::X)),
+                glam::Vec3::from(self.apply(glam::Vec3::Y)),
+                glam::Vec3::from(self.apply(glam::Vec3::Z)),
+            ))
+        });
+        let mirrored = self.rotation();
+        move |q| match turn {
+            Some(t) => (t * q * t.inverse()).normalize(),
+            None => mirrored(q),
+        }
+    }
+}
+
 /// Output conventions: uniform scale (with the engine's units), then the axis map.
 #[derive(Clone, Copy)]
 pub(crate) struct Out {

@@ -3,6 +3,7 @@
 mod adjacency;
 mod curves;
 pub mod prune;
+pub mod twig;
 
 pub use adjacency::Adjacency;
 

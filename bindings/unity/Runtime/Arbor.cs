@@ -393,6 +393,14 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_texture_write(uint species, uint which, uint size, ulong seed, uint threads, [Out] byte[] rgba, UIntPtr capacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_from_species_bare(uint species, ulong seed, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_species_twig_create(uint species, uint variant, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_species_twig_options(uint species, ref MeshOptions meshOptions, ref LeafOptions leafOptions);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_species_twig_instances_write(uint species, IntPtr tree, ref MeshOptions meshOptions, [Out] LeafInstance[] output, UIntPtr capacity, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_atlas_rect(uint cell, [Out] float[] rect, out uint cells);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_forest_plants_mesh_create(ForestPlant[] plants, UIntPtr count, ref MeshOptions options, out IntPtr mesh);

@@ -65,10 +65,17 @@ pub(super) fn sides_and_continuations(
         if !parent_kept || r < o.cull_radius {
             continue;
         }
-        segs[i] = if !lod || r_max <= 0.0 {
+        let sides = if !lod || r_max <= 0.0 {
             max_seg
         } else {
             ((max_seg as f32 * r / r_max).ceil() as u32).clamp(o.min_radial_segments, max_seg)
+        };
+        // Even texels mirror u on thin branches (0 → 1 → 0 around): an even count puts
+        // the turn on a vertex, where an odd one would leave a side without texels.
+        segs[i] = if o.even_texels {
+            (sides + (sides & 1)).min(MAX_RADIAL_SEGMENTS)
+        } else {
+            sides
         } as u8;
         if b.parent != NO_PARENT && cont[p] == NO_PARENT && b.order == branches[p].order {
             cont[p] = i as u32;
