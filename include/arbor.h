@@ -1050,6 +1050,12 @@ typedef struct ArborLeafOptions {
    * Rows of the leaf atlas, 1..=16. Default 1.
    */
   uint32_t atlas_rows;
+  /**
+   * Leaves whose shape reaches into the wood of a branch thicker than this radius (model units)
+   * are left out: its corners and centre (the prefab's bounding rectangle in leaf space) are
+   * tested against every such branch's cone. 0 (the default) keeps every leaf.
+   */
+  float wood_clearance;
 } ArborLeafOptions;
 
 /**

@@ -225,6 +225,9 @@ impl Look {
     }
 }
 
+/// Branches thicker than this radius (metres) are wood a leaf card stays out of.
+pub const TWIG_RADIUS: f32 = 0.03;
+
 /// The most twigs a species' tree carries (about): a fine-branched tree has more young
 /// tips than its crown needs twigs, and every twig is stems in the bark mesh.
 pub const MAX_TWIGS: usize = 2500;
@@ -380,8 +383,10 @@ pub fn options(
     o.even_texels = true;
     // Radii fall smoothly along an axis (no step at each node), as bark does.
     o.smooth_taper = true;
-    // Sides by radius (down to 3 for the twigs' stems), unless the host chose.
+    // Sides by radius, unless the host chose: up to 12 round the trunk and limbs (at
+    // least the host's count), down to 4 (even texels round 3 up) for twigs' stems.
     if o.min_radial_segments == 0 {
+        o.radial_segments = o.radial_segments.max(12);
         o.min_radial_segments = 3;
     }
     let last = newest(skeleton);
@@ -397,7 +402,9 @@ pub fn options(
         .size_jitter(0.25)
         .tilt(40.0)
         .atlas_columns(crate::texture::ATLAS_COLUMNS)
-        .atlas_rows(crate::texture::ATLAS_ROWS);
+        .atlas_rows(crate::texture::ATLAS_ROWS)
+        // No card inside a branch thicker than a twig.
+        .wood_clearance(TWIG_RADIUS / to_m);
     Ok((o, leaves))
 }
 

@@ -337,3 +337,158 @@ fn decode_rgba(bytes: &[u8]) -> Vec<u8> {
     buf.truncate(info.buffer_size());
     buf
 }
+
+/// Leaf vertices inside the wood of a branch thicker than a twig (radius above 3 cm), in
+/// metres: each vertex against every such branch's truncated cone, found through a grid.
+fn leaves_in_wood(
+    skeleton: &arbor::skeleton::Skeleton,
+    scale: f32,
+    leaf: &arbor::mesh::Mesh,
+) -> usize {
+    use glam::Vec3;
+    const TWIG: f32 = 0.03;
+    let cell = 1.0f32;
+    let key = |p: Vec3| (p / cell).floor().as_ivec3();
+    let mut grid: std::collections::HashMap<glam::IVec3, Vec<usize>> = Default::default();
+    let b = skeleton.branches();
+    for (i, x) in b.iter().enumerate() {
+        let r = x.start_radius.max(x.end_radius) * scale;
+        if r <= TWIG {
+            continue;
+        }
+        let (s, e) = (Vec3::from(x.start) * scale, Vec3::from(x.end) * scale);
+        let (lo, hi) = (key(s.min(e) - r), key(s.max(e) + r));
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                for xx in lo.x..=hi.x {
+                    grid.entry(glam::IVec3::new(xx, y, z)).or_default().push(i);
+                }
+            }
+        }
+    }
+    leaf.vertices
+        .iter()
+        .filter(|v| {
+            let p = Vec3::from(v.position);
+            grid.get(&key(p)).is_some_and(|near| {
+                near.iter().any(|&i| {
+                    let x = &b[i];
+                    let (s, e) = (Vec3::from(x.start) * scale, Vec3::from(x.end) * scale);
+                    let d = e - s;
+                    let t = ((p - s).dot(d) / d.length_squared().max(1e-12)).clamp(0.0, 1.0);
+                    let r = (x.start_radius + (x.end_radius - x.start_radius) * t) * scale;
+                    // Inside by more than a centimetre (a card's edge may graze the bark).
+                    (p - (s + d * t)).length() < r - 0.01
+                })
+            })
+        })
+        .count()
+}
+
+/// The side view (x, y) of a species' crown above its clear trunk on a 200-pixel grid:
+/// the pixels its leaves cover (the atlas' alpha at each card's uv) over the pixels
+/// inside its silhouette (leaves or wood, each row filled from its leftmost to its
+/// rightmost pixel).
+fn crown_coverage(scene: &arbor::scene::Scene, crown_base: f32) -> f64 {
+    use glam::{Vec2, Vec3};
+    const N: usize = 200;
+    let prims = &scene.meshes[0].primitives;
+    let (bark, leaf) = (&prims[0].mesh, &prims[1].mesh);
+    let atlas = scene
+        .textures
+        .iter()
+        .find(|t| t.name == "leaves")
+        .expect("the atlas");
+    let (lo, hi) = leaf
+        .vertices
+        .iter()
+        .chain(&bark.vertices)
+        .map(|v| Vec3::from(v.position))
+        .filter(|p| p.y >= crown_base)
+        .fold(
+            (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)),
+            |(a, b), p| (a.min(p.truncate()), b.max(p.truncate())),
+        );
+    let size = (hi - lo).max_element();
+    let px = |p: Vec3| (p.truncate() - lo) / size * (N - 1) as f32;
+    let (mut leaves, mut any) = (vec![false; N * N], vec![false; N * N]);
+    // Rasterise triangles by barycentric tests over their pixel boxes.
+    let mut draw = |m: &arbor::mesh::Mesh, is_leaf: bool| {
+        for t in m.indices.chunks_exact(3) {
+            let v: Vec<_> = t.iter().map(|&k| &m.vertices[k as usize]).collect();
+            if v.iter().all(|v| v.position[1] < crown_base) {
+                continue;
+            }
+            let p: Vec<Vec2> = v.iter().map(|v| px(Vec3::from(v.position))).collect();
+            let area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+            let (a, b) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+            for y in (a.y.floor().max(0.0) as usize)..=(b.y.ceil() as usize).min(N - 1) {
+                for x in (a.x.floor().max(0.0) as usize)..=(b.x.ceil() as usize).min(N - 1) {
+                    let q = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                    let w0 = (p[2] - p[1]).perp_dot(q - p[1]) / area;
+                    let w1 = (p[0] - p[2]).perp_dot(q - p[2]) / area;
+                    let w2 = 1.0 - w0 - w1;
+                    let inside = area.abs() > 1e-9 && w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0;
+                    if !inside {
+                        continue;
+                    }
+                    let k = y * N + x;
+                    any[k] = true;
+                    if is_leaf {
+                        let uv = Vec2::from(v[0].uv) * w0
+                            + Vec2::from(v[1].uv) * w1
+                            + Vec2::from(v[2].uv) * w2;
+                        let (ix, iy) = (
+                            ((uv.x * atlas.image.width as f32) as u32).min(atlas.image.width - 1),
+                            ((uv.y * atlas.image.height as f32) as u32).min(atlas.image.height - 1),
+                        );
+                        leaves[k] |= atlas.image.pixel(ix, iy)[3] >= 128;
+                    }
+                }
+            }
+        }
+    };
+    draw(leaf, true);
+    draw(bark, false);
+    let (mut covered, mut inside) = (0usize, 0usize);
+    for y in 0..N {
+        let row = &any[y * N..][..N];
+        let (Some(a), Some(b)) = (row.iter().position(|&c| c), row.iter().rposition(|&c| c)) else {
+            continue;
+        };
+        inside += b - a + 1;
+        covered += leaves[y * N + a..=y * N + b].iter().filter(|&&c| c).count();
+    }
+    covered as f64 / inside.max(1) as f64
+}
+
+#[test]
+fn leaves_stay_out_of_the_wood_and_cover_the_crown() {
+    let options = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    let mut report = Vec::new();
+    for look in Look::all() {
+        let name = look.species.name();
+        let skeleton = look.grow(1).unwrap();
+        let scene = tree_scene(&look, &skeleton, &options, 256, 1).unwrap();
+        let (o, _) = arbor::species::options(&look, &skeleton, &options).unwrap();
+        let leaf = &scene.meshes[0].primitives[1].mesh;
+        let inside = leaves_in_wood(&skeleton, o.scale, leaf);
+        assert_eq!(inside, 0, "{name}: {inside} leaf vertices inside the wood");
+        for v in &leaf.vertices {
+            let n = glam::Vec3::from(v.normal);
+            assert!((n.length() - 1.0).abs() < 1e-3, "{name}: leaf normal {n}");
+        }
+        if matches!(look.leaf.shape, arbor::texture::LeafShape::Needles) {
+            continue;
+        }
+        let base = look.clear_trunk * look.height;
+        let f = crown_coverage(&scene, base);
+        report.push(format!("{name} {:.0}%", f * 100.0));
+        assert!(
+            f > 0.5,
+            "{name}: leaves cover {:.0}% of the crown's silhouette",
+            f * 100.0
+        );
+    }
+    eprintln!("crown silhouette covered by leaves: {}", report.join(", "));
+}

@@ -100,6 +100,7 @@ static inline GLFWwindow *open_window(const char *title, int width, int height, 
   X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                               \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                     \
   X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                               \
+  X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap)                             \
   X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                           \
   X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                           \
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                 \
@@ -310,9 +311,59 @@ static inline void leaf_quad(ArborVertex q[4], uint32_t qi[6]) {
     q[k].position[0] = corners[k][0];
     q[k].position[1] = corners[k][1];
     q[k].normal[2] = 1;
+    /* The whole leaf cell: u across, v from the stem. */
+    q[k].uv[0] = corners[k][0] * 2 + 0.5f;
+    q[k].uv[1] = corners[k][1];
   }
   memcpy(qi, order, sizeof order);
 }
+
+/* ---- the leaf atlas ---- */
+/* Texture `which` of a named species (ARBOR_TEXTURE_LEAF_ATLAS: sprays of its blades in a
+ * grid of cells, alpha-cut; ARBOR_TEXTURE_BARK_COLOR: its tiling bark), drawn by arbor into
+ * memory (arbor_species_texture_write, on the calling thread) and uploaded with mipmaps on
+ * texture unit `unit` (as RGBA8: the programs shade in display space); the bark repeats,
+ * the atlas is clamped. Returns the texture; exits with arbor's message when it cannot be
+ * drawn. */
+static inline GLuint species_texture(uint32_t species, uint32_t which, uint32_t size, GLenum unit) {
+  size_t bytes = (size_t)size * size * 4;
+  unsigned char *rgba = malloc(bytes);
+  if (!rgba) return 0;
+  if (arbor_species_texture_write(species, which, size, 1, 1, rgba, bytes) != ARBOR_STATUS_OK)
+    fail("species texture");
+  GLuint tex = 0;
+  p_glGenTextures(1, &tex);
+  p_glActiveTexture(unit);
+  p_glBindTexture(GL_TEXTURE_2D, tex);
+  p_glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  p_glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, (GLsizei)size, (GLsizei)size, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  p_glGenerateMipmap(GL_TEXTURE_2D);
+  GLint wrap = which == ARBOR_TEXTURE_LEAF_ATLAS ? GL_CLAMP_TO_EDGE : GL_REPEAT;
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  p_glActiveTexture(GL_TEXTURE0);
+  free(rgba);
+  return tex;
+}
+
+/* Each leaf instance's atlas cell (arbor_leaf_cell: the cell arbor's own baked leaves
+ * sample), as floats for a per-instance vertex attribute. The caller frees it. */
+static inline float *leaf_cells(const ArborLeafOptions *lo, size_t n) {
+  float *cells = malloc((n ? n : 1) * sizeof *cells);
+  for (size_t k = 0; k < n; k++) cells[k] = (float)arbor_leaf_cell(lo, k);
+  return cells;
+}
+
+/* GLSL: the atlas texel of leaf-quad uv `uv` (u across 0..1, v from the stem 0 to the
+ * tip 1) in cell `cell` of the 4 x 2 grid (arbor_leaf_atlas_rect). */
+#define ATLAS_GLSL                                                                     \
+  "uniform sampler2D u_atlas;\n"                                                       \
+  "vec4 atlas(float cell, vec2 uv) {\n"                                                \
+  "  float c = mod(cell, 4.0), r = floor(cell / 4.0);\n"                               \
+  "  return texture(u_atlas, vec2((c + uv.x) / 4.0, (r + uv.y) / 2.0));\n"             \
+  "}\n"
 
 /* ---- screenshots ---- */
 /* Reads the w x h framebuffer back and writes it to `path`: PPM when it ends in .ppm,

@@ -5,7 +5,7 @@
  *
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
  *           [--smooth] [--compact] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
- *           [--lsystem FILE.l|FOLDER [--next K]]
+ *           [--lsystem FILE.l|FOLDER [--next K]] [--species oak|maple|birch|willow|poplar|pine|spruce|shrub]
  *           [--screenshot FILE.png|FILE.ppm --frames N]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
@@ -48,6 +48,8 @@ static const char *vs_src =
     "layout(location = 5) in float i_scale;\n"
     "layout(location = 6) in vec4 a_anim;\n" /* growth, order, along, phase (arbor) */
     "layout(location = 7) in vec2 a_oct;\n"  /* compact vertices: octahedral normal */
+    "layout(location = 8) in float i_cell;\n" /* a leaf's atlas cell (arbor_leaf_cell) */
+    "flat out float v_cell;\n"
     "uniform mat4 u_view_proj;\n"
     "uniform float u_time;\n"
     "uniform float u_wind;\n"
@@ -76,6 +78,7 @@ static const char *vs_src =
     "  vec4 world = u_model * vec4(p, 1.0);\n"
     "  v_normal = mat3(u_model) * n;\n"
     "  v_uv = uv;\n"
+    "  v_cell = i_cell;\n"
     "  gl_Position = u_view_proj * world;\n"
     "}\n";
 
@@ -84,6 +87,10 @@ static const char *fs_src =
     "in vec3 v_normal;\n"
     "in vec2 v_uv;\n"
     "in float v_growth;\n"
+    "flat in float v_cell;\n"
+    ATLAS_GLSL
+    "uniform sampler2D u_bark;\n"
+    "uniform int u_bark_textured;\n" /* a named species: its bark texture, one tile a unit of uv */
     "uniform int u_mode;\n"
     "uniform float u_growth;\n"
     "uniform vec3 u_light;\n"
@@ -94,7 +101,9 @@ static const char *fs_src =
     "  if (u_mode >= 2 && !gl_FrontFacing) n = -n;\n"
     "  float diffuse = max(dot(n, u_light), 0.0);\n"
     "  vec3 base;\n"
-    "  if (u_mode == 0) {\n"
+    "  if (u_mode == 0 && u_bark_textured == 1) {\n"
+    "    base = texture(u_bark, v_uv).rgb * 1.25;\n"
+    "  } else if (u_mode == 0) {\n"
     "    float grain = 0.5 + 0.5 * sin(v_uv.x * 37.7 + sin(v_uv.y * 3.1) * 2.0);\n"
     "    float rings = 0.5 + 0.5 * sin(v_uv.y * 1.7);\n"
     "    base = mix(vec3(0.30, 0.19, 0.11), vec3(0.52, 0.36, 0.22), 0.6 * grain + 0.4 * rings);\n"
@@ -103,7 +112,9 @@ static const char *fs_src =
     "  } else if (u_mode == 3) {\n"
     "    base = vec3(0.78, 0.30, 0.42);\n"
     "  } else {\n"
-    "    base = vec3(0.22, 0.52, 0.16);\n"
+    "    vec4 leaf = atlas(v_cell, v_uv);\n" /* the oak's sprays, alpha-cut */
+    "    if (leaf.a < 0.5) discard;\n"
+    "    base = leaf.rgb * 1.3;\n"
     "  }\n"
     "  color = vec4(base * (0.35 + 0.65 * diffuse), 1.0);\n"
     "}\n";
@@ -114,7 +125,7 @@ typedef struct {
   ArborHondaParams params;
   GLuint vao, vbo, ebo, anim_vbo;
   size_t vertices, indices, triangles;
-  GLuint leaf_vao, leaf_instances_vbo;
+  GLuint leaf_vao, leaf_instances_vbo, leaf_cells_vbo;
   size_t leaves;
   float lo[3], hi[3];
   double grow_ms, upload_ms;
@@ -147,6 +158,9 @@ typedef struct {
      its folder (or of the folder given, searched recursively). */
   int lsys_mode, lsys_index, lsys_count;
   char **lsys_files;
+  /* --species NAME: a named species (ARBOR_SPECIES_OAK ...) grown alone, its bark and
+     leaves textured by arbor; -1: the nine 1996 trees. */
+  int species;
 } State;
 
 static Tree trees[9];
@@ -172,6 +186,45 @@ static ArborMeshOptions mesh_options(void) {
   o.texture_scale = 6.0f;
   o.curve_rings = st.smooth ? 3u : 0u;
   return o;
+}
+
+/* Uploads `tree`'s leaf instances (with `lo`, in the conventions of `o`) to t's leaf VAO:
+ * the leaf quad, one ArborLeafInstance and one atlas cell per instance. */
+static void upload_leaves(Tree *t, ArborTree *tree, const ArborLeafOptions *lop, const ArborMeshOptions *o) {
+  ArborLeafOptions lo = *lop;
+  size_t nl = 0;
+  if (arbor_leaf_instance_count(tree, &lo, o, &nl) != ARBOR_STATUS_OK) fail("leaves");
+  ArborLeafInstance *leaves = malloc((nl ? nl : 1) * sizeof *leaves);
+  if (arbor_leaf_instances_write(tree, &lo, o, leaves, nl) != ARBOR_STATUS_OK) fail("leaves");
+  if (!t->leaf_vao) {
+    p_glGenVertexArrays(1, &t->leaf_vao);
+    p_glGenBuffers(1, &t->leaf_instances_vbo);
+  }
+  p_glBindVertexArray(t->leaf_vao);
+  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
+  vertex_layout();
+  p_glBindBuffer(GL_ARRAY_BUFFER, t->leaf_instances_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nl * sizeof *leaves), leaves, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, position));
+  p_glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, rotation));
+  p_glVertexAttribPointer(5, 1, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, scale));
+  for (GLuint k = 3; k < 6; k++) {
+    p_glEnableVertexAttribArray(k);
+    p_glVertexAttribDivisor(k, 1);
+  }
+  /* Each leaf's atlas cell, as arbor's baked leaves pick it. */
+  if (!t->leaf_cells_vbo) p_glGenBuffers(1, &t->leaf_cells_vbo);
+  float *cells = leaf_cells(&lo, nl);
+  p_glBindBuffer(GL_ARRAY_BUFFER, t->leaf_cells_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((nl ? nl : 1) * sizeof *cells), cells, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(8, 1, GL_FLOAT, GL_FALSE, sizeof *cells, (void *)0);
+  p_glEnableVertexAttribArray(8);
+  p_glVertexAttribDivisor(8, 1);
+  free(cells);
+  t->leaves = nl;
+  free(leaves);
+  p_glBindVertexArray(0);
 }
 
 /* Grows tree t with the current settings and uploads it: size, map, write, unmap. */
@@ -292,34 +345,55 @@ static void build_tree(Tree *t) {
   lo.min_depth = p.steps > 3 ? p.steps - 2 : 0;
   lo.density = 2.0f;
   lo.size = 9.0f * st.length;
-  size_t nl = 0;
-  if (arbor_leaf_instance_count(tree, &lo, &o, &nl) != ARBOR_STATUS_OK) fail("leaves");
-  ArborLeafInstance *leaves = malloc((nl ? nl : 1) * sizeof *leaves);
-  if (arbor_leaf_instances_write(tree, &lo, &o, leaves, nl) != ARBOR_STATUS_OK) fail("leaves");
-  if (!t->leaf_vao) {
-    p_glGenVertexArrays(1, &t->leaf_vao);
-    p_glGenBuffers(1, &t->leaf_instances_vbo);
-  }
-  p_glBindVertexArray(t->leaf_vao);
-  p_glBindBuffer(GL_ARRAY_BUFFER, leaf_quad_vbo);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, leaf_quad_ebo);
-  vertex_layout();
-  p_glBindBuffer(GL_ARRAY_BUFFER, t->leaf_instances_vbo);
-  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nl * sizeof *leaves), leaves, GL_STATIC_DRAW);
-  p_glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, position));
-  p_glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, rotation));
-  p_glVertexAttribPointer(5, 1, GL_FLOAT, GL_FALSE, sizeof *leaves, (void *)offsetof(ArborLeafInstance, scale));
-  for (GLuint k = 3; k < 6; k++) {
-    p_glEnableVertexAttribArray(k);
-    p_glVertexAttribDivisor(k, 1);
-  }
-  t->leaves = nl;
-  free(leaves);
+  lo.atlas_columns = 4; /* the species atlas' grid (arbor_leaf_atlas_rect) */
+  lo.atlas_rows = 2;
+  upload_leaves(t, tree, &lo, &o);
   p_glBindVertexArray(0);
   arbor_tree_free(tree);
   double t2 = now_ms();
   t->grow_ms = t1 - t0;
   t->upload_ms = t2 - t1;
+}
+
+/* --species: a named species grown by arbor (its twigs baked in), drawn as its own
+ * options say (metres, even bark texels), bark and leaf instances textured by arbor's
+ * images; into trees[0]. */
+static void build_species(void) {
+  Tree *t = &trees[0];
+  double t0 = now_ms();
+  ArborTree *tree = NULL;
+  if (arbor_tree_from_species((uint32_t)st.species, 1, &tree) != ARBOR_STATUS_OK) fail("arbor_tree_from_species");
+  double t1 = now_ms();
+  ArborMeshOptions o = arbor_mesh_options_default();
+  o.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  if (arbor_species_options((uint32_t)st.species, tree, &o, &lo) != ARBOR_STATUS_OK) fail("arbor_species_options");
+  size_t nv = 0, ni = 0;
+  if (arbor_mesh_size(tree, &o, &nv, &ni) != ARBOR_STATUS_OK) fail("arbor_mesh_size");
+  ArborVertex *v = malloc((nv ? nv : 1) * sizeof *v);
+  uint32_t *ix = malloc((ni ? ni : 1) * sizeof *ix);
+  if (arbor_mesh_write(tree, &o, v, nv, ix, ni) != ARBOR_STATUS_OK) fail("arbor_mesh_write");
+  for (int k = 0; k < 3; k++) {
+    t->lo[k] = 1e30f;
+    t->hi[k] = -1e30f;
+  }
+  for (size_t i = 0; i < nv; i++)
+    for (int k = 0; k < 3; k++) {
+      t->lo[k] = fminf(t->lo[k], v[i].position[k]);
+      t->hi[k] = fmaxf(t->hi[k], v[i].position[k]);
+    }
+  t->vao = vertex_array(v, nv, ix, ni, NULL, NULL);
+  t->vertices = nv;
+  t->indices = ni;
+  t->triangles = ni / 3;
+  free(v);
+  free(ix);
+  upload_leaves(t, tree, &lo, &o);
+  arbor_tree_free(tree);
+  t->grow_ms = t1 - t0;
+  t->upload_ms = now_ms() - t1;
+  printf("species %d: %zu vertices, %zu triangles, %zu leaf cards; %.1f ms to grow, %.1f ms to mesh and upload\n",
+         st.species, t->vertices, t->triangles, t->leaves, t->grow_ms, t->upload_ms);
 }
 
 /* The forest: 25 trees of the nine models with seeded variation, placed on a jittered
@@ -885,6 +959,7 @@ int main(int argc, char **argv) {
   st.width = 1080;
   st.height = 1080;
   st.single = -1;
+  st.species = -1;
   st.strips = 1;
   st.radial_segments = 8;
   st.thickness = 1;
@@ -900,6 +975,15 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--size") && i + 1 < argc) sscanf(argv[++i], "%dx%d", &st.width, &st.height);
     else if (!strcmp(argv[i], "--list")) st.strips = 0;
     else if (!strcmp(argv[i], "--leaves")) st.leaves = 1;
+    else if (!strcmp(argv[i], "--species") && i + 1 < argc) {
+      static const char *names[] = {"oak", "maple", "birch", "willow", "poplar", "pine", "spruce", "shrub"};
+      const char *name = argv[++i];
+      st.species = -2;
+      for (int k = 0; k < 8; k++)
+        if (!strcmp(name, names[k])) st.species = ARBOR_SPECIES_OAK + k;
+      st.single = 0;
+      st.leaves = 1;
+    }
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
     else if (!strcmp(argv[i], "--compact")) st.compact = 1;
@@ -908,6 +992,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--world-trees") && i + 1 < argc) st.world_trees = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--world-forest")) { st.world_mode = 1; st.world_forest = 1; }
     else if (!strcmp(argv[i], "--pitch") && i + 1 < argc) st.pitch = (float)atof(argv[++i]) * 3.14159265f / 180.0f;
+    else if (!strcmp(argv[i], "--zoom") && i + 1 < argc) st.zoom = (float)atof(argv[++i]);
     else if (!strcmp(argv[i], "--world-species") && i + 1 < argc) {
       /* A species' number or name (arbor_species_name); -1 a mix. */
       const char *a = argv[++i];
@@ -937,6 +1022,10 @@ int main(int argc, char **argv) {
     fprintf(stderr, "gallery: bad --tree, --size or --frames\n");
     return 2;
   }
+  if (st.species == -2) {
+    fprintf(stderr, "gallery: --species takes oak, maple, birch, willow, poplar, pine, spruce or shrub\n");
+    return 2;
+  }
   GLFWwindow *win = open_window("arbor gallery", st.width, st.height, 3, 3, headless);
   if (!load_gl()) return 1;
   glfwGetFramebufferSize(win, &st.width, &st.height);
@@ -951,6 +1040,14 @@ int main(int argc, char **argv) {
   u_wind = p_glGetUniformLocation(program, "u_wind");
   u_growth = p_glGetUniformLocation(program, "u_growth");
   u_v_scale = p_glGetUniformLocation(program, "u_v_scale");
+  /* The leaves: the oak's leaf atlas, drawn by arbor, on texture unit 1. */
+  uint32_t textured = st.species >= 0 ? (uint32_t)st.species : ARBOR_SPECIES_OAK;
+  if (!species_texture(textured, ARBOR_TEXTURE_LEAF_ATLAS, 512, GL_TEXTURE1)) return 1;
+  if (st.species >= 0 && !species_texture(textured, ARBOR_TEXTURE_BARK_COLOR, 512, GL_TEXTURE2)) return 1;
+  p_glUseProgram(program);
+  p_glUniform1i(p_glGetUniformLocation(program, "u_atlas"), 1);
+  p_glUniform1i(p_glGetUniformLocation(program, "u_bark"), 2);
+  p_glUniform1i(p_glGetUniformLocation(program, "u_bark_textured"), st.species >= 0);
   p_glEnable(GL_DEPTH_TEST);
   p_glEnable(GL_CULL_FACE);
   p_glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
@@ -967,6 +1064,7 @@ int main(int argc, char **argv) {
   /* --next K: as if Tab were pressed K times (to check the stepping headless). */
   if (st.lsys_mode && st.lsys_count > 0) st.lsys_index = (st.lsys_index + next_files) % st.lsys_count;
   if (st.lsys_mode) build_lsystem();
+  else if (st.species >= 0) build_species();
   else build_all(1);
   if (!headless)
     printf("keys: drag orbit, wheel zoom, 1-9 one tree, 0 grid, +/- steps, [ ] sides, T/L thickness/length "

@@ -10,7 +10,8 @@
  * other geometry meet correctly. The texture's u and v come from the curve parameter and
  * the branch's arc-length offset. A shadow map is made by the same march from the light
  * (parallel rays), and the march's tolerance grows with distance: a per-pixel level of
- * detail. Leaves are instanced quads (arbor_leaf_instances_write). M switches to arbor's
+ * detail. Leaves are instanced quads (arbor_leaf_instances_write) textured from the oak's
+ * leaf atlas (arbor_species_texture_write), each on its arbor_leaf_cell(). M switches to arbor's
  * triangle mesh of the same trees, shaded the same way, for comparison.
  *
  *   raymarch [--tree a..i] [--steps N] [--world CYCLES [--world-trees K]] [--mesh]
@@ -182,8 +183,10 @@ static const char *mesh_vs =
     "layout(location = 3) in vec3 i_pos;\n"
     "layout(location = 4) in vec4 i_rot;\n"
     "layout(location = 5) in float i_scale;\n"
+    "layout(location = 8) in float i_cell;\n" /* a leaf's atlas cell (arbor_leaf_cell) */
     "uniform mat4 u_view_proj;\n"
     "uniform int u_mode;\n"
+    "flat out float v_cell;\n"
     "out vec3 v_world;\n"
     "out vec3 v_normal;\n"
     "out vec2 v_uv;\n"
@@ -191,14 +194,15 @@ static const char *mesh_vs =
     "void main() {\n"
     "  vec3 p = a_pos, n = a_normal;\n"
     "  if (u_mode == 2) { p = i_pos + rotate(i_rot, a_pos * i_scale); n = rotate(i_rot, a_normal); }\n"
-    "  v_world = p; v_normal = n; v_uv = a_uv;\n"
+    "  v_world = p; v_normal = n; v_uv = a_uv; v_cell = i_cell;\n"
     "  gl_Position = u_view_proj * vec4(p, 1.0);\n"
     "}\n";
 
 static const char *mesh_fs =
-    "#version 430 core\n" SHADE_GLSL
+    "#version 430 core\n" SHADE_GLSL ATLAS_GLSL
     "uniform int u_mode;\n"
     "uniform float u_texture_scale;\n"
+    "flat in float v_cell;\n"
     "in vec3 v_world;\n"
     "in vec3 v_normal;\n"
     "in vec2 v_uv;\n"
@@ -206,8 +210,10 @@ static const char *mesh_fs =
     "void main() {\n"
     "  vec3 n = normalize(v_normal);\n"
     "  if (u_mode == 2 && !gl_FrontFacing) n = -n;\n"
+    "  vec4 leaf = u_mode == 2 ? atlas(v_cell, v_uv) : vec4(1.0);\n" /* the oak's sprays */
+    "  if (leaf.a < 0.5) discard;\n"
     "  vec3 base = u_mode == 0 ? bark(vec2(v_uv.x, v_uv.y)) : u_mode == 1 ? vec3(0.42, 0.45, 0.38)\n"
-    "                                                     : vec3(0.22, 0.52, 0.16);\n"
+    "                                                     : leaf.rgb * 1.3;\n"
     "  color = vec4(shade(base, v_world, n), 1.0);\n"
     "}\n";
 
@@ -235,6 +241,7 @@ typedef struct {
   ArborVertex *vertices;
   uint32_t *indices;
   ArborLeafInstance *leaves;
+  float *cells;
   size_t nc, nv, ni, nl;
 } Scene;
 
@@ -266,11 +273,18 @@ static void add_tree(Scene *s, const ArborTree *t) {
   ArborLeafOptions lo_ = arbor_leaf_options_default();
   lo_.tips = 1;
   lo_.density = 2.0f;
-  lo_.size = 0.04f * (hi[1] - lo[1] > 0 ? hi[1] - lo[1] : 1.0f);
+  /* A card is a spray of leaves (the atlas), alpha-cut: larger than one leaf. */
+  lo_.size = 0.07f * (hi[1] - lo[1] > 0 ? hi[1] - lo[1] : 1.0f);
+  lo_.atlas_columns = 4; /* the species atlas' grid (arbor_leaf_atlas_rect) */
+  lo_.atlas_rows = 2;
   size_t nl = 0;
   if (arbor_leaf_instance_count(t, &lo_, &o, &nl) != ARBOR_STATUS_OK) fail("leaves");
   s->leaves = realloc(s->leaves, (s->nl + nl + 1) * sizeof *s->leaves);
   if (arbor_leaf_instances_write(t, &lo_, &o, s->leaves + s->nl, nl) != ARBOR_STATUS_OK) fail("leaves");
+  float *cells = leaf_cells(&lo_, nl);
+  s->cells = realloc(s->cells, (s->nl + nl + 1) * sizeof *s->cells);
+  memcpy(s->cells + s->nl, cells, nl * sizeof *cells);
+  free(cells);
   s->nl += nl;
 }
 
@@ -308,6 +322,13 @@ static void upload(Scene *s) {
     p_glEnableVertexAttribArray(k);
     p_glVertexAttribDivisor(k, 1);
   }
+  GLuint cells_vbo = 0;
+  p_glGenBuffers(1, &cells_vbo);
+  p_glBindBuffer(GL_ARRAY_BUFFER, cells_vbo);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((s->nl + 1) * sizeof *s->cells), s->cells, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(8, 1, GL_FLOAT, GL_FALSE, sizeof *s->cells, (void *)0);
+  p_glEnableVertexAttribArray(8);
+  p_glVertexAttribDivisor(8, 1);
   leaves = s->nl;
   p_glBindVertexArray(0);
 
@@ -544,6 +565,10 @@ int main(int argc, char **argv) {
   march_program = link_program(march_vs, march_fs);
   mesh_program = link_program(mesh_vs, mesh_fs);
   upload(&scene);
+  /* The leaves: the oak's leaf atlas, drawn by arbor, on texture unit 1. */
+  species_texture(ARBOR_SPECIES_OAK, ARBOR_TEXTURE_LEAF_ATLAS, 512, GL_TEXTURE1);
+  p_glUseProgram(mesh_program);
+  p_glUniform1i(p_glGetUniformLocation(mesh_program, "u_atlas"), 1);
   printf("raymarch: arbor %s, OpenGL %s\n", arbor_version(), (const char *)p_glGetString(GL_VERSION));
   printf("raymarch: %zu branches (%.1f ms to grow); on the GPU: curve records %zu bytes (%zu a branch), "
          "mesh at %d sides %zu bytes (%.0f a branch); %zu leaves\n",
@@ -553,6 +578,7 @@ int main(int argc, char **argv) {
   free(scene.vertices);
   free(scene.indices);
   free(scene.leaves);
+  free(scene.cells);
 
   if (compare) {
     /* Both renderers alternately, so the machine's noise falls on both. */

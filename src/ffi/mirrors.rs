@@ -278,6 +278,10 @@ pub struct ArborLeafOptions {
     pub atlas_columns: u32,
     /// Rows of the leaf atlas, 1..=16. Default 1.
     pub atlas_rows: u32,
+    /// Leaves whose shape reaches into the wood of a branch thicker than this radius (model units)
+    /// are left out: its corners and centre (the prefab's bounding rectangle in leaf space) are
+    /// tested against every such branch's cone. 0 (the default) keeps every leaf.
+    pub wood_clearance: f32,
 }
 
 mirror!(ArborLeafOptions => LeafOptions {
@@ -294,6 +298,7 @@ mirror!(ArborLeafOptions => LeafOptions {
         max_leaves,
         atlas_columns,
         atlas_rows,
+        wood_clearance,
     }
     renamed {
         min_depth = min_birth,

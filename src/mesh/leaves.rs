@@ -215,6 +215,11 @@ pub struct LeafOptions {
     pub atlas_columns: u32 = 1, checked In(1, 16), "1..=16 cells",
     /// Rows of the leaf atlas, 1..=16. Default 1.
     pub atlas_rows: u32 = 1, checked In(1, 16), "1..=16 cells",
+    /// Leaves whose shape reaches into the wood of a branch thicker than this radius
+    /// (model units) are left out: its corners and centre (the prefab's bounding
+    /// rectangle in leaf space) are tested against every such branch's cone. 0 (the
+    /// default) keeps every leaf.
+    pub wood_clearance: f32 = 0.0, checked AtLeast(0.0), "a finite radius >= 0",
 }
 }
 
@@ -291,7 +296,102 @@ fn place_on(
             }
         }
     }
-    Ok(placer.out)
+    let mut out = placer.out;
+    if o.wood_clearance > 0.0 {
+        let extent = leaf_rectangle(o.prefab.as_deref());
+        let wood = Wood::new(skeleton, o.wood_clearance);
+        out.retain(|(l, _)| !wood.holds(l, &extent));
+    }
+    Ok(out)
+}
+
+/// The points of a leaf shape tested against the wood: the corners and centre of its
+/// bounding rectangle in leaf space (x across, y along; z ignored).
+fn leaf_rectangle(prefab: Option<&LeafPrefab>) -> [Vec3; 5] {
+    let (mut lo, mut hi) = (Vec3::new(-0.25, 0.0, 0.0), Vec3::new(0.25, 1.0, 0.0));
+    if let Some(p) = prefab.filter(|p| !p.vertices.is_empty()) {
+        (lo, hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for v in &p.vertices {
+            lo = lo.min(Vec3::from(v.position));
+            hi = hi.max(Vec3::from(v.position));
+        }
+    }
+    [
+        Vec3::new(lo.x, lo.y, 0.0),
+        Vec3::new(hi.x, lo.y, 0.0),
+        Vec3::new(hi.x, hi.y, 0.0),
+        Vec3::new(lo.x, hi.y, 0.0),
+        Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.0),
+    ]
+}
+
+/// The branches thicker than a radius, bucketed on a grid of cells about as large as
+/// the thickest of them, for point-in-wood tests.
+struct Wood<'a> {
+    branches: &'a [crate::skeleton::Branch],
+    cell: f32,
+    grid: std::collections::HashMap<glam::IVec3, Vec<u32>>,
+}
+
+impl<'a> Wood<'a> {
+    fn new(skeleton: &'a Skeleton, thicker_than: f32) -> Self {
+        let branches = skeleton.branches();
+        let thick = |b: &crate::skeleton::Branch| b.start_radius.max(b.end_radius) > thicker_than;
+        let widest = branches
+            .iter()
+            .filter(|b| thick(b))
+            .map(|b| b.start_radius.max(b.end_radius))
+            .fold(0.0f32, f32::max);
+        let cell = (4.0 * widest).max(f32::MIN_POSITIVE);
+        let mut wood = Wood {
+            branches,
+            cell,
+            grid: Default::default(),
+        };
+        for (i, b) in branches.iter().enumerate().filter(|(_, b)| thick(b)) {
+            let r = b.start_radius.max(b.end_radius);
+            let (s, e) = (b.start(), b.end());
+            let (lo, hi) = (wood.key(s.min(e) - r), wood.key(s.max(e) + r));
+            // A branch far longer than the cells (a bad skeleton) is not bucketed cell
+            // by cell: at most 4,096 cells each.
+            let span = (hi - lo + 1).as_i64vec3();
+            if span.x * span.y * span.z > 4096 {
+                continue;
+            }
+            for z in lo.z..=hi.z {
+                for y in lo.y..=hi.y {
+                    for x in lo.x..=hi.x {
+                        wood.grid
+                            .entry(glam::IVec3::new(x, y, z))
+                            .or_default()
+                            .push(i as u32);
+                    }
+                }
+            }
+        }
+        wood
+    }
+
+    fn key(&self, p: Vec3) -> glam::IVec3 {
+        (p / self.cell).floor().as_ivec3()
+    }
+
+    /// Whether any of `points` of leaf `l` (leaf space) is inside a thick branch.
+    fn holds(&self, l: &LeafInstance, points: &[Vec3]) -> bool {
+        let (q, at) = (Quat::from_array(l.rotation), Vec3::from(l.position));
+        points.iter().any(|&p| {
+            let p = at + q * (p * l.scale);
+            self.grid.get(&self.key(p)).is_some_and(|near| {
+                near.iter().any(|&i| {
+                    let b = &self.branches[i as usize];
+                    let (s, d) = (b.start(), b.end() - b.start());
+                    let t = ((p - s).dot(d) / d.length_squared().max(1e-30)).clamp(0.0, 1.0);
+                    let r = b.start_radius + (b.end_radius - b.start_radius) * t;
+                    (p - (s + d * t)).length() < r
+                })
+            })
+        })
+    }
 }
 
 /// Every product that sizes a leaf, checked as it is formed: a leaf's own size (before

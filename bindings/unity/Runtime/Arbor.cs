@@ -191,6 +191,8 @@ namespace Arbor
         public IntPtr Prefab;
         /// The leaf atlas' grid: each baked leaf samples one cell. Default 1 x 1.
         public uint AtlasColumns, AtlasRows;
+        /// Leaves reaching into a branch thicker than this radius are left out (0: none).
+        public float WoodClearance;
 
         public static LeafOptions Default()
         {
