@@ -52,6 +52,9 @@ pub struct Look {
     pub twig: TwigShape,
     /// A twig's length in metres (0: no twigs).
     pub twig_length: f32,
+    /// A conifer's crown drawn into a cone: its half-width at the crown's base over the
+    /// tree's height (0: the crown as it grew).
+    pub cone: f32,
     /// Twigs grow on the branches of the last this many cycles (the leaves on the
     /// twigs, and on the tips of the last `leaf_cycles`).
     pub twig_cycles: u32,
@@ -75,6 +78,7 @@ impl Look {
             twig: TwigShape::new(),
             twig_length: 0.0,
             twig_cycles: 0,
+            cone: 0.0,
         };
         Some(match species {
             Species::Oak => l(36, 18.0, 0.22, LeafLook::oak(), 6.0, 3, BarkLook::oak()),
@@ -98,7 +102,7 @@ impl Look {
                 3,
                 BarkLook::poplar(),
             ),
-            Species::Pine => l(32, 18.0, 0.45, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
+            Species::Pine => l(32, 18.0, 0.3, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
             Species::Spruce => l(
                 26,
                 20.0,
@@ -145,7 +149,17 @@ impl Look {
                 roots,
                 twig,
                 twig_length,
-                twig_cycles: 14,
+                // Conifers keep needles on fewer years of shoots (and shed the rest).
+                twig_cycles: match species {
+                    Species::Pine => 7,
+                    Species::Spruce => 10,
+                    _ => 14,
+                },
+                cone: match species {
+                    Species::Pine => 0.3,
+                    Species::Spruce => 0.24,
+                    _ => 0.0,
+                },
                 leaves_per_tip,
                 ..l
             }
@@ -188,8 +202,17 @@ impl Look {
     pub fn finish_bare(&self, grown: &Skeleton) -> Result<Skeleton> {
         let h = height_of(grown);
         let cleared = crate::skeleton::prune::clear_trunk(grown, h * self.clear_trunk).skeleton;
+        // Limbs without a young shoot (no twig, no leaf) are shed.
+        let window = self.twig_cycles.max(self.leaf_cycles);
+        let cleared = if window > 0 {
+            let min_birth = newest(&cleared).saturating_sub(window - 1);
+            crate::skeleton::prune::shed_bare(&cleared, min_birth).skeleton
+        } else {
+            cleared
+        };
         let bole = bole(&cleared, h * self.clear_trunk.max(0.1));
-        flare_and_roots(&bole, self.flare, self.roots)
+        let shaped = cone(&bole, self.cone, self.clear_trunk);
+        flare_and_roots(&shaped, self.flare, self.roots)
     }
 
     /// The species' twig prototypes ([`TWIG_VARIANTS`] of them, the same for every tree
@@ -240,6 +263,73 @@ fn newest(skeleton: &Skeleton) -> u32 {
         .map(|b| b.birth)
         .max()
         .unwrap_or(0)
+}
+
+/// `skeleton` with its crown drawn into a cone about the trunk's axis: from the crown's
+/// base (`base` of the height) its half-width may be at most `ratio` of the height, falling
+/// linearly to none at the top. Every point at a height moves toward the axis by the same
+/// factor (the crown's widest reach there over the cone's), so joints stay joined, radii
+/// and heights stay as they are. `ratio` 0: the skeleton as it is.
+fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
+    let Some((lo, hi)) = skeleton.bounds() else {
+        return skeleton.clone();
+    };
+    let b = skeleton.branches();
+    let Some(foot) = b.iter().find(|x| x.parent == NO_PARENT && x.order == 0) else {
+        return skeleton.clone();
+    };
+    let h = hi.y - lo.y;
+    if ratio <= 0.0 || !(h > 0.0) {
+        return skeleton.clone();
+    }
+    let (ax, az) = (foot.start[0], foot.start[2]);
+    let base_y = lo.y + base * h;
+    let allowed = |y: f32| ratio * h * ((hi.y - y) / (hi.y - base_y).max(1e-6)).clamp(0.0, 1.0);
+    // The crown's reach from the axis in bands of height.
+    const BANDS: usize = 48;
+    let band = |y: f32| (((y - lo.y) / h * BANDS as f32) as usize).min(BANDS - 1);
+    let mut reach = [0.0f32; BANDS];
+    for x in b {
+        for p in [x.start, x.end] {
+            let d = ((p[0] - ax).powi(2) + (p[2] - az).powi(2)).sqrt();
+            let k = band(p[1]);
+            reach[k] = reach[k].max(d);
+        }
+    }
+    // The factor at each band's centre, then read between them (continuous in height).
+    let factor: Vec<f32> = (0..BANDS)
+        .map(|k| {
+            let y = lo.y + (k as f32 + 0.5) / BANDS as f32 * h;
+            if reach[k] > 0.0 {
+                (allowed(y) / reach[k]).min(1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let at = |y: f32| {
+        let t = ((y - lo.y) / h * BANDS as f32 - 0.5).clamp(0.0, (BANDS - 1) as f32);
+        let k = (t as usize).min(BANDS - 2);
+        factor[k] + (factor[k + 1] - factor[k]) * (t - k as f32)
+    };
+    let squeeze = |p: [f32; 3]| {
+        let f = at(p[1]);
+        [ax + (p[0] - ax) * f, p[1], az + (p[2] - az) * f]
+    };
+    let mut parts = skeleton.clone().into_parts();
+    for x in &mut parts.branches {
+        (x.start, x.end) = (squeeze(x.start), squeeze(x.end));
+    }
+    for c in &mut parts.curves {
+        *c = [squeeze(c[0]), squeeze(c[1])];
+    }
+    for l in &mut parts.leaves {
+        l.position = squeeze(l.position);
+    }
+    for p in &mut parts.polygon_points {
+        *p = squeeze(*p);
+    }
+    parts.build().unwrap_or_else(|_| skeleton.clone())
 }
 
 /// `skeleton` with its trunk below `height` (above its foot) a bole: nearly a cylinder,
@@ -570,5 +660,42 @@ mod tests {
                 .to_string()
                 .contains("`look`")
         );
+    }
+
+    #[test]
+    fn a_conifer_crown_is_drawn_into_its_cone() {
+        let look = Look::of(Species::Spruce).unwrap();
+        assert!(look.cone > 0.0);
+        let grown = Source::Growth(GrowthParams::preset(Species::Spruce), look.cycles)
+            .grow(2)
+            .unwrap();
+        let free = Look { cone: 0.0, ..look }.finish_bare(&grown).unwrap();
+        let coned = look.finish_bare(&grown).unwrap();
+        assert_eq!(free.len(), coned.len());
+        let (lo, hi) = coned.bounds().unwrap();
+        let h = hi.y - lo.y;
+        let axis = coned.branches()[0].start;
+        let base = lo.y + look.clear_trunk * h;
+        let reach = |s: &Skeleton| {
+            let mut outside = 0.0f32;
+            for b in s.branches().iter().filter(|b| b.order > 0) {
+                let p = b.end;
+                let d = ((p[0] - axis[0]).powi(2) + (p[2] - axis[2]).powi(2)).sqrt();
+                let allowed = look.cone * h * ((hi.y - p[1]) / (hi.y - base)).clamp(0.0, 1.0);
+                outside = outside.max(d - allowed);
+            }
+            outside
+        };
+        // As grown, the crown leaves the cone by metres' worth; drawn in, by little (the
+        // factor is read between bands of height).
+        assert!(reach(&free) > 0.1 * h, "{}", reach(&free));
+        assert!(reach(&coned) < 0.02 * h, "{}", reach(&coned));
+        // Heights and radii are the grown ones.
+        for (a, b) in free.branches().iter().zip(coned.branches()) {
+            assert_eq!(
+                (a.start[1], a.end[1], a.end_radius),
+                (b.start[1], b.end[1], b.end_radius)
+            );
+        }
     }
 }

@@ -189,6 +189,41 @@ pub fn clear_trunk(skeleton: &Skeleton, height: f32) -> Pruned {
     }
 }
 
+/// The skeleton without its bare limbs: every branch off its parent's axis (a lateral)
+/// whose whole subtree has no branch born at `min_birth` or later, with that subtree: the
+/// shaded, dead limbs a tree sheds, which carry no young shoot (and so no leaf).
+pub fn shed_bare(skeleton: &Skeleton, min_birth: u32) -> Pruned {
+    let b = skeleton.branches();
+    // Whether each subtree holds a young branch: children after parents, so backwards.
+    let mut young: Vec<bool> = b.iter().map(|x| x.birth >= min_birth).collect();
+    for i in (0..b.len()).rev() {
+        let p = b[i].parent;
+        if p != NO_PARENT && young[i] {
+            young[p as usize] = true;
+        }
+    }
+    let mut removed = vec![false; b.len()];
+    for (i, x) in b.iter().enumerate() {
+        if x.parent == NO_PARENT {
+            continue;
+        }
+        let p = x.parent as usize;
+        let lateral = x.order != b[p].order;
+        removed[i] = removed[p] || (lateral && !young[i]);
+    }
+    let count = removed.iter().filter(|&&r| r).count();
+    if count == 0 {
+        return Pruned {
+            skeleton: skeleton.clone(),
+            removed: 0,
+        };
+    }
+    Pruned {
+        skeleton: Skeleton::from_trusted(kept_parts(skeleton, &removed)),
+        removed: count,
+    }
+}
+
 /// The skeleton without the `removed` branches: the kept ones renumbered (tips that lost
 /// every child closed), with their frames, curves and colours, and the organs, leaf sites
 /// and polygons on kept branches (or on none).
@@ -264,5 +299,35 @@ mod tests {
         assert!(d([0., 0., 0.], [2., 0., 0.], [1., -1., 1.], [1., 1., 1.]) - 1.0 < 1e-12);
         assert!((d([0., 0., 0.], [1., 0., 0.], [3., 0., 0.], [4., 0., 0.]) - 2.0).abs() < 1e-12);
         assert!(d([0., 0., 0.], [0., 0., 0.], [0., 0., 0.], [0., 0., 0.]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bare_limbs_are_shed_with_their_subtrees() {
+        let b = |parent: u32, order: u32, birth: u32, y: f32| Branch {
+            start: [0.0, y, 0.0],
+            end: [1.0, y + 1.0, 0.0],
+            start_radius: 0.1,
+            end_radius: 0.1,
+            parent,
+            birth,
+            order,
+            flags: 0,
+        };
+        let s = Skeleton::new(vec![
+            b(NO_PARENT, 0, 0, 0.0), // 0: trunk
+            b(0, 0, 1, 1.0),         // 1: trunk, old: stays (the axis)
+            b(0, 1, 1, 1.0),         // 2: an old limb with only old wood: shed
+            b(2, 1, 2, 2.0),         // 3: on it, old: shed with it
+            b(1, 1, 2, 2.0),         // 4: an old limb ...
+            b(4, 2, 9, 3.0),         // 5: ... carrying a young shoot: both stay
+        ])
+        .unwrap();
+        let p = shed_bare(&s, 5);
+        assert_eq!(p.removed, 2);
+        let births: Vec<u32> = p.skeleton.branches().iter().map(|x| x.birth).collect();
+        assert_eq!(births, vec![0, 1, 2, 9]);
+        // Nothing young anywhere: every lateral goes, the trunk stays.
+        assert_eq!(shed_bare(&s, 100).skeleton.len(), 2);
+        assert_eq!(shed_bare(&s, 0).removed, 0);
     }
 }
