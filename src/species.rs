@@ -279,7 +279,7 @@ fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
         return skeleton.clone();
     };
     let h = hi.y - lo.y;
-    if ratio <= 0.0 || !(h > 0.0) {
+    if ratio <= 0.0 || h.is_nan() || h <= 0.0 {
         return skeleton.clone();
     }
     let (ax, az) = (foot.start[0], foot.start[2]);
