@@ -250,6 +250,8 @@ impl GrowthParams {
                 branch_angle: 24.0,
                 tropism: 0.3,
                 environment_weight: 0.1,
+                // A stout trunk under a narrow crown of few, thin branches.
+                pipe_exponent: 2.0,
                 ..d
             },
             Species::Pine => GrowthParams {
