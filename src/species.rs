@@ -102,7 +102,7 @@ impl Look {
                 3,
                 BarkLook::poplar(),
             ),
-            Species::Pine => l(32, 18.0, 0.3, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
+            Species::Pine => l(28, 18.0, 0.3, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
             Species::Spruce => l(
                 26,
                 20.0,

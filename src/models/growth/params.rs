@@ -255,13 +255,14 @@ impl GrowthParams {
                 ..d
             },
             Species::Pine => GrowthParams {
-                apical_control: 0.58,
-                young_apical_control: 0.62,
+                apical_control: 0.62,
+                young_apical_control: 0.64,
                 vigor_multiplier: 1.0,
-                young_vigor_multiplier: 1.4,
-                branch_angle: 70.0,
-                tropism: 0.06,
-                environment_weight: 0.1,
+                young_vigor_multiplier: 1.3,
+                branch_angle: 80.0,
+                tropism: 0.04,
+                droop: 0.01,
+                environment_weight: 0.05,
                 ..d
             },
             Species::Spruce => GrowthParams {
