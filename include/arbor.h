@@ -1056,6 +1056,18 @@ typedef struct ArborLeafOptions {
    * tested against every such branch's cone. 0 (the default) keeps every leaf.
    */
   float wood_clearance;
+  /**
+   * The default card folded along its midrib by this angle, degrees (0..=90): each half turns up
+   * toward the face by half of it, a V seen from the tip. Baked leaves only (a prefab is used as
+   * it is; an instanced leaf is the host's shape). Default 0.
+   */
+  float fold;
+  /**
+   * 1 or 0. Each leaf turned about its own axis (heading) so its face looks as near to the light
+   * (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it by up to
+   * that many degrees either way. Default 0 (turned at random).
+   */
+  uint32_t face_light;
 } ArborLeafOptions;
 
 /**

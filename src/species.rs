@@ -248,6 +248,9 @@ impl Look {
     }
 }
 
+/// Degrees a species' leaf cards are folded along their midribs.
+pub const LEAF_FOLD: f32 = 30.0;
+
 /// Branches thicker than this radius (metres) are wood a leaf card stays out of.
 pub const TWIG_RADIUS: f32 = 0.03;
 
@@ -494,7 +497,11 @@ pub fn options(
         .atlas_columns(crate::texture::ATLAS_COLUMNS)
         .atlas_rows(crate::texture::ATLAS_ROWS)
         // No card inside a branch thicker than a twig.
-        .wood_clearance(TWIG_RADIUS / to_m);
+        .wood_clearance(TWIG_RADIUS / to_m)
+        // Folded a little along the midrib, turned toward the light (give or take 35°).
+        .fold(LEAF_FOLD)
+        .face_light(true)
+        .rotation_jitter(35.0);
     Ok((o, leaves))
 }
 
@@ -559,7 +566,10 @@ pub fn twig_options(look: &Look, mesh: &MeshOptions) -> (MeshOptions, LeafOption
         .size_jitter(0.25)
         .tilt(40.0)
         .atlas_columns(crate::texture::ATLAS_COLUMNS)
-        .atlas_rows(crate::texture::ATLAS_ROWS);
+        .atlas_rows(crate::texture::ATLAS_ROWS)
+        .fold(LEAF_FOLD)
+        .face_light(true)
+        .rotation_jitter(35.0);
     (o, leaves)
 }
 

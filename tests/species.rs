@@ -497,3 +497,39 @@ fn leaves_stay_out_of_the_wood_and_cover_the_crown() {
     }
     eprintln!("crown silhouette covered by leaves: {}", report.join(", "));
 }
+
+#[test]
+fn leaf_cards_fold_and_face_the_light() {
+    use arbor::mesh::{LeafPrefab, leaf_mesh};
+    // The folded card: six vertices, four counter-clockwise triangles, unit normals, its
+    // edges raised toward the face.
+    let f = LeafPrefab::folded(40.0);
+    assert_eq!((f.vertices.len(), f.triangles.len()), (6, 4));
+    for t in &f.triangles {
+        let p = |k: usize| glam::Vec3::from(f.vertices[t[k] as usize].position);
+        let n = (p(1) - p(0)).cross(p(2) - p(0));
+        assert!(n.z > 0.0, "{t:?}");
+    }
+    for v in &f.vertices {
+        assert!((glam::Vec3::from(v.normal).length() - 1.0).abs() < 1e-5);
+    }
+    assert!(f.vertices[0].position[2] > 0.08 && f.vertices[1].position[2] == 0.0);
+    // An oak's leaves, turned toward the light or at random: their faces look up more.
+    let look = Look::of(Species::Oak).unwrap();
+    let tree = look.grow(1).unwrap();
+    let (o, leaves) = arbor::species::options(&look, &tree, &MeshOptions::default()).unwrap();
+    assert!(leaves.face_light && leaves.fold > 0.0);
+    let up = |lo: &arbor::mesh::LeafOptions| {
+        let m = leaf_mesh(&tree, lo, &o).unwrap();
+        m.vertices.iter().map(|v| v.normal[1]).sum::<f32>() / m.vertices.len() as f32
+    };
+    let (lit, random) = (up(&leaves), up(&leaves.clone().face_light(false)));
+    eprintln!("mean leaf normal y: {lit:.2} facing the light, {random:.2} at random");
+    assert!(lit > random + 0.2, "{lit} vs {random}");
+    // Folded: 6 vertices a leaf, 4 without the fold (the same leaves: no wood test, which
+    // sees the fold's raised edges).
+    let all = leaves.clone().wood_clearance(0.0);
+    let flat = leaf_mesh(&tree, &all.clone().fold(0.0), &o).unwrap();
+    let folded = leaf_mesh(&tree, &all, &o).unwrap();
+    assert_eq!(folded.vertices.len() * 4, flat.vertices.len() * 6);
+}

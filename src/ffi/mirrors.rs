@@ -282,6 +282,14 @@ pub struct ArborLeafOptions {
     /// are left out: its corners and centre (the prefab's bounding rectangle in leaf space) are
     /// tested against every such branch's cone. 0 (the default) keeps every leaf.
     pub wood_clearance: f32,
+    /// The default card folded along its midrib by this angle, degrees (0..=90): each half turns up
+    /// toward the face by half of it, a V seen from the tip. Baked leaves only (a prefab is used as
+    /// it is; an instanced leaf is the host's shape). Default 0.
+    pub fold: f32,
+    /// 1 or 0. Each leaf turned about its own axis (heading) so its face looks as near to the light
+    /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it by up to
+    /// that many degrees either way. Default 0 (turned at random).
+    pub face_light: u32,
 }
 
 mirror!(ArborLeafOptions => LeafOptions {
@@ -299,6 +307,8 @@ mirror!(ArborLeafOptions => LeafOptions {
         atlas_columns,
         atlas_rows,
         wood_clearance,
+        fold,
+        face_light,
     }
     renamed {
         min_depth = min_birth,

@@ -83,6 +83,40 @@ impl LeafPrefab {
         }
     }
 
+    /// [`quad`](Self::quad) folded along its midrib by `degrees` (each half turned up
+    /// toward +Z by half of it, a V seen from the tip): six vertices, four triangles, the
+    /// same uv.
+    pub fn folded(degrees: f32) -> Self {
+        let half = (0.5 * degrees.clamp(0.0, 180.0)).to_radians();
+        let (c, s) = (half.cos(), half.sin());
+        // The halves' outer edges rise by 0.25 sin(half); each half's normal leans
+        // inward, away from its edge.
+        let v = |side: f32, y: f32, u: f32, w: f32| {
+            let x = 0.25 * side * c;
+            let n = if side == 0.0 {
+                [0.0, 0.0, 1.0]
+            } else {
+                [-side * s, 0.0, c]
+            };
+            Vertex {
+                position: [x, y, 0.25 * side.abs() * s],
+                normal: n,
+                uv: [u, w],
+            }
+        };
+        LeafPrefab {
+            vertices: vec![
+                v(-1.0, 0.0, 0.0, 0.0),
+                v(0.0, 0.0, 0.5, 0.0),
+                v(1.0, 0.0, 1.0, 0.0),
+                v(-1.0, 1.0, 0.0, 1.0),
+                v(0.0, 1.0, 0.5, 1.0),
+                v(1.0, 1.0, 1.0, 1.0),
+            ],
+            triangles: vec![[0, 1, 3], [3, 1, 4], [1, 2, 4], [4, 2, 5]],
+        }
+    }
+
     /// Loads every model of an OBJ file (triangulated; normals computed flat-per-vertex
     /// where the file has none; uv (0, 0) where it has none), as a regular file of at
     /// most [`DEFAULT_MAX_FILE_BYTES`](crate::files::DEFAULT_MAX_FILE_BYTES); its
@@ -216,10 +250,18 @@ pub struct LeafOptions {
     /// Rows of the leaf atlas, 1..=16. Default 1.
     pub atlas_rows: u32 = 1, checked In(1, 16), "1..=16 cells",
     /// Leaves whose shape reaches into the wood of a branch thicker than this radius
-    /// (model units) are left out: its corners and centre (the prefab's bounding
-    /// rectangle in leaf space) are tested against every such branch's cone. 0 (the
-    /// default) keeps every leaf.
+    /// (model units) are left out: the shape's vertices (a prefab of more than 16: the
+    /// corners of its bounding box) and its centre are tested against every such
+    /// branch's cone. 0 (the default) keeps every leaf.
     pub wood_clearance: f32 = 0.0, checked AtLeast(0.0), "a finite radius >= 0",
+    /// The default card folded along its midrib by this angle, degrees (0..=90): each
+    /// half turns up toward the face by half of it, a V seen from the tip. Baked leaves
+    /// only (a prefab is used as it is; an instanced leaf is the host's shape). Default 0.
+    pub fold: f32 = 0.0, checked In(0.0, 90.0), "0..=90 degrees",
+    /// Each leaf turned about its own axis (heading) so its face looks as near to the light
+    /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it
+    /// by up to that many degrees either way. Default false (turned at random).
+    pub face_light: bool = false,
 }
 }
 
@@ -298,31 +340,54 @@ fn place_on(
     }
     let mut out = placer.out;
     if o.wood_clearance > 0.0 {
-        let extent = leaf_rectangle(o.prefab.as_deref());
+        let points = leaf_points(&leaf_shape(o));
         let wood = Wood::new(skeleton, o.wood_clearance);
-        out.retain(|(l, _)| !wood.holds(l, &extent));
+        out.retain(|(l, _)| !wood.holds(l, &points));
     }
     Ok(out)
 }
 
-/// The points of a leaf shape tested against the wood: the corners and centre of its
-/// bounding rectangle in leaf space (x across, y along; z ignored).
-fn leaf_rectangle(prefab: Option<&LeafPrefab>) -> [Vec3; 5] {
-    let (mut lo, mut hi) = (Vec3::new(-0.25, 0.0, 0.0), Vec3::new(0.25, 1.0, 0.0));
-    if let Some(p) = prefab.filter(|p| !p.vertices.is_empty()) {
-        (lo, hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-        for v in &p.vertices {
-            lo = lo.min(Vec3::from(v.position));
-            hi = hi.max(Vec3::from(v.position));
-        }
+/// The shape a baked leaf is: the prefab, else the quad (folded by `fold`).
+fn leaf_shape(o: &LeafOptions) -> std::sync::Arc<LeafPrefab> {
+    o.prefab.clone().unwrap_or_else(|| {
+        std::sync::Arc::new(if o.fold > 0.0 {
+            LeafPrefab::folded(o.fold)
+        } else {
+            LeafPrefab::quad()
+        })
+    })
+}
+
+/// The points of a leaf shape tested against the wood: every vertex of a small shape (the
+/// quad, the folded card), else the corners of its bounding box; and its centre.
+fn leaf_points(prefab: &LeafPrefab) -> Vec<Vec3> {
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for v in &prefab.vertices {
+        lo = lo.min(Vec3::from(v.position));
+        hi = hi.max(Vec3::from(v.position));
     }
-    [
-        Vec3::new(lo.x, lo.y, 0.0),
-        Vec3::new(hi.x, lo.y, 0.0),
-        Vec3::new(hi.x, hi.y, 0.0),
-        Vec3::new(lo.x, hi.y, 0.0),
-        Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.0),
-    ]
+    if prefab.vertices.is_empty() {
+        return Vec::new();
+    }
+    let mut points: Vec<Vec3> = if prefab.vertices.len() <= 16 {
+        prefab
+            .vertices
+            .iter()
+            .map(|v| Vec3::from(v.position))
+            .collect()
+    } else {
+        (0..8)
+            .map(|k| {
+                Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                )
+            })
+            .collect()
+    };
+    points.push(0.5 * (lo + hi));
+    points
 }
 
 /// The branches thicker than a radius, bucketed on a grid of cells about as large as
@@ -476,6 +541,15 @@ impl Placer<'_> {
         let up = (up - heading * up.dot(heading))
             .try_normalize()
             .unwrap_or_else(|| ring_basis(heading.as_dvec3()).0.as_vec3());
+        // Facing the light: the up vector made the world's up, square to the heading
+        // (a leaf pointing straight up or down keeps its own).
+        let up = if o.face_light {
+            (Vec3::Y - heading * heading.y)
+                .try_normalize()
+                .unwrap_or(up)
+        } else {
+            up
+        };
         // Leaf space: +Y along the heading, +Z the up vector, +X = Y × Z.
         let frame = Quat::from_mat3(&Mat3::from_cols(heading.cross(up), heading, up));
         let spin = (self.rng.next_f64() as f32 * 2.0 - 1.0) * o.rotation_jitter;
@@ -563,10 +637,7 @@ struct LeafPlan {
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
     let instances = place(skeleton, leaves, mesh)?;
-    let prefab = leaves
-        .prefab
-        .clone()
-        .unwrap_or_else(|| std::sync::Arc::new(LeafPrefab::quad()));
+    let prefab = leaf_shape(leaves);
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
             .polygons()

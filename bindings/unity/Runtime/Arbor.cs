@@ -193,6 +193,10 @@ namespace Arbor
         public uint AtlasColumns, AtlasRows;
         /// Leaves reaching into a branch thicker than this radius are left out (0: none).
         public float WoodClearance;
+        /// The default card folded along its midrib, degrees (0..90; baked leaves).
+        public float Fold;
+        /// 1: each leaf turned to face up (the light) before RotationJitter varies it.
+        public uint FaceLight;
 
         public static LeafOptions Default()
         {
