@@ -55,6 +55,9 @@ pub struct Look {
     /// A conifer's crown drawn into a cone: its half-width at the crown's base over the
     /// tree's height (0: the crown as it grew).
     pub cone: f32,
+    /// A weeping crown drawn out into a dome: its half-width at the crown's base over the
+    /// tree's height (0: the crown as it grew).
+    pub dome: f32,
     /// Twigs grow on the branches of the last this many cycles (the leaves on the
     /// twigs, and on the tips of the last `leaf_cycles`).
     pub twig_cycles: u32,
@@ -79,6 +82,7 @@ impl Look {
             twig_length: 0.0,
             twig_cycles: 0,
             cone: 0.0,
+            dome: 0.0,
         };
         Some(match species {
             Species::Oak => l(36, 18.0, 0.22, LeafLook::oak(), 6.0, 3, BarkLook::oak()),
@@ -132,7 +136,7 @@ impl Look {
                 Species::Oak => (0.45, 4, 50.0, 0.15, 1.3),
                 Species::Maple => (0.45, 4, 45.0, 0.1, 1.3),
                 Species::Birch => (0.5, 5, 35.0, 0.6, 1.2),
-                Species::Willow => (0.8, 5, 25.0, 0.9, 1.5),
+                Species::Willow => (1.2, 8, 20.0, 0.95, 2.5),
                 Species::Poplar => (0.35, 3, 35.0, 0.05, 1.3),
                 Species::Pine => (0.35, 3, 40.0, 0.0, 1.5),
                 Species::Spruce => (0.4, 6, 60.0, 0.3, 1.0),
@@ -159,6 +163,11 @@ impl Look {
                     Species::Pine => 0.3,
                     Species::Spruce => 0.24,
                     _ => 0.0,
+                },
+                dome: if species == Species::Willow {
+                    0.55
+                } else {
+                    0.0
                 },
                 leaves_per_tip,
                 ..l
@@ -212,6 +221,7 @@ impl Look {
         };
         let bole = bole(&cleared, h * self.clear_trunk.max(0.1));
         let shaped = cone(&bole, self.cone, self.clear_trunk);
+        let shaped = dome(&shaped, self.dome, self.clear_trunk);
         flare_and_roots(&shaped, self.flare, self.roots)
     }
 
@@ -274,6 +284,25 @@ fn newest(skeleton: &Skeleton) -> u32 {
 /// factor (the crown's widest reach there over the cone's), so joints stay joined, radii
 /// and heights stay as they are. `ratio` 0: the skeleton as it is.
 fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
+    envelope(skeleton, base, 1.0, |t| ratio * (1.0 - t))
+}
+
+/// `skeleton` with its crown drawn out into a dome about the trunk's axis: from the
+/// crown's base (`base` of the height) its half-width is `ratio` of the height (a branch
+/// reaching less is drawn out, up to three times), rounding to none at the top; below
+/// the base, hanging branches keep the dome's width. `ratio` 0: the skeleton as it is.
+fn dome(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
+    envelope(skeleton, base, 3.0, |t| {
+        ratio * (1.0 - t * t).max(0.0).sqrt()
+    })
+}
+
+/// `skeleton` with its crown's reach from the trunk's axis made `width(t)` of the height at
+/// each height above the crown's base (t from 0 there to 1 at the top; below the base,
+/// `width(0)`): every point at a height moves along the ray from the axis by that
+/// height's factor (wanted reach over the reach there, at most `most`), so joints stay
+/// joined, heights and radii as they were. A width of 0 everywhere: as it is.
+fn envelope(skeleton: &Skeleton, base: f32, most: f32, width: impl Fn(f32) -> f32) -> Skeleton {
     let Some((lo, hi)) = skeleton.bounds() else {
         return skeleton.clone();
     };
@@ -282,12 +311,12 @@ fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
         return skeleton.clone();
     };
     let h = hi.y - lo.y;
-    if ratio <= 0.0 || h.is_nan() || h <= 0.0 {
+    if width(0.0) <= 0.0 || h.is_nan() || h <= 0.0 {
         return skeleton.clone();
     }
     let (ax, az) = (foot.start[0], foot.start[2]);
     let base_y = lo.y + base * h;
-    let allowed = |y: f32| ratio * h * ((hi.y - y) / (hi.y - base_y).max(1e-6)).clamp(0.0, 1.0);
+    let wanted = |y: f32| h * width(((y - base_y) / (hi.y - base_y).max(1e-6)).clamp(0.0, 1.0));
     // The crown's reach from the axis in bands of height.
     const BANDS: usize = 48;
     let band = |y: f32| (((y - lo.y) / h * BANDS as f32) as usize).min(BANDS - 1);
@@ -304,7 +333,7 @@ fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
         .map(|k| {
             let y = lo.y + (k as f32 + 0.5) / BANDS as f32 * h;
             if reach[k] > 0.0 {
-                (allowed(y) / reach[k]).min(1.0)
+                (wanted(y) / reach[k]).min(most)
             } else {
                 1.0
             }
@@ -705,6 +734,34 @@ mod tests {
             assert_eq!(
                 (a.start[1], a.end[1], a.end_radius),
                 (b.start[1], b.end[1], b.end_radius)
+            );
+        }
+    }
+
+    #[test]
+    fn a_weeping_crown_is_drawn_out_into_its_dome() {
+        let look = Look::of(Species::Willow).unwrap();
+        assert!(look.dome > 0.0);
+        let grown = Source::Growth(GrowthParams::preset(Species::Willow), look.cycles)
+            .grow(2)
+            .unwrap();
+        let free = Look { dome: 0.0, ..look }.finish_bare(&grown).unwrap();
+        let domed = look.finish_bare(&grown).unwrap();
+        let width = |s: &Skeleton| {
+            let (lo, hi) = s.bounds().unwrap();
+            (hi.x - lo.x).max(hi.z - lo.z) / (hi.y - lo.y)
+        };
+        // As grown, narrow; drawn out, about the dome's width (twice its half-width).
+        assert!(width(&free) < 1.5 * look.dome, "{}", width(&free));
+        assert!(
+            (width(&domed) - 2.0 * look.dome).abs() < 0.35 * look.dome,
+            "{}",
+            width(&domed)
+        );
+        for (a, b) in free.branches().iter().zip(domed.branches()) {
+            assert_eq!(
+                (a.end[1], a.end_radius, a.parent),
+                (b.end[1], b.end_radius, b.parent)
             );
         }
     }
