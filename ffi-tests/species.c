@@ -102,7 +102,17 @@ int main(void) {
   size_t out = 0;
   for (size_t k = 0; k < bytes; k += 4) out += px[k + 2] > 128 && px[k + 3] == 255;
   CHECK(out == bytes / 4, "normals face out: %zu of %zu", out, bytes / 4);
-  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 3, size, 1, 1, px, bytes), ARBOR_STATUS_INVALID_ARGUMENT);
+  /* Roughness in glTF's layout: green varies, blue (metalness) 0. */
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, ARBOR_TEXTURE_BARK_ROUGHNESS, size, 1, 1, px, bytes),
+               ARBOR_STATUS_OK);
+  uint8_t g_lo = 255, g_hi = 0;
+  for (size_t k = 0; k < bytes; k += 4) {
+    CHECK(px[k + 2] == 0 && px[k + 3] == 255, "roughness pixel %zu", k / 4);
+    g_lo = px[k + 1] < g_lo ? px[k + 1] : g_lo;
+    g_hi = px[k + 1] > g_hi ? px[k + 1] : g_hi;
+  }
+  CHECK(g_hi > g_lo + 20, "roughness %u..%u", g_lo, g_hi);
+  CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 4, size, 1, 1, px, bytes), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 1, 8, 1, 0, px, bytes), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_species_texture_write(ARBOR_SPECIES_OAK, 1, size, 1, 0, NULL, bytes), ARBOR_STATUS_NULL_ARGUMENT);
   free(px);

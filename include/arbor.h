@@ -636,6 +636,11 @@ typedef enum ArborTexture {
    * linear.
    */
   ARBOR_TEXTURE_BARK_NORMAL = 2,
+  /**
+   * The bark's roughness in glTF's metallic-roughness layout (green roughness, blue
+   * metalness 0, red and alpha 255), tiling; linear.
+   */
+  ARBOR_TEXTURE_BARK_ROUGHNESS = 3,
 } ArborTexture;
 
 /**

@@ -10,7 +10,7 @@
 //! let look = Look::of(Species::Birch).unwrap();
 //! let skeleton = look.grow(3).unwrap();
 //! let scene = tree_scene(&look, &skeleton, &arbor::mesh::MeshOptions::default(), 64, 3).unwrap();
-//! assert_eq!(scene.textures.len(), 3); // bark colour and normal, the leaf atlas
+//! assert_eq!(scene.textures.len(), 4); // bark colour, normal and roughness; the leaf atlas
 //! assert!(scene.materials.iter().any(|m| m.alpha_cutoff.is_some()));
 //! ```
 

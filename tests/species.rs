@@ -43,10 +43,11 @@ fn every_species_is_a_textured_tree_of_its_height() {
         let name = look.species.name();
         let skeleton = look.grow(1).unwrap();
         let scene = tree_scene(&look, &skeleton, &options, 64, 1).unwrap();
-        // Three images: the bark's colour and normal maps and the leaf atlas.
-        assert_eq!(scene.textures.len(), 3, "{name}");
+        // Four images: the bark's colour, normal and roughness maps and the leaf atlas.
+        assert_eq!(scene.textures.len(), 4, "{name}");
         let bark = scene.materials.iter().find(|m| m.name == "bark").unwrap();
         assert!(bark.base_color_texture.is_some() && bark.normal_texture.is_some());
+        assert!(bark.metallic_roughness_texture.is_some());
         let leaves = scene.materials.iter().find(|m| m.name == "leaves").unwrap();
         assert_eq!(leaves.alpha_cutoff, Some(0.5), "{name}");
         assert!(leaves.double_sided && leaves.base_color_texture.is_some());
@@ -127,8 +128,12 @@ fn the_cli_exports_a_species_with_its_textures() {
     let bytes = std::fs::read(&out).unwrap();
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
-    assert_eq!(json["images"].as_array().unwrap().len(), 3);
+    assert_eq!(json["images"].as_array().unwrap().len(), 4);
     assert_eq!(json["materials"][1]["alphaMode"], "MASK");
+    // The bark: colour, normal and roughness maps.
+    let bark = &json["materials"][0];
+    assert!(bark["normalTexture"]["index"].is_u64());
+    assert!(bark["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"].is_u64());
     assert_eq!(json["images"][0]["mimeType"], "image/png");
     // A texture size out of range is refused before anything is written.
     let bad = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
@@ -302,6 +307,7 @@ fn a_species_as_obj_with_its_materials_and_images() {
         "newmtl leaves",
         "map_Kd willow_bark.png",
         "map_Bump willow_bark_normal.png",
+        "map_Pr willow_bark_roughness.png",
         "map_Kd willow_leaves.png",
         "map_d willow_leaves.png",
     ] {
@@ -310,6 +316,7 @@ fn a_species_as_obj_with_its_materials_and_images() {
     for png in [
         "willow_bark.png",
         "willow_bark_normal.png",
+        "willow_bark_roughness.png",
         "willow_leaves.png",
     ] {
         let bytes = std::fs::read(dir.join(png)).unwrap();
@@ -330,6 +337,10 @@ fn a_species_as_obj_with_its_materials_and_images() {
     let first_row = &atlas.image.pixels[..32 * 4];
     let decoded = decode_rgba(&std::fs::read(dir.join("willow_leaves.png")).unwrap());
     assert_eq!(&decoded[decoded.len() - 32 * 4..], first_row);
+    // The roughness map, one channel for MTL: grey.
+    let rough = decode_rgba(&std::fs::read(dir.join("willow_bark_roughness.png")).unwrap());
+    assert!(rough.chunks_exact(4).all(|p| p[0] == p[1] && p[1] == p[2]));
+    assert!(rough.chunks_exact(4).any(|p| p[1] != rough[1]));
 }
 
 /// The RGBA8 pixels of a PNG arbor wrote.

@@ -153,8 +153,8 @@ pub fn save_obj_tree_in(
 
 /// A scene's tree as OBJ with its materials: `path` (the first node's mesh, a group per
 /// primitive, each with `usemtl` of its material), `<stem>.mtl` beside it (colour, and
-/// `map_Kd`, `map_d` for alpha-cut materials, `map_Bump` for normal maps), and each texture
-/// as `<stem>_<name>.png` (spaces as `_`). OBJ reads uv from the image's bottom row, so
+/// `map_Kd`, `map_d` for alpha-cut materials, `map_Bump` for normal maps, `map_Pr` for
+/// roughness, written grey), and each texture as `<stem>_<name>.png` (spaces as `_`). OBJ reads uv from the image's bottom row, so
 /// the images are written upside down (a normal map's green turned with them) and the
 /// uvs stay as arbor writes them. Every file is written whole or not at all; the images
 /// and the `.mtl` first, the `.obj` last.
@@ -168,7 +168,18 @@ pub fn save_obj_scene(scene: &crate::scene::Scene, path: impl AsRef<Path>) -> Re
     let mut run = Run::default();
     for (k, t) in scene.textures.iter().enumerate() {
         let normal = scene.materials.iter().any(|m| m.normal_texture == Some(k));
-        let png = flipped(&t.image, normal).png()?;
+        let mut image = flipped(&t.image, normal);
+        // MTL's roughness map is one channel: glTF's green, grey.
+        if scene
+            .materials
+            .iter()
+            .any(|m| m.metallic_roughness_texture == Some(k))
+        {
+            for px in image.pixels.chunks_exact_mut(4) {
+                (px[0], px[2]) = (px[1], px[1]);
+            }
+        }
+        let png = image.png()?;
         let target = dir.join(file_of(&t.name));
         super::atomic::write_atomic(&target, &mut run, |w, _| Ok(w.write_all(&png)?))?;
     }
@@ -188,6 +199,9 @@ pub fn save_obj_scene(scene: &crate::scene::Scene, path: impl AsRef<Path>) -> Re
         }
         if let Some(k) = m.normal_texture {
             mtl += &format!("map_Bump {}\n", file_of(&scene.textures[k].name));
+        }
+        if let Some(k) = m.metallic_roughness_texture {
+            mtl += &format!("map_Pr {}\n", file_of(&scene.textures[k].name));
         }
         mtl += "\n";
     }

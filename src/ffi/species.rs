@@ -5,7 +5,7 @@ use super::*;
 use crate::enums::Numbered;
 use crate::models::growth::Species;
 use crate::species::Look;
-use crate::texture::leaf_atlas_in;
+use crate::texture::{BarkMap, bark_map, leaf_atlas_in};
 
 /// Which texture of a species arbor_species_texture_write() draws.
 #[repr(C)]
@@ -19,6 +19,9 @@ pub enum ArborTexture {
     /// The bark's tangent-space normal map (+X right, +Y up the image, +Z out), tiling;
     /// linear.
     BarkNormal = 2,
+    /// The bark's roughness in glTF's metallic-roughness layout (green roughness, blue
+    /// metalness 0, red and alpha 255), tiling; linear.
+    BarkRoughness = 3,
 }
 
 /// The look of a named species, or an error naming `species`.
@@ -273,10 +276,10 @@ pub unsafe extern "C" fn arbor_species_texture_write(
 ) -> ArborStatus {
     guard(|| {
         let look = look_of(species)?;
-        if which > ArborTexture::BarkNormal as u32 {
+        if which > ArborTexture::BarkRoughness as u32 {
             return Err(FfiError::invalid(format!(
                 "`which` is {which}; expected an ArborTexture (0 leaf atlas, 1 bark colour, 2 \
-                 bark normal)"
+                 bark normal, 3 bark roughness)"
             )));
         }
         crate::texture::check_size("size", size)?;
@@ -286,8 +289,9 @@ pub unsafe extern "C" fn arbor_species_texture_write(
         let run = on_threads(threads);
         let image = match which {
             0 => leaf_atlas_in(&look.leaf, size, seed, &run)?.image,
-            1 => crate::texture::bark_map(&look.bark, size, seed, false, &run)?,
-            _ => crate::texture::bark_map(&look.bark, size, seed, true, &run)?,
+            1 => bark_map(&look.bark, size, seed, BarkMap::Color, &run)?,
+            2 => bark_map(&look.bark, size, seed, BarkMap::Normal, &run)?,
+            _ => bark_map(&look.bark, size, seed, BarkMap::Roughness, &run)?,
         };
         for (slot, &b) in out.iter_mut().zip(&image.pixels) {
             slot.write(b);

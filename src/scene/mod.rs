@@ -78,6 +78,9 @@ pub struct Material {
     pub base_color_texture: Option<usize>,
     /// Index into [`Scene::textures`] of a tangent-space normal map.
     pub normal_texture: Option<usize>,
+    /// Index into [`Scene::textures`] of a metallic-roughness map (glTF's layout: green
+    /// roughness, blue metalness; times `roughness` and `metallic`).
+    pub metallic_roughness_texture: Option<usize>,
     /// Alpha-cut: texels whose alpha is below this are not drawn (glTF's `MASK`); none:
     /// opaque.
     pub alpha_cutoff: Option<f32>,
@@ -103,6 +106,7 @@ impl Material {
             roughness: 0.9,
             base_color_texture: None,
             normal_texture: None,
+            metallic_roughness_texture: None,
             alpha_cutoff: None,
         }
     }
@@ -117,6 +121,7 @@ impl Material {
             roughness: 0.8,
             base_color_texture: None,
             normal_texture: None,
+            metallic_roughness_texture: None,
             alpha_cutoff: None,
         }
     }
@@ -324,8 +329,8 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Textures the bark and leaf materials: the bark samples `bark`'s colour and normal
-    /// maps (its colour factor white), the leaves `atlas` (alpha-cut at 0.5, double-sided,
+    /// Textures the bark and leaf materials: the bark samples `bark`'s colour, normal and
+    /// roughness maps (its colour and roughness factors 1), the leaves `atlas` (alpha-cut at 0.5, double-sided,
     /// white). The meshes must carry the uvs these images expect: bark with
     /// `texture_scale` the bark's tile, baked leaves with the atlas' columns and rows
     /// ([`LeafOptions::atlas_columns`]). A material of another name is left as it is.
@@ -341,9 +346,10 @@ impl Scene {
             });
             self.textures.len() - 1
         };
-        let (color, normal, leaves) = (
+        let (color, normal, rough, leaves) = (
             push("bark", bark.color),
             push("bark normal", bark.normal),
+            push("bark roughness", bark.roughness),
             push("leaves", atlas.image),
         );
         for m in &mut self.materials {
@@ -352,6 +358,8 @@ impl Scene {
                     m.base_color = [1.0; 4];
                     m.base_color_texture = Some(color);
                     m.normal_texture = Some(normal);
+                    m.metallic_roughness_texture = Some(rough);
+                    m.roughness = 1.0;
                 }
                 "leaves" => {
                     m.base_color = [1.0; 4];

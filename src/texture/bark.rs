@@ -124,6 +124,18 @@ pub struct BarkTextures {
     pub color: Image,
     /// Tangent-space normal map (glTF's convention: +X right, +Y up the image, +Z out).
     pub normal: Image,
+    /// Roughness in glTF's metallic-roughness layout: green the roughness (rough in the
+    /// furrows and cracks, smoother on the ridges and plates; a birch's white bark
+    /// smoothest), blue the metalness (0), red 255, alpha 255; linear.
+    pub roughness: Image,
+}
+
+/// One of a bark's maps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum BarkMap {
+    Color,
+    Normal,
+    Roughness,
 }
 
 /// Draws `look`'s bark as `size` × `size` maps (16..=4096 pixels, checked before any
@@ -139,33 +151,43 @@ pub fn bark_textures_in(
     seed: u64,
     run: &Run<'_>,
 ) -> Result<BarkTextures> {
-    let (color, normal) = bark_maps(look, size, seed, (true, true), run)?;
+    let [color, normal, roughness] = bark_maps(look, size, seed, [true; 3], run)?;
     Ok(BarkTextures {
         color: color.expect("asked for"),
         normal: normal.expect("asked for"),
+        roughness: roughness.expect("asked for"),
     })
 }
 
-/// One of a bark's maps alone (the normal map with `normal`, else the colour map): the
-/// same pixels as [`bark_textures`] gives, without drawing the other.
+/// One of a bark's maps alone: the same pixels as [`bark_textures`] gives, without
+/// drawing the others.
 pub(crate) fn bark_map(
     look: &BarkLook,
     size: u32,
     seed: u64,
-    normal: bool,
+    which: BarkMap,
     run: &Run<'_>,
 ) -> Result<Image> {
-    let (color, normal_map) = bark_maps(look, size, seed, (!normal, normal), run)?;
-    Ok(color.or(normal_map).expect("one was asked for"))
+    let want = [
+        which == BarkMap::Color,
+        which == BarkMap::Normal,
+        which == BarkMap::Roughness,
+    ];
+    let maps = bark_maps(look, size, seed, want, run)?;
+    Ok(maps
+        .into_iter()
+        .flatten()
+        .next()
+        .expect("one was asked for"))
 }
 
 fn bark_maps(
     look: &BarkLook,
     size: u32,
     seed: u64,
-    (want_color, want_normal): (bool, bool),
+    [want_color, want_normal, want_roughness]: [bool; 3],
     run: &Run<'_>,
-) -> Result<(Option<Image>, Option<Image>)> {
+) -> Result<[Option<Image>; 3]> {
     check_size("size", size)?;
     let seed32 = (seed ^ (seed >> 32)) as u32;
     let n = size as usize;
@@ -234,7 +256,33 @@ fn bark_maps(
             },
         )
     });
-    Ok((color, normal))
+    let roughness = want_roughness.then(|| {
+        // Rough in the furrows (1), the surface's own roughness on top; a birch's
+        // lenticels and patches rough like the furrows.
+        let surface = match look.kind {
+            BarkKind::Smooth => 0.45,
+            BarkKind::Plated => 0.7,
+            BarkKind::Fissured => 0.78,
+            BarkKind::Furrowed => 0.82,
+        };
+        fill_rows(
+            size,
+            size,
+            run,
+            || (),
+            |_, y, out| {
+                let row = &field_rows[y as usize * n..][..n];
+                for (px, &[h, shade]) in out.iter_mut().zip(row) {
+                    let mut r = surface + (1.0 - surface) * (1.0 - h).clamp(0.0, 1.0);
+                    if look.kind == BarkKind::Smooth {
+                        r = r + (0.9 - r) * shade.clamp(0.0, 1.0);
+                    }
+                    *px = [255, (r * 255.0 + 0.5) as u8, 0, 255];
+                }
+            },
+        )
+    });
+    Ok([color, normal, roughness])
 }
 
 /// One thread's rows of scratch: three noise rows, a lattice line, a row of cells and the

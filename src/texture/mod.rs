@@ -22,8 +22,8 @@ mod bark;
 mod leaf;
 mod noise;
 
-pub(crate) use bark::bark_map;
 pub use bark::{BarkKind, BarkLook, BarkTextures, bark_textures, bark_textures_in};
+pub(crate) use bark::{BarkMap, bark_map};
 pub use leaf::{
     ATLAS_COLUMNS, ATLAS_ROWS, LeafAtlas, LeafLook, LeafShape, atlas_rect, leaf_atlas,
     leaf_atlas_in,

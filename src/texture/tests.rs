@@ -35,7 +35,7 @@ fn bark_tiles_without_a_seam() {
         BarkLook::maple(),
     ] {
         let t = bark_textures(&look, 128, 3).unwrap();
-        for img in [&t.color, &t.normal] {
+        for img in [&t.color, &t.normal, &t.roughness] {
             for columns in [true, false] {
                 // Across the wrap (last to first) no more change than between neighbours
                 // inside the tile, on average over the inner pairs.
@@ -125,10 +125,12 @@ fn every_atlas_cell_holds_a_blade_with_its_colour_bled_around_it() {
 fn one_bark_map_is_the_same_as_both() {
     let both = bark_textures(&BarkLook::pine(), 64, 9).unwrap();
     let run = Run::default();
-    let color = bark::bark_map(&BarkLook::pine(), 64, 9, false, &run).unwrap();
+    let color = bark::bark_map(&BarkLook::pine(), 64, 9, BarkMap::Color, &run).unwrap();
     assert_eq!(color, both.color);
-    let normal = bark::bark_map(&BarkLook::pine(), 64, 9, true, &run).unwrap();
+    let normal = bark::bark_map(&BarkLook::pine(), 64, 9, BarkMap::Normal, &run).unwrap();
     assert_eq!(normal, both.normal);
+    let rough = bark::bark_map(&BarkLook::pine(), 64, 9, BarkMap::Roughness, &run).unwrap();
+    assert_eq!(rough, both.roughness);
 }
 
 #[test]
@@ -142,4 +144,37 @@ fn textures_are_the_same_on_any_threads() {
         b,
         bark_textures_in(&BarkLook::birch(), 256, 4, &three).unwrap()
     );
+}
+
+#[test]
+fn bark_is_rougher_in_its_furrows_and_birch_smoothest() {
+    let mean_green = |img: &Image| {
+        img.pixels.chunks_exact(4).map(|p| p[1] as f64).sum::<f64>() / (img.pixels.len() / 4) as f64
+    };
+    let oak = bark_textures(&BarkLook::oak(), 128, 3).unwrap();
+    // glTF's layout: roughness in green, metalness (blue) 0.
+    assert!(
+        oak.roughness
+            .pixels
+            .chunks_exact(4)
+            .all(|p| p[2] == 0 && p[3] == 255)
+    );
+    // The darkest tenth of the colour (the furrows) is rougher than the lightest tenth.
+    let mut by_tone: Vec<(u32, u8)> = oak
+        .color
+        .pixels
+        .chunks_exact(4)
+        .zip(oak.roughness.pixels.chunks_exact(4))
+        .map(|(c, r)| (c[0] as u32 + c[1] as u32 + c[2] as u32, r[1]))
+        .collect();
+    by_tone.sort();
+    let tenth = by_tone.len() / 10;
+    let mean = |s: &[(u32, u8)]| s.iter().map(|x| x.1 as f64).sum::<f64>() / s.len() as f64;
+    let (dark, light) = (
+        mean(&by_tone[..tenth]),
+        mean(&by_tone[by_tone.len() - tenth..]),
+    );
+    assert!(dark > light + 10.0, "furrows {dark:.0}, ridges {light:.0}");
+    let birch = bark_textures(&BarkLook::birch(), 128, 3).unwrap();
+    assert!(mean_green(&birch.roughness) + 30.0 < mean_green(&oak.roughness));
 }

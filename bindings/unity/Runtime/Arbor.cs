@@ -224,7 +224,7 @@ namespace Arbor
     /// Which texture of a named species Native.arbor_species_texture_write draws
     /// (ArborTexture): RGBA8 rows from the top, for Texture2D.LoadRawTextureData after a
     /// vertical flip (Unity's rows start at the bottom).
-    public enum Texture : uint { LeafAtlas = 0, BarkColor = 1, BarkNormal = 2 }
+    public enum Texture : uint { LeafAtlas = 0, BarkColor = 1, BarkNormal = 2, BarkRoughness = 3 }
 
     /// What a ForestPlant grows from (ArborPlantSource).
     public enum PlantSource : uint { Honda = 0, Growth = 1 }

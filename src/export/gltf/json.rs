@@ -172,6 +172,8 @@ pub(super) struct Pbr {
     pub(super) base_color_texture: Option<TextureInfo>,
     pub(super) metallic_factor: f32,
     pub(super) roughness_factor: f32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) metallic_roughness_texture: Option<TextureInfo>,
 }
 
 /// A material's reference to a texture (texture coordinates 0).

@@ -34,6 +34,7 @@ fn material_json(m: &Material) -> json::Material {
             base_color_texture: info(m.base_color_texture),
             metallic_factor: m.metallic,
             roughness_factor: m.roughness,
+            metallic_roughness_texture: info(m.metallic_roughness_texture),
         },
         normal_texture: info(m.normal_texture),
         alpha_mode: m.alpha_cutoff.map(|_| "MASK"),
