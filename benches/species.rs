@@ -19,7 +19,7 @@ fn bench_species(c: &mut Criterion) {
     let size = 1024u32;
     let mut rgba = vec![1u8; (size * size * 4) as usize];
     group.throughput(Throughput::Elements(u64::from(size * size)));
-    // The oak's three maps, and the costliest of every species' (the pine's plated bark,
+    // The oak's four maps, and the costliest of every species' (the pine's plated bark,
     // cellular noise; the spruce's needle atlas is cheaper than any blade atlas).
     for (name, species, which) in [
         (
@@ -36,6 +36,11 @@ fn bench_species(c: &mut Criterion) {
             "texture_bark_normal_oak_1024",
             Species::Oak,
             ArborTexture::BarkNormal,
+        ),
+        (
+            "texture_bark_roughness_oak_1024",
+            Species::Oak,
+            ArborTexture::BarkRoughness,
         ),
         (
             "texture_leaf_atlas_birch_1024",
