@@ -394,12 +394,22 @@ fn export_species(
     } else {
         arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
     }
+    // Vertices a card: the quad's, or the folded card's.
+    let (_, leaf_options) = arbor::species::options(look, skeleton, &go)
+        .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+    let per_card = if leaf_options.fold > 0.0 {
+        arbor::mesh::LeafPrefab::folded(leaf_options.fold)
+            .vertices
+            .len()
+    } else {
+        arbor::mesh::LeafPrefab::quad().vertices.len()
+    };
     let cards = scene
         .meshes
         .iter()
         .flat_map(|m| &m.primitives)
         .filter(|p| scene.materials[p.material].name == "leaves")
-        .map(|p| p.mesh.vertices.len() / 4)
+        .map(|p| p.mesh.vertices.len() / per_card)
         .sum::<usize>();
     if look.twig_length > 0.0 {
         eprintln!("leaves: {cards} leaf cards of the species, on its twigs and young tips");
