@@ -1057,8 +1057,9 @@ typedef struct ArborLeafOptions {
   uint32_t atlas_rows;
   /**
    * Leaves whose shape reaches into the wood of a branch thicker than this radius (model units)
-   * are left out: its corners and centre (the prefab's bounding rectangle in leaf space) are
-   * tested against every such branch's cone. 0 (the default) keeps every leaf.
+   * are left out: the shape's vertices (a prefab of more than 16: the corners of its bounding
+   * box) and its centre are tested against every such branch's cone. 0 (the default) keeps every
+   * leaf.
    */
   float wood_clearance;
   /**

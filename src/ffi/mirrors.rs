@@ -279,8 +279,9 @@ pub struct ArborLeafOptions {
     /// Rows of the leaf atlas, 1..=16. Default 1.
     pub atlas_rows: u32,
     /// Leaves whose shape reaches into the wood of a branch thicker than this radius (model units)
-    /// are left out: its corners and centre (the prefab's bounding rectangle in leaf space) are
-    /// tested against every such branch's cone. 0 (the default) keeps every leaf.
+    /// are left out: the shape's vertices (a prefab of more than 16: the corners of its bounding
+    /// box) and its centre are tested against every such branch's cone. 0 (the default) keeps every
+    /// leaf.
     pub wood_clearance: f32,
     /// The default card folded along its midrib by this angle, degrees (0..=90): each half turns up
     /// toward the face by half of it, a V seen from the tip. Baked leaves only (a prefab is used as
