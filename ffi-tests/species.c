@@ -81,6 +81,22 @@ int main(void) {
   free(ti);
   arbor_tree_free(bare);
 
+  /* Collision capsules for the oak's trunk and limbs, in its metres. */
+  size_t nc = 0;
+  CHECK_STATUS(arbor_tree_capsules_write(oak, &mo, 24, 0.0f, NULL, 0, &nc), ARBOR_STATUS_OK);
+  CHECK(nc > 3 && nc <= 24, "%zu capsules", nc);
+  ArborCapsule *caps = malloc(nc * sizeof *caps);
+  caps[0].radius = -1.0f;
+  CHECK_STATUS(arbor_tree_capsules_write(oak, &mo, 24, 0.0f, caps, nc - 1, NULL), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(caps[0].radius == -1.0f, "nothing written on failure");
+  CHECK_STATUS(arbor_tree_capsules_write(oak, &mo, 24, 0.0f, caps, nc, NULL), ARBOR_STATUS_OK);
+  CHECK(caps[0].a[1] < 0.5f && caps[0].radius > 0.1f && caps[0].radius < 1.5f, "the trunk: r %g m",
+        (double)caps[0].radius);
+  for (size_t k = 1; k < nc; k++) CHECK(caps[k].radius <= caps[0].radius + 1e-4f, "capsule %zu", k);
+  CHECK_STATUS(arbor_tree_capsules_write(oak, &mo, 0, 0.0f, caps, nc, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(arbor_struct_size(ARBOR_STRUCT_ID_CAPSULE) == sizeof(ArborCapsule), "capsule size");
+  free(caps);
+
   /* Textures: size, then fill; a short buffer is refused with nothing written. */
   const uint32_t size = 64;
   size_t bytes = (size_t)size * size * 4;

@@ -19,6 +19,11 @@
 
 
 /**
+ * The most capsules a call may ask for.
+ */
+#define ARBOR_MAX_CAPSULES 4096
+
+/**
  * sizeof(ArborWorldOptions) of its first layout: the smallest `struct_size` accepted.
  */
 #define ARBOR_WORLD_OPTIONS_MIN_SIZE 88
@@ -478,6 +483,10 @@ typedef enum ArborStructId {
    * ArborForestPlant.
    */
   ARBOR_STRUCT_ID_FOREST_PLANT = 19,
+  /**
+   * ArborCapsule.
+   */
+  ARBOR_STRUCT_ID_CAPSULE = 20,
 } ArborStructId;
 
 /**
@@ -704,121 +713,6 @@ typedef struct ArborTree ArborTree;
 typedef struct ArborWorld ArborWorld;
 
 /**
- * One branch as a cubic Bezier, 56 bytes: p0 is the branch's start, p3 its end.
- */
-typedef struct ArborCurve {
-  /**
-   * Start.
-   */
-  float p0[3];
-  /**
-   * First inner control point (tangent at p0 = 3 (p1 - p0)).
-   */
-  float p1[3];
-  /**
-   * Second inner control point (tangent at p3 = 3 (p3 - p2)).
-   */
-  float p2[3];
-  /**
-   * End.
-   */
-  float p3[3];
-  /**
-   * Radius at p0.
-   */
-  float r0;
-  /**
-   * Radius at p3.
-   */
-  float r1;
-} ArborCurve;
-
-/**
- * One branch for a shader, 80 bytes, every vec4 16-byte aligned (std430 `struct { vec4
- * p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
- * parent; uint birth; }`). C: ArborCurveRecord.
- *
- * A point at curve parameter t has texture v = `v0 + length * s(t)` (s the fraction of
- * the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
- * plus its angle around the curve / 2 pi.
- */
-typedef struct ArborCurveRecord {
-  /**
-   * Start (the branch's start).
-   */
-  float p0[3];
-  /**
-   * Radius at p0.
-   */
-  float r0;
-  /**
-   * First inner control point.
-   */
-  float p1[3];
-  /**
-   * Radius at p3.
-   */
-  float r1;
-  /**
-   * Second inner control point.
-   */
-  float p2[3];
-  /**
-   * Arc length from the root to p0, model units.
-   */
-  float v0;
-  /**
-   * End (the branch's end).
-   */
-  float p3[3];
-  /**
-   * Arc length of the curve, model units (from 32 chords).
-   */
-  float length;
-  /**
-   * Turn of the texture about the curve, 0..1: inherited along an axis, a per-branch
-   * phase where a lateral starts.
-   */
-  float u_offset;
-  /**
-   * Branching order.
-   */
-  uint32_t order;
-  /**
-   * Parent branch, or NO_PARENT (ARBOR_NO_PARENT).
-   */
-  uint32_t parent;
-  /**
-   * Birth (rewriting step or growth cycle).
-   */
-  uint32_t birth;
-} ArborCurveRecord;
-
-/**
- * A curve record with its growth bounds for animated growth, 96 bytes: the branch grows
- * from `grow_start` to `grow_end` (0..1, the animation stream's growth times). C:
- * ArborCurveGrowthRecord.
- */
-typedef struct ArborCurveGrowthRecord {
-  /**
-   * The branch.
-   */
-  struct ArborCurveRecord curve;
-  /**
-   * When it starts to grow, 0..1.
-   */
-  float grow_start;
-  /**
-   * When it is fully grown, 0..1.
-   */
-  float grow_end;
-  /**
-   * Zero (std430 padding to 16 bytes).
-   */
-  float reserved[2];
-} ArborCurveGrowthRecord;
-
-/**
  * A progress callback (see "Progress and cancellation" in docs/c-api.md): called on the
  * calling thread only, with `user_data`, an ARBOR_STAGE_* and a fraction in [0, 1]; a
  * non-zero return stops the work, which returns ARBOR_STATUS_CANCELLED, writes no
@@ -941,6 +835,144 @@ typedef struct ArborMeshOptions {
    */
   uint32_t even_texels;
 } ArborMeshOptions;
+
+/**
+ * One capsule, 32 bytes; C: ArborCapsule. The segment from `a` to `b` swept by a sphere
+ * of `radius`, in the mesh's output conventions (up axis, scale).
+ */
+typedef struct ArborCapsule {
+  /**
+   * The end nearer the axis' base.
+   */
+  float a[3];
+  /**
+   * The other end.
+   */
+  float b[3];
+  /**
+   * The sphere's radius.
+   */
+  float radius;
+  /**
+   * The branch the capsule starts on.
+   */
+  uint32_t branch;
+} ArborCapsule;
+
+/**
+ * One branch as a cubic Bezier, 56 bytes: p0 is the branch's start, p3 its end.
+ */
+typedef struct ArborCurve {
+  /**
+   * Start.
+   */
+  float p0[3];
+  /**
+   * First inner control point (tangent at p0 = 3 (p1 - p0)).
+   */
+  float p1[3];
+  /**
+   * Second inner control point (tangent at p3 = 3 (p3 - p2)).
+   */
+  float p2[3];
+  /**
+   * End.
+   */
+  float p3[3];
+  /**
+   * Radius at p0.
+   */
+  float r0;
+  /**
+   * Radius at p3.
+   */
+  float r1;
+} ArborCurve;
+
+/**
+ * One branch for a shader, 80 bytes, every vec4 16-byte aligned (std430 `struct { vec4
+ * p0_r0; vec4 p1_r1; vec4 p2_v0; vec4 p3_length; float u_offset; uint order; uint
+ * parent; uint birth; }`). C: ArborCurveRecord.
+ *
+ * A point at curve parameter t has texture v = `v0 + length * s(t)` (s the fraction of
+ * the arc length, model units; divide by the mesh's texture scale) and u = `u_offset`
+ * plus its angle around the curve / 2 pi.
+ */
+typedef struct ArborCurveRecord {
+  /**
+   * Start (the branch's start).
+   */
+  float p0[3];
+  /**
+   * Radius at p0.
+   */
+  float r0;
+  /**
+   * First inner control point.
+   */
+  float p1[3];
+  /**
+   * Radius at p3.
+   */
+  float r1;
+  /**
+   * Second inner control point.
+   */
+  float p2[3];
+  /**
+   * Arc length from the root to p0, model units.
+   */
+  float v0;
+  /**
+   * End (the branch's end).
+   */
+  float p3[3];
+  /**
+   * Arc length of the curve, model units (from 32 chords).
+   */
+  float length;
+  /**
+   * Turn of the texture about the curve, 0..1: inherited along an axis, a per-branch
+   * phase where a lateral starts.
+   */
+  float u_offset;
+  /**
+   * Branching order.
+   */
+  uint32_t order;
+  /**
+   * Parent branch, or NO_PARENT (ARBOR_NO_PARENT).
+   */
+  uint32_t parent;
+  /**
+   * Birth (rewriting step or growth cycle).
+   */
+  uint32_t birth;
+} ArborCurveRecord;
+
+/**
+ * A curve record with its growth bounds for animated growth, 96 bytes: the branch grows
+ * from `grow_start` to `grow_end` (0..1, the animation stream's growth times). C:
+ * ArborCurveGrowthRecord.
+ */
+typedef struct ArborCurveGrowthRecord {
+  /**
+   * The branch.
+   */
+  struct ArborCurveRecord curve;
+  /**
+   * When it starts to grow, 0..1.
+   */
+  float grow_start;
+  /**
+   * When it is fully grown, 0..1.
+   */
+  float grow_end;
+  /**
+   * Zero (std430 padding to 16 bytes).
+   */
+  float reserved[2];
+} ArborCurveGrowthRecord;
 
 /**
  * The host's reader (ARBOR_FILE_ACCESS_HOST). Asked for `path` (as the model names it,
@@ -1804,6 +1836,27 @@ typedef struct ArborAnimationVertexCompact {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+/**
+ * Writes at most `max_capsules` (1..=ARBOR_MAX_CAPSULES) collision capsules of `tree`
+ * (the trunk first, then its limbs, thickest first; each ArborCapsule a segment `a` to
+ * `b` and a radius, in the conventions of `mesh_options`, NULL: the defaults) for the
+ * branches thicker than `min_radius` (model units; 0: a tenth of the trunk's radius).
+ * `*count` (when not NULL) gets how many there are; `out` (NULL: count only) holds
+ * `capacity` capsules: at least that many, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+ * for `capacity` capsules; `count` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_capsules_write(const struct ArborTree *tree,
+                                           const struct ArborMeshOptions *mesh_options,
+                                           uint32_t max_capsules,
+                                           float min_radius,
+                                           struct ArborCapsule *out,
+                                           size_t capacity,
+                                           size_t *count);
 
 /**
  * Copies the curve of every branch of `tree` (branch order) into `out`: `capacity`

@@ -69,6 +69,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod collision;
 pub mod enums;
 pub mod error;
 pub mod export;

@@ -46,6 +46,8 @@ pub enum ArborStructId {
     AnimationVertexCompact = 18,
     /// ArborForestPlant.
     ForestPlant = 19,
+    /// ArborCapsule.
+    Capsule = 20,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -75,6 +77,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         17 => size_of::<VertexCompact>(),
         18 => size_of::<mesh::AnimationVertexCompact>(),
         19 => size_of::<ArborForestPlant>(),
+        20 => size_of::<crate::collision::Capsule>(),
         _ => 0,
     }
 }

@@ -8,6 +8,7 @@
 //! Rust users do not need this module; it is public so that its documentation and the
 //! layouts it fixes can be read here too.
 
+mod collision;
 mod curves;
 mod export;
 mod files;
@@ -30,6 +31,7 @@ mod species;
 mod status;
 mod tree;
 
+pub use collision::*;
 pub use curves::*;
 pub use export::*;
 pub use files::*;

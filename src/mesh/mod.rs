@@ -45,6 +45,7 @@ pub use options::{Axes, Joints, MeshOptions, Tip, Topology, UpAxis, VertexFormat
 pub(crate) use options::{check_fields, check_options};
 pub use plan::{BranchRange, MeshPlan};
 pub use records::{CurveGrowthRecord, CurveRecord, curve_growth_records, curve_records};
+pub(crate) use rings::Out;
 pub(crate) use rings::Slot;
 pub use topology::Triangles;
 pub use tubes::{branch_ranges, mesh_size, tubes, write_mesh, write_mesh_uninit};

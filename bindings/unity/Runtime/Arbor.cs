@@ -62,7 +62,7 @@ namespace Arbor
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
         Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
-        AnimationVertexCompact = 18, ForestPlant = 19,
+        AnimationVertexCompact = 18, ForestPlant = 19, Capsule = 20,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -306,6 +306,16 @@ namespace Arbor
         }
     }
 
+    /// A collision capsule (ArborCapsule): the segment A to B swept by a sphere of Radius,
+    /// on branch Branch (Native.arbor_tree_capsules_write).
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Capsule
+    {
+        public float AX, AY, AZ, BX, BY, BZ;
+        public float Radius;
+        public uint Branch;
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct LeafInstance
     {
@@ -400,6 +410,8 @@ namespace Arbor
         public static extern Status arbor_species_texture_write(uint species, uint which, uint size, ulong seed, uint threads, [Out] byte[] rgba, UIntPtr capacity);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_from_species_bare(uint species, ulong seed, out IntPtr tree);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_capsules_write(IntPtr tree, ref MeshOptions meshOptions, uint maxCapsules, float minRadius, [Out] Capsule[] output, UIntPtr capacity, out UIntPtr count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_twig_create(uint species, uint variant, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
