@@ -544,3 +544,74 @@ fn leaf_cards_fold_and_face_the_light() {
     let folded = leaf_mesh(&tree, &all, &o).unwrap();
     assert_eq!(folded.vertices.len() * 4, flat.vertices.len() * 6);
 }
+
+#[test]
+fn collision_capsules_in_the_file() {
+    let mut files = Vec::new();
+    for (source, name) in [("growth:oak", "col_oak.glb"), ("g", "col_g.gltf")] {
+        let out = tmp(name);
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+            .args([
+                "export",
+                source,
+                "--collision",
+                "--texture-size",
+                "64",
+                "-o",
+            ])
+            .arg(&out)
+            .status()
+            .unwrap();
+        if source == "g" {
+            // --texture-size is for a named species only: refused.
+            assert!(!status.success());
+            let ok = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+                .args(["export", source, "--collision", "--leaves", "-o"])
+                .arg(&out)
+                .status()
+                .unwrap();
+            assert!(ok.success());
+        } else {
+            assert!(status.success());
+        }
+        let json: serde_json::Value = if name.ends_with(".glb") {
+            let bytes = std::fs::read(&out).unwrap();
+            let n = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+            serde_json::from_slice(&bytes[20..20 + n]).unwrap()
+        } else {
+            serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap()
+        };
+        let nodes = json["nodes"].as_array().unwrap();
+        let caps: Vec<_> = nodes
+            .iter()
+            .filter(|n| n["name"].as_str().unwrap().starts_with("UCP_tree_"))
+            .collect();
+        assert!(
+            (2..=32).contains(&caps.len()),
+            "{source}: {} capsules",
+            caps.len()
+        );
+        for c in &caps {
+            let e = &c["extras"]["arbor_capsule"];
+            assert!(e["radius"].as_f64().unwrap() > 0.0, "{c}");
+            assert_eq!(e["a"].as_array().unwrap().len(), 3);
+            // Its mesh is the capsule's.
+            assert!(c["mesh"].is_u64());
+        }
+        // Every node is in the scene.
+        assert_eq!(
+            json["scenes"][0]["nodes"].as_array().unwrap().len(),
+            nodes.len()
+        );
+        files.push(out);
+    }
+    // OBJ has no nodes: refused.
+    let obj = std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .args(["export", "g", "--collision", "-o"])
+        .arg(tmp("col.obj"))
+        .output()
+        .unwrap();
+    assert!(!obj.status.success());
+    assert!(String::from_utf8_lossy(&obj.stderr).contains("--collision"));
+    validator::assert_valid(&files);
+}

@@ -98,6 +98,10 @@ struct ExportArgs {
     /// (16–4096, default 1024)
     #[arg(long, value_name = "pixels")]
     texture_size: Option<u32>,
+    /// glTF only: up to 32 collision capsules for the trunk and limbs, as nodes
+    /// UCP_tree_NN (Unreal's collision prefix) with each capsule in the node's extras
+    #[arg(long)]
+    collision: bool,
 }
 
 #[derive(Args)]
@@ -336,11 +340,17 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         Some(place) => Some(placed_leaves(m, skeleton, place)?),
         None => None,
     };
+    if m.collision && format == ".obj" {
+        bail!("{out}: --collision is for glTF (capsule nodes); OBJ has no nodes");
+    }
     let t1 = Instant::now();
     let mut bar = Bar::new();
     let mut show = |s: Stage, f: f32| bar.show(s, f);
     let mut run = Run::reporting(&mut show);
-    let r = if lower.ends_with(".obj") {
+    let r = if m.collision {
+        collided_scene(skeleton, &o, leaves.as_ref(), instanced)
+            .and_then(|scene| arbor::export::save_gltf_scene(&scene, &o, out))
+    } else if lower.ends_with(".obj") {
         arbor::export::save_obj_tree_in(skeleton, &o, leaves.as_ref(), out, &mut run)
     } else if instanced {
         let l = leaves.as_ref().expect("instanced leaves are placed");
@@ -359,6 +369,30 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         t1.elapsed().as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+/// Capsules `--collision` writes at most.
+const COLLISION_CAPSULES: usize = 32;
+
+/// The scene of a tree (its leaves baked or instanced) with its collision capsules.
+fn collided_scene(
+    skeleton: &arbor::skeleton::Skeleton,
+    o: &MeshOptions,
+    leaves: Option<&arbor::mesh::LeafOptions>,
+    instanced: bool,
+) -> arbor::Result<arbor::scene::Scene> {
+    let go = arbor::export::gltf_mesh_options(o)?;
+    let mut scene = match leaves {
+        Some(l) if instanced => arbor::scene::Scene::tree_instanced(skeleton, &go, l)?,
+        _ => arbor::scene::Scene::tree(skeleton, &go, leaves)?,
+    };
+    scene.collide(&arbor::collision::capsules(
+        skeleton,
+        COLLISION_CAPSULES,
+        0.0,
+        &go,
+    )?);
+    Ok(scene)
 }
 
 /// `arbor export growth:SPECIES` of a named species: its textured, leafy tree at its
@@ -387,8 +421,18 @@ fn export_species(
     let skeleton = &look
         .finish(skeleton)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
-    let scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
+    let mut scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+    if m.collision {
+        if obj {
+            bail!("{out}: --collision is for glTF (capsule nodes); OBJ has no nodes");
+        }
+        let (tree_options, _) = arbor::species::options(look, skeleton, &go)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        let capsules = arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &tree_options)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        scene.collide(&capsules);
+    }
     if obj {
         arbor::export::save_obj_scene(&scene, out).map_err(|e| anyhow!("{out}: {e}"))?;
     } else {

@@ -138,6 +138,9 @@ pub struct Node {
     pub transform: Option<Transform>,
     /// Draw the mesh once per instance (leaves as instances of one leaf), or none.
     pub instances: Option<Vec<LeafInstance>>,
+    /// The collision capsule this node's mesh is (in the file's node extras as
+    /// `arbor_capsule`), or none.
+    pub capsule: Option<crate::collision::Capsule>,
 }
 
 impl Node {
@@ -147,6 +150,7 @@ impl Node {
             mesh,
             transform: None,
             instances: None,
+            capsule: None,
         }
     }
 }
@@ -372,6 +376,41 @@ impl Scene {
         }
     }
 
+    /// Adds collision capsules (from [`capsules`](crate::collision::capsules), in the
+    /// scene's conventions): each a node and a mesh named `UCP_<tree>_NN` (Unreal's
+    /// prefix for a capsule collision of the mesh `<tree>`, the scene's first node), a
+    /// low-poly capsule (8 sides, 3 bands a cap) with a material "collision", and the
+    /// capsule itself in the node's extras.
+    pub fn collide(&mut self, capsules: &[crate::collision::Capsule]) {
+        if capsules.is_empty() {
+            return;
+        }
+        let tree = self
+            .nodes
+            .first()
+            .map_or_else(|| "tree".to_string(), |n| n.name.clone());
+        let material = self.materials.len();
+        self.materials.push(Material {
+            name: "collision".into(),
+            base_color: [0.5, 0.5, 0.5, 1.0],
+            ..Material::bark()
+        });
+        for (k, c) in capsules.iter().enumerate() {
+            let name = format!("UCP_{tree}_{k:02}");
+            self.meshes.push(SceneMesh {
+                name: name.clone(),
+                primitives: vec![Primitive {
+                    mesh: capsule_mesh(c, 8, 3),
+                    material,
+                    animation: None,
+                }],
+            });
+            let mut node = Node::new(name, Some(self.meshes.len() - 1));
+            node.capsule = Some(*c);
+            self.nodes.push(node);
+        }
+    }
+
     /// Adds `mesh` with `material` to `primitives` unless it has no triangles; the
     /// material joins the scene's list where it is new (the builders add the bark first).
     fn add(
@@ -415,5 +454,97 @@ impl Scene {
     fn one_tree(&mut self, primitives: Vec<Primitive>) {
         let mesh = self.push_mesh("tree", primitives);
         self.nodes.push(Node::new("tree", mesh));
+    }
+}
+
+/// A capsule as triangles: a pole vertex at each end and `bands` rings per cap of
+/// `sides` vertices, counter-clockwise seen from outside, normals outward.
+fn capsule_mesh(c: &crate::collision::Capsule, sides: usize, bands: usize) -> Mesh {
+    use glam::Vec3;
+    let (a, b) = (Vec3::from(c.a), Vec3::from(c.b));
+    let axis = (b - a).try_normalize().unwrap_or(Vec3::Y);
+    let u = axis.any_orthonormal_vector();
+    let v = axis.cross(u);
+    let mut vertices = Vec::with_capacity(2 + 2 * bands * sides);
+    let mut put = |centre: Vec3, n: Vec3| {
+        vertices.push(crate::mesh::Vertex {
+            position: (centre + n * c.radius).to_array(),
+            normal: n.to_array(),
+            uv: [0.0, 0.0],
+        })
+    };
+    put(a, -axis);
+    // Latitudes from the pole at `a` to the equator, then from the equator to `b`'s pole.
+    let half = std::f32::consts::FRAC_PI_2;
+    let rings: Vec<(Vec3, f32)> = (1..=bands)
+        .map(|j| (a, -half + half * j as f32 / bands as f32))
+        .chain((0..bands).map(|j| (b, half * j as f32 / bands as f32)))
+        .collect();
+    for &(centre, phi) in &rings {
+        for s in 0..sides {
+            let t = std::f32::consts::TAU * s as f32 / sides as f32;
+            let around = u * t.cos() + v * t.sin();
+            put(centre, around * phi.cos() + axis * phi.sin());
+        }
+    }
+    put(b, axis);
+    let ring = |r: usize, s: usize| (1 + r * sides + s % sides) as u32;
+    let last = (vertices.len() - 1) as u32;
+    let mut indices = Vec::new();
+    for s in 0..sides {
+        indices.extend([0, ring(0, s + 1), ring(0, s)]);
+    }
+    for r in 0..rings.len() - 1 {
+        for s in 0..sides {
+            let (p, q) = (ring(r, s), ring(r, s + 1));
+            let (p2, q2) = (ring(r + 1, s), ring(r + 1, s + 1));
+            indices.extend([p, q, q2, p, q2, p2]);
+        }
+    }
+    for s in 0..sides {
+        let r = rings.len() - 1;
+        indices.extend([ring(r, s), ring(r, s + 1), last]);
+    }
+    Mesh {
+        vertices,
+        indices,
+        topology: crate::mesh::Topology::TriangleList,
+        ranges: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod capsule_tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn a_capsule_mesh_faces_out_and_holds_its_capsule() {
+        let c = crate::collision::Capsule {
+            a: [1.0, 0.0, 0.0],
+            b: [1.0, 2.0, 0.5],
+            radius: 0.3,
+            branch: 0,
+        };
+        let m = capsule_mesh(&c, 8, 3);
+        assert_eq!(m.vertices.len(), 2 + 2 * 3 * 8);
+        let (a, b) = (Vec3::from(c.a), Vec3::from(c.b));
+        let nearest = |p: Vec3| {
+            let d = b - a;
+            a + d * ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+        };
+        for v in &m.vertices {
+            let p = Vec3::from(v.position);
+            // On the capsule's surface, the normal outward.
+            assert!(((p - nearest(p)).length() - c.radius).abs() < 1e-5, "{p}");
+            assert!(Vec3::from(v.normal).dot(p - nearest(p)) > 0.0);
+        }
+        for t in m.indices.chunks_exact(3) {
+            let p = |k: usize| Vec3::from(m.vertices[t[k] as usize].position);
+            let n = (p(1) - p(0)).cross(p(2) - p(0));
+            let centre = (p(0) + p(1) + p(2)) / 3.0;
+            assert!(n.length() > 1e-8, "{t:?} degenerate");
+            assert!(n.dot(centre - nearest(centre)) > 0.0, "{t:?} faces in");
+        }
     }
 }

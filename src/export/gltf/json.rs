@@ -81,6 +81,21 @@ pub(super) struct Node {
     pub(super) scale: Option<[f32; 3]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) extensions: Option<NodeExtensions>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) extras: Option<NodeExtras>,
+}
+
+/// What arbor says of a node beyond glTF: the collision capsule it is.
+#[derive(Serialize)]
+pub(super) struct NodeExtras {
+    pub(super) arbor_capsule: CapsuleExtras,
+}
+
+#[derive(Serialize)]
+pub(super) struct CapsuleExtras {
+    pub(super) a: [f32; 3],
+    pub(super) b: [f32; 3],
+    pub(super) radius: f32,
 }
 
 impl Node {
@@ -93,6 +108,7 @@ impl Node {
             rotation: None,
             scale: None,
             extensions: None,
+            extras: None,
         }
     }
 }

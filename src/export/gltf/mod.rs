@@ -258,6 +258,15 @@ fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
         node.rotation = Some(t.rotation);
         node.scale = Some([t.scale; 3]);
     }
+    if let Some(c) = n.capsule {
+        node.extras = Some(json::NodeExtras {
+            arbor_capsule: json::CapsuleExtras {
+                a: c.a,
+                b: c.b,
+                radius: c.radius,
+            },
+        });
+    }
     if let Some(instances) = &n.instances {
         let t: Vec<[f32; 3]> = instances.iter().map(|l| l.position).collect();
         let r: Vec<[f32; 4]> = instances.iter().map(|l| l.rotation).collect();
