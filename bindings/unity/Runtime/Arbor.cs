@@ -730,6 +730,26 @@ namespace Arbor
             Mesh(options, out vertices, out indices);
         }
 
+        /// Up to `max` collision capsules of the trunk and limbs thicker than `minRadius`
+        /// (0: a tenth of the trunk's), in the conventions of `options`.
+        public Capsule[] Capsules(MeshOptions options, uint max, float minRadius)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_tree_capsules_write(handle, ref options, max, minRadius, null, UIntPtr.Zero, out n));
+            var c = new Capsule[(int)n];
+            UIntPtr again;
+            ArborException.Check(Native.arbor_tree_capsules_write(handle, ref options, max, minRadius, c, n, out again));
+            return c;
+        }
+
+        /// Capsules in Unity's conventions (left-handed, Y up): what UnityColliders.Add takes.
+        public Capsule[] UnityCapsules(MeshOptions options, uint max, float minRadius)
+        {
+            options.UpAxis = (uint)UpAxis.Y;
+            options.Axes = (uint)Arbor.Axes.Unity;
+            return Capsules(options, max, minRadius);
+        }
+
         public LeafInstance[] Leaves(LeafOptions leaves, MeshOptions options)
         {
             UIntPtr n;
@@ -771,6 +791,33 @@ namespace Arbor
             mesh.subMeshCount = 1;
             mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
             mesh.RecalculateBounds();
+        }
+    }
+
+    public static class UnityColliders
+    {
+        /// Adds a child "UCP_NN" with a CapsuleCollider under `parent` for each capsule
+        /// (from Tree.UnityCapsules): centred between its ends, along them, its height the
+        /// length plus both caps. Returns the children.
+        public static UnityEngine.GameObject[] Add(UnityEngine.Transform parent, Capsule[] capsules)
+        {
+            var made = new UnityEngine.GameObject[capsules.Length];
+            for (int k = 0; k < capsules.Length; k++)
+            {
+                var c = capsules[k];
+                var a = new UnityEngine.Vector3(c.AX, c.AY, c.AZ);
+                var b = new UnityEngine.Vector3(c.BX, c.BY, c.BZ);
+                var go = new UnityEngine.GameObject("UCP_" + k.ToString("00"));
+                go.transform.SetParent(parent, false);
+                go.transform.localPosition = (a + b) * 0.5f;
+                go.transform.localRotation = UnityEngine.Quaternion.FromToRotation(UnityEngine.Vector3.up, b - a);
+                var collider = go.AddComponent<UnityEngine.CapsuleCollider>();
+                collider.direction = 1;
+                collider.radius = c.Radius;
+                collider.height = (b - a).magnitude + 2f * c.Radius;
+                made[k] = go;
+            }
+            return made;
         }
     }
 #endif

@@ -23,6 +23,19 @@ public static class UnityHelpersTest
             expect(mesh.indexFormat == UnityEngine.Rendering.IndexFormat.UInt32, "32-bit indices");
             expect(mesh.subMeshCount == 1 && mesh.subMesh.indexCount == i.Length, "one submesh");
             expect(mesh.boundsRecalculated, "bounds");
+            // Collision: one child with a capsule collider per capsule, along it.
+            var caps = tree.UnityCapsules(options, 12, 0f);
+            expect(caps.Length > 0 && caps.Length <= 12, "capsules " + caps.Length);
+            var root = new UnityEngine.GameObject("tree");
+            var made = UnityColliders.Add(root.transform, caps);
+            expect(made.Length == caps.Length, "one child a capsule");
+            for (int k = 0; k < made.Length; k++)
+            {
+                var col = (UnityEngine.CapsuleCollider)made[k].components[0];
+                expect(made[k].transform.parent == root.transform, "parented");
+                expect(col.direction == 1 && col.radius == caps[k].Radius && col.height >= 2f * col.radius, "collider " + k);
+                expect(made[k].name.StartsWith("UCP_"), "named " + made[k].name);
+            }
         }
         Console.WriteLine("unity helpers: " + failed + " failed");
         return failed == 0 ? 0 : 1;

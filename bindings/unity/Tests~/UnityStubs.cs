@@ -61,4 +61,41 @@ namespace UnityEngine
         public void SetSubMesh(int i, SubMeshDescriptor d) { subMesh = d; }
         public void RecalculateBounds() { boundsRecalculated = true; }
     }
+
+    public struct Vector3
+    {
+        public float x, y, z;
+        public Vector3(float x, float y, float z) { this.x = x; this.y = y; this.z = z; }
+        public static Vector3 up { get { return new Vector3(0, 1, 0); } }
+        public float magnitude { get { return (float)Math.Sqrt(x * x + y * y + z * z); } }
+        public static Vector3 operator +(Vector3 a, Vector3 b) { return new Vector3(a.x + b.x, a.y + b.y, a.z + b.z); }
+        public static Vector3 operator -(Vector3 a, Vector3 b) { return new Vector3(a.x - b.x, a.y - b.y, a.z - b.z); }
+        public static Vector3 operator *(Vector3 a, float f) { return new Vector3(a.x * f, a.y * f, a.z * f); }
+    }
+    public struct Quaternion
+    {
+        public Vector3 from, to;
+        public static Quaternion FromToRotation(Vector3 f, Vector3 t) { return new Quaternion { from = f, to = t }; }
+    }
+    public class Transform : Component
+    {
+        public Transform parent;
+        public Vector3 localPosition;
+        public Quaternion localRotation;
+        public void SetParent(Transform p, bool worldPositionStays) { parent = p; }
+    }
+    public class Collider : Component { }
+    public class CapsuleCollider : Collider
+    {
+        public float radius, height;
+        public int direction;
+    }
+    public class GameObject : Object
+    {
+        public string name;
+        public Transform transform = new Transform();
+        public System.Collections.Generic.List<Component> components = new System.Collections.Generic.List<Component>();
+        public GameObject(string name) { this.name = name; }
+        public T AddComponent<T>() where T : Component, new() { var c = new T(); components.Add(c); return c; }
+    }
 }
