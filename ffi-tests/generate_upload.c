@@ -97,11 +97,11 @@ int main(void) {
                             sizeof(ArborCurve), sizeof(ArborCurveRecord),
                             sizeof(ArborCurveGrowthRecord), sizeof(ArborOrgan),
                             sizeof(ArborVertexCompact), sizeof(ArborAnimationVertexCompact),
-                            sizeof(ArborForestPlant)};
-  for (uint32_t id = 0; id < 20; id++)
+                            sizeof(ArborForestPlant), sizeof(ArborCapsule)};
+  for (uint32_t id = 0; id < 21; id++)
     CHECK(arbor_struct_size(id) == sizes[id], "struct %u: %zu vs %zu", id, arbor_struct_size(id),
           sizes[id]);
-  CHECK(arbor_struct_size(20) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
+  CHECK(arbor_struct_size(21) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
         "unknown id");
   for (int i = 0; i < 9; i++) upload_one((char)('a' + i), expected_branches[i]);
   /* Upper case names work too. */
