@@ -88,7 +88,7 @@ int main(void) {
   CHECK(strcmp(arbor_version(), header_version) == 0, "version %s vs header %s",
         arbor_version(), header_version);
   /* The sizes the library reports are the header's. */
-  const size_t sizes[20] = {sizeof(ArborHondaParams), sizeof(ArborBranch), sizeof(ArborVertex),
+  const size_t sizes[21] = {sizeof(ArborHondaParams), sizeof(ArborBranch), sizeof(ArborVertex),
                             sizeof(ArborMeshOptions), sizeof(ArborLsystemOptions),
                             sizeof(ArborLeafOptions), sizeof(ArborLeafInstance),
                             sizeof(ArborBranchRange), sizeof(ArborLeafSite),
