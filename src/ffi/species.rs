@@ -55,12 +55,25 @@ pub unsafe extern "C" fn arbor_tree_from_species(
     seed: u64,
     out: *mut *mut ArborTree,
 ) -> ArborStatus {
+    // SAFETY: the caller promises `out` is NULL or writable.
+    unsafe { grow_species(species, seed, out, Look::grow) }
+}
+
+/// Grows a named species with `grow` (with or without its twigs) into `*out`.
+///
+/// # Safety
+/// `out` is NULL or writable.
+unsafe fn grow_species(
+    species: u32,
+    seed: u64,
+    out: *mut *mut ArborTree,
+    grow: fn(&Look, u64) -> crate::Result<crate::skeleton::Skeleton>,
+) -> ArborStatus {
     guard(|| {
         let look = look_of(species)?;
         // SAFETY: the caller promises `out` is NULL or writable.
         let out = unsafe { out_ref(out, "out") }?;
-        let skeleton = look.grow(seed)?;
-        *out = ArborTree::new(skeleton).into_handle();
+        *out = ArborTree::new(grow(&look, seed)?).into_handle();
         Ok(())
     })
 }
@@ -152,13 +165,8 @@ pub unsafe extern "C" fn arbor_tree_from_species_bare(
     seed: u64,
     out: *mut *mut ArborTree,
 ) -> ArborStatus {
-    guard(|| {
-        let look = look_of(species)?;
-        // SAFETY: the caller promises `out` is NULL or writable.
-        let out = unsafe { out_ref(out, "out") }?;
-        *out = ArborTree::new(look.grow_bare(seed)?).into_handle();
-        Ok(())
-    })
+    // SAFETY: the caller promises `out` is NULL or writable.
+    unsafe { grow_species(species, seed, out, Look::grow_bare) }
 }
 
 /// Writes twig `variant` (taken modulo ARBOR_TWIG_VARIANTS) of a named species to `*out`

@@ -176,17 +176,7 @@ pub fn clear_trunk(skeleton: &Skeleton, height: f32) -> Pruned {
         // Parents come before children, so a subtree follows its root.
         removed[i] = removed[p] || (x.order > 0 && b[p].order == 0 && x.start[1] < base + height);
     }
-    let count = removed.iter().filter(|&&r| r).count();
-    if count == 0 {
-        return Pruned {
-            skeleton: skeleton.clone(),
-            removed: 0,
-        };
-    }
-    Pruned {
-        skeleton: Skeleton::from_trusted(kept_parts(skeleton, &removed)),
-        removed: count,
-    }
+    pruned(skeleton, &removed)
 }
 
 /// The skeleton without its bare limbs: every branch off its parent's axis (a lateral)
@@ -211,6 +201,12 @@ pub fn shed_bare(skeleton: &Skeleton, min_birth: u32) -> Pruned {
         let lateral = x.order != b[p].order;
         removed[i] = removed[p] || (lateral && !young[i]);
     }
+    pruned(skeleton, &removed)
+}
+
+/// `skeleton` without the `removed` branches, and how many they are (none removed: the
+/// skeleton as it is).
+fn pruned(skeleton: &Skeleton, removed: &[bool]) -> Pruned {
     let count = removed.iter().filter(|&&r| r).count();
     if count == 0 {
         return Pruned {
@@ -219,7 +215,7 @@ pub fn shed_bare(skeleton: &Skeleton, min_birth: u32) -> Pruned {
         };
     }
     Pruned {
-        skeleton: Skeleton::from_trusted(kept_parts(skeleton, &removed)),
+        skeleton: Skeleton::from_trusted(kept_parts(skeleton, removed)),
         removed: count,
     }
 }
