@@ -183,15 +183,18 @@ impl Look {
     /// The species' tree grown alone for its cycles, seeded with `seed`, its trunk
     /// cleared of branches up to [`clear_trunk`](Self::clear_trunk) of its height.
     pub fn grow(&self, seed: u64) -> Result<Skeleton> {
-        let grown = Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)?;
-        self.finish(&grown)
+        self.finish(&self.grown(seed)?)
     }
 
     /// The species' tree grown alone without its twigs ([`finish_bare`](Self::finish_bare)):
     /// the tree a host draws instanced twigs on ([`twig_instances`]).
     pub fn grow_bare(&self, seed: u64) -> Result<Skeleton> {
-        let grown = Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)?;
-        self.finish_bare(&grown)
+        self.finish_bare(&self.grown(seed)?)
+    }
+
+    /// The species' preset grown alone for its cycles, as it grew.
+    fn grown(&self, seed: u64) -> Result<Skeleton> {
+        Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)
     }
 
     /// A grown tree of this species with its trunk cleared (what [`grow`](Self::grow)
@@ -219,9 +222,9 @@ impl Look {
         } else {
             cleared
         };
-        let bole = bole(&cleared, h * self.clear_trunk.max(0.1));
-        let shaped = cone(&bole, self.cone, self.clear_trunk);
-        let shaped = dome(&shaped, self.dome, self.clear_trunk);
+        let bole = bole(cleared, h * self.clear_trunk.max(0.1))?;
+        let shaped = cone(bole, self.cone, self.clear_trunk)?;
+        let shaped = dome(shaped, self.dome, self.clear_trunk)?;
         flare_and_roots(&shaped, self.flare, self.roots)
     }
 
@@ -237,7 +240,7 @@ impl Look {
     }
 
     /// Where `bare` (a tree from [`finish_bare`](Self::finish_bare)) carries its twigs:
-    /// the young tips and shoots (of the last `leaf_cycles` cycles), each with its
+    /// the young tips and shoots (of the last [`twig_cycles`](Self::twig_cycles) cycles), each with its
     /// branch and its transform from twig space at the species' twig length; twig `k`
     /// is variant `k % TWIG_VARIANTS`.
     pub fn twig_sites(&self, bare: &Skeleton) -> Vec<(u32, LeafInstance)> {
@@ -283,7 +286,7 @@ fn newest(skeleton: &Skeleton) -> u32 {
 /// linearly to none at the top. Every point at a height moves toward the axis by the same
 /// factor (the crown's widest reach there over the cone's), so joints stay joined, radii
 /// and heights stay as they are. `ratio` 0: the skeleton as it is.
-fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
+fn cone(skeleton: Skeleton, ratio: f32, base: f32) -> Result<Skeleton> {
     envelope(skeleton, base, 1.0, |t| ratio * (1.0 - t))
 }
 
@@ -291,7 +294,7 @@ fn cone(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
 /// crown's base (`base` of the height) its half-width is `ratio` of the height (a branch
 /// reaching less is drawn out, up to three times), rounding to none at the top; below
 /// the base, hanging branches keep the dome's width. `ratio` 0: the skeleton as it is.
-fn dome(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
+fn dome(skeleton: Skeleton, ratio: f32, base: f32) -> Result<Skeleton> {
     envelope(skeleton, base, 3.0, |t| {
         ratio * (1.0 - t * t).max(0.0).sqrt()
     })
@@ -302,19 +305,24 @@ fn dome(skeleton: &Skeleton, ratio: f32, base: f32) -> Skeleton {
 /// `width(0)`): every point at a height moves along the ray from the axis by that
 /// height's factor (wanted reach over the reach there, at most `most`), so joints stay
 /// joined, heights and radii as they were. A width of 0 everywhere: as it is.
-fn envelope(skeleton: &Skeleton, base: f32, most: f32, width: impl Fn(f32) -> f32) -> Skeleton {
+fn envelope(
+    skeleton: Skeleton,
+    base: f32,
+    most: f32,
+    width: impl Fn(f32) -> f32,
+) -> Result<Skeleton> {
     let Some((lo, hi)) = skeleton.bounds() else {
-        return skeleton.clone();
+        return Ok(skeleton);
     };
     let b = skeleton.branches();
-    let Some(foot) = b.iter().find(|x| x.parent == NO_PARENT && x.order == 0) else {
-        return skeleton.clone();
-    };
+    let foot = b
+        .iter()
+        .find(|x| x.parent == NO_PARENT && x.order == 0)
+        .map(|x| x.start);
     let h = hi.y - lo.y;
-    if width(0.0) <= 0.0 || h.is_nan() || h <= 0.0 {
-        return skeleton.clone();
-    }
-    let (ax, az) = (foot.start[0], foot.start[2]);
+    let Some([ax, _, az]) = foot.filter(|_| width(0.0) > 0.0 && h > 0.0) else {
+        return Ok(skeleton);
+    };
     let base_y = lo.y + base * h;
     let wanted = |y: f32| h * width(((y - base_y) / (hi.y - base_y).max(1e-6)).clamp(0.0, 1.0));
     // The crown's reach from the axis in bands of height.
@@ -348,7 +356,7 @@ fn envelope(skeleton: &Skeleton, base: f32, most: f32, width: impl Fn(f32) -> f3
         let f = at(p[1]);
         [ax + (p[0] - ax) * f, p[1], az + (p[2] - az) * f]
     };
-    let mut parts = skeleton.clone().into_parts();
+    let mut parts = skeleton.into_parts();
     for x in &mut parts.branches {
         (x.start, x.end) = (squeeze(x.start), squeeze(x.end));
     }
@@ -361,17 +369,17 @@ fn envelope(skeleton: &Skeleton, base: f32, most: f32, width: impl Fn(f32) -> f3
     for p in &mut parts.polygon_points {
         *p = squeeze(*p);
     }
-    parts.build().unwrap_or_else(|_| skeleton.clone())
+    parts.build()
 }
 
 /// `skeleton` with its trunk below `height` (above its foot) a bole: nearly a cylinder,
 /// its radius the trunk's at `height` and a quarter more at the foot, where the pipe
 /// model (each branch as thick as all it carries) would make it a steep cone. Never
 /// thicker than it was.
-fn bole(skeleton: &Skeleton, height: f32) -> Skeleton {
+fn bole(skeleton: Skeleton, height: f32) -> Result<Skeleton> {
     let b = skeleton.branches();
     let Some(foot) = b.iter().position(|x| x.parent == NO_PARENT && x.order == 0) else {
-        return skeleton.clone();
+        return Ok(skeleton);
     };
     let base = b[foot].start[1];
     let top = base + height;
@@ -391,10 +399,10 @@ fn bole(skeleton: &Skeleton, height: f32) -> Skeleton {
         }
     }
     let Some(r_top) = r_top else {
-        return skeleton.clone();
+        return Ok(skeleton);
     };
     let profile = |y: f32| r_top * (1.0 + 0.25 * (1.0 - ((y - base) / height).clamp(0.0, 1.0)));
-    let mut parts = skeleton.clone().into_parts();
+    let mut parts = skeleton.into_parts();
     for x in parts.branches.iter_mut().filter(|x| x.order == 0) {
         if x.start[1] < top {
             x.start_radius = x.start_radius.min(profile(x.start[1]));
@@ -403,7 +411,7 @@ fn bole(skeleton: &Skeleton, height: f32) -> Skeleton {
             x.end_radius = x.end_radius.min(profile(x.end[1]));
         }
     }
-    parts.build().unwrap_or_else(|_| skeleton.clone())
+    parts.build()
 }
 
 /// `skeleton` with its trunk flared toward the ground (radius times `flare` at the foot,

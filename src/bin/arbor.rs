@@ -438,16 +438,10 @@ fn export_species(
     } else {
         arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
     }
-    // Vertices a card: the quad's, or the folded card's.
+    // Vertices a card: its shape's.
     let (_, leaf_options) = arbor::species::options(look, skeleton, &go)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
-    let per_card = if leaf_options.fold > 0.0 {
-        arbor::mesh::LeafPrefab::folded(leaf_options.fold)
-            .vertices
-            .len()
-    } else {
-        arbor::mesh::LeafPrefab::quad().vertices.len()
-    };
+    let per_card = leaf_options.shape().vertices.len().max(1);
     let cards = scene
         .meshes
         .iter()

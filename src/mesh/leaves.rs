@@ -266,6 +266,17 @@ pub struct LeafOptions {
 }
 
 impl LeafOptions {
+    /// The shape each baked leaf is: the prefab, else the quad (folded by `fold`).
+    pub fn shape(&self) -> std::sync::Arc<LeafPrefab> {
+        self.prefab.clone().unwrap_or_else(|| {
+            std::sync::Arc::new(if self.fold > 0.0 {
+                LeafPrefab::folded(self.fold)
+            } else {
+                LeafPrefab::quad()
+            })
+        })
+    }
+
     /// Refuses options out of their documented ranges (density, sizes, jitters, tilt,
     /// `max_leaves`, a prefab's data), naming the first.
     pub fn validate(&self) -> Result<()> {
@@ -340,22 +351,11 @@ fn place_on(
     }
     let mut out = placer.out;
     if o.wood_clearance > 0.0 {
-        let points = leaf_points(&leaf_shape(o));
+        let points = leaf_points(&o.shape());
         let wood = Wood::new(skeleton, o.wood_clearance);
         out.retain(|(l, _)| !wood.holds(l, &points));
     }
     Ok(out)
-}
-
-/// The shape a baked leaf is: the prefab, else the quad (folded by `fold`).
-fn leaf_shape(o: &LeafOptions) -> std::sync::Arc<LeafPrefab> {
-    o.prefab.clone().unwrap_or_else(|| {
-        std::sync::Arc::new(if o.fold > 0.0 {
-            LeafPrefab::folded(o.fold)
-        } else {
-            LeafPrefab::quad()
-        })
-    })
 }
 
 /// The points of a leaf shape tested against the wood: every vertex of a small shape (the
@@ -637,7 +637,7 @@ struct LeafPlan {
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
     let instances = place(skeleton, leaves, mesh)?;
-    let prefab = leaf_shape(leaves);
+    let prefab = leaves.shape();
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
             .polygons()

@@ -241,7 +241,7 @@ pub fn leaf_atlas_in(look: &LeafLook, size: u32, seed: u64, run: &Run<'_>) -> Re
                     let inside = rs.best[x];
                     let alpha = (inside * px_per_unit + 0.5).clamp(0.0, 1.0);
                     let twig = !rs.blade[x] && inside > 0.0;
-                    *px = card.color(look, var, inside, rs.vein[x], twig, alpha, rs.mottle[x]);
+                    *px = card.color(inside, rs.vein[x], twig, alpha, rs.mottle[x]);
                 }
             }
         },
@@ -582,18 +582,9 @@ impl<'a> Card<'a> {
 
     /// The pixel's colour: the variant's tone mottled, darker toward the outline, lighter
     /// along the veins; the twig brown; outside, the blade's colour at alpha 0.
-    #[allow(clippy::too_many_arguments)]
-    fn color(
-        &self,
-        look: &LeafLook,
-        var: f32,
-        inside: f32,
-        vein: f32,
-        twig: bool,
-        alpha: f32,
-        mottle: f32,
-    ) -> [u8; 4] {
-        let base = self.base;
+    fn color(&self, inside: f32, vein: f32, twig: bool, alpha: f32, mottle: f32) -> [u8; 4] {
+        let (look, base) = (self.look, self.base);
+        let var = look.variation.clamp(0.0, 1.0);
         if alpha <= 0.0 {
             return [base[0], base[1], base[2], 0];
         }
