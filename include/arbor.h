@@ -90,6 +90,40 @@
 #define ARBOR_ABI_VERSION 200
 
 /**
+ * The screen height, in pixels, the screen coverages are reckoned for (a 1080p screen):
+ * a level's twigs are culled where they would be thinner than [`CULL_PIXELS`] of it.
+ */
+#define REFERENCE_PIXELS 1080.0
+
+/**
+ * Branches narrower than this many pixels where a level is first drawn are culled.
+ */
+#define CULL_PIXELS 0.1
+
+/**
+ * The bark's share of a level's budget where the tree has leaves (the leaves, which
+ * make most of a crown's outline, get the rest).
+ */
+#define BARK_SHARE 0.3
+
+/**
+ * Joints along an axis that move it by less than this many pixels where a level is
+ * first drawn are removed ([`collapse`]).
+ */
+#define COLLAPSE_PIXELS 0.5
+
+/**
+ * The smallest switch coverage [`chain`] sets.
+ */
+#define MIN_COVERAGE 0.01
+
+/**
+ * Samples a pixel's side in a [`silhouette`] (at most: the supersampled square is at
+ * most 2048 samples a side).
+ */
+#define SILHOUETTE_SAMPLES 4
+
+/**
  * Index that separates strips in triangle-strip-restart output (ARBOR_RESTART_INDEX in
  * C): OpenGL's GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices.
  */
@@ -1106,6 +1140,15 @@ typedef struct ArborLeafOptions {
    * that many degrees either way. Default 0 (turned at random).
    */
   uint32_t face_light;
+  /**
+   * The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the order of the
+   * leaves placed with `keep` 1) stays when leaf_kept says so (C: arbor_leaf_kept), and each
+   * leaf that stays is enlarged by `1 / sqrt(keep)` about its middle, so the crown keeps its
+   * leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a
+   * larger one, where they were, with the same atlas cell: the same leaves from level to level.
+   * Default 1 (every leaf).
+   */
+  float keep;
 } ArborLeafOptions;
 
 /**
@@ -2744,6 +2787,17 @@ enum ArborStatus arbor_leaf_atlas_rect(uint32_t cell, float *rect, uint32_t *cel
  * `leaf_options` is NULL or readable.
  */
 uint32_t arbor_leaf_cell(const struct ArborLeafOptions *leaf_options, size_t k);
+
+/**
+ * Whether leaf `k` (in the order of arbor_leaf_instances_write() with `keep` 1) stays at
+ * these leaf options' `keep` (NULL: the defaults, every leaf): 1 or 0; 0 for unreadable
+ * options. An instanced level of detail's leaf samples the cell of its index in that
+ * full order (arbor_leaf_cell()).
+ *
+ * # Safety
+ * `leaf_options` is NULL or readable.
+ */
+uint32_t arbor_leaf_kept(const struct ArborLeafOptions *leaf_options, size_t k);
 
 /**
  * A static, NUL-terminated description of `status` ("ok", "null argument", ...);

@@ -256,3 +256,49 @@ fn leaves_sit_only_on_kept_branches() {
         assert!(on, "tip leaf at {p} is not at the end of a kept branch");
     }
 }
+
+#[test]
+fn thinned_leaves_are_the_same_leaves_enlarged_on_the_same_cells() {
+    let t = tree('b');
+    let options = MeshOptions::default();
+    let full = tips(3.0, 0, 7).atlas_columns(4).atlas_rows(2);
+    let all = mesh::leaf_instances(&t, &full, &options).unwrap();
+    assert!(all.len() > 200, "{}", all.len());
+    let mut previous: Option<Vec<usize>> = None;
+    for keep in [0.6f32, 0.3, 0.1] {
+        let o = full.clone().keep(keep);
+        let thin = mesh::leaf_instances(&t, &o, &options).unwrap();
+        // Which of all the leaves stayed, by arbor::mesh::leaf_kept.
+        let kept: Vec<usize> = (0..all.len())
+            .filter(|&k| arbor::mesh::leaf_kept(&o, k))
+            .collect();
+        assert_eq!(kept.len(), thin.len());
+        let share = thin.len() as f32 / all.len() as f32;
+        assert!((share - keep).abs() < 0.06, "keep {keep}: {share}");
+        for (l, &k) in thin.iter().zip(&kept) {
+            // Its middle where it was, turned as it was, larger by 1 / sqrt(keep).
+            let middle = |l: &LeafInstance| {
+                Vec3::from(l.position)
+                    + Quat::from_array(l.rotation) * (Vec3::new(0.0, 0.5, 0.0) * l.scale)
+            };
+            assert!((middle(l) - middle(&all[k])).length() < 1e-4 * all[k].scale);
+            assert_eq!(l.rotation, all[k].rotation);
+            assert!((l.scale * keep.sqrt() - all[k].scale).abs() < 1e-5 * all[k].scale);
+        }
+        // A smaller keep keeps a subset of a larger one's leaves.
+        if let Some(p) = &previous {
+            assert!(kept.iter().all(|k| p.contains(k)), "keep {keep}");
+        }
+        previous = Some(kept.clone());
+        // Baked, each survivor samples the cell of its index among all the leaves.
+        let baked = mesh::leaf_mesh(&t, &o.clone().polygons(false), &options).unwrap();
+        for (j, &k) in kept.iter().enumerate() {
+            let cell = arbor::mesh::leaf_cell(&o, k);
+            let uv = baked.vertices[4 * j].uv;
+            let (cu, cv) = ((uv[0] * 4.0).floor() as u32, (uv[1] * 2.0).floor() as u32);
+            assert_eq!(cu.min(3) + 4 * cv.min(1), cell, "leaf {k}");
+        }
+    }
+    assert!(LeafOptions::default().keep(0.0).validate().is_err());
+    assert!(LeafOptions::default().keep(1.5).validate().is_err());
+}

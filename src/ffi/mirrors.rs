@@ -291,6 +291,13 @@ pub struct ArborLeafOptions {
     /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it by up to
     /// that many degrees either way. Default 0 (turned at random).
     pub face_light: u32,
+    /// The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the order of the
+    /// leaves placed with `keep` 1) stays when leaf_kept says so (C: arbor_leaf_kept), and each
+    /// leaf that stays is enlarged by `1 / sqrt(keep)` about its middle, so the crown keeps its
+    /// leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a
+    /// larger one, where they were, with the same atlas cell: the same leaves from level to level.
+    /// Default 1 (every leaf).
+    pub keep: f32,
 }
 
 mirror!(ArborLeafOptions => LeafOptions {
@@ -310,6 +317,7 @@ mirror!(ArborLeafOptions => LeafOptions {
         wood_clearance,
         fold,
         face_light,
+        keep,
     }
     renamed {
         min_depth = min_birth,

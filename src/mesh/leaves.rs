@@ -19,11 +19,35 @@ use std::mem::MaybeUninit;
 use std::path::Path;
 
 /// The atlas cell (0..columns × rows, row by row) of leaf `k` (the order of
-/// [`leaf_instances`]) with these options: the cell whose rectangle
+/// [`leaf_instances`] with [`keep`](LeafOptions::keep) 1) with these options: the cell whose rectangle
 /// ([`LeafAtlas::rect`](crate::texture::LeafAtlas::rect)) the baked leaf `k` samples, and
 /// an instanced one should.
 pub fn leaf_cell(leaves: &LeafOptions, k: usize) -> u32 {
     cell_of(leaves.seed, leaves.atlas_columns * leaves.atlas_rows, k)
+}
+
+/// Whether leaf `k` (in the order of the leaves placed with `keep` 1) stays with these
+/// options' [`keep`](LeafOptions::keep): its rank, a number in [0, 1) drawn from the seed
+/// and `k` alone, is below `keep`.
+pub fn leaf_kept(leaves: &LeafOptions, k: usize) -> bool {
+    leaves.keep >= 1.0 || keep_rank(leaves.seed, k) < leaves.keep
+}
+
+/// The smallest [`keep`](LeafOptions::keep) (at least 1e-6) that keeps at most `m` of
+/// `n` leaves drawn with `seed` ([`leaf_kept`]): 1 when `m >= n`.
+pub fn keep_for(seed: u64, n: usize, m: usize) -> f32 {
+    if m >= n {
+        return 1.0;
+    }
+    let mut ranks: Vec<f32> = (0..n).map(|k| keep_rank(seed, k)).collect();
+    ranks.sort_by(f32::total_cmp);
+    // Exactly the m lowest ranks are below the (m + 1)-th.
+    ranks[m].max(1e-6)
+}
+
+fn keep_rank(seed: u64, k: usize) -> f32 {
+    let r = crate::rng::Rng::new(!seed ^ (k as u64).wrapping_mul(0xd1b5_4a32_d192_ed03)).next_u64();
+    (r >> 40) as f32 / (1u64 << 24) as f32
 }
 
 fn cell_of(seed: u64, cells: u32, k: usize) -> u32 {
@@ -262,6 +286,13 @@ pub struct LeafOptions {
     /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it
     /// by up to that many degrees either way. Default false (turned at random).
     pub face_light: bool = false,
+    /// The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the
+    /// order of the leaves placed with `keep` 1) stays when [`leaf_kept`] says so (C:
+    /// arbor_leaf_kept), and each leaf that stays is enlarged by `1 / sqrt(keep)` about
+    /// its middle, so the crown keeps its leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a larger one,
+    /// where they were, with the same atlas cell: the same leaves from level to level.
+    /// Default 1 (every leaf).
+    pub keep: f32 = 1.0, checked AboveTo(0.0, 1.0), "0 < keep <= 1",
 }
 }
 
@@ -291,9 +322,9 @@ impl LeafOptions {
 /// Leaves in model space, before output conventions, with the branch each sits on; only
 /// on branches the mesh of `mesh` keeps (see [`MeshOptions::cull_radius`]).
 fn place(skeleton: &Skeleton, o: &LeafOptions, mesh: &MeshOptions) -> Result<Vec<LeafInstance>> {
-    Ok(place_on(skeleton, o, mesh)?
+    Ok(place_kept(skeleton, o, mesh)?
         .into_iter()
-        .map(|(l, _)| l)
+        .map(|(l, _, _)| l)
         .collect())
 }
 
@@ -356,6 +387,36 @@ fn place_on(
         out.retain(|(l, _)| !wood.holds(l, &points));
     }
     Ok(out)
+}
+
+/// [`place_on`] thinned by `keep`: the leaves that stay, enlarged, each with its branch
+/// and its index among all the leaves (which picks its atlas cell).
+fn place_kept(
+    skeleton: &Skeleton,
+    o: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<(LeafInstance, u32, usize)>> {
+    let all = place_on(skeleton, o, mesh)?;
+    let grow = 1.0 / o.keep.sqrt();
+    let middle = leaf_points(&o.shape())
+        .last()
+        .copied()
+        .unwrap_or(Vec3::ZERO);
+    Ok(all
+        .into_iter()
+        .enumerate()
+        .filter(|&(k, _)| leaf_kept(o, k))
+        .map(|(k, (mut l, b))| {
+            if o.keep < 1.0 {
+                // Enlarged about the leaf's middle, not its stem.
+                let q = Quat::from_array(l.rotation);
+                let shift = q * (middle * (l.scale * (grow - 1.0)));
+                l.position = (Vec3::from(l.position) - shift).to_array();
+                l.scale *= grow;
+            }
+            (l, b, k)
+        })
+        .collect())
 }
 
 /// The points of a leaf shape tested against the wood: every vertex of a small shape (the
@@ -600,9 +661,9 @@ pub fn leaf_animation(
 ) -> Result<Vec<AnimationVertex>> {
     let (start, total) = growth_times(skeleton);
     let b = skeleton.branches();
-    Ok(place_on(skeleton, leaves, mesh)?
+    Ok(place_kept(skeleton, leaves, mesh)?
         .into_iter()
-        .map(|(_, branch)| match b.get(branch as usize) {
+        .map(|(_, branch, _)| match b.get(branch as usize) {
             Some(x) => AnimationVertex {
                 growth: (start[branch as usize] + 1.0) / total,
                 order: x.order as f32,
@@ -619,7 +680,8 @@ pub fn leaf_animation(
 
 /// What the baked leaf mesh holds.
 struct LeafPlan {
-    instances: Vec<LeafInstance>,
+    /// Each leaf, with its index among all the leaves (before `keep` thins them).
+    instances: Vec<(LeafInstance, usize)>,
     /// Atlas columns and rows, and the seed that picks each leaf's cell.
     atlas: (u32, u32, u64),
     prefab: std::sync::Arc<LeafPrefab>,
@@ -636,7 +698,10 @@ struct LeafPlan {
 
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
-    let instances = place(skeleton, leaves, mesh)?;
+    let instances: Vec<(LeafInstance, usize)> = place_kept(skeleton, leaves, mesh)?
+        .into_iter()
+        .map(|(l, _, k)| (l, k))
+        .collect();
     let prefab = leaves.shape();
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
@@ -809,7 +874,7 @@ impl<V: Slot<Vertex>, I: Slot<u32>> LeafWriter<'_, V, I> {
     fn instances(&mut self, plan: &LeafPlan) {
         let (columns, rows, seed) = plan.atlas;
         let cells = columns * rows;
-        for (k, l) in plan.instances.iter().enumerate() {
+        for &(ref l, k) in &plan.instances {
             let q = Quat::from_array(l.rotation);
             let at = Vec3::from(l.position);
             let base = self.vi as u32;

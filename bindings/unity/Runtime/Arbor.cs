@@ -197,6 +197,9 @@ namespace Arbor
         public float Fold;
         /// 1: each leaf turned to face up (the light) before RotationJitter varies it.
         public uint FaceLight;
+        /// The fraction of leaves kept (0..1], each enlarged by 1/sqrt(Keep): levels of
+        /// detail, the same leaves from level to level. Default 1.
+        public float Keep;
 
         public static LeafOptions Default()
         {

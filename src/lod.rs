@@ -1,0 +1,470 @@
+//! A chain of levels of detail of one tree, bark and leaves together: each level with
+//! fewer sides, its twigs culled by their size on screen where it is drawn, and its leaves
+//! thinned and enlarged (fewer, larger leaves: the crown keeps its area and colour, and
+//! the leaves that stay are where they were, so a host's dithered cross-fade does not
+//! pop), within a budget of the full tree's triangles, with the screen coverage below
+//! which the next level takes over.
+//!
+//! ```
+//! use arbor::lod::{chain, LodOptions};
+//! use arbor::mesh::{LeafOptions, MeshOptions};
+//!
+//! let tree = arbor::models::honda::build(&arbor::HondaParams::preset('b').unwrap()).unwrap();
+//! let leaves = LeafOptions::default().tips(true).density(4.0).size(6.0);
+//! let levels = chain(&tree, &MeshOptions::default(), Some(&leaves), None, &LodOptions::default())?;
+//! assert_eq!(levels.len(), 4);
+//! for pair in levels.windows(2) {
+//!     assert!(pair[1].triangles < pair[0].triangles);
+//!     assert!(pair[1].screen_coverage <= pair[0].screen_coverage);
+//! }
+//! # Ok::<(), arbor::Error>(())
+//! ```
+
+use crate::error::{Error, Result};
+use crate::mesh::{self, LeafOptions, Mesh, MeshOptions};
+use crate::raster::{Surface, Target, View};
+use crate::skeleton::Skeleton;
+use crate::texture::Image;
+use glam::Vec3;
+
+/// The screen height, in pixels, the screen coverages are reckoned for (a 1080p screen):
+/// a level's twigs are culled where they would be thinner than [`CULL_PIXELS`] of it.
+pub const REFERENCE_PIXELS: f32 = 1080.0;
+
+/// Branches narrower than this many pixels where a level is first drawn are culled.
+pub const CULL_PIXELS: f32 = 0.1;
+
+/// The bark's share of a level's budget where the tree has leaves (the leaves, which
+/// make most of a crown's outline, get the rest).
+pub const BARK_SHARE: f32 = 0.3;
+
+/// Joints along an axis that move it by less than this many pixels where a level is
+/// first drawn are removed ([`collapse`]).
+pub const COLLAPSE_PIXELS: f32 = 0.5;
+
+crate::options::options! {
+/// How a chain of levels of detail is made. `Default` gives the documented defaults.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LodOptions {
+    /// Mesh levels, the full tree (level 0) included, 1..=8. Default 4.
+    pub levels: u32 = 4, checked In(1, 8), "1..=8 levels",
+    /// Level 1's triangles at most this fraction of the full tree's, in (0, 1]. Default 0.4.
+    pub budget: f32 = 0.4, checked AboveTo(0.0, 1.0), "0 < budget <= 1",
+    /// Each further level's budget is the one before times this, in (0, 1]. Default 0.36
+    /// (40%, 14.4%, 5.2%... of the full tree: levels 1 to 3 within the 40/15/5% asked of
+    /// a game asset).
+    pub step: f32 = 0.36, checked AboveTo(0.0, 1.0), "0 < step <= 1",
+    /// The screen coverage (the fraction of the screen's height the tree's height covers)
+    /// below which level 1 takes over from the full tree, in (0, 1]. Default 0.5.
+    pub coverage: f32 = 0.5, checked AboveTo(0.0, 1.0), "0 < coverage <= 1",
+    /// Each further switch is at the one before times this, in (0, 1). Default 0.5.
+    pub coverage_step: f32 = 0.5, checked AboveTo(0.0, 0.99), "0 < coverage_step < 1",
+    /// The intersection over union each level's silhouette keeps with the full tree's
+    /// where it is first drawn, 0..=1: a switch coverage is lowered (by 20% a time, down
+    /// to [`MIN_COVERAGE`]) until the level's [`silhouette`], drawn by
+    /// [`raster`](crate::raster) from four directions, keeps it on average. 0: the switches as
+    /// `coverage` and `coverage_step` put them. Default 0.92.
+    pub silhouette: f32 = 0.92, checked In(0.0, 1.0), "0..=1",
+}
+}
+
+impl LodOptions {
+    /// Refuses options out of their documented ranges, naming the first.
+    pub fn validate(&self) -> Result<()> {
+        self.check_fields()
+    }
+
+    /// The fraction of the full tree's triangles level `level` may have (1 for level 0).
+    pub fn budget_of(&self, level: u32) -> f32 {
+        match level {
+            0 => 1.0,
+            l => self.budget * self.step.powi(l as i32 - 1),
+        }
+    }
+
+    /// The screen coverage below which level `level + 1` takes over from `level`.
+    pub fn coverage_of(&self, level: u32) -> f32 {
+        self.coverage * self.coverage_step.powi(level as i32)
+    }
+}
+
+/// One level of a [`chain`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    /// The bark.
+    pub bark: Mesh,
+    /// The baked leaves (none when the chain was made without leaves).
+    pub leaves: Option<Mesh>,
+    /// The options the bark was meshed with.
+    pub mesh_options: MeshOptions,
+    /// The options the leaves were baked with (their `keep` the level's share).
+    pub leaf_options: Option<LeafOptions>,
+    /// Drawn while the tree covers at least this fraction of the screen's height (the
+    /// last level: down to this coverage, below which an impostor or nothing takes over).
+    pub screen_coverage: f32,
+    /// Triangles of bark and leaves (degenerate strip joins not counted).
+    pub triangles: usize,
+}
+
+/// The levels of detail of `skeleton` meshed with `mesh` (level 0: as it is) and, when
+/// given, its baked `leaves`: each further level with fewer sides (half the one before's,
+/// at least 3), the branches culled that are narrower than [`CULL_PIXELS`] at the
+/// coverage where it is first drawn (for a tree as tall as `skeleton`, on a screen of
+/// [`REFERENCE_PIXELS`]; leaves stay where they were), and the leaves thinned
+/// ([`LeafOptions::keep`]) to fit the level's budget. Where the bark alone is over half
+/// the budget, thicker branches are culled until it is not. Each switch is then lowered
+/// until the level's silhouette keeps [`LodOptions::silhouette`] (the leaves alpha-tested
+/// against `atlas`, the leaf atlas they sample, when given).
+pub fn chain(
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    atlas: Option<&Image>,
+    lod: &LodOptions,
+) -> Result<Vec<Level>> {
+    lod.validate()?;
+    mesh.validate()?;
+    let height = skeleton
+        .bounds()
+        .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
+    let bark = mesh::tubes(skeleton, mesh)?;
+    let leaf_mesh = match leaves {
+        Some(l) => Some(mesh::leaf_mesh(skeleton, &l.clone().keep(1.0), mesh)?),
+        None => None,
+    };
+    let full_triangles = count(&bark) + leaf_mesh.as_ref().map_or(0, count);
+    // How many leaves there are, each of how many triangles (the rest of the leaf mesh,
+    // the turtle's polygons and organs, is not thinned).
+    let (leaf_count, per_leaf) = match leaves {
+        Some(l) => (
+            mesh::leaf_instances(skeleton, &l.clone().keep(1.0), mesh)?.len(),
+            l.shape().triangles.len(),
+        ),
+        None => (0, 0),
+    };
+    let leaf_rest = leaf_mesh
+        .as_ref()
+        .map_or(0, |m| count(m).saturating_sub(leaf_count * per_leaf));
+    let full = Level {
+        bark,
+        leaves: leaf_mesh,
+        mesh_options: *mesh,
+        leaf_options: leaves.map(|l| l.clone().keep(1.0)),
+        screen_coverage: lod.coverage_of(0),
+        triangles: full_triangles,
+    };
+    let shape = Shape {
+        skeleton,
+        mesh,
+        leaves,
+        height,
+        full_triangles,
+        leaf_count,
+        per_leaf,
+        leaf_rest,
+    };
+    let frame = Frame::of(&full, mesh.up());
+    let dirs = fit_directions(mesh.up());
+    let mut out = vec![full];
+    let mut ceiling = 1.0f32;
+    for level in 1..lod.levels {
+        let budget = (lod.budget_of(level) * full_triangles as f32) as usize;
+        let mut c = lod.coverage_of(level - 1).min(ceiling);
+        let sides = out[level as usize - 1].mesh_options;
+        let made = loop {
+            let made = shape.level(level, &sides, budget, c)?;
+            let keeps = |frame: &Frame| {
+                let px = frame.pixels(c);
+                let sum: f32 = dirs
+                    .iter()
+                    .map(|&d| {
+                        let a = silhouette(&out[0], atlas, frame, d, px);
+                        let b = silhouette(&made, atlas, frame, d, px);
+                        crate::raster::iou(&a, &b)
+                    })
+                    .sum();
+                sum / dirs.len() as f32 >= lod.silhouette
+            };
+            if lod.silhouette <= 0.0 || c <= MIN_COVERAGE || frame.as_ref().is_none_or(keeps) {
+                break made;
+            }
+            c = (c * 0.8).max(MIN_COVERAGE);
+        };
+        out[level as usize - 1].screen_coverage = c;
+        ceiling = c;
+        out.push(Level {
+            screen_coverage: lod.coverage_of(level).min(c),
+            ..made
+        });
+    }
+    Ok(out)
+}
+
+/// What every level of a chain is made from.
+struct Shape<'a> {
+    skeleton: &'a Skeleton,
+    mesh: &'a MeshOptions,
+    leaves: Option<&'a LeafOptions>,
+    height: f32,
+    full_triangles: usize,
+    leaf_count: usize,
+    per_leaf: usize,
+    leaf_rest: usize,
+}
+
+impl Shape<'_> {
+    /// Level `level` within `budget` triangles, first drawn at coverage `c`: half the
+    /// sides of `before`'s, twigs culled below [`CULL_PIXELS`] there (more, until the bark
+    /// is at most [`BARK_SHARE`] of the budget when there are leaves), the leaves filling the rest.
+    fn level(&self, level: u32, before: &MeshOptions, budget: usize, c: f32) -> Result<Level> {
+        let mut o = *before;
+        o.radial_segments = (o.radial_segments / 2).max(3);
+        o.min_radial_segments = match o.min_radial_segments {
+            0 => 0,
+            m => m.min(o.radial_segments).max(3),
+        };
+        let pixel = self.height / (c * REFERENCE_PIXELS);
+        o.cull_radius = self.mesh.cull_radius.max(0.5 * CULL_PIXELS * pixel);
+        let collapsed = collapse(self.skeleton, COLLAPSE_PIXELS * pixel)?;
+        let mut bark = mesh::tubes(&collapsed, &o)?;
+        // The bark's share of the budget, or more where the leaves need less.
+        let leaf_full = self.leaf_count * self.per_leaf + self.leaf_rest;
+        let bark_share =
+            ((budget as f32 * BARK_SHARE) as usize).max(budget.saturating_sub(leaf_full));
+        let mut tries = 0;
+        while count(&bark) > bark_share && tries < 40 {
+            o.cull_radius = if o.cull_radius > 0.0 {
+                o.cull_radius * 1.25
+            } else {
+                1e-3 * self.height.max(f32::MIN_POSITIVE)
+            };
+            bark = mesh::tubes(&collapsed, &o)?;
+            tries += 1;
+        }
+        let bark_triangles = count(&bark);
+        let (leaf_mesh, leaf_options) = match self.leaves {
+            Some(l) if self.leaf_count > 0 && self.per_leaf > 0 => {
+                let room = budget.saturating_sub(bark_triangles + self.leaf_rest);
+                let keep = mesh::keep_for(l.seed, self.leaf_count, room / self.per_leaf);
+                let l = l.clone().keep(keep);
+                (
+                    Some(mesh::leaf_mesh(self.skeleton, &l, self.mesh)?),
+                    Some(l),
+                )
+            }
+            _ => (None, self.leaves.cloned()),
+        };
+        let triangles = bark_triangles + leaf_mesh.as_ref().map_or(0, count);
+        if triangles > budget.max(1) {
+            return Err(Error::invalid(
+                "lod",
+                format!(
+                    "level {level} keeps {triangles} triangles; expected at most {budget} \
+                     (of the full tree's {})",
+                    self.full_triangles
+                ),
+            ));
+        }
+        Ok(Level {
+            bark,
+            leaves: leaf_mesh,
+            mesh_options: o,
+            leaf_options,
+            screen_coverage: c,
+            triangles,
+        })
+    }
+}
+
+fn fit_directions(up: Vec3) -> Vec<Vec3> {
+    let (a, b) = (
+        up.any_orthonormal_vector(),
+        up.cross(up.any_orthonormal_vector()),
+    );
+    [(0.0f32, 0.0f32), (1.6, 0.0), (3.3, 0.25), (4.8, -0.1)]
+        .iter()
+        .map(|&(t, y)| (a * t.cos() + b * t.sin() - up * y).normalize())
+        .collect()
+}
+
+/// The smallest switch coverage [`chain`] sets.
+pub const MIN_COVERAGE: f32 = 0.01;
+
+/// How a tree is framed for its silhouettes: its bounding sphere, and its height along
+/// the up axis.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// The bounding sphere's centre.
+    pub centre: Vec3,
+    /// The bounding sphere's radius.
+    pub radius: f32,
+    /// The tree's extent along the up axis.
+    pub height: f32,
+    /// The up axis.
+    pub up: Vec3,
+}
+
+impl Frame {
+    /// The frame of a level's bark and leaves; none without vertices.
+    pub fn of(level: &Level, up: Vec3) -> Option<Frame> {
+        let surfaces = surfaces(level, None);
+        let (centre, radius) = crate::raster::bounds(&surfaces)?;
+        let (lo, hi) = surfaces
+            .iter()
+            .flat_map(|s| &s.mesh.vertices)
+            .map(|v| Vec3::from(v.position).dot(up))
+            .fold((f32::MAX, f32::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
+        Some(Frame {
+            centre,
+            radius,
+            height: (hi - lo).max(f32::MIN_POSITIVE),
+            up,
+        })
+    }
+
+    /// The side, in pixels, of the square around the bounding sphere where the tree's
+    /// height covers `coverage` of a screen [`REFERENCE_PIXELS`] high (at least 8).
+    pub fn pixels(&self, coverage: f32) -> u32 {
+        ((coverage * REFERENCE_PIXELS * 2.0 * self.radius / self.height).round() as u32)
+            .clamp(8, 4096)
+    }
+
+    /// The view from `dir` of the bounding sphere's square.
+    pub fn view(&self, dir: Vec3) -> View {
+        View::looking(self.centre, dir, self.up, self.radius)
+    }
+}
+
+/// A level as the rasterizer draws it: the bark brown and opaque, the leaves green (or
+/// `atlas`), alpha-tested at one half and two-sided.
+pub fn surfaces<'a>(level: &'a Level, atlas: Option<&'a Image>) -> Vec<Surface<'a>> {
+    let clockwise = level.mesh_options.reversed();
+    let mut out = vec![Surface {
+        mesh: &level.bark,
+        texture: None,
+        color: [92, 64, 44],
+        alpha_cutoff: 0,
+        double_sided: false,
+        clockwise,
+    }];
+    if let Some(l) = &level.leaves {
+        out.push(Surface {
+            mesh: l,
+            texture: atlas,
+            color: [70, 120, 50],
+            alpha_cutoff: 128,
+            double_sided: true,
+            clockwise,
+        });
+    }
+    out
+}
+
+/// Samples a pixel's side in a [`silhouette`] (at most: the supersampled square is at
+/// most 2048 samples a side).
+pub const SILHOUETTE_SAMPLES: u32 = 4;
+
+/// Which pixels a level covers seen from `dir`, in a square of `pixels` around `frame`:
+/// those at least half covered, of [`SILHOUETTE_SAMPLES`]² samples each (what a viewer
+/// sees at that size: a crown's gaps and twigs narrower than a pixel average out, as they
+/// do on screen with multisampling or filtered alpha).
+pub fn silhouette(
+    level: &Level,
+    atlas: Option<&Image>,
+    frame: &Frame,
+    dir: Vec3,
+    pixels: u32,
+) -> Vec<bool> {
+    let ss = SILHOUETTE_SAMPLES.min(2048 / pixels.max(1)).max(1);
+    let side = pixels * ss;
+    let mut t = Target::new(side, side);
+    t.draw(&frame.view(dir), &surfaces(level, atlas));
+    coverage_mask(&t.mask(), pixels, ss)
+}
+
+/// Pixels of a `pixels`-square mask at least half covered by the samples of a
+/// `pixels * ss` square one.
+pub fn coverage_mask(samples: &[bool], pixels: u32, ss: u32) -> Vec<bool> {
+    let (n, ss) = (pixels as usize, ss as usize);
+    let side = n * ss;
+    let mut count = vec![0u32; n * n];
+    for (y, row) in samples.chunks_exact(side).enumerate() {
+        let out = &mut count[(y / ss) * n..(y / ss + 1) * n];
+        for (x, &m) in row.iter().enumerate() {
+            out[x / ss] += u32::from(m);
+        }
+    }
+    let half = (ss * ss) as u32;
+    count.into_iter().map(|c| 2 * c >= half).collect()
+}
+
+fn count(m: &Mesh) -> usize {
+    m.triangles().count()
+}
+
+/// `skeleton`'s bark with the joints along each axis removed where the axis bends by no
+/// more than `tolerance` (model units) from a straight line between the joints kept
+/// (at most 32 branches a segment): fewer rings, the same outline at a distance. Lateral
+/// branches keep their places (they start inside the merged segment).
+pub fn collapse(skeleton: &Skeleton, tolerance: f32) -> Result<Skeleton> {
+    use crate::skeleton::{Branch, NO_PARENT, SkeletonParts};
+    let b = skeleton.branches();
+    let adjacency = skeleton.adjacency();
+    let mut out: Vec<Branch> = Vec::with_capacity(b.len());
+    // Each original branch's merged branch, and each merged branch's joints so far.
+    let mut seg_of = vec![0u32; b.len()];
+    let mut joints: Vec<Vec<Vec3>> = Vec::new();
+    let mut last_of_seg: Vec<u32> = Vec::new();
+    for (i, x) in b.iter().enumerate() {
+        let parent = x.parent;
+        let extends = parent != NO_PARENT
+            && adjacency.continuation(parent as usize) == Some(i as u32)
+            && last_of_seg[seg_of[parent as usize] as usize] == parent
+            && {
+                let s = seg_of[parent as usize] as usize;
+                let start = out[s].start();
+                let mut points = joints[s].clone();
+                points.push(x.start());
+                points.len() < 32
+                    && points
+                        .iter()
+                        .all(|&p| off_line(p, start, x.end()) <= tolerance)
+            };
+        if extends {
+            let s = seg_of[parent as usize] as usize;
+            joints[s].push(x.start());
+            out[s].end = x.end;
+            out[s].end_radius = x.end_radius;
+            last_of_seg[s] = i as u32;
+            seg_of[i] = s as u32;
+        } else {
+            seg_of[i] = out.len() as u32;
+            out.push(Branch {
+                parent: if parent == NO_PARENT {
+                    NO_PARENT
+                } else {
+                    seg_of[parent as usize]
+                },
+                ..*x
+            });
+            joints.push(Vec::new());
+            last_of_seg.push(i as u32);
+        }
+    }
+    SkeletonParts {
+        branches: out,
+        ..SkeletonParts::default()
+    }
+    .build()
+}
+
+/// The distance of `p` from the segment `a`..`b`.
+fn off_line(p: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).length()
+}

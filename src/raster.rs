@@ -1,0 +1,345 @@
+//! A software rasterizer for arbor's own pictures of its meshes: orthographic views of
+//! bark and alpha-tested leaves into colour, normal and depth, on the CPU, the same bytes
+//! on every machine. It bakes impostors ([`crate::impostor`]) and measures silhouettes
+//! ([`iou`]) for the levels of detail; it is not a renderer for display (no lighting, no
+//! filtering beyond a texel's nearest).
+//!
+//! Written here rather than taken from a crate: what arbor needs is narrow (orthographic
+//! views of triangle meshes that are mostly smaller than a pixel, an alpha test against
+//! the leaf atlas, colour, normal and depth written together, and many small views on
+//! every core), and the general crates draw one target at a time in perspective.
+
+use crate::mesh::Mesh;
+use crate::texture::Image;
+use glam::Vec3;
+
+/// An orthographic view: the square of side `2 * half` around `centre`, seen along
+/// `forward` (from the viewer into the scene) with `up` at the top of the image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// The point at the centre of the image.
+    pub centre: Vec3,
+    /// The direction the view looks along (unit).
+    pub forward: Vec3,
+    /// The image's right (unit, across `forward`).
+    pub right: Vec3,
+    /// The image's up (unit, across `forward` and `right`).
+    pub up: Vec3,
+    /// Half the side of the square seen, in model units.
+    pub half: f32,
+}
+
+impl View {
+    /// The view along `forward` with `up_hint` as near the image's up as it can be (any
+    /// other direction when they are parallel).
+    pub fn looking(centre: Vec3, forward: Vec3, up_hint: Vec3, half: f32) -> View {
+        let forward = forward.normalize_or(Vec3::NEG_Z);
+        let mut right = forward.cross(up_hint);
+        if right.length_squared() < 1e-8 {
+            right = forward.any_orthonormal_vector();
+        }
+        let right = right.normalize();
+        View {
+            centre,
+            forward,
+            right,
+            up: right.cross(forward),
+            half,
+        }
+    }
+}
+
+/// What one mesh looks like to the rasterizer.
+#[derive(Clone, Copy, Debug)]
+pub struct Surface<'a> {
+    /// The triangles (any topology).
+    pub mesh: &'a Mesh,
+    /// Sampled at each pixel's uv (nearest texel, repeated): its colour, and its alpha
+    /// against `alpha_cutoff`; none: `color` everywhere.
+    pub texture: Option<&'a Image>,
+    /// The colour where there is no texture (sRGB bytes).
+    pub color: [u8; 3],
+    /// Pixels whose texel alpha is below this (0..=255) are not drawn; 0: none cut.
+    pub alpha_cutoff: u8,
+    /// Drawn from both sides (leaves); else only the side its winding faces.
+    pub double_sided: bool,
+    /// Front faces wind clockwise in the view (a mesh written with a reversed winding).
+    pub clockwise: bool,
+}
+
+/// Where a view is drawn: colour (sRGB, alpha 255 where anything was drawn), normal
+/// (a unit vector in model space as `n * 127.5 + 127.5`, alpha 255 where drawn) and
+/// depth (model units along the view's `forward` from its centre; `f32::INFINITY` where
+/// nothing was drawn). Rows from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    /// Pixels a row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// RGBA8 per pixel.
+    pub color: Vec<[u8; 4]>,
+    /// RGBA8 per pixel.
+    pub normal: Vec<[u8; 4]>,
+    /// Per pixel.
+    pub depth: Vec<f32>,
+}
+
+impl Target {
+    /// An empty target (nothing drawn).
+    pub fn new(width: u32, height: u32) -> Target {
+        let n = width as usize * height as usize;
+        Target {
+            width,
+            height,
+            color: vec![[0; 4]; n],
+            normal: vec![[0; 4]; n],
+            depth: vec![f32::INFINITY; n],
+        }
+    }
+
+    /// Which pixels something was drawn on.
+    pub fn mask(&self) -> Vec<bool> {
+        self.depth.iter().map(|d| d.is_finite()).collect()
+    }
+
+    /// Draws `surfaces` as `view` sees them, nearest in front.
+    pub fn draw(&mut self, view: &View, surfaces: &[Surface<'_>]) {
+        let mut screen = Vec::new();
+        for s in surfaces {
+            self.draw_one(view, s, &mut screen);
+        }
+    }
+
+    fn draw_one(&mut self, view: &View, s: &Surface<'_>, screen: &mut Vec<[f32; 3]>) {
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (sx, sy) = (0.5 * w / view.half, 0.5 * h / view.half);
+        screen.clear();
+        screen.extend(s.mesh.vertices.iter().map(|v| {
+            let d = Vec3::from(v.position) - view.centre;
+            [
+                0.5 * w + d.dot(view.right) * sx,
+                0.5 * h - d.dot(view.up) * sy,
+                d.dot(view.forward),
+            ]
+        }));
+        let tex = s.texture.filter(|t| t.width > 0 && t.height > 0);
+        for t in s.mesh.triangles() {
+            let [i0, i1, i2] = t.map(|i| i as usize);
+            let (Some(a), Some(b), Some(c)) = (screen.get(i0), screen.get(i1), screen.get(i2))
+            else {
+                continue;
+            };
+            // Twice the signed area; the image's y runs down, so a counter-clockwise
+            // triangle (seen from the viewer) has a negative one here.
+            let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            if area == 0.0 || !area.is_finite() {
+                continue;
+            }
+            let front = (area < 0.0) != s.clockwise;
+            if !front && !s.double_sided {
+                continue;
+            }
+            let lo_x = a[0].min(b[0]).min(c[0]).max(0.0);
+            let hi_x = a[0].max(b[0]).max(c[0]).min(w);
+            let lo_y = a[1].min(b[1]).min(c[1]).max(0.0);
+            let hi_y = a[1].max(b[1]).max(c[1]).min(h);
+            // Pixel centres inside the box.
+            let (x0, x1) = ((lo_x - 0.5).ceil() as i64, (hi_x - 0.5).floor() as i64);
+            let (y0, y1) = ((lo_y - 0.5).ceil() as i64, (hi_y - 0.5).floor() as i64);
+            if x0 > x1 || y0 > y1 {
+                continue;
+            }
+            let inv = 1.0 / area;
+            let vs = &s.mesh.vertices;
+            let (va, vb, vc) = (&vs[i0], &vs[i1], &vs[i2]);
+            let normal_of = |l0: f32, l1: f32, l2: f32| {
+                let n = Vec3::from(va.normal) * l0
+                    + Vec3::from(vb.normal) * l1
+                    + Vec3::from(vc.normal) * l2;
+                let n = n.normalize_or(-view.forward);
+                // The side facing the viewer (a leaf seen from behind).
+                if n.dot(view.forward) > 0.0 && s.double_sided {
+                    -n
+                } else {
+                    n
+                }
+            };
+            for y in y0..=y1 {
+                let py = y as f32 + 0.5;
+                for x in x0..=x1 {
+                    let px = x as f32 + 0.5;
+                    // Barycentric weights: each edge function over the whole area.
+                    let l0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) * inv;
+                    let l1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) * inv;
+                    let l2 = 1.0 - l0 - l1;
+                    if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
+                        continue;
+                    }
+                    let k = y as usize * self.width as usize + x as usize;
+                    let z = a[2] * l0 + b[2] * l1 + c[2] * l2;
+                    if z >= self.depth[k] {
+                        continue;
+                    }
+                    let color = match tex {
+                        Some(t) => {
+                            let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
+                            let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
+                            let tx = ((u.fract() + 1.0).fract() * t.width as f32) as u32;
+                            let ty = ((v.fract() + 1.0).fract() * t.height as f32) as u32;
+                            let p = t.pixel(tx.min(t.width - 1), ty.min(t.height - 1));
+                            if p[3] < s.alpha_cutoff {
+                                continue;
+                            }
+                            [p[0], p[1], p[2], 255]
+                        }
+                        None => [s.color[0], s.color[1], s.color[2], 255],
+                    };
+                    let n = normal_of(l0, l1, l2);
+                    self.depth[k] = z;
+                    self.color[k] = color;
+                    self.normal[k] = [
+                        (n.x * 127.5 + 127.5) as u8,
+                        (n.y * 127.5 + 127.5) as u8,
+                        (n.z * 127.5 + 127.5) as u8,
+                        255,
+                    ];
+                }
+            }
+        }
+    }
+}
+
+/// Intersection over union of two masks of the same size (1 when both are empty).
+pub fn iou(a: &[bool], b: &[bool]) -> f32 {
+    let (mut both, mut either) = (0usize, 0usize);
+    for (&x, &y) in a.iter().zip(b) {
+        both += usize::from(x && y);
+        either += usize::from(x || y);
+    }
+    if either == 0 {
+        1.0
+    } else {
+        both as f32 / either as f32
+    }
+}
+
+/// The bounding sphere's centre and radius of the surfaces' vertices (the middle of their
+/// box and the farthest vertex from it); none without vertices.
+pub fn bounds(surfaces: &[Surface<'_>]) -> Option<(Vec3, f32)> {
+    let mut lo = Vec3::splat(f32::MAX);
+    let mut hi = Vec3::splat(f32::MIN);
+    for s in surfaces {
+        for v in &s.mesh.vertices {
+            lo = lo.min(Vec3::from(v.position));
+            hi = hi.max(Vec3::from(v.position));
+        }
+    }
+    if lo.x > hi.x {
+        return None;
+    }
+    let c = 0.5 * (lo + hi);
+    let r = surfaces
+        .iter()
+        .flat_map(|s| &s.mesh.vertices)
+        .map(|v| (Vec3::from(v.position) - c).length_squared())
+        .fold(0.0f32, f32::max)
+        .sqrt();
+    Some((c, r))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Topology, Vertex};
+
+    fn quad(z: f32, half: f32) -> Mesh {
+        let v = |x: f32, y: f32, u: f32, w: f32| Vertex {
+            position: [x, y, z],
+            normal: [0.0, 0.0, 1.0],
+            uv: [u, w],
+        };
+        Mesh {
+            vertices: vec![
+                v(-half, -half, 0.0, 0.0),
+                v(half, -half, 1.0, 0.0),
+                v(half, half, 1.0, 1.0),
+                v(-half, half, 0.0, 1.0),
+            ],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            topology: Topology::TriangleList,
+            ranges: Vec::new(),
+        }
+    }
+
+    fn surface(mesh: &Mesh, color: [u8; 3]) -> Surface<'_> {
+        Surface {
+            mesh,
+            texture: None,
+            color,
+            alpha_cutoff: 0,
+            double_sided: false,
+            clockwise: false,
+        }
+    }
+
+    #[test]
+    fn a_square_covers_its_pixels_and_the_nearer_wins() {
+        // Seen from +Z (looking along -Z): the quad at z 1 is nearer than the one at z 0.
+        let (far, near) = (quad(0.0, 1.0), quad(1.0, 0.5));
+        let view = View::looking(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 2.0);
+        let mut t = Target::new(40, 40);
+        t.draw(
+            &view,
+            &[surface(&far, [255, 0, 0]), surface(&near, [0, 255, 0])],
+        );
+        let drawn = t.mask().iter().filter(|&&m| m).count();
+        // The far quad is half the view's side: 20 by 20 pixels.
+        assert_eq!(drawn, 400);
+        let green = t.color.iter().filter(|c| c[1] == 255).count();
+        assert_eq!(green, 100);
+        assert_eq!(t.color[20 * 40 + 20], [0, 255, 0, 255]);
+        assert!((t.depth[20 * 40 + 20] + 1.0).abs() < 1e-5);
+        // The normal +Z, toward the viewer.
+        assert_eq!(t.normal[20 * 40 + 20][2], 255);
+        // Seen from behind, a one-sided quad is not drawn; a two-sided one is.
+        let back = View::looking(Vec3::ZERO, Vec3::Z, Vec3::Y, 2.0);
+        let mut t = Target::new(40, 40);
+        t.draw(&back, &[surface(&far, [255, 0, 0])]);
+        assert!(t.mask().iter().all(|&m| !m));
+        let mut two = surface(&far, [255, 0, 0]);
+        two.double_sided = true;
+        t.draw(&back, &[two]);
+        assert_eq!(t.mask().iter().filter(|&&m| m).count(), 400);
+        // Its normal turned to the viewer.
+        assert_eq!(t.normal[20 * 40 + 20][2], 0);
+    }
+
+    #[test]
+    fn the_alpha_test_cuts_what_the_texture_cuts() {
+        let q = quad(0.0, 1.0);
+        // Left half transparent.
+        let mut pixels = Vec::new();
+        for _y in 0..4 {
+            for x in 0..4 {
+                pixels.extend([10, 200, 30, if x < 2 { 0 } else { 255 }]);
+            }
+        }
+        let image = Image {
+            width: 4,
+            height: 4,
+            pixels,
+        };
+        let mut s = surface(&q, [0; 3]);
+        s.texture = Some(&image);
+        s.alpha_cutoff = 128;
+        let view = View::looking(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0);
+        let mut t = Target::new(16, 16);
+        t.draw(&view, &[s]);
+        let mask = t.mask();
+        assert_eq!(mask.iter().filter(|&&m| m).count(), 128);
+        assert!(mask[8 * 16 + 12] && !mask[8 * 16 + 3]);
+        assert_eq!(t.color[8 * 16 + 12], [10, 200, 30, 255]);
+        assert!((iou(&mask, &vec![true; 256]) - 0.5).abs() < 1e-6);
+    }
+}
