@@ -102,7 +102,7 @@
 
 /**
  * The bark's share of a level's budget where the tree has leaves (the leaves, which
- * make most of a crown's outline, get the rest).
+ * make most of a crown's outline, get the rest) when the switches are not fitted.
  */
 #define BARK_SHARE 0.3
 
@@ -119,7 +119,7 @@
 
 /**
  * Samples a pixel's side in a [`silhouette`] (at most: the supersampled square is at
- * most 2048 samples a side).
+ * most 1024 samples a side).
  */
 #define SILHOUETTE_SAMPLES 4
 
@@ -1141,12 +1141,13 @@ typedef struct ArborLeafOptions {
    */
   uint32_t face_light;
   /**
-   * The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the order of the
-   * leaves placed with `keep` 1) stays when leaf_kept says so (C: arbor_leaf_kept), and each
-   * leaf that stays is enlarged by `1 / sqrt(keep)` about its middle, so the crown keeps its
-   * leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a
-   * larger one, where they were, with the same atlas cell: the same leaves from level to level.
-   * Default 1 (every leaf).
+   * The fraction of leaves kept, in (0, 1], for levels of detail: the outermost leaves of the
+   * crown (nearest its edge in their direction from its centre) stay as they are, 85% of those
+   * kept; the rest are drawn from the inside by a rank from `seed` and each leaf's index,
+   * enlarged about their middles so the inside keeps its leaf area. The leaves kept at a smaller
+   * `keep` are nearly all among those kept at a larger one, where they were (their middles), on
+   * the same atlas cells (leaf_cells): the same leaves from level to level. Default 1 (every
+   * leaf).
    */
   float keep;
 } ArborLeafOptions;
@@ -1875,6 +1876,12 @@ typedef struct ArborAnimationVertexCompact {
    */
   uint16_t phase;
 } ArborAnimationVertexCompact;
+
+/**
+ * The bark's shares of a level's budget a chain that fits its switches tries, keeping
+ * the one whose silhouette is nearest the full tree's.
+ */
+#define BARK_SHARES { 0.2, 0.35, 0.55, }
 
 #ifdef __cplusplus
 extern "C" {
@@ -2787,17 +2794,6 @@ enum ArborStatus arbor_leaf_atlas_rect(uint32_t cell, float *rect, uint32_t *cel
  * `leaf_options` is NULL or readable.
  */
 uint32_t arbor_leaf_cell(const struct ArborLeafOptions *leaf_options, size_t k);
-
-/**
- * Whether leaf `k` (in the order of arbor_leaf_instances_write() with `keep` 1) stays at
- * these leaf options' `keep` (NULL: the defaults, every leaf): 1 or 0; 0 for unreadable
- * options. An instanced level of detail's leaf samples the cell of its index in that
- * full order (arbor_leaf_cell()).
- *
- * # Safety
- * `leaf_options` is NULL or readable.
- */
-uint32_t arbor_leaf_kept(const struct ArborLeafOptions *leaf_options, size_t k);
 
 /**
  * A static, NUL-terminated description of `status` ("ok", "null argument", ...);

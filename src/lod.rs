@@ -35,8 +35,12 @@ pub const REFERENCE_PIXELS: f32 = 1080.0;
 pub const CULL_PIXELS: f32 = 0.1;
 
 /// The bark's share of a level's budget where the tree has leaves (the leaves, which
-/// make most of a crown's outline, get the rest).
+/// make most of a crown's outline, get the rest) when the switches are not fitted.
 pub const BARK_SHARE: f32 = 0.3;
+
+/// The bark's shares of a level's budget a chain that fits its switches tries, keeping
+/// the one whose silhouette is nearest the full tree's.
+pub const BARK_SHARES: [f32; 3] = [0.2, 0.35, 0.55];
 
 /// Joints along an axis that move it by less than this many pixels where a level is
 /// first drawn are removed ([`collapse`]).
@@ -50,10 +54,9 @@ pub struct LodOptions {
     pub levels: u32 = 4, checked In(1, 8), "1..=8 levels",
     /// Level 1's triangles at most this fraction of the full tree's, in (0, 1]. Default 0.4.
     pub budget: f32 = 0.4, checked AboveTo(0.0, 1.0), "0 < budget <= 1",
-    /// Each further level's budget is the one before times this, in (0, 1]. Default 0.36
-    /// (40%, 14.4%, 5.2%... of the full tree: levels 1 to 3 within the 40/15/5% asked of
-    /// a game asset).
-    pub step: f32 = 0.36, checked AboveTo(0.0, 1.0), "0 < step <= 1",
+    /// Each further level's budget is the one before times this, in (0, 1]. Default 0.5
+    /// (40%, 20%, 10%... of the full tree).
+    pub step: f32 = 0.5, checked AboveTo(0.0, 1.0), "0 < step <= 1",
     /// The screen coverage (the fraction of the screen's height the tree's height covers)
     /// below which level 1 takes over from the full tree, in (0, 1]. Default 0.5.
     pub coverage: f32 = 0.5, checked AboveTo(0.0, 1.0), "0 < coverage <= 1",
@@ -104,6 +107,12 @@ pub struct Level {
     pub screen_coverage: f32,
     /// Triangles of bark and leaves (degenerate strip joins not counted).
     pub triangles: usize,
+    /// The mean intersection over union of this level's [`silhouette`] with the full
+    /// tree's where it is first drawn (the previous level's switch), from the four
+    /// directions the chain was fitted from: at least [`LodOptions::silhouette`] unless
+    /// the level could not keep it even at [`MIN_COVERAGE`]. 1 for the full tree; 0 when
+    /// not measured (`silhouette` 0).
+    pub silhouette: f32,
 }
 
 /// The levels of detail of `skeleton` meshed with `mesh` (level 0: as it is) and, when
@@ -124,6 +133,96 @@ pub fn chain(
 ) -> Result<Vec<Level>> {
     lod.validate()?;
     mesh.validate()?;
+    let (full, shape) = prepare(skeleton, mesh, leaves)?;
+    fit(full, mesh.up(), atlas, lod, |_, before, budget, c| {
+        shape.levels(before, budget, c, lod.silhouette > 0.0)
+    })
+}
+
+/// The chain from `full` on: level k made by `make(k, the options of level k - 1, its
+/// budget in triangles, the coverage where it is first drawn)` at the coverage from the
+/// ladder of `lod`, lowered by 20% a time until its silhouette keeps `lod.silhouette`.
+fn fit(
+    full: Level,
+    up: Vec3,
+    atlas: Option<&Image>,
+    lod: &LodOptions,
+    mut make: impl FnMut(u32, &MeshOptions, usize, f32) -> Result<Vec<Level>>,
+) -> Result<Vec<Level>> {
+    let full_triangles = full.triangles;
+    let frame = Frame::of(&full, up);
+    let dirs = fit_directions(up);
+    let mut out = vec![full];
+    let mut ceiling = 1.0f32;
+    for level in 1..lod.levels {
+        let budget = (lod.budget_of(level) * full_triangles as f32) as usize;
+        let mut c = lod.coverage_of(level - 1).min(ceiling);
+        let before = out[level as usize - 1].mesh_options;
+        let made = loop {
+            let candidates = make(level, &before, budget, c)?;
+            for m in &candidates {
+                if m.triangles > budget.max(1) {
+                    return Err(Error::invalid(
+                        "lod",
+                        format!(
+                            "level {level} keeps {} triangles; expected at most {budget} (of \
+                             the full tree's {full_triangles})",
+                            m.triangles
+                        ),
+                    ));
+                }
+            }
+            // Each candidate's mean silhouette IoU from the directions; the best is taken.
+            let score = |made: &Level| match &frame {
+                Some(frame) if lod.silhouette > 0.0 => {
+                    let px = frame.pixels(c);
+                    let sum: f32 = dirs
+                        .iter()
+                        .map(|&d| {
+                            let a = silhouette(&out[0], atlas, frame, d, px);
+                            let b = silhouette(made, atlas, frame, d, px);
+                            crate::raster::iou(&a, &b)
+                        })
+                        .sum();
+                    sum / dirs.len() as f32
+                }
+                _ => 1.0,
+            };
+            let (best, iou) = candidates
+                .into_iter()
+                .map(|m| {
+                    let w = score(&m);
+                    (m, w)
+                })
+                .fold(None, |best: Option<(Level, f32)>, (m, w)| match best {
+                    Some((b, bw)) if bw >= w => Some((b, bw)),
+                    _ => Some((m, w)),
+                })
+                .expect("a level has a candidate");
+            if iou >= lod.silhouette || c <= MIN_COVERAGE {
+                break Level {
+                    silhouette: if lod.silhouette > 0.0 { iou } else { 0.0 },
+                    ..best
+                };
+            }
+            c = (c * 0.8).max(MIN_COVERAGE);
+        };
+        out[level as usize - 1].screen_coverage = c;
+        ceiling = c;
+        out.push(Level {
+            screen_coverage: lod.coverage_of(level).min(c),
+            ..made
+        });
+    }
+    Ok(out)
+}
+
+/// The full level of `skeleton` and what its thinner levels are made from.
+fn prepare<'a>(
+    skeleton: &'a Skeleton,
+    mesh: &'a MeshOptions,
+    leaves: Option<&'a LeafOptions>,
+) -> Result<(Level, Shape<'a>)> {
     let height = skeleton
         .bounds()
         .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
@@ -150,54 +249,20 @@ pub fn chain(
         leaves: leaf_mesh,
         mesh_options: *mesh,
         leaf_options: leaves.map(|l| l.clone().keep(1.0)),
-        screen_coverage: lod.coverage_of(0),
+        screen_coverage: 1.0,
         triangles: full_triangles,
+        silhouette: 1.0,
     };
     let shape = Shape {
         skeleton,
         mesh,
         leaves,
         height,
-        full_triangles,
         leaf_count,
         per_leaf,
         leaf_rest,
     };
-    let frame = Frame::of(&full, mesh.up());
-    let dirs = fit_directions(mesh.up());
-    let mut out = vec![full];
-    let mut ceiling = 1.0f32;
-    for level in 1..lod.levels {
-        let budget = (lod.budget_of(level) * full_triangles as f32) as usize;
-        let mut c = lod.coverage_of(level - 1).min(ceiling);
-        let sides = out[level as usize - 1].mesh_options;
-        let made = loop {
-            let made = shape.level(level, &sides, budget, c)?;
-            let keeps = |frame: &Frame| {
-                let px = frame.pixels(c);
-                let sum: f32 = dirs
-                    .iter()
-                    .map(|&d| {
-                        let a = silhouette(&out[0], atlas, frame, d, px);
-                        let b = silhouette(&made, atlas, frame, d, px);
-                        crate::raster::iou(&a, &b)
-                    })
-                    .sum();
-                sum / dirs.len() as f32 >= lod.silhouette
-            };
-            if lod.silhouette <= 0.0 || c <= MIN_COVERAGE || frame.as_ref().is_none_or(keeps) {
-                break made;
-            }
-            c = (c * 0.8).max(MIN_COVERAGE);
-        };
-        out[level as usize - 1].screen_coverage = c;
-        ceiling = c;
-        out.push(Level {
-            screen_coverage: lod.coverage_of(level).min(c),
-            ..made
-        });
-    }
-    Ok(out)
+    Ok((full, shape))
 }
 
 /// What every level of a chain is made from.
@@ -206,7 +271,6 @@ struct Shape<'a> {
     mesh: &'a MeshOptions,
     leaves: Option<&'a LeafOptions>,
     height: f32,
-    full_triangles: usize,
     leaf_count: usize,
     per_leaf: usize,
     leaf_rest: usize,
@@ -216,55 +280,43 @@ impl Shape<'_> {
     /// Level `level` within `budget` triangles, first drawn at coverage `c`: half the
     /// sides of `before`'s, twigs culled below [`CULL_PIXELS`] there (more, until the bark
     /// is at most [`BARK_SHARE`] of the budget when there are leaves), the leaves filling the rest.
-    fn level(&self, level: u32, before: &MeshOptions, budget: usize, c: f32) -> Result<Level> {
-        let mut o = *before;
-        o.radial_segments = (o.radial_segments / 2).max(3);
-        o.min_radial_segments = match o.min_radial_segments {
-            0 => 0,
-            m => m.min(o.radial_segments).max(3),
-        };
-        let pixel = self.height / (c * REFERENCE_PIXELS);
-        o.cull_radius = self.mesh.cull_radius.max(0.5 * CULL_PIXELS * pixel);
-        let collapsed = collapse(self.skeleton, COLLAPSE_PIXELS * pixel)?;
-        let mut bark = mesh::tubes(&collapsed, &o)?;
+    /// The candidates for a level (see [`level`](Self::level)): the bark's share of the
+    /// budget each of [`BARK_SHARES`] when `several` (a chain that fits its switches picks
+    /// the one whose silhouette is nearest), else [`BARK_SHARE`].
+    fn levels(
+        &self,
+        before: &MeshOptions,
+        budget: usize,
+        c: f32,
+        several: bool,
+    ) -> Result<Vec<Level>> {
+        if several && self.leaf_count > 0 {
+            BARK_SHARES
+                .iter()
+                .map(|&share| self.level(before, budget, c, share))
+                .collect()
+        } else {
+            Ok(vec![self.level(before, budget, c, BARK_SHARE)?])
+        }
+    }
+
+    fn level(&self, before: &MeshOptions, budget: usize, c: f32, share: f32) -> Result<Level> {
         // The bark's share of the budget, or more where the leaves need less.
         let leaf_full = self.leaf_count * self.per_leaf + self.leaf_rest;
-        let bark_share =
-            ((budget as f32 * BARK_SHARE) as usize).max(budget.saturating_sub(leaf_full));
-        let mut tries = 0;
-        while count(&bark) > bark_share && tries < 40 {
-            o.cull_radius = if o.cull_radius > 0.0 {
-                o.cull_radius * 1.25
-            } else {
-                1e-3 * self.height.max(f32::MIN_POSITIVE)
-            };
-            bark = mesh::tubes(&collapsed, &o)?;
-            tries += 1;
-        }
+        let bark_share = ((budget as f32 * share) as usize).max(budget.saturating_sub(leaf_full));
+        let (bark, o) = level_bark(self.skeleton, self.mesh, before, self.height, bark_share, c)?;
         let bark_triangles = count(&bark);
         let (leaf_mesh, leaf_options) = match self.leaves {
             Some(l) if self.leaf_count > 0 && self.per_leaf > 0 => {
                 let room = budget.saturating_sub(bark_triangles + self.leaf_rest);
-                let keep = mesh::keep_for(l.seed, self.leaf_count, room / self.per_leaf);
+                let keep = mesh::keep_for(self.leaf_count, room / self.per_leaf);
                 let l = l.clone().keep(keep);
-                (
-                    Some(mesh::leaf_mesh(self.skeleton, &l, self.mesh)?),
-                    Some(l),
-                )
+                let baked = mesh::leaf_mesh(self.skeleton, &l, self.mesh)?;
+                (Some(baked), Some(l))
             }
             _ => (None, self.leaves.cloned()),
         };
         let triangles = bark_triangles + leaf_mesh.as_ref().map_or(0, count);
-        if triangles > budget.max(1) {
-            return Err(Error::invalid(
-                "lod",
-                format!(
-                    "level {level} keeps {triangles} triangles; expected at most {budget} \
-                     (of the full tree's {})",
-                    self.full_triangles
-                ),
-            ));
-        }
         Ok(Level {
             bark,
             leaves: leaf_mesh,
@@ -272,8 +324,54 @@ impl Shape<'_> {
             leaf_options,
             screen_coverage: c,
             triangles,
+            silhouette: 0.0,
         })
     }
+}
+
+/// A level's bark: `skeleton` with half the sides of `before`'s options, its axes
+/// collapsed and its branches culled by their size at coverage `c` (a tree `height` model
+/// units tall), then culled thicker until it has at most `share` triangles; with the
+/// options it was meshed with.
+fn level_bark(
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    before: &MeshOptions,
+    height: f32,
+    share: usize,
+    c: f32,
+) -> Result<(Mesh, MeshOptions)> {
+    let mut o = *before;
+    o.radial_segments = (o.radial_segments / 2).max(3);
+    o.min_radial_segments = match o.min_radial_segments {
+        0 => 0,
+        m => m.min(o.radial_segments).max(3),
+    };
+    let pixel = height / (c * REFERENCE_PIXELS);
+    o.cull_radius = mesh.cull_radius.max(0.5 * CULL_PIXELS * pixel);
+    // Axes straightened first (up to 4 times the tolerance), then twigs culled.
+    let mut tolerance = COLLAPSE_PIXELS * pixel;
+    let mut collapsed = collapse(skeleton, tolerance)?;
+    let mut bark = mesh::tubes(&collapsed, &o)?;
+    for _ in 0..2 {
+        if count(&bark) <= share {
+            break;
+        }
+        tolerance *= 2.0;
+        collapsed = collapse(skeleton, tolerance)?;
+        bark = mesh::tubes(&collapsed, &o)?;
+    }
+    let mut tries = 0;
+    while count(&bark) > share && tries < 40 {
+        o.cull_radius = if o.cull_radius > 0.0 {
+            o.cull_radius * 1.25
+        } else {
+            1e-3 * height.max(f32::MIN_POSITIVE)
+        };
+        bark = mesh::tubes(&collapsed, &o)?;
+        tries += 1;
+    }
+    Ok((bark, o))
 }
 
 fn fit_directions(up: Vec3) -> Vec<Vec3> {
@@ -336,7 +434,7 @@ impl Frame {
 }
 
 /// A level as the rasterizer draws it: the bark brown and opaque, the leaves green (or
-/// `atlas`), alpha-tested at one half and two-sided.
+/// `atlas`, the leaf atlas they sample), alpha-tested at one half and two-sided.
 pub fn surfaces<'a>(level: &'a Level, atlas: Option<&'a Image>) -> Vec<Surface<'a>> {
     let clockwise = level.mesh_options.reversed();
     let mut out = vec![Surface {
@@ -347,9 +445,9 @@ pub fn surfaces<'a>(level: &'a Level, atlas: Option<&'a Image>) -> Vec<Surface<'
         double_sided: false,
         clockwise,
     }];
-    if let Some(l) = &level.leaves {
+    if let Some(m) = &level.leaves {
         out.push(Surface {
-            mesh: l,
+            mesh: m,
             texture: atlas,
             color: [70, 120, 50],
             alpha_cutoff: 128,
@@ -361,7 +459,7 @@ pub fn surfaces<'a>(level: &'a Level, atlas: Option<&'a Image>) -> Vec<Surface<'
 }
 
 /// Samples a pixel's side in a [`silhouette`] (at most: the supersampled square is at
-/// most 2048 samples a side).
+/// most 1024 samples a side).
 pub const SILHOUETTE_SAMPLES: u32 = 4;
 
 /// Which pixels a level covers seen from `dir`, in a square of `pixels` around `frame`:
@@ -375,7 +473,7 @@ pub fn silhouette(
     dir: Vec3,
     pixels: u32,
 ) -> Vec<bool> {
-    let ss = SILHOUETTE_SAMPLES.min(2048 / pixels.max(1)).max(1);
+    let ss = SILHOUETTE_SAMPLES.min(1024 / pixels.max(1)).max(1);
     let side = pixels * ss;
     let mut t = Target::new(side, side);
     t.draw(&frame.view(dir), &surfaces(level, atlas));

@@ -192,8 +192,10 @@ impl Look {
         self.finish_bare(&self.grown(seed)?)
     }
 
-    /// The species' preset grown alone for its cycles, as it grew.
-    fn grown(&self, seed: u64) -> Result<Skeleton> {
+    /// The species' preset grown alone for its cycles, as it grew: before
+    /// [`finish`](Self::finish) (or [`finish_bare`](Self::finish_bare)) clears its trunk
+    /// and grafts its twigs.
+    pub fn grown(&self, seed: u64) -> Result<Skeleton> {
         Source::Growth(GrowthParams::preset(self.species), self.cycles).grow(seed)
     }
 

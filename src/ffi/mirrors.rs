@@ -291,12 +291,13 @@ pub struct ArborLeafOptions {
     /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it by up to
     /// that many degrees either way. Default 0 (turned at random).
     pub face_light: u32,
-    /// The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the order of the
-    /// leaves placed with `keep` 1) stays when leaf_kept says so (C: arbor_leaf_kept), and each
-    /// leaf that stays is enlarged by `1 / sqrt(keep)` about its middle, so the crown keeps its
-    /// leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a
-    /// larger one, where they were, with the same atlas cell: the same leaves from level to level.
-    /// Default 1 (every leaf).
+    /// The fraction of leaves kept, in (0, 1], for levels of detail: the outermost leaves of the
+    /// crown (nearest its edge in their direction from its centre) stay as they are, 85% of those
+    /// kept; the rest are drawn from the inside by a rank from `seed` and each leaf's index,
+    /// enlarged about their middles so the inside keeps its leaf area. The leaves kept at a smaller
+    /// `keep` are nearly all among those kept at a larger one, where they were (their middles), on
+    /// the same atlas cells (leaf_cells): the same leaves from level to level. Default 1 (every
+    /// leaf).
     pub keep: f32,
 }
 

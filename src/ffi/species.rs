@@ -353,19 +353,3 @@ pub unsafe extern "C" fn arbor_leaf_cell(leaf_options: *const ArborLeafOptions, 
             .map_or(0, |o| crate::mesh::leaf_cell(&o, k))
     })
 }
-
-/// Whether leaf `k` (in the order of arbor_leaf_instances_write() with `keep` 1) stays at
-/// these leaf options' `keep` (NULL: the defaults, every leaf): 1 or 0; 0 for unreadable
-/// options. An instanced level of detail's leaf samples the cell of its index in that
-/// full order (arbor_leaf_cell()).
-///
-/// # Safety
-/// `leaf_options` is NULL or readable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn arbor_leaf_kept(leaf_options: *const ArborLeafOptions, k: usize) -> u32 {
-    guard_value(0, || {
-        // SAFETY: the caller promises NULL or readable options.
-        unsafe { super::leaves::read_leaf_options(leaf_options, false) }
-            .map_or(0, |o| u32::from(crate::mesh::leaf_kept(&o, k)))
-    })
-}

@@ -19,30 +19,34 @@ use std::mem::MaybeUninit;
 use std::path::Path;
 
 /// The atlas cell (0..columns × rows, row by row) of leaf `k` (the order of
-/// [`leaf_instances`] with [`keep`](LeafOptions::keep) 1) with these options: the cell whose rectangle
+/// [`leaf_instances`] with [`keep`](LeafOptions::keep) 1; [`leaf_cells`] for a thinned
+/// crown's) with these options: the cell whose rectangle
 /// ([`LeafAtlas::rect`](crate::texture::LeafAtlas::rect)) the baked leaf `k` samples, and
 /// an instanced one should.
 pub fn leaf_cell(leaves: &LeafOptions, k: usize) -> u32 {
     cell_of(leaves.seed, leaves.atlas_columns * leaves.atlas_rows, k)
 }
 
-/// Whether leaf `k` (in the order of the leaves placed with `keep` 1) stays with these
-/// options' [`keep`](LeafOptions::keep): its rank, a number in [0, 1) drawn from the seed
-/// and `k` alone, is below `keep`.
-pub fn leaf_kept(leaves: &LeafOptions, k: usize) -> bool {
-    leaves.keep >= 1.0 || keep_rank(leaves.seed, k) < leaves.keep
+/// The atlas cell of each of [`leaf_instances`] (the cell [`leaf_cell`] gives its index
+/// among all the leaves, so a thinned leaf keeps its cell).
+pub fn leaf_cells(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<u32>> {
+    Ok(place_kept(skeleton, leaves, mesh)?
+        .into_iter()
+        .map(|(_, _, k)| leaf_cell(leaves, k))
+        .collect())
 }
 
-/// The smallest [`keep`](LeafOptions::keep) (at least 1e-6) that keeps at most `m` of
-/// `n` leaves drawn with `seed` ([`leaf_kept`]): 1 when `m >= n`.
-pub fn keep_for(seed: u64, n: usize, m: usize) -> f32 {
+/// The [`keep`](LeafOptions::keep) that keeps `m` of `n` leaves (at least one): 1 when
+/// `m >= n`.
+pub fn keep_for(n: usize, m: usize) -> f32 {
     if m >= n {
         return 1.0;
     }
-    let mut ranks: Vec<f32> = (0..n).map(|k| keep_rank(seed, k)).collect();
-    ranks.sort_by(f32::total_cmp);
-    // Exactly the m lowest ranks are below the (m + 1)-th.
-    ranks[m].max(1e-6)
+    (m.max(1) as f32 / n as f32).max(1e-6)
 }
 
 fn keep_rank(seed: u64, k: usize) -> f32 {
@@ -286,12 +290,13 @@ pub struct LeafOptions {
     /// (+Y, up in model space) as it can, before `rotation_jitter`, which then varies it
     /// by up to that many degrees either way. Default false (turned at random).
     pub face_light: bool = false,
-    /// The fraction of leaves kept, in (0, 1], for levels of detail: leaf `k` (in the
-    /// order of the leaves placed with `keep` 1) stays when [`leaf_kept`] says so (C:
-    /// arbor_leaf_kept), and each leaf that stays is enlarged by `1 / sqrt(keep)` about
-    /// its middle, so the crown keeps its leaf area and its outline. The leaves kept at a smaller `keep` are among those kept at a larger one,
-    /// where they were, with the same atlas cell: the same leaves from level to level.
-    /// Default 1 (every leaf).
+    /// The fraction of leaves kept, in (0, 1], for levels of detail: the outermost leaves
+    /// of the crown (nearest its edge in their direction from its centre) stay as they
+    /// are, 85% of those kept; the rest are drawn from the inside by a rank from `seed`
+    /// and each leaf's index, enlarged about their middles so the inside keeps its leaf
+    /// area. The leaves kept at a smaller `keep` are nearly all among
+    /// those kept at a larger one, where they were (their middles), on the same atlas
+    /// cells ([`leaf_cells`]): the same leaves from level to level. Default 1 (every leaf).
     pub keep: f32 = 1.0, checked AboveTo(0.0, 1.0), "0 < keep <= 1",
 }
 }
@@ -397,17 +402,52 @@ fn place_kept(
     mesh: &MeshOptions,
 ) -> Result<Vec<(LeafInstance, u32, usize)>> {
     let all = place_on(skeleton, o, mesh)?;
-    let grow = 1.0 / o.keep.sqrt();
     let middle = leaf_points(&o.shape())
         .last()
         .copied()
         .unwrap_or(Vec3::ZERO);
+    let n = all.len();
+    if o.keep >= 1.0 || n == 0 {
+        return Ok(all
+            .into_iter()
+            .enumerate()
+            .map(|(k, (l, b))| (l, b, k))
+            .collect());
+    }
+    let m = ((o.keep as f64 * n as f64 + 1e-3).floor() as usize).clamp(1, n);
+    let shell_count = ((SHELL_SHARE * m as f32).round() as usize).min(m);
+    let outer = outerness(&all, middle);
+    // The shell: the outermost leaves, as they are.
+    let mut by_outer: Vec<usize> = (0..n).collect();
+    by_outer.sort_by(|&a, &b| outer[b].total_cmp(&outer[a]).then(a.cmp(&b)));
+    let mut kept = vec![false; n];
+    let mut in_shell = vec![false; n];
+    for &k in &by_outer[..shell_count] {
+        kept[k] = true;
+        in_shell[k] = true;
+    }
+    // The inside: the rest by rank, enlarged to keep its leaf area.
+    let mut inside: Vec<usize> = by_outer[shell_count..].to_vec();
+    inside.sort_by(|&a, &b| {
+        keep_rank(o.seed, a)
+            .total_cmp(&keep_rank(o.seed, b))
+            .then(a.cmp(&b))
+    });
+    for &k in &inside[..m - shell_count] {
+        kept[k] = true;
+    }
+    let grow_inside = if m > shell_count {
+        ((n - shell_count) as f32 / (m - shell_count) as f32).sqrt()
+    } else {
+        1.0
+    };
     Ok(all
         .into_iter()
         .enumerate()
-        .filter(|&(k, _)| leaf_kept(o, k))
+        .filter(|&(k, _)| kept[k])
         .map(|(k, (mut l, b))| {
-            if o.keep < 1.0 {
+            let grow = if in_shell[k] { 1.0 } else { grow_inside };
+            if grow != 1.0 {
                 // Enlarged about the leaf's middle, not its stem.
                 let q = Quat::from_array(l.rotation);
                 let shift = q * (middle * (l.scale * (grow - 1.0)));
@@ -418,6 +458,43 @@ fn place_kept(
         })
         .collect())
 }
+
+/// How far out each leaf is: its middle's distance from the crown's centre over the
+/// farthest leaf's in its direction (a grid of directions), 0..=1.
+fn outerness(all: &[(LeafInstance, u32)], middle: Vec3) -> Vec<f32> {
+    const BINS: usize = 16;
+    let mids: Vec<Vec3> = all
+        .iter()
+        .map(|(l, _)| Vec3::from(l.position) + Quat::from_array(l.rotation) * (middle * l.scale))
+        .collect();
+    let centre = mids.iter().fold(Vec3::ZERO, |c, &p| c + p) / mids.len().max(1) as f32;
+    let bin = |d: Vec3| -> usize {
+        let s = (d.x.abs() + d.y.abs() + d.z.abs()).max(f32::MIN_POSITIVE);
+        let (mut x, mut y) = (d.x / s, d.z / s);
+        if d.y < 0.0 {
+            let (ox, oy) = (x, y);
+            x = (1.0 - oy.abs()) * if ox < 0.0 { -1.0 } else { 1.0 };
+            y = (1.0 - ox.abs()) * if oy < 0.0 { -1.0 } else { 1.0 };
+        }
+        let cx = (((x * 0.5 + 0.5) * BINS as f32) as usize).min(BINS - 1);
+        let cy = (((y * 0.5 + 0.5) * BINS as f32) as usize).min(BINS - 1);
+        cy * BINS + cx
+    };
+    let mut far = vec![0.0f32; BINS * BINS];
+    let at: Vec<(usize, f32)> = mids
+        .iter()
+        .map(|&p| (bin(p - centre), (p - centre).length()))
+        .collect();
+    for &(b, d) in &at {
+        far[b] = far[b].max(d);
+    }
+    at.iter()
+        .map(|&(b, d)| if far[b] > 0.0 { d / far[b] } else { 1.0 })
+        .collect()
+}
+
+/// The share of a thinned crown's leaves taken from its shell, unenlarged.
+const SHELL_SHARE: f32 = 0.85;
 
 /// The points of a leaf shape tested against the wood: every vertex of a small shape (the
 /// quad, the folded card), else the corners of its bounding box; and its centre.
