@@ -78,6 +78,7 @@ pub mod ffi;
 pub mod files;
 pub mod forest;
 pub mod geom;
+pub mod impostor;
 pub mod limits;
 pub mod lod;
 pub mod lsystem;

@@ -1,6 +1,6 @@
 //! A software rasterizer for arbor's own pictures of its meshes: orthographic views of
 //! bark and alpha-tested leaves into colour, normal and depth, on the CPU, the same bytes
-//! on every machine. It measures silhouettes
+//! on every machine. It bakes impostors ([`crate::impostor`]) and measures silhouettes
 //! ([`iou`]) for the levels of detail; it is not a renderer for display (no lighting, no
 //! filtering beyond a texel's nearest).
 //!

@@ -1,0 +1,115 @@
+//! Impostors: the octahedral impostor's picture from directions it was not baked from
+//! against the full tree's, and the billboard's quads.
+
+use arbor::impostor::{Sphere, billboard, octahedral};
+use arbor::lod::{Frame, LodOptions, chain, silhouette, surfaces};
+use arbor::mesh::{LeafOptions, MeshOptions};
+use arbor::raster::iou;
+use arbor::species::Look;
+use arbor::texture::Image;
+use glam::Vec3;
+
+/// 16 directions around the tree from level to 60 degrees above, none a baked view's.
+fn directions() -> Vec<Vec3> {
+    (0..16)
+        .map(|k| {
+            let a = std::f32::consts::TAU * (k as f32 * 0.618_034).fract() + 0.05;
+            let e = (k as f32 / 15.0) * 60f32.to_radians();
+            Vec3::new(a.cos() * e.cos(), e.sin(), a.sin() * e.cos())
+        })
+        .collect()
+}
+
+/// The impostor of a full level against the full tree from the 16 directions, at
+/// `pixels`: the mean and least IoU.
+fn check(name: &str, level: &arbor::lod::Level, atlas: Option<&Image>, pixels: u32) -> (f32, f32) {
+    let up = level.mesh_options.up();
+    let s = surfaces(level, atlas);
+    let t = std::time::Instant::now();
+    let imp = octahedral(&s, up, 12, 128, Sphere::Hemi).unwrap();
+    let baked = t.elapsed();
+    let frame = Frame::of(level, up).unwrap();
+    assert_eq!(imp.albedo.width, 12 * 128);
+    let (mut sum, mut least) = (0.0f32, 1.0f32);
+    for d in directions() {
+        // The tree seen from d: looking along -d.
+        let full = silhouette(level, atlas, &frame, -d, pixels);
+        let mine: Vec<bool> = imp.coverage(d, pixels).iter().map(|&a| a >= 0.5).collect();
+        let w = iou(&full, &mine);
+        sum += w;
+        least = least.min(w);
+    }
+    let mean = sum / 16.0;
+    println!(
+        "{name}: impostor (12 x 12 views of 128 px, {} triangles baked in {:.0} ms) against the \
+         tree at {pixels} px from 16 other directions: IoU {mean:.3} (least {least:.3})",
+        level.triangles,
+        baked.as_secs_f64() * 1e3
+    );
+    (mean, least)
+}
+
+#[test]
+fn the_impostor_is_the_tree_from_directions_it_was_not_baked_from() {
+    let lod = LodOptions::default().levels(1);
+    let mesh = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    let look = Look::all()
+        .into_iter()
+        .find(|l| l.species.name() == "maple")
+        .unwrap();
+    let tree = look.grow(1).unwrap();
+    let (o, leaves) = arbor::species::options(&look, &tree, &mesh).unwrap();
+    let atlas = arbor::texture::leaf_atlas(&look.leaf, 256, 1)
+        .unwrap()
+        .image;
+    let levels = chain(&tree, &o, Some(&leaves.seed(1)), Some(&atlas), &lod).unwrap();
+    let (mean, _) = check("maple", &levels[0], Some(&atlas), 96);
+    assert!(mean >= 0.85, "{mean}");
+    // The billboard: three quads, each its view's cell.
+    let s = surfaces(&levels[0], Some(&atlas));
+    let b = billboard(&s, o.up(), 3, 64).unwrap();
+    assert_eq!((b.albedo.width, b.albedo.height), (192, 64));
+    let m = b.mesh(false);
+    assert_eq!(m.indices.len(), 18);
+    for v in &m.vertices {
+        assert!((Vec3::from(v.position) - Vec3::from(b.centre)).length() <= b.radius * 1.5);
+    }
+    // Something is drawn in every cell, and the corners are clear.
+    for k in 0..3 {
+        let covered = (0..64u32)
+            .flat_map(|y| (0..64u32).map(move |x| (x, y)))
+            .filter(|&(x, y)| b.albedo.pixel(k * 64 + x, y)[3] > 0)
+            .count();
+        assert!(covered > 200, "cell {k}: {covered}");
+        assert_eq!(b.albedo.pixel(k * 64, 0)[3], 0);
+    }
+    // Bad sizes are refused before anything is drawn.
+    assert!(octahedral(&s, o.up(), 0, 128, Sphere::Hemi).is_err());
+    assert!(octahedral(&s, o.up(), 32, 1024, Sphere::Hemi).is_err());
+    assert!(billboard(&s, o.up(), 5, 64).is_err());
+}
+
+/// The figures of BENCHMARKS.md (`cargo test --release --test impostor -- --ignored
+/// --nocapture`).
+#[test]
+#[ignore]
+fn figures_for_every_species_and_1996_tree() {
+    let lod = LodOptions::default().levels(1);
+    for name in ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'] {
+        let p = arbor::HondaParams::preset(name).unwrap();
+        let s = arbor::models::honda::build(&p).unwrap();
+        let leaves = LeafOptions::default().tips(true).density(3.0).size(8.0);
+        let levels = chain(&s, &MeshOptions::default(), Some(&leaves), None, &lod).unwrap();
+        check(&format!("tree {name}"), &levels[0], None, 96);
+    }
+    let mesh = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    for look in Look::all() {
+        let tree = look.grow(1).unwrap();
+        let (o, leaves) = arbor::species::options(&look, &tree, &mesh).unwrap();
+        let atlas = arbor::texture::leaf_atlas(&look.leaf, 256, 1)
+            .unwrap()
+            .image;
+        let levels = chain(&tree, &o, Some(&leaves.seed(1)), Some(&atlas), &lod).unwrap();
+        check(look.species.name(), &levels[0], Some(&atlas), 96);
+    }
+}
