@@ -63,11 +63,11 @@ pub struct LodOptions {
     /// Each further switch is at the one before times this, in (0, 1). Default 0.5.
     pub coverage_step: f32 = 0.5, checked AboveTo(0.0, 0.99), "0 < coverage_step < 1",
     /// The intersection over union each level's silhouette keeps with the full tree's
-    /// where it is first drawn, 0..=1: a switch coverage is lowered (by 20% a time, down
+    /// where it is first drawn, 0..=1: a switch coverage is lowered (by 40% a time, down
     /// to [`MIN_COVERAGE`]) until the level's [`silhouette`], drawn by
     /// [`raster`](crate::raster) from four directions, keeps it on average. 0: the switches as
-    /// `coverage` and `coverage_step` put them. Default 0.92.
-    pub silhouette: f32 = 0.92, checked In(0.0, 1.0), "0..=1",
+    /// `coverage` and `coverage_step` put them. Default 0.93.
+    pub silhouette: f32 = 0.93, checked In(0.0, 1.0), "0..=1",
 }
 }
 
@@ -133,6 +133,9 @@ pub fn chain(
 ) -> Result<Vec<Level>> {
     lod.validate()?;
     mesh.validate()?;
+    // The silhouettes sample a small copy of the atlas (the full one misses the cache).
+    let small = atlas.map(|a| a.downsampled(SILHOUETTE_ATLAS));
+    let atlas = small.as_ref();
     let (full, shape) = prepare(skeleton, mesh, leaves)?;
     fit(full, mesh.up(), atlas, lod, |_, before, budget, c| {
         shape.levels(before, budget, c, lod.silhouette > 0.0)
@@ -154,67 +157,90 @@ fn fit(
     let dirs = fit_directions(up);
     let mut out = vec![full];
     let mut ceiling = 1.0f32;
+    // The full tree's silhouettes, by side in pixels and direction, drawn once.
+    let mut full_masks: std::collections::HashMap<u32, Vec<Vec<bool>>> = Default::default();
     for level in 1..lod.levels {
         let budget = (lod.budget_of(level) * full_triangles as f32) as usize;
+        // The level is made for the coverage its ladder gives, then drawn nearer no more
+        // than where its silhouette holds.
         let mut c = lod.coverage_of(level - 1).min(ceiling);
         let before = out[level as usize - 1].mesh_options;
-        let made = loop {
-            let candidates = make(level, &before, budget, c)?;
-            for m in &candidates {
-                if m.triangles > budget.max(1) {
-                    return Err(Error::invalid(
-                        "lod",
-                        format!(
-                            "level {level} keeps {} triangles; expected at most {budget} (of \
-                             the full tree's {full_triangles})",
-                            m.triangles
-                        ),
-                    ));
-                }
+        let mut made_for = c;
+        let mut candidates = make(level, &before, budget, c)?;
+        let over = |candidates: &[Level]| -> Result<()> {
+            match candidates.iter().find(|m| m.triangles > budget.max(1)) {
+                Some(m) => Err(Error::invalid(
+                    "lod",
+                    format!(
+                        "level {level} keeps {} triangles; expected at most {budget} (of the \
+                         full tree's {full_triangles})",
+                        m.triangles
+                    ),
+                )),
+                None => Ok(()),
             }
-            // Each candidate's mean silhouette IoU from the directions; the best is taken.
-            let score = |made: &Level| match &frame {
-                Some(frame) if lod.silhouette > 0.0 => {
-                    let px = frame.pixels(c);
-                    let sum: f32 = dirs
-                        .iter()
-                        .map(|&d| {
-                            let a = silhouette(&out[0], atlas, frame, d, px);
-                            let b = silhouette(made, atlas, frame, d, px);
-                            crate::raster::iou(&a, &b)
-                        })
-                        .sum();
-                    sum / dirs.len() as f32
+        };
+        over(&candidates)?;
+        let (made, iou) = match &frame {
+            Some(frame) if lod.silhouette > 0.0 => loop {
+                let px = frame.pixels(c);
+                let full_level = &out[0];
+                let full = full_masks.entry(px).or_insert_with(|| {
+                    on_threads(&dirs, |&d| silhouette(full_level, atlas, frame, d, px))
+                });
+                // Each candidate's mean IoU from the directions; the best is kept.
+                let (best, iou) = candidates
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| {
+                        let each = on_threads(&dirs, |&d| silhouette(m, atlas, frame, d, px));
+                        let sum: f32 = each
+                            .iter()
+                            .zip(full.iter())
+                            .map(|(b, a)| crate::raster::iou(a, b))
+                            .sum();
+                        (k, sum / dirs.len() as f32)
+                    })
+                    .fold((0, -1.0f32), |b, x| if x.1 > b.1 { x } else { b });
+                if iou >= lod.silhouette || c <= MIN_COVERAGE {
+                    break (candidates[best].clone(), iou);
                 }
-                _ => 1.0,
-            };
-            let (best, iou) = candidates
-                .into_iter()
-                .map(|m| {
-                    let w = score(&m);
-                    (m, w)
-                })
-                .fold(None, |best: Option<(Level, f32)>, (m, w)| match best {
-                    Some((b, bw)) if bw >= w => Some((b, bw)),
-                    _ => Some((m, w)),
-                })
-                .expect("a level has a candidate");
-            if iou >= lod.silhouette || c <= MIN_COVERAGE {
-                break Level {
-                    silhouette: if lod.silhouette > 0.0 { iou } else { 0.0 },
-                    ..best
-                };
-            }
-            c = (c * 0.8).max(MIN_COVERAGE);
+                c = (c * 0.6).max(MIN_COVERAGE);
+                // Drawn three times farther than it was made for: made again for there
+                // (thinner twigs culled, more of the budget for the leaves).
+                if c < made_for / 3.0 {
+                    made_for = c;
+                    candidates = make(level, &before, budget, c)?;
+                    over(&candidates)?;
+                }
+            },
+            _ => (candidates[0].clone(), 0.0),
         };
         out[level as usize - 1].screen_coverage = c;
         ceiling = c;
         out.push(Level {
             screen_coverage: lod.coverage_of(level).min(c),
+            silhouette: iou,
             ..made
         });
     }
     Ok(out)
+}
+
+/// `f` of each item, on a thread each (the machine's cores; the results in order).
+fn on_threads<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if cores <= 1 || items.len() <= 1 {
+        return items.iter().map(f).collect();
+    }
+    std::thread::scope(|s| {
+        let f = &f;
+        let handles: Vec<_> = items.iter().map(|x| s.spawn(move || f(x))).collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a silhouette's thread does not panic"))
+            .collect()
+    })
 }
 
 /// The full level of `skeleton` and what its thinner levels are made from.
@@ -384,6 +410,10 @@ fn fit_directions(up: Vec3) -> Vec<Vec3> {
         .map(|&(t, y)| (a * t.cos() + b * t.sin() - up * y).normalize())
         .collect()
 }
+
+/// The largest side, in pixels, of the leaf atlas a chain's silhouettes sample (a larger
+/// one is [downsampled](Image::downsampled)).
+pub const SILHOUETTE_ATLAS: u32 = 256;
 
 /// The smallest switch coverage [`chain`] sets.
 pub const MIN_COVERAGE: f32 = 0.01;

@@ -167,7 +167,35 @@ impl Target {
             };
             for y in y0..=y1 {
                 let py = y as f32 + 0.5;
-                for x in x0..=x1 {
+                // Each weight is linear along the row (a * px + k): the span of pixel
+                // centres where all three are non-negative, widened by half a pixel for
+                // rounding (each pixel is still tested exactly below).
+                let (a0, k0) = (
+                    ((b[1] - py) - (c[1] - py)) * inv,
+                    (b[0] * (c[1] - py) - (b[1] - py) * c[0]) * inv,
+                );
+                let (a1, k1) = (
+                    ((c[1] - py) - (a[1] - py)) * inv,
+                    (c[0] * (a[1] - py) - (c[1] - py) * a[0]) * inv,
+                );
+                let (a2, k2) = (-a0 - a1, 1.0 - k0 - k1);
+                let (mut lo, mut hi) = (x0 as f32 + 0.5, x1 as f32 + 0.5);
+                let mut empty = false;
+                for (ai, ki) in [(a0, k0), (a1, k1), (a2, k2)] {
+                    if ai > 0.0 {
+                        lo = lo.max(-ki / ai);
+                    } else if ai < 0.0 {
+                        hi = hi.min(-ki / ai);
+                    } else if ki < 0.0 {
+                        empty = true;
+                    }
+                }
+                if empty || lo.is_nan() || hi.is_nan() || lo > hi + 1.0 {
+                    continue;
+                }
+                let xs = ((lo - 1.0).floor() as i64).max(x0);
+                let xe = ((hi + 1.0).ceil() as i64).min(x1);
+                for x in xs..=xe {
                     let px = x as f32 + 0.5;
                     // Barycentric weights: each edge function over the whole area.
                     let l0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) * inv;

@@ -102,6 +102,18 @@ struct ExportArgs {
     /// UCP_tree_NN (Unreal's collision prefix) with each capsule in the node's extras
     #[arg(long)]
     collision: bool,
+    /// glTF only: the whole game asset: --lod 4 --impostor octahedral --collision
+    #[arg(long)]
+    game: bool,
+    /// glTF only: this many levels of detail (1–8), nodes tree_LOD0... with MSFT_lod and
+    /// the screen coverage each is drawn from
+    #[arg(long, value_name = "levels")]
+    lod: Option<u32>,
+    /// glTF only, with levels of detail: an octahedral impostor's atlases (textures and
+    /// node extras) for below the last level, or a billboard (crossed quads) as the last
+    /// level, or none
+    #[arg(long, value_name = "kind", value_parser = ["octahedral", "billboard", "none"])]
+    impostor: Option<String>,
 }
 
 #[derive(Args)]
@@ -343,6 +355,22 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
     if m.collision && format == ".obj" {
         bail!("{out}: --collision is for glTF (capsule nodes); OBJ has no nodes");
     }
+    if let Some(game) = Game::of(m)? {
+        if format == ".obj" {
+            bail!("{out}: levels of detail and impostors are for glTF (nodes); OBJ has none");
+        }
+        if instanced {
+            bail!("{out}: levels of detail bake their leaves; leave out --instanced-leaves");
+        }
+        let t1 = Instant::now();
+        let go = arbor::export::gltf_mesh_options(&o).map_err(|e| anyhow!("{out}: {e}"))?;
+        let scene = game
+            .scene(skeleton, &go, leaves.as_ref(), None, [92, 64, 44], |_| {})
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        arbor::export::save_gltf_scene(&scene, &o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+        game.report(&scene, out, skeleton.len(), what, grow_ms, t1);
+        return Ok(());
+    }
     let t1 = Instant::now();
     let mut bar = Bar::new();
     let mut show = |s: Stage, f: f32| bar.show(s, f);
@@ -369,6 +397,167 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         t1.elapsed().as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+/// What `--game`, `--lod` and `--impostor` ask for.
+struct Game {
+    levels: u32,
+    impostor: String,
+    collision: bool,
+}
+
+impl Game {
+    /// The levels, impostor and collision asked for; none when none of them is.
+    fn of(m: &ExportArgs) -> Result<Option<Game>> {
+        if !m.game && m.lod.is_none() && m.impostor.is_none() {
+            return Ok(None);
+        }
+        let levels = m.lod.unwrap_or(4);
+        if !(1..=8).contains(&levels) {
+            bail!("--lod {levels}: expected 1..=8 levels");
+        }
+        let impostor = m
+            .impostor
+            .clone()
+            .unwrap_or_else(|| if m.game { "octahedral" } else { "none" }.into());
+        Ok(Some(Game {
+            levels,
+            impostor,
+            collision: m.collision || m.game,
+        }))
+    }
+
+    /// The scene: the levels of `skeleton` (its leaves baked, alpha-tested against
+    /// `atlas` when given), `texture` applied to them, the impostor, the capsules.
+    fn scene(
+        &self,
+        skeleton: &Skeleton,
+        o: &MeshOptions,
+        leaves: Option<&LeafOptions>,
+        atlas: Option<&arbor::texture::Image>,
+        bark_color: [u8; 3],
+        texture: impl FnOnce(&mut arbor::scene::Scene),
+    ) -> arbor::Result<arbor::scene::Scene> {
+        let lod = arbor::lod::LodOptions::default().levels(self.levels);
+        let t = Instant::now();
+        let levels = arbor::lod::chain(skeleton, o, leaves, atlas, &lod)?;
+        let chain_ms = t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
+        let mut scene = arbor::scene::Scene::levels(&levels, "tree");
+        texture(&mut scene);
+        let last = levels.last().map_or(0.0, |l| l.screen_coverage);
+        // The impostor is drawn from level 2 (or the last below it): a tenth of the
+        // triangles, its silhouette kept where it is drawn.
+        let source = &levels[levels.len().min(3) - 1];
+        let small = atlas.map(|a| a.downsampled(arbor::lod::SILHOUETTE_ATLAS));
+        let mut surfaces = arbor::lod::surfaces(source, small.as_ref());
+        for s in &mut surfaces {
+            if s.texture.is_none() && !s.double_sided {
+                s.color = bark_color;
+            }
+        }
+        match self.impostor.as_str() {
+            "octahedral" => {
+                let imp = arbor::impostor::octahedral(
+                    &surfaces,
+                    o.up(),
+                    IMPOSTOR_FRAMES,
+                    IMPOSTOR_CELL,
+                    arbor::impostor::Sphere::Hemi,
+                )?;
+                scene.impostor(&imp, last);
+            }
+            "billboard" => {
+                let b = arbor::impostor::billboard(&surfaces, o.up(), 3, IMPOSTOR_CELL)?;
+                scene.billboard(
+                    &b,
+                    o.winding == arbor::mesh::Winding::Clockwise,
+                    last * 0.25,
+                );
+            }
+            _ => {}
+        }
+        eprintln!(
+            "made in: levels {chain_ms:.0} ms, textures and impostor {:.0} ms",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+        if self.collision {
+            scene.collide(&arbor::collision::capsules(
+                skeleton,
+                COLLISION_CAPSULES,
+                0.0,
+                o,
+            )?);
+        }
+        Ok(scene)
+    }
+
+    /// One line on stderr: what was written, and how fast.
+    fn report(
+        &self,
+        scene: &arbor::scene::Scene,
+        out: &str,
+        branches: usize,
+        what: &str,
+        grow_ms: f64,
+        t1: Instant,
+    ) {
+        let triangles: Vec<String> = scene
+            .nodes
+            .iter()
+            .filter(|n| n.name.contains("_LOD"))
+            .filter_map(|n| n.mesh)
+            .map(|k| {
+                scene.meshes[k]
+                    .primitives
+                    .iter()
+                    .map(|p| p.mesh.triangles().count())
+                    .sum::<usize>()
+                    .to_string()
+            })
+            .collect();
+        let coverage = scene
+            .nodes
+            .iter()
+            .find_map(|n| n.lod.as_ref())
+            .map(|l| {
+                l.coverage
+                    .iter()
+                    .map(|c| format!("{c:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            })
+            .unwrap_or_default();
+        eprintln!(
+            "levels: {} triangles, drawn from screen coverage {coverage}; impostor: {}; \
+             collision: {}",
+            triangles.join(", "),
+            self.impostor,
+            if self.collision { "capsules" } else { "none" }
+        );
+        eprintln!(
+            "{out}: {branches} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
+            t1.elapsed().as_secs_f64() * 1e3
+        );
+    }
+}
+
+/// Views a side of the octahedral impostor `--impostor octahedral` bakes.
+const IMPOSTOR_FRAMES: u32 = 12;
+
+/// Pixels a side of each impostor view.
+const IMPOSTOR_CELL: u32 = 128;
+
+/// The mean colour of an image (sRGB bytes).
+fn mean_color(image: &arbor::texture::Image) -> [u8; 3] {
+    let mut sum = [0u64; 3];
+    for p in image.pixels.chunks_exact(4) {
+        for (s, &c) in sum.iter_mut().zip(p) {
+            *s += c as u64;
+        }
+    }
+    let n = (image.pixels.len() / 4).max(1) as u64;
+    sum.map(|s| (s / n) as u8)
 }
 
 /// Capsules `--collision` writes at most.
@@ -421,6 +610,33 @@ fn export_species(
     let skeleton = &look
         .finish(skeleton)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+    if let Some(game) = Game::of(m)? {
+        if obj {
+            bail!("{out}: levels of detail and impostors are for glTF (nodes); OBJ has none");
+        }
+        let (tree_options, leaves) = arbor::species::options(look, skeleton, &go)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        let leaves = leaves.seed(seed);
+        let bark = arbor::texture::bark_textures(&look.bark, size, seed)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        let atlas = arbor::texture::leaf_atlas(&look.leaf, size, seed)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        let bark_color = mean_color(&bark.color);
+        let atlas_image = atlas.image.clone();
+        let scene = game
+            .scene(
+                skeleton,
+                &tree_options,
+                Some(&leaves),
+                Some(&atlas_image),
+                bark_color,
+                |scene| scene.texture(bark, atlas),
+            )
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        arbor::export::save_gltf_scene(&scene, o, out).map_err(|e| anyhow!("{out}: {e}"))?;
+        game.report(&scene, out, skeleton.len(), what, grow_ms, t1);
+        return Ok(());
+    }
     let mut scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
     if m.collision {

@@ -141,6 +141,47 @@ pub struct Node {
     /// The collision capsule this node's mesh is (in the file's node extras as
     /// `arbor_capsule`), or none.
     pub capsule: Option<crate::collision::Capsule>,
+    /// This node is the first level of a level-of-detail group (glTF: `MSFT_lod` and
+    /// `MSFT_screencoverage`), or none.
+    pub lod: Option<NodeLod>,
+    /// The octahedral impostor of the tree this node draws (in the file's node extras as
+    /// `arbor_impostor`), or none.
+    pub impostor: Option<ImpostorInfo>,
+}
+
+/// A level-of-detail group: the nodes of the lower levels, and from which screen
+/// coverage each level is drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeLod {
+    /// Indices into [`Scene::nodes`] of levels 1, 2, ... (level 0 is the node itself).
+    pub levels: Vec<usize>,
+    /// One more than `levels`: level k is drawn while the tree covers at least
+    /// `coverage[k]` of the screen's height (the last: below it, nothing).
+    pub coverage: Vec<f32>,
+}
+
+/// Where an octahedral impostor's atlases are and how a shader reads them (see
+/// [`crate::impostor`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImpostorInfo {
+    /// Views a side of the grid.
+    pub frames: u32,
+    /// Pixels a side of a view.
+    pub cell: u32,
+    /// The upper half of the sphere (else the whole).
+    pub hemi: bool,
+    /// The bounding sphere's centre.
+    pub centre: [f32; 3],
+    /// Its radius.
+    pub radius: f32,
+    /// The up axis.
+    pub up: [f32; 3],
+    /// Index into [`Scene::textures`] of the albedo atlas.
+    pub albedo: usize,
+    /// Index into [`Scene::textures`] of the normal and depth atlas.
+    pub normal: usize,
+    /// Drawn while the tree covers less of the screen's height than this.
+    pub below: f32,
 }
 
 impl Node {
@@ -151,6 +192,8 @@ impl Node {
             transform: None,
             instances: None,
             capsule: None,
+            lod: None,
+            impostor: None,
         }
     }
 }
@@ -376,6 +419,111 @@ impl Scene {
         }
     }
 
+    /// The levels of detail of one tree ([`crate::lod::chain`]) as nodes `NAME_LOD0`,
+    /// `NAME_LOD1`, ... (the suffix engines' importers group), each drawing a mesh of the
+    /// level's bark and baked leaves, the first carrying the group and its coverages. The
+    /// meshes are in the levels' own options' conventions.
+    pub fn levels(levels: &[crate::lod::Level], name: &str) -> Scene {
+        let mut scene = Scene::default();
+        let mut nodes = Vec::new();
+        for (k, level) in levels.iter().enumerate() {
+            let mut primitives = Vec::new();
+            scene.add(&mut primitives, level.bark.clone(), Material::bark(), None);
+            if let Some(l) = &level.leaves {
+                scene.add(&mut primitives, l.clone(), Material::leaves(), None);
+            }
+            let label = format!("{name}_LOD{k}");
+            let mesh = scene.push_mesh(&label, primitives);
+            scene.nodes.push(Node::new(label, mesh));
+            nodes.push(scene.nodes.len() - 1);
+        }
+        if let Some(first) = nodes.first().copied() {
+            scene.nodes[first].lod = Some(NodeLod {
+                levels: nodes[1..].to_vec(),
+                coverage: levels.iter().map(|l| l.screen_coverage).collect(),
+            });
+        }
+        if let Some(full) = levels.first() {
+            scene.settings = Settings {
+                radial_segments: full.mesh_options.radial_segments,
+                scale: Some(full.mesh_options.scale),
+                leaves: Some(full.leaves.is_some()),
+                ..Settings::default()
+            };
+        }
+        scene
+    }
+
+    /// Adds `billboard` as the last level of the scene's level-of-detail group (a node
+    /// `NAME_LODn` after the others, its quads sampling the billboard's albedo, alpha-cut
+    /// at one half and two-sided), drawn down to `coverage` of the screen's height.
+    pub fn billboard(
+        &mut self,
+        billboard: &crate::impostor::Billboard,
+        clockwise: bool,
+        coverage: f32,
+    ) {
+        let Some(first) = self.nodes.iter().position(|n| n.lod.is_some()) else {
+            return;
+        };
+        self.textures.push(Texture {
+            name: "billboard".into(),
+            image: billboard.albedo.clone(),
+        });
+        let material = Material {
+            name: "billboard".into(),
+            double_sided: true,
+            base_color: [1.0; 4],
+            base_color_texture: Some(self.textures.len() - 1),
+            alpha_cutoff: Some(0.5),
+            ..Material::leaves()
+        };
+        let mut primitives = Vec::new();
+        self.add(&mut primitives, billboard.mesh(clockwise), material, None);
+        let base = self.nodes[first].name.trim_end_matches("_LOD0").to_string();
+        let lod = self.nodes[first]
+            .lod
+            .as_ref()
+            .map_or(0, |l| l.levels.len() + 1);
+        let label = format!("{base}_LOD{lod}");
+        let mesh = self.push_mesh(&label, primitives);
+        self.nodes.push(Node::new(label, mesh));
+        let node = self.nodes.len() - 1;
+        if let Some(l) = self.nodes[first].lod.as_mut() {
+            l.levels.push(node);
+            l.coverage.push(coverage);
+        }
+    }
+
+    /// Adds an octahedral impostor's atlases as textures ("impostor albedo", "impostor
+    /// normal") and what a shader needs to draw them to the first node's extras
+    /// (`arbor_impostor`), for the coverage below `below`.
+    pub fn impostor(&mut self, impostor: &crate::impostor::Impostor, below: f32) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut push = |name: &str, image: &crate::texture::Image| {
+            self.textures.push(Texture {
+                name: name.into(),
+                image: image.clone(),
+            });
+            self.textures.len() - 1
+        };
+        let albedo = push("impostor albedo", &impostor.albedo);
+        let normal = push("impostor normal", &impostor.normal);
+        self.nodes[0].impostor = Some(ImpostorInfo {
+            frames: impostor.frames,
+            cell: impostor.cell,
+            hemi: impostor.sphere == crate::impostor::Sphere::Hemi,
+            centre: impostor.centre,
+            radius: impostor.radius,
+            up: impostor.up,
+            albedo,
+            normal,
+            below,
+        });
+    }
+
     /// Adds collision capsules (from [`capsules`](crate::collision::capsules), in the
     /// scene's conventions): each a node and a mesh named `UCP_<tree>_NN` (Unreal's
     /// prefix for a capsule collision of the mesh `<tree>`, the scene's first node), a
@@ -385,10 +533,10 @@ impl Scene {
         if capsules.is_empty() {
             return;
         }
-        let tree = self
-            .nodes
-            .first()
-            .map_or_else(|| "tree".to_string(), |n| n.name.clone());
+        let tree = self.nodes.first().map_or_else(
+            || "tree".to_string(),
+            |n| n.name.trim_end_matches("_LOD0").to_string(),
+        );
         let material = self.materials.len();
         self.materials.push(Material {
             name: "collision".into(),

@@ -67,6 +67,35 @@ impl Image {
         Ok(out)
     }
 
+    /// The image halved (each pixel the mean of four, alpha too) until neither side is
+    /// over `most` pixels (at least 1): a small copy to sample where the full one would
+    /// not stay in the cache (arbor's rasterizer draws many small views of a tree).
+    pub fn downsampled(&self, most: u32) -> Image {
+        let mut img = self.clone();
+        while (img.width > most || img.height > most) && img.width >= 2 && img.height >= 2 {
+            let (w, h) = (img.width / 2, img.height / 2);
+            let mut pixels = vec![0u8; (w * h * 4) as usize];
+            for y in 0..h {
+                for x in 0..w {
+                    for c in 0..4 {
+                        let at = |dx: u32, dy: u32| {
+                            img.pixels[(((2 * y + dy) * img.width + 2 * x + dx) * 4 + c) as usize]
+                                as u32
+                        };
+                        pixels[((y * w + x) * 4 + c) as usize] =
+                            ((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2) / 4) as u8;
+                    }
+                }
+            }
+            img = Image {
+                width: w,
+                height: h,
+                pixels,
+            };
+        }
+        img
+    }
+
     /// The pixel at column `x`, row `y`.
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
         let k = (y as usize * self.width as usize + x as usize) * 4;

@@ -85,10 +85,33 @@ pub(super) struct Node {
     pub(super) extras: Option<NodeExtras>,
 }
 
-/// What arbor says of a node beyond glTF: the collision capsule it is.
-#[derive(Serialize)]
+/// What arbor says of a node beyond glTF: the collision capsule it is, the coverages of
+/// its levels of detail, its impostor.
+#[derive(Default, Serialize)]
 pub(super) struct NodeExtras {
-    pub(super) arbor_capsule: CapsuleExtras,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) arbor_capsule: Option<CapsuleExtras>,
+    #[serde(
+        rename = "MSFT_screencoverage",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub(super) screen_coverage: Option<Vec<f32>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) arbor_impostor: Option<ImpostorExtras>,
+}
+
+/// An octahedral impostor: its grid, its frame and its atlases (texture indices).
+#[derive(Serialize)]
+pub(super) struct ImpostorExtras {
+    pub(super) frames: u32,
+    pub(super) cell: u32,
+    pub(super) hemi: bool,
+    pub(super) centre: [f32; 3],
+    pub(super) radius: f32,
+    pub(super) up: [f32; 3],
+    pub(super) albedo_texture: usize,
+    pub(super) normal_texture: usize,
+    pub(super) below_coverage: f32,
 }
 
 #[derive(Serialize)]
@@ -113,10 +136,21 @@ impl Node {
     }
 }
 
-#[derive(Serialize)]
+#[derive(Default, Serialize)]
 pub(super) struct NodeExtensions {
-    #[serde(rename = "EXT_mesh_gpu_instancing")]
-    pub(super) instancing: Instancing,
+    #[serde(
+        rename = "EXT_mesh_gpu_instancing",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub(super) instancing: Option<Instancing>,
+    #[serde(rename = "MSFT_lod", skip_serializing_if = "Option::is_none")]
+    pub(super) lod: Option<MsftLod>,
+}
+
+/// `MSFT_lod`: the nodes of the lower levels.
+#[derive(Serialize)]
+pub(super) struct MsftLod {
+    pub(super) ids: Vec<usize>,
 }
 
 #[derive(Serialize)]

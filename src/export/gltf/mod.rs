@@ -258,13 +258,32 @@ fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
         node.rotation = Some(t.rotation);
         node.scale = Some([t.scale; 3]);
     }
+    let mut extras = json::NodeExtras::default();
     if let Some(c) = n.capsule {
-        node.extras = Some(json::NodeExtras {
-            arbor_capsule: json::CapsuleExtras {
-                a: c.a,
-                b: c.b,
-                radius: c.radius,
-            },
+        extras.arbor_capsule = Some(json::CapsuleExtras {
+            a: c.a,
+            b: c.b,
+            radius: c.radius,
+        });
+    }
+    let mut extensions = json::NodeExtensions::default();
+    if let Some(l) = &n.lod {
+        extensions.lod = Some(json::MsftLod {
+            ids: l.levels.clone(),
+        });
+        extras.screen_coverage = Some(l.coverage.clone());
+    }
+    if let Some(i) = &n.impostor {
+        extras.arbor_impostor = Some(json::ImpostorExtras {
+            frames: i.frames,
+            cell: i.cell,
+            hemi: i.hemi,
+            centre: i.centre,
+            radius: i.radius,
+            up: i.up,
+            albedo_texture: i.albedo,
+            normal_texture: i.normal,
+            below_coverage: i.below,
         });
     }
     if let Some(instances) = &n.instances {
@@ -281,10 +300,14 @@ fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
             rotation: per_instance(bytemuck::cast_slice(&r), "VEC4"),
             scale: per_instance(bytemuck::cast_slice(&sc), "VEC3"),
         };
-        node.extensions = Some(json::NodeExtensions {
-            instancing: json::Instancing { attributes },
-        });
+        extensions.instancing = Some(json::Instancing { attributes });
     }
+    let has_extras = extras.arbor_capsule.is_some()
+        || extras.screen_coverage.is_some()
+        || extras.arbor_impostor.is_some();
+    node.extras = has_extras.then_some(extras);
+    node.extensions =
+        (extensions.instancing.is_some() || extensions.lod.is_some()).then_some(extensions);
     node
 }
 
@@ -325,10 +348,15 @@ fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh, materials: &[Material
 /// required: a reader without the extension cannot read them as floats. Instancing is
 /// used, not required: a viewer without it draws one leaf at the node (export baked
 /// leaves, save_gltf, for such viewers).
-fn extensions(quantized: bool, instanced: bool) -> (Vec<&'static str>, Vec<&'static str>) {
+fn extensions(
+    quantized: bool,
+    instanced: bool,
+    lod: bool,
+) -> (Vec<&'static str>, Vec<&'static str>) {
     let used = [
         (quantized, "KHR_mesh_quantization"),
         (instanced, "EXT_mesh_gpu_instancing"),
+        (lod, "MSFT_lod"),
     ]
     .into_iter()
     .filter_map(|(on, name)| on.then_some(name))
@@ -382,7 +410,8 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
         textures_json(&mut b, scene)?
     };
     let instanced = scene.nodes.iter().any(|n| n.instances.is_some());
-    let (extensions_used, extensions_required) = extensions(quantized, instanced);
+    let lod = scene.nodes.iter().any(|n| n.lod.is_some());
+    let (extensions_used, extensions_required) = extensions(quantized, instanced, lod);
     if nodes.is_empty() {
         nodes.push(json::Node::new("tree", None));
     }

@@ -1,0 +1,135 @@
+//! The game asset: `arbor export ... --game` writes levels of detail (MSFT_lod and
+//! MSFT_screencoverage, nodes NAME_LOD0...), the impostor's atlases or a billboard level,
+//! and collision capsules, and the Khronos validator finds nothing wrong with it.
+
+#[path = "common/validator.rs"]
+mod validator;
+
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("game");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn export(args: &[&str], out: &PathBuf) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_arbor"))
+        .arg("export")
+        .args(args)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+fn json_of(path: &PathBuf) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap();
+    let n = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + n]).unwrap()
+}
+
+#[test]
+fn a_game_asset_has_its_levels_impostor_and_capsules() {
+    let oak = tmp("oak.glb");
+    let r = export(&["growth:oak", "--game", "--texture-size", "128"], &oak);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let j = json_of(&oak);
+    let nodes = j["nodes"].as_array().unwrap();
+    let names: Vec<&str> = nodes.iter().map(|n| n["name"].as_str().unwrap()).collect();
+    for k in 0..4 {
+        assert!(
+            names.contains(&format!("tree_LOD{k}").as_str()),
+            "{names:?}"
+        );
+    }
+    let first = &nodes[names.iter().position(|n| *n == "tree_LOD0").unwrap()];
+    let ids = first["extensions"]["MSFT_lod"]["ids"].as_array().unwrap();
+    assert_eq!(ids.len(), 3);
+    for (k, id) in ids.iter().enumerate() {
+        assert_eq!(
+            nodes[id.as_u64().unwrap() as usize]["name"],
+            format!("tree_LOD{}", k + 1)
+        );
+    }
+    let coverage: Vec<f64> = first["extras"]["MSFT_screencoverage"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    assert_eq!(coverage.len(), 4);
+    assert!(coverage.windows(2).all(|w| w[1] <= w[0]), "{coverage:?}");
+    assert!(
+        j["extensionsUsed"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e == "MSFT_lod")
+    );
+    // The impostor's atlases and how to read them.
+    let imp = &first["extras"]["arbor_impostor"];
+    assert_eq!(imp["frames"], 12);
+    assert_eq!(imp["hemi"], true);
+    let textures = j["textures"].as_array().unwrap();
+    for key in ["albedo_texture", "normal_texture"] {
+        let t = imp[key].as_u64().unwrap() as usize;
+        assert!(
+            textures[t]["name"]
+                .as_str()
+                .unwrap()
+                .starts_with("impostor")
+        );
+    }
+    // Capsules, named for the tree.
+    assert!(names.iter().filter(|n| n.starts_with("UCP_tree_")).count() >= 2);
+    // Each level has fewer triangles than the one before, read back by the gltf crate.
+    let g = gltf::Gltf::from_slice(&std::fs::read(&oak).unwrap()).unwrap();
+    let blob = g.blob.clone().unwrap();
+    let tris = |name: &str| -> usize {
+        let at = names.iter().position(|n| *n == name).unwrap();
+        let node = g.nodes().nth(at).unwrap();
+        node.mesh()
+            .unwrap()
+            .primitives()
+            .map(|p| {
+                let r = p.reader(|_| Some(&blob[..]));
+                r.read_indices().unwrap().into_u32().count() / 3
+            })
+            .sum()
+    };
+    let counts: Vec<usize> = (0..4).map(|k| tris(&format!("tree_LOD{k}"))).collect();
+    assert!(counts.windows(2).all(|w| w[1] < w[0]), "{counts:?}");
+    assert!(
+        counts[1] as f64 <= 0.4 * counts[0] as f64 * 1.05,
+        "{counts:?}"
+    );
+    // A billboard as the last level of a 1996 tree, and the impostor refused for OBJ.
+    let e = tmp("e.glb");
+    let r = export(
+        &["e", "--leaves", "--lod", "3", "--impostor", "billboard"],
+        &e,
+    );
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let j = json_of(&e);
+    let names: Vec<String> = j["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["name"].as_str().unwrap().to_string())
+        .collect();
+    assert!(names.contains(&"tree_LOD3".to_string()), "{names:?}");
+    assert!(
+        j["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|m| m["name"] == "billboard")
+    );
+    let obj = export(&["e", "--game"], &tmp("e.obj"));
+    assert!(!obj.status.success());
+    assert!(String::from_utf8_lossy(&obj.stderr).contains("for glTF"));
+    let bad = export(&["e", "--lod", "9"], &tmp("bad.glb"));
+    assert!(!bad.status.success());
+    validator::assert_valid(&[oak, e]);
+}
