@@ -93,6 +93,7 @@ pub mod skeleton;
 pub mod source;
 pub mod species;
 pub mod texture;
+pub mod wind;
 
 pub use error::{Error, Result};
 pub use mesh::{Mesh, MeshOptions, Topology, Vertex};

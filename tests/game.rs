@@ -133,3 +133,60 @@ fn a_game_asset_has_its_levels_impostor_and_capsules() {
     assert!(!bad.status.success());
     validator::assert_valid(&[oak, e]);
 }
+
+#[test]
+fn a_skinned_tree_sways_in_a_loop() {
+    let oak = tmp("oak_wind.glb");
+    let r = export(
+        &["growth:oak", "--wind", "skin", "--texture-size", "64"],
+        &oak,
+    );
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let e = tmp("e_wind.glb");
+    let r = export(&["e", "--leaves", "--wind", "skin", "--collision"], &e);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    for path in [&oak, &e] {
+        let g = gltf::Gltf::from_slice(&std::fs::read(path).unwrap()).unwrap();
+        let blob = g.blob.clone().unwrap();
+        let skin = g.skins().next().expect("a skin");
+        let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+        assert!((5..=32).contains(&joints.len()), "{} joints", joints.len());
+        // Every vertex's weights sum to one; every bone moves some vertex.
+        let tree = g.nodes().next().unwrap();
+        assert_eq!(tree.skin().unwrap().index(), 0);
+        let mut used = vec![false; joints.len()];
+        for p in tree.mesh().unwrap().primitives() {
+            let reader = p.reader(|_| Some(&blob[..]));
+            let w: Vec<[f32; 4]> = reader.read_weights(0).unwrap().into_f32().collect();
+            let j: Vec<[u16; 4]> = reader.read_joints(0).unwrap().into_u16().collect();
+            assert_eq!(w.len(), j.len());
+            for (w, j) in w.iter().zip(&j) {
+                assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-4, "{w:?}");
+                for (&x, &b) in w.iter().zip(j) {
+                    if x > 0.0 {
+                        used[b as usize] = true;
+                    }
+                }
+            }
+        }
+        assert!(used.iter().all(|&u| u), "{used:?}");
+        // One clip: a rotation channel per bone, its last key its first.
+        let anim = g.animations().next().expect("a clip");
+        assert_eq!(anim.channels().count(), joints.len());
+        for ch in anim.channels() {
+            assert!(joints.contains(&ch.target().node().index()));
+            let reader = ch.reader(|_| Some(&blob[..]));
+            let times: Vec<f32> = reader.read_inputs().unwrap().collect();
+            assert_eq!(times[0], 0.0);
+            assert!((times.last().unwrap() - 4.0).abs() < 1e-6);
+            let rot: Vec<[f32; 4]> = match reader.read_outputs().unwrap() {
+                gltf::animation::util::ReadOutputs::Rotations(r) => r.into_f32().collect(),
+                _ => panic!("rotations"),
+            };
+            let (a, b) = (rot[0], *rot.last().unwrap());
+            let dot: f32 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+            assert!(dot.abs() > 1.0 - 1e-6, "{a:?} {b:?}");
+        }
+    }
+    validator::assert_valid(&[oak, e]);
+}

@@ -114,6 +114,10 @@ struct ExportArgs {
     /// level, or none
     #[arg(long, value_name = "kind", value_parser = ["octahedral", "billboard", "none"])]
     impostor: Option<String>,
+    /// glTF only: wind that plays in any viewer: bones along the trunk and limbs (up to
+    /// 32), every vertex weighted to them, and a looping 4-second clip "wind"
+    #[arg(long, value_name = "kind", value_parser = ["skin", "none"])]
+    wind: Option<String>,
 }
 
 #[derive(Args)]
@@ -371,11 +375,36 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         game.report(&scene, out, skeleton.len(), what, grow_ms, t1);
         return Ok(());
     }
+    let skin = m.wind.as_deref() == Some("skin");
+    if skin && (format == ".obj" || instanced) {
+        bail!("{out}: --wind skin is for glTF with baked leaves (a skin and a clip)");
+    }
     let t1 = Instant::now();
     let mut bar = Bar::new();
     let mut show = |s: Stage, f: f32| bar.show(s, f);
     let mut run = Run::reporting(&mut show);
-    let r = if m.collision {
+    let r = if skin {
+        let go = arbor::export::gltf_mesh_options(&o);
+        go.and_then(|go| {
+            let mut scene = arbor::scene::Scene::tree(skeleton, &go, leaves.as_ref())?;
+            if m.collision {
+                scene.collide(&arbor::collision::capsules(
+                    skeleton,
+                    COLLISION_CAPSULES,
+                    0.0,
+                    &go,
+                )?);
+            }
+            wind_skin(
+                &mut scene,
+                skeleton,
+                &go,
+                leaves.as_ref(),
+                m.tree.seed.unwrap_or(0),
+            )?;
+            arbor::export::save_gltf_scene(&scene, &o, out)
+        })
+    } else if m.collision {
         collided_scene(skeleton, &o, leaves.as_ref(), instanced)
             .and_then(|scene| arbor::export::save_gltf_scene(&scene, &o, out))
     } else if lower.ends_with(".obj") {
@@ -560,6 +589,36 @@ fn mean_color(image: &arbor::texture::Image) -> [u8; 3] {
     sum.map(|s| (s / n) as u8)
 }
 
+/// Bones `--wind skin` gives a tree at most.
+const WIND_BONES: usize = 32;
+
+/// Skins the tree's mesh in `scene` (bark, then its baked `leaves` when given) on a rig of
+/// `skeleton` drawn with `o`, with a 4-second wind clip seeded by `seed`.
+fn wind_skin(
+    scene: &mut arbor::scene::Scene,
+    skeleton: &Skeleton,
+    o: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    seed: u64,
+) -> arbor::Result<()> {
+    let rig = arbor::wind::rig(skeleton, WIND_BONES, o)?;
+    let bark = arbor::mesh::tubes(skeleton, o)?;
+    let mut influences = vec![arbor::wind::weights(&rig, &bark)?];
+    let prims = scene
+        .nodes
+        .first()
+        .and_then(|n| n.mesh)
+        .map_or(0, |k| scene.meshes[k].primitives.len());
+    if let (Some(l), true) = (leaves, prims > 1) {
+        let baked = arbor::mesh::leaf_mesh(skeleton, l, o)?;
+        let branches = arbor::mesh::leaf_branches(skeleton, l, o)?;
+        let per_leaf = l.shape().vertices.len();
+        influences.push(arbor::wind::leaf_weights(&rig, &baked, &branches, per_leaf));
+    }
+    let clip = arbor::wind::clip(&rig, o.up(), glam::Vec3::X, 2.0, 4.0, 30, seed)?;
+    scene.skin(&rig, influences, Some(clip))
+}
+
 /// Capsules `--collision` writes at most.
 const COLLISION_CAPSULES: usize = 32;
 
@@ -648,6 +707,21 @@ fn export_species(
         let capsules = arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &tree_options)
             .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
         scene.collide(&capsules);
+    }
+    if m.wind.as_deref() == Some("skin") {
+        if obj {
+            bail!("{out}: --wind skin is for glTF (a skin and a clip); OBJ has neither");
+        }
+        let (tree_options, leaves) = arbor::species::options(look, skeleton, &go)
+            .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
+        wind_skin(
+            &mut scene,
+            skeleton,
+            &tree_options,
+            Some(&leaves.seed(seed)),
+            seed,
+        )
+        .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
     }
     if obj {
         arbor::export::save_obj_scene(&scene, out).map_err(|e| anyhow!("{out}: {e}"))?;

@@ -27,6 +27,19 @@ pub fn leaf_cell(leaves: &LeafOptions, k: usize) -> u32 {
     cell_of(leaves.seed, leaves.atlas_columns * leaves.atlas_rows, k)
 }
 
+/// The branch each of [`leaf_instances`] sits on ([`NO_PARENT`](crate::skeleton::NO_PARENT)
+/// for a site the turtle recorded on none), in the order of the baked leaf mesh's leaves.
+pub fn leaf_branches(
+    skeleton: &Skeleton,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Vec<u32>> {
+    Ok(place_kept(skeleton, leaves, mesh)?
+        .into_iter()
+        .map(|(_, b, _)| b)
+        .collect())
+}
+
 /// The atlas cell of each of [`leaf_instances`] (the cell [`leaf_cell`] gives its index
 /// among all the leaves, so a thinned leaf keeps its cell).
 pub fn leaf_cells(

@@ -39,6 +39,18 @@ pub struct Scene {
     pub nodes: Vec<Node>,
     /// What the scene was made from.
     pub settings: Settings,
+    /// The bones the skinned primitives ride and their looping clip, or none (glTF: a
+    /// node per bone, a skin on the first node, an animation "wind").
+    pub rig: Option<SceneRig>,
+}
+
+/// A scene's skeleton of bones and its clip.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneRig {
+    /// The bones (parents first), in the scene's space.
+    pub bones: Vec<crate::wind::Bone>,
+    /// The clip that moves them.
+    pub clip: Option<crate::wind::Clip>,
 }
 
 /// A mesh of the scene: one or more primitives drawn together.
@@ -59,6 +71,8 @@ pub struct Primitive {
     pub material: usize,
     /// Per vertex, the growth time and wind weights (the bark's), or none.
     pub animation: Option<Vec<AnimationVertex>>,
+    /// Per vertex, the bones of [`Scene::rig`] it rides and their weights, or none.
+    pub skin: Option<Vec<crate::wind::Influence>>,
 }
 
 /// A surface: a metallic-roughness material with a base colour.
@@ -524,6 +538,49 @@ impl Scene {
         });
     }
 
+    /// Skins the first node's mesh on `rig`: each primitive's influences in `influences`
+    /// (one list per primitive, one influence per vertex), and `clip` to play. A list of
+    /// the wrong length is an error naming it.
+    pub fn skin(
+        &mut self,
+        rig: &crate::wind::Rig,
+        influences: Vec<Vec<crate::wind::Influence>>,
+        clip: Option<crate::wind::Clip>,
+    ) -> Result<()> {
+        let Some(mesh) = self.nodes.first().and_then(|n| n.mesh) else {
+            return Err(crate::Error::invalid("scene", "no mesh to skin"));
+        };
+        let prims = &mut self.meshes[mesh].primitives;
+        if influences.len() != prims.len() {
+            return Err(crate::Error::invalid(
+                "influences",
+                format!(
+                    "{} lists; expected one per primitive ({})",
+                    influences.len(),
+                    prims.len()
+                ),
+            ));
+        }
+        for (k, (p, i)) in prims.iter_mut().zip(influences).enumerate() {
+            if i.len() != p.mesh.vertices.len() {
+                return Err(crate::Error::invalid(
+                    "influences",
+                    format!(
+                        "primitive {k}: {} influences; expected one per vertex ({})",
+                        i.len(),
+                        p.mesh.vertices.len()
+                    ),
+                ));
+            }
+            p.skin = Some(i);
+        }
+        self.rig = Some(SceneRig {
+            bones: rig.bones.clone(),
+            clip,
+        });
+        Ok(())
+    }
+
     /// Adds collision capsules (from [`capsules`](crate::collision::capsules), in the
     /// scene's conventions): each a node and a mesh named `UCP_<tree>_NN` (Unreal's
     /// prefix for a capsule collision of the mesh `<tree>`, the scene's first node), a
@@ -551,6 +608,7 @@ impl Scene {
                     mesh: capsule_mesh(c, 8, 3),
                     material,
                     animation: None,
+                    skin: None,
                 }],
             });
             let mut node = Node::new(name, Some(self.meshes.len() - 1));
@@ -582,6 +640,7 @@ impl Scene {
             mesh,
             material,
             animation,
+            skin: None,
         });
     }
 

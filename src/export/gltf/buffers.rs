@@ -14,6 +14,7 @@ pub(super) fn pad4(v: &mut Vec<u8>, byte: u8) {
 pub(super) const FLOAT: u32 = 5126;
 pub(super) const SHORT: u32 = 5122;
 const UNSIGNED_INT: u32 = 5125;
+pub(super) const UNSIGNED_SHORT: u32 = 5123;
 /// glTF bufferView targets.
 pub(super) const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -92,7 +93,7 @@ impl Buffers {
             let uv = self.accessor(vv, 24, n, "VEC2");
             (pos, nor, uv)
         };
-        (self.accessors[pos].min, self.accessors[pos].max) = (Some(lo), Some(hi));
+        (self.accessors[pos].min, self.accessors[pos].max) = (Some(lo.to_vec()), Some(hi.to_vec()));
         let iv = self.view(
             bytemuck::cast_slice(&m.indices),
             None,
@@ -111,6 +112,8 @@ impl Buffers {
             tangent: None,
             growth: None,
             wind: None,
+            joints: None,
+            weights: None,
         };
         (attributes, indices, n)
     }

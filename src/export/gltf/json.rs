@@ -27,6 +27,10 @@ pub(super) struct Root {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) samplers: Vec<Sampler>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) skins: Vec<Skin>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) animations: Vec<Animation>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) accessors: Vec<Accessor>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) buffer_views: Vec<BufferView>,
@@ -71,8 +75,12 @@ pub(super) struct Scene {
 #[derive(Serialize)]
 pub(super) struct Node {
     pub(super) name: String,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) children: Vec<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) mesh: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) skin: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) translation: Option<[f32; 3]>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -126,7 +134,9 @@ impl Node {
     pub(super) fn new(name: impl Into<String>, mesh: Option<usize>) -> Self {
         Node {
             name: name.into(),
+            children: Vec::new(),
             mesh,
+            skin: None,
             translation: None,
             rotation: None,
             scale: None,
@@ -197,6 +207,47 @@ pub(super) struct Attributes {
     pub(super) growth: Option<usize>,
     #[serde(rename = "_WIND", skip_serializing_if = "Option::is_none")]
     pub(super) wind: Option<usize>,
+    #[serde(rename = "JOINTS_0", skip_serializing_if = "Option::is_none")]
+    pub(super) joints: Option<usize>,
+    #[serde(rename = "WEIGHTS_0", skip_serializing_if = "Option::is_none")]
+    pub(super) weights: Option<usize>,
+}
+
+/// A skin: its joints' nodes and inverse bind matrices.
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+pub(super) struct Skin {
+    pub(super) name: &'static str,
+    pub(super) inverse_bind_matrices: usize,
+    pub(super) joints: Vec<usize>,
+    pub(super) skeleton: usize,
+}
+
+/// An animation: channels driving node rotations from samplers.
+#[derive(Serialize)]
+pub(super) struct Animation {
+    pub(super) name: &'static str,
+    pub(super) channels: Vec<Channel>,
+    pub(super) samplers: Vec<AnimationSampler>,
+}
+
+#[derive(Serialize)]
+pub(super) struct Channel {
+    pub(super) sampler: usize,
+    pub(super) target: ChannelTarget,
+}
+
+#[derive(Serialize)]
+pub(super) struct ChannelTarget {
+    pub(super) node: usize,
+    pub(super) path: &'static str,
+}
+
+#[derive(Serialize)]
+pub(super) struct AnimationSampler {
+    pub(super) input: usize,
+    pub(super) interpolation: &'static str,
+    pub(super) output: usize,
 }
 
 #[derive(Clone, Serialize)]
@@ -269,9 +320,9 @@ pub(super) struct Accessor {
     #[serde(rename = "type")]
     pub(super) kind: &'static str,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) min: Option<[f32; 3]>,
+    pub(super) min: Option<Vec<f32>>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) max: Option<[f32; 3]>,
+    pub(super) max: Option<Vec<f32>>,
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub(super) normalized: bool,
 }

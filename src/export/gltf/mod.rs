@@ -21,7 +21,7 @@ use std::path::Path;
 
 mod buffers;
 mod json;
-use buffers::{ARRAY_BUFFER, Buffers, FLOAT, pad4};
+use buffers::{ARRAY_BUFFER, Buffers, FLOAT, UNSIGNED_SHORT, pad4};
 use json::Extras;
 
 fn material_json(m: &Material) -> json::Material {
@@ -331,6 +331,16 @@ fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh, materials: &[Material
             attributes.growth = Some(b.accessor(av, 0, n, "SCALAR"));
             attributes.wind = Some(b.accessor(av, 4, n, "VEC3"));
         }
+        // The bones each vertex rides (u16 x 4) and their weights (f32 x 4).
+        if let Some(skin) = p.skin.as_ref().filter(|k| k.len() == n) {
+            let joints: Vec<[u16; 4]> = skin.iter().map(|x| x.0).collect();
+            let weights: Vec<[f32; 4]> = skin.iter().map(|x| x.1).collect();
+            let jv = b.view(bytemuck::cast_slice(&joints), None, Some(ARRAY_BUFFER));
+            attributes.joints =
+                Some(b.push(json::Accessor::new(jv, None, (UNSIGNED_SHORT, "VEC4"), n)));
+            let wv = b.view(bytemuck::cast_slice(&weights), None, Some(ARRAY_BUFFER));
+            attributes.weights = Some(b.accessor(wv, 0, n, "VEC4"));
+        }
         primitives.push(json::Primitive {
             attributes,
             indices,
@@ -409,6 +419,86 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
     } else {
         textures_json(&mut b, scene)?
     };
+    // The rig: a node per bone after the scene's, the skin on the first node, the clip.
+    let mut roots: Vec<usize> = (0..nodes.len()).collect();
+    let (mut skins, mut animations) = (Vec::new(), Vec::new());
+    if let (Some(rig), false) = (&scene.rig, nodes.is_empty()) {
+        let base = nodes.len();
+        for (k, bone) in rig.bones.iter().enumerate() {
+            let head = glam::Vec3::from(bone.head);
+            let parent = rig
+                .bones
+                .get(bone.parent as usize)
+                .map(|p| glam::Vec3::from(p.head));
+            let mut node = json::Node::new(format!("bone_{k:02}"), None);
+            node.translation = Some((head - parent.unwrap_or(glam::Vec3::ZERO)).to_array());
+            node.children = rig
+                .bones
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.parent as usize == k)
+                .map(|(c, _)| base + c)
+                .collect();
+            if parent.is_none() {
+                roots.push(base + k);
+            }
+            nodes.push(node);
+        }
+        // Each bone's inverse bind matrix: the translation back from its head.
+        let ibm: Vec<[f32; 16]> = rig
+            .bones
+            .iter()
+            .map(|bone| {
+                let [x, y, z] = bone.head;
+                [
+                    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -x, -y, -z, 1.0,
+                ]
+            })
+            .collect();
+        let v = b.view(bytemuck::cast_slice(&ibm), None, None);
+        let ibm = b.push(json::Accessor::new(
+            v,
+            None,
+            (FLOAT, "MAT4"),
+            rig.bones.len(),
+        ));
+        skins.push(json::Skin {
+            name: "wind",
+            inverse_bind_matrices: ibm,
+            joints: (base..base + rig.bones.len()).collect(),
+            skeleton: base,
+        });
+        nodes[0].skin = Some(0);
+        if let Some(clip) = &rig.clip {
+            let tv = b.view(bytemuck::cast_slice(&clip.times), None, None);
+            let mut input = json::Accessor::new(tv, None, (FLOAT, "SCALAR"), clip.times.len());
+            input.min = Some(vec![clip.times.first().copied().unwrap_or(0.0)]);
+            input.max = Some(vec![clip.times.last().copied().unwrap_or(0.0)]);
+            let input = b.push(input);
+            let (mut channels, mut samplers) = (Vec::new(), Vec::new());
+            for (k, r) in clip.rotations.iter().enumerate() {
+                let rv = b.view(bytemuck::cast_slice(r), None, None);
+                let output = b.push(json::Accessor::new(rv, None, (FLOAT, "VEC4"), r.len()));
+                samplers.push(json::AnimationSampler {
+                    input,
+                    interpolation: "LINEAR",
+                    output,
+                });
+                channels.push(json::Channel {
+                    sampler: k,
+                    target: json::ChannelTarget {
+                        node: base + k,
+                        path: "rotation",
+                    },
+                });
+            }
+            animations.push(json::Animation {
+                name: "wind",
+                channels,
+                samplers,
+            });
+        }
+    }
     let instanced = scene.nodes.iter().any(|n| n.instances.is_some());
     let lod = scene.nodes.iter().any(|n| n.lod.is_some());
     let (extensions_used, extensions_required) = extensions(quantized, instanced, lod);
@@ -444,15 +534,15 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
         extensions_used,
         extensions_required,
         scene: 0,
-        scenes: [json::Scene {
-            nodes: (0..nodes.len()).collect(),
-        }],
+        scenes: [json::Scene { nodes: roots }],
         nodes,
         meshes,
         materials,
         textures,
         images,
         samplers,
+        skins,
+        animations,
         // Accessors and views come only with meshes (none when there are none).
         accessors: b.accessors,
         buffer_views: b.views,

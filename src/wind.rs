@@ -1,0 +1,436 @@
+//! Wind that plays in any viewer: a small skeleton of bones along the trunk and the main
+//! limbs, every vertex of the bark and the leaves weighted to them, and a looping clip of
+//! the bones swaying, so a glTF file moves in Blender, three.js, Godot or Unity's
+//! importers with no shader of the host's.
+//!
+//! **Bones** ([`rig`]): the trunk's axis in [`TRUNK_BONES`] bones, then the limbs (the
+//! axes that leave it, and theirs), thickest first, [`LIMB_BONES`] each, until the
+//! budget; each bone a segment of its axis by arc length, its head where the segment
+//! starts. A bone's parent is the bone of the branch its segment grows from.
+//!
+//! **Weights** ([`weights`]): a vertex takes the bone of its branch (a branch on no bone's
+//! axis takes its parent's), blended with that bone's parent over the first
+//! [`BLEND`] of the bone's length (two influences at most, summing to one); a leaf
+//! rides its branch's bone.
+//!
+//! **Clip** ([`clip`]): each bone turns about a level axis across the wind (+X blowing,
+//! turning about the horizontal axis perpendicular to it) by a sum of sines whose
+//! frequencies are whole multiples of one over the clip's length (so the last key is the
+//! first: it loops without a jump); its amplitude grows with the bone's slenderness
+//! (length over radius, the stiffness of a beam) and its phase and gusts come from the
+//! seed.
+
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, MeshOptions};
+use crate::skeleton::{NO_PARENT, Skeleton};
+use glam::{Quat, Vec3};
+
+/// Bones along the trunk.
+pub const TRUNK_BONES: usize = 4;
+
+/// Bones along each limb.
+pub const LIMB_BONES: usize = 2;
+
+/// The share of a bone's length over which its vertices blend into its parent's.
+pub const BLEND: f32 = 0.25;
+
+/// The most bones a rig has.
+pub const MAX_BONES: usize = 256;
+
+/// One bone: a segment of an axis, in the mesh's space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bone {
+    /// Where it starts (its joint).
+    pub head: [f32; 3],
+    /// Where it ends.
+    pub tail: [f32; 3],
+    /// Its parent bone, or [`NO_PARENT`] for the root.
+    pub parent: u32,
+    /// The radius of the wood at its head (mesh units).
+    pub radius: f32,
+}
+
+/// The bones of a tree and which bone each branch rides.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rig {
+    /// The bones, parents first; the first is the trunk's base.
+    pub bones: Vec<Bone>,
+    /// For each branch of the skeleton, its bone.
+    pub branch_bone: Vec<u32>,
+}
+
+/// The axes of a skeleton: each a list of branches from its first to its tip.
+fn axes(skeleton: &Skeleton) -> Vec<Vec<u32>> {
+    let b = skeleton.branches();
+    let adjacency = skeleton.adjacency();
+    let mut out = Vec::new();
+    for (i, x) in b.iter().enumerate() {
+        let continues =
+            x.parent != NO_PARENT && adjacency.continuation(x.parent as usize) == Some(i as u32);
+        if continues {
+            continue;
+        }
+        let mut axis = vec![i as u32];
+        let mut at = i;
+        while let Some(c) = adjacency.continuation(at) {
+            axis.push(c);
+            at = c as usize;
+        }
+        out.push(axis);
+    }
+    out
+}
+
+/// The rig of `skeleton` drawn with `mesh` (its conventions and scale): at most
+/// `max_bones` (1..=[`MAX_BONES`]) bones.
+pub fn rig(skeleton: &Skeleton, max_bones: usize, mesh: &MeshOptions) -> Result<Rig> {
+    if !(1..=MAX_BONES).contains(&max_bones) {
+        return Err(Error::invalid(
+            "max_bones",
+            format!("{max_bones}; expected 1..={MAX_BONES}"),
+        ));
+    }
+    mesh.validate()?;
+    let b = skeleton.branches();
+    if b.is_empty() {
+        return Err(Error::invalid("skeleton", "no branches; expected a tree"));
+    }
+    let out = mesh.out();
+    let mut all = axes(skeleton);
+    // The trunk (the first root's axis) first, then the thickest axes.
+    let trunk = all.remove(0);
+    all.sort_by(|p, q| {
+        b[q[0] as usize]
+            .start_radius
+            .total_cmp(&b[p[0] as usize].start_radius)
+            .then(p[0].cmp(&q[0]))
+    });
+    let mut rig = Rig {
+        bones: Vec::new(),
+        branch_bone: vec![u32::MAX; b.len()],
+    };
+    // Which bone each chosen axis' branch is on, bone by bone.
+    let mut chosen: Vec<(Vec<u32>, usize)> = vec![(trunk, TRUNK_BONES)];
+    let mut count = TRUNK_BONES.min(chosen[0].0.len());
+    for axis in all {
+        // Only axes that grow from a chosen one (so each bone's parent is a bone).
+        let n = LIMB_BONES.min(axis.len());
+        if count + n > max_bones {
+            break;
+        }
+        count += n;
+        chosen.push((axis, n));
+    }
+    let mut on_bone = vec![u32::MAX; b.len()];
+    let mut segments: Vec<(Vec<u32>, usize)> = Vec::new();
+    for (axis, n) in &chosen {
+        let n = (*n).min(axis.len()).max(1);
+        // Split by arc length into n segments.
+        let lengths: Vec<f32> = axis.iter().map(|&i| b[i as usize].length()).collect();
+        let total: f32 = lengths.iter().sum::<f32>().max(f32::MIN_POSITIVE);
+        let mut acc = 0.0;
+        let mut parts: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for (&i, &l) in axis.iter().zip(&lengths) {
+            let k = (((acc + 0.5 * l) / total * n as f32) as usize).min(n - 1);
+            parts[k].push(i);
+            acc += l;
+        }
+        for p in parts.into_iter().filter(|p| !p.is_empty()) {
+            segments.push((p, 0));
+        }
+    }
+    // Bones in the order of their first branch (parents before children).
+    segments.sort_by_key(|(p, _)| p[0]);
+    for (k, (p, _)) in segments.iter().enumerate() {
+        for &i in p {
+            on_bone[i as usize] = k as u32;
+        }
+    }
+    for (k, (p, _)) in segments.iter().enumerate() {
+        let first = &b[p[0] as usize];
+        let last = &b[*p.last().expect("a segment has branches") as usize];
+        let _ = k;
+        rig.bones.push(Bone {
+            head: out.pos(first.start()),
+            tail: out.pos(last.end()),
+            parent: NO_PARENT,
+            radius: first.start_radius * out.scale,
+        });
+    }
+    // Every branch's bone: its own segment's, else its parent's (parents come first).
+    for (i, x) in b.iter().enumerate() {
+        rig.branch_bone[i] = if on_bone[i] != u32::MAX {
+            on_bone[i]
+        } else if x.parent != NO_PARENT {
+            rig.branch_bone[x.parent as usize]
+        } else {
+            0
+        };
+    }
+    // A bone's parent: the bone of the branch its first branch grows from.
+    for (k, (p, _)) in segments.iter().enumerate() {
+        let parent = b[p[0] as usize].parent;
+        rig.bones[k].parent = if parent == NO_PARENT {
+            NO_PARENT
+        } else {
+            rig.branch_bone[parent as usize]
+        };
+    }
+    // One root: any other root bone hangs from the first.
+    for k in 1..rig.bones.len() {
+        if rig.bones[k].parent == NO_PARENT {
+            rig.bones[k].parent = 0;
+        }
+    }
+    Ok(rig)
+}
+
+/// Up to four bones and their weights (summing to one), per vertex.
+pub type Influence = ([u16; 4], [f32; 4]);
+
+/// The influences of `vertices` (in the rig's mesh space), each on the bone `bone_of(k)`
+/// of vertex `k`: blended with the bone's parent near its head.
+fn blend(rig: &Rig, positions: impl Iterator<Item = (Vec3, u32)>) -> Vec<Influence> {
+    positions
+        .map(|(p, j)| {
+            let bone = &rig.bones[j as usize];
+            let (h, t) = (Vec3::from(bone.head), Vec3::from(bone.tail));
+            let d = t - h;
+            let s = if d.length_squared() > 0.0 {
+                (p - h).dot(d) / d.length_squared()
+            } else {
+                1.0
+            };
+            if bone.parent == NO_PARENT || s >= BLEND {
+                return ([j as u16, 0, 0, 0], [1.0, 0.0, 0.0, 0.0]);
+            }
+            // Half its parent's at the joint, all its own at BLEND of its length.
+            let own = 0.5 + 0.5 * (s.max(0.0) / BLEND);
+            (
+                [j as u16, bone.parent as u16, 0, 0],
+                [own, 1.0 - own, 0.0, 0.0],
+            )
+        })
+        .collect()
+}
+
+/// The influences of every vertex of `bark` (a mesh of the rig's skeleton with its branch
+/// ranges, as [`crate::mesh::tubes`] writes it).
+pub fn weights(rig: &Rig, bark: &Mesh) -> Result<Vec<Influence>> {
+    let mut bone_of = vec![0u32; bark.vertices.len()];
+    if bark.ranges.len() != rig.branch_bone.len() {
+        return Err(Error::invalid(
+            "bark",
+            format!(
+                "{} branch ranges; expected one per branch of the rig's skeleton ({})",
+                bark.ranges.len(),
+                rig.branch_bone.len()
+            ),
+        ));
+    }
+    for (r, &j) in bark.ranges.iter().zip(&rig.branch_bone) {
+        let (a, n) = (r.first_vertex as usize, r.vertex_count as usize);
+        if let Some(slice) = bone_of.get_mut(a..a + n) {
+            slice.fill(j);
+        }
+    }
+    Ok(blend(
+        rig,
+        bark.vertices
+            .iter()
+            .zip(bone_of)
+            .map(|(v, j)| (Vec3::from(v.position), j)),
+    ))
+}
+
+/// The influences of every vertex of a baked leaf mesh whose leaf `k` is
+/// `per_leaf` vertices from `k * per_leaf` on the branch `branches[k]`; the vertices
+/// after the leaves (the turtle's polygons and organs) ride the root bone.
+pub fn leaf_weights(rig: &Rig, leaves: &Mesh, branches: &[u32], per_leaf: usize) -> Vec<Influence> {
+    leaves
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(k, _)| {
+            let j = branches
+                .get(k / per_leaf.max(1))
+                .and_then(|&b| rig.branch_bone.get(b as usize))
+                .copied()
+                .unwrap_or(0);
+            ([j as u16, 0, 0, 0], [1.0, 0.0, 0.0, 0.0])
+        })
+        .collect()
+}
+
+/// A looping clip: key times and each bone's rotation (a unit quaternion x, y, z, w,
+/// relative to its rest) at each key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clip {
+    /// Seconds.
+    pub duration: f32,
+    /// Key times from 0 to `duration`, the last key the first again.
+    pub times: Vec<f32>,
+    /// For each bone, its rotation at each key.
+    pub rotations: Vec<Vec<[f32; 4]>>,
+}
+
+/// The wind clip of `rig`: `duration` seconds (0.5..=60) at `keys_per_second` (1..=60),
+/// the wind blowing along `wind` (level; the mesh's own axes) at `strength` (0..=4: at 1,
+/// a bone turns by up to 0.002 * sqrt(length / radius) radians, about 2 degrees for a
+/// slender limb and a third of one for a stout trunk's segment), varied by `seed`.
+pub fn clip(
+    rig: &Rig,
+    up: Vec3,
+    wind: Vec3,
+    strength: f32,
+    duration: f32,
+    keys_per_second: u32,
+    seed: u64,
+) -> Result<Clip> {
+    if !(0.5..=60.0).contains(&duration) {
+        return Err(Error::invalid(
+            "duration",
+            format!("{duration}; expected 0.5..=60 seconds"),
+        ));
+    }
+    if !(1..=60).contains(&keys_per_second) {
+        return Err(Error::invalid(
+            "keys_per_second",
+            format!("{keys_per_second}; expected 1..=60"),
+        ));
+    }
+    if !(0.0..=4.0).contains(&strength) {
+        return Err(Error::invalid(
+            "strength",
+            format!("{strength}; expected 0..=4"),
+        ));
+    }
+    let up = up.normalize_or(Vec3::Y);
+    let level = (wind - up * wind.dot(up)).normalize_or(up.any_orthonormal_vector());
+    // A bone bends over: it turns about the level axis across the wind.
+    let across = up.cross(level).normalize_or(Vec3::X);
+    let keys = (duration * keys_per_second as f32).round().max(2.0) as usize;
+    let times: Vec<f32> = (0..=keys)
+        .map(|k| duration * k as f32 / keys as f32)
+        .collect();
+    let mut rng = crate::rng::Rng::new(seed);
+    // Gusts: the same for the whole tree, two slow whole cycles over the clip.
+    let gust: [(f32, f32); 2] = [(1.0, rng.next_f64() as f32), (2.0, rng.next_f64() as f32)];
+    let tau = std::f32::consts::TAU;
+    let rotations = rig
+        .bones
+        .iter()
+        .map(|bone| {
+            let length = (Vec3::from(bone.tail) - Vec3::from(bone.head)).length();
+            // Slender bones sway more: length over radius, as a beam's deflection grows.
+            let slender = (length / bone.radius.max(1e-4)).clamp(1.0, 400.0);
+            let amplitude = strength * 0.002 * slender.sqrt();
+            // Its own sway: a few whole cycles over the clip, at its own phase.
+            let cycles = 2.0 + (rng.next_f64() * 3.0).floor() as f32;
+            let phase = rng.next_f64() as f32;
+            // A little sideways too, out of step.
+            let side_cycles = cycles + 1.0;
+            let side_phase = rng.next_f64() as f32;
+            times
+                .iter()
+                .map(|&t| {
+                    let u = t / duration;
+                    let g: f32 = gust
+                        .iter()
+                        .map(|&(c, p)| 0.5 + 0.5 * (tau * (c * u + p)).sin())
+                        .sum::<f32>()
+                        / 2.0;
+                    let bend = amplitude * (0.6 * g + 0.4 * (tau * (cycles * u + phase)).sin());
+                    let side = 0.3 * amplitude * (tau * (side_cycles * u + side_phase)).sin();
+                    let q =
+                        Quat::from_axis_angle(across, bend) * Quat::from_axis_angle(level, side);
+                    q.normalize().to_array()
+                })
+                .collect()
+        })
+        .collect();
+    Ok(Clip {
+        duration,
+        times,
+        rotations,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tree() -> (Skeleton, MeshOptions) {
+        let mut p = crate::HondaParams::preset('b').unwrap();
+        p.steps = 8;
+        (
+            crate::models::honda::build(&p).unwrap(),
+            MeshOptions::default(),
+        )
+    }
+
+    #[test]
+    fn every_vertex_is_weighted_to_one_and_every_bone_moves_something() {
+        let (s, o) = tree();
+        let rig = rig(&s, 24, &o).unwrap();
+        assert!(
+            rig.bones.len() > TRUNK_BONES && rig.bones.len() <= 24,
+            "{}",
+            rig.bones.len()
+        );
+        for (k, b) in rig.bones.iter().enumerate() {
+            assert!(
+                k == 0 || (b.parent as usize) < k,
+                "bone {k}: parent {}",
+                b.parent
+            );
+        }
+        let bark = crate::mesh::tubes(&s, &o).unwrap();
+        let w = weights(&rig, &bark).unwrap();
+        assert_eq!(w.len(), bark.vertices.len());
+        let mut used = vec![false; rig.bones.len()];
+        for (j, x) in &w {
+            let sum: f32 = x.iter().sum();
+            assert!((sum - 1.0).abs() < 1e-5, "{x:?}");
+            assert!(x.iter().all(|&v| (0.0..=1.0).contains(&v)));
+            for (&b, &v) in j.iter().zip(x) {
+                if v > 0.0 {
+                    used[b as usize] = true;
+                }
+            }
+        }
+        assert!(
+            used.iter().all(|&u| u),
+            "a bone without influence: {used:?}"
+        );
+        assert!(
+            rig.branch_bone
+                .iter()
+                .all(|&b| (b as usize) < rig.bones.len())
+        );
+    }
+
+    #[test]
+    fn the_clip_loops_and_stays_gentle() {
+        let (s, o) = tree();
+        let rig = rig(&s, 16, &o).unwrap();
+        let c = clip(&rig, Vec3::Y, Vec3::X, 1.0, 4.0, 30, 7).unwrap();
+        assert_eq!(c.times.len(), 121);
+        assert_eq!(*c.times.last().unwrap(), 4.0);
+        for r in &c.rotations {
+            assert_eq!(r.len(), c.times.len());
+            let (a, b) = (Quat::from_array(r[0]), Quat::from_array(*r.last().unwrap()));
+            assert!(a.angle_between(b) < 1e-4, "no loop: {a} {b}");
+            for q in r {
+                assert!(Quat::from_array(*q).angle_between(Quat::IDENTITY) < 0.5);
+            }
+        }
+        assert!(clip(&rig, Vec3::Y, Vec3::X, 1.0, 0.1, 30, 7).is_err());
+        assert!(rig_err());
+    }
+
+    fn rig_err() -> bool {
+        let (s, o) = tree();
+        rig(&s, 0, &o).is_err() && rig(&s, MAX_BONES + 1, &o).is_err()
+    }
+}
