@@ -318,6 +318,16 @@ impl Impostor {
     /// three frames around `d` on the grid blended by their weights, each sampled at the
     /// picture's uv (nearest texel).
     pub fn coverage(&self, d: Vec3, pixels: u32) -> Vec<f32> {
+        self.picture(d, pixels)
+            .iter()
+            .map(|p| p[3] as f32 / 255.0)
+            .collect()
+    }
+
+    /// The `pixels`-square picture of the impostor seen from direction `d` (as
+    /// [`coverage`](Self::coverage) blends it): sRGB colour and coverage, RGBA8, rows
+    /// from the top.
+    pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
         let up = Vec3::from(self.up);
         let q = grid_coordinates(d, self.sphere, up);
         let f = self.frames as f32;
@@ -347,20 +357,32 @@ impl Impostor {
                 (at(0.0, 1.0), 1.0 - fx),
             ]
         };
-        let mut out = vec![0.0f32; (pixels * pixels) as usize];
+        let mut out = vec![[0u8; 4]; (pixels * pixels) as usize];
         for y in 0..pixels {
             for x in 0..pixels {
                 let (u, v) = (
                     (x as f32 + 0.5) / pixels as f32,
                     (y as f32 + 0.5) / pixels as f32,
                 );
-                let mut a = 0.0;
+                // Colour weighted by coverage too (an empty texel has no colour).
+                let (mut rgb, mut alpha) = ([0.0f32; 3], 0.0f32);
                 for &((ci, cj), w) in &frames {
                     let tx = ci * self.cell + ((u * self.cell as f32) as u32).min(self.cell - 1);
                     let ty = cj * self.cell + ((v * self.cell as f32) as u32).min(self.cell - 1);
-                    a += w * self.albedo.pixel(tx, ty)[3] as f32 / 255.0;
+                    let t = self.albedo.pixel(tx, ty);
+                    let a = w * t[3] as f32;
+                    for (sum, &c) in rgb.iter_mut().zip(&t) {
+                        *sum += a * c as f32;
+                    }
+                    alpha += a;
                 }
-                out[(y * pixels + x) as usize] = a;
+                let c = |s: f32| (s / alpha.max(1e-6)).round().clamp(0.0, 255.0) as u8;
+                out[(y * pixels + x) as usize] = [
+                    c(rgb[0]),
+                    c(rgb[1]),
+                    c(rgb[2]),
+                    alpha.round().clamp(0.0, 255.0) as u8,
+                ];
             }
         }
         out

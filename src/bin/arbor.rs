@@ -441,6 +441,9 @@ impl Game {
         if !m.game && m.lod.is_none() && m.impostor.is_none() {
             return Ok(None);
         }
+        if m.wind.as_deref() == Some("skin") {
+            bail!("--wind skin with levels of detail is not there yet: export one or the other");
+        }
         let levels = m.lod.unwrap_or(4);
         if !(1..=8).contains(&levels) {
             bail!("--lod {levels}: expected 1..=8 levels");
