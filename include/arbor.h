@@ -90,40 +90,6 @@
 #define ARBOR_ABI_VERSION 200
 
 /**
- * The screen height, in pixels, the screen coverages are reckoned for (a 1080p screen):
- * a level's twigs are culled where they would be thinner than [`CULL_PIXELS`] of it.
- */
-#define REFERENCE_PIXELS 1080.0
-
-/**
- * Branches narrower than this many pixels where a level is first drawn are culled.
- */
-#define CULL_PIXELS 0.1
-
-/**
- * The bark's share of a level's budget where the tree has leaves (the leaves, which
- * make most of a crown's outline, get the rest) when the switches are not fitted.
- */
-#define BARK_SHARE 0.3
-
-/**
- * Joints along an axis that move it by less than this many pixels where a level is
- * first drawn are removed ([`collapse`]).
- */
-#define COLLAPSE_PIXELS 0.5
-
-/**
- * The smallest switch coverage [`chain`] sets.
- */
-#define MIN_COVERAGE 0.01
-
-/**
- * Samples a pixel's side in a [`silhouette`] (at most: the supersampled square is at
- * most 1024 samples a side).
- */
-#define SILHOUETTE_SAMPLES 4
-
-/**
  * Index that separates strips in triangle-strip-restart output (ARBOR_RESTART_INDEX in
  * C): OpenGL's GL_PRIMITIVE_RESTART_FIXED_INDEX for 32-bit indices.
  */
@@ -1876,12 +1842,6 @@ typedef struct ArborAnimationVertexCompact {
    */
   uint16_t phase;
 } ArborAnimationVertexCompact;
-
-/**
- * The bark's shares of a level's budget a chain that fits its switches tries, keeping
- * the one whose silhouette is nearest the full tree's.
- */
-#define BARK_SHARES { 0.2, 0.35, 0.55, }
 
 #ifdef __cplusplus
 extern "C" {
