@@ -94,5 +94,55 @@ fn bench_species(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_species);
+/// The game asset's parts for the oak: the chain of levels fitted to its silhouette, and
+/// the octahedral impostor baked from level 2 (12 x 12 views of 128 pixels) on every
+/// core, beside the same views of the full tree (the baker's speed in triangles).
+fn bench_game(c: &mut Criterion) {
+    let mut group = c.benchmark_group("game");
+    group.sample_size(10);
+    let look = Look::of(Species::Oak).unwrap();
+    let options = arbor::export::gltf_mesh_options(&MeshOptions::default()).unwrap();
+    let tree = look.grow(1).unwrap();
+    let (o, leaves) = arbor::species::options(&look, &tree, &options).unwrap();
+    let atlas = arbor::texture::leaf_atlas(&look.leaf, 256, 1)
+        .unwrap()
+        .image;
+    let lod = arbor::lod::LodOptions::default();
+    let leaves = leaves.seed(1);
+    group.bench_function("lod_chain_oak", |b| {
+        b.iter(|| {
+            black_box(
+                arbor::lod::chain(&tree, &o, Some(&leaves), Some(&atlas), &lod)
+                    .unwrap()
+                    .len(),
+            )
+        })
+    });
+    let levels = arbor::lod::chain(&tree, &o, Some(&leaves), Some(&atlas), &lod).unwrap();
+    for (name, level) in [
+        ("impostor_oak_level2", &levels[2]),
+        ("impostor_oak_full", &levels[0]),
+    ] {
+        let surfaces = arbor::lod::surfaces(level, Some(&atlas));
+        group.throughput(Throughput::Elements(144 * level.triangles as u64));
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                black_box(
+                    arbor::impostor::octahedral(
+                        &surfaces,
+                        o.up(),
+                        12,
+                        128,
+                        arbor::impostor::Sphere::Hemi,
+                    )
+                    .unwrap()
+                    .frames,
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_species, bench_game);
 criterion_main!(benches);

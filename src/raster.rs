@@ -213,8 +213,13 @@ impl Target {
                         Some(t) => {
                             let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
                             let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
-                            let tx = ((u.fract() + 1.0).fract() * t.width as f32) as u32;
-                            let ty = ((v.fract() + 1.0).fract() * t.height as f32) as u32;
+                            // Repeated: the texel by a truncating conversion and a
+                            // remainder (no call to floor or fract).
+                            let wrap = |x: f32, n: u32| {
+                                let k = (x * n as f32).clamp(-1e9, 1e9) as i64;
+                                k.rem_euclid(n as i64) as u32
+                            };
+                            let (tx, ty) = (wrap(u, t.width), wrap(v, t.height));
                             let p = t.pixel(tx.min(t.width - 1), ty.min(t.height - 1));
                             if p[3] < s.alpha_cutoff {
                                 continue;
