@@ -487,6 +487,10 @@ typedef enum ArborStructId {
    * ArborCapsule.
    */
   ARBOR_STRUCT_ID_CAPSULE = 20,
+  /**
+   * ArborLodOptions.
+   */
+  ARBOR_STRUCT_ID_LOD_OPTIONS = 21,
 } ArborStructId;
 
 /**
@@ -680,11 +684,23 @@ typedef uint32_t ArborVertexFormat;
 #endif // __cplusplus
 
 /**
+ * An octahedral impostor's atlases and frame (see arbor_lods_impostor_create()). Opaque;
+ * free with arbor_impostor_free().
+ */
+typedef struct ArborImpostor ArborImpostor;
+
+/**
  * A leaf shape loaded once (see arbor_leaf_prefab_load()). Opaque; free with
  * arbor_leaf_prefab_free(). A `const ArborLeafPrefab *` may be used from several threads
  * at once.
  */
 typedef struct ArborLeafPrefab ArborLeafPrefab;
+
+/**
+ * The levels of detail of a tree (see arbor_tree_lods_create()). Opaque; free with
+ * arbor_lods_free(). A `const ArborLods *` may be read from several threads at once.
+ */
+typedef struct ArborLods ArborLods;
 
 /**
  * A mesh arbor owns (made by arbor_mesh_create(), arbor_leaf_mesh_create() or
@@ -1506,6 +1522,52 @@ typedef struct ArborLeafInstance {
    */
   float scale;
 } ArborLeafInstance;
+
+/**
+ * How a chain of levels of detail is made (arbor_tree_lods_create()): a struct that grows (see
+ * "Structs that grow" in docs/c-api.md). Start from arbor_lod_options_default() (or
+ * arbor_lod_options_init()).
+ */
+typedef struct ArborLodOptions {
+  /**
+   * sizeof(ArborLodOptions) as the host was compiled; set by arbor_lod_options_init().
+   */
+  uint32_t struct_size;
+  /**
+   * Mesh levels, the full tree (level 0) included, 1..=8. Default 4.
+   */
+  uint32_t levels;
+  /**
+   * Level 1's triangles at most this fraction of the full tree's, in (0, 1]. Default 0.4.
+   */
+  float budget;
+  /**
+   * Each further level's budget is the one before times this, in (0, 1]. Default 0.5 (40%, 20%,
+   * 10%... of the full tree).
+   */
+  float step;
+  /**
+   * The screen coverage (the fraction of the screen's height the tree's height covers) below
+   * which level 1 takes over from the full tree, in (0, 1]. Default 0.5.
+   */
+  float coverage;
+  /**
+   * Each further switch is at the one before times this, in (0, 1). Default 0.5.
+   */
+  float coverage_step;
+  /**
+   * The intersection over union each level's silhouette keeps with the full tree's where it is
+   * first drawn, 0..=1: a switch coverage is lowered (by 40% a time, down to MIN_COVERAGE) until
+   * the level's silhouette, drawn by raster from four directions, keeps it on average. 0: the
+   * switches as `coverage` and `coverage_step` put them. Default 0.93.
+   */
+  float silhouette;
+  /**
+   * Threads the silhouettes are drawn on: 0 (the default), the machine's cores; 1, the calling
+   * thread.
+   */
+  uint32_t threads;
+} ArborLodOptions;
 
 /**
  * Options of arbor_tree_from_lsystem(): a struct that grows (see "Structs that grow" in
@@ -2390,6 +2452,148 @@ enum ArborStatus arbor_leaf_mesh_create(const struct ArborTree *tree,
                                         struct ArborMesh **out);
 
 /**
+ * Writes the default chain options into the first `struct_size` bytes at `options`
+ * (pass `sizeof(ArborLodOptions)`), with `options->struct_size = struct_size`, and
+ * nothing beyond. NULL does nothing.
+ *
+ * # Safety
+ * `options` is NULL or writable for `struct_size` bytes.
+ */
+void arbor_lod_options_init(struct ArborLodOptions *options, size_t struct_size);
+
+/**
+ * Makes the levels of detail of `tree` (`lod::chain`): the full tree meshed with
+ * `mesh_options` (NULL: the defaults), its leaves baked with `leaf_options` (NULL: no
+ * leaves), and `lod_options->levels - 1` thinner levels within their budgets, each
+ * switch fitted to the silhouette (the leaves alpha-tested against `atlas_rgba`, the leaf
+ * atlas they sample, `atlas_width` x `atlas_height` RGBA8 pixels, rows from the top;
+ * NULL: opaque cards). `lod_options` NULL: the defaults. `*out` gets the chain (free
+ * with arbor_lods_free()), NULL on failure.
+ *
+ * # Safety
+ * `tree` is NULL or live; the options NULL or readable; `atlas_rgba` NULL or readable for
+ * `atlas_width * atlas_height * 4` bytes; `out` writable.
+ */
+enum ArborStatus arbor_tree_lods_create(const struct ArborTree *tree,
+                                        const struct ArborMeshOptions *mesh_options,
+                                        const struct ArborLeafOptions *leaf_options,
+                                        const uint8_t *atlas_rgba,
+                                        uint32_t atlas_width,
+                                        uint32_t atlas_height,
+                                        const struct ArborLodOptions *lod_options,
+                                        struct ArborLods **out);
+
+/**
+ * Frees a chain; NULL does nothing.
+ *
+ * # Safety
+ * `lods` is NULL or from arbor_tree_lods_create(), not freed before.
+ */
+void arbor_lods_free(struct ArborLods *lods);
+
+/**
+ * The number of levels (0 for NULL).
+ *
+ * # Safety
+ * `lods` is NULL or live.
+ */
+size_t arbor_lods_count(const struct ArborLods *lods);
+
+/**
+ * Level `level`'s figures: `*screen_coverage` (drawn while the tree covers at least this
+ * share of the screen's height), `*silhouette` (the IoU it keeps with the full tree where
+ * it is first drawn), `*triangles`; each pointer may be NULL.
+ *
+ * # Safety
+ * `lods` is NULL or live; each pointer NULL or writable.
+ */
+enum ArborStatus arbor_lods_level_info(const struct ArborLods *lods,
+                                       size_t level,
+                                       float *screen_coverage,
+                                       float *silhouette,
+                                       size_t *triangles);
+
+/**
+ * Writes part `part` (0: the bark, 1: the baked leaves, empty without leaves) of level
+ * `level` into host memory: `*vertex_count` and `*index_count` (when not NULL) get its
+ * sizes; `vertices` (ArborVertex, NULL: sizes only) holds `vertex_capacity` and
+ * `indices` `index_capacity`: at least the sizes, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written. The indices are laid out as the mesh options' topology.
+ *
+ * # Safety
+ * `lods` is NULL or live; `vertices` NULL or writable for `vertex_capacity` vertices,
+ * `indices` for `index_capacity` indices; the counts NULL or writable.
+ */
+enum ArborStatus arbor_lods_mesh_write(const struct ArborLods *lods,
+                                       size_t level,
+                                       uint32_t part,
+                                       struct ArborVertex *vertices,
+                                       size_t vertex_capacity,
+                                       uint32_t *indices,
+                                       size_t index_capacity,
+                                       size_t *vertex_count,
+                                       size_t *index_count);
+
+/**
+ * Bakes the octahedral impostor of level `level` (arbor's rasterizer, on every core):
+ * `frames` x `frames` views (1..=32) of `cell` pixels (8..=1024, the atlas at most 4096
+ * a side), hemi-octahedral when `hemi` is 1, whole-sphere when 0; the leaves sample
+ * `atlas_rgba` as in arbor_tree_lods_create() (NULL: opaque cards). `*out` gets it (free
+ * with arbor_impostor_free()), NULL on failure. The layout is docs/meshes.md's
+ * "Impostors".
+ *
+ * # Safety
+ * `lods` NULL or live; `atlas_rgba` NULL or readable for `atlas_width * atlas_height * 4`
+ * bytes; `out` writable.
+ */
+enum ArborStatus arbor_lods_impostor_create(const struct ArborLods *lods,
+                                            size_t level,
+                                            uint32_t frames,
+                                            uint32_t cell,
+                                            uint32_t hemi,
+                                            const uint8_t *atlas_rgba,
+                                            uint32_t atlas_width,
+                                            uint32_t atlas_height,
+                                            struct ArborImpostor **out);
+
+/**
+ * Frees an impostor; NULL does nothing.
+ *
+ * # Safety
+ * `impostor` is NULL or from arbor_lods_impostor_create(), not freed before.
+ */
+void arbor_impostor_free(struct ArborImpostor *impostor);
+
+/**
+ * The impostor's frame: `*atlas_size` (pixels a side of each atlas), `centre` (3 floats)
+ * and `*radius` (its bounding sphere), `up` (3 floats); each pointer may be NULL.
+ *
+ * # Safety
+ * `impostor` NULL or live; each pointer NULL or writable (3 floats for `centre`, `up`).
+ */
+enum ArborStatus arbor_impostor_info(const struct ArborImpostor *impostor,
+                                     uint32_t *atlas_size,
+                                     float *centre,
+                                     float *radius,
+                                     float *up);
+
+/**
+ * Writes atlas `which` (0: albedo, sRGB colour and coverage; 1: normal and depth) as
+ * RGBA8, rows from the top, into `out` (NULL: size only) of `capacity` bytes: at least
+ * `*size` (when not NULL: atlas_size * atlas_size * 4), else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written.
+ *
+ * # Safety
+ * `impostor` NULL or live; `out` NULL or writable for `capacity` bytes; `size` NULL or
+ * writable.
+ */
+enum ArborStatus arbor_impostor_atlas_write(const struct ArborImpostor *impostor,
+                                            uint32_t which,
+                                            uint8_t *out,
+                                            size_t capacity,
+                                            size_t *size);
+
+/**
  * Grows a tree from an L-system file read as cpfg reads it (GRAMMAR.md): the C
  * preprocessor over the text (`#include` relative to the file's folder), then its view
  * file: `options->view_path` when set, else the `.v` file beside it with the same stem,
@@ -2964,6 +3168,12 @@ static inline ArborLeafOptions arbor_leaf_options_default(void) {
 static inline ArborWorldOptions arbor_world_options_default(void) {
   ArborWorldOptions o;
   arbor_world_options_init(&o, sizeof o);
+  return o;
+}
+
+static inline ArborLodOptions arbor_lod_options_default(void) {
+  ArborLodOptions o;
+  arbor_lod_options_init(&o, sizeof o);
   return o;
 }
 

@@ -206,6 +206,12 @@ fn draw_cells(
         .map(|_| (vec![[0; 4]; px], vec![[0; 4]; px]))
         .collect();
     let threads = threads.clamp(1, count.max(1));
+    if threads == 1 {
+        for (k, (a, n)) in out.iter_mut().enumerate() {
+            draw(k, a, n);
+        }
+        return out;
+    }
     let per = count.div_ceil(threads);
     std::thread::scope(|s| {
         for (t, chunk) in out.chunks_mut(per.max(1)).enumerate() {
@@ -286,11 +292,28 @@ pub fn octahedral(
     cell: u32,
     sphere: Sphere,
 ) -> Result<Impostor> {
+    octahedral_on(surfaces, up, frames, cell, sphere, 0)
+}
+
+/// [`octahedral`] on `threads` threads (0: the machine's cores, at most 16).
+pub fn octahedral_on(
+    surfaces: &[Surface<'_>],
+    up: Vec3,
+    frames: u32,
+    cell: u32,
+    sphere: Sphere,
+    threads: u32,
+) -> Result<Impostor> {
     check(frames, cell, 32)?;
     let (centre, radius) = crate::raster::bounds(surfaces)
         .ok_or_else(|| Error::invalid("surfaces", "no vertices; expected a tree"))?;
     let up = up.normalize_or(Vec3::Y);
-    let cells = draw_cells((frames * frames) as usize, cell, cores(), |k, a, n| {
+    let threads = if threads == 0 {
+        cores()
+    } else {
+        threads as usize
+    };
+    let cells = draw_cells((frames * frames) as usize, cell, threads, |k, a, n| {
         let (i, j) = (k as u32 % frames, k as u32 / frames);
         let q = [
             2.0 * (i as f32 + 0.5) / frames as f32 - 1.0,

@@ -68,6 +68,9 @@ pub struct LodOptions {
     /// [`raster`](crate::raster) from four directions, keeps it on average. 0: the switches as
     /// `coverage` and `coverage_step` put them. Default 0.93.
     pub silhouette: f32 = 0.93, checked In(0.0, 1.0), "0..=1",
+    /// Threads the silhouettes are drawn on: 0 (the default), the machine's cores; 1, the
+    /// calling thread.
+    pub threads: u32 = 0,
 }
 }
 
@@ -186,14 +189,17 @@ fn fit(
                 let px = frame.pixels(c);
                 let full_level = &out[0];
                 let full = full_masks.entry(px).or_insert_with(|| {
-                    on_threads(&dirs, |&d| silhouette(full_level, atlas, frame, d, px))
+                    on_threads(lod.threads, &dirs, |&d| {
+                        silhouette(full_level, atlas, frame, d, px)
+                    })
                 });
                 // Each candidate's mean IoU from the directions; the best is kept.
                 let (best, iou) = candidates
                     .iter()
                     .enumerate()
                     .map(|(k, m)| {
-                        let each = on_threads(&dirs, |&d| silhouette(m, atlas, frame, d, px));
+                        let each =
+                            on_threads(lod.threads, &dirs, |&d| silhouette(m, atlas, frame, d, px));
                         let sum: f32 = each
                             .iter()
                             .zip(full.iter())
@@ -227,9 +233,13 @@ fn fit(
     Ok(out)
 }
 
-/// `f` of each item, on a thread each (the machine's cores; the results in order).
-fn on_threads<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+/// `f` of each item, on a thread each unless `threads` is 1 (0: the machine's cores);
+/// the results in order.
+fn on_threads<T: Sync, R: Send>(threads: u32, items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let cores = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        t => t as usize,
+    };
     if cores <= 1 || items.len() <= 1 {
         return items.iter().map(f).collect();
     }

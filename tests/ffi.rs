@@ -173,6 +173,11 @@ fn c_species_trees_options_and_textures() {
 }
 
 #[test]
+fn c_levels_of_detail_and_impostors() {
+    check_program("lod.c", "c11");
+}
+
+#[test]
 fn c_forests_variation_pruning_animation() {
     check_program("forest.c", "c11");
 }

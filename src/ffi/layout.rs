@@ -48,6 +48,8 @@ pub enum ArborStructId {
     ForestPlant = 19,
     /// ArborCapsule.
     Capsule = 20,
+    /// ArborLodOptions.
+    LodOptions = 21,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -78,6 +80,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         18 => size_of::<mesh::AnimationVertexCompact>(),
         19 => size_of::<ArborForestPlant>(),
         20 => size_of::<crate::collision::Capsule>(),
+        21 => size_of::<super::ArborLodOptions>(),
         _ => 0,
     }
 }

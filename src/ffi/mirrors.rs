@@ -7,6 +7,7 @@ use crate::mesh::MeshOptions;
 use crate::lsystem::LsystemOptions;
 use crate::mesh::LeafOptions;
 use crate::models::growth::WorldOptions;
+use crate::lod::LodOptions;
 use crate::models::growth::GrowthParams;
 
 /// Options of the tube mesher: a struct that grows (see "Structs that grow" in docs/c-api.md).
@@ -404,6 +405,51 @@ mirror!(ArborWorldOptions => WorldOptions {
         progress: None,
         progress_user_data: std::ptr::null_mut(),
     }
+    rust_only {}
+});
+
+/// How a chain of levels of detail is made (arbor_tree_lods_create()): a struct that grows (see
+/// "Structs that grow" in docs/c-api.md). Start from arbor_lod_options_default() (or
+/// arbor_lod_options_init()).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct ArborLodOptions {
+    /// sizeof(ArborLodOptions) as the host was compiled; set by arbor_lod_options_init().
+    pub struct_size: u32,
+    /// Mesh levels, the full tree (level 0) included, 1..=8. Default 4.
+    pub levels: u32,
+    /// Level 1's triangles at most this fraction of the full tree's, in (0, 1]. Default 0.4.
+    pub budget: f32,
+    /// Each further level's budget is the one before times this, in (0, 1]. Default 0.5 (40%, 20%,
+    /// 10%... of the full tree).
+    pub step: f32,
+    /// The screen coverage (the fraction of the screen's height the tree's height covers) below
+    /// which level 1 takes over from the full tree, in (0, 1]. Default 0.5.
+    pub coverage: f32,
+    /// Each further switch is at the one before times this, in (0, 1). Default 0.5.
+    pub coverage_step: f32,
+    /// The intersection over union each level's silhouette keeps with the full tree's where it is
+    /// first drawn, 0..=1: a switch coverage is lowered (by 40% a time, down to MIN_COVERAGE) until
+    /// the level's silhouette, drawn by raster from four directions, keeps it on average. 0: the
+    /// switches as `coverage` and `coverage_step` put them. Default 0.93.
+    pub silhouette: f32,
+    /// Threads the silhouettes are drawn on: 0 (the default), the machine's cores; 1, the calling
+    /// thread.
+    pub threads: u32,
+}
+
+mirror!(ArborLodOptions => LodOptions {
+    same {
+        levels,
+        budget,
+        step,
+        coverage,
+        coverage_step,
+        silhouette,
+        threads,
+    }
+    renamed {}
+    c_only {}
     rust_only {}
 });
 

@@ -19,6 +19,7 @@ mod guard;
 mod handle;
 mod layout;
 mod leaves;
+mod lod;
 mod lsystem;
 mod meshes;
 #[cfg(test)]
@@ -40,6 +41,7 @@ pub use formats::*;
 pub use growth::*;
 pub use layout::*;
 pub use leaves::*;
+pub use lod::*;
 pub use lsystem::*;
 pub use meshes::*;
 pub use mirrors::*;

@@ -62,7 +62,7 @@ namespace Arbor
         LeafOptions = 5, LeafInstance = 6, BranchRange = 7, LeafSite = 8,
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
         Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
-        AnimationVertexCompact = 18, ForestPlant = 19, Capsule = 20,
+        AnimationVertexCompact = 18, ForestPlant = 19, Capsule = 20, LodOptions = 21,
     }
 
     [StructLayout(LayoutKind.Sequential)]

@@ -427,6 +427,21 @@ pub(super) const SPECS: &[Spec] = &[
         ],
     },
     Spec {
+        c: "ArborLodOptions",
+        rust: "crate::lod::LodOptions",
+        fields: crate::lod::LodOptions::FIELDS,
+        doc: "How a chain of levels of detail is made (arbor_tree_lods_create()): a struct that grows (see \"Structs that grow\" in docs/c-api.md). Start from arbor_lod_options_default() (or arbor_lod_options_init()).",
+        derive: "Clone, Copy, Debug",
+        c_only: &[],
+        renamed: &[],
+        rust_only: &[],
+        c_types: &[],
+        c_docs: &[(
+            "struct_size",
+            "sizeof(ArborLodOptions) as the host was compiled; set by arbor_lod_options_init().",
+        )],
+    },
+    Spec {
         c: "ArborGrowthParams",
         rust: "crate::models::growth::GrowthParams",
         fields: crate::models::growth::GrowthParams::FIELDS,

@@ -1,0 +1,99 @@
+/* Levels of detail and impostors through the C ABI: the chain of a tree with leaves, each
+ * level's bark and leaves size then fill, and an octahedral impostor's atlases into the
+ * host's memory. */
+#include "arbor.h"
+#include "check.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int main(void) {
+  ArborHondaParams p;
+  CHECK_STATUS(arbor_honda_preset('b', &p), ARBOR_STATUS_OK);
+  ArborTree *tree = NULL;
+  CHECK_STATUS(arbor_tree_from_honda(&p, &tree), ARBOR_STATUS_OK);
+  ArborLeafOptions lo = arbor_leaf_options_default();
+  lo.sites = 0;
+  lo.tips = 1;
+  lo.density = 3.0f;
+  lo.size = 8.0f;
+  ArborLodOptions od = arbor_lod_options_default();
+  CHECK(od.levels == 4 && od.budget == 0.4f && od.struct_size == sizeof od, "defaults");
+
+  /* On the calling thread (the test runs under valgrind). */
+  ArborMeshOptions mo = arbor_mesh_options_default();
+  mo.threads = 1;
+  ArborLods *lods = NULL;
+  CHECK_STATUS(arbor_tree_lods_create(tree, &mo, &lo, NULL, 0, 0, &od, &lods), ARBOR_STATUS_OK);
+  CHECK(arbor_lods_count(lods) == 4, "%zu levels", arbor_lods_count(lods));
+  size_t full = 0;
+  float previous = 2.0f;
+  for (size_t k = 0; k < 4; k++) {
+    float coverage = 0.0f, iou = 0.0f;
+    size_t triangles = 0;
+    CHECK_STATUS(arbor_lods_level_info(lods, k, &coverage, &iou, &triangles), ARBOR_STATUS_OK);
+    CHECK(coverage <= previous && coverage > 0.0f, "level %zu coverage %f", k, (double)coverage);
+    previous = coverage;
+    if (k == 0) full = triangles;
+    CHECK(k == 0 || (double)triangles <= 0.4 * (double)full * 1.0001, "level %zu: %zu of %zu", k,
+          triangles, full);
+    /* Bark and leaves, size then fill: their indices make the level's triangles. */
+    size_t sum = 0;
+    for (uint32_t part = 0; part < 2; part++) {
+      size_t nv = 0, ni = 0;
+      CHECK_STATUS(arbor_lods_mesh_write(lods, k, part, NULL, 0, NULL, 0, &nv, &ni), ARBOR_STATUS_OK);
+      CHECK(nv > 0 && ni > 0, "level %zu part %u empty", k, part);
+      ArborVertex *v = malloc(nv * sizeof *v);
+      uint32_t *ix = malloc(ni * sizeof *ix);
+      CHECK_STATUS(arbor_lods_mesh_write(lods, k, part, v, nv - 1, ix, ni, NULL, NULL),
+                   ARBOR_STATUS_BUFFER_TOO_SMALL);
+      CHECK_STATUS(arbor_lods_mesh_write(lods, k, part, v, nv, ix, ni, NULL, NULL), ARBOR_STATUS_OK);
+      for (size_t i = 0; i < ni; i++) CHECK(ix[i] < nv, "index %zu out of range", i);
+      sum += ni / 3;
+      free(v);
+      free(ix);
+    }
+    CHECK(sum == triangles, "level %zu: %zu indexed vs %zu", k, sum, triangles);
+  }
+  CHECK_STATUS(arbor_lods_level_info(lods, 4, NULL, NULL, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_lods_mesh_write(lods, 0, 2, NULL, 0, NULL, 0, NULL, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+
+  /* The impostor of level 2: 4 x 4 views of 32 pixels. */
+  ArborImpostor *imp = NULL;
+  CHECK_STATUS(arbor_lods_impostor_create(lods, 2, 4, 32, 1, NULL, 0, 0, &imp), ARBOR_STATUS_OK);
+  uint32_t side = 0;
+  float centre[3], radius = 0.0f, up[3];
+  CHECK_STATUS(arbor_impostor_info(imp, &side, centre, &radius, up), ARBOR_STATUS_OK);
+  CHECK(side == 128 && radius > 0.0f && up[1] == 1.0f, "side %u radius %f", side, (double)radius);
+  size_t bytes = 0;
+  CHECK_STATUS(arbor_impostor_atlas_write(imp, 0, NULL, 0, &bytes), ARBOR_STATUS_OK);
+  CHECK(bytes == (size_t)side * side * 4, "%zu bytes", bytes);
+  uint8_t *albedo = malloc(bytes);
+  memset(albedo, 7, bytes);
+  CHECK_STATUS(arbor_impostor_atlas_write(imp, 0, albedo, bytes - 1, NULL), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(albedo[0] == 7, "nothing written when too small");
+  CHECK_STATUS(arbor_impostor_atlas_write(imp, 0, albedo, bytes, NULL), ARBOR_STATUS_OK);
+  /* Each view has the tree in it, and its corner is clear. */
+  for (uint32_t cell = 0; cell < 16; cell++) {
+    uint32_t x0 = (cell % 4) * 32, y0 = (cell / 4) * 32, covered = 0;
+    for (uint32_t y = 0; y < 32; y++)
+      for (uint32_t x = 0; x < 32; x++) covered += albedo[((y0 + y) * side + x0 + x) * 4 + 3] > 0;
+    CHECK(covered > 20, "view %u: %u pixels", cell, covered);
+    CHECK(albedo[(y0 * side + x0) * 4 + 3] == 0, "view %u corner", cell);
+  }
+  CHECK_STATUS(arbor_impostor_atlas_write(imp, 2, albedo, bytes, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  ArborImpostor *none = NULL;
+  CHECK_STATUS(arbor_lods_impostor_create(lods, 0, 0, 32, 1, NULL, 0, 0, &none), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(none == NULL, "nothing on failure");
+  arbor_impostor_free(imp);
+  free(albedo);
+  /* A bad atlas size is refused before it is read. */
+  uint8_t pixel[4] = {0, 0, 0, 255};
+  ArborLods *bad = NULL;
+  CHECK_STATUS(arbor_tree_lods_create(tree, NULL, &lo, pixel, 0, 1, NULL, &bad), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(bad == NULL, "nothing on failure");
+  arbor_impostor_free(NULL);
+  arbor_lods_free(lods);
+  arbor_tree_free(tree);
+  return check_report("lod");
+}
