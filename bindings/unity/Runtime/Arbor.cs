@@ -209,6 +209,33 @@ namespace Arbor
         }
     }
 
+    /// How a chain of levels of detail is made (Native.arbor_tree_lods_create): a struct
+    /// that grows; start from LodOptions.Default().
+    [StructLayout(LayoutKind.Sequential)]
+    public struct LodOptions
+    {
+        public uint StructSize;
+        /// Mesh levels, the full tree included (1..8). Default 4.
+        public uint Levels;
+        /// Level 1's share of the triangles (0.4), each further level's the one before's
+        /// times Step (0.5).
+        public float Budget, Step;
+        /// The first switch's screen coverage (0.5) and each further one's factor (0.5),
+        /// before they are fitted to the silhouette.
+        public float Coverage, CoverageStep;
+        /// The silhouette IoU each level keeps where it is first drawn (0.93; 0: not fitted).
+        public float Silhouette;
+        /// Threads (0: the mesh options' threads).
+        public uint Threads;
+
+        public static LodOptions Default()
+        {
+            var o = new LodOptions();
+            Native.arbor_lod_options_init(ref o, (UIntPtr)Marshal.SizeOf(typeof(LodOptions)));
+            return o;
+        }
+    }
+
     /// One branch as a cubic Bezier (56 bytes): p0 its start, p3 its end.
     [StructLayout(LayoutKind.Sequential)]
     public struct Curve
@@ -415,6 +442,24 @@ namespace Arbor
         public static extern Status arbor_tree_from_species_bare(uint species, ulong seed, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_capsules_write(IntPtr tree, ref MeshOptions meshOptions, uint maxCapsules, float minRadius, [Out] Capsule[] output, UIntPtr capacity, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_lod_options_init(ref LodOptions options, UIntPtr structSize);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_lods_create(IntPtr tree, ref MeshOptions meshOptions, ref LeafOptions leafOptions, byte[] atlasRgba, uint atlasWidth, uint atlasHeight, ref LodOptions lodOptions, out IntPtr lods);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_lods_free(IntPtr lods);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_lods_count(IntPtr lods);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_lods_level_info(IntPtr lods, UIntPtr level, out float screenCoverage, out float silhouette, out UIntPtr triangles);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_lods_mesh_write(IntPtr lods, UIntPtr level, uint part, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] uint[] indices, UIntPtr indexCapacity, out UIntPtr vertexCount, out UIntPtr indexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_lods_impostor_create(IntPtr lods, UIntPtr level, uint frames, uint cell, uint hemi, byte[] atlasRgba, uint atlasWidth, uint atlasHeight, out IntPtr impostor);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_impostor_free(IntPtr impostor);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_impostor_atlas_write(IntPtr impostor, uint which, [Out] byte[] output, UIntPtr capacity, out UIntPtr size);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_twig_create(uint species, uint variant, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
@@ -753,6 +798,16 @@ namespace Arbor
             return Capsules(options, max, minRadius);
         }
 
+        /// The tree's levels of detail (bark and baked leaves), in the conventions of
+        /// `options`; `atlas` (RGBA8, width x height, or null) is the leaf atlas the
+        /// leaves' silhouettes are tested against.
+        public Lods Lods(MeshOptions options, LeafOptions leaves, LodOptions lod, byte[] atlas, uint width, uint height)
+        {
+            IntPtr l;
+            ArborException.Check(Native.arbor_tree_lods_create(handle, ref options, ref leaves, atlas, width, height, ref lod, out l));
+            return new Lods(l);
+        }
+
         public LeafInstance[] Leaves(LeafOptions leaves, MeshOptions options)
         {
             UIntPtr n;
@@ -767,6 +822,44 @@ namespace Arbor
             if (handle != IntPtr.Zero)
             {
                 Native.arbor_tree_free(handle);
+                handle = IntPtr.Zero;
+            }
+        }
+    }
+
+    /// A tree's levels of detail (Tree.Lods): each level's screen coverage, silhouette and
+    /// meshes.
+    public sealed class Lods : IDisposable
+    {
+        IntPtr handle;
+        internal Lods(IntPtr h) { handle = h; }
+
+        public int Count { get { return (int)Native.arbor_lods_count(handle); } }
+
+        /// Drawn while the tree covers at least this share of the screen's height (Unity's
+        /// LOD.screenRelativeTransitionHeight).
+        public float ScreenCoverage(int level)
+        {
+            float c, s; UIntPtr t;
+            ArborException.Check(Native.arbor_lods_level_info(handle, (UIntPtr)level, out c, out s, out t));
+            return c;
+        }
+
+        /// Part 0 (bark) or 1 (leaves) of a level, size then fill.
+        public void Mesh(int level, uint part, out Vertex[] vertices, out uint[] indices)
+        {
+            UIntPtr nv, ni;
+            ArborException.Check(Native.arbor_lods_mesh_write(handle, (UIntPtr)level, part, null, UIntPtr.Zero, null, UIntPtr.Zero, out nv, out ni));
+            vertices = new Vertex[(int)nv];
+            indices = new uint[(int)ni];
+            ArborException.Check(Native.arbor_lods_mesh_write(handle, (UIntPtr)level, part, vertices, nv, indices, ni, out nv, out ni));
+        }
+
+        public void Dispose()
+        {
+            if (handle != IntPtr.Zero)
+            {
+                Native.arbor_lods_free(handle);
                 handle = IntPtr.Zero;
             }
         }
@@ -794,6 +887,54 @@ namespace Arbor
             mesh.subMeshCount = 1;
             mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
             mesh.RecalculateBounds();
+        }
+    }
+
+    public static class UnityLods
+    {
+        /// Builds a LODGroup on `root`: a child "NAME_LODk" per level with a MeshFilter and
+        /// a MeshRenderer (submesh 0 the bark, 1 the leaves), each drawn down to its
+        /// screen coverage. Make `lods` in Unity's conventions (MeshOptions.Axes Unity,
+        /// a triangle list). Returns the LODGroup.
+        public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name)
+        {
+            var group = root.AddComponent<UnityEngine.LODGroup>();
+            var levels = new UnityEngine.LOD[lods.Count];
+            for (int k = 0; k < lods.Count; k++)
+            {
+                var go = new UnityEngine.GameObject(name + "_LOD" + k);
+                go.transform.SetParent(root.transform, false);
+                var mesh = new UnityEngine.Mesh();
+                Vertex[] bark, leaves; uint[] bi, li;
+                lods.Mesh(k, 0, out bark, out bi);
+                lods.Mesh(k, 1, out leaves, out li);
+                var v = new Vertex[bark.Length + leaves.Length];
+                Array.Copy(bark, v, bark.Length);
+                Array.Copy(leaves, 0, v, bark.Length, leaves.Length);
+                var i = new int[bi.Length + li.Length];
+                for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
+                for (int j = 0; j < li.Length; j++) i[bi.Length + j] = (int)(li[j] + (uint)bark.Length);
+                var layout = new[]
+                {
+                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Normal, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.TexCoord0, UnityEngine.Rendering.VertexAttributeFormat.Float32, 2),
+                };
+                mesh.SetVertexBufferParams(v.Length, layout);
+                mesh.SetVertexBufferData(v, 0, 0, v.Length);
+                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
+                mesh.SetIndexBufferData(i, 0, 0, i.Length);
+                mesh.subMeshCount = 2;
+                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, bi.Length));
+                mesh.SetSubMesh(1, new UnityEngine.Rendering.SubMeshDescriptor(bi.Length, li.Length));
+                mesh.RecalculateBounds();
+                go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
+                var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
+                levels[k] = new UnityEngine.LOD(lods.ScreenCoverage(k), new UnityEngine.Renderer[] { renderer });
+            }
+            group.SetLODs(levels);
+            group.RecalculateBounds();
+            return group;
         }
     }
 

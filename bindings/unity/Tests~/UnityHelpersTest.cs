@@ -37,6 +37,32 @@ public static class UnityHelpersTest
                 expect(made[k].name.StartsWith("UCP_"), "named " + made[k].name);
             }
         }
+        // Levels of detail: a LODGroup of four children, coverages falling, bark then leaves.
+        using (var tree = Tree.FromPreset('b'))
+        {
+            var mo = MeshOptions.Default();
+            mo.Axes = (uint)Arbor.Axes.Unity;
+            mo.Threads = 1;
+            var lo = LeafOptions.Default();
+            lo.Sites = 0; lo.Tips = 1; lo.Density = 3f; lo.Size = 8f;
+            var lod = LodOptions.Default();
+            expect(lod.Levels == 4 && lod.StructSize == (uint)System.Runtime.InteropServices.Marshal.SizeOf(typeof(LodOptions)), "lod defaults");
+            using (var lods = tree.Lods(mo, lo, lod, null, 0, 0))
+            {
+                var root = new UnityEngine.GameObject("tree");
+                var group = UnityLods.Build(root, lods, "tree");
+                expect(group.lods.Length == 4 && group.boundsRecalculated, "four levels");
+                for (int k = 0; k < group.lods.Length; k++)
+                {
+                    expect(group.lods[k].renderers.Length == 1, "a renderer a level");
+                    expect(k == 0 || group.lods[k].screenRelativeTransitionHeight <= group.lods[k - 1].screenRelativeTransitionHeight, "coverage falls at " + k);
+                }
+                Vertex[] v0, v1; uint[] i0, i1;
+                lods.Mesh(0, 0, out v0, out i0);
+                lods.Mesh(1, 0, out v1, out i1);
+                expect(i1.Length < i0.Length && i0.Length % 3 == 0, "level 1 lighter");
+            }
+        }
         Console.WriteLine("unity helpers: " + failed + " failed");
         return failed == 0 ? 0 : 1;
     }

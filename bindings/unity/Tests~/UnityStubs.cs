@@ -47,6 +47,7 @@ namespace UnityEngine
 
     public class Mesh : Object
     {
+        public System.Collections.Generic.List<SubMeshDescriptor> subMeshes = new System.Collections.Generic.List<SubMeshDescriptor>();
         public int vertexCount, indexCount, vertexStride;
         public IndexFormat indexFormat;
         public VertexAttributeDescriptor[] layout;
@@ -58,7 +59,7 @@ namespace UnityEngine
         public void SetVertexBufferData<T>(T[] data, int start, int meshStart, int count) where T : struct { vertices = data; vertexStride = System.Runtime.InteropServices.Marshal.SizeOf(typeof(T)); }
         public void SetIndexBufferParams(int count, IndexFormat f) { indexCount = count; indexFormat = f; }
         public void SetIndexBufferData<T>(T[] data, int start, int meshStart, int count) where T : struct { indices = data; }
-        public void SetSubMesh(int i, SubMeshDescriptor d) { subMesh = d; }
+        public void SetSubMesh(int i, SubMeshDescriptor d) { subMesh = d; subMeshes.Add(d); }
         public void RecalculateBounds() { boundsRecalculated = true; }
     }
 
@@ -85,6 +86,21 @@ namespace UnityEngine
         public void SetParent(Transform p, bool worldPositionStays) { parent = p; }
     }
     public class Collider : Component { }
+    public class Renderer : Component { }
+    public class MeshRenderer : Renderer { }
+    public struct LOD
+    {
+        public float screenRelativeTransitionHeight;
+        public Renderer[] renderers;
+        public LOD(float height, Renderer[] r) { screenRelativeTransitionHeight = height; renderers = r; }
+    }
+    public class LODGroup : Component
+    {
+        public LOD[] lods;
+        public bool boundsRecalculated;
+        public void SetLODs(LOD[] l) { lods = l; }
+        public void RecalculateBounds() { boundsRecalculated = true; }
+    }
     public class CapsuleCollider : Collider
     {
         public float radius, height;
