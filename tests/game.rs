@@ -126,12 +126,28 @@ fn a_game_asset_has_its_levels_impostor_and_capsules() {
             .iter()
             .any(|m| m["name"] == "billboard")
     );
+    // Godot's names for the capsules.
+    let godot = tmp("e_godot.glb");
+    let r = export(&["e", "--leaves", "--collision=godot"], &godot);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let j = json_of(&godot);
+    let cols: Vec<&str> = j["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["name"].as_str().unwrap())
+        .filter(|n| n.ends_with("-convcolonly"))
+        .collect();
+    assert!(
+        cols.len() >= 2 && cols[0] == "tree_col_00-convcolonly",
+        "{cols:?}"
+    );
     let obj = export(&["e", "--game"], &tmp("e.obj"));
     assert!(!obj.status.success());
     assert!(String::from_utf8_lossy(&obj.stderr).contains("for glTF"));
     let bad = export(&["e", "--lod", "9"], &tmp("bad.glb"));
     assert!(!bad.status.success());
-    validator::assert_valid(&[oak, e]);
+    validator::assert_valid(&[oak, e, godot]);
 }
 
 #[test]

@@ -98,10 +98,12 @@ struct ExportArgs {
     /// (16–4096, default 1024)
     #[arg(long, value_name = "pixels")]
     texture_size: Option<u32>,
-    /// glTF only: up to 32 collision capsules for the trunk and limbs, as nodes
-    /// UCP_tree_NN (Unreal's collision prefix) with each capsule in the node's extras
-    #[arg(long)]
-    collision: bool,
+    /// glTF only: up to 32 collision capsules for the trunk and limbs, as nodes named for
+    /// Unreal (UCP_tree_NN) or Godot (tree_col_NN-convcolonly), each capsule also in the
+    /// node's extras
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "unreal",
+          value_name = "engine", value_parser = ["unreal", "godot"])]
+    collision: Option<String>,
     /// glTF only: the whole game asset: --lod 4 --impostor octahedral --collision
     #[arg(long)]
     game: bool,
@@ -356,7 +358,7 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         Some(place) => Some(placed_leaves(m, skeleton, place)?),
         None => None,
     };
-    if m.collision && format == ".obj" {
+    if m.collision.is_some() && format == ".obj" {
         bail!("{out}: --collision is for glTF (capsule nodes); OBJ has no nodes");
     }
     if let Some(game) = Game::of(m)? {
@@ -387,13 +389,11 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         let go = arbor::export::gltf_mesh_options(&o);
         go.and_then(|go| {
             let mut scene = arbor::scene::Scene::tree(skeleton, &go, leaves.as_ref())?;
-            if m.collision {
-                scene.collide(&arbor::collision::capsules(
-                    skeleton,
-                    COLLISION_CAPSULES,
-                    0.0,
-                    &go,
-                )?);
+            if let Some(names) = collision_names(m) {
+                scene.collide_for(
+                    &arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &go)?,
+                    names,
+                );
             }
             wind_skin(
                 &mut scene,
@@ -404,8 +404,8 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
             )?;
             arbor::export::save_gltf_scene(&scene, &o, out)
         })
-    } else if m.collision {
-        collided_scene(skeleton, &o, leaves.as_ref(), instanced)
+    } else if m.collision.is_some() {
+        collided_scene(skeleton, &o, leaves.as_ref(), instanced, collision_names(m))
             .and_then(|scene| arbor::export::save_gltf_scene(&scene, &o, out))
     } else if lower.ends_with(".obj") {
         arbor::export::save_obj_tree_in(skeleton, &o, leaves.as_ref(), out, &mut run)
@@ -432,7 +432,15 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
 struct Game {
     levels: u32,
     impostor: String,
-    collision: bool,
+    collision: Option<arbor::scene::CollisionNames>,
+}
+
+/// The collision naming `--collision` asks for, or none.
+fn collision_names(m: &ExportArgs) -> Option<arbor::scene::CollisionNames> {
+    m.collision.as_deref().map(|e| match e {
+        "godot" => arbor::scene::CollisionNames::Godot,
+        _ => arbor::scene::CollisionNames::Unreal,
+    })
 }
 
 impl Game {
@@ -455,7 +463,8 @@ impl Game {
         Ok(Some(Game {
             levels,
             impostor,
-            collision: m.collision || m.game,
+            collision: collision_names(m)
+                .or(m.game.then_some(arbor::scene::CollisionNames::Unreal)),
         }))
     }
 
@@ -513,13 +522,11 @@ impl Game {
             "made in: levels {chain_ms:.0} ms, textures and impostor {:.0} ms",
             t.elapsed().as_secs_f64() * 1e3
         );
-        if self.collision {
-            scene.collide(&arbor::collision::capsules(
-                skeleton,
-                COLLISION_CAPSULES,
-                0.0,
-                o,
-            )?);
+        if let Some(names) = self.collision {
+            scene.collide_for(
+                &arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, o)?,
+                names,
+            );
         }
         Ok(scene)
     }
@@ -565,7 +572,11 @@ impl Game {
              collision: {}",
             triangles.join(", "),
             self.impostor,
-            if self.collision { "capsules" } else { "none" }
+            match self.collision {
+                Some(arbor::scene::CollisionNames::Godot) => "capsules (Godot)",
+                Some(_) => "capsules (Unreal)",
+                None => "none",
+            }
         );
         eprintln!(
             "{out}: {branches} branches ({what}); grown in {grow_ms:.1} ms, written in {:.1} ms",
@@ -631,18 +642,17 @@ fn collided_scene(
     o: &MeshOptions,
     leaves: Option<&arbor::mesh::LeafOptions>,
     instanced: bool,
+    names: Option<arbor::scene::CollisionNames>,
 ) -> arbor::Result<arbor::scene::Scene> {
     let go = arbor::export::gltf_mesh_options(o)?;
     let mut scene = match leaves {
         Some(l) if instanced => arbor::scene::Scene::tree_instanced(skeleton, &go, l)?,
         _ => arbor::scene::Scene::tree(skeleton, &go, leaves)?,
     };
-    scene.collide(&arbor::collision::capsules(
-        skeleton,
-        COLLISION_CAPSULES,
-        0.0,
-        &go,
-    )?);
+    scene.collide_for(
+        &arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &go)?,
+        names.unwrap_or(arbor::scene::CollisionNames::Unreal),
+    );
     Ok(scene)
 }
 
@@ -701,7 +711,7 @@ fn export_species(
     }
     let mut scene = arbor::species::tree_scene(look, skeleton, &go, size, seed)
         .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
-    if m.collision {
+    if let Some(names) = collision_names(m) {
         if obj {
             bail!("{out}: --collision is for glTF (capsule nodes); OBJ has no nodes");
         }
@@ -709,7 +719,7 @@ fn export_species(
             .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
         let capsules = arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &tree_options)
             .map_err(|e| anyhow!("{}: {e}", m.tree.source))?;
-        scene.collide(&capsules);
+        scene.collide_for(&capsules, names);
     }
     if m.wind.as_deref() == Some("skin") {
         if obj {

@@ -163,6 +163,15 @@ pub struct Node {
     pub impostor: Option<ImpostorInfo>,
 }
 
+/// Whose importer collision nodes are named for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CollisionNames {
+    /// Unreal's `UCP_` prefix (a capsule collision of the mesh it names).
+    Unreal,
+    /// Godot's `-convcolonly` suffix (a convex collision shape, the mesh dropped).
+    Godot,
+}
+
 /// A level-of-detail group: the nodes of the lower levels, and from which screen
 /// coverage each level is drawn.
 #[derive(Clone, Debug, PartialEq)]
@@ -587,6 +596,13 @@ impl Scene {
     /// low-poly capsule (8 sides, 3 bands a cap) with a material "collision", and the
     /// capsule itself in the node's extras.
     pub fn collide(&mut self, capsules: &[crate::collision::Capsule]) {
+        self.collide_for(capsules, CollisionNames::Unreal);
+    }
+
+    /// [`collide`](Self::collide) with the nodes named for `names`' importer: Unreal's
+    /// `UCP_<tree>_NN`, or Godot's `<tree>_col_NN-convcolonly` (Godot's importer makes a
+    /// convex collision shape of the mesh and drops the mesh).
+    pub fn collide_for(&mut self, capsules: &[crate::collision::Capsule], names: CollisionNames) {
         if capsules.is_empty() {
             return;
         }
@@ -601,7 +617,10 @@ impl Scene {
             ..Material::bark()
         });
         for (k, c) in capsules.iter().enumerate() {
-            let name = format!("UCP_{tree}_{k:02}");
+            let name = match names {
+                CollisionNames::Unreal => format!("UCP_{tree}_{k:02}"),
+                CollisionNames::Godot => format!("{tree}_col_{k:02}-convcolonly"),
+            };
             self.meshes.push(SceneMesh {
                 name: name.clone(),
                 primitives: vec![Primitive {
