@@ -434,3 +434,111 @@ mod tests {
         rig(&s, 0, &o).is_err() && rig(&s, MAX_BONES + 1, &o).is_err()
     }
 }
+
+/// Wind data a host's shader reads from standard attributes, per vertex: `color` is glTF's
+/// `COLOR_0` (unorm8: the branch's phase, its stiffness, its branch level, the leaf's
+/// flutter) and `uv1` is `TEXCOORD_1` (how far along its branch, 0 at its base and 1 at its
+/// tip; when it grows, 0..=1).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WindVertex {
+    /// Phase (0..1, per branch), stiffness (1 for the trunk's widest wood, falling with
+    /// the square root of the radius), branch level (order / 4, at most 1), flutter (0 on
+    /// bark; on a leaf, 0 at its stem to 1 at its tip).
+    pub color: [u8; 4],
+    /// Along the branch, and the growth time.
+    pub uv1: [f32; 2],
+}
+
+fn unorm8(x: f32) -> u8 {
+    (x.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// The wind attributes of every vertex of `bark` (a mesh of `skeleton` drawn with
+/// `options`, with its branch ranges).
+pub fn bark_attributes(
+    skeleton: &Skeleton,
+    bark: &Mesh,
+    options: &MeshOptions,
+) -> Result<Vec<WindVertex>> {
+    let anim = crate::mesh::animation(skeleton, options)?;
+    if anim.len() != bark.vertices.len() || bark.ranges.len() != skeleton.len() {
+        return Err(Error::invalid(
+            "bark",
+            "not the mesh of this skeleton and options; expected tubes(skeleton, options)",
+        ));
+    }
+    let b = skeleton.branches();
+    let widest = b
+        .iter()
+        .map(|x| x.start_radius.max(x.end_radius))
+        .fold(0.0f32, f32::max)
+        .max(f32::MIN_POSITIVE);
+    let mut stiffness = vec![0.0f32; anim.len()];
+    for (r, x) in bark.ranges.iter().zip(b) {
+        let s = (x.start_radius.max(x.end_radius) / widest).sqrt();
+        let (a, n) = (r.first_vertex as usize, r.vertex_count as usize);
+        if let Some(slice) = stiffness.get_mut(a..a + n) {
+            slice.fill(s);
+        }
+    }
+    Ok(anim
+        .iter()
+        .zip(stiffness)
+        .map(|(a, s)| WindVertex {
+            color: [unorm8(a.phase), unorm8(s), unorm8(a.order / 4.0), 0],
+            uv1: [a.along, a.growth],
+        })
+        .collect())
+}
+
+/// The wind attributes of every vertex of the baked leaf mesh of `skeleton` with `leaves`
+/// and `options` (`leaf_mesh`): each leaf its branch's phase, stiffness and level, its
+/// flutter rising from stem to tip; the turtle's polygons and organs after the leaves ride
+/// still (zeros).
+pub fn leaf_attributes(
+    skeleton: &Skeleton,
+    leaves: &crate::mesh::LeafOptions,
+    options: &MeshOptions,
+    leaf_mesh: &Mesh,
+) -> Result<Vec<WindVertex>> {
+    let anim = crate::mesh::leaf_animation(skeleton, leaves, options)?;
+    let branches = crate::mesh::leaf_branches(skeleton, leaves, options)?;
+    let shape = leaves.shape();
+    let per_leaf = shape.vertices.len().max(1);
+    let (lo, hi) = shape
+        .vertices
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), v| {
+            (lo.min(v.position[1]), hi.max(v.position[1]))
+        });
+    let b = skeleton.branches();
+    let widest = b
+        .iter()
+        .map(|x| x.start_radius.max(x.end_radius))
+        .fold(0.0f32, f32::max)
+        .max(f32::MIN_POSITIVE);
+    Ok((0..leaf_mesh.vertices.len())
+        .map(|k| {
+            let leaf = k / per_leaf;
+            match (anim.get(leaf), branches.get(leaf)) {
+                (Some(a), Some(&br)) => {
+                    let s = b
+                        .get(br as usize)
+                        .map_or(0.0, |x| (x.start_radius.max(x.end_radius) / widest).sqrt());
+                    let y = shape.vertices[k % per_leaf].position[1];
+                    let flutter = if hi > lo { (y - lo) / (hi - lo) } else { 1.0 };
+                    WindVertex {
+                        color: [
+                            unorm8(a.phase),
+                            unorm8(s),
+                            unorm8(a.order / 4.0),
+                            unorm8(flutter),
+                        ],
+                        uv1: [1.0, a.growth],
+                    }
+                }
+                _ => WindVertex::default(),
+            }
+        })
+        .collect())
+}

@@ -206,3 +206,46 @@ fn a_skinned_tree_sways_in_a_loop() {
     }
     validator::assert_valid(&[oak, e]);
 }
+
+#[test]
+fn wind_attributes_in_standard_attributes() {
+    let e = tmp("e_attr.glb");
+    let r = export(&["e", "--leaves", "--wind", "attributes"], &e);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let g = gltf::Gltf::from_slice(&std::fs::read(&e).unwrap()).unwrap();
+    let blob = g.blob.clone().unwrap();
+    let tree = g.nodes().next().unwrap();
+    let prims: Vec<_> = tree.mesh().unwrap().primitives().collect();
+    assert_eq!(prims.len(), 2, "bark and leaves");
+    for (k, p) in prims.iter().enumerate() {
+        let reader = p.reader(|_| Some(&blob[..]));
+        let n = reader.read_positions().unwrap().count();
+        let colors: Vec<[u8; 4]> = reader.read_colors(0).unwrap().into_rgba_u8().collect();
+        let uv1: Vec<[f32; 2]> = reader.read_tex_coords(1).unwrap().into_f32().collect();
+        assert_eq!((colors.len(), uv1.len()), (n, n));
+        // Phases vary; stiffness and along are in range.
+        assert!(colors.iter().any(|c| c[0] != colors[0][0]));
+        assert!(
+            uv1.iter()
+                .all(|u| (0.0..=1.0).contains(&u[0]) && (0.0..=1.0).contains(&u[1]))
+        );
+        let flutter: Vec<u8> = colors.iter().map(|c| c[3]).collect();
+        if k == 0 {
+            // Bark does not flutter; the trunk's base is the stiffest wood.
+            assert!(flutter.iter().all(|&f| f == 0));
+            assert!(colors.iter().any(|c| c[1] == 255));
+        } else {
+            // A leaf card flutters from none at its stem to all at its tip.
+            assert!(
+                flutter.contains(&0) && flutter.contains(&255),
+                "{flutter:?}"
+            );
+        }
+    }
+    let lod = export(
+        &["e", "--leaves", "--wind", "attributes", "--lod", "2"],
+        &tmp("no.glb"),
+    );
+    assert!(!lod.status.success());
+    validator::assert_valid(&[e]);
+}

@@ -117,8 +117,10 @@ struct ExportArgs {
     #[arg(long, value_name = "kind", value_parser = ["octahedral", "billboard", "none"])]
     impostor: Option<String>,
     /// glTF only: wind that plays in any viewer: bones along the trunk and limbs (up to
-    /// 32), every vertex weighted to them, and a looping 4-second clip "wind"
-    #[arg(long, value_name = "kind", value_parser = ["skin", "none"])]
+    /// 32), every vertex weighted to them, and a looping 4-second clip "wind"; or the data
+    /// engines' wind shaders read, as attributes COLOR_0 (phase, stiffness, branch level,
+    /// leaf flutter) and TEXCOORD_1 (along the branch, growth time)
+    #[arg(long, value_name = "kind", value_parser = ["skin", "attributes", "none"])]
     wind: Option<String>,
 }
 
@@ -378,14 +380,15 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
         return Ok(());
     }
     let skin = m.wind.as_deref() == Some("skin");
-    if skin && (format == ".obj" || instanced) {
-        bail!("{out}: --wind skin is for glTF with baked leaves (a skin and a clip)");
+    let attributes = m.wind.as_deref() == Some("attributes");
+    if (skin || attributes) && (format == ".obj" || instanced) {
+        bail!("{out}: --wind skin and attributes are for glTF with baked leaves");
     }
     let t1 = Instant::now();
     let mut bar = Bar::new();
     let mut show = |s: Stage, f: f32| bar.show(s, f);
     let mut run = Run::reporting(&mut show);
-    let r = if skin {
+    let r = if skin || attributes {
         let go = arbor::export::gltf_mesh_options(&o);
         go.and_then(|go| {
             let mut scene = arbor::scene::Scene::tree(skeleton, &go, leaves.as_ref())?;
@@ -394,6 +397,10 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
                     &arbor::collision::capsules(skeleton, COLLISION_CAPSULES, 0.0, &go)?,
                     names,
                 );
+            }
+            if attributes {
+                wind_attributes(&mut scene, skeleton, &go, leaves.as_ref())?;
+                return arbor::export::save_gltf_scene(&scene, &o, out);
             }
             wind_skin(
                 &mut scene,
@@ -449,8 +456,8 @@ impl Game {
         if !m.game && m.lod.is_none() && m.impostor.is_none() {
             return Ok(None);
         }
-        if m.wind.as_deref() == Some("skin") {
-            bail!("--wind skin with levels of detail is not there yet: export one or the other");
+        if matches!(m.wind.as_deref(), Some("skin" | "attributes")) {
+            bail!("--wind with levels of detail is not there yet: export one or the other");
         }
         let levels = m.lod.unwrap_or(4);
         if !(1..=8).contains(&levels) {
@@ -631,6 +638,28 @@ fn wind_skin(
     }
     let clip = arbor::wind::clip(&rig, o.up(), glam::Vec3::X, 2.0, 4.0, 30, seed)?;
     scene.skin(&rig, influences, Some(clip))
+}
+
+/// Gives the tree's mesh in `scene` (bark, then its baked `leaves` when given) the wind
+/// attributes engines' shaders read (COLOR_0, TEXCOORD_1).
+fn wind_attributes(
+    scene: &mut arbor::scene::Scene,
+    skeleton: &Skeleton,
+    o: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+) -> arbor::Result<()> {
+    let bark = arbor::mesh::tubes(skeleton, o)?;
+    let mut all = vec![arbor::wind::bark_attributes(skeleton, &bark, o)?];
+    let prims = scene
+        .nodes
+        .first()
+        .and_then(|n| n.mesh)
+        .map_or(0, |k| scene.meshes[k].primitives.len());
+    if let (Some(l), true) = (leaves, prims > 1) {
+        let baked = arbor::mesh::leaf_mesh(skeleton, l, o)?;
+        all.push(arbor::wind::leaf_attributes(skeleton, l, o, &baked)?);
+    }
+    scene.wind_attributes(all)
 }
 
 /// Capsules `--collision` writes at most.

@@ -73,6 +73,8 @@ pub struct Primitive {
     pub animation: Option<Vec<AnimationVertex>>,
     /// Per vertex, the bones of [`Scene::rig`] it rides and their weights, or none.
     pub skin: Option<Vec<crate::wind::Influence>>,
+    /// Per vertex, wind data in standard attributes (glTF `COLOR_0`, `TEXCOORD_1`), or none.
+    pub wind: Option<Vec<crate::wind::WindVertex>>,
 }
 
 /// A surface: a metallic-roughness material with a base colour.
@@ -590,6 +592,34 @@ impl Scene {
         Ok(())
     }
 
+    /// Gives the first node's mesh wind attributes: `attributes` one list per primitive,
+    /// one entry per vertex ([`crate::wind::bark_attributes`], `leaf_attributes`). A list
+    /// of the wrong length is an error naming it.
+    pub fn wind_attributes(&mut self, attributes: Vec<Vec<crate::wind::WindVertex>>) -> Result<()> {
+        let Some(mesh) = self.nodes.first().and_then(|n| n.mesh) else {
+            return Err(crate::Error::invalid(
+                "scene",
+                "no mesh to give wind attributes",
+            ));
+        };
+        let prims = &mut self.meshes[mesh].primitives;
+        if attributes.len() != prims.len()
+            || prims
+                .iter()
+                .zip(&attributes)
+                .any(|(p, a)| a.len() != p.mesh.vertices.len())
+        {
+            return Err(crate::Error::invalid(
+                "attributes",
+                "expected one list per primitive, one entry per vertex",
+            ));
+        }
+        for (p, a) in prims.iter_mut().zip(attributes) {
+            p.wind = Some(a);
+        }
+        Ok(())
+    }
+
     /// Adds collision capsules (from [`capsules`](crate::collision::capsules), in the
     /// scene's conventions): each a node and a mesh named `UCP_<tree>_NN` (Unreal's
     /// prefix for a capsule collision of the mesh `<tree>`, the scene's first node), a
@@ -628,6 +658,7 @@ impl Scene {
                     material,
                     animation: None,
                     skin: None,
+                    wind: None,
                 }],
             });
             let mut node = Node::new(name, Some(self.meshes.len() - 1));
@@ -660,6 +691,7 @@ impl Scene {
             material,
             animation,
             skin: None,
+            wind: None,
         });
     }
 

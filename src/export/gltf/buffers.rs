@@ -15,6 +15,7 @@ pub(super) const FLOAT: u32 = 5126;
 pub(super) const SHORT: u32 = 5122;
 const UNSIGNED_INT: u32 = 5125;
 pub(super) const UNSIGNED_SHORT: u32 = 5123;
+pub(super) const UNSIGNED_BYTE: u32 = 5121;
 /// glTF bufferView targets.
 pub(super) const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -114,6 +115,8 @@ impl Buffers {
             wind: None,
             joints: None,
             weights: None,
+            color_0: None,
+            texcoord_1: None,
         };
         (attributes, indices, n)
     }

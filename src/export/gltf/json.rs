@@ -207,6 +207,10 @@ pub(super) struct Attributes {
     pub(super) growth: Option<usize>,
     #[serde(rename = "_WIND", skip_serializing_if = "Option::is_none")]
     pub(super) wind: Option<usize>,
+    #[serde(rename = "COLOR_0", skip_serializing_if = "Option::is_none")]
+    pub(super) color_0: Option<usize>,
+    #[serde(rename = "TEXCOORD_1", skip_serializing_if = "Option::is_none")]
+    pub(super) texcoord_1: Option<usize>,
     #[serde(rename = "JOINTS_0", skip_serializing_if = "Option::is_none")]
     pub(super) joints: Option<usize>,
     #[serde(rename = "WEIGHTS_0", skip_serializing_if = "Option::is_none")]

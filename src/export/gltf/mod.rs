@@ -21,7 +21,7 @@ use std::path::Path;
 
 mod buffers;
 mod json;
-use buffers::{ARRAY_BUFFER, Buffers, FLOAT, UNSIGNED_SHORT, pad4};
+use buffers::{ARRAY_BUFFER, Buffers, FLOAT, UNSIGNED_BYTE, UNSIGNED_SHORT, pad4};
 use json::Extras;
 
 fn material_json(m: &Material) -> json::Material {
@@ -340,6 +340,17 @@ fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh, materials: &[Material
                 Some(b.push(json::Accessor::new(jv, None, (UNSIGNED_SHORT, "VEC4"), n)));
             let wv = b.view(bytemuck::cast_slice(&weights), None, Some(ARRAY_BUFFER));
             attributes.weights = Some(b.accessor(wv, 0, n, "VEC4"));
+        }
+        // Wind in standard attributes: COLOR_0 (unorm8 x 4) and TEXCOORD_1 (f32 x 2).
+        if let Some(w) = p.wind.as_ref().filter(|w| w.len() == n) {
+            let colors: Vec<[u8; 4]> = w.iter().map(|x| x.color).collect();
+            let uv1: Vec<[f32; 2]> = w.iter().map(|x| x.uv1).collect();
+            let cv = b.view(&colors.concat(), None, Some(ARRAY_BUFFER));
+            let mut c = json::Accessor::new(cv, None, (UNSIGNED_BYTE, "VEC4"), n);
+            c.normalized = true;
+            attributes.color_0 = Some(b.push(c));
+            let tv = b.view(bytemuck::cast_slice(&uv1), None, Some(ARRAY_BUFFER));
+            attributes.texcoord_1 = Some(b.accessor(tv, 0, n, "VEC2"));
         }
         primitives.push(json::Primitive {
             attributes,
