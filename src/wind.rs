@@ -447,6 +447,39 @@ pub struct WindVertex {
     pub color: [u8; 4],
     /// Along the branch, and the growth time.
     pub uv1: [f32; 2],
+    /// The branch the vertex rides (glTF `TEXCOORD_2`.x, exact to 2^24): its row in the
+    /// tree's [`pivots`].
+    pub branch: u32,
+}
+
+/// Each branch's pivot for a Pivot-Painter-style shader, 32 bytes: where it turns (its
+/// start), its length, its axis (unit, start to end) and its parent's index (-1 for a
+/// root), in the mesh's space.
+pub fn pivots(skeleton: &Skeleton, options: &MeshOptions) -> Vec<[f32; 8]> {
+    let out = options.out();
+    skeleton
+        .branches()
+        .iter()
+        .map(|b| {
+            let (s, e) = (Vec3::from(out.pos(b.start())), Vec3::from(out.pos(b.end())));
+            let axis = (e - s).normalize_or_zero();
+            let parent = if b.parent == NO_PARENT {
+                -1.0
+            } else {
+                b.parent as f32
+            };
+            [
+                s.x,
+                s.y,
+                s.z,
+                (e - s).length(),
+                axis.x,
+                axis.y,
+                axis.z,
+                parent,
+            ]
+        })
+        .collect()
 }
 
 fn unorm8(x: f32) -> u8 {
@@ -473,20 +506,21 @@ pub fn bark_attributes(
         .map(|x| x.start_radius.max(x.end_radius))
         .fold(0.0f32, f32::max)
         .max(f32::MIN_POSITIVE);
-    let mut stiffness = vec![0.0f32; anim.len()];
-    for (r, x) in bark.ranges.iter().zip(b) {
+    let mut stiffness = vec![(0.0f32, 0u32); anim.len()];
+    for (i, (r, x)) in bark.ranges.iter().zip(b).enumerate() {
         let s = (x.start_radius.max(x.end_radius) / widest).sqrt();
         let (a, n) = (r.first_vertex as usize, r.vertex_count as usize);
         if let Some(slice) = stiffness.get_mut(a..a + n) {
-            slice.fill(s);
+            slice.fill((s, i as u32));
         }
     }
     Ok(anim
         .iter()
         .zip(stiffness)
-        .map(|(a, s)| WindVertex {
+        .map(|(a, (s, branch))| WindVertex {
             color: [unorm8(a.phase), unorm8(s), unorm8(a.order / 4.0), 0],
             uv1: [a.along, a.growth],
+            branch,
         })
         .collect())
 }
@@ -535,6 +569,7 @@ pub fn leaf_attributes(
                             unorm8(flutter),
                         ],
                         uv1: [1.0, a.growth],
+                        branch: if br == NO_PARENT { 0 } else { br },
                     }
                 }
                 _ => WindVertex::default(),

@@ -659,7 +659,9 @@ fn wind_attributes(
         let baked = arbor::mesh::leaf_mesh(skeleton, l, o)?;
         all.push(arbor::wind::leaf_attributes(skeleton, l, o, &baked)?);
     }
-    scene.wind_attributes(all)
+    scene.wind_attributes(all)?;
+    scene.pivots(arbor::wind::pivots(skeleton, o));
+    Ok(())
 }
 
 /// Capsules `--collision` writes at most.

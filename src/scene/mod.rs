@@ -163,6 +163,9 @@ pub struct Node {
     /// The octahedral impostor of the tree this node draws (in the file's node extras as
     /// `arbor_impostor`), or none.
     pub impostor: Option<ImpostorInfo>,
+    /// Each branch's pivot ([`crate::wind::pivots`]; in the file, two VEC4 accessors
+    /// named in the node's extras as `arbor_pivots`), or none.
+    pub pivots: Option<Vec<[f32; 8]>>,
 }
 
 /// Whose importer collision nodes are named for.
@@ -219,6 +222,7 @@ impl Node {
             capsule: None,
             lod: None,
             impostor: None,
+            pivots: None,
         }
     }
 }
@@ -618,6 +622,14 @@ impl Scene {
             p.wind = Some(a);
         }
         Ok(())
+    }
+
+    /// Puts each branch's pivot ([`crate::wind::pivots`]) on the first node, for a
+    /// Pivot-Painter-style shader that finds a vertex's row by its `TEXCOORD_2`.x.
+    pub fn pivots(&mut self, pivots: Vec<[f32; 8]>) {
+        if let Some(n) = self.nodes.first_mut() {
+            n.pivots = Some(pivots);
+        }
     }
 
     /// Adds collision capsules (from [`capsules`](crate::collision::capsules), in the

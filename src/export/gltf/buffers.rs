@@ -117,6 +117,7 @@ impl Buffers {
             weights: None,
             color_0: None,
             texcoord_1: None,
+            texcoord_2: None,
         };
         (attributes, indices, n)
     }

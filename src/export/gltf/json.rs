@@ -106,6 +106,17 @@ pub(super) struct NodeExtras {
     pub(super) screen_coverage: Option<Vec<f32>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) arbor_impostor: Option<ImpostorExtras>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) arbor_pivots: Option<PivotExtras>,
+}
+
+/// Where each branch's pivot is: accessor indices of VEC4 rows (start xyz, length) and
+/// (axis xyz, parent index or -1).
+#[derive(Serialize)]
+pub(super) struct PivotExtras {
+    pub(super) count: usize,
+    pub(super) pivot_length: usize,
+    pub(super) axis_parent: usize,
 }
 
 /// An octahedral impostor: its grid, its frame and its atlases (texture indices).
@@ -211,6 +222,8 @@ pub(super) struct Attributes {
     pub(super) color_0: Option<usize>,
     #[serde(rename = "TEXCOORD_1", skip_serializing_if = "Option::is_none")]
     pub(super) texcoord_1: Option<usize>,
+    #[serde(rename = "TEXCOORD_2", skip_serializing_if = "Option::is_none")]
+    pub(super) texcoord_2: Option<usize>,
     #[serde(rename = "JOINTS_0", skip_serializing_if = "Option::is_none")]
     pub(super) joints: Option<usize>,
     #[serde(rename = "WEIGHTS_0", skip_serializing_if = "Option::is_none")]

@@ -302,7 +302,19 @@ fn node_json(b: &mut Buffers, n: &Node) -> json::Node {
         };
         extensions.instancing = Some(json::Instancing { attributes });
     }
-    let has_extras = extras.arbor_capsule.is_some()
+    if let Some(p) = n.pivots.as_ref().filter(|p| !p.is_empty()) {
+        let a: Vec<[f32; 4]> = p.iter().map(|r| [r[0], r[1], r[2], r[3]]).collect();
+        let c: Vec<[f32; 4]> = p.iter().map(|r| [r[4], r[5], r[6], r[7]]).collect();
+        let av = b.view(bytemuck::cast_slice(&a), None, None);
+        let cv = b.view(bytemuck::cast_slice(&c), None, None);
+        extras.arbor_pivots = Some(json::PivotExtras {
+            count: p.len(),
+            pivot_length: b.accessor(av, 0, p.len(), "VEC4"),
+            axis_parent: b.accessor(cv, 0, p.len(), "VEC4"),
+        });
+    }
+    let has_extras = extras.arbor_pivots.is_some()
+        || extras.arbor_capsule.is_some()
         || extras.screen_coverage.is_some()
         || extras.arbor_impostor.is_some();
     node.extras = has_extras.then_some(extras);
@@ -351,6 +363,9 @@ fn mesh_json(b: &mut Buffers, m: &crate::scene::SceneMesh, materials: &[Material
             attributes.color_0 = Some(b.push(c));
             let tv = b.view(bytemuck::cast_slice(&uv1), None, Some(ARRAY_BUFFER));
             attributes.texcoord_1 = Some(b.accessor(tv, 0, n, "VEC2"));
+            let rows: Vec<[f32; 2]> = w.iter().map(|x| [x.branch as f32, 0.0]).collect();
+            let rv = b.view(bytemuck::cast_slice(&rows), None, Some(ARRAY_BUFFER));
+            attributes.texcoord_2 = Some(b.accessor(rv, 0, n, "VEC2"));
         }
         primitives.push(json::Primitive {
             attributes,
