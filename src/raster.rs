@@ -83,6 +83,9 @@ pub struct Target {
     pub normal: Vec<[u8; 4]>,
     /// Per pixel.
     pub depth: Vec<f32>,
+    /// Only depth (and so coverage) is drawn: `color` and `normal` stay empty. For
+    /// silhouettes.
+    pub depth_only: bool,
 }
 
 impl Target {
@@ -95,6 +98,19 @@ impl Target {
             color: vec![[0; 4]; n],
             normal: vec![[0; 4]; n],
             depth: vec![f32::INFINITY; n],
+            depth_only: false,
+        }
+    }
+
+    /// A target that draws only depth (coverage): its `color` and `normal` are empty.
+    pub fn depth_only(width: u32, height: u32) -> Target {
+        Target {
+            width,
+            height,
+            color: Vec::new(),
+            normal: Vec::new(),
+            depth: vec![f32::INFINITY; width as usize * height as usize],
+            depth_only: true,
         }
     }
 
@@ -228,8 +244,11 @@ impl Target {
                         }
                         None => [s.color[0], s.color[1], s.color[2], 255],
                     };
-                    let n = normal_of(l0, l1, l2);
                     self.depth[k] = z;
+                    if self.depth_only {
+                        continue;
+                    }
+                    let n = normal_of(l0, l1, l2);
                     self.color[k] = color;
                     self.normal[k] = [
                         (n.x * 127.5 + 127.5) as u8,
