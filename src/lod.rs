@@ -140,21 +140,23 @@ pub fn chain(
     let small = atlas.map(|a| a.downsampled(SILHOUETTE_ATLAS));
     let atlas = small.as_ref();
     let (full, shape) = prepare(skeleton, mesh, leaves)?;
-    fit(full, mesh.up(), atlas, lod, |_, before, budget, c| {
-        shape.levels(before, budget, c, lod.silhouette > 0.0)
-    })
+    fit(full, mesh.up(), atlas, lod, &shape)
 }
 
-/// The chain from `full` on: level k made by `make(k, the options of level k - 1, its
-/// budget in triangles, the coverage where it is first drawn)` at the coverage from the
-/// ladder of `lod`, lowered by 20% a time until its silhouette keeps `lod.silhouette`.
+/// The chain from `full` on: level k's candidates made by `shape` (from the options of
+/// level k - 1, its budget in triangles and the coverage where it is first drawn) at the
+/// coverage from the ladder of `lod`, lowered by 40% a time until the best of them keeps
+/// `lod.silhouette`.
 fn fit(
     full: Level,
     up: Vec3,
     atlas: Option<&Image>,
     lod: &LodOptions,
-    mut make: impl FnMut(u32, &MeshOptions, usize, f32) -> Result<Vec<Level>>,
+    shape: &Shape<'_>,
 ) -> Result<Vec<Level>> {
+    let make = |before: &MeshOptions, budget: usize, c: f32| {
+        shape.levels(before, budget, c, lod.silhouette > 0.0)
+    };
     let full_triangles = full.triangles;
     let frame = Frame::of(&full, up);
     let dirs = fit_directions(up);
@@ -169,7 +171,7 @@ fn fit(
         let mut c = lod.coverage_of(level - 1).min(ceiling);
         let before = out[level as usize - 1].mesh_options;
         let mut made_for = c;
-        let mut candidates = make(level, &before, budget, c)?;
+        let mut candidates = make(&before, budget, c)?;
         let over = |candidates: &[Level]| -> Result<()> {
             match candidates.iter().find(|m| m.triangles > budget.max(1)) {
                 Some(m) => Err(Error::invalid(
@@ -216,7 +218,7 @@ fn fit(
                 // (thinner twigs culled, more of the budget for the leaves).
                 if c < made_for / 3.0 {
                     made_for = c;
-                    candidates = make(level, &before, budget, c)?;
+                    candidates = make(&before, budget, c)?;
                     over(&candidates)?;
                 }
             },

@@ -482,6 +482,32 @@ pub fn pivots(skeleton: &Skeleton, options: &MeshOptions) -> Vec<[f32; 8]> {
         .collect()
 }
 
+/// How stiff each branch is: 1 for the tree's widest wood, falling with the square root
+/// of the radius.
+struct Stiffness<'a> {
+    branches: &'a [crate::skeleton::Branch],
+    widest: f32,
+}
+
+impl<'a> Stiffness<'a> {
+    fn of(skeleton: &'a Skeleton) -> Self {
+        let branches = skeleton.branches();
+        let widest = branches
+            .iter()
+            .map(|x| x.start_radius.max(x.end_radius))
+            .fold(0.0f32, f32::max)
+            .max(f32::MIN_POSITIVE);
+        Stiffness { branches, widest }
+    }
+
+    /// Branch `i`'s stiffness (0 for none such).
+    fn branch(&self, i: u32) -> f32 {
+        self.branches.get(i as usize).map_or(0.0, |x| {
+            (x.start_radius.max(x.end_radius) / self.widest).sqrt()
+        })
+    }
+}
+
 fn unorm8(x: f32) -> u8 {
     (x.clamp(0.0, 1.0) * 255.0).round() as u8
 }
@@ -500,15 +526,10 @@ pub fn bark_attributes(
             "not the mesh of this skeleton and options; expected tubes(skeleton, options)",
         ));
     }
-    let b = skeleton.branches();
-    let widest = b
-        .iter()
-        .map(|x| x.start_radius.max(x.end_radius))
-        .fold(0.0f32, f32::max)
-        .max(f32::MIN_POSITIVE);
+    let stiff = Stiffness::of(skeleton);
     let mut stiffness = vec![(0.0f32, 0u32); anim.len()];
-    for (i, (r, x)) in bark.ranges.iter().zip(b).enumerate() {
-        let s = (x.start_radius.max(x.end_radius) / widest).sqrt();
+    for (i, r) in bark.ranges.iter().enumerate() {
+        let s = stiff.branch(i as u32);
         let (a, n) = (r.first_vertex as usize, r.vertex_count as usize);
         if let Some(slice) = stiffness.get_mut(a..a + n) {
             slice.fill((s, i as u32));
@@ -545,20 +566,13 @@ pub fn leaf_attributes(
         .fold((f32::MAX, f32::MIN), |(lo, hi), v| {
             (lo.min(v.position[1]), hi.max(v.position[1]))
         });
-    let b = skeleton.branches();
-    let widest = b
-        .iter()
-        .map(|x| x.start_radius.max(x.end_radius))
-        .fold(0.0f32, f32::max)
-        .max(f32::MIN_POSITIVE);
+    let stiff = Stiffness::of(skeleton);
     Ok((0..leaf_mesh.vertices.len())
         .map(|k| {
             let leaf = k / per_leaf;
             match (anim.get(leaf), branches.get(leaf)) {
                 (Some(a), Some(&br)) => {
-                    let s = b
-                        .get(br as usize)
-                        .map_or(0.0, |x| (x.start_radius.max(x.end_radius) / widest).sqrt());
+                    let s = stiff.branch(br);
                     let y = shape.vertices[k % per_leaf].position[1];
                     let flutter = if hi > lo { (y - lo) / (hi - lo) } else { 1.0 };
                     WindVertex {

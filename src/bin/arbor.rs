@@ -610,6 +610,25 @@ fn mean_color(image: &arbor::texture::Image) -> [u8; 3] {
     sum.map(|s| (s / n) as u8)
 }
 
+/// The tree's bark and, when baked into it, its leaf mesh, as the scene's first node
+/// draws them (with the bark's branch ranges): the meshes the wind is fitted to, not made
+/// again.
+fn tree_meshes(scene: &arbor::scene::Scene) -> arbor::Result<(&arbor::Mesh, Option<&arbor::Mesh>)> {
+    let prims = scene
+        .nodes
+        .first()
+        .and_then(|n| n.mesh)
+        .map(|k| &scene.meshes[k].primitives[..])
+        .unwrap_or(&[]);
+    match prims {
+        [bark, rest @ ..] => Ok((&bark.mesh, rest.first().map(|p| &p.mesh))),
+        [] => Err(arbor::Error::InvalidArgument {
+            field: "scene",
+            reason: "no tree mesh; expected a tree".into(),
+        }),
+    }
+}
+
 /// Bones `--wind skin` gives a tree at most.
 const WIND_BONES: usize = 32;
 
@@ -623,18 +642,12 @@ fn wind_skin(
     seed: u64,
 ) -> arbor::Result<()> {
     let rig = arbor::wind::rig(skeleton, WIND_BONES, o)?;
-    let bark = arbor::mesh::tubes(skeleton, o)?;
-    let mut influences = vec![arbor::wind::weights(&rig, &bark)?];
-    let prims = scene
-        .nodes
-        .first()
-        .and_then(|n| n.mesh)
-        .map_or(0, |k| scene.meshes[k].primitives.len());
-    if let (Some(l), true) = (leaves, prims > 1) {
-        let baked = arbor::mesh::leaf_mesh(skeleton, l, o)?;
+    let (bark, baked) = tree_meshes(scene)?;
+    let mut influences = vec![arbor::wind::weights(&rig, bark)?];
+    if let (Some(l), Some(baked)) = (leaves, baked) {
         let branches = arbor::mesh::leaf_branches(skeleton, l, o)?;
         let per_leaf = l.shape().vertices.len();
-        influences.push(arbor::wind::leaf_weights(&rig, &baked, &branches, per_leaf));
+        influences.push(arbor::wind::leaf_weights(&rig, baked, &branches, per_leaf));
     }
     let clip = arbor::wind::clip(&rig, o.up(), glam::Vec3::X, 2.0, 4.0, 30, seed)?;
     scene.skin(&rig, influences, Some(clip))
@@ -648,16 +661,10 @@ fn wind_attributes(
     o: &MeshOptions,
     leaves: Option<&LeafOptions>,
 ) -> arbor::Result<()> {
-    let bark = arbor::mesh::tubes(skeleton, o)?;
-    let mut all = vec![arbor::wind::bark_attributes(skeleton, &bark, o)?];
-    let prims = scene
-        .nodes
-        .first()
-        .and_then(|n| n.mesh)
-        .map_or(0, |k| scene.meshes[k].primitives.len());
-    if let (Some(l), true) = (leaves, prims > 1) {
-        let baked = arbor::mesh::leaf_mesh(skeleton, l, o)?;
-        all.push(arbor::wind::leaf_attributes(skeleton, l, o, &baked)?);
+    let (bark, baked) = tree_meshes(scene)?;
+    let mut all = vec![arbor::wind::bark_attributes(skeleton, bark, o)?];
+    if let (Some(l), Some(baked)) = (leaves, baked) {
+        all.push(arbor::wind::leaf_attributes(skeleton, l, o, baked)?);
     }
     scene.wind_attributes(all)?;
     scene.pivots(arbor::wind::pivots(skeleton, o));

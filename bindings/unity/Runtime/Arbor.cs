@@ -868,18 +868,24 @@ namespace Arbor
 #if UNITY_5_3_OR_NEWER
     public static class UnityMeshes
     {
+        /// arbor's 32-byte Vertex as Unity's vertex buffer layout: position, normal, uv.
+        public static UnityEngine.Rendering.VertexAttributeDescriptor[] VertexLayout()
+        {
+            return new[]
+            {
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Normal, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
+                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.TexCoord0, UnityEngine.Rendering.VertexAttributeFormat.Float32, 2),
+            };
+        }
+
         /// Fills `mesh` with the tree's bark in one upload (32-bit indices).
         public static void Fill(UnityEngine.Mesh mesh, Tree tree, MeshOptions options)
         {
             Vertex[] v;
             int[] i;
             tree.UnityMeshArrays(options, out v, out i);
-            var layout = new[]
-            {
-                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
-                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Normal, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
-                new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.TexCoord0, UnityEngine.Rendering.VertexAttributeFormat.Float32, 2),
-            };
+            var layout = VertexLayout();
             mesh.SetVertexBufferParams(v.Length, layout);
             mesh.SetVertexBufferData(v, 0, 0, v.Length);
             mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
@@ -914,12 +920,7 @@ namespace Arbor
                 var i = new int[bi.Length + li.Length];
                 for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
                 for (int j = 0; j < li.Length; j++) i[bi.Length + j] = (int)(li[j] + (uint)bark.Length);
-                var layout = new[]
-                {
-                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
-                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Normal, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3),
-                    new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.TexCoord0, UnityEngine.Rendering.VertexAttributeFormat.Float32, 2),
-                };
+                var layout = UnityMeshes.VertexLayout();
                 mesh.SetVertexBufferParams(v.Length, layout);
                 mesh.SetVertexBufferData(v, 0, 0, v.Length);
                 mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
