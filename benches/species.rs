@@ -141,6 +141,79 @@ fn bench_game(c: &mut Criterion) {
             })
         });
     }
+    // The path a host takes: the oak's chain through the C ABI once, then its impostor
+    // baked from level 2 and the albedo atlas written into host memory (prefaulted with a
+    // non-zero byte) per iteration.
+    let mut oak = std::ptr::null_mut();
+    let mut lods = std::ptr::null_mut();
+    let mut mo = arbor::ffi::ArborMeshOptions::default();
+    let mut lo = arbor::ffi::ArborLeafOptions::default();
+    // SAFETY: live outputs; the options are this build's defaults.
+    unsafe {
+        assert_eq!(
+            arbor::ffi::arbor_tree_from_species(Species::Oak as u32, 1, &mut oak),
+            ArborStatus::Ok
+        );
+        assert_eq!(
+            arbor::ffi::arbor_species_options(Species::Oak as u32, oak, &mut mo, &mut lo),
+            ArborStatus::Ok
+        );
+        assert_eq!(
+            arbor::ffi::arbor_tree_lods_create(
+                oak,
+                &mo,
+                &lo,
+                atlas.pixels.as_ptr(),
+                atlas.width,
+                atlas.height,
+                std::ptr::null(),
+                &mut lods,
+            ),
+            ArborStatus::Ok
+        );
+    }
+    let mut out = vec![1u8; 12 * 128 * 12 * 128 * 4];
+    group.throughput(Throughput::Elements(144));
+    group.bench_function("impostor_oak_level2_c_abi", |b| {
+        b.iter(|| {
+            let mut imp = std::ptr::null_mut();
+            let mut size = 0usize;
+            // SAFETY: `lods` is live, `out` holds the atlas' bytes.
+            unsafe {
+                assert_eq!(
+                    arbor::ffi::arbor_lods_impostor_create(
+                        lods,
+                        2,
+                        12,
+                        128,
+                        1,
+                        atlas.pixels.as_ptr(),
+                        atlas.width,
+                        atlas.height,
+                        &mut imp,
+                    ),
+                    ArborStatus::Ok
+                );
+                assert_eq!(
+                    arbor::ffi::arbor_impostor_atlas_write(
+                        imp,
+                        0,
+                        out.as_mut_ptr(),
+                        out.len(),
+                        &mut size
+                    ),
+                    ArborStatus::Ok
+                );
+                arbor::ffi::arbor_impostor_free(imp);
+            }
+            black_box(size)
+        })
+    });
+    // SAFETY: made above, freed once.
+    unsafe {
+        arbor::ffi::arbor_lods_free(lods);
+        arbor::ffi::arbor_tree_free(oak);
+    }
     group.finish();
 }
 
