@@ -517,7 +517,7 @@ pub fn silhouette(
 ) -> Vec<bool> {
     let ss = SILHOUETTE_SAMPLES.min(1024 / pixels.max(1)).max(1);
     let side = pixels * ss;
-    let mut t = Target::depth_only(side, side);
+    let mut t = Target::coverage_only(side, side);
     t.draw(&frame.view(dir), &surfaces(level, atlas));
     coverage_mask(&t.mask(), pixels, ss)
 }

@@ -83,9 +83,10 @@ pub struct Target {
     pub normal: Vec<[u8; 4]>,
     /// Per pixel.
     pub depth: Vec<f32>,
-    /// Only depth (and so coverage) is drawn: `color` and `normal` stay empty. For
-    /// silhouettes.
-    pub depth_only: bool,
+    /// Only coverage is drawn: `color` and `normal` stay empty, and `depth` holds the
+    /// first depth drawn at each pixel (not the nearest: nothing behind a covered pixel is
+    /// tested). For silhouettes.
+    pub coverage_only: bool,
 }
 
 impl Target {
@@ -98,19 +99,20 @@ impl Target {
             color: vec![[0; 4]; n],
             normal: vec![[0; 4]; n],
             depth: vec![f32::INFINITY; n],
-            depth_only: false,
+            coverage_only: false,
         }
     }
 
-    /// A target that draws only depth (coverage): its `color` and `normal` are empty.
-    pub fn depth_only(width: u32, height: u32) -> Target {
+    /// A target that draws only coverage (see [`coverage_only`](Self::coverage_only)): its
+    /// `color` and `normal` are empty.
+    pub fn coverage_only(width: u32, height: u32) -> Target {
         Target {
             width,
             height,
             color: Vec::new(),
             normal: Vec::new(),
             depth: vec![f32::INFINITY; width as usize * height as usize],
-            depth_only: true,
+            coverage_only: true,
         }
     }
 
@@ -161,8 +163,8 @@ impl Target {
             let lo_y = a[1].min(b[1]).min(c[1]).max(0.0);
             let hi_y = a[1].max(b[1]).max(c[1]).min(h);
             // Pixel centres inside the box.
-            let (x0, x1) = ((lo_x - 0.5).ceil() as i64, (hi_x - 0.5).floor() as i64);
-            let (y0, y1) = ((lo_y - 0.5).ceil() as i64, (hi_y - 0.5).floor() as i64);
+            let (x0, x1) = (ceil_i(lo_x - 0.5), floor_i(hi_x - 0.5));
+            let (y0, y1) = (ceil_i(lo_y - 0.5), floor_i(hi_y - 0.5));
             if x0 > x1 || y0 > y1 {
                 continue;
             }
@@ -183,9 +185,7 @@ impl Target {
             };
             for y in y0..=y1 {
                 let py = y as f32 + 0.5;
-                // Each weight is linear along the row (a * px + k): the span of pixel
-                // centres where all three are non-negative, widened by half a pixel for
-                // rounding (each pixel is still tested exactly below).
+                // Each weight is linear along the row (a * px + k).
                 let (a0, k0) = (
                     ((b[1] - py) - (c[1] - py)) * inv,
                     (b[0] * (c[1] - py) - (b[1] - py) * c[0]) * inv,
@@ -195,6 +195,8 @@ impl Target {
                     (c[0] * (a[1] - py) - (c[1] - py) * a[0]) * inv,
                 );
                 let (a2, k2) = (-a0 - a1, 1.0 - k0 - k1);
+                // The span of pixel centres where all three are non-negative, widened by
+                // a pixel for rounding (each pixel is still tested below).
                 let (mut lo, mut hi) = (x0 as f32 + 0.5, x1 as f32 + 0.5);
                 let mut empty = false;
                 for (ai, ki) in [(a0, k0), (a1, k1), (a2, k2)] {
@@ -209,18 +211,21 @@ impl Target {
                 if empty || lo.is_nan() || hi.is_nan() || lo > hi + 1.0 {
                     continue;
                 }
-                let xs = ((lo - 1.0).floor() as i64).max(x0);
-                let xe = ((hi + 1.0).ceil() as i64).min(x1);
+                let xs = floor_i(lo - 1.0).max(x0);
+                let xe = ceil_i(hi + 1.0).min(x1);
+                let row = y as usize * self.width as usize;
                 for x in xs..=xe {
+                    let k = row + x as usize;
+                    if self.coverage_only && self.depth[k].is_finite() {
+                        continue;
+                    }
                     let px = x as f32 + 0.5;
-                    // Barycentric weights: each edge function over the whole area.
-                    let l0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) * inv;
-                    let l1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) * inv;
+                    let l0 = a0 * px + k0;
+                    let l1 = a1 * px + k1;
                     let l2 = 1.0 - l0 - l1;
                     if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
                         continue;
                     }
-                    let k = y as usize * self.width as usize + x as usize;
                     let z = a[2] * l0 + b[2] * l1 + c[2] * l2;
                     if z >= self.depth[k] {
                         continue;
@@ -229,14 +234,7 @@ impl Target {
                         Some(t) => {
                             let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
                             let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
-                            // Repeated: the texel by a truncating conversion and a
-                            // remainder (no call to floor or fract).
-                            let wrap = |x: f32, n: u32| {
-                                let k = (x * n as f32).clamp(-1e9, 1e9) as i64;
-                                k.rem_euclid(n as i64) as u32
-                            };
-                            let (tx, ty) = (wrap(u, t.width), wrap(v, t.height));
-                            let p = t.pixel(tx.min(t.width - 1), ty.min(t.height - 1));
+                            let p = t.pixel(wrap(u, t.width), wrap(v, t.height));
                             if p[3] < s.alpha_cutoff {
                                 continue;
                             }
@@ -245,7 +243,7 @@ impl Target {
                         None => [s.color[0], s.color[1], s.color[2], 255],
                     };
                     self.depth[k] = z;
-                    if self.depth_only {
+                    if self.coverage_only {
                         continue;
                     }
                     let n = normal_of(l0, l1, l2);
@@ -259,6 +257,29 @@ impl Target {
                 }
             }
         }
+    }
+}
+
+/// The largest integer at most `x` (saturating; 0 for NaN), without a call to `floor`.
+fn floor_i(x: f32) -> i64 {
+    let t = x as i64;
+    t - i64::from((t as f32) > x)
+}
+
+/// The smallest integer at least `x` (saturating; 0 for NaN), without a call to `ceil`.
+fn ceil_i(x: f32) -> i64 {
+    let t = x as i64;
+    t + i64::from((t as f32) < x)
+}
+
+/// The texel of coordinate `x` on an axis of `n` texels, repeated: by a truncating
+/// conversion and a mask (a power of two) or a remainder.
+fn wrap(x: f32, n: u32) -> u32 {
+    let k = floor_i((x * n as f32).clamp(-1e9, 1e9));
+    if n.is_power_of_two() {
+        (k as u32) & (n - 1)
+    } else {
+        k.rem_euclid(n as i64) as u32
     }
 }
 
