@@ -116,6 +116,10 @@ pub struct Level {
     /// the level could not keep it even at [`MIN_COVERAGE`]. 1 for the full tree; 0 when
     /// not measured (`silhouette` 0).
     pub silhouette: f32,
+    /// For each branch of the tree, the branch of the skeleton this level's bark was
+    /// meshed from (one range of `bark` each; see [`collapse_merged`]) it was merged into;
+    /// empty where that skeleton is the tree's own (the full tree).
+    pub merged: Vec<u32>,
 }
 
 /// The levels of detail of `skeleton` meshed with `mesh` (level 0: as it is) and, when
@@ -290,6 +294,7 @@ fn prepare<'a>(
         screen_coverage: 1.0,
         triangles: full_triangles,
         silhouette: 1.0,
+        merged: Vec::new(),
     };
     let shape = Shape {
         skeleton,
@@ -342,7 +347,8 @@ impl Shape<'_> {
         // The bark's share of the budget, or more where the leaves need less.
         let leaf_full = self.leaf_count * self.per_leaf + self.leaf_rest;
         let bark_share = ((budget as f32 * share) as usize).max(budget.saturating_sub(leaf_full));
-        let (bark, o) = level_bark(self.skeleton, self.mesh, before, self.height, bark_share, c)?;
+        let (bark, o, merged) =
+            level_bark(self.skeleton, self.mesh, before, self.height, bark_share, c)?;
         let bark_triangles = count(&bark);
         let (leaf_mesh, leaf_options) = match self.leaves {
             Some(l) if self.leaf_count > 0 && self.per_leaf > 0 => {
@@ -363,6 +369,7 @@ impl Shape<'_> {
             screen_coverage: c,
             triangles,
             silhouette: 0.0,
+            merged,
         })
     }
 }
@@ -370,7 +377,7 @@ impl Shape<'_> {
 /// A level's bark: `skeleton` with half the sides of `before`'s options, its axes
 /// collapsed and its branches culled by their size at coverage `c` (a tree `height` model
 /// units tall), then culled thicker until it has at most `share` triangles; with the
-/// options it was meshed with.
+/// options it was meshed with and where each branch was merged.
 fn level_bark(
     skeleton: &Skeleton,
     mesh: &MeshOptions,
@@ -378,7 +385,7 @@ fn level_bark(
     height: f32,
     share: usize,
     c: f32,
-) -> Result<(Mesh, MeshOptions)> {
+) -> Result<(Mesh, MeshOptions, Vec<u32>)> {
     let mut o = *before;
     o.radial_segments = (o.radial_segments / 2).max(3);
     o.min_radial_segments = match o.min_radial_segments {
@@ -389,14 +396,14 @@ fn level_bark(
     o.cull_radius = mesh.cull_radius.max(0.5 * CULL_PIXELS * pixel);
     // Axes straightened first (up to 4 times the tolerance), then twigs culled.
     let mut tolerance = COLLAPSE_PIXELS * pixel;
-    let mut collapsed = collapse(skeleton, tolerance)?;
+    let (mut collapsed, mut merged) = collapse_merged(skeleton, tolerance)?;
     let mut bark = mesh::tubes(&collapsed, &o)?;
     for _ in 0..2 {
         if count(&bark) <= share {
             break;
         }
         tolerance *= 2.0;
-        collapsed = collapse(skeleton, tolerance)?;
+        (collapsed, merged) = collapse_merged(skeleton, tolerance)?;
         bark = mesh::tubes(&collapsed, &o)?;
     }
     let mut tries = 0;
@@ -409,7 +416,7 @@ fn level_bark(
         bark = mesh::tubes(&collapsed, &o)?;
         tries += 1;
     }
-    Ok((bark, o))
+    Ok((bark, o, merged))
 }
 
 fn fit_directions(up: Vec3) -> Vec<Vec3> {
@@ -547,6 +554,13 @@ fn count(m: &Mesh) -> usize {
 /// (at most 32 branches a segment): fewer rings, the same outline at a distance. Lateral
 /// branches keep their places (they start inside the merged segment).
 pub fn collapse(skeleton: &Skeleton, tolerance: f32) -> Result<Skeleton> {
+    collapse_merged(skeleton, tolerance).map(|(s, _)| s)
+}
+
+/// [`collapse`], and for each branch of `skeleton` the branch of the collapsed skeleton it
+/// was merged into (what a level's skin follows: a vertex of a merged branch rides the
+/// bone of the member nearest it).
+pub fn collapse_merged(skeleton: &Skeleton, tolerance: f32) -> Result<(Skeleton, Vec<u32>)> {
     use crate::skeleton::{Branch, NO_PARENT, SkeletonParts};
     let b = skeleton.branches();
     let adjacency = skeleton.adjacency();
@@ -591,11 +605,12 @@ pub fn collapse(skeleton: &Skeleton, tolerance: f32) -> Result<Skeleton> {
             last_of_seg.push(i as u32);
         }
     }
-    SkeletonParts {
+    let collapsed = SkeletonParts {
         branches: out,
         ..SkeletonParts::default()
     }
-    .build()
+    .build()?;
+    Ok((collapsed, seg_of))
 }
 
 /// The distance of `p` from the segment `a`..`b`.

@@ -243,6 +243,93 @@ pub fn weights(rig: &Rig, bark: &Mesh) -> Result<Vec<Influence>> {
     ))
 }
 
+/// The influences of every vertex of a level of detail's `bark` (see [`crate::lod`]):
+/// meshed from `skeleton` (the rig's) collapsed, each of its branch ranges the merged
+/// branch `merged[i]` of the skeleton's branches `i` (an empty `merged`: `bark` is the
+/// skeleton's own, as [`weights`]). A vertex rides the bone of the member of its merged
+/// branch nearest it, so a level bends as the full tree does.
+pub fn level_weights(
+    rig: &Rig,
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    bark: &Mesh,
+    merged: &[u32],
+) -> Result<Vec<Influence>> {
+    if merged.is_empty() {
+        return weights(rig, bark);
+    }
+    let b = skeleton.branches();
+    if merged.len() != b.len() || rig.branch_bone.len() != b.len() {
+        return Err(Error::invalid(
+            "merged",
+            format!(
+                "{} entries; expected one per branch of the rig's skeleton ({})",
+                merged.len(),
+                rig.branch_bone.len()
+            ),
+        ));
+    }
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); bark.ranges.len()];
+    for (i, &s) in merged.iter().enumerate() {
+        match members.get_mut(s as usize) {
+            Some(m) => m.push(i as u32),
+            None => {
+                return Err(Error::invalid(
+                    "merged",
+                    format!(
+                        "branch {i} merged into {s}; expected one of the bark's {} ranges",
+                        bark.ranges.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let out = mesh.out();
+    let ends: Vec<(Vec3, Vec3)> = b
+        .iter()
+        .map(|x| (Vec3::from(out.pos(x.start())), Vec3::from(out.pos(x.end()))))
+        .collect();
+    let mut bone_of = vec![0u32; bark.vertices.len()];
+    for (r, m) in bark.ranges.iter().zip(&members) {
+        let (a, n) = (r.first_vertex as usize, r.vertex_count as usize);
+        let Some(slice) = bark.vertices.get(a..a + n) else {
+            continue;
+        };
+        for (k, v) in slice.iter().enumerate() {
+            let p = Vec3::from(v.position);
+            let nearest = m
+                .iter()
+                .map(|&i| {
+                    let (s, e) = ends[i as usize];
+                    (i, off_segment(p, s, e))
+                })
+                .fold((u32::MAX, f32::MAX), |x, y| if y.1 < x.1 { y } else { x })
+                .0;
+            if let Some(&j) = rig.branch_bone.get(nearest as usize) {
+                bone_of[a + k] = j;
+            }
+        }
+    }
+    Ok(blend(
+        rig,
+        bark.vertices
+            .iter()
+            .zip(bone_of)
+            .map(|(v, j)| (Vec3::from(v.position), j)),
+    ))
+}
+
+/// The distance of `p` from the segment `a`..`b`.
+fn off_segment(p: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).length()
+}
+
 /// The influences of every vertex of a baked leaf mesh whose leaf `k` is
 /// `per_leaf` vertices from `k * per_leaf` on the branch `branches[k]`; the vertices
 /// after the leaves (the turtle's polygons and organs) ride the root bone.
@@ -367,6 +454,53 @@ mod tests {
             crate::models::honda::build(&p).unwrap(),
             MeshOptions::default(),
         )
+    }
+
+    /// A straight trunk of 8 branches on 4 bones, collapsed into one branch: each vertex
+    /// of the collapsed bark rides the bone of the branch it lies along.
+    #[test]
+    fn a_collapsed_level_rides_the_bones_of_the_branches_it_merged() {
+        use crate::skeleton::{Branch, SkeletonParts};
+        let branches: Vec<Branch> = (0..8)
+            .map(|k| Branch {
+                parent: if k == 0 { NO_PARENT } else { k - 1 },
+                start: [0.0, k as f32, 0.0],
+                end: [0.0, k as f32 + 1.0, 0.0],
+                start_radius: 0.1,
+                end_radius: 0.1,
+                ..Branch::default()
+            })
+            .collect();
+        let s = SkeletonParts {
+            branches,
+            ..SkeletonParts::default()
+        }
+        .build()
+        .unwrap();
+        let o = MeshOptions::default();
+        let rig = rig(&s, 8, &o).unwrap();
+        assert_eq!(rig.bones.len(), TRUNK_BONES);
+        let (collapsed, merged) = crate::lod::collapse_merged(&s, 0.01).unwrap();
+        assert_eq!(collapsed.len(), 1);
+        let bark = crate::mesh::tubes(&collapsed, &o).unwrap();
+        let w = level_weights(&rig, &s, &o, &bark, &merged).unwrap();
+        assert_eq!(w.len(), bark.vertices.len());
+        for (v, (j, x)) in bark.vertices.iter().zip(&w) {
+            assert!((x.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{x:?}");
+            // Height y lies on branch floor(y), bone floor(y) / 2: the heaviest.
+            let y = v.position[1].clamp(0.0, 7.99);
+            let top = (0..4).max_by(|&a, &b| x[a].total_cmp(&x[b])).unwrap();
+            let expected = rig.branch_bone[y as usize];
+            // At a joint between bones either side is right.
+            let near_joint = [2.0f32, 4.0, 6.0].iter().any(|&at| (y - at).abs() < 0.1);
+            assert!(
+                near_joint || j[top] as u32 == expected,
+                "vertex at {y}: bone {} ({x:?}); expected {expected}",
+                j[top]
+            );
+        }
+        // The wrong length of `merged` is an error, not a panic.
+        assert!(level_weights(&rig, &s, &o, &bark, &merged[1..]).is_err());
     }
 
     #[test]

@@ -142,12 +142,80 @@ fn a_game_asset_has_its_levels_impostor_and_capsules() {
         cols.len() >= 2 && cols[0] == "tree_col_00-convcolonly",
         "{cols:?}"
     );
+    // Every level rides one skin, and a level's vertex the bone its place in the full tree
+    // rides.
+    levels_share_the_skin(&oak);
+    let attributes = export(&["e", "--game", "--wind", "attributes"], &tmp("e_attr.glb"));
+    assert!(!attributes.status.success());
+    assert!(String::from_utf8_lossy(&attributes.stderr).contains("--wind skin"));
     let obj = export(&["e", "--game"], &tmp("e.obj"));
     assert!(!obj.status.success());
     assert!(String::from_utf8_lossy(&obj.stderr).contains("for glTF"));
     let bad = export(&["e", "--lod", "9"], &tmp("bad.glb"));
     assert!(!bad.status.success());
     validator::assert_valid(&[oak, e, godot]);
+}
+
+/// Each `tree_LODk` node of `path` has the one skin; every vertex's weights sum to one;
+/// a sample of each lower level's bark vertices mostly ride the bone (the heaviest) of
+/// the full tree's bark vertex nearest them.
+fn levels_share_the_skin(path: &PathBuf) {
+    let g = gltf::Gltf::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    let blob = g.blob.clone().unwrap();
+    assert_eq!(g.skins().count(), 1);
+    assert_eq!(g.animations().count(), 1);
+    let j = json_of(path);
+    let names: Vec<&str> = j["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["name"].as_str().unwrap())
+        .collect();
+    let bark_of = |k: usize| -> Vec<([f32; 3], u16)> {
+        let at = names
+            .iter()
+            .position(|n| *n == format!("tree_LOD{k}"))
+            .unwrap();
+        let node = g.nodes().nth(at).unwrap();
+        assert_eq!(node.skin().map(|s| s.index()), Some(0), "tree_LOD{k}");
+        let mut bark = Vec::new();
+        for (i, p) in node.mesh().unwrap().primitives().enumerate() {
+            let r = p.reader(|_| Some(&blob[..]));
+            let w: Vec<[f32; 4]> = r.read_weights(0).unwrap().into_f32().collect();
+            let j: Vec<[u16; 4]> = r.read_joints(0).unwrap().into_u16().collect();
+            let pos: Vec<[f32; 3]> = r.read_positions().unwrap().collect();
+            assert_eq!(w.len(), pos.len());
+            for w in &w {
+                assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-4, "{w:?}");
+            }
+            if i == 0 {
+                for ((p, w), j) in pos.iter().zip(&w).zip(&j) {
+                    let top = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).unwrap();
+                    bark.push((*p, j[top]));
+                }
+            }
+        }
+        bark
+    };
+    let full = bark_of(0);
+    for k in 1..4 {
+        let level = bark_of(k);
+        let step = (level.len() / 300).max(1);
+        let (mut same, mut n) = (0, 0);
+        for &(p, b) in level.iter().step_by(step) {
+            let d = |q: [f32; 3]| (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f32>();
+            let nearest = full
+                .iter()
+                .min_by(|x, y| d(x.0).total_cmp(&d(y.0)))
+                .unwrap();
+            same += usize::from(nearest.1 == b);
+            n += 1;
+        }
+        assert!(
+            same as f32 >= 0.85 * n as f32,
+            "level {k}: {same} of {n} vertices on the full tree's bone"
+        );
+    }
 }
 
 #[test]

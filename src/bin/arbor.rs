@@ -104,7 +104,8 @@ struct ExportArgs {
     #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "unreal",
           value_name = "engine", value_parser = ["unreal", "godot"])]
     collision: Option<String>,
-    /// glTF only: the whole game asset: --lod 4 --impostor octahedral --collision
+    /// glTF only: the whole game asset: --lod 4 --impostor octahedral --wind skin
+    /// --collision
     #[arg(long)]
     game: bool,
     /// glTF only: this many levels of detail (1–8), nodes tree_LOD0... with MSFT_lod and
@@ -119,7 +120,8 @@ struct ExportArgs {
     /// glTF only: wind that plays in any viewer: bones along the trunk and limbs (up to
     /// 32), every vertex weighted to them, and a looping 4-second clip "wind"; or the data
     /// engines' wind shaders read, as attributes COLOR_0 (phase, stiffness, branch level,
-    /// leaf flutter) and TEXCOORD_1 (along the branch, growth time)
+    /// leaf flutter) and TEXCOORD_1 (along the branch, growth time). With levels of
+    /// detail: skin (every level on one skeleton) or none
     #[arg(long, value_name = "kind", value_parser = ["skin", "attributes", "none"])]
     wind: Option<String>,
 }
@@ -438,6 +440,8 @@ fn export(m: &ExportArgs, skeleton: &Skeleton, what: &str, grow_ms: f64) -> Resu
 /// What `--game`, `--lod` and `--impostor` ask for.
 struct Game {
     levels: u32,
+    /// Skin every level on one rig and bake the wind clip, seeded by this.
+    wind: Option<u64>,
     impostor: String,
     collision: Option<arbor::scene::CollisionNames>,
 }
@@ -456,9 +460,17 @@ impl Game {
         if !m.game && m.lod.is_none() && m.impostor.is_none() {
             return Ok(None);
         }
-        if matches!(m.wind.as_deref(), Some("skin" | "attributes")) {
-            bail!("--wind with levels of detail is not there yet: export one or the other");
+        if m.wind.as_deref() == Some("attributes") {
+            bail!(
+                "--wind attributes with levels of detail: the attributes are for one mesh; \
+                 use --wind skin (every level on one skeleton) or export one level"
+            );
         }
+        let skin = match m.wind.as_deref() {
+            Some("skin") => true,
+            Some(_) => false,
+            None => m.game,
+        };
         let levels = m.lod.unwrap_or(4);
         if !(1..=8).contains(&levels) {
             bail!("--lod {levels}: expected 1..=8 levels");
@@ -469,6 +481,7 @@ impl Game {
             .unwrap_or_else(|| if m.game { "octahedral" } else { "none" }.into());
         Ok(Some(Game {
             levels,
+            wind: skin.then(|| m.tree.seed.unwrap_or(0)),
             impostor,
             collision: collision_names(m)
                 .or(m.game.then_some(arbor::scene::CollisionNames::Unreal)),
@@ -493,6 +506,9 @@ impl Game {
         let t = Instant::now();
         let mut scene = arbor::scene::Scene::levels(&levels, "tree");
         texture(&mut scene);
+        if let Some(seed) = self.wind {
+            skin_levels(&mut scene, &levels, skeleton, o, seed)?;
+        }
         let last = levels.last().map_or(0.0, |l| l.screen_coverage);
         // The impostor is drawn from level 2 (or the last below it): a tenth of the
         // triangles, its silhouette kept where it is drawn.
@@ -651,6 +667,52 @@ fn wind_skin(
     }
     let clip = arbor::wind::clip(&rig, o.up(), glam::Vec3::X, 2.0, 4.0, 30, seed)?;
     scene.skin(&rig, influences, Some(clip))
+}
+
+/// Skins every level of `levels` in `scene` (the nodes `tree_LOD0...`, made by
+/// [`arbor::scene::Scene::levels`]) on one rig of `skeleton` drawn with `o`: a level's bark
+/// by the branches it merged ([`arbor::wind::level_weights`]), its leaves by the branch
+/// each is on; with a 4-second wind clip seeded by `seed`.
+fn skin_levels(
+    scene: &mut arbor::scene::Scene,
+    levels: &[arbor::lod::Level],
+    skeleton: &Skeleton,
+    o: &MeshOptions,
+    seed: u64,
+) -> arbor::Result<()> {
+    let rig = arbor::wind::rig(skeleton, WIND_BONES, o)?;
+    let first = scene.nodes.iter().position(|n| n.lod.is_some());
+    let nodes: Vec<usize> = first
+        .into_iter()
+        .chain(
+            first
+                .and_then(|k| scene.nodes[k].lod.as_ref())
+                .map_or(Vec::new(), |l| l.levels.clone()),
+        )
+        .collect();
+    let mut skins = Vec::new();
+    for (&node, level) in nodes.iter().zip(levels) {
+        let mut influences = Vec::new();
+        if !level.bark.indices.is_empty() {
+            influences.push(arbor::wind::level_weights(
+                &rig,
+                skeleton,
+                &level.mesh_options,
+                &level.bark,
+                &level.merged,
+            )?);
+        }
+        if let (Some(l), Some(baked)) = (&level.leaf_options, &level.leaves) {
+            if !baked.indices.is_empty() {
+                let branches = arbor::mesh::leaf_branches(skeleton, l, o)?;
+                let per_leaf = l.shape().vertices.len();
+                influences.push(arbor::wind::leaf_weights(&rig, baked, &branches, per_leaf));
+            }
+        }
+        skins.push((node, influences));
+    }
+    let clip = arbor::wind::clip(&rig, o.up(), glam::Vec3::X, 2.0, 4.0, 30, seed)?;
+    scene.skin_nodes(&rig, skins, Some(clip))
 }
 
 /// Gives the tree's mesh in `scene` (bark, then its baked `leaves` when given) the wind

@@ -562,32 +562,58 @@ impl Scene {
         influences: Vec<Vec<crate::wind::Influence>>,
         clip: Option<crate::wind::Clip>,
     ) -> Result<()> {
-        let Some(mesh) = self.nodes.first().and_then(|n| n.mesh) else {
+        if self.nodes.is_empty() {
             return Err(crate::Error::invalid("scene", "no mesh to skin"));
-        };
-        let prims = &mut self.meshes[mesh].primitives;
-        if influences.len() != prims.len() {
-            return Err(crate::Error::invalid(
-                "influences",
-                format!(
-                    "{} lists; expected one per primitive ({})",
-                    influences.len(),
-                    prims.len()
-                ),
-            ));
         }
-        for (k, (p, i)) in prims.iter_mut().zip(influences).enumerate() {
-            if i.len() != p.mesh.vertices.len() {
+        self.skin_nodes(rig, vec![(0, influences)], clip)
+    }
+
+    /// Skins the meshes of several nodes (a chain's levels) on one `rig`: for each node
+    /// (an index into [`nodes`](Self::nodes)), its primitives' influences (one list per
+    /// primitive, one influence per vertex), and `clip` to play. A node without a mesh or
+    /// a list of the wrong length is an error naming it.
+    pub fn skin_nodes(
+        &mut self,
+        rig: &crate::wind::Rig,
+        nodes: Vec<(usize, Vec<Vec<crate::wind::Influence>>)>,
+        clip: Option<crate::wind::Clip>,
+    ) -> Result<()> {
+        for (node, influences) in nodes {
+            let Some(mesh) = self.nodes.get(node).and_then(|n| n.mesh) else {
+                return Err(crate::Error::invalid(
+                    "scene",
+                    format!("node {node} has no mesh to skin"),
+                ));
+            };
+            let prims = &mut self.meshes[mesh].primitives;
+            if influences.len() != prims.len() {
                 return Err(crate::Error::invalid(
                     "influences",
                     format!(
-                        "primitive {k}: {} influences; expected one per vertex ({})",
+                        "node {node}: {} lists; expected one per primitive ({})",
+                        influences.len(),
+                        prims.len()
+                    ),
+                ));
+            }
+            if let Some((k, (p, i))) = prims
+                .iter()
+                .zip(&influences)
+                .enumerate()
+                .find(|(_, (p, i))| i.len() != p.mesh.vertices.len())
+            {
+                return Err(crate::Error::invalid(
+                    "influences",
+                    format!(
+                        "node {node}, primitive {k}: {} influences; expected one per vertex ({})",
                         i.len(),
                         p.mesh.vertices.len()
                     ),
                 ));
             }
-            p.skin = Some(i);
+            for (p, i) in prims.iter_mut().zip(influences) {
+                p.skin = Some(i);
+            }
         }
         self.rig = Some(SceneRig {
             bones: rig.bones.clone(),

@@ -445,7 +445,7 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
     } else {
         textures_json(&mut b, scene)?
     };
-    // The rig: a node per bone after the scene's, the skin on the first node, the clip.
+    // The rig: a node per bone after the scene's, the skin on its skinned nodes, the clip.
     let mut roots: Vec<usize> = (0..nodes.len()).collect();
     let (mut skins, mut animations) = (Vec::new(), Vec::new());
     if let (Some(rig), false) = (&scene.rig, nodes.is_empty()) {
@@ -494,7 +494,15 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
             joints: (base..base + rig.bones.len()).collect(),
             skeleton: base,
         });
-        nodes[0].skin = Some(0);
+        // Every node whose mesh is skinned (the first, or each level of a chain).
+        for (k, n) in scene.nodes.iter().enumerate() {
+            let skinned = n
+                .mesh
+                .is_some_and(|m| scene.meshes[m].primitives.iter().any(|p| p.skin.is_some()));
+            if skinned {
+                nodes[k].skin = Some(0);
+            }
+        }
         if let Some(clip) = &rig.clip {
             let tv = b.view(bytemuck::cast_slice(&clip.times), None, None);
             let mut input = json::Accessor::new(tv, None, (FLOAT, "SCALAR"), clip.times.len());
