@@ -88,7 +88,7 @@ int main(void) {
   CHECK(strcmp(arbor_version(), header_version) == 0, "version %s vs header %s",
         arbor_version(), header_version);
   /* The sizes the library reports are the header's. */
-  const size_t sizes[22] = {sizeof(ArborHondaParams), sizeof(ArborBranch), sizeof(ArborVertex),
+  const size_t sizes[23] = {sizeof(ArborHondaParams), sizeof(ArborBranch), sizeof(ArborVertex),
                             sizeof(ArborMeshOptions), sizeof(ArborLsystemOptions),
                             sizeof(ArborLeafOptions), sizeof(ArborLeafInstance),
                             sizeof(ArborBranchRange), sizeof(ArborLeafSite),
@@ -98,11 +98,11 @@ int main(void) {
                             sizeof(ArborCurveGrowthRecord), sizeof(ArborOrgan),
                             sizeof(ArborVertexCompact), sizeof(ArborAnimationVertexCompact),
                             sizeof(ArborForestPlant), sizeof(ArborCapsule),
-                            sizeof(ArborLodOptions)};
-  for (uint32_t id = 0; id < 22; id++)
+                            sizeof(ArborLodOptions), sizeof(ArborBone)};
+  for (uint32_t id = 0; id < 23; id++)
     CHECK(arbor_struct_size(id) == sizes[id], "struct %u: %zu vs %zu", id, arbor_struct_size(id),
           sizes[id]);
-  CHECK(arbor_struct_size(22) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
+  CHECK(arbor_struct_size(23) == 0 && arbor_struct_size(ARBOR_STRUCT_ID_LEAF_SITE) == 44 && arbor_struct_size(ARBOR_STRUCT_ID_ORGAN) == 56,
         "unknown id");
   for (int i = 0; i < 9; i++) upload_one((char)('a' + i), expected_branches[i]);
   /* Upper case names work too. */

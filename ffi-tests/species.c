@@ -97,6 +97,68 @@ int main(void) {
   CHECK(arbor_struct_size(ARBOR_STRUCT_ID_CAPSULE) == sizeof(ArborCapsule), "capsule size");
   free(caps);
 
+  /* Wind as a skin: bones with inverse bind matrices, four weights a vertex of the mesh
+     arbor_mesh_write() writes, and the clip's keys. */
+  size_t nb = 0, sv = 0, mv = 0, mi = 0;
+  CHECK_STATUS(arbor_tree_bones_write(oak, &mo, 32, NULL, NULL, 0, &nb), ARBOR_STATUS_OK);
+  CHECK(nb > 4 && nb <= 32, "%zu bones", nb);
+  ArborBone *bones = malloc(nb * sizeof *bones);
+  float *ibm = malloc(nb * 16 * sizeof *ibm);
+  bones[0].radius = -1.0f;
+  CHECK_STATUS(arbor_tree_bones_write(oak, &mo, 32, bones, ibm, nb - 1, NULL), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(bones[0].radius == -1.0f, "nothing written on failure");
+  CHECK_STATUS(arbor_tree_bones_write(oak, &mo, 32, bones, ibm, nb, NULL), ARBOR_STATUS_OK);
+  CHECK(bones[0].parent == ARBOR_NO_PARENT && bones[0].radius > 0.0f, "the root bone");
+  for (size_t k = 1; k < nb; k++) CHECK(bones[k].parent < k, "bone %zu: parent %u", k, bones[k].parent);
+  for (size_t k = 0; k < nb; k++)
+    CHECK(ibm[16 * k + 12] == -bones[k].head[0] && ibm[16 * k + 13] == -bones[k].head[1] && ibm[16 * k + 15] == 1.0f,
+          "inverse bind %zu", k);
+  CHECK_STATUS(arbor_mesh_size(oak, &mo, &mv, &mi), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_mesh_skin_write(oak, &mo, 32, NULL, NULL, 0, &sv), ARBOR_STATUS_OK);
+  CHECK(sv == mv, "skin %zu vertices, mesh %zu", sv, mv);
+  uint16_t *joints = malloc(sv * 4 * sizeof *joints);
+  float *weights = malloc(sv * 4 * sizeof *weights);
+  memset(weights, 0x7f, sv * 4 * sizeof *weights); /* prefaulted, and not a weight */
+  CHECK_STATUS(arbor_mesh_skin_write(oak, &mo, 32, joints, weights, sv - 1, NULL), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK_STATUS(arbor_mesh_skin_write(oak, &mo, 32, joints, weights, sv, NULL), ARBOR_STATUS_OK);
+  size_t *used = calloc(nb, sizeof *used);
+  for (size_t v = 0; v < sv; v++) {
+    float sum = 0.0f;
+    for (int i = 0; i < 4; i++) {
+      sum += weights[4 * v + i];
+      CHECK(joints[4 * v + i] < nb, "vertex %zu: joint %u", v, joints[4 * v + i]);
+      if (weights[4 * v + i] > 0.0f) used[joints[4 * v + i]]++;
+    }
+    CHECK(sum > 0.9999f && sum < 1.0001f, "vertex %zu: weights sum to %g", v, (double)sum);
+  }
+  for (size_t k = 0; k < nb; k++) CHECK(used[k] > 0, "bone %zu moves no vertex", k);
+  size_t keys = 0, clip_bones = 0;
+  CHECK_STATUS(arbor_tree_wind_clip_write(oak, &mo, 32, NULL, 2.0f, 4.0f, 30, 7, NULL, 0, NULL, 0, &keys, &clip_bones),
+               ARBOR_STATUS_OK);
+  CHECK(keys == 121 && clip_bones == nb, "%zu keys, %zu bones", keys, clip_bones);
+  float *key_times = malloc(keys * sizeof *key_times);
+  float *rot = malloc(keys * nb * 4 * sizeof *rot);
+  const float wind[3] = {0.0f, 0.0f, 1.0f};
+  CHECK_STATUS(arbor_tree_wind_clip_write(oak, &mo, 32, wind, 2.0f, 4.0f, 30, 7, key_times, keys, rot, nb - 1, NULL, NULL),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK_STATUS(arbor_tree_wind_clip_write(oak, &mo, 32, wind, 2.0f, 4.0f, 30, 7, key_times, keys, rot, nb, NULL, NULL),
+               ARBOR_STATUS_OK);
+  CHECK(key_times[0] == 0.0f && key_times[keys - 1] == 4.0f, "times %g..%g", (double)key_times[0],
+        (double)key_times[keys - 1]);
+  for (size_t b = 0; b < nb; b++) {
+    const float *first = rot + 4 * (b * keys), *last = rot + 4 * (b * keys + keys - 1);
+    float dot = 0.0f, norm = 0.0f;
+    for (int i = 0; i < 4; i++) {
+      dot += first[i] * last[i];
+      norm += first[i] * first[i];
+    }
+    CHECK(norm > 0.999f && norm < 1.001f && (dot > 0.99999f || dot < -0.99999f), "bone %zu loops", b);
+  }
+  CHECK_STATUS(arbor_tree_wind_clip_write(oak, &mo, 32, NULL, 2.0f, 0.1f, 30, 7, NULL, 0, NULL, 0, &keys, NULL),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(arbor_struct_size(ARBOR_STRUCT_ID_BONE) == sizeof(ArborBone), "bone size");
+  free(bones), free(ibm), free(joints), free(weights), free(used), free(key_times), free(rot);
+
   /* Textures: size, then fill; a short buffer is refused with nothing written. */
   const uint32_t size = 64;
   size_t bytes = (size_t)size * size * 4;

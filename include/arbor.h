@@ -128,6 +128,11 @@
 #define ARBOR_TWIG_VARIANTS 4
 
 /**
+ * The most bones a rig has.
+ */
+#define ARBOR_MAX_BONES 256
+
+/**
  * Result of every fallible function. The numbers are fixed forever and never reused.
  */
 typedef enum ArborStatus {
@@ -491,6 +496,10 @@ typedef enum ArborStructId {
    * ArborLodOptions.
    */
   ARBOR_STRUCT_ID_LOD_OPTIONS = 21,
+  /**
+   * ArborBone.
+   */
+  ARBOR_STRUCT_ID_BONE = 22,
 } ArborStructId;
 
 /**
@@ -1735,6 +1744,28 @@ typedef struct ArborAnimationVertex {
 } ArborAnimationVertex;
 
 /**
+ * One bone, 32 bytes; C: ArborBone. A segment of an axis, in the mesh's space.
+ */
+typedef struct ArborBone {
+  /**
+   * Where it starts (its joint).
+   */
+  float head[3];
+  /**
+   * Where it ends.
+   */
+  float tail[3];
+  /**
+   * Its parent bone, or [`NO_PARENT`] (C: ARBOR_NO_PARENT) for the root.
+   */
+  uint32_t parent;
+  /**
+   * The radius of the wood at its head (mesh units).
+   */
+  float radius;
+} ArborBone;
+
+/**
  * One internode (one `F` of the turtle): a truncated cone from `start` to `end`.
  *
  * 48 bytes; C: ArborBranch, whose field `depth` is `birth` here.
@@ -2826,6 +2857,83 @@ enum ArborStatus arbor_mesh_animation_write(const struct ArborTree *tree,
                                             const struct ArborMeshOptions *options,
                                             struct ArborAnimationVertex *out,
                                             size_t capacity);
+
+/**
+ * Writes the bones of `tree`'s wind skin: at most `max_bones` (1..=ARBOR_MAX_BONES;
+ * four along the trunk, then two a limb, thickest limbs first) in the conventions of
+ * `mesh_options` (NULL: the defaults), parents before children, the first the trunk's
+ * base (each ArborBone its head, tail, parent, ARBOR_NO_PARENT for the root, and the
+ * wood's radius at its head). `inverse_bind` (NULL: not asked) gets 16 floats a bone:
+ * its inverse bind matrix, column-major as glTF's (the translation moving its head to
+ * the origin). `*count` (when not NULL) gets how many bones there are; `out` and
+ * `inverse_bind` hold `capacity` bones: at least that many, else
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+ * for `capacity` bones, `inverse_bind` NULL or writable for `16 * capacity` floats;
+ * `count` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_bones_write(const struct ArborTree *tree,
+                                        const struct ArborMeshOptions *mesh_options,
+                                        uint32_t max_bones,
+                                        struct ArborBone *out,
+                                        float *inverse_bind,
+                                        size_t capacity,
+                                        size_t *count);
+
+/**
+ * Writes the skin of the mesh arbor_mesh_write() writes for `tree` with `options`
+ * (NULL: the defaults), on the bones arbor_tree_bones_write() writes with the same
+ * options and `max_bones`: four joints (`joints`, unsigned shorts) and four weights
+ * (`weights`, floats summing to one) a vertex, in the mesh's vertex order. `*vertex_count`
+ * (when not NULL) gets the mesh's vertices; `joints` and `weights` (NULL: count only)
+ * hold `vertex_capacity` vertices (4 elements each): at least that many, else
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `options` is NULL or readable; `joints` and `weights` are NULL
+ * or writable for `4 * vertex_capacity` elements; `vertex_count` is NULL or writable.
+ */
+enum ArborStatus arbor_mesh_skin_write(const struct ArborTree *tree,
+                                       const struct ArborMeshOptions *options,
+                                       uint32_t max_bones,
+                                       uint16_t *joints,
+                                       float *weights,
+                                       size_t vertex_capacity,
+                                       size_t *vertex_count);
+
+/**
+ * Writes the looping wind clip of the bones arbor_tree_bones_write() writes for `tree`
+ * with `mesh_options` and `max_bones`: `duration` seconds (0.5..=60) at
+ * `keys_per_second` (1..=60), the wind blowing along `wind` (3 floats, level, in the
+ * mesh's axes; NULL: +X) at `strength` (0..=4), varied by `seed`. `times` gets each key's
+ * time (from 0 to `duration`, the last key the first again); `rotations` each bone's
+ * rotation relative to its rest at each key, a unit quaternion x, y, z, w: bone `b`'s
+ * key `k` at `4 * (b * key_count + k)`. `*key_count` and `*bone_count` (when not NULL)
+ * get the counts; `times` holds `key_capacity` floats and `rotations`
+ * `4 * bone_capacity * key_capacity` (NULL: counts only): at least the counts, else
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `mesh_options` NULL or readable; `wind` NULL or readable for 3
+ * floats; `times` NULL or writable for `key_capacity` floats, `rotations` for
+ * `4 * bone_capacity * key_capacity`; `key_count` and `bone_count` NULL or writable.
+ */
+enum ArborStatus arbor_tree_wind_clip_write(const struct ArborTree *tree,
+                                            const struct ArborMeshOptions *mesh_options,
+                                            uint32_t max_bones,
+                                            const float *wind,
+                                            float strength,
+                                            float duration,
+                                            uint32_t keys_per_second,
+                                            uint64_t seed,
+                                            float *times_out,
+                                            size_t key_capacity,
+                                            float *rotations,
+                                            size_t bone_capacity,
+                                            size_t *key_count,
+                                            size_t *bone_count);
 
 /**
  * Grows the adult tree of a named species (ARBOR_SPECIES_OAK and after: its cycles, its

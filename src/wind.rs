@@ -37,14 +37,15 @@ pub const BLEND: f32 = 0.25;
 /// The most bones a rig has.
 pub const MAX_BONES: usize = 256;
 
-/// One bone: a segment of an axis, in the mesh's space.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One bone, 32 bytes; C: ArborBone. A segment of an axis, in the mesh's space.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Bone {
     /// Where it starts (its joint).
     pub head: [f32; 3],
     /// Where it ends.
     pub tail: [f32; 3],
-    /// Its parent bone, or [`NO_PARENT`] for the root.
+    /// Its parent bone, or [`NO_PARENT`] (C: ARBOR_NO_PARENT) for the root.
     pub parent: u32,
     /// The radius of the wood at its head (mesh units).
     pub radius: f32,
@@ -187,6 +188,17 @@ pub fn rig(skeleton: &Skeleton, max_bones: usize, mesh: &MeshOptions) -> Result<
 
 /// Up to four bones and their weights (summing to one), per vertex.
 pub type Influence = ([u16; 4], [f32; 4]);
+
+impl Bone {
+    /// Its inverse bind matrix (column-major, as glTF's): the translation that moves its
+    /// head to the origin (a bone's rest has no rotation).
+    pub fn inverse_bind(&self) -> [f32; 16] {
+        let [x, y, z] = self.head;
+        [
+            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -x, -y, -z, 1.0,
+        ]
+    }
+}
 
 /// The influences of `vertices` (in the rig's mesh space), each on the bone `bone_of(k)`
 /// of vertex `k`: blended with the bone's parent near its head.

@@ -50,6 +50,8 @@ pub enum ArborStructId {
     Capsule = 20,
     /// ArborLodOptions.
     LodOptions = 21,
+    /// ArborBone.
+    Bone = 22,
 }
 
 /// The size in bytes of the struct `id` (an ArborStructId) as this library was built, so a
@@ -81,6 +83,7 @@ pub extern "C" fn arbor_struct_size(id: u32) -> usize {
         19 => size_of::<ArborForestPlant>(),
         20 => size_of::<crate::collision::Capsule>(),
         21 => size_of::<super::ArborLodOptions>(),
+        22 => size_of::<crate::wind::Bone>(),
         _ => 0,
     }
 }

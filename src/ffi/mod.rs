@@ -24,6 +24,7 @@ mod lsystem;
 mod meshes;
 #[cfg(test)]
 mod mirror_gen;
+mod wind;
 #[rustfmt::skip]
 mod mirrors;
 mod options;
@@ -49,6 +50,7 @@ use options::*;
 pub use species::*;
 pub use status::*;
 pub use tree::*;
+pub use wind::*;
 
 use crate::lsystem::{LSystem, LsystemOptions, MAX_SOURCE_BYTES};
 use crate::mesh::{

@@ -63,6 +63,7 @@ namespace Arbor
         AnimationVertex = 9, ForestTree = 10, WorldOptions = 11, GrowthParams = 12,
         Curve = 13, CurveRecord = 14, CurveGrowthRecord = 15, Organ = 16, VertexCompact = 17,
         AnimationVertexCompact = 18, ForestPlant = 19, Capsule = 20, LodOptions = 21,
+        Bone = 22,
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -346,6 +347,17 @@ namespace Arbor
         public uint Branch;
     }
 
+    /// One bone of the wind skin (ArborBone): a segment of an axis from its head (the
+    /// joint) to its tail, its parent (0xFFFFFFFF, ARBOR_NO_PARENT, for the root) and the wood's radius
+    /// at its head (Native.arbor_tree_bones_write).
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Bone
+    {
+        public float HeadX, HeadY, HeadZ, TailX, TailY, TailZ;
+        public uint Parent;
+        public float Radius;
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct LeafInstance
     {
@@ -442,6 +454,12 @@ namespace Arbor
         public static extern Status arbor_tree_from_species_bare(uint species, ulong seed, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_capsules_write(IntPtr tree, ref MeshOptions meshOptions, uint maxCapsules, float minRadius, [Out] Capsule[] output, UIntPtr capacity, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_bones_write(IntPtr tree, ref MeshOptions meshOptions, uint maxBones, [Out] Bone[] output, [Out] float[] inverseBind, UIntPtr capacity, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_mesh_skin_write(IntPtr tree, ref MeshOptions options, uint maxBones, [Out] ushort[] joints, [Out] float[] weights, UIntPtr vertexCapacity, out UIntPtr vertexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_wind_clip_write(IntPtr tree, ref MeshOptions meshOptions, uint maxBones, float[] wind, float strength, float duration, uint keysPerSecond, ulong seed, [Out] float[] times, UIntPtr keyCapacity, [Out] float[] rotations, UIntPtr boneCapacity, out UIntPtr keyCount, out UIntPtr boneCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_lod_options_init(ref LodOptions options, UIntPtr structSize);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
@@ -796,6 +814,43 @@ namespace Arbor
             options.UpAxis = (uint)UpAxis.Y;
             options.Axes = (uint)Arbor.Axes.Unity;
             return Capsules(options, max, minRadius);
+        }
+
+        /// The wind skin's bones (at most `maxBones`, 1..=64) in the conventions of `options`,
+        /// and their inverse bind matrices, 16 floats a bone, column-major.
+        public Bone[] Bones(MeshOptions options, uint maxBones, out float[] inverseBind)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_tree_bones_write(handle, ref options, maxBones, null, null, UIntPtr.Zero, out n));
+            var bones = new Bone[(int)n];
+            inverseBind = new float[16 * (int)n];
+            UIntPtr again;
+            ArborException.Check(Native.arbor_tree_bones_write(handle, ref options, maxBones, bones, inverseBind, n, out again));
+            return bones;
+        }
+
+        /// Four joints and four weights (summing to one) a vertex of the mesh Mesh(options)
+        /// writes, on the bones of Bones(options, maxBones): Unity's BoneWeight layout.
+        public void Skin(MeshOptions options, uint maxBones, out ushort[] joints, out float[] weights)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_mesh_skin_write(handle, ref options, maxBones, null, null, UIntPtr.Zero, out n));
+            joints = new ushort[4 * (int)n];
+            weights = new float[4 * (int)n];
+            UIntPtr again;
+            ArborException.Check(Native.arbor_mesh_skin_write(handle, ref options, maxBones, joints, weights, n, out again));
+        }
+
+        /// The looping wind clip of Bones(options, maxBones): key times, and each bone's
+        /// rotation from its rest at each key (x, y, z, w; bone b's key k at 4 * (b * keys + k)).
+        public float[] WindClip(MeshOptions options, uint maxBones, float[] wind, float strength, float duration, uint keysPerSecond, ulong seed, out float[] times)
+        {
+            UIntPtr keys, bones;
+            ArborException.Check(Native.arbor_tree_wind_clip_write(handle, ref options, maxBones, wind, strength, duration, keysPerSecond, seed, null, UIntPtr.Zero, null, UIntPtr.Zero, out keys, out bones));
+            times = new float[(int)keys];
+            var rotations = new float[4 * (int)keys * (int)bones];
+            ArborException.Check(Native.arbor_tree_wind_clip_write(handle, ref options, maxBones, wind, strength, duration, keysPerSecond, seed, times, keys, rotations, bones, out keys, out bones));
+            return rotations;
         }
 
         /// The tree's levels of detail (bark and baked leaves), in the conventions of

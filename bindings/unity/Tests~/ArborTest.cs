@@ -202,6 +202,31 @@ static class ArborTest
                 Expect(e.Status == Status.Cancelled, "cancelled mesh: " + e.Status);
             }
         }
+        Expect(Marshal.SizeOf(typeof(Bone)) == (int)Native.arbor_struct_size((uint)StructId.Bone), "Bone size");
+        using (var windy = Tree.FromPreset('b'))
+        {
+            var opts = MeshOptions.Default();
+            float[] ibm;
+            var bones = windy.Bones(opts, 16, out ibm);
+            Expect(bones.Length > 1 && bones.Length <= 16 && ibm.Length == 16 * bones.Length, "bones: " + bones.Length);
+            Expect(bones[0].Parent == 0xFFFFFFFFu && ibm[12] == -bones[0].HeadX, "root bone and its inverse bind");
+            ushort[] joints;
+            float[] weights;
+            windy.Skin(opts, 16, out joints, out weights);
+            Vertex[] wv;
+            int[] wi;
+            windy.Mesh(opts, out wv, out wi);
+            bool sums = joints.Length == 4 * wv.Length;
+            for (int v = 0; sums && v < wv.Length; v++)
+            {
+                float sum = weights[4 * v] + weights[4 * v + 1] + weights[4 * v + 2] + weights[4 * v + 3];
+                sums = Math.Abs(sum - 1f) < 1e-4f && joints[4 * v] < bones.Length;
+            }
+            Expect(sums, "skin: four weights summing to one a vertex");
+            float[] times;
+            var rot = windy.WindClip(opts, 16, null, 1f, 2f, 10, 3, out times);
+            Expect(times.Length == 21 && rot.Length == 4 * 21 * bones.Length && times[20] == 2f, "clip: " + times.Length + " keys");
+        }
         try
         {
             Tree.FromLsystemFile("no/such/grammar.l");

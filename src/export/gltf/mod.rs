@@ -471,16 +471,7 @@ fn encode(scene: &Scene, Form { binary, quantized }: Form) -> Result<Vec<u8>> {
             nodes.push(node);
         }
         // Each bone's inverse bind matrix: the translation back from its head.
-        let ibm: Vec<[f32; 16]> = rig
-            .bones
-            .iter()
-            .map(|bone| {
-                let [x, y, z] = bone.head;
-                [
-                    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -x, -y, -z, 1.0,
-                ]
-            })
-            .collect();
+        let ibm: Vec<[f32; 16]> = rig.bones.iter().map(|b| b.inverse_bind()).collect();
         let v = b.view(bytemuck::cast_slice(&ibm), None, None);
         let ibm = b.push(json::Accessor::new(
             v,
