@@ -83,10 +83,12 @@ pub struct Target {
     pub normal: Vec<[u8; 4]>,
     /// Per pixel.
     pub depth: Vec<f32>,
-    /// Only coverage is drawn: `color` and `normal` stay empty, and `depth` holds the
-    /// first depth drawn at each pixel (not the nearest: nothing behind a covered pixel is
-    /// tested). For silhouettes.
+    /// Only coverage is drawn: `color`, `normal` and `depth` stay empty, and a pixel once
+    /// covered is not visited again (a bit a pixel, 64 skipped at a time). For silhouettes.
     pub coverage_only: bool,
+    /// The coverage bits of a [`coverage_only`](Self::coverage_only) target, `words` a row.
+    bits: Vec<u64>,
+    words: usize,
 }
 
 impl Target {
@@ -100,24 +102,37 @@ impl Target {
             normal: vec![[0; 4]; n],
             depth: vec![f32::INFINITY; n],
             coverage_only: false,
+            bits: Vec::new(),
+            words: 0,
         }
     }
 
     /// A target that draws only coverage (see [`coverage_only`](Self::coverage_only)): its
-    /// `color` and `normal` are empty.
+    /// `color`, `normal` and `depth` are empty; [`mask`](Self::mask) says what it covers.
     pub fn coverage_only(width: u32, height: u32) -> Target {
+        let words = (width as usize).div_ceil(64);
         Target {
             width,
             height,
             color: Vec::new(),
             normal: Vec::new(),
-            depth: vec![f32::INFINITY; width as usize * height as usize],
+            depth: Vec::new(),
             coverage_only: true,
+            bits: vec![0; words * height as usize],
+            words,
         }
     }
 
     /// Which pixels something was drawn on.
     pub fn mask(&self) -> Vec<bool> {
+        if self.coverage_only {
+            let w = self.width as usize;
+            let mut out = Vec::with_capacity(w * self.height as usize);
+            for row in self.bits.chunks_exact(self.words.max(1)) {
+                out.extend((0..w).map(|x| row[x / 64] >> (x % 64) & 1 == 1));
+            }
+            return out;
+        }
         self.depth.iter().map(|d| d.is_finite()).collect()
     }
 
@@ -168,61 +183,86 @@ impl Target {
             if x0 > x1 || y0 > y1 {
                 continue;
             }
+            // The barycentric weights as planes over the image: l = ax * px + ay * py + k
+            // at the pixel centre (px, py); the third is 1 - l0 - l1.
             let inv = 1.0 / area;
+            let e0 = Edge::new(
+                (b[1] - c[1]) * inv,
+                (c[0] - b[0]) * inv,
+                (b[0] * c[1] - b[1] * c[0]) * inv,
+            );
+            let e1 = Edge::new(
+                (c[1] - a[1]) * inv,
+                (a[0] - c[0]) * inv,
+                (c[0] * a[1] - c[1] * a[0]) * inv,
+            );
+            let e2 = Edge::new(-e0.ax - e1.ax, -e0.ay - e1.ay, 1.0 - e0.k - e1.k);
             let vs = &s.mesh.vertices;
             let (va, vb, vc) = (&vs[i0], &vs[i1], &vs[i2]);
-            let normal_of = |l0: f32, l1: f32, l2: f32| {
-                let n = Vec3::from(va.normal) * l0
-                    + Vec3::from(vb.normal) * l1
-                    + Vec3::from(vc.normal) * l2;
-                let n = n.normalize_or(-view.forward);
-                // The side facing the viewer (a leaf seen from behind).
-                if n.dot(view.forward) > 0.0 && s.double_sided {
-                    -n
-                } else {
-                    n
-                }
-            };
             for y in y0..=y1 {
                 let py = y as f32 + 0.5;
-                // Each weight is linear along the row (a * px + k).
-                let (a0, k0) = (
-                    ((b[1] - py) - (c[1] - py)) * inv,
-                    (b[0] * (c[1] - py) - (b[1] - py) * c[0]) * inv,
-                );
-                let (a1, k1) = (
-                    ((c[1] - py) - (a[1] - py)) * inv,
-                    (c[0] * (a[1] - py) - (c[1] - py) * a[0]) * inv,
-                );
-                let (a2, k2) = (-a0 - a1, 1.0 - k0 - k1);
-                // The span of pixel centres where all three are non-negative, widened by
-                // a pixel for rounding (each pixel is still tested below).
+                // The span of pixel centres where all three weights are non-negative.
                 let (mut lo, mut hi) = (x0 as f32 + 0.5, x1 as f32 + 0.5);
+                let (k0, k1) = (e0.row(py), e1.row(py));
                 let mut empty = false;
-                for (ai, ki) in [(a0, k0), (a1, k1), (a2, k2)] {
-                    if ai > 0.0 {
-                        lo = lo.max(-ki / ai);
-                    } else if ai < 0.0 {
-                        hi = hi.min(-ki / ai);
-                    } else if ki < 0.0 {
+                for (e, k) in [(&e0, k0), (&e1, k1), (&e2, e2.row(py))] {
+                    if e.ax > 0.0 {
+                        lo = lo.max(-k * e.inv_ax);
+                    } else if e.ax < 0.0 {
+                        hi = hi.min(-k * e.inv_ax);
+                    } else if k < 0.0 {
                         empty = true;
                     }
                 }
-                if empty || lo.is_nan() || hi.is_nan() || lo > hi + 1.0 {
+                if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                     continue;
                 }
-                let xs = floor_i(lo - 1.0).max(x0);
-                let xe = ceil_i(hi + 1.0).min(x1);
+                let xs = ceil_i(lo - 0.5).max(x0);
+                let xe = floor_i(hi - 0.5).min(x1);
+                if xs > xe {
+                    continue;
+                }
+                let weights = |x: i64| {
+                    let px = x as f32 + 0.5;
+                    let l0 = e0.ax * px + k0;
+                    let l1 = e1.ax * px + k1;
+                    (l0, l1, 1.0 - l0 - l1)
+                };
+                // The texel under a pixel passes the alpha test.
+                let opaque = |l0: f32, l1: f32, l2: f32| match tex {
+                    Some(t) => {
+                        let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
+                        let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
+                        let p = t.pixel(wrap(u, t.width), wrap(v, t.height));
+                        (p[3] >= s.alpha_cutoff).then_some([p[0], p[1], p[2], 255])
+                    }
+                    None => Some([s.color[0], s.color[1], s.color[2], 255]),
+                };
+                if self.coverage_only {
+                    let row = &mut self.bits[y as usize * self.words..][..self.words];
+                    if tex.is_none() {
+                        set_span(row, xs as usize, xe as usize);
+                        continue;
+                    }
+                    // Only the pixels not yet covered, found a word at a time.
+                    let (first, last) = (xs as usize / 64, xe as usize / 64);
+                    for (wi, word) in row.iter_mut().enumerate().take(last + 1).skip(first) {
+                        let mut open = !*word & span_bits(wi, xs as usize, xe as usize);
+                        while open != 0 {
+                            let bit = open.trailing_zeros() as usize;
+                            open &= open - 1;
+                            let (l0, l1, l2) = weights((wi * 64 + bit) as i64);
+                            if l0 >= 0.0 && l1 >= 0.0 && l2 >= 0.0 && opaque(l0, l1, l2).is_some() {
+                                *word |= 1 << bit;
+                            }
+                        }
+                    }
+                    continue;
+                }
                 let row = y as usize * self.width as usize;
                 for x in xs..=xe {
                     let k = row + x as usize;
-                    if self.coverage_only && self.depth[k].is_finite() {
-                        continue;
-                    }
-                    let px = x as f32 + 0.5;
-                    let l0 = a0 * px + k0;
-                    let l1 = a1 * px + k1;
-                    let l2 = 1.0 - l0 - l1;
+                    let (l0, l1, l2) = weights(x);
                     if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
                         continue;
                     }
@@ -230,23 +270,20 @@ impl Target {
                     if z >= self.depth[k] {
                         continue;
                     }
-                    let color = match tex {
-                        Some(t) => {
-                            let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
-                            let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
-                            let p = t.pixel(wrap(u, t.width), wrap(v, t.height));
-                            if p[3] < s.alpha_cutoff {
-                                continue;
-                            }
-                            [p[0], p[1], p[2], 255]
-                        }
-                        None => [s.color[0], s.color[1], s.color[2], 255],
+                    let Some(color) = opaque(l0, l1, l2) else {
+                        continue;
                     };
                     self.depth[k] = z;
-                    if self.coverage_only {
-                        continue;
-                    }
-                    let n = normal_of(l0, l1, l2);
+                    let n = Vec3::from(va.normal) * l0
+                        + Vec3::from(vb.normal) * l1
+                        + Vec3::from(vc.normal) * l2;
+                    let n = n.normalize_or(-view.forward);
+                    // The side facing the viewer (a leaf seen from behind).
+                    let n = if n.dot(view.forward) > 0.0 && s.double_sided {
+                        -n
+                    } else {
+                        n
+                    };
                     self.color[k] = color;
                     self.normal[k] = [
                         (n.x * 127.5 + 127.5) as u8,
@@ -257,6 +294,42 @@ impl Target {
                 }
             }
         }
+    }
+}
+
+/// One barycentric weight as a plane over the image (`ax * px + ay * py + k`), with the
+/// reciprocal of its slope along a row (0 where it is flat).
+struct Edge {
+    ax: f32,
+    ay: f32,
+    k: f32,
+    inv_ax: f32,
+}
+
+impl Edge {
+    fn new(ax: f32, ay: f32, k: f32) -> Edge {
+        let inv_ax = if ax != 0.0 { 1.0 / ax } else { 0.0 };
+        Edge { ax, ay, k, inv_ax }
+    }
+
+    /// The weight's constant along the row whose centres are at `py`.
+    fn row(&self, py: f32) -> f32 {
+        self.ay * py + self.k
+    }
+}
+
+/// The bits of word `wi` (pixels `64 * wi ..`) inside the span `xs..=xe`.
+fn span_bits(wi: usize, xs: usize, xe: usize) -> u64 {
+    let (first, last) = (wi * 64, wi * 64 + 63);
+    let lo = xs.max(first) - first;
+    let hi = xe.min(last) - first;
+    (u64::MAX >> (63 - hi)) & (u64::MAX << lo)
+}
+
+/// Sets the bits of pixels `xs..=xe` of a row of coverage words.
+fn set_span(row: &mut [u64], xs: usize, xe: usize) {
+    for (wi, word) in row.iter_mut().enumerate().take(xe / 64 + 1).skip(xs / 64) {
+        *word |= span_bits(wi, xs, xe);
     }
 }
 
@@ -386,6 +459,63 @@ mod tests {
         assert_eq!(t.mask().iter().filter(|&&m| m).count(), 400);
         // Its normal turned to the viewer.
         assert_eq!(t.normal[20 * 40 + 20][2], 0);
+    }
+
+    #[test]
+    fn a_coverage_target_covers_what_a_full_target_draws() {
+        // Quads at angles across the 64-pixel words of a 150-pixel row, some textured
+        // (a checker of holes) and two-sided, overlapping: the coverage bits are the
+        // full target's drawn pixels, pixel for pixel.
+        let mut pixels = Vec::new();
+        for y in 0..8 {
+            for x in 0..8 {
+                pixels.extend([40, 160, 60, if (x + y) % 3 == 0 { 0 } else { 255 }]);
+            }
+        }
+        let image = Image {
+            width: 8,
+            height: 8,
+            pixels,
+        };
+        let meshes: Vec<Mesh> = (0..7)
+            .map(|k| {
+                let mut m = quad(k as f32 * 0.1, 0.3 + 0.15 * k as f32);
+                let (sin, cos) = (0.37 * k as f32).sin_cos();
+                for v in &mut m.vertices {
+                    let [x, y, z] = v.position;
+                    v.position = [
+                        x * cos - y * sin + 0.2 * k as f32 - 0.6,
+                        x * sin + y * cos,
+                        z,
+                    ];
+                }
+                m
+            })
+            .collect();
+        let surfaces: Vec<Surface<'_>> = meshes
+            .iter()
+            .enumerate()
+            .map(|(k, m)| {
+                let mut s = surface(m, [200, 100, 50]);
+                if k % 2 == 1 {
+                    s.texture = Some(&image);
+                    s.alpha_cutoff = 128;
+                    s.double_sided = true;
+                }
+                s
+            })
+            .collect();
+        for forward in [Vec3::NEG_Z, Vec3::new(0.3, -0.2, -1.0)] {
+            let view = View::looking(Vec3::ZERO, forward, Vec3::Y, 1.6);
+            let mut full = Target::new(150, 97);
+            full.draw(&view, &surfaces);
+            let mut cover = Target::coverage_only(150, 97);
+            cover.draw(&view, &surfaces);
+            let (a, b) = (full.mask(), cover.mask());
+            let drawn = a.iter().filter(|&&m| m).count();
+            assert!(drawn > 3000 && drawn < 150 * 97, "{drawn} drawn");
+            assert_eq!(a, b);
+        }
     }
 
     #[test]
