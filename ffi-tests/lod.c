@@ -87,6 +87,52 @@ int main(void) {
   CHECK(none == NULL, "nothing on failure");
   arbor_impostor_free(imp);
   free(albedo);
+  /* The billboard of the last level: three crossed quads, both sides, and their atlas. */
+  ArborBillboard *bb = NULL;
+  size_t last = arbor_lods_count(lods) - 1;
+  CHECK_STATUS(arbor_lods_billboard_create(lods, last, 3, 32, NULL, 0, 0, &bb), ARBOR_STATUS_OK);
+  size_t bv = 0, bi = 0;
+  CHECK_STATUS(arbor_billboard_mesh_write(bb, 0, NULL, 0, NULL, 0, &bv, &bi), ARBOR_STATUS_OK);
+  CHECK(bv == 12 && bi == 18, "one side: %zu vertices, %zu indices", bv, bi);
+  CHECK_STATUS(arbor_billboard_mesh_write(bb, 1, NULL, 0, NULL, 0, &bv, &bi), ARBOR_STATUS_OK);
+  CHECK(bv == 24 && bi == 36, "two sides: %zu vertices, %zu indices", bv, bi);
+  ArborVertex quads[24];
+  uint32_t quad_indices[36];
+  quads[0].position[0] = 1234.0f;
+  CHECK_STATUS(arbor_billboard_mesh_write(bb, 1, quads, 24, quad_indices, 35, NULL, NULL),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(quads[0].position[0] == 1234.0f, "nothing written when too small");
+  CHECK_STATUS(arbor_billboard_mesh_write(bb, 1, quads, 24, quad_indices, 36, NULL, NULL), ARBOR_STATUS_OK);
+  for (int k = 0; k < 12; k++) {
+    CHECK(quads[k + 12].normal[0] == -quads[k].normal[0] && quads[k + 12].position[1] == quads[k].position[1],
+          "back vertex %d", k);
+    CHECK(quads[k].uv[0] >= 0.0f && quads[k].uv[0] <= 1.0f && quads[k].uv[1] >= 0.0f && quads[k].uv[1] <= 1.0f,
+          "uv %d", k);
+  }
+  for (int k = 0; k < 36; k++) CHECK(quad_indices[k] < 24, "index %d", k);
+  CHECK_STATUS(arbor_billboard_mesh_write(bb, 2, NULL, 0, NULL, 0, &bv, &bi), ARBOR_STATUS_INVALID_ARGUMENT);
+  uint32_t bw = 0, bh = 0;
+  CHECK_STATUS(arbor_billboard_atlas_write(bb, 0, NULL, 0, &bw, &bh), ARBOR_STATUS_OK);
+  CHECK(bw == 96 && bh == 32, "atlas %u x %u", bw, bh);
+  uint8_t *card = malloc((size_t)bw * bh * 4);
+  memset(card, 7, (size_t)bw * bh * 4);
+  CHECK_STATUS(arbor_billboard_atlas_write(bb, 0, card, (size_t)bw * bh * 4 - 1, NULL, NULL),
+               ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(card[0] == 7, "nothing written when too small");
+  CHECK_STATUS(arbor_billboard_atlas_write(bb, 0, card, (size_t)bw * bh * 4, NULL, NULL), ARBOR_STATUS_OK);
+  for (uint32_t plane = 0; plane < 3; plane++) {
+    uint32_t covered = 0;
+    for (uint32_t y = 0; y < 32; y++)
+      for (uint32_t x = 0; x < 32; x++) covered += card[(y * bw + plane * 32 + x) * 4 + 3] > 0;
+    CHECK(covered > 20, "plane %u: %u pixels", plane, covered);
+  }
+  CHECK(card[3] == 0, "the atlas' corner is clear");
+  free(card);
+  arbor_billboard_free(bb);
+  arbor_billboard_free(NULL);
+  ArborBillboard *no = NULL;
+  CHECK_STATUS(arbor_lods_billboard_create(lods, last, 5, 32, NULL, 0, 0, &no), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(no == NULL, "nothing on failure");
   /* A bad atlas size is refused before it is read. */
   uint8_t pixel[4] = {0, 0, 0, 255};
   ArborLods *bad = NULL;

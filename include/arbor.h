@@ -693,6 +693,12 @@ typedef uint32_t ArborVertexFormat;
 #endif // __cplusplus
 
 /**
+ * A billboard's crossed quads and atlases (see arbor_lods_billboard_create()). Opaque;
+ * free with arbor_billboard_free().
+ */
+typedef struct ArborBillboard ArborBillboard;
+
+/**
  * An octahedral impostor's atlases and frame (see arbor_lods_impostor_create()). Opaque;
  * free with arbor_impostor_free().
  */
@@ -2623,6 +2629,75 @@ enum ArborStatus arbor_impostor_atlas_write(const struct ArborImpostor *impostor
                                             uint8_t *out,
                                             size_t capacity,
                                             size_t *size);
+
+/**
+ * Bakes the billboard of level `level` (arbor's rasterizer, on every core): `planes`
+ * (2..=4) upright quads crossed about the up axis through the level's bounding sphere,
+ * each drawn from its view into a cell of `cell` pixels (8..=1024) of an atlas `planes`
+ * cells wide and one high; the leaves sample `atlas_rgba` as in arbor_tree_lods_create()
+ * (NULL: opaque cards). For hosts without an impostor shader: the quads draw with any
+ * alpha-tested material. `*out` gets it (free with arbor_billboard_free()), NULL on
+ * failure.
+ *
+ * # Safety
+ * `lods` NULL or live; `atlas_rgba` NULL or readable for `atlas_width * atlas_height * 4`
+ * bytes; `out` writable.
+ */
+enum ArborStatus arbor_lods_billboard_create(const struct ArborLods *lods,
+                                             size_t level,
+                                             uint32_t planes,
+                                             uint32_t cell,
+                                             const uint8_t *atlas_rgba,
+                                             uint32_t atlas_width,
+                                             uint32_t atlas_height,
+                                             struct ArborBillboard **out);
+
+/**
+ * Frees a billboard; NULL does nothing.
+ *
+ * # Safety
+ * `billboard` is NULL or from arbor_lods_billboard_create(), not freed before.
+ */
+void arbor_billboard_free(struct ArborBillboard *billboard);
+
+/**
+ * Writes the billboard's quads (a triangle list of ArborVertex, in the level's axes and
+ * winding; uv into the atlas, v 0 at its top row): four vertices and two triangles a
+ * plane, and with `two_sided` 1 each plane again wound the other way with its normal
+ * turned (for materials that cull back faces). `*vertex_count` and `*index_count` (when
+ * not NULL) get the sizes; `vertices` and `indices` (NULL: sizes only) hold
+ * `vertex_capacity` and `index_capacity`: at least the sizes, else
+ * ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `billboard` NULL or live; `vertices` and `indices` NULL or writable for their
+ * capacities; the counts NULL or writable.
+ */
+enum ArborStatus arbor_billboard_mesh_write(const struct ArborBillboard *billboard,
+                                            uint32_t two_sided,
+                                            struct ArborVertex *vertices,
+                                            size_t vertex_capacity,
+                                            uint32_t *indices,
+                                            size_t index_capacity,
+                                            size_t *vertex_count,
+                                            size_t *index_count);
+
+/**
+ * Writes the billboard's atlas `which` (0: albedo, sRGB colour and coverage; 1: normal
+ * and depth) as RGBA8, rows from the top, `*width` by `*height` pixels (when not NULL:
+ * `planes * cell` by `cell`), into `out` (NULL: size only) of `capacity` bytes: at least
+ * `width * height * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `billboard` NULL or live; `out` NULL or writable for `capacity` bytes; `width` and
+ * `height` NULL or writable.
+ */
+enum ArborStatus arbor_billboard_atlas_write(const struct ArborBillboard *billboard,
+                                             uint32_t which,
+                                             uint8_t *out,
+                                             size_t capacity,
+                                             uint32_t *width,
+                                             uint32_t *height);
 
 /**
  * Grows a tree from an L-system file read as cpfg reads it (GRAMMAR.md): the C

@@ -509,6 +509,31 @@ impl Billboard {
     }
 }
 
+impl Billboard {
+    /// [`mesh`](Self::mesh) with each quad also wound the other way (its own vertices,
+    /// normals turned round): for hosts whose alpha-tested material culls back faces.
+    pub fn two_sided_mesh(&self, clockwise: bool) -> Mesh {
+        let mut m = self.mesh(clockwise);
+        let n = m.vertices.len() as u32;
+        let back: Vec<Vertex> = m
+            .vertices
+            .iter()
+            .map(|v| Vertex {
+                normal: v.normal.map(|c| -c),
+                ..*v
+            })
+            .collect();
+        m.vertices.extend(back);
+        let reversed: Vec<u32> = m
+            .indices
+            .chunks_exact(3)
+            .flat_map(|t| [t[0] + n, t[2] + n, t[1] + n])
+            .collect();
+        m.indices.extend(reversed);
+        m
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

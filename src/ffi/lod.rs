@@ -50,6 +50,14 @@ pub struct ArborImpostor {
     impostor: crate::impostor::Impostor,
 }
 
+/// A billboard's crossed quads and atlases (see arbor_lods_billboard_create()). Opaque;
+/// free with arbor_billboard_free().
+pub struct ArborBillboard {
+    billboard: crate::impostor::Billboard,
+    /// Its level's meshes wind clockwise (the quads follow them).
+    clockwise: bool,
+}
+
 /// The most pixels a side of an atlas a host passes in.
 const MAX_ATLAS: u32 = crate::texture::MAX_TEXTURE_SIZE;
 
@@ -414,6 +422,173 @@ pub unsafe extern "C" fn arbor_impostor_atlas_write(
         if !size.is_null() {
             // SAFETY: the caller promises a non-NULL `size` is writable.
             *unsafe { out_ref(size, "size") }? = image.pixels.len();
+        }
+        Ok(())
+    })
+}
+
+/// Bakes the billboard of level `level` (arbor's rasterizer, on every core): `planes`
+/// (2..=4) upright quads crossed about the up axis through the level's bounding sphere,
+/// each drawn from its view into a cell of `cell` pixels (8..=1024) of an atlas `planes`
+/// cells wide and one high; the leaves sample `atlas_rgba` as in arbor_tree_lods_create()
+/// (NULL: opaque cards). For hosts without an impostor shader: the quads draw with any
+/// alpha-tested material. `*out` gets it (free with arbor_billboard_free()), NULL on
+/// failure.
+///
+/// # Safety
+/// `lods` NULL or live; `atlas_rgba` NULL or readable for `atlas_width * atlas_height * 4`
+/// bytes; `out` writable.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn arbor_lods_billboard_create(
+    lods: *const ArborLods,
+    level: usize,
+    planes: u32,
+    cell: u32,
+    atlas_rgba: *const u8,
+    atlas_width: u32,
+    atlas_height: u32,
+    out: *mut *mut ArborBillboard,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises `out` is writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        *out = std::ptr::null_mut();
+        let l = level_of(lods, level)?;
+        // SAFETY: the caller promises the atlas' bytes.
+        let atlas = unsafe { host_atlas(atlas_rgba, atlas_width, atlas_height) }?
+            .map(|a| a.downsampled(crate::lod::SILHOUETTE_ATLAS));
+        let billboard = crate::impostor::billboard(
+            &crate::lod::surfaces(l, atlas.as_ref()),
+            l.mesh_options.up(),
+            planes,
+            cell,
+        )?;
+        *out = Box::into_raw(Box::new(ArborBillboard {
+            billboard,
+            clockwise: l.mesh_options.reversed(),
+        }));
+        Ok(())
+    })
+}
+
+/// Frees a billboard; NULL does nothing.
+///
+/// # Safety
+/// `billboard` is NULL or from arbor_lods_billboard_create(), not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_billboard_free(billboard: *mut ArborBillboard) {
+    if !billboard.is_null() {
+        // SAFETY: the caller promises a live billboard.
+        drop(unsafe { Box::from_raw(billboard) });
+    }
+}
+
+/// Writes the billboard's quads (a triangle list of ArborVertex, in the level's axes and
+/// winding; uv into the atlas, v 0 at its top row): four vertices and two triangles a
+/// plane, and with `two_sided` 1 each plane again wound the other way with its normal
+/// turned (for materials that cull back faces). `*vertex_count` and `*index_count` (when
+/// not NULL) get the sizes; `vertices` and `indices` (NULL: sizes only) hold
+/// `vertex_capacity` and `index_capacity`: at least the sizes, else
+/// ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+///
+/// # Safety
+/// `billboard` NULL or live; `vertices` and `indices` NULL or writable for their
+/// capacities; the counts NULL or writable.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn arbor_billboard_mesh_write(
+    billboard: *const ArborBillboard,
+    two_sided: u32,
+    vertices: *mut crate::mesh::Vertex,
+    vertex_capacity: usize,
+    indices: *mut u32,
+    index_capacity: usize,
+    vertex_count: *mut usize,
+    index_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises NULL or live.
+        let b = unsafe { arg_ref(billboard, "billboard") }?;
+        let m = match two_sided {
+            0 => b.billboard.mesh(b.clockwise),
+            1 => b.billboard.two_sided_mesh(b.clockwise),
+            t => {
+                return Err(
+                    crate::Error::invalid("two_sided", format!("{t}; expected 0 or 1")).into(),
+                );
+            }
+        };
+        if !vertices.is_null() || !indices.is_null() {
+            // SAFETY: the caller promises the capacities at non-NULL pointers.
+            let v = unsafe { out_slice(vertices, vertex_capacity, m.vertices.len(), "vertices") }?;
+            // SAFETY: as above.
+            let i = unsafe { out_slice(indices, index_capacity, m.indices.len(), "indices") }?;
+            for (d, s) in v.iter_mut().zip(&m.vertices) {
+                d.write(*s);
+            }
+            for (d, s) in i.iter_mut().zip(&m.indices) {
+                d.write(*s);
+            }
+        }
+        if !vertex_count.is_null() {
+            // SAFETY: the caller promises a non-NULL count is writable.
+            *unsafe { out_ref(vertex_count, "vertex_count") }? = m.vertices.len();
+        }
+        if !index_count.is_null() {
+            // SAFETY: as above.
+            *unsafe { out_ref(index_count, "index_count") }? = m.indices.len();
+        }
+        Ok(())
+    })
+}
+
+/// Writes the billboard's atlas `which` (0: albedo, sRGB colour and coverage; 1: normal
+/// and depth) as RGBA8, rows from the top, `*width` by `*height` pixels (when not NULL:
+/// `planes * cell` by `cell`), into `out` (NULL: size only) of `capacity` bytes: at least
+/// `width * height * 4`, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+///
+/// # Safety
+/// `billboard` NULL or live; `out` NULL or writable for `capacity` bytes; `width` and
+/// `height` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_billboard_atlas_write(
+    billboard: *const ArborBillboard,
+    which: u32,
+    out: *mut u8,
+    capacity: usize,
+    width: *mut u32,
+    height: *mut u32,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: the caller promises NULL or live.
+        let b = &unsafe { arg_ref(billboard, "billboard") }?.billboard;
+        let image = match which {
+            0 => &b.albedo,
+            1 => &b.normal,
+            w => {
+                return Err(crate::Error::invalid(
+                    "which",
+                    format!("{w}; expected 0 (albedo) or 1 (normal)"),
+                )
+                .into());
+            }
+        };
+        if !out.is_null() {
+            // SAFETY: the caller promises `capacity` writable bytes.
+            let d = unsafe { out_slice(out, capacity, image.pixels.len(), "out") }?;
+            for (d, s) in d.iter_mut().zip(&image.pixels) {
+                d.write(*s);
+            }
+        }
+        for (p, v, name) in [
+            (width, image.width, "width"),
+            (height, image.height, "height"),
+        ] {
+            if !p.is_null() {
+                // SAFETY: the caller promises a non-NULL pointer is writable.
+                *unsafe { out_ref(p, name) }? = v;
+            }
         }
         Ok(())
     })

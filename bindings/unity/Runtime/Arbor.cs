@@ -479,6 +479,14 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_impostor_atlas_write(IntPtr impostor, uint which, [Out] byte[] output, UIntPtr capacity, out UIntPtr size);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_lods_billboard_create(IntPtr lods, UIntPtr level, uint planes, uint cell, byte[] atlasRgba, uint atlasWidth, uint atlasHeight, out IntPtr billboard);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void arbor_billboard_free(IntPtr billboard);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_billboard_mesh_write(IntPtr billboard, uint twoSided, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] uint[] indices, UIntPtr indexCapacity, out UIntPtr vertexCount, out UIntPtr indexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_billboard_atlas_write(IntPtr billboard, uint which, [Out] byte[] output, UIntPtr capacity, out uint width, out uint height);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_twig_create(uint species, uint variant, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_species_twig_options(uint species, ref MeshOptions meshOptions, ref LeafOptions leafOptions);
@@ -910,11 +918,59 @@ namespace Arbor
             ArborException.Check(Native.arbor_lods_mesh_write(handle, (UIntPtr)level, part, vertices, nv, indices, ni, out nv, out ni));
         }
 
+        /// The billboard of a level (arbor_lods_billboard_create): `planes` (2..=4) crossed
+        /// quads, each drawn into a cell of `cell` pixels; the leaves sample the atlas the
+        /// levels were made with (null: opaque cards).
+        public Billboard Billboard(int level, uint planes, uint cell, byte[] atlasRgba, uint atlasWidth, uint atlasHeight)
+        {
+            IntPtr b;
+            ArborException.Check(Native.arbor_lods_billboard_create(handle, (UIntPtr)level, planes, cell, atlasRgba, atlasWidth, atlasHeight, out b));
+            return new Billboard(b);
+        }
+
         public void Dispose()
         {
             if (handle != IntPtr.Zero)
             {
                 Native.arbor_lods_free(handle);
+                handle = IntPtr.Zero;
+            }
+        }
+    }
+
+    /// Crossed quads with their atlas, for hosts without an impostor shader: any
+    /// alpha-tested material draws them.
+    public sealed class Billboard : IDisposable
+    {
+        IntPtr handle;
+        internal Billboard(IntPtr h) { handle = h; }
+
+        /// The quads (a triangle list; with `twoSided` each also wound the other way).
+        public void Mesh(bool twoSided, out Vertex[] vertices, out uint[] indices)
+        {
+            UIntPtr nv, ni;
+            uint t = twoSided ? 1u : 0u;
+            ArborException.Check(Native.arbor_billboard_mesh_write(handle, t, null, UIntPtr.Zero, null, UIntPtr.Zero, out nv, out ni));
+            vertices = new Vertex[(int)nv];
+            indices = new uint[(int)ni];
+            ArborException.Check(Native.arbor_billboard_mesh_write(handle, t, vertices, nv, indices, ni, out nv, out ni));
+        }
+
+        /// Atlas `which` (0: albedo and coverage, 1: normal and depth), RGBA8, rows from
+        /// the top (the quads' v 0): loaded as is, Unity's first row is v 0 too.
+        public byte[] Atlas(uint which, out uint width, out uint height)
+        {
+            ArborException.Check(Native.arbor_billboard_atlas_write(handle, which, null, UIntPtr.Zero, out width, out height));
+            var rgba = new byte[(int)(width * height * 4)];
+            ArborException.Check(Native.arbor_billboard_atlas_write(handle, which, rgba, (UIntPtr)rgba.Length, out width, out height));
+            return rgba;
+        }
+
+        public void Dispose()
+        {
+            if (handle != IntPtr.Zero)
+            {
+                Native.arbor_billboard_free(handle);
                 handle = IntPtr.Zero;
             }
         }
@@ -959,8 +1015,17 @@ namespace Arbor
         /// a triangle list). Returns the LODGroup.
         public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name)
         {
+            return Build(root, lods, name, null, null, 0f);
+        }
+
+        /// Build, then the billboard as the last level ("NAME_LODn", both sides, drawn
+        /// down to `coverage`; 0: a quarter of the last mesh level's), with `material`
+        /// (alpha-tested; null: none set) its main texture the billboard's albedo.
+        public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name, Billboard billboard, UnityEngine.Material material, float coverage)
+        {
             var group = root.AddComponent<UnityEngine.LODGroup>();
-            var levels = new UnityEngine.LOD[lods.Count];
+            int meshes = lods.Count;
+            var levels = new UnityEngine.LOD[meshes + (billboard != null ? 1 : 0)];
             for (int k = 0; k < lods.Count; k++)
             {
                 var go = new UnityEngine.GameObject(name + "_LOD" + k);
@@ -987,6 +1052,37 @@ namespace Arbor
                 go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
                 var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
                 levels[k] = new UnityEngine.LOD(lods.ScreenCoverage(k), new UnityEngine.Renderer[] { renderer });
+            }
+            if (billboard != null)
+            {
+                var go = new UnityEngine.GameObject(name + "_LOD" + meshes);
+                go.transform.SetParent(root.transform, false);
+                Vertex[] v; uint[] bi;
+                billboard.Mesh(true, out v, out bi);
+                var i = new int[bi.Length];
+                for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
+                var mesh = new UnityEngine.Mesh();
+                mesh.SetVertexBufferParams(v.Length, UnityMeshes.VertexLayout());
+                mesh.SetVertexBufferData(v, 0, 0, v.Length);
+                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
+                mesh.SetIndexBufferData(i, 0, 0, i.Length);
+                mesh.subMeshCount = 1;
+                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
+                mesh.RecalculateBounds();
+                go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
+                var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
+                if (material != null)
+                {
+                    uint w, h;
+                    var rgba = billboard.Atlas(0, out w, out h);
+                    var texture = new UnityEngine.Texture2D((int)w, (int)h, UnityEngine.TextureFormat.RGBA32, false);
+                    texture.LoadRawTextureData(rgba);
+                    texture.Apply();
+                    material.mainTexture = texture;
+                    renderer.sharedMaterial = material;
+                }
+                float last = meshes > 0 ? lods.ScreenCoverage(meshes - 1) : 1f;
+                levels[meshes] = new UnityEngine.LOD(coverage > 0f ? coverage : 0.25f * last, new UnityEngine.Renderer[] { renderer });
             }
             group.SetLODs(levels);
             group.RecalculateBounds();

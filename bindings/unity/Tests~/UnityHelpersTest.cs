@@ -57,6 +57,22 @@ public static class UnityHelpersTest
                     expect(group.lods[k].renderers.Length == 1, "a renderer a level");
                     expect(k == 0 || group.lods[k].screenRelativeTransitionHeight <= group.lods[k - 1].screenRelativeTransitionHeight, "coverage falls at " + k);
                 }
+                // The billboard as a fifth level: both sides, its albedo the material's.
+                using (var bb = lods.Billboard(lods.Count - 1, 3, 32, null, 0, 0))
+                {
+                    var withCard = new UnityEngine.GameObject("tree");
+                    var material = new UnityEngine.Material();
+                    var g5 = UnityLods.Build(withCard, lods, "tree", bb, material, 0f);
+                    expect(g5.lods.Length == 5, "five levels with the billboard");
+                    var card = g5.lods[4];
+                    expect(card.screenRelativeTransitionHeight > 0f && card.screenRelativeTransitionHeight < g5.lods[3].screenRelativeTransitionHeight, "the billboard drawn farthest");
+                    var tex = (UnityEngine.Texture2D)material.mainTexture;
+                    expect(tex != null && tex.width == 96 && tex.height == 32 && tex.data.Length == 96 * 32 * 4 && tex.applied, "the billboard's texture");
+                    expect(card.renderers[0].sharedMaterial == material, "the billboard's material");
+                    Vertex[] cv; uint[] ci;
+                    bb.Mesh(true, out cv, out ci);
+                    expect(cv.Length == 24 && ci.Length == 36, "three quads, both sides: " + cv.Length);
+                }
                 Vertex[] v0, v1; uint[] i0, i1;
                 lods.Mesh(0, 0, out v0, out i0);
                 lods.Mesh(1, 0, out v1, out i1);

@@ -86,7 +86,20 @@ namespace UnityEngine
         public void SetParent(Transform p, bool worldPositionStays) { parent = p; }
     }
     public class Collider : Component { }
-    public class Renderer : Component { }
+    public class Renderer : Component { public Material sharedMaterial; }
+    public class Texture { }
+    public enum TextureFormat { RGBA32 = 4 }
+    public class Texture2D : Texture
+    {
+        public int width, height;
+        public TextureFormat format;
+        public byte[] data;
+        public bool applied;
+        public Texture2D(int w, int h, TextureFormat f, bool mipChain) { width = w; height = h; format = f; }
+        public void LoadRawTextureData(byte[] d) { data = d; }
+        public void Apply() { applied = true; }
+    }
+    public class Material : Object { public Texture mainTexture; }
     public class MeshRenderer : Renderer { }
     public struct LOD
     {
