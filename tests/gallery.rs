@@ -284,3 +284,50 @@ fn gallery_draws_lsystem_files_with_their_organs() {
     );
     assert!(!shot.exists(), "nothing drawn");
 }
+
+/// The levels of detail checked by the host's OpenGL (`gallery --species shrub
+/// --lod-check`, examples/gallery/lodcheck.h): each level against the full tree where it
+/// is first drawn, from 8 directions the chain was not fitted from, keeps a mean
+/// intersection over union of 0.9; and the baker's comparison with OpenGL drawing the
+/// same impostor views runs and draws something (its times are figures for
+/// BENCHMARKS.md, not asserted here).
+#[test]
+fn gallery_checks_the_levels_silhouettes_with_opengl() {
+    require_gl_tools();
+    let exe = common::pictures::build("gallery");
+    let out = run(Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x1024x24"])
+        .arg(&exe)
+        .args(["--species", "shrub", "--lod-check"]));
+    println!("{out}");
+    let mut levels = 0;
+    for line in out
+        .lines()
+        .filter(|l| l.contains(" level ") && l.contains("OpenGL IoU"))
+    {
+        let iou: f32 = line
+            .split("OpenGL IoU ")
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no IoU in {line}"));
+        assert!(iou >= 0.9, "{line}");
+        levels += 1;
+    }
+    assert_eq!(levels, 3, "{out}");
+    let baker = out
+        .lines()
+        .find(|l| l.contains("baker:"))
+        .unwrap_or_else(|| panic!("no baker line in {out}"));
+    // "(N texels covered)" for arbor's bake, "(N samples covered)" for OpenGL's.
+    let covered = |unit: &str| -> usize {
+        baker
+            .split(&format!(" {unit} covered)"))
+            .next()
+            .and_then(|r| r.rsplit('(').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no count of {unit} in {baker}"))
+    };
+    assert!(covered("texels") > 10_000, "{baker}");
+    assert!(covered("samples") > 10_000, "{baker}");
+}

@@ -106,6 +106,7 @@ static inline GLFWwindow *open_window(const char *title, int width, int height, 
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                 \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)             \
   X(PFNGLDRAWBUFFERPROC, glDrawBuffer)                                     \
+  X(PFNGLDRAWBUFFERSPROC, glDrawBuffers)                                   \
   X(PFNGLENABLEPROC, glEnable)                                             \
   X(PFNGLDISABLEPROC, glDisable)                                           \
   X(PFNGLCULLFACEPROC, glCullFace)                                         \

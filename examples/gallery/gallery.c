@@ -6,7 +6,7 @@
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
  *           [--smooth] [--compact] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]] [--species oak|maple|birch|willow|poplar|pine|spruce|shrub]
- *           [--screenshot FILE.png|FILE.ppm --frames N]
+ *           [--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
@@ -36,6 +36,7 @@
 #include <string.h>
 
 #include "../common/glapp.h"
+#include "lodcheck.h"
 
 /* ---- shaders ---- */
 static const char *vs_src =
@@ -955,7 +956,7 @@ static void resize(GLFWwindow *win, int w, int h) {
 int main(int argc, char **argv) {
   glapp_name = "gallery";
   const char *shot = NULL;
-  int frames = 3, headless = 0, depth = -1, next_files = 0;
+  int frames = 3, headless = 0, depth = -1, next_files = 0, check_lods = 0;
   st.width = 1080;
   st.height = 1080;
   st.single = -1;
@@ -984,6 +985,7 @@ int main(int argc, char **argv) {
       st.single = 0;
       st.leaves = 1;
     }
+    else if (!strcmp(argv[i], "--lod-check")) { check_lods = 1; headless = 1; }
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
     else if (!strcmp(argv[i], "--compact")) st.compact = 1;
@@ -1013,7 +1015,7 @@ int main(int argc, char **argv) {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
                       "[--smooth] [--compact] [--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
                       "[--world-forest] [--world-env 0|1]] [--pitch DEGREES] "
-                      "[--screenshot FILE.png|FILE.ppm --frames N]\n");
+                      "[--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check]\n");
       return 2;
     }
   }
@@ -1030,6 +1032,17 @@ int main(int argc, char **argv) {
   if (!load_gl()) return 1;
   glfwGetFramebufferSize(win, &st.width, &st.height);
   printf("gallery: arbor %s, OpenGL %s\n", arbor_version(), (const char *)p_glGetString(GL_VERSION));
+  if (check_lods) {
+    /* examples/gallery/lodcheck.h: the levels' silhouettes by OpenGL, the baker's speed. */
+    if (st.species < 0) {
+      fprintf(stderr, "gallery: --lod-check needs --species NAME\n");
+      return 2;
+    }
+    int r = lod_check((uint32_t)st.species);
+    glfwDestroyWindow(win);
+    glfwTerminate();
+    return r;
+  }
 
   program = link_program(vs_src, fs_src);
   u_view_proj = p_glGetUniformLocation(program, "u_view_proj");
