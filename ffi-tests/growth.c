@@ -5,6 +5,8 @@
 #include "check.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static ArborWorld *forest(uint64_t seed, uint32_t parallel) {
@@ -117,7 +119,138 @@ static void cancelled_obstacle(void) {
   for (int k = 0; k < 3; k++) arbor_world_free(all[k]);
 }
 
-int main(void) {
+
+static const char *last_error(void) {
+  static char m[1024];
+  arbor_last_error_message(m, sizeof m);
+  return m;
+}
+
+/* Worlds on a terrain: a height field, trees planted on it and from a species map (two
+   halves, two slots), a preview copy whose slider change leaves the original alone, the
+   world as one glTF file, and bad ground refused by name before anything is read. */
+static void terrain(const char *dir) {
+  ArborWorldOptions o = arbor_world_options_default();
+  o.min[0] = o.min[2] = -8.0f;
+  o.max[0] = o.max[2] = 8.0f;
+  ArborWorld *w = NULL;
+  CHECK_STATUS(arbor_world_create(&o, &w), ARBOR_STATUS_OK);
+  enum { N = 17 };
+  float h[N * N];
+  for (int j = 0; j < N; j++)
+    for (int i = 0; i < N; i++) h[j * N + i] = 1.0f + 0.1f * (float)i; /* a slope up +x */
+  /* Bad ground first: too many samples (checked before the pointer is read), too few, NaN. */
+  CHECK_STATUS(arbor_world_set_ground(w, NULL, 5000, 5000, 1.0f, 0, 0), ARBOR_STATUS_LIMIT_EXCEEDED);
+  CHECK(strstr(last_error(), "MAX_GROUND_SAMPLES") != NULL, "%s",
+        last_error());
+  CHECK_STATUS(arbor_world_set_ground(w, h, 1, 4, 1.0f, 0, 0), ARBOR_STATUS_INVALID_ARGUMENT);
+  float nan_h[4] = {0, 0, NAN, 0};
+  CHECK_STATUS(arbor_world_set_ground(w, nan_h, 2, 2, 1.0f, 0, 0), ARBOR_STATUS_INVALID_ARGUMENT);
+  const uint8_t not_png[8] = {'G', 'I', 'F', '8', '9', 'a', 0, 0};
+  CHECK_STATUS(arbor_world_set_ground_png(w, not_png, sizeof not_png, 1, 0, 1, 0, 0),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(strstr(last_error(), "height map") != NULL, "%s", last_error());
+  CHECK_STATUS(arbor_world_set_ground(w, h, N, N, 1.0f, -8.0f, -8.0f), ARBOR_STATUS_OK);
+  float y = 0;
+  CHECK_STATUS(arbor_world_ground_height(w, 2.5f, 0.0f, &y), ARBOR_STATUS_OK);
+  CHECK(fabsf(y - 2.05f) < 1e-5f, "ground at x 2.5: %g", y);
+  /* Two halves: slot 0 (x < 0) and slot 1 (x > 0), one tree a 4 square units. */
+  enum { M = 8 };
+  uint32_t slots[M * M];
+  float density[M * M];
+  for (int k = 0; k < M * M; k++) {
+    slots[k] = (k % M) < M / 2 ? 0u : 1u;
+    density[k] = 0.25f;
+  }
+  ArborGrowthParams a, b;
+  CHECK_STATUS(arbor_growth_params_preset(ARBOR_SPECIES_DECURRENT, &a, sizeof a), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_growth_params_preset(ARBOR_SPECIES_EXCURRENT, &b, sizeof b), ARBOR_STATUS_OK);
+  const ArborGrowthParams *species[2] = {&a, &b};
+  size_t planted = 0;
+  slots[3] = 2; /* a slot past the two species: refused, nothing planted */
+  CHECK_STATUS(arbor_world_plant_map(w, slots, density, M, M, 2.0f, -8.0f, -8.0f, species, 2, 5, &planted),
+               ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK(arbor_world_tree_count(w) == 0, "nothing planted");
+  slots[3] = 0;
+  CHECK_STATUS(arbor_world_plant_map(w, slots, density, M, M, 2.0f, -8.0f, -8.0f, species, 2, 5, &planted),
+               ARBOR_STATUS_OK);
+  CHECK(planted > 20 && planted == arbor_world_tree_count(w), "%zu planted", planted);
+  CHECK_STATUS(arbor_world_step(w, 6), ARBOR_STATUS_OK);
+  for (size_t k = 0; k < planted; k++) {
+    size_t n = 0;
+    ArborBranch *br = branches_of(w, k, &n);
+    uint32_t slot = 9;
+    CHECK_STATUS(arbor_world_tree_slot(w, k, &slot), ARBOR_STATUS_OK);
+    if (n > 0) {
+      float g = 0;
+      CHECK_STATUS(arbor_world_ground_height(w, br[0].start[0], br[0].start[2], &g), ARBOR_STATUS_OK);
+      CHECK(fabsf(br[0].start[1] - g) < 1e-4f, "tree %zu at %g, ground %g", k, br[0].start[1], g);
+      CHECK((slot == 0) == (br[0].start[0] < 0.0f), "tree %zu slot %u at x %g", k, slot, br[0].start[0]);
+    }
+    free(br);
+  }
+  /* The preview: a copy, slot 1's apical control changed, both stepped. */
+  ArborWorld *preview = NULL;
+  CHECK_STATUS(arbor_world_clone(w, &preview), ARBOR_STATUS_OK);
+  b.apical_control = 0.75f;
+  size_t changed = 0;
+  CHECK_STATUS(arbor_world_set_species(preview, 1, &b, &changed), ARBOR_STATUS_OK);
+  CHECK(changed > 5 && changed < planted, "%zu changed", changed);
+  CHECK_STATUS(arbor_world_step(preview, 6), ARBOR_STATUS_OK);
+  CHECK_STATUS(arbor_world_step(w, 6), ARBOR_STATUS_OK);
+  size_t same = 0, differ = 0;
+  for (size_t k = 0; k < planted; k++) {
+    size_t n1 = 0, n2 = 0;
+    ArborBranch *x = branches_of(w, k, &n1), *z = branches_of(preview, k, &n2);
+    uint32_t slot = 0;
+    CHECK_STATUS(arbor_world_tree_slot(w, k, &slot), ARBOR_STATUS_OK);
+    int equal = n1 == n2 && memcmp(x, z, n1 * sizeof *x) == 0;
+    if (slot == 1) differ += !equal;
+    else same += equal;
+    free(x);
+    free(z);
+  }
+  CHECK(differ > 0 && same > 0, "slot 1 changed in %zu trees, slot 0 kept in %zu", differ, same);
+  /* The world as glTF: a node a tree, and the ground. */
+  char path[4096];
+  snprintf(path, sizeof path, "%s/terrain_world.glb", dir);
+  const char *names[2] = {"oak", "pine"};
+  ArborLeafOptions leaves = arbor_leaf_options_default();
+  CHECK_STATUS(arbor_world_export_gltf(w, names, 2, NULL, &leaves, 64, 1, path), ARBOR_STATUS_OK);
+  FILE *f = fopen(path, "rb");
+  CHECK(f != NULL, "%s written", path);
+  if (f) {
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *glb = malloc((size_t)size + 1);
+    size_t got = fread(glb, 1, (size_t)size, f);
+    fclose(f);
+    CHECK(got == (size_t)size && got > 1000 && memcmp(glb, "glTF", 4) == 0, "a GLB of %zu bytes", got);
+    /* The JSON chunk names the nodes. */
+    uint32_t json = 0;
+    memcpy(&json, glb + 12, 4);
+    CHECK(json + 20 <= got, "JSON chunk %u", json);
+    if (json + 20 <= got) {
+      char saved = glb[20 + json];
+      glb[20 + json] = 0;
+      CHECK(strstr(glb + 20, "\"oak_0\"") != NULL && strstr(glb + 20, "\"ground\"") != NULL,
+            "oak_0 and ground");
+      CHECK(strstr(glb + 20, "\"pine_") != NULL, "pine trees");
+      glb[20 + json] = saved;
+    }
+    free(glb);
+  }
+  CHECK_STATUS(arbor_world_export_gltf(w, NULL, 1, NULL, NULL, 0, 0, path), ARBOR_STATUS_NULL_ARGUMENT);
+  /* The ground goes down first: a planted world refuses it. */
+  CHECK_STATUS(arbor_world_set_ground(w, h, N, N, 1.0f, -8.0f, -8.0f), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_world_clone(NULL, &preview), ARBOR_STATUS_NULL_ARGUMENT);
+  arbor_world_free(preview);
+  arbor_world_free(w);
+}
+
+int main(int argc, char **argv) {
+  terrain(argc > 1 ? argv[1] : ".");
   cancelled_growth();
   cancelled_obstacle();
   ArborWorld *w = forest(7, 1);

@@ -106,6 +106,16 @@
 #define ARBOR_MAX_RADIAL_SEGMENTS 64
 
 /**
+ * Most samples a height field or a species map may have (4,096 x 4,096).
+ */
+#define MAX_GROUND_SAMPLES (1 << 24)
+
+/**
+ * The slot of a cell where nothing is planted.
+ */
+#define SpeciesMap_EMPTY UINT32_MAX
+
+/**
  * The `parent` of a branch that grows from nothing (a root), and the `branch` of a leaf
  * site or organ on no branch (ARBOR_NO_PARENT in C).
  */
@@ -2228,6 +2238,190 @@ enum ArborStatus arbor_mesh_animation_write_bytes(const struct ArborTree *tree,
                                                   const struct ArborMeshOptions *options,
                                                   void *out,
                                                   size_t bytes);
+
+/**
+ * Lays a height field under an empty world (no tree and no obstacle yet; else
+ * ARBOR_STATUS_INVALID_ARGUMENT): `columns x rows` heights, row by row with x fastest,
+ * sample (i, j) at (origin_x + i*cell_size, origin_z + j*cell_size), bilinear between
+ * samples and the edge's height beyond them. Trees planted with
+ * arbor_world_plant_on_ground() and seedlings stand on it, and no bud below it gets
+ * light. Every height must lie inside the world's box in y. At most 4,096 x 4,096
+ * samples (ARBOR_STATUS_LIMIT_EXCEEDED, checked before a height is read); fewer than
+ * 2 x 2, a non-finite height, cell or origin: INVALID_ARGUMENT naming it.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `heights` is NULL or readable
+ * for `columns * rows` floats.
+ */
+enum ArborStatus arbor_world_set_ground(struct ArborWorld *world,
+                                        const float *heights,
+                                        uint32_t columns,
+                                        uint32_t rows,
+                                        float cell_size,
+                                        float origin_x,
+                                        float origin_z);
+
+/**
+ * arbor_world_set_ground() from a PNG height map (`png`, `png_len` bytes): a pixel a
+ * sample, the top row at the lowest z, its grey level (8 or 16 bits; colour: the mean
+ * of red, green and blue) from black at `base` to white at `base + height_scale`. The
+ * image's size is read from its header and checked (at most 4,096 x 4,096:
+ * ARBOR_STATUS_LIMIT_EXCEEDED) before a pixel is decoded; bytes that are not a PNG:
+ * INVALID_ARGUMENT naming `height map`.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `png` is NULL or readable for
+ * `png_len` bytes.
+ */
+enum ArborStatus arbor_world_set_ground_png(struct ArborWorld *world,
+                                            const uint8_t *png,
+                                            size_t png_len,
+                                            float height_scale,
+                                            float base,
+                                            float cell_size,
+                                            float origin_x,
+                                            float origin_z);
+
+/**
+ * Writes the ground's height at (x, z) to `*height`: the height field's, or the floor of
+ * the world's box where it has none.
+ *
+ * # Safety
+ * `world` is NULL or live; `height` is NULL or writable.
+ */
+enum ArborStatus arbor_world_ground_height(const struct ArborWorld *world,
+                                           float x,
+                                           float z,
+                                           float *height);
+
+/**
+ * Plants a tree of `species` (NULL: the defaults) standing on the ground at (x, z) (see
+ * arbor_world_plant()), in species slot `slot` (a number of the host's that the tree and
+ * its seedlings carry: arbor_world_tree_slot(), arbor_world_set_species()). Writes its
+ * index to `*tree_id` if not NULL.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `species` is NULL or readable
+ * for its struct_size; `tree_id` is NULL or writable.
+ */
+enum ArborStatus arbor_world_plant_on_ground(struct ArborWorld *world,
+                                             const struct ArborGrowthParams *species,
+                                             float x,
+                                             float z,
+                                             uint32_t slot,
+                                             uint64_t seed,
+                                             uint32_t *tree_id);
+
+/**
+ * Plants a world from a species map: `columns x rows` cells (row by row, x fastest),
+ * cell (i, j) covering x from origin_x + i*cell_size and z from origin_z + j*cell_size;
+ * `slots[k]` the species slot of cell k (an index into `species`, `count` of them;
+ * UINT32_MAX: nothing grows), `density[k]` its trees per square unit. Each cell gets
+ * density x area trees (the fraction by chance) at random points, seeded by `seed`
+ * (the same map and seed give the same forest), standing on the ground, each in its
+ * slot; points outside the world's box are left out. Writes the trees planted to
+ * `*planted` if not NULL. All or nothing: a slot past `count`, a bad density, a map past
+ * 4,096 x 4,096 cells or more trees than the world's max_trees leave the world as it was.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `slots` and `density` are
+ * NULL or readable for `columns * rows` elements; `species` is NULL or readable for
+ * `count` pointers, each readable for its struct_size; `planted` is NULL or writable.
+ */
+enum ArborStatus arbor_world_plant_map(struct ArborWorld *world,
+                                       const uint32_t *slots,
+                                       const float *density,
+                                       uint32_t columns,
+                                       uint32_t rows,
+                                       float cell_size,
+                                       float origin_x,
+                                       float origin_z,
+                                       const struct ArborGrowthParams *const *species,
+                                       size_t count,
+                                       uint64_t seed,
+                                       size_t *planted);
+
+/**
+ * arbor_world_plant_map() from a PNG picture (`png`, `png_len` bytes): a pixel a cell,
+ * the top row at the lowest z; a pixel of colour `colours[k]` (0xRRGGBB) grows
+ * `species[k]` at `density` trees per square unit, any other colour nothing. The size is
+ * checked from the header before a pixel is decoded.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `png` is NULL or readable for
+ * `png_len` bytes; `colours` is NULL or readable for `count` values and `species` for
+ * `count` pointers, each readable for its struct_size; `planted` is NULL or writable.
+ */
+enum ArborStatus arbor_world_plant_map_png(struct ArborWorld *world,
+                                           const uint8_t *png,
+                                           size_t png_len,
+                                           const uint32_t *colours,
+                                           const struct ArborGrowthParams *const *species,
+                                           size_t count,
+                                           float density,
+                                           float cell_size,
+                                           float origin_x,
+                                           float origin_z,
+                                           uint64_t seed,
+                                           size_t *planted);
+
+/**
+ * Writes the species slot of tree `index` (what it was planted with; a seedling: its
+ * parent's) to `*slot`. An index past the end: ARBOR_STATUS_INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `world` is NULL or live; `slot` is NULL or writable.
+ */
+enum ArborStatus arbor_world_tree_slot(const struct ArborWorld *world,
+                                       size_t index,
+                                       uint32_t *slot);
+
+/**
+ * Gives every tree in species slot `slot` (and the seedlings they drop from now on) the
+ * parameters `species` (NULL: the defaults): what a host's slider changes. Writes how
+ * many trees changed to `*changed` if not NULL.
+ *
+ * # Safety
+ * `world` is NULL or live (not used elsewhere meanwhile); `species` is NULL or readable
+ * for its struct_size; `changed` is NULL or writable.
+ */
+enum ArborStatus arbor_world_set_species(struct ArborWorld *world,
+                                         uint32_t slot,
+                                         const struct ArborGrowthParams *species,
+                                         size_t *changed);
+
+/**
+ * A copy of `world` (its trees, ground, shadow, options and progress callback) that
+ * grows on by itself: a preview to step ahead of the original. Free it with
+ * arbor_world_free(). It takes as much memory as the world.
+ *
+ * # Safety
+ * `world` is NULL or live; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_world_clone(const struct ArborWorld *world, struct ArborWorld **out);
+
+/**
+ * Writes a world's trees as one glTF 2.0 file at `path` (`.glb` or `.gltf`, whole or not
+ * at all): a node a tree named `NAME_k`, `k` its index and NAME `names[slot]` of its
+ * species slot ("tree" past `name_count`), in world space (metres; the mesh options'
+ * scale stands). Each tree's mesh is its bark and, unless `leaf_options` is NULL, its
+ * baked leaves; a name that is a species with a look of its own ("oak", "pine", ...: see
+ * arbor_species_name()) gets that species' bark and leaf textures, `texture_size` pixels
+ * square (0: untextured; else 16..=4096). With `ground` (non-zero), the world's height
+ * field is a node "ground". Passes the Khronos glTF validator.
+ *
+ * # Safety
+ * `world` is NULL or live; `names` is NULL or readable for `name_count` pointers, each
+ * NUL-terminated; the options are NULL or readable; `path` is NULL or NUL-terminated.
+ */
+enum ArborStatus arbor_world_export_gltf(const struct ArborWorld *world,
+                                         const char *const *names,
+                                         size_t name_count,
+                                         const struct ArborMeshOptions *mesh_options,
+                                         const struct ArborLeafOptions *leaf_options,
+                                         uint32_t texture_size,
+                                         uint32_t ground,
+                                         const char *path);
 
 /**
  * Writes the default world options into the first `struct_size` bytes at `options`

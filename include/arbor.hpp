@@ -307,6 +307,76 @@ class World {
     detail::check(arbor_world_add_sphere(world_, center, radius));
   }
   void step(uint32_t cycles = 1) { detail::check(arbor_world_step(world_, cycles)); }
+  /// A copy that grows on by itself (a preview to step ahead of this world).
+  World clone() const {
+    ArborWorld *w = nullptr;
+    detail::check(arbor_world_clone(world_, &w));
+    return World(w);
+  }
+  /// Lays a height field (columns x rows, x fastest) under the empty world.
+  void set_ground(Span<const float> heights, uint32_t columns, uint32_t rows, float cell_size,
+                  float origin_x, float origin_z) {
+    if (heights.size() != std::size_t(columns) * rows)
+      throw Error(ARBOR_STATUS_INVALID_ARGUMENT, "heights: expected columns * rows samples");
+    detail::check(arbor_world_set_ground(world_, heights.data(), columns, rows, cell_size, origin_x,
+                                         origin_z));
+  }
+  /// Lays a PNG height map (black at `base`, white at `base + height_scale`) under the world.
+  void set_ground_png(Span<const uint8_t> png, float height_scale, float base, float cell_size,
+                      float origin_x, float origin_z) {
+    detail::check(arbor_world_set_ground_png(world_, png.data(), png.size(), height_scale, base,
+                                             cell_size, origin_x, origin_z));
+  }
+  /// The ground's height at (x, z).
+  float ground_height(float x, float z) const {
+    float y = 0.0f;
+    detail::check(arbor_world_ground_height(world_, x, z, &y));
+    return y;
+  }
+  /// Plants a tree standing on the ground at (x, z) in species slot `slot`.
+  uint32_t plant_on_ground(const ArborGrowthParams &species, float x, float z, uint32_t slot,
+                           uint64_t seed = 0) {
+    uint32_t id = 0;
+    detail::check(arbor_world_plant_on_ground(world_, &species, x, z, slot, seed, &id));
+    return id;
+  }
+  /// Plants from a species map (slots and densities a cell, x fastest); returns the trees
+  /// planted.
+  std::size_t plant_map(Span<const uint32_t> slots, Span<const float> density, uint32_t columns,
+                        uint32_t rows, float cell_size, float origin_x, float origin_z,
+                        const std::vector<ArborGrowthParams> &species, uint64_t seed) {
+    if (slots.size() != std::size_t(columns) * rows || density.size() != slots.size())
+      throw Error(ARBOR_STATUS_INVALID_ARGUMENT, "slots, density: expected columns * rows cells");
+    std::vector<const ArborGrowthParams *> list;
+    for (const auto &p : species) list.push_back(&p);
+    std::size_t planted = 0;
+    detail::check(arbor_world_plant_map(world_, slots.data(), density.data(), columns, rows,
+                                        cell_size, origin_x, origin_z, list.data(), list.size(),
+                                        seed, &planted));
+    return planted;
+  }
+  /// The species slot tree `index` was planted in (a seedling: its parent's).
+  uint32_t tree_slot(std::size_t index) const {
+    uint32_t slot = 0;
+    detail::check(arbor_world_tree_slot(world_, index, &slot));
+    return slot;
+  }
+  /// Gives every tree of `slot` new parameters; returns how many changed.
+  std::size_t set_species(uint32_t slot, const ArborGrowthParams &species) {
+    std::size_t n = 0;
+    detail::check(arbor_world_set_species(world_, slot, &species, &n));
+    return n;
+  }
+  /// The trees as one glTF file, a node `NAME_k` a tree (`names` by slot).
+  void export_gltf(const std::string &path, const std::vector<std::string> &names,
+                   const ArborMeshOptions &options = mesh_options(),
+                   const ArborLeafOptions *leaves = nullptr, uint32_t texture_size = 256,
+                   bool ground = true) const {
+    std::vector<const char *> list;
+    for (const auto &n : names) list.push_back(n.c_str());
+    detail::check(arbor_world_export_gltf(world_, list.data(), list.size(), &options, leaves,
+                                          texture_size, ground ? 1u : 0u, path.c_str()));
+  }
   std::size_t tree_count() const noexcept { return arbor_world_tree_count(world_); }
   std::size_t branch_count() const noexcept { return arbor_world_branch_count(world_); }
   /// A snapshot of tree `index` as an ordinary tree.
@@ -316,8 +386,10 @@ class World {
     return Tree(t);
   }
   const ArborWorld *get() const noexcept { return world_; }
+  ArborWorld *get() noexcept { return world_; }
 
  private:
+  explicit World(ArborWorld *world) noexcept : world_(world) {}
   ArborWorld *world_ = nullptr;
 };
 

@@ -181,14 +181,15 @@ fn a_program_linked_in_the_build_folder_starts() {
 
 /// Installed libraries carry no debug info or bitcode: the archive is well under the
 /// 36 MB it was with them (12.8 MB once serde, serde_json and base64 came in for glTF's
-/// JSON, 14.8 MB with the png crate and its deflate for textures), and the shared library
-/// has no .debug sections.
+/// JSON, 14.8 MB with the png crate and its deflate for textures, 16.9 MB with its decoder
+/// and inflate for height maps and species maps), and the shared library has no .debug
+/// sections.
 #[test]
 fn installed_libraries_are_lean() {
     let (_, prefix) = setup_in("packaging_lean");
     let lib = prefix.join("lib");
     let archive = std::fs::metadata(lib.join("libarbor.a")).unwrap().len();
-    assert!(archive < 16 << 20, "libarbor.a is {archive} bytes");
+    assert!(archive < 18 << 20, "libarbor.a is {archive} bytes");
     let sections = run(Command::new("readelf")
         .arg("-S")
         .arg(lib.join("libarbor.a")));

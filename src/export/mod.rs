@@ -10,7 +10,7 @@ mod obj;
 
 pub use gltf::{
     gltf_bytes, gltf_bytes_instanced, gltf_mesh_options, gltf_scene_bytes, save_gltf, save_gltf_in,
-    save_gltf_instanced, save_gltf_instanced_in, save_gltf_scene,
+    save_gltf_instanced, save_gltf_instanced_in, save_gltf_scene, save_gltf_world,
 };
 pub use obj::{
     save_obj, save_obj_parts, save_obj_parts_in, save_obj_scene, save_obj_tree, save_obj_tree_in,

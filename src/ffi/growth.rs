@@ -20,11 +20,23 @@ growing!(ArborGrowthParams as "ArborGrowthParams", ARBOR_GROWTH_PARAMS_MIN_SIZE,
 /// arbor_world_free(). A `const ArborWorld *` may be read from several threads at once;
 /// stepping or planting needs it to yourself.
 pub struct ArborWorld {
-    world: World,
+    pub(crate) world: World,
     /// `parallel` of the options it was made with: false grows on the calling thread only.
     parallel: bool,
     progress: ArborProgressFn,
     progress_user_data: *mut c_void,
+}
+
+impl ArborWorld {
+    /// A copy of the world with the same settings (see arbor_world_clone()).
+    pub(crate) fn copy(&self) -> ArborWorld {
+        ArborWorld {
+            world: self.world.clone(),
+            parallel: self.parallel,
+            progress: self.progress,
+            progress_user_data: self.progress_user_data,
+        }
+    }
 }
 
 /// Writes the default world options into the first `struct_size` bytes at `options`
@@ -141,7 +153,7 @@ pub unsafe extern "C" fn arbor_world_free(world: *mut ArborWorld) {
 ///
 /// # Safety
 /// `world` is NULL or live and not used by another thread for the call.
-unsafe fn world_mut<'a>(world: *mut ArborWorld) -> Result<&'a mut World, FfiError> {
+pub(crate) unsafe fn world_mut<'a>(world: *mut ArborWorld) -> Result<&'a mut World, FfiError> {
     if world.is_null() {
         return Err(FfiError::null("world"));
     }

@@ -14,6 +14,7 @@ mod export;
 mod files;
 mod forest;
 mod formats;
+mod ground;
 mod growth;
 mod guard;
 mod handle;

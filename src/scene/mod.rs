@@ -405,6 +405,131 @@ impl Scene {
         Ok(scene)
     }
 
+    /// A world's trees as one node each, named `NAME_k` by the name of its species slot
+    /// (`names[slot]`, "tree" past the list) and its index `k` in the world, in world
+    /// space (a world's units are metres: the mesh options' scale stands). Each tree's
+    /// mesh is its bark and, when `leaves` is given, its baked leaves. A slot named for a
+    /// species with a look of its own ([`crate::species::Look`]: oak, pine, ...) gets
+    /// that species' bark and leaf textures (`texture_size` pixels square; 0: untextured)
+    /// as materials `bark NAME` and `leaves NAME`, its leaves sized as the species' and
+    /// on its atlas. With `ground`, the world's height field is a node "ground" (material
+    /// "ground"). A tree that starved to nothing is a node without a mesh.
+    pub fn world(
+        world: &crate::models::growth::World,
+        names: &[&str],
+        options: &MeshOptions,
+        leaves: Option<&LeafOptions>,
+        texture_size: u32,
+        ground: bool,
+    ) -> Result<Scene> {
+        use crate::models::growth::Species;
+        use crate::species::Look;
+        let mut scene = Scene::default();
+        // The textured materials of each named slot, made once.
+        let mut looks: Vec<Option<(Look, Material, Material)>> = Vec::new();
+        for (k, name) in names.iter().enumerate() {
+            let look = Species::from_name(name).and_then(Look::of);
+            looks.push(match look {
+                Some(look) if texture_size > 0 => {
+                    let bark = crate::texture::bark_textures(&look.bark, texture_size, k as u64)?;
+                    let atlas = crate::texture::leaf_atlas(&look.leaf, texture_size, k as u64)?;
+                    let mut part = Scene {
+                        materials: vec![Material::bark(), Material::leaves()],
+                        ..Scene::default()
+                    };
+                    part.texture(bark, atlas);
+                    let base = scene.textures.len();
+                    let mut materials = part.materials;
+                    for m in &mut materials {
+                        for t in [
+                            &mut m.base_color_texture,
+                            &mut m.normal_texture,
+                            &mut m.metallic_roughness_texture,
+                        ] {
+                            *t = t.map(|t| t + base);
+                        }
+                        m.name = format!("{} {name}", m.name);
+                    }
+                    for t in &mut part.textures {
+                        t.name = format!("{} {name}", t.name);
+                    }
+                    scene.textures.extend(part.textures);
+                    let leaves = materials.pop().expect("two materials");
+                    let bark = materials.pop().expect("two materials");
+                    Some((look, bark, leaves))
+                }
+                _ => None,
+            });
+        }
+        let mut branches = 0;
+        for k in 0..world.tree_count() {
+            let skeleton = world.tree(k)?;
+            branches += skeleton.len();
+            let slot = world.tree_slot(k)? as usize;
+            let name = names.get(slot).copied().unwrap_or("tree");
+            let look = looks.get(slot).and_then(|l| l.as_ref());
+            let mut o = *options;
+            let mut l = leaves.cloned();
+            let (bark_material, leaf_material) = match look {
+                Some((look, bark, leaf)) => {
+                    o.texture_scale = look.bark.tile;
+                    o.even_texels = true;
+                    l = l.map(|l| {
+                        l.atlas_columns(crate::texture::ATLAS_COLUMNS)
+                            .atlas_rows(crate::texture::ATLAS_ROWS)
+                            .size(look.leaf.size)
+                            .size_jitter(0.25)
+                            .seed(k as u64)
+                    });
+                    (bark.clone(), leaf.clone())
+                }
+                None => (Material::bark(), Material::leaves()),
+            };
+            let mut primitives = Vec::new();
+            if !skeleton.is_empty() {
+                let bark = mesh::MeshPlan::new(&skeleton, &o)?.mesh(&skeleton)?;
+                scene.add(&mut primitives, bark, bark_material, None);
+                if let Some(l) = &l {
+                    let baked = mesh::leaf_mesh(&skeleton, l, &o)?;
+                    scene.add(&mut primitives, baked, leaf_material, None);
+                }
+            }
+            let node_name = format!("{name}_{k}");
+            let mesh = scene.push_mesh(&node_name, primitives);
+            scene.nodes.push(Node::new(node_name, mesh));
+        }
+        if ground && let Some(g) = world.ground() {
+            let mut m = g.mesh();
+            for v in &mut m.vertices {
+                v.position = v.position.map(|p| p * options.scale);
+            }
+            let mut primitives = Vec::new();
+            let material = Material {
+                name: "ground".into(),
+                double_sided: false,
+                base_color: [0.20, 0.26, 0.12, 1.0],
+                metallic: 0.0,
+                roughness: 1.0,
+                base_color_texture: None,
+                normal_texture: None,
+                metallic_roughness_texture: None,
+                alpha_cutoff: None,
+            };
+            scene.add(&mut primitives, m, material, None);
+            let mesh = scene.push_mesh("ground", primitives);
+            scene.nodes.push(Node::new("ground", mesh));
+        }
+        scene.settings = Settings {
+            branches: Some(branches),
+            trees: Some(world.tree_count()),
+            radial_segments: options.radial_segments,
+            scale: Some(options.scale),
+            leaves: Some(leaves.is_some()),
+            ..Settings::default()
+        };
+        Ok(scene)
+    }
+
     /// Textures the bark and leaf materials: the bark samples `bark`'s colour, normal and
     /// roughness maps (its colour and roughness factors 1), the leaves `atlas` (alpha-cut at 0.5, double-sided,
     /// white). The meshes must carry the uvs these images expect: bark with

@@ -211,6 +211,26 @@ pub fn save_gltf_scene(scene: &Scene, options: &MeshOptions, path: impl AsRef<Pa
     })
 }
 
+/// A world's trees (and its ground, with `ground`) as one glTF file at `path` (`.glb` or
+/// `.gltf`), each tree a node `NAME_k` ([`Scene::world`]: `names` by species slot,
+/// textured where the name is a species with a look, `texture_size` pixels square),
+/// whole or not at all.
+pub fn save_gltf_world(
+    world: &crate::models::growth::World,
+    names: &[&str],
+    options: &MeshOptions,
+    leaves: Option<&LeafOptions>,
+    texture_size: u32,
+    ground: bool,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    save(path.as_ref(), &mut Run::default(), |binary, _| {
+        let o = gltf_mesh_options(options)?;
+        let scene = Scene::world(world, names, &o, leaves, texture_size, ground)?;
+        gltf_scene_bytes(&scene, options, binary)
+    })
+}
+
 /// Bytes of the buffer the scene's meshes and instances make (what the file is made from).
 fn buffer_bytes(scene: &Scene) -> usize {
     let meshes: usize = scene

@@ -26,6 +26,7 @@
 //! ```
 
 mod env;
+mod ground;
 mod params;
 mod tree;
 
@@ -37,6 +38,7 @@ use glam::Vec3;
 use tree::Tree;
 
 pub use env::{MAX_OBSTACLES, Obstacle};
+pub use ground::{HeightField, MAX_GROUND_SAMPLES, SpeciesMap};
 pub use params::{GrowthParams, Species};
 
 /// How a world's trees perceive light and space (C: ArborEnvironment, in
@@ -148,6 +150,8 @@ pub struct World {
     options: WorldOptions,
     env: Env,
     trees: Vec<Tree>,
+    /// Each tree's species slot (a number of the host's; a seedling takes its parent's).
+    slots: Vec<u32>,
     cycle: u32,
     rng: crate::rng::Rng,
 }
@@ -161,6 +165,7 @@ impl World {
             options: *options,
             env: Env::new(options)?,
             trees: Vec::new(),
+            slots: Vec::new(),
             cycle: 0,
             rng: crate::rng::Rng::new(options.seed ^ 0x5EED_F0E5_7000_0001),
         })
@@ -173,8 +178,22 @@ impl World {
 
     /// Plants a tree of `species` with its base at `position` (inside the box): one
     /// internode pointing up, with a terminal and a lateral bud. `seed` turns its first
-    /// lateral bud. Returns its index (planting order).
+    /// lateral bud. Returns its index (planting order). Its species slot is 0
+    /// ([`plant_in_slot`](Self::plant_in_slot) chooses).
     pub fn plant(&mut self, species: &GrowthParams, position: [f32; 3], seed: u64) -> Result<u32> {
+        self.plant_in_slot(species, position, 0, seed)
+    }
+
+    /// [`plant`](Self::plant) in species slot `slot`: a number of the caller's that the
+    /// tree and its seedlings carry ([`tree_slot`](Self::tree_slot),
+    /// [`set_species`](Self::set_species)).
+    pub fn plant_in_slot(
+        &mut self,
+        species: &GrowthParams,
+        position: [f32; 3],
+        slot: u32,
+        seed: u64,
+    ) -> Result<u32> {
         species.validate()?;
         if !position.iter().all(|v| v.is_finite()) || !self.env.inside(Vec3::from(position)) {
             return Err(Error::invalid(
@@ -202,7 +221,151 @@ impl World {
         // One tree's first shadow: a handful of cells, sorted on the calling thread.
         self.env.flush(false);
         self.trees.push(tree);
+        self.slots.push(slot);
         Ok(self.trees.len() as u32 - 1)
+    }
+
+    /// Plants a tree standing on the ground at (x, z) ([`ground_height`](Self::ground_height))
+    /// in species slot `slot`, as [`plant_in_slot`](Self::plant_in_slot).
+    pub fn plant_on_ground(
+        &mut self,
+        species: &GrowthParams,
+        [x, z]: [f32; 2],
+        slot: u32,
+        seed: u64,
+    ) -> Result<u32> {
+        let y = self.ground_height(x, z);
+        self.plant_in_slot(species, [x, y, z], slot, seed)
+    }
+
+    /// Lays `ground` under the world: trees planted with
+    /// [`plant_on_ground`](Self::plant_on_ground) and seedlings stand on it, and no bud
+    /// below it gets light (nor casts shadow that reaches the buds above). Only while the
+    /// world is empty (no tree and no obstacle; else `InvalidArgument`), and every height
+    /// must lie inside the box in y. A flat ground at the box's floor grows exactly the
+    /// trees of a world without one.
+    pub fn set_ground(&mut self, ground: HeightField) -> Result<()> {
+        if !self.trees.is_empty() || self.env.has_obstacles() {
+            return Err(Error::invalid(
+                "ground",
+                format!(
+                    "the world already holds {} trees and {} obstacles; expected the ground laid first",
+                    self.trees.len(),
+                    self.env.obstacle_count()
+                ),
+            ));
+        }
+        let (low, high) = ground.range();
+        if low < self.options.min[1] || high >= self.options.max[1] {
+            return Err(Error::invalid(
+                "ground",
+                format!(
+                    "heights {low}..={high}; expected inside the world box's y range {}..{}",
+                    self.options.min[1], self.options.max[1]
+                ),
+            ));
+        }
+        self.env.set_ground(ground);
+        Ok(())
+    }
+
+    /// The height field under the world, or none (the box's floor).
+    pub fn ground(&self) -> Option<&HeightField> {
+        self.env.ground()
+    }
+
+    /// The ground's height at (x, z): the height field's, or the box's floor.
+    pub fn ground_height(&self, x: f32, z: f32) -> f32 {
+        self.env
+            .ground()
+            .map_or(self.options.min[1], |g| g.height(x, z))
+    }
+
+    /// Plants the world from a species map ([`SpeciesMap::points`], seeded by `seed`):
+    /// each point a tree of `species[slot]` standing on the ground, in that slot, its
+    /// own seed drawn from `seed`; points outside the box are left out. Returns the new
+    /// trees' indices. All or nothing: a slot past `species`, a bad species, more trees
+    /// than `max_trees` or internodes than `max_branches` leave the world as it was.
+    pub fn plant_map(
+        &mut self,
+        map: &SpeciesMap,
+        species: &[GrowthParams],
+        seed: u64,
+    ) -> Result<Vec<u32>> {
+        for s in species {
+            s.validate()?;
+        }
+        let room = self.options.max_trees.saturating_sub(self.trees.len());
+        let points = map.points(seed, room)?;
+        if let Some(&(x, z, slot)) = points.iter().find(|p| p.2 as usize >= species.len()) {
+            return Err(Error::invalid(
+                "slots",
+                format!(
+                    "species slot {slot} at ({x}, {z}); expected below the {} species given",
+                    species.len()
+                ),
+            ));
+        }
+        let inside: Vec<[f32; 3]> = points
+            .iter()
+            .map(|&(x, z, _)| [x, self.ground_height(x, z), z])
+            .collect();
+        let keep: Vec<usize> = (0..points.len())
+            .filter(|&k| self.env.inside(Vec3::from(inside[k])))
+            .collect();
+        self.check_branches(keep.len())?;
+        let ends: Vec<Vec3> = keep
+            .iter()
+            .map(|&k| {
+                Vec3::from(inside[k]) + Vec3::Y * species[points[k].2 as usize].internode_length
+            })
+            .collect();
+        self.env.cover(ends)?;
+        let mut rng = crate::rng::Rng::new(seed ^ 0x91A7_0000_0000_0001);
+        let mut ids = Vec::with_capacity(keep.len());
+        for k in keep {
+            let slot = points[k].2;
+            let p = species[slot as usize];
+            let tree = Tree::plant(
+                p,
+                Vec3::from(inside[k]),
+                rng.next_u64(),
+                self.cycle,
+                &self.env,
+            );
+            tree.cast(&mut self.env, 1);
+            self.trees.push(tree);
+            self.slots.push(slot);
+            ids.push(self.trees.len() as u32 - 1);
+        }
+        self.env.flush(false);
+        Ok(ids)
+    }
+
+    /// The species slot of tree `index` (what it was planted in; a seedling: its
+    /// parent's); an index past the end is `InvalidArgument`.
+    pub fn tree_slot(&self, index: usize) -> Result<u32> {
+        self.slots.get(index).copied().ok_or_else(|| {
+            Error::invalid(
+                "index",
+                format!("tree {index}; the world has {} trees", self.trees.len()),
+            )
+        })
+    }
+
+    /// Gives every tree in species slot `slot`, and the seedlings they drop from now on,
+    /// the parameters `species` (what a slider in a host changes); returns how many
+    /// trees changed. A bad parameter: `InvalidArgument`, nothing changed.
+    pub fn set_species(&mut self, slot: u32, species: &GrowthParams) -> Result<usize> {
+        species.validate()?;
+        let mut n = 0;
+        for (t, &s) in self.trees.iter_mut().zip(&self.slots) {
+            if s == slot {
+                t.species = *species;
+                n += 1;
+            }
+        }
+        Ok(n)
     }
 
     /// Adds an obstacle: it casts shadow (shadow worlds) or removes the markers inside it
@@ -319,13 +482,19 @@ impl World {
         drop(work);
         // 7: seeding.
         let mut seedlings = Vec::new();
+        let mut seedling_slots = Vec::new();
         let most = self.options.max_trees;
-        for t in &self.trees {
+        for (t, &slot) in self.trees.iter().zip(&self.slots) {
             t.seeds(cycle, &mut self.rng, most, &mut seedlings);
+            seedling_slots.resize(seedlings.len(), slot);
         }
         // Internodes of the world, counted once and then kept up as seedlings are planted.
         let mut branches = self.branch_count();
-        for (species, at) in seedlings {
+        for ((species, mut at), slot) in seedlings.into_iter().zip(seedling_slots) {
+            // Seeds land on the ground.
+            if let Some(g) = self.env.ground() {
+                at.y = g.height(at.x, at.z);
+            }
             if self.trees.len() >= self.options.max_trees || !self.env.inside(at) {
                 continue;
             }
@@ -347,6 +516,7 @@ impl World {
             let tree = Tree::plant(species, at, seed, cycle, &self.env);
             tree.cast(&mut self.env, 1);
             self.trees.push(tree);
+            self.slots.push(slot);
             branches += 1;
         }
         // The trees' changes, in tree order, then the seedlings' buds.

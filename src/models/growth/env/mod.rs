@@ -72,6 +72,8 @@ pub(crate) struct Env {
     /// The 2-D difference arrays of the bands a flush is applied in.
     diff: [Vec<i32>; BANDS],
     obstacles: Vec<Obstacle>,
+    /// The ground under the world, or none (the box's floor).
+    ground: Option<std::sync::Arc<super::HeightField>>,
     /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
     /// point is tested only against those near it.
     buckets: rustc_hash::FxHashMap<[i64; 3], Vec<u32>>,
@@ -106,6 +108,7 @@ impl Env {
             scratch: Default::default(),
             diff: Default::default(),
             obstacles: Vec::new(),
+            ground: None,
             buckets: Default::default(),
         };
         match o.environment {
@@ -222,11 +225,46 @@ impl Env {
         }
         let c = self.lattice(p);
         let k = key(c);
-        if !p.is_finite() || c[1] < self.grid.lo[1] || self.in_obstacle(p) {
+        if !p.is_finite() || c[1] < self.ground_layer(p) || self.in_obstacle(p) {
             k | DARK
         } else {
             k
         }
+    }
+
+    /// The lattice layer of the ground under `p`: below it a bud gets no light (without
+    /// a height field, the box's floor: the grid's ground layer).
+    #[inline]
+    fn ground_layer(&self, p: Vec3) -> i64 {
+        match &self.ground {
+            None => self.grid.lo[1],
+            Some(g) => self.lattice(Vec3::new(p.x, g.height(p.x, p.z), p.z))[1],
+        }
+    }
+
+    /// Lays a height field under an empty world: the grid's ground layer becomes that
+    /// of its lowest sample.
+    pub(crate) fn set_ground(&mut self, ground: super::HeightField) {
+        let low = ground.range().0;
+        if self.kind == Environment::Shadow {
+            self.grid = Grid::empty(self.lattice(Vec3::new(0.0, low, 0.0))[1]);
+        }
+        self.ground = Some(std::sync::Arc::new(ground));
+    }
+
+    /// The height field under the world, or none.
+    pub(crate) fn ground(&self) -> Option<&super::HeightField> {
+        self.ground.as_deref()
+    }
+
+    /// Whether an obstacle was added.
+    pub(crate) fn has_obstacles(&self) -> bool {
+        !self.obstacles.is_empty()
+    }
+
+    /// Obstacles added.
+    pub(crate) fn obstacle_count(&self) -> usize {
+        self.obstacles.len()
     }
 
     /// Makes the grid hold the shadow of buds at every point of `points` (their
