@@ -3,7 +3,7 @@
  * OpenGL functions they call, loaded with glfwGetProcAddress; the window; column-major
  * matrices; shader compilation; ArborVertex's attribute layout and the leaf quad; the
  * screenshot (PNG with libpng, or PPM) read back with glReadPixels; a clock and the error
- * exit. Header-only: each program includes it once, after <GLFW/glfw3.h>,
+ * exit. Header-only, C11 or C++17: each program includes it once, after <GLFW/glfw3.h>,
  * <GL/glcorearb.h> and "arbor.h" (with _POSIX_C_SOURCE or _DEFAULT_SOURCE defined for
  * clock_gettime), and sets `glapp_name` for its messages.
  */
@@ -328,7 +328,7 @@ static inline void leaf_quad(ArborVertex q[4], uint32_t qi[6]) {
  * drawn. */
 static inline GLuint species_texture(uint32_t species, uint32_t which, uint32_t size, GLenum unit) {
   size_t bytes = (size_t)size * size * 4;
-  unsigned char *rgba = malloc(bytes);
+  unsigned char *rgba = (unsigned char *)malloc(bytes);
   if (!rgba) return 0;
   if (arbor_species_texture_write(species, which, size, 1, 1, rgba, bytes) != ARBOR_STATUS_OK)
     fail("species texture");
@@ -352,7 +352,7 @@ static inline GLuint species_texture(uint32_t species, uint32_t which, uint32_t 
 /* Each leaf instance's atlas cell (arbor_leaf_cell: the cell arbor's own baked leaves
  * sample), as floats for a per-instance vertex attribute. The caller frees it. */
 static inline float *leaf_cells(const ArborLeafOptions *lo, size_t n) {
-  float *cells = malloc((n ? n : 1) * sizeof *cells);
+  float *cells = (float *)malloc((n ? n : 1) * sizeof *cells);
   for (size_t k = 0; k < n; k++) cells[k] = (float)arbor_leaf_cell(lo, k);
   return cells;
 }
@@ -370,7 +370,7 @@ static inline float *leaf_cells(const ArborLeafOptions *lo, size_t n) {
 /* Reads the w x h framebuffer back and writes it to `path`: PPM when it ends in .ppm,
  * else PNG. Returns 0 on failure (with a message). */
 static inline int save_image(const char *path, int w, int h) {
-  unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+  unsigned char *rgb = (unsigned char *)malloc((size_t)w * (size_t)h * 3);
   p_glFinish();
   p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
   p_glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb);
