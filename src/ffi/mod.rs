@@ -40,6 +40,7 @@ pub use export::*;
 pub use files::*;
 pub use forest::*;
 pub use formats::*;
+pub use ground::*;
 pub use growth::*;
 pub use layout::*;
 pub use leaves::*;
