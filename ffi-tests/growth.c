@@ -211,6 +211,20 @@ static void terrain(const char *dir) {
     free(z);
   }
   CHECK(differ > 0 && same > 0, "slot 1 changed in %zu trees, slot 0 kept in %zu", differ, same);
+  /* A forest tree shaped as its species shapes its own: twigs grafted, so more branches. */
+  {
+    ArborTree *grown = NULL, *oak = NULL;
+    CHECK_STATUS(arbor_world_tree(w, 0, &grown), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_species_finish(ARBOR_SPECIES_OAK, grown, &oak), ARBOR_STATUS_OK);
+    CHECK(oak != NULL && arbor_tree_branch_count(oak) != arbor_tree_branch_count(grown), "%zu and %zu branches",
+          arbor_tree_branch_count(oak), arbor_tree_branch_count(grown));
+    arbor_tree_free(oak);
+    oak = NULL;
+    CHECK_STATUS(arbor_species_finish(ARBOR_SPECIES_BUSH, grown, &oak), ARBOR_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(arbor_species_finish(ARBOR_SPECIES_OAK, NULL, &oak), ARBOR_STATUS_NULL_ARGUMENT);
+    CHECK(oak == NULL, "nothing written");
+    arbor_tree_free(grown);
+  }
   /* The world as glTF: a node a tree, and the ground. */
   char path[4096];
   snprintf(path, sizeof path, "%s/terrain_world.glb", dir);

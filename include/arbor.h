@@ -3337,6 +3337,23 @@ enum ArborStatus arbor_leaf_atlas_rect(uint32_t cell, float *rect, uint32_t *cel
 uint32_t arbor_leaf_cell(const struct ArborLeafOptions *leaf_options, size_t k);
 
 /**
+ * A grown tree of a named species (such as a snapshot of a world's tree from
+ * arbor_world_tree()) shaped as the species is after it grows: its trunk cleared below
+ * its crown, bare limbs shed, a conifer's crown drawn into its cone, a weeping crown into
+ * its dome, its foot flared with roots, and its twigs grafted on the young shoots (what
+ * arbor_tree_from_species() does to the tree it grows), in the same units. Writes the new
+ * tree to `*out` (free it with arbor_tree_free()). A crown archetype or an unknown
+ * number: ARBOR_STATUS_INVALID_ARGUMENT naming `species`; a tree without branches:
+ * INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `grown` is NULL or live; `out` is NULL or writable.
+ */
+enum ArborStatus arbor_species_finish(uint32_t species,
+                                      const struct ArborTree *grown,
+                                      struct ArborTree **out);
+
+/**
  * A static, NUL-terminated description of `status` ("ok", "null argument", ...);
  * "unknown status" for a number that is not an ArborStatus. Never NULL; do not free.
  */

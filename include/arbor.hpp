@@ -269,6 +269,14 @@ class Tree {
     detail::check(arbor_export_obj(tree_, &options, leaves, path.c_str()));
   }
 
+  /// This grown tree shaped as named species `s` shapes its own (trunk cleared, bare limbs
+  /// shed, cone or dome, flare and roots, twigs): arbor_species_finish().
+  Tree finished_as(ArborSpecies s) const {
+    ArborTree *t = nullptr;
+    detail::check(arbor_species_finish(static_cast<uint32_t>(s), tree_, &t));
+    return Tree(t);
+  }
+
   const ArborTree *get() const noexcept { return tree_; }
 
  private:

@@ -17,7 +17,8 @@
  *
  * Keys: Space step one cycle, R run / pause, Backspace replant, M map editor, P preview on /
  * off, F the original follows the preview, L turn the light 15 degrees, E export
- * forest.glb, Esc quit. Right drag orbits, wheel zooms.
+ * forest.glb, G replay the growth (branches appear in the order they grew), Esc quit.
+ * Right drag orbits, wheel zooms. The trees sway in the wind (View: its strength).
  *
  *   studio [--heightmap PNG [--height-scale H] [--cell C]] [--noise SEED]
  *          [--map PNG --legend RRGGBB=SPECIES,...] [--density D] [--seed S]
@@ -41,6 +42,8 @@
  *   pick K                          pick tree K (printed)
  *   export FILE.glb [picked]        the world (or the picked tree) as glTF
  *   stats FILE                      every tree of both worlds, one line each
+ *   growth T                        draw what had grown by T (0..1 of each tree's growth)
+ *   wind STRENGTH TIME              the wind's strength and the clock it sways by
  *   screenshot FILE.png             draw a frame and write it
  *   map-screenshot FILE.png         draw the map editor full-window and write it
  */
@@ -122,16 +125,26 @@ const float kColours[][3] = {{0.85f, 0.25f, 0.2f}, {0.2f, 0.45f, 0.9f}, {0.95f, 
 
 /* ---- the session ---- */
 
+/* A mesh on the GPU: ArborVertex, indices, and the animation stream (ArborAnimationVertex:
+   growth time, branching order, place along the branch, phase) as attribute 3. */
 struct Gpu {
-  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLuint vao = 0, vbo = 0, ebo = 0, abo = 0;
   GLsizei count = 0;
-  void upload(const std::vector<ArborVertex> &v, const std::vector<uint32_t> &ix) {
+  void upload(const std::vector<ArborVertex> &v, const std::vector<uint32_t> &ix,
+              const std::vector<ArborAnimationVertex> &anim) {
     if (vao) {
       p_glDeleteVertexArrays(1, &vao);
-      GLuint b[2] = {vbo, ebo};
-      p_glDeleteBuffers(2, b);
+      GLuint b[3] = {vbo, ebo, abo};
+      p_glDeleteBuffers(3, b);
     }
     vao = vertex_array(v.data(), v.size(), ix.data(), ix.size(), &vbo, &ebo);
+    p_glGenBuffers(1, &abo);
+    p_glBindBuffer(GL_ARRAY_BUFFER, abo);
+    p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(anim.size() * sizeof(ArborAnimationVertex)), anim.data(),
+                   GL_STATIC_DRAW);
+    p_glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(ArborAnimationVertex), nullptr);
+    p_glEnableVertexAttribArray(3);
+    p_glBindVertexArray(0);
     count = (GLsizei)ix.size();
   }
 };
@@ -161,6 +174,10 @@ struct Studio {
   std::unique_ptr<arbor::World> original, preview;
   uint32_t ahead = 0, cycle = 0;
   bool running = false, params_dirty = false, show_map = true, shadows = true, leaves = true;
+  /* Growth animation: the threshold on the vertices' growth times, and whether it plays. */
+  float growth = 1.0f, wind = 0.5f;
+  bool replaying = false;
+  double time = 0;
   float sun_azimuth = 40.0f, sun_elevation = 50.0f;
   float yaw = 0.7f, pitch = 0.45f, zoom = 1.0f;
   double mouse_x = 0, mouse_y = 0;
@@ -182,7 +199,7 @@ struct Studio {
 Studio S;
 
 /* The growth cycle of the world on view. */
-uint32_t shown_cycle() { return S.cycle + (S.shown() == S.preview.get() ? S.ahead : 0); }
+[[maybe_unused]] uint32_t shown_cycle() { return S.cycle + (S.shown() == S.preview.get() ? S.ahead : 0); }
 
 /* ---- terrain ---- */
 
@@ -278,20 +295,25 @@ ArborMeshOptions mesh_options() {
   return o;
 }
 
-/* Leaves at half the living buds and branch tips, large: fewer, bigger leaves keep a forest's crowns
-   full on a software renderer. (`cycle`, the world's, is for a host that keeps only the
-   youngest shoots' leaves: min_depth.) */
-ArborLeafOptions leaf_options(uint32_t seed, uint32_t cycle) {
+/* The leaves a species puts on its trees (arbor_species_options: on its twigs' tips and
+   young shoots, on its atlas' cells), kept in metres: those options size a tree to the
+   species' adult height, and the studio's world is in metres already. */
+ArborLeafOptions species_leaves(ArborSpecies species, const arbor::Tree &t, uint32_t seed) {
+  ArborMeshOptions m = arbor::mesh_options();
   ArborLeafOptions l = arbor::leaf_options();
-  (void)cycle;
-  l.tips = 1;
-  l.density = 0.5f;
-  l.size = 1.1f;
-  l.atlas_columns = 4;
-  l.atlas_rows = 2;
-  l.size_jitter = 0.25f;
+  arbor::detail::check(arbor_species_options(species, t.get(), &m, &l));
+  l.size *= m.scale;
+  l.wood_clearance *= m.scale;
   l.seed = seed;
   return l;
+}
+
+/* Tree `k` of `w` as its species shapes its own trees (twigs, cone, cleared trunk), or the
+   snapshot as grown where it has no branches. */
+arbor::Tree shaped(const arbor::World &w, size_t k, const Slot &slot) {
+  arbor::Tree t = w.tree(k);
+  if (t.branch_count() == 0) return t;
+  return t.finished_as(slot.species);
 }
 
 uint64_t hash_branches(const std::vector<ArborBranch> &b) {
@@ -301,9 +323,16 @@ uint64_t hash_branches(const std::vector<ArborBranch> &b) {
   return h;
 }
 
+/* The mesh options leaves are placed with: no branch culled, so the twigs' leaves stay. */
+ArborMeshOptions leaf_mesh_options() {
+  ArborMeshOptions o = mesh_options();
+  o.cull_radius = 0.0f;
+  return o;
+}
+
 std::vector<TreeStats> world_stats(const arbor::World &w, uint32_t cycle) {
   std::vector<TreeStats> out(w.tree_count());
-  ArborMeshOptions mo = mesh_options();
+  ArborMeshOptions leaf_mo = leaf_mesh_options();
   for (size_t k = 0; k < out.size(); k++) {
     arbor::Tree t = w.tree(k);
     TreeStats &s = out[k];
@@ -314,8 +343,11 @@ std::vector<TreeStats> world_stats(const arbor::World &w, uint32_t cycle) {
     if (!b.empty()) {
       memcpy(s.root, b[0].start, sizeof s.root);
       s.age = cycle >= b[0].depth ? cycle - b[0].depth : 0;
-      ArborLeafOptions lo = leaf_options((uint32_t)k, cycle);
-      arbor_leaf_instance_count(t.get(), &lo, &mo, &s.leaves);
+      if (s.slot < S.slots.size()) {
+        arbor::Tree f = t.finished_as(S.slots[s.slot].species);
+        ArborLeafOptions lo = species_leaves(S.slots[s.slot].species, f, (uint32_t)k);
+        arbor_leaf_instance_count(f.get(), &lo, &leaf_mo, &s.leaves);
+      }
     }
   }
   return out;
@@ -328,24 +360,33 @@ void rebuild_geometry() {
   size_t n = S.slots.size();
   std::vector<std::vector<ArborVertex>> bv(n), lv(n);
   std::vector<std::vector<uint32_t>> bi(n), li(n);
+  std::vector<std::vector<ArborAnimationVertex>> ba(n), la(n);
   ArborMeshOptions mo = mesh_options();
   if (w) {
     for (size_t k = 0; k < w->tree_count(); k++) {
-      arbor::Tree t = w->tree(k);
-      if (t.branch_count() == 0) continue;
       uint32_t slot = w->tree_slot(k);
       if (slot >= n) continue;
+      arbor::Tree t = shaped(*w, k, S.slots[slot]);
+      if (t.branch_count() == 0) continue;
       auto size = t.mesh_size(mo);
       size_t base = bv[slot].size();
       bv[slot].resize(base + size.first);
       std::vector<uint32_t> ix(size.second);
       t.write_mesh(mo, arbor::Span<ArborVertex>(bv[slot].data() + base, size.first), ix);
       for (uint32_t &i : ix) bi[slot].push_back(i + (uint32_t)base);
+      /* The growth times and wind weights of the same vertices. */
+      ba[slot].resize(base + size.first);
+      arbor::detail::check(arbor_mesh_animation_write(t.get(), &mo, ba[slot].data() + base, size.first));
       if (S.leaves) {
-        ArborLeafOptions lo = leaf_options((uint32_t)k, shown_cycle());
-        arbor::Mesh m = t.leaf_mesh(lo, mo);
+        ArborLeafOptions lo = species_leaves(S.slots[slot].species, t, (uint32_t)k);
+        arbor::Mesh m = t.leaf_mesh(lo, leaf_mesh_options());
         size_t lb = lv[slot].size();
-        for (const ArborVertex &v : m.vertices()) lv[slot].push_back(v);
+        for (const ArborVertex &v : m.vertices()) {
+          lv[slot].push_back(v);
+          /* Leaves come out at the end of the growth, flutter at the tips (phase by place). */
+          float phase = std::fmod(std::fabs(v.position[0] * 0.37f + v.position[2] * 0.73f), 1.0f);
+          la[slot].push_back(ArborAnimationVertex{1.0f, 3.0f, 1.0f, phase});
+        }
         for (uint32_t i : m.indices()) li[slot].push_back(i + (uint32_t)lb);
       }
     }
@@ -354,9 +395,10 @@ void rebuild_geometry() {
   S.leaf.resize(n);
   S.gpu_bytes = 0;
   for (size_t s = 0; s < n; s++) {
-    S.bark[s].upload(bv[s], bi[s]);
-    S.leaf[s].upload(lv[s], li[s]);
-    S.gpu_bytes += (bv[s].size() + lv[s].size()) * sizeof(ArborVertex) + (bi[s].size() + li[s].size()) * 4;
+    S.bark[s].upload(bv[s], bi[s], ba[s]);
+    S.leaf[s].upload(lv[s], li[s], la[s]);
+    S.gpu_bytes += (bv[s].size() + lv[s].size()) * (sizeof(ArborVertex) + sizeof(ArborAnimationVertex)) +
+                   (bi[s].size() + li[s].size()) * 4;
   }
   S.mesh_ms = now_ms() - t0;
   S.geometry_dirty = false;
@@ -390,7 +432,7 @@ void rebuild_terrain() {
       uint32_t q[6] = {a, c, b, b, c, d};
       ix.insert(ix.end(), q, q + 6);
     }
-  S.terrain.upload(v, ix);
+  S.terrain.upload(v, ix, std::vector<ArborAnimationVertex>(v.size(), ArborAnimationVertex{0, 0, 0, 0}));
 }
 
 /* ---- growth ---- */
@@ -541,19 +583,33 @@ bool set_param(Slot &s, const std::string &field, float value) {
 
 /* ---- drawing ---- */
 
+/* Wind: a branch sways with its place along it, less the lower its order, out of step by
+   its phase; leaves flutter. */
+#define WIND_GLSL                                                                          \
+  "uniform float u_time, u_wind;\n"                                                        \
+  "vec3 sway(vec3 p, vec4 a) {\n"                                                          \
+  "  float s = sin(u_time * 1.3 + a.w * 6.2832) * a.z * a.z * (0.15 + 0.25 * a.y);\n"      \
+  "  float f = a.y >= 3.0 ? 0.05 * sin(u_time * 7.0 + a.w * 40.0) : 0.0;\n"              \
+  "  return p + u_wind * vec3(s + f, 0.0, 0.4 * s - f);\n"                                \
+  "}\n"
+
 const char *kVs =
     "#version 430 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_normal;\n"
     "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in vec4 a_anim;\n" /* growth, order, along, phase */
+    WIND_GLSL
     "uniform mat4 u_view_proj, u_light_vp;\n"
     "out vec3 v_normal, v_pos;\n"
     "out vec2 v_uv;\n"
     "out vec4 v_light;\n"
+    "out float v_growth;\n"
     "void main() {\n"
-    "  v_normal = a_normal; v_uv = a_uv; v_pos = a_pos;\n"
-    "  v_light = u_light_vp * vec4(a_pos, 1.0);\n"
-    "  gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"
+    "  vec3 p = sway(a_pos, a_anim);\n"
+    "  v_normal = a_normal; v_uv = a_uv; v_pos = p; v_growth = a_anim.x;\n"
+    "  v_light = u_light_vp * vec4(p, 1.0);\n"
+    "  gl_Position = u_view_proj * vec4(p, 1.0);\n"
     "}\n";
 
 const char *kFs =
@@ -561,6 +617,8 @@ const char *kFs =
     "in vec3 v_normal, v_pos;\n"
     "in vec2 v_uv;\n"
     "in vec4 v_light;\n"
+    "in float v_growth;\n"
+    "uniform float u_growth;\n"
     "uniform int u_mode;\n" /* 0 terrain, 1 bark, 2 leaves */
     "uniform vec3 u_sun;\n"
     "uniform int u_shadows;\n"
@@ -576,6 +634,7 @@ const char *kFs =
     "  return s / 9.0;\n"
     "}\n"
     "void main() {\n"
+    "  if (v_growth > u_growth) discard;\n"
     "  vec3 n = normalize(v_normal);\n"
     "  vec3 base;\n"
     "  if (u_mode == 0) {\n"
@@ -600,16 +659,23 @@ const char *kShadowVs =
     "#version 430 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in vec4 a_anim;\n"
+    WIND_GLSL
     "uniform mat4 u_light_vp;\n"
     "out vec2 v_uv;\n"
-    "void main() { v_uv = a_uv; gl_Position = u_light_vp * vec4(a_pos, 1.0); }\n";
+    "out float v_growth;\n"
+    "void main() { v_uv = a_uv; v_growth = a_anim.x; gl_Position = u_light_vp * vec4(sway(a_pos, a_anim), 1.0); }\n";
 
 const char *kShadowFs =
     "#version 430 core\n"
     "in vec2 v_uv;\n"
+    "in float v_growth;\n"
+    "uniform float u_growth;\n"
     "uniform int u_mode;\n"
     "uniform sampler2D u_atlas_tex;\n"
-    "void main() { if (u_mode == 2 && texture(u_atlas_tex, v_uv).a < 0.5) discard; }\n";
+    "void main() {\n"
+    "  if (v_growth > u_growth || (u_mode == 2 && texture(u_atlas_tex, v_uv).a < 0.5)) discard;\n"
+    "}\n";
 
 const int kShadowSize = 2048;
 
@@ -675,6 +741,13 @@ void draw_scene(GLuint program, bool shadow_pass) {
   }
 }
 
+/* The growth threshold (1: all grown) and the wind's time and strength. */
+void set_motion(GLuint program) {
+  p_glUniform1f(p_glGetUniformLocation(program, "u_growth"), S.growth);
+  p_glUniform1f(p_glGetUniformLocation(program, "u_time"), (float)S.time);
+  p_glUniform1f(p_glGetUniformLocation(program, "u_wind"), S.wind);
+}
+
 void draw_world(int w, int h) {
   if (S.geometry_dirty) rebuild_geometry();
   Mat4 lvp = light_view_proj();
@@ -687,6 +760,7 @@ void draw_world(int w, int h) {
     p_glUseProgram(S.shadow_program);
     p_glUniformMatrix4fv(p_glGetUniformLocation(S.shadow_program, "u_light_vp"), 1, GL_FALSE, lvp.m);
     p_glUniform1i(p_glGetUniformLocation(S.shadow_program, "u_atlas_tex"), 2);
+    set_motion(S.shadow_program);
     draw_scene(S.shadow_program, true);
     p_glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
@@ -708,6 +782,7 @@ void draw_world(int w, int h) {
   p_glUniform1i(p_glGetUniformLocation(S.program, "u_bark"), 1);
   p_glUniform1i(p_glGetUniformLocation(S.program, "u_atlas_tex"), 2);
   p_glUniform1i(p_glGetUniformLocation(S.program, "u_shadow"), 3);
+  set_motion(S.program);
   p_glActiveTexture(GL_TEXTURE3);
   p_glBindTexture(GL_TEXTURE_2D, S.shadow_tex);
   p_glActiveTexture(GL_TEXTURE0);
@@ -722,11 +797,13 @@ void export_world(const std::string &path, bool picked_only) {
   arbor::World *w = S.shown();
   if (!w) throw std::runtime_error("nothing to export: plant first");
   ArborMeshOptions mo = mesh_options();
-  ArborLeafOptions lo = leaf_options(0, shown_cycle());
+  ArborLeafOptions lo = arbor::leaf_options();
   if (picked_only) {
     if (S.picked < 0) throw std::runtime_error("nothing picked");
-    arbor::Tree t = w->tree((size_t)S.picked);
-    arbor::detail::check(arbor_export_gltf(t.get(), &mo, &lo, path.c_str()));
+    uint32_t slot = w->tree_slot((size_t)S.picked);
+    arbor::Tree t = shaped(*w, (size_t)S.picked, S.slots[slot]);
+    ArborLeafOptions pl = species_leaves(S.slots[slot].species, t, (uint32_t)S.picked);
+    arbor::detail::check(arbor_export_gltf(t.get(), &mo, &pl, path.c_str()));
   } else {
     std::vector<std::string> names;
     for (const Slot &s : S.slots) names.push_back(s.name);
@@ -738,7 +815,7 @@ void export_world(const std::string &path, bool picked_only) {
 bool species_window() {
   bool changed = false;
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(330, 470), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, 260), ImGuiCond_FirstUseEver);
   ImGui::Begin("Species");
   static int add = 0;
   const char *names[8];
@@ -786,8 +863,8 @@ void map_window(bool full) {
     ImGui::SetNextWindowPos(ImVec2(0, 0));
     ImGui::SetNextWindowSize(ImVec2((float)S.width, (float)S.height));
   } else {
-    ImGui::SetNextWindowPos(ImVec2((float)S.width - 420, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(410, 520), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2((float)S.width - 310, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(300, 400), ImGuiCond_FirstUseEver);
   }
   ImGui::Begin("Map");
   ImGui::RadioButton("none", &S.brush_slot, -1);
@@ -842,7 +919,7 @@ void map_window(bool full) {
 }
 
 void growth_window() {
-  ImGui::SetNextWindowPos(ImVec2(10, 490), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2(10, 280), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330, 150), ImGuiCond_FirstUseEver);
   ImGui::Begin("Growth");
   ImGui::Text("cycle %u%s", S.cycle, S.running ? " (running)" : "");
@@ -863,8 +940,8 @@ void growth_window() {
 }
 
 void stats_window() {
-  ImGui::SetNextWindowPos(ImVec2(350, (float)S.height - 250), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(520, 240), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2((float)S.width - 530, (float)S.height - 170), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(520, 160), ImGuiCond_FirstUseEver);
   ImGui::Begin("Stats");
   size_t branches = 0, leaves = 0, alive = 0;
   for (const TreeStats &t : S.stats) branches += t.branches, leaves += t.leaves, alive += t.branches > 0;
@@ -901,11 +978,16 @@ void stats_window() {
 }
 
 void view_window() {
-  ImGui::SetNextWindowPos(ImVec2(10, 650), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2(10, 440), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, 170), ImGuiCond_FirstUseEver);
   ImGui::Begin("View");
   ImGui::SliderFloat("sun azimuth", &S.sun_azimuth, 0, 360);
   ImGui::SliderFloat("sun elevation", &S.sun_elevation, 5, 90);
   ImGui::Checkbox("shadows", &S.shadows);
+  ImGui::SliderFloat("wind", &S.wind, 0, 3);
+  if (ImGui::Button("Replay growth (G)")) S.growth = 0, S.replaying = true;
+  ImGui::SameLine();
+  ImGui::SliderFloat("growth", &S.growth, 0, 1);
   if (ImGui::Checkbox("leaves", &S.leaves)) S.geometry_dirty = true;
   ImGui::End();
 }
@@ -1014,6 +1096,10 @@ void run_line(GLFWwindow *win, const std::string &line) {
     need(bool(in >> name >> field >> v));
     need(set_param(S.slots[(size_t)slot_by_name(name)], field, v));
     regrow_preview();
+  } else if (cmd == "growth") {
+    need(bool(in >> S.growth));
+  } else if (cmd == "wind") {
+    need(bool(in >> S.wind >> S.time));
   } else if (cmd == "follow") {
     follow();
   } else if (cmd == "pick") {
@@ -1056,6 +1142,7 @@ void on_key(GLFWwindow *win, int key, int, int action, int) {
       case GLFW_KEY_F: follow(); break;
       case GLFW_KEY_L: S.sun_azimuth = std::fmod(S.sun_azimuth + 15.0f, 360.0f); break;
       case GLFW_KEY_E: export_world("forest.glb", false); break;
+      case GLFW_KEY_G: S.growth = 0, S.replaying = true; break;
       default: break;
     }
   } catch (const std::exception &e) {
@@ -1157,6 +1244,11 @@ int main(int argc, char **argv) {
     while (!headless && !glfwWindowShouldClose(win)) {
       glfwPollEvents();
       if (S.running) step(1);
+      S.time = glfwGetTime();
+      if (S.replaying) {
+        S.growth = std::min(1.0f, S.growth + 0.004f);
+        S.replaying = S.growth < 1.0f;
+      }
       frame(win, false);
       glfwSwapBuffers(win);
     }

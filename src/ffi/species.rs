@@ -353,3 +353,38 @@ pub unsafe extern "C" fn arbor_leaf_cell(leaf_options: *const ArborLeafOptions, 
             .map_or(0, |o| crate::mesh::leaf_cell(&o, k))
     })
 }
+
+/// A grown tree of a named species (such as a snapshot of a world's tree from
+/// arbor_world_tree()) shaped as the species is after it grows: its trunk cleared below
+/// its crown, bare limbs shed, a conifer's crown drawn into its cone, a weeping crown into
+/// its dome, its foot flared with roots, and its twigs grafted on the young shoots (what
+/// arbor_tree_from_species() does to the tree it grows), in the same units. Writes the new
+/// tree to `*out` (free it with arbor_tree_free()). A crown archetype or an unknown
+/// number: ARBOR_STATUS_INVALID_ARGUMENT naming `species`; a tree without branches:
+/// INVALID_ARGUMENT.
+///
+/// # Safety
+/// `grown` is NULL or live; `out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_species_finish(
+    species: u32,
+    grown: *const ArborTree,
+    out: *mut *mut ArborTree,
+) -> ArborStatus {
+    guard(|| {
+        let look = look_of(species)?;
+        // SAFETY: the caller promises `grown` is NULL or live.
+        let grown = unsafe { arg_ref(grown, "grown") }?;
+        // SAFETY: the caller promises `out` is NULL or writable.
+        let out = unsafe { out_ref(out, "out") }?;
+        if grown.skeleton().is_empty() {
+            return Err(crate::Error::invalid(
+                "grown",
+                "a tree without branches; expected a grown tree",
+            )
+            .into());
+        }
+        *out = ArborTree::new(look.finish(grown.skeleton())?).into_handle();
+        Ok(())
+    })
+}

@@ -411,8 +411,9 @@ impl Scene {
     /// mesh is its bark and, when `leaves` is given, its baked leaves. A slot named for a
     /// species with a look of its own ([`crate::species::Look`]: oak, pine, ...) gets
     /// that species' bark and leaf textures (`texture_size` pixels square; 0: untextured)
-    /// as materials `bark NAME` and `leaves NAME`, its leaves sized as the species' and
-    /// on its atlas. With `ground`, the world's height field is a node "ground" (material
+    /// as materials `bark NAME` and `leaves NAME`, and is shaped and leafed as the species
+    /// shapes and leafs its own trees ([`Look::finish`](crate::species::Look::finish),
+    /// [`crate::species::options`]; leaves and bark tiles in metres). With `ground`, the world's height field is a node "ground" (material
     /// "ground"). A tree that starved to nothing is a node without a mesh.
     pub fn world(
         world: &crate::models::growth::World,
@@ -470,20 +471,27 @@ impl Scene {
             let look = looks.get(slot).and_then(|l| l.as_ref());
             let mut o = *options;
             let mut l = leaves.cloned();
+            let mut skeleton = skeleton;
             let (bark_material, leaf_material) = match look {
-                Some((look, bark, leaf)) => {
+                Some((look, bark, leaf)) if !skeleton.is_empty() => {
+                    // Shaped as the species shapes its own trees, its leaves and bark in
+                    // metres (the species' options size the tree to its adult height: the
+                    // world keeps its own).
+                    skeleton = look.finish(&skeleton)?;
+                    let (so, sl) = crate::species::options(look, &skeleton, options)?;
+                    let f = so.scale / options.scale;
+                    o = so;
+                    o.scale = options.scale;
                     o.texture_scale = look.bark.tile;
-                    o.even_texels = true;
-                    l = l.map(|l| {
-                        l.atlas_columns(crate::texture::ATLAS_COLUMNS)
-                            .atlas_rows(crate::texture::ATLAS_ROWS)
-                            .size(look.leaf.size)
-                            .size_jitter(0.25)
-                            .seed(k as u64)
+                    l = l.map(|_| {
+                        let mut sl = sl.seed(k as u64);
+                        sl.size *= f;
+                        sl.wood_clearance *= f;
+                        sl
                     });
                     (bark.clone(), leaf.clone())
                 }
-                None => (Material::bark(), Material::leaves()),
+                _ => (Material::bark(), Material::leaves()),
             };
             let mut primitives = Vec::new();
             if !skeleton.is_empty() {
