@@ -644,8 +644,10 @@ const char *kFs =
     "  } else if (u_mode == 1) {\n"
     "    base = texture(u_bark, v_uv).rgb;\n"
     "  } else {\n"
+    /* Coverage from the full-size level: mipmapped alpha of thin needles falls below the
+       cut at a distance and whole crowns would vanish. */
     "    vec4 a = texture(u_atlas_tex, v_uv);\n"
-    "    if (a.a < 0.5) discard;\n"
+    "    if (textureLod(u_atlas_tex, v_uv, 0.0).a < 0.5) discard;\n"
     "    base = a.rgb;\n"
     "    if (!gl_FrontFacing) n = -n;\n"
     "  }\n"
@@ -674,7 +676,7 @@ const char *kShadowFs =
     "uniform int u_mode;\n"
     "uniform sampler2D u_atlas_tex;\n"
     "void main() {\n"
-    "  if (v_growth > u_growth || (u_mode == 2 && texture(u_atlas_tex, v_uv).a < 0.5)) discard;\n"
+    "  if (v_growth > u_growth || (u_mode == 2 && textureLod(u_atlas_tex, v_uv, 0.0).a < 0.5)) discard;\n"
     "}\n";
 
 const int kShadowSize = 2048;
@@ -1048,6 +1050,10 @@ void screenshot(GLFWwindow *win, const std::string &path, bool map_full) {
   frame(win, map_full);
   frame(win, map_full);
   if (!save_image(path.c_str(), S.width, S.height)) throw std::runtime_error("screenshot failed");
+  size_t trees = S.shown() ? S.shown()->tree_count() : 0, branches = 0, leaves = 0;
+  for (const TreeStats &t : S.stats) branches += t.branches, leaves += t.leaves;
+  printf("studio: frame %.1f ms (meshing %.1f ms before it), %zu trees, %zu branches, %zu leaves, %.1f MB on the GPU\n",
+         S.frame_ms, S.mesh_ms, trees, branches, leaves, (double)S.gpu_bytes / 1e6);
 }
 
 void run_line(GLFWwindow *win, const std::string &line) {
