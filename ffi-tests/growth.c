@@ -256,6 +256,37 @@ static void terrain(const char *dir) {
     free(glb);
   }
   CHECK_STATUS(arbor_world_export_gltf(w, NULL, 1, NULL, NULL, 0, 0, path), ARBOR_STATUS_NULL_ARGUMENT);
+  /* A species map from a PNG: a 2 x 2 picture, red (oak, slot 0) left, blue (slot 1)
+     right, each pixel an 8 m cell at 4 trees per 100 square metres. */
+  {
+    static const uint8_t map_png[73] = {
+        0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44,
+        0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x02, 0x00, 0x00, 0x00, 0xfd,
+        0xd4, 0x9a, 0x73, 0x00, 0x00, 0x00, 0x10, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8,
+        0xcf, 0x00, 0x04, 0xff, 0x19, 0x20, 0x14, 0x00, 0x1b, 0xf2, 0x03, 0xfd, 0xd6, 0x96, 0xf2,
+        0x2b, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+    const uint32_t colours[2] = {0xff0000u, 0x0000ffu};
+    ArborWorld *m = NULL;
+    CHECK_STATUS(arbor_world_create(&o, &m), ARBOR_STATUS_OK);
+    CHECK_STATUS(arbor_world_set_ground(m, h, N, N, 1.0f, -8.0f, -8.0f), ARBOR_STATUS_OK);
+    size_t n = 0;
+    CHECK_STATUS(arbor_world_plant_map_png(m, map_png, sizeof map_png, colours, species, 2, 0.04f, 8.0f, -8.0f,
+                                           -8.0f, 3, &n),
+                 ARBOR_STATUS_OK);
+    CHECK(n > 2 && n == arbor_world_tree_count(m), "%zu planted from the PNG", n);
+    for (size_t k = 0; k < n; k++) {
+      size_t nb = 0;
+      ArborBranch *br = branches_of(m, k, &nb);
+      uint32_t slot = 9;
+      CHECK_STATUS(arbor_world_tree_slot(m, k, &slot), ARBOR_STATUS_OK);
+      CHECK(nb == 1 && (slot == 0) == (br[0].start[0] < 0.0f), "tree %zu slot %u at x %g", k, slot,
+            nb ? br[0].start[0] : 0.0f);
+      free(br);
+    }
+    CHECK_STATUS(arbor_world_plant_map_png(m, map_png, 20, colours, species, 2, 0.04f, 8.0f, -8.0f, -8.0f, 3, &n),
+                 ARBOR_STATUS_INVALID_ARGUMENT);
+    arbor_world_free(m);
+  }
   /* The ground goes down first: a planted world refuses it. */
   CHECK_STATUS(arbor_world_set_ground(w, h, N, N, 1.0f, -8.0f, -8.0f), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_world_clone(NULL, &preview), ARBOR_STATUS_NULL_ARGUMENT);

@@ -386,3 +386,68 @@ fn the_ground_mesh_follows_the_heights() {
         assert!((b - a).cross(c - a).y > 0.0);
     }
 }
+
+#[test]
+fn obstacles_and_colonization_work_on_a_terrain() {
+    // A wall beside a tree on the hills shades it: it grows less than without the wall.
+    let grow = |wall: bool| {
+        let mut w = World::new(&options()).unwrap();
+        w.set_ground(hills()).unwrap();
+        if wall {
+            let y = w.ground_height(2.0, 0.0);
+            w.add_obstacle(arbor::models::growth::Obstacle::Box {
+                min: [1.0, y, -6.0],
+                max: [2.0, y + 12.0, 6.0],
+            })
+            .unwrap();
+        }
+        w.plant_on_ground(&GrowthParams::preset(Species::Decurrent), [0.0, 0.0], 0, 1)
+            .unwrap();
+        w.step(14).unwrap();
+        w.tree(0)
+            .unwrap()
+            .branches()
+            .iter()
+            .filter(|b| b.end[0] > 1.0)
+            .count()
+    };
+    let (open, walled) = (grow(false), grow(true));
+    assert!(
+        walled < open,
+        "beside the wall {walled}, in the open {open}"
+    );
+    // Space colonization: the markers under the ground are gone and a bud under it
+    // perceives none. A drooping tree (tropism -0.3) on a raised flat ground (y = 4) dips
+    // under it only as its shoots bend (less than two internodes); the same tree at y = 4
+    // without the ground grows metres down to the markers below.
+    let lowest = |ground: bool| {
+        let mut w = World::new(
+            &options()
+                .environment(arbor::models::growth::Environment::SpaceColonization)
+                .min([-6.0, 0.0, -6.0])
+                .max([6.0, 12.0, 6.0]),
+        )
+        .unwrap();
+        if ground {
+            let flat = HeightField::from_fn(13, 13, 1.0, [-6.0, -6.0], |_, _| 4.0).unwrap();
+            w.set_ground(flat).unwrap();
+        }
+        let mut p = GrowthParams::preset(Species::Decurrent);
+        p.tropism = -0.3;
+        w.plant(&p, [0.0, 4.0, 0.0], 1).unwrap();
+        w.step(12).unwrap();
+        let s = w.tree(0).unwrap();
+        assert!(s.len() > 20, "{} branches", s.len());
+        s.branches()
+            .iter()
+            .map(|b| b.end[1])
+            .fold(f32::INFINITY, f32::min)
+    };
+    let (bare, grounded) = (lowest(false), lowest(true));
+    println!("lowest end: {bare} without the ground, {grounded} on it");
+    assert!(bare < 3.5, "without the ground the lowest end is at {bare}");
+    assert!(
+        grounded > 3.5,
+        "on the ground the lowest end is at {grounded}"
+    );
+}

@@ -243,11 +243,21 @@ impl Env {
     }
 
     /// Lays a height field under an empty world: the grid's ground layer becomes that
-    /// of its lowest sample.
+    /// of its lowest sample (shadow), or the markers under it are gone (colonization).
     pub(crate) fn set_ground(&mut self, ground: super::HeightField) {
         let low = ground.range().0;
-        if self.kind == Environment::Shadow {
-            self.grid = Grid::empty(self.lattice(Vec3::new(0.0, low, 0.0))[1]);
+        match self.kind {
+            Environment::Shadow => {
+                self.grid = Grid::empty(self.lattice(Vec3::new(0.0, low, 0.0))[1]);
+            }
+            // No marker lies under the ground: nothing grows toward it.
+            Environment::SpaceColonization => {
+                for (m, alive) in self.markers.iter().zip(self.alive.iter_mut()) {
+                    if m.y < ground.height(m.x, m.z) {
+                        *alive = false;
+                    }
+                }
+            }
         }
         self.ground = Some(std::sync::Arc::new(ground));
     }
@@ -506,6 +516,14 @@ impl Env {
             let reach = p.perception_reach * p.internode_length;
             let cos = libm::cosf(p.perception_angle.to_radians());
             for (k, b) in tree.iter().enumerate() {
+                // A bud under the ground perceives nothing.
+                if self
+                    .ground
+                    .as_ref()
+                    .is_some_and(|g| b.position.y < g.height(b.position.x, b.position.z))
+                {
+                    continue;
+                }
                 self.for_markers(b.position, reach, |env, m| {
                     let to = env.markers[m] - b.position;
                     let d2 = to.length_squared();
