@@ -511,6 +511,20 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_world_tree(IntPtr world, UIntPtr index, out IntPtr tree);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_set_ground(IntPtr world, float[] heights, uint columns, uint rows, float cellSize, float originX, float originZ);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_set_ground_png(IntPtr world, byte[] png, UIntPtr pngLen, float heightScale, float baseHeight, float cellSize, float originX, float originZ);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_ground_height(IntPtr world, float x, float z, out float height);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_plant_on_ground(IntPtr world, ref GrowthParams species, float x, float z, uint slot, ulong seed, out uint treeId);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_tree_slot(IntPtr world, UIntPtr index, out uint slot);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_set_species(IntPtr world, uint slot, ref GrowthParams species, out UIntPtr changed);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_world_clone(IntPtr world, out IntPtr copy);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_instance_count(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, out UIntPtr count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_leaf_instances_write(IntPtr tree, ref LeafOptions leaves, ref MeshOptions options, [Out] LeafInstance[] output, UIntPtr capacity);
@@ -553,6 +567,63 @@ namespace Arbor
         }
 
         public void Step(uint cycles) { ArborException.Check(Native.arbor_world_step(handle, cycles)); }
+
+        World(IntPtr h) { handle = h; }
+
+        /// Lays a height field (columns x rows heights, x fastest, `cellSize` apart from
+        /// (originX, originZ)) under the empty world.
+        public void SetGround(float[] heights, uint columns, uint rows, float cellSize, float originX, float originZ)
+        {
+            if (heights == null || heights.Length != (long)columns * rows)
+                throw new ArgumentException("heights: expected columns * rows samples");
+            ArborException.Check(Native.arbor_world_set_ground(handle, heights, columns, rows, cellSize, originX, originZ));
+        }
+
+        /// Lays a PNG height map (black at `baseHeight`, white at `baseHeight + heightScale`).
+        public void SetGroundPng(byte[] png, float heightScale, float baseHeight, float cellSize, float originX, float originZ)
+        {
+            ArborException.Check(Native.arbor_world_set_ground_png(handle, png, (UIntPtr)png.Length, heightScale, baseHeight, cellSize, originX, originZ));
+        }
+
+        /// The ground's height at (x, z).
+        public float GroundHeight(float x, float z)
+        {
+            float h;
+            ArborException.Check(Native.arbor_world_ground_height(handle, x, z, out h));
+            return h;
+        }
+
+        /// Plants a tree standing on the ground at (x, z) in species slot `slot`.
+        public uint PlantOnGround(GrowthParams species, float x, float z, uint slot, ulong seed)
+        {
+            uint id;
+            ArborException.Check(Native.arbor_world_plant_on_ground(handle, ref species, x, z, slot, seed, out id));
+            return id;
+        }
+
+        /// The species slot tree `index` was planted in (a seedling: its parent's).
+        public uint TreeSlot(int index)
+        {
+            uint slot;
+            ArborException.Check(Native.arbor_world_tree_slot(handle, (UIntPtr)index, out slot));
+            return slot;
+        }
+
+        /// Gives every tree of `slot` new parameters (a slider's change); returns how many.
+        public int SetSpecies(uint slot, GrowthParams species)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_world_set_species(handle, slot, ref species, out n));
+            return (int)n;
+        }
+
+        /// A copy that grows on by itself (a preview).
+        public World Clone()
+        {
+            IntPtr c;
+            ArborException.Check(Native.arbor_world_clone(handle, out c));
+            return new World(c);
+        }
 
         public int TreeCount { get { return (int)Native.arbor_world_tree_count(handle); } }
 

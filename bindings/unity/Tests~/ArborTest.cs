@@ -91,6 +91,44 @@ static class ArborTest
                 Expect(gi.Length > 0, "the snapshot meshes");
             }
         }
+        /* A world on a slope: trees stand on it, slots are kept, a preview copy changes
+           one slot and leaves the original alone; bad ground is refused by name. */
+        using (var world = new World(WorldOptions.Default()))
+        {
+            var heights = new float[9 * 9];
+            for (int k = 0; k < heights.Length; k++) heights[k] = 1.0f + 0.1f * (k % 9);
+            try
+            {
+                world.SetGround(new[] { 0.0f, 0.0f, float.NaN, 0.0f }, 2, 2, 1.0f, 0, 0);
+                Expect(false, "a NaN height is refused");
+            }
+            catch (ArborException e)
+            {
+                Expect(e.Status == Status.InvalidArgument && e.Message.Contains("sample (0, 1)"), "NaN named: " + e.Message);
+            }
+            world.SetGround(heights, 9, 9, 2.5f, -10, -10);
+            Expect(Math.Abs(world.GroundHeight(0, 0) - 1.4f) < 1e-4f, "ground at the centre: " + world.GroundHeight(0, 0));
+            world.PlantOnGround(GrowthParams.Preset(Species.Decurrent), -8, 0, 0, 1);
+            world.PlantOnGround(GrowthParams.Preset(Species.Decurrent), 8, 0, 1, 2);
+            world.Step(4);
+            Expect(world.TreeSlot(1) == 1, "slot kept");
+            using (var preview = world.Clone())
+            {
+                var p = GrowthParams.Preset(Species.Decurrent);
+                p.ApicalControl = 0.8f;
+                Expect(preview.SetSpecies(1, p) == 1, "one tree changed");
+                preview.Step(8);
+                world.Step(8);
+                using (var a = world.Tree(0))
+                using (var b = preview.Tree(0))
+                using (var c = world.Tree(1))
+                using (var d = preview.Tree(1))
+                {
+                    Expect(a.BranchCount == b.BranchCount, "slot 0 grows alike");
+                    Expect(c.BranchCount != d.BranchCount, "slot 1 changed: " + c.BranchCount + " and " + d.BranchCount);
+                }
+            }
+        }
         Expect((int)Marshal.OffsetOf(typeof(Vertex), "NX") == 12 && (int)Marshal.OffsetOf(typeof(Vertex), "U") == 24, "Vertex offsets");
         Expect((int)Marshal.OffsetOf(typeof(LsystemOptions), "Seed") == 8, "LsystemOptions.Seed offset");
         Expect((int)Marshal.OffsetOf(typeof(MeshOptions), "StructSize") == 0 && (int)Marshal.OffsetOf(typeof(MeshOptions), "Threads") == 52, "MeshOptions offsets");
