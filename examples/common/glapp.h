@@ -1,11 +1,12 @@
 /*
- * What arbor's example programs (the gallery, the ray marcher, the editor) share: the
- * OpenGL functions they call, loaded with glfwGetProcAddress; the window; column-major
- * matrices; shader compilation; ArborVertex's attribute layout and the leaf quad; the
- * screenshot (PNG with libpng, or PPM) read back with glReadPixels; a clock and the error
- * exit. Header-only, C11 or C++17: each program includes it once, after <GLFW/glfw3.h>,
- * <GL/glcorearb.h> and "arbor.h" (with _POSIX_C_SOURCE or _DEFAULT_SOURCE defined for
- * clock_gettime), and sets `glapp_name` for its messages.
+ * What arbor's example programs (the gallery, the ray marcher, the editor, the studio)
+ * share: the OpenGL functions they call, loaded with glfwGetProcAddress; the window;
+ * column-major matrices; shader compilation; ArborVertex's attribute layout and the leaf
+ * quad; a shadow map; the screenshot (PNG with libpng, or PPM) read back with
+ * glReadPixels; a clock and the error exit. Header-only, C11 or C++17: each program
+ * includes it once, after <GLFW/glfw3.h>, <GL/glcorearb.h> and "arbor.h" (with
+ * _POSIX_C_SOURCE or _DEFAULT_SOURCE defined for clock_gettime), and sets `glapp_name`
+ * for its messages.
  */
 #ifndef ARBOR_EXAMPLES_GLAPP_H
 #define ARBOR_EXAMPLES_GLAPP_H
@@ -317,6 +318,32 @@ static inline void leaf_quad(ArborVertex q[4], uint32_t qi[6]) {
     q[k].uv[1] = corners[k][1];
   }
   memcpy(qi, order, sizeof order);
+}
+
+/* ---- shadows ---- */
+/* A shadow map: a size x size depth texture (32-bit float, nearest, clamped to its edge)
+ * as the only attachment of a framebuffer that draws no colour. Writes the texture to
+ * *tex and returns the framebuffer, the default one bound again; exits with a message when
+ * the framebuffer is incomplete. */
+static inline GLuint shadow_map(int size, GLuint *tex) {
+  p_glGenTextures(1, tex);
+  p_glBindTexture(GL_TEXTURE_2D, *tex);
+  p_glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  GLuint fbo = 0;
+  p_glGenFramebuffers(1, &fbo);
+  p_glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  p_glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, *tex, 0);
+  p_glDrawBuffer(GL_NONE);
+  if (p_glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    fprintf(stderr, "%s: the shadow framebuffer is incomplete\n", glapp_name);
+    exit(1);
+  }
+  p_glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return fbo;
 }
 
 /* ---- the leaf atlas ---- */

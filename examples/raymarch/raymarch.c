@@ -333,23 +333,7 @@ static void upload(Scene *s) {
   p_glBindVertexArray(0);
 
   /* The shadow map: a depth texture the light's pass renders into. */
-  p_glGenTextures(1, &shadow_tex);
-  p_glBindTexture(GL_TEXTURE_2D, shadow_tex);
-  p_glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, SHADOW_SIZE, SHADOW_SIZE, 0, GL_DEPTH_COMPONENT,
-                 GL_FLOAT, NULL);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  p_glGenFramebuffers(1, &shadow_fbo);
-  p_glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
-  p_glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_tex, 0);
-  p_glDrawBuffer(GL_NONE);
-  if (p_glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    fprintf(stderr, "raymarch: the shadow framebuffer is incomplete\n");
-    exit(1);
-  }
-  p_glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  shadow_fbo = shadow_map(SHADOW_SIZE, &shadow_tex);
 }
 
 /* ---- drawing ---- */

@@ -17,7 +17,7 @@
  *
  * Keys: Space step one cycle, R run / pause, Backspace replant, M map editor, P preview on /
  * off, F the original follows the preview, L turn the light 15 degrees, E export
- * forest.glb, G replay the growth (branches appear in the order they grew), Esc quit.
+ * forest.glb, H hide / show the windows, G replay the growth (branches appear in the order they grew), Esc quit.
  * Right drag orbits, wheel zooms. The trees sway in the wind (View: its strength).
  *
  *   studio [--heightmap PNG [--height-scale H] [--cell C]] [--noise SEED]
@@ -42,6 +42,7 @@
  *   pick K                          pick tree K (printed)
  *   export FILE.glb [picked]        the world (or the picked tree) as glTF
  *   stats FILE                      every tree of both worlds, one line each
+ *   ui on|off                       show or hide the windows
  *   growth T                        draw what had grown by T (0..1 of each tree's growth)
  *   wind STRENGTH TIME              the wind's strength and the clock it sways by
  *   screenshot FILE.png             draw a frame and write it
@@ -174,6 +175,7 @@ struct Studio {
   std::unique_ptr<arbor::World> original, preview;
   uint32_t ahead = 0, cycle = 0;
   bool running = false, params_dirty = false, show_map = true, shadows = true, leaves = true;
+  bool show_ui = true; /* the windows (H hides them) */
   /* Growth animation: the threshold on the vertices' growth times, and whether it plays. */
   float growth = 1.0f, wind = 0.5f;
   bool replaying = false;
@@ -330,9 +332,10 @@ ArborMeshOptions leaf_mesh_options() {
   return o;
 }
 
+/* Every tree's slot, age, branches and root; the leaves are counted where the trees are
+   shaped and meshed (rebuild_geometry), not shaped a second time here. */
 std::vector<TreeStats> world_stats(const arbor::World &w, uint32_t cycle) {
   std::vector<TreeStats> out(w.tree_count());
-  ArborMeshOptions leaf_mo = leaf_mesh_options();
   for (size_t k = 0; k < out.size(); k++) {
     arbor::Tree t = w.tree(k);
     TreeStats &s = out[k];
@@ -343,11 +346,6 @@ std::vector<TreeStats> world_stats(const arbor::World &w, uint32_t cycle) {
     if (!b.empty()) {
       memcpy(s.root, b[0].start, sizeof s.root);
       s.age = cycle >= b[0].depth ? cycle - b[0].depth : 0;
-      if (s.slot < S.slots.size()) {
-        arbor::Tree f = t.finished_as(S.slots[s.slot].species);
-        ArborLeafOptions lo = species_leaves(S.slots[s.slot].species, f, (uint32_t)k);
-        arbor_leaf_instance_count(f.get(), &lo, &leaf_mo, &s.leaves);
-      }
     }
   }
   return out;
@@ -361,7 +359,7 @@ void rebuild_geometry() {
   std::vector<std::vector<ArborVertex>> bv(n), lv(n);
   std::vector<std::vector<uint32_t>> bi(n), li(n);
   std::vector<std::vector<ArborAnimationVertex>> ba(n), la(n);
-  ArborMeshOptions mo = mesh_options();
+  ArborMeshOptions mo = mesh_options(), leaf_mo = leaf_mesh_options();
   if (w) {
     for (size_t k = 0; k < w->tree_count(); k++) {
       uint32_t slot = w->tree_slot(k);
@@ -377,9 +375,10 @@ void rebuild_geometry() {
       /* The growth times and wind weights of the same vertices. */
       ba[slot].resize(base + size.first);
       arbor::detail::check(arbor_mesh_animation_write(t.get(), &mo, ba[slot].data() + base, size.first));
+      ArborLeafOptions lo = species_leaves(S.slots[slot].species, t, (uint32_t)k);
+      if (k < S.stats.size()) arbor_leaf_instance_count(t.get(), &lo, &leaf_mo, &S.stats[k].leaves);
       if (S.leaves) {
-        ArborLeafOptions lo = species_leaves(S.slots[slot].species, t, (uint32_t)k);
-        arbor::Mesh m = t.leaf_mesh(lo, leaf_mesh_options());
+        arbor::Mesh m = t.leaf_mesh(lo, leaf_mo);
         size_t lb = lv[slot].size();
         for (const ArborVertex &v : m.vertices()) {
           lv[slot].push_back(v);
@@ -684,22 +683,7 @@ const int kShadowSize = 2048;
 void init_gl() {
   S.program = link_program(kVs, kFs);
   S.shadow_program = link_program(kShadowVs, kShadowFs);
-  p_glGenTextures(1, &S.shadow_tex);
-  p_glActiveTexture(GL_TEXTURE3);
-  p_glBindTexture(GL_TEXTURE_2D, S.shadow_tex);
-  p_glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0, GL_DEPTH_COMPONENT,
-                 GL_FLOAT, nullptr);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  p_glActiveTexture(GL_TEXTURE0);
-  p_glGenFramebuffers(1, &S.shadow_fbo);
-  p_glBindFramebuffer(GL_FRAMEBUFFER, S.shadow_fbo);
-  p_glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, S.shadow_tex, 0);
-  p_glDrawBuffer(GL_NONE);
-  p_glReadBuffer(GL_NONE);
-  p_glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  S.shadow_fbo = shadow_map(kShadowSize, &S.shadow_tex);
 }
 
 void sun_dir(float out[3]) {
@@ -1000,7 +984,7 @@ void ui(bool map_full) {
   ImGui::NewFrame();
   if (map_full) {
     map_window(true);
-  } else {
+  } else if (S.show_ui) {
     if (species_window()) S.params_dirty = true;
     if (S.show_map) map_window(false);
     growth_window();
@@ -1102,6 +1086,10 @@ void run_line(GLFWwindow *win, const std::string &line) {
     need(bool(in >> name >> field >> v));
     need(set_param(S.slots[(size_t)slot_by_name(name)], field, v));
     regrow_preview();
+  } else if (cmd == "ui") {
+    std::string v;
+    need(bool(in >> v) && (v == "on" || v == "off"));
+    S.show_ui = v == "on";
   } else if (cmd == "growth") {
     need(bool(in >> S.growth));
   } else if (cmd == "wind") {
@@ -1111,6 +1099,7 @@ void run_line(GLFWwindow *win, const std::string &line) {
   } else if (cmd == "pick") {
     need(bool(in >> S.picked));
     need(S.picked >= 0 && (size_t)S.picked < S.stats.size());
+    if (S.geometry_dirty) rebuild_geometry(); /* where the leaves are counted */
     const TreeStats &t = S.stats[(size_t)S.picked];
     printf("studio: tree %d: %s, age %u, %zu branches, %zu leaves\n", S.picked, S.slots[t.slot].name.c_str(), t.age,
            t.branches, t.leaves);
@@ -1149,6 +1138,7 @@ void on_key(GLFWwindow *win, int key, int, int action, int) {
       case GLFW_KEY_L: S.sun_azimuth = std::fmod(S.sun_azimuth + 15.0f, 360.0f); break;
       case GLFW_KEY_E: export_world("forest.glb", false); break;
       case GLFW_KEY_G: S.growth = 0, S.replaying = true; break;
+      case GLFW_KEY_H: S.show_ui = !S.show_ui; break;
       default: break;
     }
   } catch (const std::exception &e) {

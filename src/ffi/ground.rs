@@ -150,10 +150,8 @@ pub unsafe extern "C" fn arbor_world_plant_on_ground(
         // SAFETY: as the caller promises.
         let p = unsafe { species_of(species, "species") }?;
         let id = world.plant_on_ground(&p, [x, z], slot, seed)?;
-        if !tree_id.is_null() {
-            // SAFETY: the caller promises a non-NULL `tree_id` is writable.
-            *unsafe { out_ref(tree_id, "tree_id") }? = id;
-        }
+        // SAFETY: the caller promises `tree_id` is NULL or writable.
+        unsafe { write_if_given(tree_id, "tree_id", id) }?;
         Ok(())
     })
 }
@@ -237,10 +235,8 @@ pub unsafe extern "C" fn arbor_world_plant_map(
         // SAFETY: as the caller promises.
         let list = unsafe { species_list(species, count) }?;
         let ids = world.plant_map(&map, &list, seed)?;
-        if !planted.is_null() {
-            // SAFETY: the caller promises a non-NULL `planted` is writable.
-            *unsafe { out_ref(planted, "planted") }? = ids.len();
-        }
+        // SAFETY: the caller promises `planted` is NULL or writable.
+        unsafe { write_if_given(planted, "planted", ids.len()) }?;
         Ok(())
     })
 }
@@ -285,10 +281,8 @@ pub unsafe extern "C" fn arbor_world_plant_map_png(
         let bytes = unsafe { in_slice(png, png_len, "png") }?;
         let map = SpeciesMap::from_png(bytes, &legend, density, cell_size, [origin_x, origin_z])?;
         let ids = world.plant_map(&map, &list, seed)?;
-        if !planted.is_null() {
-            // SAFETY: the caller promises a non-NULL `planted` is writable.
-            *unsafe { out_ref(planted, "planted") }? = ids.len();
-        }
+        // SAFETY: the caller promises `planted` is NULL or writable.
+        unsafe { write_if_given(planted, "planted", ids.len()) }?;
         Ok(())
     })
 }
@@ -334,10 +328,8 @@ pub unsafe extern "C" fn arbor_world_set_species(
         // SAFETY: as the caller promises.
         let p = unsafe { species_of(species, "species") }?;
         let n = world.set_species(slot, &p)?;
-        if !changed.is_null() {
-            // SAFETY: the caller promises a non-NULL `changed` is writable.
-            *unsafe { out_ref(changed, "changed") }? = n;
-        }
+        // SAFETY: the caller promises `changed` is NULL or writable.
+        unsafe { write_if_given(changed, "changed", n) }?;
         Ok(())
     })
 }

@@ -189,10 +189,8 @@ pub unsafe extern "C" fn arbor_world_plant(
         // SAFETY: the caller promises three readable floats.
         let at = unsafe { in_slice(position, 3, "position") }?;
         let id = world.plant(&p, [at[0], at[1], at[2]], seed)?;
-        if !tree_id.is_null() {
-            // SAFETY: the caller promises a non-NULL `tree_id` is writable.
-            *unsafe { out_ref(tree_id, "tree_id") }? = id;
-        }
+        // SAFETY: the caller promises `tree_id` is NULL or writable.
+        unsafe { write_if_given(tree_id, "tree_id", id) }?;
         Ok(())
     })
 }

@@ -149,6 +149,18 @@ pub(crate) unsafe fn out_ref<'a, T>(p: *mut T, name: &str) -> Result<&'a mut T, 
     unsafe { p.as_mut() }.ok_or_else(|| FfiError::null(name))
 }
 
+/// Writes `value` to an optional out-parameter: nothing when `p` is NULL.
+///
+/// # Safety
+/// `p` is NULL or points to memory valid for writes of one `T`.
+pub(crate) unsafe fn write_if_given<T>(p: *mut T, name: &str, value: T) -> Result<(), FfiError> {
+    if !p.is_null() {
+        // SAFETY: non-NULL, and the caller promises it is writable.
+        *unsafe { out_ref(p, name) }? = value;
+    }
+    Ok(())
+}
+
 /// Copies `src` into a caller buffer of `capacity` elements, with the checks of
 /// [`out_slice`] (too small: `ARBOR_STATUS_BUFFER_TOO_SMALL`, nothing written).
 ///

@@ -64,7 +64,7 @@ use crate::skeleton::{Branch, LeafSite, Organ, Skeleton};
 use bytemuck::{Pod, Zeroable};
 use guard::{
     FfiError, arg_ref, copy_out, guard, guard_value, in_slice, mesh_buffers, out_ref, out_slice,
-    with_last_error,
+    with_last_error, write_if_given,
 };
 use handle::Handle;
 use std::ffi::{CStr, c_char, c_void};

@@ -112,6 +112,25 @@ pub struct Texture {
 }
 
 impl Material {
+    /// Samples bark textures (indices into [`Scene::textures`]): colour, normal and
+    /// roughness maps, its colour and roughness factors 1.
+    fn texture_bark(&mut self, color: usize, normal: usize, rough: usize) {
+        self.base_color = [1.0; 4];
+        self.base_color_texture = Some(color);
+        self.normal_texture = Some(normal);
+        self.metallic_roughness_texture = Some(rough);
+        self.roughness = 1.0;
+    }
+
+    /// Samples a leaf atlas (an index into [`Scene::textures`]): white, alpha-cut at 0.5,
+    /// double-sided.
+    fn texture_leaves(&mut self, atlas: usize) {
+        self.base_color = [1.0; 4];
+        self.base_color_texture = Some(atlas);
+        self.alpha_cutoff = Some(0.5);
+        self.double_sided = true;
+    }
+
     /// Bark: brown, matte, one-sided.
     pub fn bark() -> Self {
         Material {
@@ -124,6 +143,16 @@ impl Material {
             normal_texture: None,
             metallic_roughness_texture: None,
             alpha_cutoff: None,
+        }
+    }
+
+    /// The ground: grass green, fully rough.
+    pub fn ground() -> Self {
+        Material {
+            name: "ground".into(),
+            base_color: [0.20, 0.26, 0.12, 1.0],
+            roughness: 1.0,
+            ..Material::bark()
         }
     }
 
@@ -434,29 +463,14 @@ impl Scene {
                 Some(look) if texture_size > 0 => {
                     let bark = crate::texture::bark_textures(&look.bark, texture_size, k as u64)?;
                     let atlas = crate::texture::leaf_atlas(&look.leaf, texture_size, k as u64)?;
-                    let mut part = Scene {
-                        materials: vec![Material::bark(), Material::leaves()],
-                        ..Scene::default()
-                    };
-                    part.texture(bark, atlas);
-                    let base = scene.textures.len();
-                    let mut materials = part.materials;
-                    for m in &mut materials {
-                        for t in [
-                            &mut m.base_color_texture,
-                            &mut m.normal_texture,
-                            &mut m.metallic_roughness_texture,
-                        ] {
-                            *t = t.map(|t| t + base);
-                        }
-                        m.name = format!("{} {name}", m.name);
-                    }
-                    for t in &mut part.textures {
-                        t.name = format!("{} {name}", t.name);
-                    }
-                    scene.textures.extend(part.textures);
-                    let leaves = materials.pop().expect("two materials");
-                    let bark = materials.pop().expect("two materials");
+                    let [color, normal, rough, atlas_index] =
+                        scene.push_textures(bark, atlas, &format!(" {name}"));
+                    let mut bark = Material::bark();
+                    bark.texture_bark(color, normal, rough);
+                    bark.name = format!("bark {name}");
+                    let mut leaves = Material::leaves();
+                    leaves.texture_leaves(atlas_index);
+                    leaves.name = format!("leaves {name}");
                     Some((look, bark, leaves))
                 }
                 _ => None,
@@ -512,18 +526,7 @@ impl Scene {
                 v.position = v.position.map(|p| p * options.scale);
             }
             let mut primitives = Vec::new();
-            let material = Material {
-                name: "ground".into(),
-                double_sided: false,
-                base_color: [0.20, 0.26, 0.12, 1.0],
-                metallic: 0.0,
-                roughness: 1.0,
-                base_color_texture: None,
-                normal_texture: None,
-                metallic_roughness_texture: None,
-                alpha_cutoff: None,
-            };
-            scene.add(&mut primitives, m, material, None);
+            scene.add(&mut primitives, m, Material::ground(), None);
             let mesh = scene.push_mesh("ground", primitives);
             scene.nodes.push(Node::new("ground", mesh));
         }
@@ -548,37 +551,38 @@ impl Scene {
         bark: crate::texture::BarkTextures,
         atlas: crate::texture::LeafAtlas,
     ) {
+        let [color, normal, rough, leaves] = self.push_textures(bark, atlas, "");
+        for m in &mut self.materials {
+            match m.name.as_str() {
+                "bark" => m.texture_bark(color, normal, rough),
+                "leaves" => m.texture_leaves(leaves),
+                _ => {}
+            }
+        }
+    }
+
+    /// Pushes a species' bark colour, normal and roughness maps and its leaf atlas, named
+    /// "bark", "bark normal", "bark roughness" and "leaves" followed by `suffix`; their
+    /// indices in [`Scene::textures`].
+    fn push_textures(
+        &mut self,
+        bark: crate::texture::BarkTextures,
+        atlas: crate::texture::LeafAtlas,
+        suffix: &str,
+    ) -> [usize; 4] {
         let mut push = |name: &str, image: crate::texture::Image| {
             self.textures.push(Texture {
-                name: name.into(),
+                name: format!("{name}{suffix}"),
                 image,
             });
             self.textures.len() - 1
         };
-        let (color, normal, rough, leaves) = (
+        [
             push("bark", bark.color),
             push("bark normal", bark.normal),
             push("bark roughness", bark.roughness),
             push("leaves", atlas.image),
-        );
-        for m in &mut self.materials {
-            match m.name.as_str() {
-                "bark" => {
-                    m.base_color = [1.0; 4];
-                    m.base_color_texture = Some(color);
-                    m.normal_texture = Some(normal);
-                    m.metallic_roughness_texture = Some(rough);
-                    m.roughness = 1.0;
-                }
-                "leaves" => {
-                    m.base_color = [1.0; 4];
-                    m.base_color_texture = Some(leaves);
-                    m.alpha_cutoff = Some(0.5);
-                    m.double_sided = true;
-                }
-                _ => {}
-            }
-        }
+        ]
     }
 
     /// The levels of detail of one tree ([`crate::lod::chain`]) as nodes `NAME_LOD0`,
