@@ -28,10 +28,11 @@ use crate::texture::Image;
 use glam::Vec3;
 
 /// The screen height, in pixels, the screen coverages are reckoned for (a 1080p screen):
-/// a level's twigs are culled where they would be thinner than [`CULL_PIXELS`] of it.
+/// a level's twigs are removed where they would be thinner than [`CULL_PIXELS`] of it.
 pub const REFERENCE_PIXELS: f32 = 1080.0;
 
-/// Branches narrower than this many pixels where a level is first drawn are culled.
+/// Branches (not roots) narrower than this many pixels where a level is first drawn are
+/// removed.
 pub const CULL_PIXELS: f32 = 0.1;
 
 /// The bark's share of a level's budget where the tree has leaves (the leaves, which
@@ -124,11 +125,13 @@ pub struct Level {
 
 /// The levels of detail of `skeleton` meshed with `mesh` (level 0: as it is) and, when
 /// given, its baked `leaves`: each further level with fewer sides (half the one before's,
-/// at least 3), the branches culled that are narrower than [`CULL_PIXELS`] at the
-/// coverage where it is first drawn (for a tree as tall as `skeleton`, on a screen of
-/// [`REFERENCE_PIXELS`]; leaves stay where they were), and the leaves thinned
-/// ([`LeafOptions::keep`]) to fit the level's budget. Where the bark alone is over half
-/// the budget, thicker branches are culled until it is not. Each switch is then lowered
+/// at least 3), its axes straightened where that moves them by less than
+/// [`COLLAPSE_PIXELS`] at the coverage where it is first drawn (for a tree as tall as
+/// `skeleton`, on a screen of [`REFERENCE_PIXELS`]), its branches narrower than
+/// [`CULL_PIXELS`] there removed and more of the thinnest (each with what grows on it;
+/// leaves stay where they were) until the bark is within its share of the budget (never
+/// its roots), and the leaves thinned ([`LeafOptions::keep`]) to fill the rest.
+/// Each switch is then lowered
 /// until the level's silhouette keeps [`LodOptions::silhouette`] (the leaves alpha-tested
 /// against `atlas`, the leaf atlas they sample, when given).
 pub fn chain(
@@ -321,8 +324,9 @@ struct Shape<'a> {
 
 impl Shape<'_> {
     /// Level `level` within `budget` triangles, first drawn at coverage `c`: half the
-    /// sides of `before`'s, twigs culled below [`CULL_PIXELS`] there (more, until the bark
-    /// is at most [`BARK_SHARE`] of the budget when there are leaves), the leaves filling the rest.
+    /// sides of `before`'s, axes straightened for that size, twigs under [`CULL_PIXELS`]
+    /// there and more of the thinnest branches removed until the bark is at most its
+    /// share of the budget when there are leaves, the leaves filling the rest.
     /// The candidates for a level (see [`level`](Self::level)): the bark's share of the
     /// budget each of [`BARK_SHARES`] when `several` (a chain that fits its switches picks
     /// the one whose silhouette is nearest), else [`BARK_SHARE`].
@@ -375,9 +379,9 @@ impl Shape<'_> {
 }
 
 /// A level's bark: `skeleton` with half the sides of `before`'s options, its axes
-/// collapsed and its branches culled by their size at coverage `c` (a tree `height` model
-/// units tall), then culled thicker until it has at most `share` triangles; with the
-/// options it was meshed with and where each branch was merged.
+/// collapsed for coverage `c` (a tree `height` model units tall), then its thinnest
+/// branches removed ([`prune`]) until it has at most `share` triangles; with the options
+/// it was meshed with and where each branch was merged.
 fn level_bark(
     skeleton: &Skeleton,
     mesh: &MeshOptions,
@@ -393,8 +397,13 @@ fn level_bark(
         m => m.min(o.radial_segments).max(3),
     };
     let pixel = height / (c * REFERENCE_PIXELS);
-    o.cull_radius = mesh.cull_radius.max(0.5 * CULL_PIXELS * pixel);
-    // Axes straightened first (up to 4 times the tolerance), then twigs culled.
+    o.cull_radius = mesh.cull_radius;
+    // Narrower than a tenth of a pixel there: a twig that changes no pixel alone.
+    let thin = 0.5 * CULL_PIXELS * pixel;
+    // Axes straightened first (up to 4 times the tolerance), then the twigs under
+    // `thin` removed and more of the thinnest branches while the bark is over its share,
+    // in an order that never empties a level (its roots stay) nor takes every branch of
+    // one thickness at once.
     let mut tolerance = COLLAPSE_PIXELS * pixel;
     let (mut collapsed, mut merged) = collapse_merged(skeleton, tolerance)?;
     let mut bark = mesh::tubes(&collapsed, &o)?;
@@ -406,6 +415,17 @@ fn level_bark(
         (collapsed, merged) = collapse_merged(skeleton, tolerance)?;
         bark = mesh::tubes(&collapsed, &o)?;
     }
+    // Each pruning reckons a branch's triangles from this mesh; the next mesh may differ
+    // by a few joins, so a second round takes what is left over.
+    for _ in 0..4 {
+        let (pruned, map) = prune(&collapsed, &merged, &bark, share, thin)?;
+        if pruned.len() == collapsed.len() {
+            break;
+        }
+        (collapsed, merged) = (pruned, map);
+        bark = mesh::tubes(&collapsed, &o)?;
+    }
+    // The roots alone over the share (a trunk of many rings): they are culled too.
     let mut tries = 0;
     while count(&bark) > share && tries < 40 {
         o.cull_radius = if o.cull_radius > 0.0 {
@@ -417,6 +437,90 @@ fn level_bark(
         tries += 1;
     }
     Ok((bark, o, merged))
+}
+
+/// `skeleton` (a level's skeleton, `merged` mapping the tree's branches to it, `bark` its
+/// mesh) with its branches thinner than `thin` removed, each with its whole subtree, and
+/// more of the thinnest while the triangles `bark` gives the rest (each branch's share of
+/// its indices) are over `share`: thinner first (a branch's larger radius), branches as
+/// thick as each other in
+/// the order of a rank fixed by the tree's first branch in each (a tree of equal
+/// branches loses some of them, not all); never a root. With the tree's branches mapped
+/// to the pruned skeleton (a removed branch's to its nearest kept ancestor).
+fn prune(
+    skeleton: &Skeleton,
+    merged: &[u32],
+    bark: &Mesh,
+    share: usize,
+    thin: f32,
+) -> Result<(Skeleton, Vec<u32>)> {
+    use crate::skeleton::{NO_PARENT, SkeletonParts};
+    let b = skeleton.branches();
+    let adjacency = skeleton.adjacency();
+    let indices: u64 = bark.ranges.iter().map(|r| r.index_count as u64).sum();
+    let per_index = count(bark) as f64 / indices.max(1) as f64;
+    let triangles = |i: usize| {
+        bark.ranges
+            .get(i)
+            .map_or(0.0, |r| r.index_count as f64 * per_index)
+    };
+    // The first of the tree's branches merged into each branch: its rank.
+    let mut first = vec![u32::MAX; b.len()];
+    for (i, &m) in merged.iter().enumerate() {
+        if let Some(f) = first.get_mut(m as usize) {
+            *f = (*f).min(i as u32);
+        }
+    }
+    let mut order: Vec<(f32, u64, usize)> = (0..b.len())
+        .filter(|&i| b[i].parent != NO_PARENT)
+        .map(|i| {
+            let rank = crate::rng::Rng::new(u64::from(first[i]) ^ 0x5EED_F1EA).next_u64();
+            (b[i].start_radius.max(b[i].end_radius), rank, i)
+        })
+        .collect();
+    order.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+    let mut total = count(bark) as f64;
+    let mut removed = vec![false; b.len()];
+    let mut stack = Vec::new();
+    for &(thickness, _, i) in &order {
+        if total <= share as f64 && thickness >= thin {
+            break;
+        }
+        if removed[i] {
+            continue;
+        }
+        stack.push(i);
+        while let Some(k) = stack.pop() {
+            if !removed[k] {
+                removed[k] = true;
+                total -= triangles(k);
+                stack.extend(adjacency.children(k).iter().map(|&c| c as usize));
+            }
+        }
+    }
+    let mut new_index = vec![0u32; b.len()];
+    let mut out = Vec::with_capacity(b.len());
+    for (i, x) in b.iter().enumerate() {
+        if removed[i] {
+            new_index[i] = new_index[x.parent as usize];
+            continue;
+        }
+        let mut y = *x;
+        if x.parent != NO_PARENT {
+            y.parent = new_index[x.parent as usize];
+        }
+        new_index[i] = out.len() as u32;
+        out.push(y);
+    }
+    let pruned = SkeletonParts {
+        branches: out,
+        ..SkeletonParts::default()
+    }
+    .build()?;
+    Ok((
+        pruned,
+        merged.iter().map(|&m| new_index[m as usize]).collect(),
+    ))
 }
 
 fn fit_directions(up: Vec3) -> Vec<Vec3> {

@@ -147,3 +147,98 @@ fn figures_for_every_species_and_1996_tree() {
         check(look.species.name(), &levels, &lod, Some(&atlas));
     }
 }
+
+/// A trunk with a fan of 64 twigs as thick as each other at its top.
+fn fan() -> arbor::skeleton::Skeleton {
+    use arbor::skeleton::{Branch, NO_PARENT, SkeletonParts};
+    let top = [0.0, 10.0, 0.0];
+    let mut branches = vec![Branch {
+        start: [0.0; 3],
+        end: top,
+        start_radius: 0.3,
+        end_radius: 0.2,
+        parent: NO_PARENT,
+        birth: 0,
+        order: 0,
+        flags: 0,
+    }];
+    for k in 0..64 {
+        let a = k as f32 * 0.7;
+        let up = 0.3 + 0.6 * (k % 5) as f32 / 4.0;
+        branches.push(Branch {
+            start: top,
+            end: [
+                top[0] + 3.0 * a.cos(),
+                top[1] + 3.0 * up,
+                top[2] + 3.0 * a.sin(),
+            ],
+            start_radius: 0.05,
+            end_radius: 0.05,
+            parent: 0,
+            birth: 1,
+            order: 1,
+            flags: 0,
+        });
+    }
+    SkeletonParts {
+        branches,
+        ..SkeletonParts::default()
+    }
+    .build()
+    .unwrap()
+}
+
+/// Which of the fan's twigs a level kept: those its skeleton did not merge into the
+/// trunk's branch.
+fn kept_twigs(level: &Level) -> Vec<bool> {
+    (1..65)
+        .map(|t| level.merged[t] != level.merged[0])
+        .collect()
+}
+
+/// Branches as thick as each other are removed some at a time, in a fixed order: a level
+/// keeps part of an even fan of twigs (not all of them or none), every twig a thinner
+/// level keeps is one the level before kept, and the trunk stays.
+#[test]
+fn a_fan_of_equal_twigs_is_thinned_in_one_order() {
+    let lod = LodOptions::default().silhouette(0.0).levels(4);
+    let levels = chain(&fan(), &MeshOptions::default(), None, None, &lod).unwrap();
+    let mut before = vec![true; 64];
+    for (k, level) in levels.iter().enumerate().skip(1) {
+        let kept = kept_twigs(level);
+        let n = kept.iter().filter(|&&x| x).count();
+        assert!(n > 0 && n < 64, "level {k} keeps {n} of 64 twigs");
+        assert!(
+            kept.iter().zip(&before).all(|(&now, &then)| !now || then),
+            "level {k} keeps a twig level {} removed",
+            k - 1
+        );
+        assert!(
+            level.triangles as f32 <= lod.budget_of(k as u32) * levels[0].triangles as f32,
+            "level {k}: {} triangles",
+            level.triangles
+        );
+        // The trunk is there: a vertex at its foot.
+        assert!(
+            level
+                .bark
+                .vertices
+                .iter()
+                .any(|v| v.position[1] < 0.01 && v.position[0].abs() < 0.31),
+            "level {k} has no trunk"
+        );
+        before = kept;
+    }
+}
+
+/// No level of a 1996 tree is empty: its branches are all thin where the thinner levels
+/// are drawn, but the trunk stays (tree i's levels 2 and 3 were empty).
+#[test]
+fn no_level_of_a_1996_tree_is_empty() {
+    let lod = LodOptions::default();
+    for name in ['c', 'i'] {
+        for (k, level) in tree_1996(name, &lod).iter().enumerate() {
+            assert!(level.bark.triangles().count() > 0, "tree {name} level {k}");
+        }
+    }
+}
