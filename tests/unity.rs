@@ -422,3 +422,67 @@ fn the_bindings_enums_are_the_headers() {
     }
     assert!(checked >= 10, "only {checked} enums found in Arbor.cs");
 }
+
+/// The package's impostor shader: its HLSL programs compile (glslangValidator's HLSL front
+/// end, both stages, against the few UnityCG names they read), the .shader wraps them and
+/// declares every property the Unity helper sets on its material.
+#[test]
+fn the_impostor_shader_compiles_and_declares_what_the_helper_sets() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shaders = root.join("bindings/unity/Runtime/Shaders");
+    require("glslangValidator");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("impostor-hlsl");
+    std::fs::create_dir_all(&dir).unwrap();
+    let check = dir.join("check.hlsl");
+    std::fs::write(
+        &check,
+        "// What ArborImpostor.hlsl reads of UnityCG.cginc.\n\
+         float4x4 unity_ObjectToWorld;\n\
+         float4x4 unity_WorldToObject;\n\
+         float4x4 unity_MatrixVP;\n\
+         float3 _WorldSpaceCameraPos;\n\
+         float4 UnityObjectToClipPos(float4 p) { return mul(unity_MatrixVP, mul(unity_ObjectToWorld, p)); }\n\
+         #include \"ArborImpostor.hlsl\"\n",
+    )
+    .unwrap();
+    for (stage, entry) in [
+        ("vert", "ArborImpostorVertex"),
+        ("frag", "ArborImpostorFragment"),
+    ] {
+        run(Command::new("glslangValidator")
+            .args(["-D", "-V", "-S", stage, "-e", entry])
+            .arg(format!("-I{}", shaders.display()))
+            .arg("-o")
+            .arg(dir.join(format!("{stage}.spv")))
+            .arg(&check));
+    }
+    let shader = std::fs::read_to_string(shaders.join("ArborImpostor.shader")).unwrap();
+    for line in [
+        "Shader \"Arbor/Impostor\"",
+        "#pragma vertex ArborImpostorVertex",
+        "#pragma fragment ArborImpostorFragment",
+        "#include \"ArborImpostor.hlsl\"",
+    ] {
+        assert!(shader.contains(line), "ArborImpostor.shader lacks {line}");
+    }
+    let hlsl = std::fs::read_to_string(shaders.join("ArborImpostor.hlsl")).unwrap();
+    let cs = std::fs::read_to_string(root.join("bindings/unity/Runtime/Arbor.cs")).unwrap();
+    let mut set = Vec::new();
+    for call in ["material.SetFloat(\"", "material.SetVector(\""] {
+        for part in cs.split(call).skip(1) {
+            set.push(part.split('"').next().unwrap().to_string());
+        }
+    }
+    set.push("_MainTex".into());
+    assert!(set.len() >= 6, "{set:?}");
+    for name in &set {
+        assert!(
+            shader.contains(&format!("{name} (")),
+            "the helper sets {name}, which ArborImpostor.shader does not declare"
+        );
+        assert!(
+            hlsl.contains(&format!(" {name};")),
+            "the helper sets {name}, which ArborImpostor.hlsl does not read"
+        );
+    }
+}

@@ -479,6 +479,8 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_impostor_atlas_write(IntPtr impostor, uint which, [Out] byte[] output, UIntPtr capacity, out UIntPtr size);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_impostor_info(IntPtr impostor, out uint atlasSize, [Out] float[] centre, out float radius, [Out] float[] up);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_lods_billboard_create(IntPtr lods, UIntPtr level, uint planes, uint cell, byte[] atlasRgba, uint atlasWidth, uint atlasHeight, out IntPtr billboard);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_billboard_free(IntPtr billboard);
@@ -999,6 +1001,17 @@ namespace Arbor
             return new Billboard(b);
         }
 
+        /// The octahedral impostor of a level (arbor_lods_impostor_create): `frames` x
+        /// `frames` views (1..=32) of `cell` pixels (8..=1024), of the upper half of the
+        /// sphere when `hemi`, the leaves sampling the leaf atlas `atlasRgba` (null:
+        /// opaque cards). The package's Arbor/Impostor shader draws it (UnityLods.Build).
+        public Impostor Impostor(int level, uint frames, uint cell, bool hemi, byte[] atlasRgba, uint atlasWidth, uint atlasHeight)
+        {
+            IntPtr i;
+            ArborException.Check(Native.arbor_lods_impostor_create(handle, (UIntPtr)level, frames, cell, hemi ? 1u : 0u, atlasRgba, atlasWidth, atlasHeight, out i));
+            return new Impostor(i, frames, hemi);
+        }
+
         public void Dispose()
         {
             if (handle != IntPtr.Zero)
@@ -1047,6 +1060,53 @@ namespace Arbor
         }
     }
 
+    /// An octahedral impostor's atlases and frame (Lods.Impostor), in the tree's space:
+    /// the package's Arbor/Impostor shader draws it on one quad turned to the camera
+    /// (UnityLods.Build; docs/meshes.md, "Impostors", for the layout).
+    public sealed class Impostor : IDisposable
+    {
+        IntPtr handle;
+        /// Views a side of the grid.
+        public readonly uint Frames;
+        /// Views of the upper half of the sphere (hemi-octahedral), else the whole.
+        public readonly bool Hemi;
+        internal Impostor(IntPtr h, uint frames, bool hemi) { handle = h; Frames = frames; Hemi = hemi; }
+
+        /// The bounding sphere the views frame (`centre`, 3 floats, and `radius`) and the
+        /// tree's up axis (`up`, 3 floats); returns the atlases' side in pixels.
+        public uint Frame(float[] centre, out float radius, float[] up)
+        {
+            if (centre == null || centre.Length < 3 || up == null || up.Length < 3)
+                throw new ArgumentException("centre and up need 3 floats each");
+            uint size;
+            ArborException.Check(Native.arbor_impostor_info(handle, out size, centre, out radius, up));
+            return size;
+        }
+
+        /// Atlas `which` (0: albedo and coverage, sRGB; 1: normal and depth), RGBA8, rows
+        /// from the top: loaded as is, Unity's first row is v 0, where the shader reads the
+        /// top row of a view.
+        public byte[] Atlas(uint which, out uint size)
+        {
+            UIntPtr n;
+            ArborException.Check(Native.arbor_impostor_atlas_write(handle, which, null, UIntPtr.Zero, out n));
+            var rgba = new byte[(int)n];
+            ArborException.Check(Native.arbor_impostor_atlas_write(handle, which, rgba, n, out n));
+            float r;
+            size = Frame(new float[3], out r, new float[3]);
+            return rgba;
+        }
+
+        public void Dispose()
+        {
+            if (handle != IntPtr.Zero)
+            {
+                Native.arbor_impostor_free(handle);
+                handle = IntPtr.Zero;
+            }
+        }
+    }
+
 #if UNITY_5_3_OR_NEWER
     public static class UnityMeshes
     {
@@ -1086,7 +1146,7 @@ namespace Arbor
         /// a triangle list). Returns the LODGroup.
         public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name)
         {
-            return Build(root, lods, name, null, null, 0f);
+            return Build(root, lods, name, (Billboard)null, null, 0f);
         }
 
         /// Build, then the billboard as the last level ("NAME_LODn", both sides, drawn
@@ -1096,34 +1156,7 @@ namespace Arbor
         {
             var group = root.AddComponent<UnityEngine.LODGroup>();
             int meshes = lods.Count;
-            var levels = new UnityEngine.LOD[meshes + (billboard != null ? 1 : 0)];
-            for (int k = 0; k < lods.Count; k++)
-            {
-                var go = new UnityEngine.GameObject(name + "_LOD" + k);
-                go.transform.SetParent(root.transform, false);
-                var mesh = new UnityEngine.Mesh();
-                Vertex[] bark, leaves; uint[] bi, li;
-                lods.Mesh(k, 0, out bark, out bi);
-                lods.Mesh(k, 1, out leaves, out li);
-                var v = new Vertex[bark.Length + leaves.Length];
-                Array.Copy(bark, v, bark.Length);
-                Array.Copy(leaves, 0, v, bark.Length, leaves.Length);
-                var i = new int[bi.Length + li.Length];
-                for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
-                for (int j = 0; j < li.Length; j++) i[bi.Length + j] = (int)(li[j] + (uint)bark.Length);
-                var layout = UnityMeshes.VertexLayout();
-                mesh.SetVertexBufferParams(v.Length, layout);
-                mesh.SetVertexBufferData(v, 0, 0, v.Length);
-                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
-                mesh.SetIndexBufferData(i, 0, 0, i.Length);
-                mesh.subMeshCount = 2;
-                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, bi.Length));
-                mesh.SetSubMesh(1, new UnityEngine.Rendering.SubMeshDescriptor(bi.Length, li.Length));
-                mesh.RecalculateBounds();
-                go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
-                var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
-                levels[k] = new UnityEngine.LOD(lods.ScreenCoverage(k), new UnityEngine.Renderer[] { renderer });
-            }
+            var levels = MeshLevels(root, lods, name, billboard != null ? 1 : 0);
             if (billboard != null)
             {
                 var go = new UnityEngine.GameObject(name + "_LOD" + meshes);
@@ -1152,12 +1185,109 @@ namespace Arbor
                     material.mainTexture = texture;
                     renderer.sharedMaterial = material;
                 }
-                float last = meshes > 0 ? lods.ScreenCoverage(meshes - 1) : 1f;
-                levels[meshes] = new UnityEngine.LOD(coverage > 0f ? coverage : 0.25f * last, new UnityEngine.Renderer[] { renderer });
+                levels[meshes] = new UnityEngine.LOD(Farthest(lods, coverage), new UnityEngine.Renderer[] { renderer });
             }
             group.SetLODs(levels);
             group.RecalculateBounds();
             return group;
+        }
+
+        /// Build, then the octahedral impostor as the last level ("NAME_LODn": one quad,
+        /// its corners (+-1, +-1, 0), that the package's Arbor/Impostor shader turns to
+        /// the camera about the impostor's bounding sphere, its bounds that sphere), with
+        /// `material` (its shader Arbor/Impostor; null: none set) given the albedo atlas
+        /// and the impostor's frame, drawn down to `coverage` (0: a quarter of the last
+        /// mesh level's). Make the impostor from `lods` (Lods.Impostor).
+        public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name, Impostor impostor, UnityEngine.Material material, float coverage)
+        {
+            var group = root.AddComponent<UnityEngine.LODGroup>();
+            int meshes = lods.Count;
+            var levels = MeshLevels(root, lods, name, 1);
+            var centre = new float[3];
+            var up = new float[3];
+            float radius;
+            impostor.Frame(centre, out radius, up);
+            var go = new UnityEngine.GameObject(name + "_LOD" + meshes);
+            go.transform.SetParent(root.transform, false);
+            var corners = new UnityEngine.Vector3[]
+            {
+                new UnityEngine.Vector3(-1f, -1f, 0f), new UnityEngine.Vector3(1f, -1f, 0f),
+                new UnityEngine.Vector3(1f, 1f, 0f), new UnityEngine.Vector3(-1f, 1f, 0f),
+            };
+            var quad = new int[] { 0, 1, 2, 0, 2, 3 };
+            var mesh = new UnityEngine.Mesh();
+            mesh.SetVertexBufferParams(4, new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3));
+            mesh.SetVertexBufferData(corners, 0, 0, 4);
+            mesh.SetIndexBufferParams(6, UnityEngine.Rendering.IndexFormat.UInt32);
+            mesh.SetIndexBufferData(quad, 0, 0, 6);
+            mesh.subMeshCount = 1;
+            mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, 6));
+            // The shader moves the corners: the bounds are the sphere it keeps them in.
+            var middle = new UnityEngine.Vector3(centre[0], centre[1], centre[2]);
+            mesh.bounds = new UnityEngine.Bounds(middle, new UnityEngine.Vector3(2f * radius, 2f * radius, 2f * radius));
+            go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
+            var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
+            if (material != null)
+            {
+                uint size;
+                var rgba = impostor.Atlas(0, out size);
+                var texture = new UnityEngine.Texture2D((int)size, (int)size, UnityEngine.TextureFormat.RGBA32, false);
+                texture.LoadRawTextureData(rgba);
+                texture.Apply();
+                material.mainTexture = texture;
+                material.SetFloat("_Frames", impostor.Frames);
+                material.SetFloat("_Hemi", impostor.Hemi ? 1f : 0f);
+                material.SetVector("_Centre", new UnityEngine.Vector4(centre[0], centre[1], centre[2], 0f));
+                material.SetFloat("_Radius", radius);
+                material.SetVector("_Up", new UnityEngine.Vector4(up[0], up[1], up[2], 0f));
+                renderer.sharedMaterial = material;
+            }
+            levels[meshes] = new UnityEngine.LOD(Farthest(lods, coverage), new UnityEngine.Renderer[] { renderer });
+            group.SetLODs(levels);
+            group.RecalculateBounds();
+            return group;
+        }
+
+        /// Where the last level is drawn down to: `coverage`, or (0) a quarter of the last
+        /// mesh level's.
+        static float Farthest(Lods lods, float coverage)
+        {
+            float last = lods.Count > 0 ? lods.ScreenCoverage(lods.Count - 1) : 1f;
+            return coverage > 0f ? coverage : 0.25f * last;
+        }
+
+        /// The mesh levels' children and LOD entries, with `extra` entries left at the end.
+        static UnityEngine.LOD[] MeshLevels(UnityEngine.GameObject root, Lods lods, string name, int extra)
+        {
+            var levels = new UnityEngine.LOD[lods.Count + extra];
+            for (int k = 0; k < lods.Count; k++)
+            {
+                var go = new UnityEngine.GameObject(name + "_LOD" + k);
+                go.transform.SetParent(root.transform, false);
+                var mesh = new UnityEngine.Mesh();
+                Vertex[] bark, leaves; uint[] bi, li;
+                lods.Mesh(k, 0, out bark, out bi);
+                lods.Mesh(k, 1, out leaves, out li);
+                var v = new Vertex[bark.Length + leaves.Length];
+                Array.Copy(bark, v, bark.Length);
+                Array.Copy(leaves, 0, v, bark.Length, leaves.Length);
+                var i = new int[bi.Length + li.Length];
+                for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
+                for (int j = 0; j < li.Length; j++) i[bi.Length + j] = (int)(li[j] + (uint)bark.Length);
+                var layout = UnityMeshes.VertexLayout();
+                mesh.SetVertexBufferParams(v.Length, layout);
+                mesh.SetVertexBufferData(v, 0, 0, v.Length);
+                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
+                mesh.SetIndexBufferData(i, 0, 0, i.Length);
+                mesh.subMeshCount = 2;
+                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, bi.Length));
+                mesh.SetSubMesh(1, new UnityEngine.Rendering.SubMeshDescriptor(bi.Length, li.Length));
+                mesh.RecalculateBounds();
+                go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
+                var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
+                levels[k] = new UnityEngine.LOD(lods.ScreenCoverage(k), new UnityEngine.Renderer[] { renderer });
+            }
+            return levels;
         }
     }
 

@@ -73,6 +73,36 @@ public static class UnityHelpersTest
                     bb.Mesh(true, out cv, out ci);
                     expect(cv.Length == 24 && ci.Length == 36, "three quads, both sides: " + cv.Length);
                 }
+                // The octahedral impostor as a fifth level: one quad bounded by the
+                // impostor's sphere, the material given its albedo and frame.
+                using (var imp = lods.Impostor(lods.Count - 1, 8, 32, true, null, 0, 0))
+                {
+                    var withImpostor = new UnityEngine.GameObject("tree");
+                    var material = new UnityEngine.Material();
+                    int before = UnityEngine.Mesh.made.Count;
+                    var g5 = UnityLods.Build(withImpostor, lods, "tree", imp, material, 0f);
+                    expect(g5.lods.Length == 5 && g5.boundsRecalculated, "five levels with the impostor");
+                    var last = g5.lods[4];
+                    expect(last.screenRelativeTransitionHeight > 0f && last.screenRelativeTransitionHeight < g5.lods[3].screenRelativeTransitionHeight, "the impostor drawn farthest");
+                    expect(last.renderers[0].sharedMaterial == material, "the impostor's material");
+                    float[] c = new float[3], u = new float[3]; float r;
+                    uint side = imp.Frame(c, out r, u);
+                    expect(side == 256 && r > 0f, "8 x 8 views of 32 pixels: " + side);
+                    expect(Math.Abs(u[1] - 1f) < 1e-6f && u[0] == 0f && u[2] == 0f, "Unity's up is Y");
+                    var tex = (UnityEngine.Texture2D)material.mainTexture;
+                    expect(tex != null && tex.width == 256 && tex.height == 256 && tex.data.Length == 256 * 256 * 4 && tex.applied, "the impostor's albedo");
+                    int drawn = 0;
+                    for (int p = 3; p < tex.data.Length; p += 4) if (tex.data[p] > 0) drawn++;
+                    expect(drawn > 0 && drawn < 256 * 256, "the albedo's coverage: " + drawn);
+                    expect(material.floats["_Frames"] == 8f && material.floats["_Hemi"] == 1f && material.floats["_Radius"] == r, "the frame's numbers");
+                    var centre = material.vectors["_Centre"];
+                    var up = material.vectors["_Up"];
+                    expect(centre.x == c[0] && centre.y == c[1] && centre.z == c[2] && up.y == u[1], "the frame's vectors");
+                    var quad = UnityEngine.Mesh.made[UnityEngine.Mesh.made.Count - 1];
+                    expect(UnityEngine.Mesh.made.Count == before + 5, "four mesh levels and the quad");
+                    expect(quad.vertexCount == 4 && quad.indexCount == 6 && ((UnityEngine.Vector3[])quad.vertices)[2].x == 1f, "one quad, corners +-1");
+                    expect(quad.bounds.center.y == c[1] && quad.bounds.size.x == 2f * r, "bounded by the sphere");
+                }
                 Vertex[] v0, v1; uint[] i0, i1;
                 lods.Mesh(0, 0, out v0, out i0);
                 lods.Mesh(1, 0, out v1, out i1);

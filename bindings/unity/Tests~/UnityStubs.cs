@@ -47,6 +47,10 @@ namespace UnityEngine
 
     public class Mesh : Object
     {
+        /// Every mesh made, in order (a test finds the ones the helpers made).
+        public static System.Collections.Generic.List<Mesh> made = new System.Collections.Generic.List<Mesh>();
+        public Mesh() { made.Add(this); }
+        public Bounds bounds;
         public System.Collections.Generic.List<SubMeshDescriptor> subMeshes = new System.Collections.Generic.List<SubMeshDescriptor>();
         public int vertexCount, indexCount, vertexStride;
         public IndexFormat indexFormat;
@@ -72,6 +76,16 @@ namespace UnityEngine
         public static Vector3 operator +(Vector3 a, Vector3 b) { return new Vector3(a.x + b.x, a.y + b.y, a.z + b.z); }
         public static Vector3 operator -(Vector3 a, Vector3 b) { return new Vector3(a.x - b.x, a.y - b.y, a.z - b.z); }
         public static Vector3 operator *(Vector3 a, float f) { return new Vector3(a.x * f, a.y * f, a.z * f); }
+    }
+    public struct Vector4
+    {
+        public float x, y, z, w;
+        public Vector4(float x, float y, float z, float w) { this.x = x; this.y = y; this.z = z; this.w = w; }
+    }
+    public struct Bounds
+    {
+        public Vector3 center, size;
+        public Bounds(Vector3 center, Vector3 size) { this.center = center; this.size = size; }
     }
     public struct Quaternion
     {
@@ -99,7 +113,14 @@ namespace UnityEngine
         public void LoadRawTextureData(byte[] d) { data = d; }
         public void Apply() { applied = true; }
     }
-    public class Material : Object { public Texture mainTexture; }
+    public class Material : Object
+    {
+        public Texture mainTexture;
+        public System.Collections.Generic.Dictionary<string, float> floats = new System.Collections.Generic.Dictionary<string, float>();
+        public System.Collections.Generic.Dictionary<string, Vector4> vectors = new System.Collections.Generic.Dictionary<string, Vector4>();
+        public void SetFloat(string name, float value) { floats[name] = value; }
+        public void SetVector(string name, Vector4 value) { vectors[name] = value; }
+    }
     public class MeshRenderer : Renderer { }
     public struct LOD
     {
