@@ -106,7 +106,8 @@ impl Look {
                 3,
                 BarkLook::poplar(),
             ),
-            Species::Pine => l(28, 18.0, 0.3, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
+            // A pine sheds its lower limbs: a tall clear bole under the crown.
+            Species::Pine => l(28, 18.0, 0.45, LeafLook::pine(), 4.0, 4, BarkLook::pine()),
             Species::Spruce => l(
                 26,
                 20.0,
@@ -138,7 +139,7 @@ impl Look {
                 Species::Birch => (0.5, 5, 35.0, 0.6, 1.2),
                 Species::Willow => (1.2, 8, 20.0, 0.95, 2.5),
                 Species::Poplar => (0.35, 3, 35.0, 0.05, 1.3),
-                Species::Pine => (0.35, 3, 40.0, 0.0, 1.5),
+                Species::Pine => (0.35, 4, 40.0, 0.0, 2.5),
                 Species::Spruce => (0.4, 6, 60.0, 0.3, 1.0),
                 _ => (0.2, 4, 45.0, 0.1, 1.3),
             };

@@ -260,8 +260,9 @@ impl GrowthParams {
                 vigor_multiplier: 1.0,
                 young_vigor_multiplier: 1.3,
                 branch_angle: 80.0,
-                tropism: 0.04,
-                droop: 0.01,
+                // Limbs that turn up at their ends (a candelabra), none hanging.
+                tropism: 0.06,
+                droop: 0.0,
                 environment_weight: 0.05,
                 ..d
             },
