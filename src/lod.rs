@@ -454,7 +454,7 @@ fn prune(
     share: usize,
     thin: f32,
 ) -> Result<(Skeleton, Vec<u32>)> {
-    use crate::skeleton::{NO_PARENT, SkeletonParts};
+    use crate::skeleton::NO_PARENT;
     let b = skeleton.branches();
     let adjacency = skeleton.adjacency();
     let indices: u64 = bark.ranges.iter().map(|r| r.index_count as u64).sum();
@@ -498,28 +498,17 @@ fn prune(
             }
         }
     }
-    let mut new_index = vec![0u32; b.len()];
-    let mut out = Vec::with_capacity(b.len());
+    let (parts, new_index) = crate::skeleton::prune::kept(skeleton, &removed);
+    // A removed branch is merged into its nearest kept ancestor (parents come first).
+    let mut nearest = new_index;
     for (i, x) in b.iter().enumerate() {
         if removed[i] {
-            new_index[i] = new_index[x.parent as usize];
-            continue;
+            nearest[i] = nearest[x.parent as usize];
         }
-        let mut y = *x;
-        if x.parent != NO_PARENT {
-            y.parent = new_index[x.parent as usize];
-        }
-        new_index[i] = out.len() as u32;
-        out.push(y);
     }
-    let pruned = SkeletonParts {
-        branches: out,
-        ..SkeletonParts::default()
-    }
-    .build()?;
     Ok((
-        pruned,
-        merged.iter().map(|&m| new_index[m as usize]).collect(),
+        Skeleton::from_trusted(parts),
+        merged.iter().map(|&m| nearest[m as usize]).collect(),
     ))
 }
 

@@ -224,11 +224,26 @@ fn pruned(skeleton: &Skeleton, removed: &[bool]) -> Pruned {
 /// every child closed), with their frames, curves and colours, and the organs, leaf sites
 /// and polygons on kept branches (or on none).
 fn kept_parts(skeleton: &Skeleton, removed: &[bool]) -> SkeletonParts {
-    let b = skeleton.branches();
     let adjacency = skeleton.adjacency();
+    let (mut parts, new_index) = kept(skeleton, removed);
+    for (i, &k) in new_index.iter().enumerate() {
+        let lost_every_child =
+            !adjacency.is_tip(i) && adjacency.children(i).iter().all(|&c| removed[c as usize]);
+        if k != NO_PARENT && lost_every_child {
+            parts.branches[k as usize].end_radius = 0.0;
+        }
+    }
+    parts
+}
+
+/// The skeleton without the `removed` branches (whose subtrees must be removed too), its
+/// kept ones renumbered as they are, with their frames, curves and colours, and the
+/// organs, leaf sites and polygons on kept branches (or on none); and each branch's new
+/// index ([`NO_PARENT`] for a removed one).
+pub(crate) fn kept(skeleton: &Skeleton, removed: &[bool]) -> (SkeletonParts, Vec<u32>) {
+    let b = skeleton.branches();
     let mut new_index = vec![NO_PARENT; b.len()];
     let mut parts = SkeletonParts::default();
-    let has_kept_child = |i: usize| adjacency.children(i).iter().any(|&c| !removed[c as usize]);
     for (i, x) in b.iter().enumerate() {
         if removed[i] {
             continue;
@@ -237,9 +252,6 @@ fn kept_parts(skeleton: &Skeleton, removed: &[bool]) -> SkeletonParts {
         let mut y = *x;
         if y.parent != NO_PARENT {
             y.parent = new_index[y.parent as usize];
-        }
-        if !adjacency.is_tip(i) && !has_kept_child(i) {
-            y.end_radius = 0.0;
         }
         parts.branches.push(y);
         if let Some(u) = skeleton.up(i) {
@@ -279,7 +291,7 @@ fn kept_parts(skeleton: &Skeleton, removed: &[bool]) -> SkeletonParts {
                 .extend_from_slice(skeleton.polygon(poly));
         }
     }
-    parts
+    (parts, new_index)
 }
 
 #[cfg(test)]
