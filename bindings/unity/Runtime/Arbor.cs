@@ -1127,14 +1127,25 @@ namespace Arbor
             Vertex[] v;
             int[] i;
             tree.UnityMeshArrays(options, out v, out i);
-            var layout = VertexLayout();
-            mesh.SetVertexBufferParams(v.Length, layout);
-            mesh.SetVertexBufferData(v, 0, 0, v.Length);
-            mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
-            mesh.SetIndexBufferData(i, 0, 0, i.Length);
-            mesh.subMeshCount = 1;
-            mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
+            SetBuffers(mesh, v, VertexLayout(), i, i.Length);
             mesh.RecalculateBounds();
+        }
+
+        /// Gives `mesh` its vertices (laid out as `layout`), 32-bit indices and one
+        /// submesh per count of `submeshes`, each the next run of indices.
+        public static void SetBuffers<T>(UnityEngine.Mesh mesh, T[] vertices, UnityEngine.Rendering.VertexAttributeDescriptor[] layout, int[] indices, params int[] submeshes) where T : struct
+        {
+            mesh.SetVertexBufferParams(vertices.Length, layout);
+            mesh.SetVertexBufferData(vertices, 0, 0, vertices.Length);
+            mesh.SetIndexBufferParams(indices.Length, UnityEngine.Rendering.IndexFormat.UInt32);
+            mesh.SetIndexBufferData(indices, 0, 0, indices.Length);
+            mesh.subMeshCount = submeshes.Length;
+            int start = 0;
+            for (int k = 0; k < submeshes.Length; k++)
+            {
+                mesh.SetSubMesh(k, new UnityEngine.Rendering.SubMeshDescriptor(start, submeshes[k]));
+                start += submeshes[k];
+            }
         }
     }
 
@@ -1166,12 +1177,7 @@ namespace Arbor
                 var i = new int[bi.Length];
                 for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
                 var mesh = new UnityEngine.Mesh();
-                mesh.SetVertexBufferParams(v.Length, UnityMeshes.VertexLayout());
-                mesh.SetVertexBufferData(v, 0, 0, v.Length);
-                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
-                mesh.SetIndexBufferData(i, 0, 0, i.Length);
-                mesh.subMeshCount = 1;
-                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, i.Length));
+                UnityMeshes.SetBuffers(mesh, v, UnityMeshes.VertexLayout(), i, i.Length);
                 mesh.RecalculateBounds();
                 go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
                 var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
@@ -1216,12 +1222,8 @@ namespace Arbor
             };
             var quad = new int[] { 0, 1, 2, 0, 2, 3 };
             var mesh = new UnityEngine.Mesh();
-            mesh.SetVertexBufferParams(4, new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3));
-            mesh.SetVertexBufferData(corners, 0, 0, 4);
-            mesh.SetIndexBufferParams(6, UnityEngine.Rendering.IndexFormat.UInt32);
-            mesh.SetIndexBufferData(quad, 0, 0, 6);
-            mesh.subMeshCount = 1;
-            mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, 6));
+            var position = new UnityEngine.Rendering.VertexAttributeDescriptor(UnityEngine.Rendering.VertexAttribute.Position, UnityEngine.Rendering.VertexAttributeFormat.Float32, 3);
+            UnityMeshes.SetBuffers(mesh, corners, new[] { position }, quad, quad.Length);
             // The shader moves the corners: the bounds are the sphere it keeps them in.
             var middle = new UnityEngine.Vector3(centre[0], centre[1], centre[2]);
             mesh.bounds = new UnityEngine.Bounds(middle, new UnityEngine.Vector3(2f * radius, 2f * radius, 2f * radius));
@@ -1274,14 +1276,7 @@ namespace Arbor
                 var i = new int[bi.Length + li.Length];
                 for (int j = 0; j < bi.Length; j++) i[j] = (int)bi[j];
                 for (int j = 0; j < li.Length; j++) i[bi.Length + j] = (int)(li[j] + (uint)bark.Length);
-                var layout = UnityMeshes.VertexLayout();
-                mesh.SetVertexBufferParams(v.Length, layout);
-                mesh.SetVertexBufferData(v, 0, 0, v.Length);
-                mesh.SetIndexBufferParams(i.Length, UnityEngine.Rendering.IndexFormat.UInt32);
-                mesh.SetIndexBufferData(i, 0, 0, i.Length);
-                mesh.subMeshCount = 2;
-                mesh.SetSubMesh(0, new UnityEngine.Rendering.SubMeshDescriptor(0, bi.Length));
-                mesh.SetSubMesh(1, new UnityEngine.Rendering.SubMeshDescriptor(bi.Length, li.Length));
+                UnityMeshes.SetBuffers(mesh, v, UnityMeshes.VertexLayout(), i, bi.Length, li.Length);
                 mesh.RecalculateBounds();
                 go.AddComponent<UnityEngine.MeshFilter>().mesh = mesh;
                 var renderer = go.AddComponent<UnityEngine.MeshRenderer>();
