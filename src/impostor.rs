@@ -19,12 +19,15 @@
 //! Each view looks along `-d` at the bounding sphere (its centre, its `radius`): the
 //! image's right is `normalize(cross(-d, up))` (or `a` when `d` is `up` itself), its up
 //! `cross(right, -d)`, and it spans `2 * radius` both ways. Row 0 of a cell is its top.
-//! A shader finds the three cells around the camera's direction on the grid, samples
-//! each at the quad's uv, and blends them by their weights on the grid (the reference
-//! shader is in `examples/common/impostor.glsl`).
+//! A shader finds the three cells around the camera's direction on the grid and blends
+//! them by their weights on the grid; in each it follows the ray through the quad's pixel
+//! across the bounding sphere until it meets the surface that cell saw (the depth in the
+//! normal atlas), so the three views line up where the camera's direction lies between
+//! them ([`Impostor::picture`]; the reference shader is in
+//! `examples/common/impostor.glsl`).
 //!
 //! **Atlases** (RGBA8, `frames * cell` pixels square): `albedo` (sRGB colour, alpha the
-//! share of the pixel covered, from 2 × 2 samples); `normal` (the surface's unit normal in
+//! share of the pixel covered, from 3 × 3 samples); `normal` (the surface's unit normal in
 //! model space as `n * 0.5 + 0.5` in RGB, alpha the depth: 0 at the bounding sphere's
 //! near side along the view, 255 at its far side, where covered).
 //!
@@ -133,7 +136,7 @@ pub fn view_from(d: Vec3, centre: Vec3, radius: f32, up: Vec3) -> View {
 }
 
 /// Samples a pixel's side when an impostor view is drawn.
-const SAMPLES: u32 = 2;
+const SAMPLES: u32 = 3;
 
 /// One view drawn at `SAMPLES`² samples a pixel into one cell's `albedo` and `normal`
 /// pixels (`cell` a side, rows from the top).
@@ -314,12 +317,7 @@ pub fn octahedral_on(
         threads as usize
     };
     let cells = draw_cells((frames * frames) as usize, cell, threads, |k, a, n| {
-        let (i, j) = (k as u32 % frames, k as u32 / frames);
-        let q = [
-            2.0 * (i as f32 + 0.5) / frames as f32 - 1.0,
-            2.0 * (j as f32 + 0.5) / frames as f32 - 1.0,
-        ];
-        let d = grid_direction(q, sphere, up);
+        let d = cell_direction(k as u32 % frames, k as u32 / frames, frames, sphere, up);
         draw_cell(surfaces, &view_from(d, centre, radius, up), cell, a, n);
     });
     let (albedo, normal) = atlas(&cells, frames, frames, cell);
@@ -336,23 +334,15 @@ pub fn octahedral_on(
 }
 
 impl Impostor {
-    /// The coverage (0..=1) of a `pixels`-square picture of the impostor seen from
-    /// direction `d` (unit, toward the camera), as the reference shader draws it: the
-    /// three frames around `d` on the grid blended by their weights, each sampled at the
-    /// picture's uv (nearest texel).
-    pub fn coverage(&self, d: Vec3, pixels: u32) -> Vec<f32> {
-        self.picture(d, pixels)
-            .iter()
-            .map(|p| p[3] as f32 / 255.0)
-            .collect()
+    /// The direction cell (`i`, `j`) of the grid was drawn from (see the module).
+    pub fn frame_direction(&self, i: u32, j: u32) -> Vec3 {
+        cell_direction(i, j, self.frames, self.sphere, Vec3::from(self.up))
     }
 
-    /// The `pixels`-square picture of the impostor seen from direction `d` (as
-    /// [`coverage`](Self::coverage) blends it): sRGB colour and coverage, RGBA8, rows
-    /// from the top.
-    pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
-        let up = Vec3::from(self.up);
-        let q = grid_coordinates(d, self.sphere, up);
+    /// The three cells around direction `d` on the grid, with their weights (summing to
+    /// one): the triangle of cell centres `d`'s grid position falls in.
+    pub fn frames_around(&self, d: Vec3) -> [((u32, u32), f32); 3] {
+        let q = grid_coordinates(d, self.sphere, Vec3::from(self.up));
         let f = self.frames as f32;
         // Grid position in frames, centred on the cells.
         let p = [
@@ -367,7 +357,7 @@ impl Impostor {
                 ((j + dj) as u32).min(self.frames - 1),
             )
         };
-        let frames: [((u32, u32), f32); 3] = if fx + fy < 1.0 {
+        if fx + fy < 1.0 {
             [
                 (at(0.0, 0.0), 1.0 - fx - fy),
                 (at(1.0, 0.0), fx),
@@ -379,20 +369,58 @@ impl Impostor {
                 (at(1.0, 0.0), 1.0 - fy),
                 (at(0.0, 1.0), 1.0 - fx),
             ]
-        };
+        }
+    }
+
+    /// The coverage (0..=1) of a `pixels`-square picture of the impostor seen from
+    /// direction `d` (unit, toward the camera), as the reference shader draws it (see
+    /// [`picture`](Self::picture)).
+    pub fn coverage(&self, d: Vec3, pixels: u32) -> Vec<f32> {
+        self.picture(d, pixels)
+            .iter()
+            .map(|p| p[3] as f32 / 255.0)
+            .collect()
+    }
+
+    /// The `pixels`-square picture of the impostor seen from direction `d`, as the
+    /// reference shader draws it: for each pixel, the ray through it (along `-d`, across
+    /// the bounding sphere) is followed in each of the three cells around `d` until it
+    /// meets the surface that cell saw (its depth, within [`SHELL_STEPS`] steps behind
+    /// it), and the three texels met are blended by the cells' weights. sRGB colour and
+    /// coverage, RGBA8, rows from the top.
+    pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
+        let (up, centre, r) = (Vec3::from(self.up), Vec3::from(self.centre), self.radius);
+        let view = view_from(d, centre, r, up);
+        let cells: Vec<(u32, u32, f32, View, u32)> = self
+            .frames_around(d)
+            .iter()
+            .filter(|&&(_, w)| w > 0.0)
+            .map(|&((i, j), w)| {
+                let dk = self.frame_direction(i, j);
+                (
+                    i,
+                    j,
+                    w,
+                    view_from(dk, centre, r, up),
+                    self.march_steps(d, dk),
+                )
+            })
+            .collect();
         let mut out = vec![[0u8; 4]; (pixels * pixels) as usize];
         for y in 0..pixels {
             for x in 0..pixels {
-                let (u, v) = (
-                    (x as f32 + 0.5) / pixels as f32,
-                    (y as f32 + 0.5) / pixels as f32,
+                let (cx, cy) = (
+                    (x as f32 + 0.5) / pixels as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / pixels as f32 * 2.0,
                 );
+                // The pixel's point on the plane through the centre facing d.
+                let at = (view.right * cx + view.up * cy) * r;
                 // Colour weighted by coverage too (an empty texel has no colour).
                 let (mut rgb, mut alpha) = ([0.0f32; 3], 0.0f32);
-                for &((ci, cj), w) in &frames {
-                    let tx = ci * self.cell + ((u * self.cell as f32) as u32).min(self.cell - 1);
-                    let ty = cj * self.cell + ((v * self.cell as f32) as u32).min(self.cell - 1);
-                    let t = self.albedo.pixel(tx, ty);
+                for &(i, j, w, ref v, steps) in &cells {
+                    let Some(t) = self.march(i, j, v, steps, at, d) else {
+                        continue;
+                    };
                     let a = w * t[3] as f32;
                     for (sum, &c) in rgb.iter_mut().zip(&t) {
                         *sum += a * c as f32;
@@ -410,6 +438,64 @@ impl Impostor {
         }
         out
     }
+
+    /// Steps a ray seen from `d` is followed across a cell drawn from `dk`: one per
+    /// two thirds of a texel it moves across the cell, at least 4.
+    fn march_steps(&self, d: Vec3, dk: Vec3) -> u32 {
+        let sin = (d - dk * d.dot(dk)).length();
+        ((1.5 * self.cell as f32 * sin).ceil() as u32).clamp(4, 4 * self.cell)
+    }
+
+    /// The albedo texel of cell (`i`, `j`), drawn by `view`, where the ray through `at`
+    /// (from the centre, on the plane facing `d`) along `-d` first meets the surface the
+    /// cell saw: the first of `steps` points from the near side of the bounding sphere to
+    /// its far side over a covered texel whose depth is at most [`SHELL_STEPS`] steps
+    /// nearer than the point.
+    fn march(&self, i: u32, j: u32, view: &View, steps: u32, at: Vec3, d: Vec3) -> Option<[u8; 4]> {
+        let r = self.radius;
+        let cell = self.cell as f32;
+        let step = 2.0 * r / steps as f32;
+        for s in 0..=steps {
+            let p = at + d * (r - s as f32 * step);
+            let (u, v) = (
+                0.5 + p.dot(view.right) / (2.0 * r),
+                0.5 - p.dot(view.up) / (2.0 * r),
+            );
+            if !(0.0..1.0).contains(&u) || !(0.0..1.0).contains(&v) {
+                continue;
+            }
+            let tx = i * self.cell + ((u * cell) as u32).min(self.cell - 1);
+            let ty = j * self.cell + ((v * cell) as u32).min(self.cell - 1);
+            let texel = self.albedo.pixel(tx, ty);
+            if texel[3] == 0 {
+                continue;
+            }
+            let surface = (self.normal.pixel(tx, ty)[3] as f32 / 255.0 * 2.0 - 1.0) * r;
+            let depth = p.dot(view.forward);
+            if depth >= surface - DEPTH_SLACK * r && depth <= surface + SHELL_STEPS * step {
+                return Some(texel);
+            }
+        }
+        None
+    }
+}
+
+/// How far behind the surface a cell saw, in march steps, a ray still meets it (the
+/// surface is taken as a shell this thick: thin enough that a ray passing behind a twig
+/// does not meet it, thick enough that a step does not jump over it).
+pub const SHELL_STEPS: f32 = 3.0;
+
+/// How far in front of the surface a cell saw, as a share of the radius, a ray meets it
+/// (the depth is stored in 8 bits across the sphere's diameter).
+pub const DEPTH_SLACK: f32 = 0.01;
+
+/// The direction cell (`i`, `j`) of a `frames`-square grid is drawn from.
+fn cell_direction(i: u32, j: u32, frames: u32, sphere: Sphere, up: Vec3) -> Vec3 {
+    let q = [
+        2.0 * (i as f32 + 0.5) / frames as f32 - 1.0,
+        2.0 * (j as f32 + 0.5) / frames as f32 - 1.0,
+    ];
+    grid_direction(q, sphere, up)
 }
 
 /// A billboard: `planes` crossed vertical quads through the tree's centre, each sampling

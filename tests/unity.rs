@@ -468,13 +468,17 @@ fn the_impostor_shader_compiles_and_declares_what_the_helper_sets() {
     let hlsl = std::fs::read_to_string(shaders.join("ArborImpostor.hlsl")).unwrap();
     let cs = std::fs::read_to_string(root.join("bindings/unity/Runtime/Arbor.cs")).unwrap();
     let mut set = Vec::new();
-    for call in ["material.SetFloat(\"", "material.SetVector(\""] {
+    for call in [
+        "material.SetFloat(\"",
+        "material.SetVector(\"",
+        "material.SetTexture(\"",
+    ] {
         for part in cs.split(call).skip(1) {
             set.push(part.split('"').next().unwrap().to_string());
         }
     }
     set.push("_MainTex".into());
-    assert!(set.len() >= 6, "{set:?}");
+    assert!(set.len() >= 8, "{set:?}");
     for name in &set {
         assert!(
             shader.contains(&format!("{name} (")),

@@ -70,6 +70,7 @@ static inline GLFWwindow *open_window(const char *title, int width, int height, 
   X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                   \
   X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                 \
   X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                       \
+  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                               \
   X(PFNGLUSEPROGRAMPROC, glUseProgram)                                     \
   X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                     \
   X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)                         \
@@ -97,6 +98,7 @@ static inline GLFWwindow *open_window(const char *title, int width, int height, 
   X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                 \
   X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)               \
   X(PFNGLGENTEXTURESPROC, glGenTextures)                                   \
+  X(PFNGLDELETETEXTURESPROC, glDeleteTextures)                             \
   X(PFNGLBINDTEXTUREPROC, glBindTexture)                                   \
   X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                               \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                     \

@@ -14,13 +14,21 @@
  *    (lod::silhouette). A pixel is covered when half its samples are. Printed: each
  *    level's intersection over union with the full tree, mean and least.
  * 2. The baker: arbor_lods_impostor_create (12 x 12 hemi-octahedral views of 128 pixels of
- *    level 2, 2 x 2 samples a pixel, albedo and normal into host memory) against OpenGL
- *    drawing the same 144 views of the same level at 256 x 256 into colour and normal
+ *    level 2, 3 x 3 samples a pixel, albedo and normal into host memory) against OpenGL
+ *    drawing the same 144 views of the same level at 384 x 384 (the same samples) into colour and normal
  *    attachments and reading both back (glReadPixels) into host memory: milliseconds of
  *    each, best of three.
  *
+ * 3. The impostor as a host draws it: the full tree's impostor (12 x 12 views of 128
+ *    pixels) drawn by the reference shader (examples/common/impostor.glsl, built into the
+ *    gallery) on one camera-facing quad, alpha-tested, against the full tree drawn by
+ *    OpenGL as in 1, from 16 directions that are not baked views (level to 60 degrees up),
+ *    at 96 pixels. And a field of 400 impostors, instanced, timed.
+ *
  * One line a figure, prefixed "lod-check:", for tests/gallery.rs and BENCHMARKS.md.
  */
+
+#include "impostor_glsl.h" /* impostor_glsl: examples/common/impostor.glsl as a string */
 
 static const char *lc_vs =
     "#version 330 core\n"
@@ -179,6 +187,166 @@ static float lc_iou(const unsigned char *a, const unsigned char *b, size_t n) {
   return either ? (float)both / (float)either : 1.0f;
 }
 
+/* An RGBA8 texture sampled texel by texel, on unit `unit`. */
+static GLuint lc_texture(const unsigned char *rgba, int side, int unit) {
+  GLuint t = 0;
+  p_glGenTextures(1, &t);
+  p_glActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+  p_glBindTexture(GL_TEXTURE_2D, t);
+  p_glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  p_glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, side, side, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  p_glActiveTexture(GL_TEXTURE0);
+  return t;
+}
+
+/* Part 3: the full tree's impostor drawn by the reference shader against the full tree
+ * drawn by OpenGL, and a field of them. */
+static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint32_t atlas_side, const LcLevel *full,
+                        LcTarget *target, GLint u_vp, GLint u_leaves, GLuint level_prog) {
+  const int frames = 12, cell = 128, pixels = 96;
+  ArborImpostor *imp = NULL;
+  if (arbor_lods_impostor_create(lods, 0, (uint32_t)frames, (uint32_t)cell, 1, atlas, atlas_side, atlas_side, &imp) !=
+      ARBOR_STATUS_OK)
+    fail("arbor_lods_impostor_create");
+  uint32_t side = 0;
+  float centre[3], radius = 0, up[3];
+  if (arbor_impostor_info(imp, &side, centre, &radius, up) != ARBOR_STATUS_OK) fail("arbor_impostor_info");
+  size_t bytes = (size_t)side * side * 4;
+  unsigned char *a = malloc(bytes), *n = malloc(bytes);
+  if (arbor_impostor_atlas_write(imp, 0, a, bytes, NULL) != ARBOR_STATUS_OK ||
+      arbor_impostor_atlas_write(imp, 1, n, bytes, NULL) != ARBOR_STATUS_OK)
+    fail("arbor_impostor_atlas_write");
+  arbor_impostor_free(imp);
+  GLuint tex_albedo = lc_texture(a, (int)side, 4), tex_normal = lc_texture(n, (int)side, 5);
+  free(a);
+  free(n);
+
+  /* The reference shader, as a host compiles it. */
+  size_t len = strlen(impostor_glsl) + 64;
+  char *vs = malloc(len), *fs = malloc(len);
+  snprintf(vs, len, "#version 330 core\n#define VERTEX\n%s", impostor_glsl);
+  snprintf(fs, len, "#version 330 core\n#define FRAGMENT\n%s", impostor_glsl);
+  GLuint prog = link_program(vs, fs);
+  free(vs);
+  free(fs);
+  p_glUseProgram(prog);
+  p_glUniform1i(p_glGetUniformLocation(prog, "albedo"), 4);
+  p_glUniform1i(p_glGetUniformLocation(prog, "normal_depth"), 5);
+  p_glUniform1f(p_glGetUniformLocation(prog, "frames"), (float)frames);
+  p_glUniform1f(p_glGetUniformLocation(prog, "cell"), (float)cell);
+  p_glUniform1i(p_glGetUniformLocation(prog, "hemi"), 1);
+  p_glUniform3f(p_glGetUniformLocation(prog, "centre"), centre[0], centre[1], centre[2]);
+  p_glUniform1f(p_glGetUniformLocation(prog, "radius"), radius);
+  p_glUniform3f(p_glGetUniformLocation(prog, "up"), up[0], up[1], up[2]);
+  GLint i_vp = p_glGetUniformLocation(prog, "view_projection"), i_camera = p_glGetUniformLocation(prog, "camera");
+
+  /* The quad's corners (attribute 0) and one placement a tree (attribute 1, instanced). */
+  enum { FIELD = 20 };
+  static const float corners[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+  static const uint32_t quad[6] = {0, 1, 2, 0, 2, 3};
+  float *place = malloc(sizeof(float) * 4 * FIELD * FIELD);
+  for (int k = 0; k < FIELD * FIELD; k++) {
+    place[4 * k] = k == 0 ? 0.0f : (float)(k % FIELD - FIELD / 2) * 2.2f * radius;
+    place[4 * k + 1] = 0.0f;
+    place[4 * k + 2] = k == 0 ? 0.0f : -(float)(k / FIELD) * 2.2f * radius;
+    place[4 * k + 3] = k == 0 ? 1.0f : 0.8f + 0.4f * (float)((k * 37) % 11) / 10.0f;
+  }
+  GLuint vao, buf[3];
+  p_glGenVertexArrays(1, &vao);
+  p_glBindVertexArray(vao);
+  p_glGenBuffers(3, buf);
+  p_glBindBuffer(GL_ARRAY_BUFFER, buf[0]);
+  p_glBufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
+  p_glEnableVertexAttribArray(0);
+  p_glBindBuffer(GL_ARRAY_BUFFER, buf[1]);
+  p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 4 * FIELD * FIELD), place, GL_STATIC_DRAW);
+  p_glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, NULL);
+  p_glEnableVertexAttribArray(1);
+  p_glVertexAttribDivisor(1, 1);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[2]);
+  p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+  free(place);
+
+  /* 16 directions from level to 60 degrees up, none a baked view's (tests/impostor.rs). */
+  float sum = 0, least = 1;
+  p_glDisable(GL_CULL_FACE);
+  for (int k = 0; k < 16; k++) {
+    float turn = 6.2831853f * fmodf((float)k * 0.618034f, 1.0f) + 0.05f;
+    float e = ((float)k / 15.0f) * 1.0471976f;
+    float d[3] = {cosf(turn) * cosf(e), sinf(e), sinf(turn) * cosf(e)};
+    float forward[3] = {-d[0], -d[1], -d[2]};
+    p_glUseProgram(level_prog);
+    unsigned char *m0 = lc_mask(full, target, u_vp, u_leaves, centre, radius, forward, pixels);
+    /* The impostor: one sample a pixel (the shader's alpha test is the coverage). */
+    lc_target(target, pixels);
+    p_glViewport(0, 0, pixels, pixels);
+    p_glClearColor(0, 0, 0, 0);
+    p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    p_glUseProgram(prog);
+    Mat4 vp = lc_view(centre, forward, radius);
+    p_glUniformMatrix4fv(i_vp, 1, GL_FALSE, vp.m);
+    float camera[3] = {centre[0] + d[0] * 1e4f * radius, centre[1] + d[1] * 1e4f * radius,
+                       centre[2] + d[2] * 1e4f * radius};
+    p_glUniform3f(i_camera, camera[0], camera[1], camera[2]);
+    p_glBindVertexArray(vao);
+    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, 1);
+    unsigned char *rgba = malloc((size_t)pixels * pixels * 4), *m1 = malloc((size_t)pixels * pixels);
+    p_glReadBuffer(GL_COLOR_ATTACHMENT0);
+    p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    p_glReadPixels(0, 0, pixels, pixels, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    for (int i = 0; i < pixels * pixels; i++) m1[i] = rgba[4 * i + 3] > 0;
+    float w = lc_iou(m0, m1, (size_t)pixels * pixels);
+    sum += w;
+    least = fminf(least, w);
+    free(rgba);
+    free(m0);
+    free(m1);
+  }
+  printf("lod-check: impostor: the full tree's, %d x %d views of %d px, by examples/common/impostor.glsl at %d px "
+         "from 16 other directions: OpenGL IoU %.3f (least %.3f)\n",
+         frames, frames, cell, pixels, (double)(sum / 16.0f), (double)least);
+
+  /* The field: 400 impostors seen in perspective, 1024 x 576, best of three. */
+  const int fw = 1024, fh = 576;
+  lc_target(target, fw);
+  p_glViewport(0, 0, fw, fh);
+  float eye[3] = {0.0f, 3.0f * radius, 6.0f * radius}, look[3] = {0.0f, radius, -10.0f * radius};
+  Mat4 field = mat_mul(perspective(0.9f, (float)fw / (float)fh, 0.5f * radius, 200.0f * radius),
+                       look_at(eye, look));
+  p_glUniformMatrix4fv(i_vp, 1, GL_FALSE, field.m);
+  p_glUniform3f(i_camera, eye[0], eye[1], eye[2]);
+  double best = 1e30;
+  size_t covered = 0;
+  for (int run = 0; run < 3; run++) {
+    p_glFinish();
+    double t0 = now_ms();
+    p_glClearColor(0, 0, 0, 0);
+    p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, FIELD * FIELD);
+    p_glFinish();
+    double t1 = now_ms();
+    if (t1 - t0 < best) best = t1 - t0;
+  }
+  unsigned char *rgba = malloc((size_t)fw * fh * 4);
+  p_glReadBuffer(GL_COLOR_ATTACHMENT0);
+  p_glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  for (size_t i = 0; i < (size_t)fw * fh; i++) covered += rgba[4 * i + 3] > 0;
+  free(rgba);
+  printf("lod-check: impostor field: %d impostors drawn by the reference shader at %d x %d in %.1f ms (%s), "
+         "%.1f%% of the pixels covered\n",
+         FIELD * FIELD, fw, fh, best, (const char *)p_glGetString(GL_RENDERER),
+         100.0 * (double)covered / (double)(fw * fh));
+  p_glDeleteVertexArrays(1, &vao);
+  p_glDeleteBuffers(3, buf);
+  p_glDeleteTextures(1, &tex_albedo);
+  p_glDeleteTextures(1, &tex_normal);
+  p_glDeleteProgram(prog);
+  p_glUseProgram(level_prog);
+}
+
 static int lod_check(uint32_t species) {
   const uint32_t atlas_side = 256;
   ArborTree *tree = NULL;
@@ -292,7 +460,7 @@ static int lod_check(uint32_t species) {
 
   /* The baker: arbor's 144 views against OpenGL's, level 2 (or the last). */
   size_t src = count > 2 ? 2 : count - 1;
-  const int frames = 12, cell = 128, side = 2 * cell;
+  const int frames = 12, cell = 128, side = 3 * cell;
   double best_arbor = 1e30, best_gl = 1e30;
   size_t bytes = (size_t)side * side * 4;
   unsigned char *albedo = malloc(bytes * (size_t)(frames * frames)), *normal = malloc(bytes * (size_t)(frames * frames));
@@ -355,6 +523,7 @@ static int lod_check(uint32_t species) {
   free(normal);
   free(imp_albedo);
   free(imp_normal);
+  lc_impostor(lods, atlas, atlas_side, &levels[0], &target, u_vp, u_leaves, prog);
   free(atlas);
   free(levels);
   arbor_lods_free(lods);

@@ -1201,8 +1201,8 @@ namespace Arbor
         /// Build, then the octahedral impostor as the last level ("NAME_LODn": one quad,
         /// its corners (+-1, +-1, 0), that the package's Arbor/Impostor shader turns to
         /// the camera about the impostor's bounding sphere, its bounds that sphere), with
-        /// `material` (its shader Arbor/Impostor; null: none set) given the albedo atlas
-        /// and the impostor's frame, drawn down to `coverage` (0: a quarter of the last
+        /// `material` (its shader Arbor/Impostor; null: none set) given the albedo and the
+        /// normal and depth atlases and the impostor's frame, drawn down to `coverage` (0: a quarter of the last
         /// mesh level's). Make the impostor from `lods` (Lods.Impostor).
         public static UnityEngine.LODGroup Build(UnityEngine.GameObject root, Lods lods, string name, Impostor impostor, UnityEngine.Material material, float coverage)
         {
@@ -1237,7 +1237,13 @@ namespace Arbor
                 texture.LoadRawTextureData(rgba);
                 texture.Apply();
                 material.mainTexture = texture;
+                // The normal and depth atlas, linear (its alpha is a depth, not a colour).
+                var depth = new UnityEngine.Texture2D((int)size, (int)size, UnityEngine.TextureFormat.RGBA32, false, true);
+                depth.LoadRawTextureData(impostor.Atlas(1, out size));
+                depth.Apply();
+                material.SetTexture("_DepthTex", depth);
                 material.SetFloat("_Frames", impostor.Frames);
+                material.SetFloat("_Cell", size / impostor.Frames);
                 material.SetFloat("_Hemi", impostor.Hemi ? 1f : 0f);
                 material.SetVector("_Centre", new UnityEngine.Vector4(centre[0], centre[1], centre[2], 0f));
                 material.SetFloat("_Radius", radius);

@@ -94,7 +94,12 @@ public static class UnityHelpersTest
                     int drawn = 0;
                     for (int p = 3; p < tex.data.Length; p += 4) if (tex.data[p] > 0) drawn++;
                     expect(drawn > 0 && drawn < 256 * 256, "the albedo's coverage: " + drawn);
-                    expect(material.floats["_Frames"] == 8f && material.floats["_Hemi"] == 1f && material.floats["_Radius"] == r, "the frame's numbers");
+                    expect(material.floats["_Frames"] == 8f && material.floats["_Cell"] == 32f && material.floats["_Hemi"] == 1f && material.floats["_Radius"] == r, "the frame's numbers");
+                    var depth = (UnityEngine.Texture2D)material.textures["_DepthTex"];
+                    expect(depth.linear && depth.width == 256 && depth.data.Length == 256 * 256 * 4 && depth.applied, "the normal and depth atlas, linear");
+                    bool depths = true;
+                    for (int p = 3; p < tex.data.Length; p += 4) if (tex.data[p] > 0 && depth.data[p] == 255 && depth.data[p - 1] == 128) depths = false;
+                    expect(depths, "a covered texel has a depth and a normal");
                     var centre = material.vectors["_Centre"];
                     var up = material.vectors["_Up"];
                     expect(centre.x == c[0] && centre.y == c[1] && centre.z == c[2] && up.y == u[1], "the frame's vectors");

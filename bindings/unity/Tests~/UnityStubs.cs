@@ -109,7 +109,9 @@ namespace UnityEngine
         public TextureFormat format;
         public byte[] data;
         public bool applied;
+        public bool linear;
         public Texture2D(int w, int h, TextureFormat f, bool mipChain) { width = w; height = h; format = f; }
+        public Texture2D(int w, int h, TextureFormat f, bool mipChain, bool linearData) { width = w; height = h; format = f; linear = linearData; }
         public void LoadRawTextureData(byte[] d) { data = d; }
         public void Apply() { applied = true; }
     }
@@ -120,6 +122,8 @@ namespace UnityEngine
         public System.Collections.Generic.Dictionary<string, Vector4> vectors = new System.Collections.Generic.Dictionary<string, Vector4>();
         public void SetFloat(string name, float value) { floats[name] = value; }
         public void SetVector(string name, Vector4 value) { vectors[name] = value; }
+        public System.Collections.Generic.Dictionary<string, Texture> textures = new System.Collections.Generic.Dictionary<string, Texture>();
+        public void SetTexture(string name, Texture value) { textures[name] = value; }
     }
     public class MeshRenderer : Renderer { }
     public struct LOD

@@ -8,7 +8,9 @@ Shader "Arbor/Impostor"
     Properties
     {
         _MainTex ("Impostor albedo (sRGB, alpha coverage)", 2D) = "white" {}
+        _DepthTex ("Impostor normal (linear, alpha depth)", 2D) = "white" {}
         _Frames ("Views a side", Float) = 12
+        _Cell ("Texels a side of a view", Float) = 128
         _Hemi ("Hemi-octahedral (1) or whole sphere (0)", Float) = 1
         _Centre ("Bounding sphere centre (tree space)", Vector) = (0, 0, 0, 0)
         _Radius ("Bounding sphere radius", Float) = 1
