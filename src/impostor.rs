@@ -192,6 +192,52 @@ fn draw_cell(
             ];
         }
     }
+    dilate(albedo, cell);
+}
+
+/// Gives the empty texels of a `cell`-square albedo next to covered ones the mean colour
+/// of those (their alpha stays 0), twice over: a host's bilinear filter then blends a
+/// leaf's edge with its own colour, not with black.
+fn dilate(albedo: &mut [[u8; 4]], cell: u32) {
+    let n = cell as i64;
+    for _ in 0..2 {
+        let before = albedo.to_vec();
+        for y in 0..n {
+            for x in 0..n {
+                let o = (y * n + x) as usize;
+                if before[o][3] != 0 || before[o][..3] != [0, 0, 0] {
+                    continue;
+                }
+                let (mut sum, mut count) = ([0u32; 3], 0u32);
+                for (dx, dy) in [
+                    (-1, 0),
+                    (1, 0),
+                    (0, -1),
+                    (0, 1),
+                    (-1, -1),
+                    (1, -1),
+                    (-1, 1),
+                    (1, 1),
+                ] {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if !(0..n).contains(&nx) || !(0..n).contains(&ny) {
+                        continue;
+                    }
+                    let t = before[(ny * n + nx) as usize];
+                    if t[3] != 0 || t[..3] != [0, 0, 0] {
+                        for (s, &c) in sum.iter_mut().zip(&t) {
+                            *s += c as u32;
+                        }
+                        count += 1;
+                    }
+                }
+                if count > 0 {
+                    let mean = sum.map(|s| s.checked_div(count).unwrap_or(0) as u8);
+                    albedo[o] = [mean[0], mean[1], mean[2], 0];
+                }
+            }
+        }
+    }
 }
 
 /// One drawn cell: its albedo and normal pixels.
@@ -386,7 +432,8 @@ impl Impostor {
     /// reference shader draws it: for each pixel, the ray through it (along `-d`, across
     /// the bounding sphere) is followed in each of the three cells around `d` until it
     /// meets the surface that cell saw (its depth, within [`SHELL_STEPS`] steps behind
-    /// it), and the three texels met are blended by the cells' weights. sRGB colour and
+    /// it), the albedo there is filtered as a host's bilinear sampler filters it (within
+    /// the cell), and the three are blended by the cells' weights. sRGB colour and
     /// coverage, RGBA8, rows from the top.
     pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
         let (up, centre, r) = (Vec3::from(self.up), Vec3::from(self.centre), self.radius);
@@ -446,7 +493,7 @@ impl Impostor {
         ((1.5 * self.cell as f32 * sin).ceil() as u32).clamp(4, 4 * self.cell)
     }
 
-    /// The albedo texel of cell (`i`, `j`), drawn by `view`, where the ray through `at`
+    /// The albedo of cell (`i`, `j`) (filtered), drawn by `view`, where the ray through `at`
     /// (from the centre, on the plane facing `d`) along `-d` first meets the surface the
     /// cell saw: the first of `steps` points from the near side of the bounding sphere to
     /// its far side over a covered texel whose depth is at most [`SHELL_STEPS`] steps
@@ -473,10 +520,30 @@ impl Impostor {
             let surface = (self.normal.pixel(tx, ty)[3] as f32 / 255.0 * 2.0 - 1.0) * r;
             let depth = p.dot(view.forward);
             if depth >= surface - DEPTH_SLACK * r && depth <= surface + SHELL_STEPS * step {
-                return Some(texel);
+                return Some(self.filtered(i, j, u, v));
             }
         }
         None
+    }
+}
+
+impl Impostor {
+    /// The albedo of cell (`i`, `j`) at `(u, v)` in [0, 1)² as a host's sampler filters it:
+    /// bilinear between the four nearest texel centres, kept within the cell.
+    fn filtered(&self, i: u32, j: u32, u: f32, v: f32) -> [u8; 4] {
+        let cell = self.cell as f32;
+        let fx = (u * cell - 0.5).clamp(0.0, cell - 1.0);
+        let fy = (v * cell - 0.5).clamp(0.0, cell - 1.0);
+        let (x0, y0) = (fx as u32, fy as u32);
+        let (x1, y1) = ((x0 + 1).min(self.cell - 1), (y0 + 1).min(self.cell - 1));
+        let (wx, wy) = (fx - x0 as f32, fy - y0 as f32);
+        let at = |x: u32, y: u32| self.albedo.pixel(i * self.cell + x, j * self.cell + y);
+        let (a, b, c, d) = (at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1));
+        std::array::from_fn(|k| {
+            let top = a[k] as f32 * (1.0 - wx) + b[k] as f32 * wx;
+            let bottom = c[k] as f32 * (1.0 - wx) + d[k] as f32 * wx;
+            (top * (1.0 - wy) + bottom * wy).round() as u8
+        })
     }
 }
 

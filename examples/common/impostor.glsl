@@ -5,13 +5,15 @@
 // weights on the grid; in each view it follows the ray through the fragment across the
 // tree's bounding sphere until it meets the surface that view saw (the depth in the normal
 // atlas's alpha), so the three views line up between the baked directions (docs/meshes.md,
-// "Impostors"; arbor::impostor::Impostor::picture is the same on the CPU, texel for texel).
+// "Impostors"; arbor::impostor::Impostor::picture is the same on the CPU).
 // Compile the vertex stage with `#define VERTEX` and the fragment stage with
 // `#define FRAGMENT` after the #version line.
 //
 // Per tree (instance): its place and scale. Uniforms: the impostor's extras
 // (arbor_impostor in the glTF node: frames, cell, hemi, centre, radius, up) and its two
-// atlases, sampled texel by texel (texelFetch: no filtering, no mipmaps).
+// atlases: the march reads both texel by texel (texelFetch); the albedo where it ends is
+// sampled through the albedo's sampler at level 0 (set its filter to GL_LINEAR: the
+// coverage is then filtered as a pixel's footprint covers it).
 
 #ifdef VERTEX
 layout(location = 0) in vec2 corner;       // the quad: (-1,-1) (1,-1) (1,1) (-1,1)
@@ -96,7 +98,12 @@ vec4 march(vec2 ij, vec3 d) {
         if (c.a == 0.0) continue;
         float surface = texelFetch(normal_depth, texel, 0).a * 2.0 - 1.0;
         float depth = dot(p, -dk);
-        if (depth >= surface - 0.01 && depth <= surface + 3.0 * step) return c;
+        if (depth >= surface - 0.01 && depth <= surface + 3.0 * step) {
+            // The albedo there filtered (the sampler's bilinear filter, level 0), kept
+            // within the view's cell.
+            vec2 t = (vec2(origin) + clamp(uv * cell, vec2(0.5), vec2(cell - 0.5))) / (frames * cell);
+            return textureLod(albedo, t, 0.0);
+        }
     }
     return vec4(0.0);
 }

@@ -187,16 +187,16 @@ static float lc_iou(const unsigned char *a, const unsigned char *b, size_t n) {
   return either ? (float)both / (float)either : 1.0f;
 }
 
-/* An RGBA8 texture sampled texel by texel, on unit `unit`. */
-static GLuint lc_texture(const unsigned char *rgba, int side, int unit) {
+/* An RGBA8 texture on unit `unit`, filtered by `filter`, no mipmaps. */
+static GLuint lc_texture(const unsigned char *rgba, int side, int unit, GLint filter) {
   GLuint t = 0;
   p_glGenTextures(1, &t);
   p_glActiveTexture(GL_TEXTURE0 + (GLenum)unit);
   p_glBindTexture(GL_TEXTURE_2D, t);
   p_glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   p_glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, side, side, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+  p_glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
   p_glActiveTexture(GL_TEXTURE0);
   return t;
 }
@@ -219,7 +219,8 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
       arbor_impostor_atlas_write(imp, 1, n, bytes, NULL) != ARBOR_STATUS_OK)
     fail("arbor_impostor_atlas_write");
   arbor_impostor_free(imp);
-  GLuint tex_albedo = lc_texture(a, (int)side, 4), tex_normal = lc_texture(n, (int)side, 5);
+  /* The albedo filtered (the shader samples it at level 0), the depth read texel by texel. */
+  GLuint tex_albedo = lc_texture(a, (int)side, 4, GL_LINEAR), tex_normal = lc_texture(n, (int)side, 5, GL_NEAREST);
   free(a);
   free(n);
 

@@ -8,6 +8,7 @@
 // Needs UnityCG.cginc (unity_WorldToObject, _WorldSpaceCameraPos, UnityObjectToClipPos).
 
 Texture2D _MainTex;        // "impostor albedo": sRGB colour, alpha the coverage
+SamplerState sampler_MainTex;   // bilinear (Unity's default for a Texture2D)
 Texture2D _DepthTex;       // "impostor normal": normal in RGB, depth in alpha (linear)
 float _Frames;             // views a side of the grid
 float _Cell;               // texels a side of a view
@@ -117,7 +118,12 @@ float4 ArborImpostorMarch(float2 ij, float3 at, float3 d)
         if (c.a == 0.0) continue;
         float surface = _DepthTex.Load(int3(texel, 0)).a * 2.0 - 1.0;
         float depth = dot(p, -dk);
-        if (depth >= surface - 0.01 && depth <= surface + 3.0 * stepLength) return c;
+        if (depth >= surface - 0.01 && depth <= surface + 3.0 * stepLength)
+        {
+            // The albedo there filtered (bilinear, level 0), kept within the view's cell.
+            float2 t = ((float2)origin + clamp(uv * _Cell, 0.5, _Cell - 0.5)) / (_Frames * _Cell);
+            return _MainTex.SampleLevel(sampler_MainTex, t, 0.0);
+        }
     }
     return float4(0.0, 0.0, 0.0, 0.0);
 }
