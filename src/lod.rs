@@ -146,7 +146,7 @@ pub fn chain(
     // The silhouettes sample a small copy of the atlas (the full one misses the cache).
     let small = atlas.map(|a| a.downsampled(SILHOUETTE_ATLAS));
     let atlas = small.as_ref();
-    let (full, shape) = prepare(skeleton, mesh, leaves)?;
+    let (full, shape) = prepare(skeleton, mesh, leaves, lod.threads)?;
     fit(full, mesh.up(), atlas, lod, &shape)
 }
 
@@ -267,15 +267,29 @@ fn prepare<'a>(
     skeleton: &'a Skeleton,
     mesh: &'a MeshOptions,
     leaves: Option<&'a LeafOptions>,
+    threads: u32,
 ) -> Result<(Level, Shape<'a>)> {
     let height = skeleton
         .bounds()
         .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
-    let bark = mesh::tubes(skeleton, mesh)?;
-    let leaf_mesh = match leaves {
-        Some(l) => Some(mesh::leaf_mesh(skeleton, &l.clone().keep(1.0), mesh)?),
-        None => None,
+    // The bark and the leaves side by side.
+    let leaf_mesh = || match leaves {
+        Some(l) => mesh::leaf_mesh(skeleton, &l.clone().keep(1.0), mesh).map(Some),
+        None => Ok(None),
     };
+    let (bark, leaf_mesh) = if threads == 1 {
+        (mesh::tubes(skeleton, mesh), leaf_mesh())
+    } else {
+        std::thread::scope(|s| {
+            let bark = s.spawn(|| mesh::tubes(skeleton, mesh));
+            let leaves = leaf_mesh();
+            (
+                bark.join().expect("meshing the bark does not panic"),
+                leaves,
+            )
+        })
+    };
+    let (bark, leaf_mesh) = (bark?, leaf_mesh?);
     let full_triangles = count(&bark) + leaf_mesh.as_ref().map_or(0, count);
     // How many leaves there are, each of how many triangles (the rest of the leaf mesh,
     // the turtle's polygons and organs, is not thinned).
@@ -300,6 +314,7 @@ fn prepare<'a>(
         merged: Vec::new(),
     };
     let shape = Shape {
+        threads,
         skeleton,
         mesh,
         leaves,
@@ -313,6 +328,8 @@ fn prepare<'a>(
 
 /// What every level of a chain is made from.
 struct Shape<'a> {
+    /// Threads the candidates are made on (as [`LodOptions::threads`]).
+    threads: u32,
     skeleton: &'a Skeleton,
     mesh: &'a MeshOptions,
     leaves: Option<&'a LeafOptions>,
@@ -338,10 +355,11 @@ impl Shape<'_> {
         several: bool,
     ) -> Result<Vec<Level>> {
         if several && self.leaf_count > 0 {
-            BARK_SHARES
-                .iter()
-                .map(|&share| self.level(before, budget, c, share))
-                .collect()
+            on_threads(self.threads, &BARK_SHARES, |&share| {
+                self.level(before, budget, c, share)
+            })
+            .into_iter()
+            .collect()
         } else {
             Ok(vec![self.level(before, budget, c, BARK_SHARE)?])
         }

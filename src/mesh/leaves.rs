@@ -546,7 +546,7 @@ fn leaf_points(prefab: &LeafPrefab) -> Vec<Vec3> {
 struct Wood<'a> {
     branches: &'a [crate::skeleton::Branch],
     cell: f32,
-    grid: std::collections::HashMap<glam::IVec3, Vec<u32>>,
+    grid: rustc_hash::FxHashMap<glam::IVec3, Vec<u32>>,
 }
 
 impl<'a> Wood<'a> {
