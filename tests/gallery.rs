@@ -295,10 +295,13 @@ fn gallery_draws_lsystem_files_with_their_organs() {
 fn gallery_checks_the_levels_silhouettes_with_opengl() {
     require_gl_tools();
     let exe = common::pictures::build("gallery");
+    let field = Path::new(env!("CARGO_TARGET_TMPDIR")).join("impostor-field.png");
+    let _ = std::fs::remove_file(&field);
     let out = run(Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x1024x24"])
         .arg(&exe)
-        .args(["--species", "shrub", "--lod-check"]));
+        .args(["--species", "shrub", "--lod-check", "--screenshot"])
+        .arg(&field));
     println!("{out}");
     let mut levels = 0;
     for line in out
@@ -344,15 +347,19 @@ fn gallery_checks_the_levels_silhouettes_with_opengl() {
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("no IoU in {impostor}"));
     assert!(iou >= 0.85, "{impostor}");
-    let field = out
+    let field_line = out
         .lines()
         .find(|l| l.contains("impostor field:"))
         .unwrap_or_else(|| panic!("no field line in {out}"));
-    let share: f32 = field
+    let share: f32 = field_line
         .split("% of the pixels")
         .next()
         .and_then(|r| r.rsplit(' ').next())
         .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no share in {field}"));
-    assert!((10.0..90.0).contains(&share), "{field}");
+        .unwrap_or_else(|| panic!("no share in {field_line}"));
+    assert!((10.0..90.0).contains(&share), "{field_line}");
+    // Its picture, lit, over a sky and a ground: written and a PNG of the field's size.
+    let png = std::fs::read(&field).unwrap_or_else(|e| panic!("{}: {e}", field.display()));
+    assert_eq!(&png[1..4], b"PNG");
+    assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 1024);
 }

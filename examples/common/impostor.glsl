@@ -13,7 +13,8 @@
 // (arbor_impostor in the glTF node: frames, cell, hemi, centre, radius, up) and its two
 // atlases: the march reads both texel by texel (texelFetch); the albedo where it ends is
 // sampled through the albedo's sampler at level 0 (set its filter to GL_LINEAR: the
-// coverage is then filtered as a pixel's footprint covers it).
+// coverage is then filtered as a pixel's footprint covers it). With `light` set, the
+// colour is lit by the normal atlas (the CPU's picture is the albedo, unlit).
 
 #ifdef VERTEX
 layout(location = 0) in vec2 corner;       // the quad: (-1,-1) (1,-1) (1,1) (-1,1)
@@ -47,6 +48,7 @@ uniform float frames;                      // views a side of the grid
 uniform float cell;                        // texels a side of a view
 uniform bool hemi;                         // the upper half of the sphere
 uniform vec3 up;
+uniform vec3 light;                        // toward the sun, tree space; zero: unlit
 out vec4 colour;
 
 // The axes besides up: X and Z for a Y-up tree, X and Y for a Z-up one.
@@ -80,7 +82,8 @@ vec3 view_direction(vec2 ij) {
 // the first of `steps` points from the sphere's near side to its far side over a covered
 // texel whose depth is at most three steps nearer (arbor::impostor::SHELL_STEPS) and at
 // most a hundredth of the radius farther (DEPTH_SLACK).
-vec4 march(vec2 ij, vec3 d) {
+vec4 march(vec2 ij, vec3 d, out vec3 normal) {
+    normal = vec3(0.0);
     vec3 dk = view_direction(ij);
     vec3 right = cross(-dk, up);
     right = dot(right, right) < 1e-10 ? vec3(1.0, 0.0, 0.0) : normalize(right);
@@ -96,12 +99,14 @@ vec4 march(vec2 ij, vec3 d) {
         ivec2 texel = origin + min(ivec2(uv * cell), ivec2(int(cell) - 1));
         vec4 c = texelFetch(albedo, texel, 0);
         if (c.a == 0.0) continue;
-        float surface = texelFetch(normal_depth, texel, 0).a * 2.0 - 1.0;
+        vec4 nd = texelFetch(normal_depth, texel, 0);
+        float surface = nd.a * 2.0 - 1.0;
         float depth = dot(p, -dk);
         if (depth >= surface - 0.01 && depth <= surface + 3.0 * step) {
             // The albedo there filtered (the sampler's bilinear filter, level 0), kept
             // within the view's cell.
             vec2 t = (vec2(origin) + clamp(uv * cell, vec2(0.5), vec2(cell - 0.5))) / (frames * cell);
+            normal = nd.rgb * 2.0 - 1.0;
             return textureLod(albedo, t, 0.0);
         }
     }
@@ -124,13 +129,20 @@ void main() {
     vec2 last = vec2(frames - 1.0);
     // Colour weighted by coverage (an empty texel has no colour), as on the CPU.
     vec4 sum = vec4(0.0);
+    vec3 normal = vec3(0.0);
     vec2 cells[3] = vec2[3](min(a, last), min(b, last), min(c, last));
     for (int k = 0; k < 3; k++) {
         if (w[k] <= 0.0) continue;
-        vec4 t = march(cells[k], d);
+        vec3 n;
+        vec4 t = march(cells[k], d, n);
         sum += vec4(t.rgb * t.a, t.a) * w[k];
+        normal += n * t.a * w[k];
     }
     if (sum.a < 0.5) discard;
-    colour = vec4(sum.rgb / sum.a, 1.0);
+    vec3 rgb = sum.rgb / sum.a;
+    // Lit by the normal atlas where a light is given (a half-Lambert: leaves pass light).
+    if (dot(light, light) > 0.0 && dot(normal, normal) > 0.0)
+        rgb *= 0.35 + 0.65 * clamp(0.5 + 0.5 * dot(normalize(normal), normalize(light)), 0.0, 1.0);
+    colour = vec4(rgb, 1.0);
 }
 #endif

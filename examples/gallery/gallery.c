@@ -6,7 +6,7 @@
  *   gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--depth K] [--forest]
  *           [--smooth] [--compact] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]] [--species oak|maple|birch|willow|poplar|pine|spruce|shrub]
- *           [--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check]
+ *           [--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check [--screenshot F]]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
@@ -1038,7 +1038,7 @@ int main(int argc, char **argv) {
       fprintf(stderr, "gallery: --lod-check needs --species NAME\n");
       return 2;
     }
-    int r = lod_check((uint32_t)st.species);
+    int r = lod_check((uint32_t)st.species, shot);
     glfwDestroyWindow(win);
     glfwTerminate();
     return r;

@@ -50,6 +50,7 @@ static const char *lc_fs =
     "in vec2 v_uv;\n"
     "uniform sampler2D u_atlas;\n"
     "uniform int u_leaves;\n"
+    "uniform vec3 u_tint;\n"
     "layout(location = 0) out vec4 o_color;\n"
     "layout(location = 1) out vec4 o_normal;\n"
     "void main() {\n"
@@ -60,7 +61,7 @@ static const char *lc_fs =
     "    if (c.a < 0.5) discard;\n"
     "    if (!gl_FrontFacing) n = -n;\n"
     "  }\n"
-    "  o_color = vec4(c.rgb, 1.0);\n"
+    "  o_color = vec4(c.rgb * u_tint, 1.0);\n"
     "  o_normal = vec4(n * 0.5 + 0.5, 1.0);\n"
     "}\n";
 
@@ -204,7 +205,7 @@ static GLuint lc_texture(const unsigned char *rgba, int side, int unit, GLint fi
 /* Part 3: the full tree's impostor drawn by the reference shader against the full tree
  * drawn by OpenGL, and a field of them. */
 static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint32_t atlas_side, const LcLevel *full,
-                        LcTarget *target, GLint u_vp, GLint u_leaves, GLuint level_prog) {
+                        LcTarget *target, GLint u_vp, GLint u_leaves, GLuint level_prog, const char *shot) {
   const int frames = 12, cell = 128, pixels = 96;
   ArborImpostor *imp = NULL;
   if (arbor_lods_impostor_create(lods, 0, (uint32_t)frames, (uint32_t)cell, 1, atlas, atlas_side, atlas_side, &imp) !=
@@ -249,9 +250,11 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
   static const uint32_t quad[6] = {0, 1, 2, 0, 2, 3};
   float *place = malloc(sizeof(float) * 4 * FIELD * FIELD);
   for (int k = 0; k < FIELD * FIELD; k++) {
-    place[4 * k] = k == 0 ? 0.0f : (float)(k % FIELD - FIELD / 2) * 2.2f * radius;
+    /* A jittered grid (the first tree, at the origin, is the one the check draws). */
+    float jx = (float)((k * 7919) % 13) / 13.0f - 0.5f, jz = (float)((k * 104729) % 17) / 17.0f - 0.5f;
+    place[4 * k] = k == 0 ? 0.0f : ((float)(k % FIELD - FIELD / 2) + 0.9f * jx) * 2.2f * radius;
     place[4 * k + 1] = 0.0f;
-    place[4 * k + 2] = k == 0 ? 0.0f : -(float)(k / FIELD) * 2.2f * radius;
+    place[4 * k + 2] = k == 0 ? 0.0f : -((float)(k / FIELD) + 0.9f * jz) * 2.2f * radius;
     place[4 * k + 3] = k == 0 ? 1.0f : 0.8f + 0.4f * (float)((k * 37) % 11) / 10.0f;
   }
   GLuint vao, buf[3];
@@ -336,6 +339,32 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
   p_glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
   for (size_t i = 0; i < (size_t)fw * fh; i++) covered += rgba[4 * i + 3] > 0;
   free(rgba);
+  if (shot) {
+    /* The picture: the field lit from the upper left, over a sky and a ground. */
+    p_glClearColor(0.62f, 0.74f, 0.86f, 0.0f);
+    p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    ArborVertex g[4];
+    uint32_t gi[6];
+    ground_square(0.0f, -12.0f * radius, 40.0f * radius, g, gi);
+    GLuint gvao = vertex_array(g, 4, gi, 6, NULL, NULL);
+    p_glUseProgram(level_prog);
+    p_glUniformMatrix4fv(u_vp, 1, GL_FALSE, field.m);
+    p_glUniform1i(u_leaves, 0);
+    /* The bark's brown turned to a grass's olive. */
+    GLint tint = p_glGetUniformLocation(level_prog, "u_tint");
+    p_glUniform3f(tint, 0.8f, 1.45f, 0.55f);
+    p_glDisable(GL_CULL_FACE);
+    p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL);
+    p_glUniform3f(tint, 1.0f, 1.0f, 1.0f);
+    p_glDeleteVertexArrays(1, &gvao);
+    p_glUseProgram(prog);
+    p_glUniform3f(p_glGetUniformLocation(prog, "light"), -0.5f, 0.8f, 0.4f);
+    p_glBindVertexArray(vao);
+    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, FIELD * FIELD);
+    p_glUniform3f(p_glGetUniformLocation(prog, "light"), 0.0f, 0.0f, 0.0f);
+    if (!save_image(shot, fw, fh)) fail("the screenshot");
+    printf("lod-check: impostor field written to %s\n", shot);
+  }
   printf("lod-check: impostor field: %d impostors drawn by the reference shader at %d x %d in %.1f ms (%s), "
          "%.1f%% of the pixels covered\n",
          FIELD * FIELD, fw, fh, best, (const char *)p_glGetString(GL_RENDERER),
@@ -348,7 +377,7 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
   p_glUseProgram(level_prog);
 }
 
-static int lod_check(uint32_t species) {
+static int lod_check(uint32_t species, const char *shot) {
   const uint32_t atlas_side = 256;
   ArborTree *tree = NULL;
   if (arbor_tree_from_species(species, 1, &tree) != ARBOR_STATUS_OK) fail("arbor_tree_from_species");
@@ -385,6 +414,7 @@ static int lod_check(uint32_t species) {
   GLuint prog = link_program(lc_vs, lc_fs);
   p_glUseProgram(prog);
   p_glUniform1i(p_glGetUniformLocation(prog, "u_atlas"), 3);
+  p_glUniform3f(p_glGetUniformLocation(prog, "u_tint"), 1.0f, 1.0f, 1.0f);
   GLint u_vp = p_glGetUniformLocation(prog, "u_view_proj"), u_leaves = p_glGetUniformLocation(prog, "u_leaves");
   p_glEnable(GL_DEPTH_TEST);
   p_glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
@@ -524,7 +554,7 @@ static int lod_check(uint32_t species) {
   free(normal);
   free(imp_albedo);
   free(imp_normal);
-  lc_impostor(lods, atlas, atlas_side, &levels[0], &target, u_vp, u_leaves, prog);
+  lc_impostor(lods, atlas, atlas_side, &levels[0], &target, u_vp, u_leaves, prog, shot);
   free(atlas);
   free(levels);
   arbor_lods_free(lods);
