@@ -272,10 +272,16 @@ fn prepare<'a>(
     let height = skeleton
         .bounds()
         .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
-    // The bark and the leaves side by side.
-    let leaf_mesh = || match leaves {
-        Some(l) => mesh::leaf_mesh(skeleton, &l.clone().keep(1.0), mesh).map(Some),
-        None => Ok(None),
+    // The bark and the leaves side by side; the leaves placed once for every level.
+    let leaf_mesh = || -> Result<Option<(Mesh, mesh::Placed)>> {
+        match leaves {
+            Some(l) => {
+                let placed = mesh::place_all(skeleton, l, mesh)?;
+                let full = mesh::leaf_mesh_placed(skeleton, &placed, &l.clone().keep(1.0), mesh)?;
+                Ok(Some((full, placed)))
+            }
+            None => Ok(None),
+        }
     };
     let (bark, leaf_mesh) = if threads == 1 {
         (mesh::tubes(skeleton, mesh), leaf_mesh())
@@ -290,15 +296,16 @@ fn prepare<'a>(
         })
     };
     let (bark, leaf_mesh) = (bark?, leaf_mesh?);
+    let (leaf_mesh, placed) = match leaf_mesh {
+        Some((m, p)) => (Some(m), Some(p)),
+        None => (None, None),
+    };
     let full_triangles = count(&bark) + leaf_mesh.as_ref().map_or(0, count);
     // How many leaves there are, each of how many triangles (the rest of the leaf mesh,
     // the turtle's polygons and organs, is not thinned).
-    let (leaf_count, per_leaf) = match leaves {
-        Some(l) => (
-            mesh::leaf_instances(skeleton, &l.clone().keep(1.0), mesh)?.len(),
-            l.shape().triangles.len(),
-        ),
-        None => (0, 0),
+    let (leaf_count, per_leaf) = match (leaves, &placed) {
+        (Some(l), Some(p)) => (p.len(), l.shape().triangles.len()),
+        _ => (0, 0),
     };
     let leaf_rest = leaf_mesh
         .as_ref()
@@ -315,6 +322,7 @@ fn prepare<'a>(
     };
     let shape = Shape {
         threads,
+        placed,
         skeleton,
         mesh,
         leaves,
@@ -330,6 +338,8 @@ fn prepare<'a>(
 struct Shape<'a> {
     /// Threads the candidates are made on (as [`LodOptions::threads`]).
     threads: u32,
+    /// The leaves, placed once.
+    placed: Option<mesh::Placed>,
     skeleton: &'a Skeleton,
     mesh: &'a MeshOptions,
     leaves: Option<&'a LeafOptions>,
@@ -377,7 +387,10 @@ impl Shape<'_> {
                 let room = budget.saturating_sub(bark_triangles + self.leaf_rest);
                 let keep = mesh::keep_for(self.leaf_count, room / self.per_leaf);
                 let l = l.clone().keep(keep);
-                let baked = mesh::leaf_mesh(self.skeleton, &l, self.mesh)?;
+                let baked = match &self.placed {
+                    Some(p) => mesh::leaf_mesh_placed(self.skeleton, p, &l, self.mesh)?,
+                    None => mesh::leaf_mesh(self.skeleton, &l, self.mesh)?,
+                };
                 (Some(baked), Some(l))
             }
             _ => (None, self.leaves.cloned()),

@@ -242,3 +242,34 @@ fn no_level_of_a_1996_tree_is_empty() {
         }
     }
 }
+
+/// Leaves placed once and thinned for each level are the leaves placed again for it: the
+/// same mesh for every keep, and options other than `keep` (or another mesh's) placed
+/// afresh.
+#[test]
+fn leaves_placed_once_bake_as_leaves_placed_again() {
+    use arbor::mesh::{leaf_mesh, leaf_mesh_placed, place_all};
+    let tree = arbor::models::honda::build(&arbor::HondaParams::preset('b').unwrap()).unwrap();
+    let mesh = MeshOptions::default();
+    let leaves = LeafOptions::default().tips(true).density(4.0).size(6.0);
+    let placed = place_all(&tree, &leaves.clone().keep(0.3), &mesh).unwrap();
+    assert!(placed.len() > 1000, "{}", placed.len());
+    for keep in [1.0, 0.5, 0.1, 0.01] {
+        let l = leaves.clone().keep(keep);
+        assert_eq!(
+            leaf_mesh_placed(&tree, &placed, &l, &mesh).unwrap(),
+            leaf_mesh(&tree, &l, &mesh).unwrap(),
+            "keep {keep}"
+        );
+    }
+    let other = leaves.clone().size(9.0).keep(0.5);
+    assert_eq!(
+        leaf_mesh_placed(&tree, &placed, &other, &mesh).unwrap(),
+        leaf_mesh(&tree, &other, &mesh).unwrap()
+    );
+    let thin = MeshOptions::default().cull_radius(0.05);
+    assert_eq!(
+        leaf_mesh_placed(&tree, &placed, &leaves, &thin).unwrap(),
+        leaf_mesh(&tree, &leaves, &thin).unwrap()
+    );
+}

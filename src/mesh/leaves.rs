@@ -414,7 +414,58 @@ fn place_kept(
     o: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Vec<(LeafInstance, u32, usize)>> {
-    let all = place_on(skeleton, o, mesh)?;
+    thin(place_on(skeleton, o, mesh)?, o)
+}
+
+/// Every leaf a crown's options place (before [`keep`](LeafOptions::keep) thins them),
+/// kept to make several thinnings of one crown ([`leaf_mesh_placed`]: a chain of levels of
+/// detail) without placing and testing every leaf against the wood again.
+#[derive(Clone, Debug)]
+pub struct Placed {
+    leaves: Vec<(LeafInstance, u32)>,
+    options: LeafOptions,
+    mesh: MeshOptions,
+}
+
+impl Placed {
+    /// How many leaves were placed.
+    pub fn len(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.leaves.is_empty()
+    }
+}
+
+/// The leaves of `skeleton` as `leaves` (whatever its `keep`) places them with `mesh`.
+pub fn place_all(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<Placed> {
+    let options = leaves.clone().keep(1.0);
+    Ok(Placed {
+        leaves: place_on(skeleton, &options, mesh)?,
+        options,
+        mesh: *mesh,
+    })
+}
+
+/// [`leaf_mesh`] from leaves placed once: the same mesh, thinned by `leaves.keep`. Placed
+/// with other options (besides `keep`) or another mesh's, they are placed again.
+pub fn leaf_mesh_placed(
+    skeleton: &Skeleton,
+    placed: &Placed,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<Mesh> {
+    if placed.mesh != *mesh || placed.options != leaves.clone().keep(1.0) {
+        return leaf_mesh(skeleton, leaves, mesh);
+    }
+    let plan = leaf_plan_from(skeleton, thin(placed.leaves.clone(), leaves)?, leaves, mesh)?;
+    baked(skeleton, mesh, &plan)
+}
+
+/// `all` (placed) thinned by `o.keep`.
+fn thin(all: Vec<(LeafInstance, u32)>, o: &LeafOptions) -> Result<Vec<(LeafInstance, u32, usize)>> {
     let middle = leaf_points(&o.shape())
         .last()
         .copied()
@@ -788,10 +839,17 @@ struct LeafPlan {
 
 fn leaf_plan(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<LeafPlan> {
     // The conventions are applied to the baked vertices, so place in model space.
-    let instances: Vec<(LeafInstance, usize)> = place_kept(skeleton, leaves, mesh)?
-        .into_iter()
-        .map(|(l, _, k)| (l, k))
-        .collect();
+    leaf_plan_from(skeleton, place_kept(skeleton, leaves, mesh)?, leaves, mesh)
+}
+
+/// The plan of the leaf mesh of `kept` (placed and thinned leaves).
+fn leaf_plan_from(
+    skeleton: &Skeleton,
+    kept: Vec<(LeafInstance, u32, usize)>,
+    leaves: &LeafOptions,
+    mesh: &MeshOptions,
+) -> Result<LeafPlan> {
+    let instances: Vec<(LeafInstance, usize)> = kept.into_iter().map(|(l, _, k)| (l, k)).collect();
     let prefab = leaves.shape();
     let polygons: Vec<(usize, usize)> = if leaves.polygons {
         skeleton
@@ -877,12 +935,16 @@ pub fn leaf_mesh_size(
 
 /// The baked leaf mesh as owned buffers.
 pub fn leaf_mesh(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) -> Result<Mesh> {
-    let plan = leaf_plan(skeleton, leaves, mesh)?;
+    baked(skeleton, mesh, &leaf_plan(skeleton, leaves, mesh)?)
+}
+
+/// The leaf mesh of `plan` as owned buffers.
+fn baked(skeleton: &Skeleton, mesh: &MeshOptions, plan: &LeafPlan) -> Result<Mesh> {
     let mut vertices =
         crate::limits::try_zeroed::<Vertex>(plan.size.vertices, "the leaf mesh's vertices")?;
     let mut indices =
         crate::limits::try_zeroed::<u32>(plan.size.indices, "the leaf mesh's indices")?;
-    write_leaves(skeleton, mesh, &plan, &mut vertices, &mut indices);
+    write_leaves(skeleton, mesh, plan, &mut vertices, &mut indices);
     Ok(Mesh {
         vertices,
         indices,

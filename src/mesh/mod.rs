@@ -37,8 +37,9 @@ pub use animation::{AnimationVertex, AnimationVertexCompact, animation};
 pub use cache::PlanCache;
 pub use compact::{VertexCompact, VertexSlot};
 pub use leaves::{
-    LeafInstance, LeafOptions, LeafPrefab, keep_for, leaf_animation, leaf_branches, leaf_cell,
-    leaf_cells, leaf_instances, leaf_mesh, leaf_mesh_size, write_leaf_mesh,
+    LeafInstance, LeafOptions, LeafPrefab, Placed, keep_for, leaf_animation, leaf_branches,
+    leaf_cell, leaf_cells, leaf_instances, leaf_mesh, leaf_mesh_placed, leaf_mesh_size, place_all,
+    write_leaf_mesh,
 };
 pub use lod::{LodLevel, mesh_lods};
 pub use options::{Axes, Joints, MeshOptions, Tip, Topology, UpAxis, VertexFormat, Winding};
