@@ -74,6 +74,10 @@ pub(crate) struct Env {
     obstacles: Vec<Obstacle>,
     /// The ground under the world, or none (the box's floor).
     ground: Option<std::sync::Arc<super::HeightField>>,
+    /// A lattice layer at or above the ground's everywhere (its highest sample's, with a
+    /// margin for rounding): a cell above it is above the ground wherever it is, with no
+    /// height to look up; `i64::MAX` without a height field.
+    ground_top: i64,
     /// The obstacles whose bounds overlap each lattice bucket of [`BUCKET`]³ cells, so a
     /// point is tested only against those near it.
     buckets: rustc_hash::FxHashMap<[i64; 3], Vec<u32>>,
@@ -109,6 +113,7 @@ impl Env {
             diff: Default::default(),
             obstacles: Vec::new(),
             ground: None,
+            ground_top: i64::MAX,
             buckets: Default::default(),
         };
         match o.environment {
@@ -225,7 +230,8 @@ impl Env {
         }
         let c = self.lattice(p);
         let k = key(c);
-        if !p.is_finite() || c[1] < self.ground_layer(p) || self.in_obstacle(p) {
+        let below = c[1] <= self.ground_top && c[1] < self.ground_layer(p);
+        if !p.is_finite() || below || self.in_obstacle(p) {
             k | DARK
         } else {
             k
@@ -259,6 +265,11 @@ impl Env {
                 }
             }
         }
+        // Bilinear heights are at most the highest sample's, but for a few ulps of
+        // rounding: the margin covers those.
+        let (low, high) = ground.range();
+        let margin = (high.abs() + low.abs()) * 1e-5;
+        self.ground_top = self.lattice(Vec3::new(0.0, high + margin, 0.0))[1];
         self.ground = Some(std::sync::Arc::new(ground));
     }
 
