@@ -389,7 +389,8 @@ impl Impostor {
     /// one): the triangle of cell centres `d`'s grid position falls in.
     pub fn frames_around(&self, d: Vec3) -> [((u32, u32), f32); 3] {
         let q = grid_coordinates(d, self.sphere, Vec3::from(self.up));
-        let f = self.frames as f32;
+        let last = self.frames.saturating_sub(1);
+        let f = self.frames.max(1) as f32;
         // Grid position in frames, centred on the cells.
         let p = [
             ((q[0] * 0.5 + 0.5) * f - 0.5).clamp(0.0, f - 1.0),
@@ -397,12 +398,7 @@ impl Impostor {
         ];
         let (i, j) = (p[0].floor(), p[1].floor());
         let (fx, fy) = (p[0] - i, p[1] - j);
-        let at = |di: f32, dj: f32| {
-            (
-                ((i + di) as u32).min(self.frames - 1),
-                ((j + dj) as u32).min(self.frames - 1),
-            )
-        };
+        let at = |di: f32, dj: f32| (((i + di) as u32).min(last), ((j + dj) as u32).min(last));
         if fx + fy < 1.0 {
             [
                 (at(0.0, 0.0), 1.0 - fx - fy),
@@ -435,7 +431,18 @@ impl Impostor {
     /// it), the albedo there is filtered as a host's bilinear sampler filters it (within
     /// the cell), and the three are blended by the cells' weights. sRGB colour and
     /// coverage, RGBA8, rows from the top.
+    /// An impostor whose atlases do not hold its grid (one put together by hand) draws
+    /// nothing.
     pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
+        let side = self.frames as u64 * self.cell as u64;
+        let holds = |a: &Image| {
+            a.width as u64 >= side
+                && a.height as u64 >= side
+                && a.pixels.len() as u64 >= a.width as u64 * a.height as u64 * 4
+        };
+        if self.frames == 0 || self.cell == 0 || !holds(&self.albedo) || !holds(&self.normal) {
+            return vec![[0u8; 4]; pixels as usize * pixels as usize];
+        }
         let (up, centre, r) = (Vec3::from(self.up), Vec3::from(self.centre), self.radius);
         let view = view_from(d, centre, r, up);
         let cells: Vec<(u32, u32, f32, View, u32)> = self
@@ -490,7 +497,7 @@ impl Impostor {
     /// two thirds of a texel it moves across the cell, at least 4.
     fn march_steps(&self, d: Vec3, dk: Vec3) -> u32 {
         let sin = (d - dk * d.dot(dk)).length();
-        ((1.5 * self.cell as f32 * sin).ceil() as u32).clamp(4, 4 * self.cell)
+        ((1.5 * self.cell as f32 * sin).ceil() as u32).clamp(4, (4 * self.cell).max(4))
     }
 
     /// The albedo of cell (`i`, `j`) (filtered), drawn by `view`, where the ray through `at`

@@ -208,3 +208,36 @@ fn the_views_line_up_between_the_baked_directions() {
     }
     assert!(edges > 1000, "{edges}");
 }
+
+/// An impostor put together by hand whose atlases do not hold its grid (no views, or an
+/// atlas too small) draws nothing rather than reading past its pixels.
+#[test]
+fn a_hand_made_impostor_that_does_not_add_up_draws_nothing() {
+    use arbor::impostor::Impostor;
+    let image = |side: u32| Image {
+        width: side,
+        height: side,
+        pixels: vec![255; (side * side * 4) as usize],
+    };
+    for (frames, cell, side) in [(0, 128, 256), (12, 0, 256), (12, 128, 256), (2, 8, 16)] {
+        let imp = Impostor {
+            frames,
+            cell,
+            sphere: Sphere::Hemi,
+            centre: [0.0; 3],
+            radius: 1.0,
+            up: [0.0, 1.0, 0.0],
+            albedo: image(side),
+            normal: image(side),
+        };
+        let covered = imp.coverage(Vec3::new(0.3, 0.5, 0.8).normalize(), 16);
+        assert_eq!(covered.len(), 256);
+        // Only the last one, whose atlases hold its 2 x 2 grid, draws (every texel full).
+        let drawn = covered.iter().filter(|&&a| a > 0.0).count();
+        assert_eq!(
+            drawn > 0,
+            frames == 2,
+            "{frames} x {cell} in {side}: {drawn}"
+        );
+    }
+}
