@@ -30,6 +30,14 @@ pub fn build(name: &'static str) -> PathBuf {
     }
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    // What an example's Makefile generates before its C compiles: the gallery embeds the
+    // reference impostor shader (examples/common/impostor.glsl) as a string.
+    if name == "gallery" {
+        run(Command::new("make")
+            .args(["-s", "-C"])
+            .arg(root.join("examples/gallery"))
+            .arg("impostor_glsl.h"));
+    }
     let flags = run(Command::new("pkg-config").args(["--cflags", "--libs", "glfw3", "libpng"]));
     run(Command::new("cc")
         .args(["-std=c11", "-O1", "-Wall", "-Wextra", "-Werror", "-I"])
