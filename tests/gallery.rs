@@ -363,3 +363,29 @@ fn gallery_checks_the_levels_silhouettes_with_opengl() {
     assert_eq!(&png[1..4], b"PNG");
     assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 1024);
 }
+
+/// `gallery --species shrub --impostors`: the species' impostor (baked from its level 2)
+/// drawn by the reference shader on a field of 400 quads, where the species alone is one
+/// shrub: many more trunks and crowns, and the bake reported.
+#[test]
+fn gallery_draws_a_field_of_impostors() {
+    require_gl_tools();
+    let exe = common::pictures::build("gallery");
+    let (field, out) = common::pictures::render_with_output(
+        &exe,
+        "impostor_field",
+        &["--species", "shrub", "--impostors"],
+    );
+    assert!(out.contains("impostors: shrub, 400 on a field"), "{out}");
+    let one = render(&exe, "one_shrub", &["--species", "shrub"]);
+    // Trees across the whole width: bark (brown) in the outer quarters, where the one shrub,
+    // in the middle, has none.
+    let sides = |i: &Image| {
+        let q = i.width / 4;
+        i.count(|i, x, y| (x < q || x >= i.width - q) && i.tree(x, y))
+    };
+    let (many, alone) = (sides(&field), sides(&one));
+    println!("bark pixels in the outer quarters: {many} in the field, {alone} for one shrub");
+    assert!(many > 200 && many > 10 * alone, "{many} against {alone}");
+    assert!(differing_pixels(&field, &one) > field.width * field.height / 10);
+}

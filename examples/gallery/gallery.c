@@ -7,6 +7,7 @@
  *           [--smooth] [--compact] [--world CYCLES [--world-env 0|1] [--world-species -1|N|NAME]]
  *           [--lsystem FILE.l|FOLDER [--next K]] [--species oak|maple|birch|willow|poplar|pine|spruce|shrub]
  *           [--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check [--screenshot F]]
+ *           [--species NAME --impostors]
  *
  * Keys: mouse drag orbits, wheel zooms; 1-9 one tree, 0 the grid; + / - derivation steps;
  * [ / ] radial segments; T / Shift+T thickness; L / Shift+L length; V leaves; G growth
@@ -14,7 +15,8 @@
  * arbor's per-vertex order, position along the branch and phase); W wireframe; S strips
  * <-> triangle list; C smooth (C1 curves swept with 3 inner rings) (editing branches:
  * examples/editor; tree bodies without triangles: examples/raymarch);
- * F forest (one merged mesh of 25 varied trees); O a self-organized
+ * F forest (one merged mesh of 25 varied trees); I with --species, its impostor on a
+ * field of 400 quads (the reference shader); O a self-organized
  * world of seven trees sharing light (Space: one more growth cycle, R reset, E shadow /
  * space colonization, K species: a mix, then each preset); P screenshot; Esc.
  */
@@ -154,6 +156,9 @@ typedef struct {
   int compact;
   /* Headless screenshots: the wind's clock stands still at 1 s. */
   int fixed_time;
+  /* With --species: the species' impostor on a field of 400 quads (the reference shader,
+     examples/common/impostor.glsl), baked from its level 2 when first shown. */
+  int impostors;
   /* L-system mode: a cpfg file read as cpfg reads it (preprocessor, view file), drawn with
      its polygons, spheres, discs and leaves; Tab / Shift+Tab step through the .l files of
      its folder (or of the folder given, searched recursively). */
@@ -768,6 +773,28 @@ static void draw_tree(const Tree *t, Mat4 model) {
   }
 }
 
+/* The species' impostor field (lodcheck.h), made when first drawn: its chain of levels,
+ * level 2 baked into 12 x 12 views. */
+static ImpostorField impostor_field;
+static int impostor_field_ready;
+
+static void draw_impostor_field(const Mat4 *vp, const float eye[3]) {
+  if (!impostor_field_ready) {
+    double t0 = now_ms();
+    unsigned char *atlas = NULL;
+    ArborLods *lods = species_lods((uint32_t)st.species, 256, &atlas);
+    size_t n = arbor_lods_count(lods);
+    impostor_field_build(&impostor_field, lods, n > 2 ? 2 : n - 1, atlas, 256);
+    free(atlas);
+    arbor_lods_free(lods);
+    impostor_field_ready = 1;
+    printf("impostors: %s, %d on a field, baked from level %zu in %.0f ms\n", arbor_species_name((uint32_t)st.species),
+           FIELD * FIELD, n > 2 ? (size_t)2 : n - 1, now_ms() - t0);
+  }
+  float l[3] = {0.45f, 0.75f, 0.5f};
+  impostor_field_draw(&impostor_field, vp, eye, l, FIELD * FIELD);
+}
+
 /* Renders one view of tree index i (or the forest) into the viewport x, y, w, h. */
 static void draw_view(int i, int x, int y, int w, int h) {
   p_glViewport(x, y, w, h);
@@ -780,6 +807,7 @@ static void draw_view(int i, int x, int y, int w, int h) {
   float height = t->hi[1] > 1 ? t->hi[1] : 1;
   float radius = 0.5f * sqrtf(height * height + 4 * (rx * rx + rz * rz)) * 1.08f;
   if (st.forest) radius *= 3.2f;
+  if (st.impostors && st.species >= 0) radius *= 4.0f;
   if (st.lsys_mode) {
     height = 10;
     radius = 8.5f;
@@ -829,6 +857,12 @@ static void draw_view(int i, int x, int y, int w, int h) {
       p_glDrawElements(st.strips ? GL_TRIANGLE_STRIP : GL_TRIANGLES, (GLsizei)organ_indices, GL_UNSIGNED_INT, 0);
       p_glEnable(GL_CULL_FACE);
     }
+    return;
+  }
+  if (st.impostors && st.species >= 0) {
+    draw_impostor_field(&vp, eye);
+    p_glUseProgram(program);
+    p_glEnable(GL_CULL_FACE);
     return;
   }
   if (st.world_mode) {
@@ -905,6 +939,7 @@ static void key(GLFWwindow *win, int k, int scancode, int action, int mods) {
   else if (k == GLFW_KEY_W) st.wireframe = !st.wireframe;
   else if (k == GLFW_KEY_S) { st.strips = !st.strips; st.dirty = 1; }
   else if (k == GLFW_KEY_F) st.forest = !st.forest;
+  else if (k == GLFW_KEY_I && st.species >= 0) st.impostors = !st.impostors;
   else if (k == GLFW_KEY_P) st.screenshot_requested = 1;
   else if (k == GLFW_KEY_G) {
     /* Growth from the animation stream: one upload, a moving threshold. */
@@ -986,6 +1021,7 @@ int main(int argc, char **argv) {
       st.leaves = 1;
     }
     else if (!strcmp(argv[i], "--lod-check")) { check_lods = 1; headless = 1; }
+    else if (!strcmp(argv[i], "--impostors")) st.impostors = 1;
     else if (!strcmp(argv[i], "--forest")) st.forest = 1;
     else if (!strcmp(argv[i], "--smooth")) st.smooth = 1;
     else if (!strcmp(argv[i], "--compact")) st.compact = 1;
@@ -1015,7 +1051,8 @@ int main(int argc, char **argv) {
       fprintf(stderr, "usage: gallery [--tree a..i] [--size WxH] [--list] [--leaves] [--forest] [--depth K] "
                       "[--smooth] [--compact] [--lsystem FILE.l|FOLDER] [--world CYCLES [--world-species NAME] [--world-trees 1..7] "
                       "[--world-forest] [--world-env 0|1]] [--pitch DEGREES] "
-                      "[--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check]\n");
+                      "[--screenshot FILE.png|FILE.ppm --frames N] [--species NAME --lod-check]\n"
+                      "       [--species NAME --impostors]\n");
       return 2;
     }
   }

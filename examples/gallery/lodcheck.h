@@ -202,18 +202,26 @@ static GLuint lc_texture(const unsigned char *rgba, int side, int unit, GLint fi
   return t;
 }
 
-/* Part 3: the full tree's impostor drawn by the reference shader against the full tree
- * drawn by OpenGL, and a field of them. */
-static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint32_t atlas_side, const LcLevel *full,
-                        LcTarget *target, GLint u_vp, GLint u_leaves, GLuint level_prog, const char *shot) {
-  const int frames = 12, cell = 128, pixels = 96;
+/* The reference impostor shader compiled as a host compiles it, one impostor's atlases,
+ * and a field of FIELD x FIELD of its quads (instanced): a jittered grid 2.2 radii apart,
+ * the first tree at the origin, unscaled. */
+enum { FIELD = 20 };
+typedef struct {
+  GLuint prog, vao, buf[3], albedo, normal;
+  GLint vp, camera, light;
+  float centre[3], radius, up[3];
+} ImpostorField;
+
+/* Bakes level `level` of `lods` (12 x 12 hemi-octahedral views of 128 px) into `f`. */
+static void impostor_field_build(ImpostorField *f, const ArborLods *lods, size_t level, const unsigned char *atlas,
+                                 uint32_t atlas_side) {
+  const int frames = 12, cell = 128;
   ArborImpostor *imp = NULL;
-  if (arbor_lods_impostor_create(lods, 0, (uint32_t)frames, (uint32_t)cell, 1, atlas, atlas_side, atlas_side, &imp) !=
-      ARBOR_STATUS_OK)
+  if (arbor_lods_impostor_create(lods, level, (uint32_t)frames, (uint32_t)cell, 1, atlas, atlas_side, atlas_side,
+                                 &imp) != ARBOR_STATUS_OK)
     fail("arbor_lods_impostor_create");
   uint32_t side = 0;
-  float centre[3], radius = 0, up[3];
-  if (arbor_impostor_info(imp, &side, centre, &radius, up) != ARBOR_STATUS_OK) fail("arbor_impostor_info");
+  if (arbor_impostor_info(imp, &side, f->centre, &f->radius, f->up) != ARBOR_STATUS_OK) fail("arbor_impostor_info");
   size_t bytes = (size_t)side * side * 4;
   unsigned char *a = malloc(bytes), *n = malloc(bytes);
   if (arbor_impostor_atlas_write(imp, 0, a, bytes, NULL) != ARBOR_STATUS_OK ||
@@ -221,11 +229,11 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
     fail("arbor_impostor_atlas_write");
   arbor_impostor_free(imp);
   /* The albedo filtered (the shader samples it at level 0), the depth read texel by texel. */
-  GLuint tex_albedo = lc_texture(a, (int)side, 4, GL_LINEAR), tex_normal = lc_texture(n, (int)side, 5, GL_NEAREST);
+  f->albedo = lc_texture(a, (int)side, 4, GL_LINEAR);
+  f->normal = lc_texture(n, (int)side, 5, GL_NEAREST);
   free(a);
   free(n);
 
-  /* The reference shader, as a host compiles it. */
   size_t len = strlen(impostor_glsl) + 64;
   char *vs = malloc(len), *fs = malloc(len);
   snprintf(vs, len, "#version 330 core\n#define VERTEX\n%s", impostor_glsl);
@@ -233,46 +241,77 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
   GLuint prog = link_program(vs, fs);
   free(vs);
   free(fs);
+  f->prog = prog;
   p_glUseProgram(prog);
   p_glUniform1i(p_glGetUniformLocation(prog, "albedo"), 4);
   p_glUniform1i(p_glGetUniformLocation(prog, "normal_depth"), 5);
   p_glUniform1f(p_glGetUniformLocation(prog, "frames"), (float)frames);
   p_glUniform1f(p_glGetUniformLocation(prog, "cell"), (float)cell);
   p_glUniform1i(p_glGetUniformLocation(prog, "hemi"), 1);
-  p_glUniform3f(p_glGetUniformLocation(prog, "centre"), centre[0], centre[1], centre[2]);
-  p_glUniform1f(p_glGetUniformLocation(prog, "radius"), radius);
-  p_glUniform3f(p_glGetUniformLocation(prog, "up"), up[0], up[1], up[2]);
-  GLint i_vp = p_glGetUniformLocation(prog, "view_projection"), i_camera = p_glGetUniformLocation(prog, "camera");
+  p_glUniform3f(p_glGetUniformLocation(prog, "centre"), f->centre[0], f->centre[1], f->centre[2]);
+  p_glUniform1f(p_glGetUniformLocation(prog, "radius"), f->radius);
+  p_glUniform3f(p_glGetUniformLocation(prog, "up"), f->up[0], f->up[1], f->up[2]);
+  f->vp = p_glGetUniformLocation(prog, "view_projection");
+  f->camera = p_glGetUniformLocation(prog, "camera");
+  f->light = p_glGetUniformLocation(prog, "light");
 
   /* The quad's corners (attribute 0) and one placement a tree (attribute 1, instanced). */
-  enum { FIELD = 20 };
   static const float corners[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
   static const uint32_t quad[6] = {0, 1, 2, 0, 2, 3};
   float *place = malloc(sizeof(float) * 4 * FIELD * FIELD);
   for (int k = 0; k < FIELD * FIELD; k++) {
-    /* A jittered grid (the first tree, at the origin, is the one the check draws). */
     float jx = (float)((k * 7919) % 13) / 13.0f - 0.5f, jz = (float)((k * 104729) % 17) / 17.0f - 0.5f;
-    place[4 * k] = k == 0 ? 0.0f : ((float)(k % FIELD - FIELD / 2) + 0.9f * jx) * 2.2f * radius;
+    place[4 * k] = k == 0 ? 0.0f : ((float)(k % FIELD - FIELD / 2) + 0.9f * jx) * 2.2f * f->radius;
     place[4 * k + 1] = 0.0f;
-    place[4 * k + 2] = k == 0 ? 0.0f : -((float)(k / FIELD) + 0.9f * jz) * 2.2f * radius;
+    place[4 * k + 2] = k == 0 ? 0.0f : -((float)(k / FIELD) + 0.9f * jz) * 2.2f * f->radius;
     place[4 * k + 3] = k == 0 ? 1.0f : 0.8f + 0.4f * (float)((k * 37) % 11) / 10.0f;
   }
-  GLuint vao, buf[3];
-  p_glGenVertexArrays(1, &vao);
-  p_glBindVertexArray(vao);
-  p_glGenBuffers(3, buf);
-  p_glBindBuffer(GL_ARRAY_BUFFER, buf[0]);
+  p_glGenVertexArrays(1, &f->vao);
+  p_glBindVertexArray(f->vao);
+  p_glGenBuffers(3, f->buf);
+  p_glBindBuffer(GL_ARRAY_BUFFER, f->buf[0]);
   p_glBufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
   p_glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
   p_glEnableVertexAttribArray(0);
-  p_glBindBuffer(GL_ARRAY_BUFFER, buf[1]);
+  p_glBindBuffer(GL_ARRAY_BUFFER, f->buf[1]);
   p_glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 4 * FIELD * FIELD), place, GL_STATIC_DRAW);
   p_glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, NULL);
   p_glEnableVertexAttribArray(1);
   p_glVertexAttribDivisor(1, 1);
-  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[2]);
+  p_glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, f->buf[2]);
   p_glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
   free(place);
+}
+
+/* Draws the first `count` impostors of `f` seen through `vp` from `eye`, lit from `light`
+ * (NULL: unlit), both sides of the quads. Leaves f's program bound. */
+static void impostor_field_draw(const ImpostorField *f, const Mat4 *vp, const float eye[3], const float *light,
+                                int count) {
+  p_glUseProgram(f->prog);
+  p_glUniformMatrix4fv(f->vp, 1, GL_FALSE, vp->m);
+  p_glUniform3f(f->camera, eye[0], eye[1], eye[2]);
+  p_glUniform3f(f->light, light ? light[0] : 0.0f, light ? light[1] : 0.0f, light ? light[2] : 0.0f);
+  p_glDisable(GL_CULL_FACE);
+  p_glBindVertexArray(f->vao);
+  p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, count);
+}
+
+static void impostor_field_free(ImpostorField *f) {
+  p_glDeleteVertexArrays(1, &f->vao);
+  p_glDeleteBuffers(3, f->buf);
+  p_glDeleteTextures(1, &f->albedo);
+  p_glDeleteTextures(1, &f->normal);
+  p_glDeleteProgram(f->prog);
+}
+
+/* Part 3: the full tree's impostor drawn by the reference shader against the full tree
+ * drawn by OpenGL, and a field of them. */
+static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint32_t atlas_side, const LcLevel *full,
+                        LcTarget *target, GLint u_vp, GLint u_leaves, GLuint level_prog, const char *shot) {
+  const int frames = 12, cell = 128, pixels = 96;
+  ImpostorField f;
+  impostor_field_build(&f, lods, 0, atlas, atlas_side);
+  const float *centre = f.centre, radius = f.radius;
 
   /* 16 directions from level to 60 degrees up, none a baked view's (tests/impostor.rs). */
   float sum = 0, least = 1;
@@ -289,14 +328,10 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
     p_glViewport(0, 0, pixels, pixels);
     p_glClearColor(0, 0, 0, 0);
     p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    p_glUseProgram(prog);
     Mat4 vp = lc_view(centre, forward, radius);
-    p_glUniformMatrix4fv(i_vp, 1, GL_FALSE, vp.m);
     float camera[3] = {centre[0] + d[0] * 1e4f * radius, centre[1] + d[1] * 1e4f * radius,
                        centre[2] + d[2] * 1e4f * radius};
-    p_glUniform3f(i_camera, camera[0], camera[1], camera[2]);
-    p_glBindVertexArray(vao);
-    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, 1);
+    impostor_field_draw(&f, &vp, camera, NULL, 1);
     unsigned char *rgba = malloc((size_t)pixels * pixels * 4), *m1 = malloc((size_t)pixels * pixels);
     p_glReadBuffer(GL_COLOR_ATTACHMENT0);
     p_glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -320,8 +355,6 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
   float eye[3] = {0.0f, 3.0f * radius, 6.0f * radius}, look[3] = {0.0f, radius, -10.0f * radius};
   Mat4 field = mat_mul(perspective(0.9f, (float)fw / (float)fh, 0.5f * radius, 200.0f * radius),
                        look_at(eye, look));
-  p_glUniformMatrix4fv(i_vp, 1, GL_FALSE, field.m);
-  p_glUniform3f(i_camera, eye[0], eye[1], eye[2]);
   double best = 1e30;
   size_t covered = 0;
   for (int run = 0; run < 3; run++) {
@@ -329,7 +362,7 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
     double t0 = now_ms();
     p_glClearColor(0, 0, 0, 0);
     p_glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, FIELD * FIELD);
+    impostor_field_draw(&f, &field, eye, NULL, FIELD * FIELD);
     p_glFinish();
     double t1 = now_ms();
     if (t1 - t0 < best) best = t1 - t0;
@@ -357,11 +390,8 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
     p_glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL);
     p_glUniform3f(tint, 1.0f, 1.0f, 1.0f);
     p_glDeleteVertexArrays(1, &gvao);
-    p_glUseProgram(prog);
-    p_glUniform3f(p_glGetUniformLocation(prog, "light"), -0.5f, 0.8f, 0.4f);
-    p_glBindVertexArray(vao);
-    p_glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL, FIELD * FIELD);
-    p_glUniform3f(p_glGetUniformLocation(prog, "light"), 0.0f, 0.0f, 0.0f);
+    const float light[3] = {-0.5f, 0.8f, 0.4f};
+    impostor_field_draw(&f, &field, eye, light, FIELD * FIELD);
     if (!save_image(shot, fw, fh)) fail("the screenshot");
     printf("lod-check: impostor field written to %s\n", shot);
   }
@@ -369,16 +399,13 @@ static void lc_impostor(const ArborLods *lods, const unsigned char *atlas, uint3
          "%.1f%% of the pixels covered\n",
          FIELD * FIELD, fw, fh, best, (const char *)p_glGetString(GL_RENDERER),
          100.0 * (double)covered / (double)(fw * fh));
-  p_glDeleteVertexArrays(1, &vao);
-  p_glDeleteBuffers(3, buf);
-  p_glDeleteTextures(1, &tex_albedo);
-  p_glDeleteTextures(1, &tex_normal);
-  p_glDeleteProgram(prog);
+  impostor_field_free(&f);
   p_glUseProgram(level_prog);
 }
 
-static int lod_check(uint32_t species, const char *shot) {
-  const uint32_t atlas_side = 256;
+/* A species' chain of levels (arbor_tree_lods_create, defaults) with its leaves alpha-tested
+ * against its `atlas_side`-square leaf atlas, which *atlas gets (free it). */
+static ArborLods *species_lods(uint32_t species, uint32_t atlas_side, unsigned char **atlas) {
   ArborTree *tree = NULL;
   if (arbor_tree_from_species(species, 1, &tree) != ARBOR_STATUS_OK) fail("arbor_tree_from_species");
   ArborMeshOptions o = arbor_mesh_options_default();
@@ -386,15 +413,23 @@ static int lod_check(uint32_t species, const char *shot) {
   if (arbor_species_options(species, tree, &o, &lo) != ARBOR_STATUS_OK) fail("arbor_species_options");
   o.topology = ARBOR_TOPOLOGY_TRIANGLE_LIST;
   size_t atlas_bytes = (size_t)atlas_side * atlas_side * 4;
-  unsigned char *atlas = malloc(atlas_bytes);
-  if (arbor_species_texture_write(species, ARBOR_TEXTURE_LEAF_ATLAS, atlas_side, 1, 0, atlas, atlas_bytes) !=
+  *atlas = malloc(atlas_bytes);
+  if (arbor_species_texture_write(species, ARBOR_TEXTURE_LEAF_ATLAS, atlas_side, 1, 0, *atlas, atlas_bytes) !=
       ARBOR_STATUS_OK)
     fail("arbor_species_texture_write");
   ArborLodOptions lod = arbor_lod_options_default();
   ArborLods *lods = NULL;
-  double t0 = now_ms();
-  if (arbor_tree_lods_create(tree, &o, &lo, atlas, atlas_side, atlas_side, &lod, &lods) != ARBOR_STATUS_OK)
+  if (arbor_tree_lods_create(tree, &o, &lo, *atlas, atlas_side, atlas_side, &lod, &lods) != ARBOR_STATUS_OK)
     fail("arbor_tree_lods_create");
+  arbor_tree_free(tree);
+  return lods;
+}
+
+static int lod_check(uint32_t species, const char *shot) {
+  const uint32_t atlas_side = 256;
+  unsigned char *atlas = NULL;
+  double t0 = now_ms();
+  ArborLods *lods = species_lods(species, atlas_side, &atlas);
   printf("lod-check: %s: chain made in %.0f ms\n", arbor_species_name(species), now_ms() - t0);
 
   /* The atlas as the rasterizer samples it: nearest texel, no mipmaps. */
@@ -558,7 +593,6 @@ static int lod_check(uint32_t species, const char *shot) {
   free(atlas);
   free(levels);
   arbor_lods_free(lods);
-  arbor_tree_free(tree);
   p_glBindFramebuffer(GL_FRAMEBUFFER, 0);
   return 0;
 }
