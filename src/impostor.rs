@@ -431,6 +431,7 @@ impl Impostor {
     /// it), the albedo there is filtered as a host's bilinear sampler filters it (within
     /// the cell), and the three are blended by the cells' weights. sRGB colour and
     /// coverage, RGBA8, rows from the top.
+    ///
     /// An impostor whose atlases do not hold its grid (one put together by hand) draws
     /// nothing.
     pub fn picture(&self, d: Vec3, pixels: u32) -> Vec<[u8; 4]> {
@@ -532,9 +533,7 @@ impl Impostor {
         }
         None
     }
-}
 
-impl Impostor {
     /// The albedo of cell (`i`, `j`) at `(u, v)` in [0, 1)² as a host's sampler filters it:
     /// bilinear between the four nearest texel centres, kept within the cell.
     fn filtered(&self, i: u32, j: u32, u: f32, v: f32) -> [u8; 4] {

@@ -382,15 +382,12 @@ impl Shape<'_> {
         let (bark, o, merged) =
             level_bark(self.skeleton, self.mesh, before, self.height, bark_share, c)?;
         let bark_triangles = count(&bark);
-        let (leaf_mesh, leaf_options) = match self.leaves {
-            Some(l) if self.leaf_count > 0 && self.per_leaf > 0 => {
+        let (leaf_mesh, leaf_options) = match (self.leaves, &self.placed) {
+            (Some(l), Some(placed)) if self.leaf_count > 0 && self.per_leaf > 0 => {
                 let room = budget.saturating_sub(bark_triangles + self.leaf_rest);
                 let keep = mesh::keep_for(self.leaf_count, room / self.per_leaf);
                 let l = l.clone().keep(keep);
-                let baked = match &self.placed {
-                    Some(p) => mesh::leaf_mesh_placed(self.skeleton, p, &l, self.mesh)?,
-                    None => mesh::leaf_mesh(self.skeleton, &l, self.mesh)?,
-                };
+                let baked = mesh::leaf_mesh_placed(self.skeleton, placed, &l, self.mesh)?;
                 (Some(baked), Some(l))
             }
             _ => (None, self.leaves.cloned()),

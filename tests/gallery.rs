@@ -285,6 +285,15 @@ fn gallery_draws_lsystem_files_with_their_organs() {
     assert!(!shot.exists(), "nothing drawn");
 }
 
+/// The mean IoU of a `lod-check:` line ("... OpenGL IoU 0.934 (least ...)").
+fn opengl_iou(line: &str) -> f32 {
+    line.split("OpenGL IoU ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no IoU in {line}"))
+}
+
 /// The levels of detail checked by the host's OpenGL (`gallery --species shrub
 /// --lod-check`, examples/gallery/lodcheck.h): each level against the full tree where it
 /// is first drawn, from 8 directions the chain was not fitted from, keeps a mean
@@ -308,13 +317,7 @@ fn gallery_checks_the_levels_silhouettes_with_opengl() {
         .lines()
         .filter(|l| l.contains(" level ") && l.contains("OpenGL IoU"))
     {
-        let iou: f32 = line
-            .split("OpenGL IoU ")
-            .nth(1)
-            .and_then(|r| r.split_whitespace().next())
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("no IoU in {line}"));
-        assert!(iou >= 0.9, "{line}");
+        assert!(opengl_iou(line) >= 0.9, "{line}");
         levels += 1;
     }
     assert_eq!(levels, 3, "{out}");
@@ -340,13 +343,7 @@ fn gallery_checks_the_levels_silhouettes_with_opengl() {
         .lines()
         .find(|l| l.contains("impostor: the full tree's"))
         .unwrap_or_else(|| panic!("no impostor line in {out}"));
-    let iou: f32 = impostor
-        .split("OpenGL IoU ")
-        .nth(1)
-        .and_then(|r| r.split_whitespace().next())
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no IoU in {impostor}"));
-    assert!(iou >= 0.85, "{impostor}");
+    assert!(opengl_iou(impostor) >= 0.85, "{impostor}");
     let field_line = out
         .lines()
         .find(|l| l.contains("impostor field:"))

@@ -783,13 +783,13 @@ static void draw_impostor_field(const Mat4 *vp, const float eye[3]) {
     double t0 = now_ms();
     unsigned char *atlas = NULL;
     ArborLods *lods = species_lods((uint32_t)st.species, 256, &atlas);
-    size_t n = arbor_lods_count(lods);
-    impostor_field_build(&impostor_field, lods, n > 2 ? 2 : n - 1, atlas, 256);
+    size_t n = arbor_lods_count(lods), level = n > 2 ? 2 : n - 1;
+    impostor_field_build(&impostor_field, lods, level, atlas, 256);
     free(atlas);
     arbor_lods_free(lods);
     impostor_field_ready = 1;
     printf("impostors: %s, %d on a field, baked from level %zu in %.0f ms\n", arbor_species_name((uint32_t)st.species),
-           FIELD * FIELD, n > 2 ? (size_t)2 : n - 1, now_ms() - t0);
+           FIELD * FIELD, level, now_ms() - t0);
   }
   float l[3] = {0.45f, 0.75f, 0.5f};
   impostor_field_draw(&impostor_field, vp, eye, l, FIELD * FIELD);

@@ -414,7 +414,7 @@ fn place_kept(
     o: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Vec<(LeafInstance, u32, usize)>> {
-    thin(place_on(skeleton, o, mesh)?, o)
+    thin(&place_on(skeleton, o, mesh)?, o)
 }
 
 /// Every leaf a crown's options place (before [`keep`](LeafOptions::keep) thins them),
@@ -460,12 +460,12 @@ pub fn leaf_mesh_placed(
     if placed.mesh != *mesh || placed.options != leaves.clone().keep(1.0) {
         return leaf_mesh(skeleton, leaves, mesh);
     }
-    let plan = leaf_plan_from(skeleton, thin(placed.leaves.clone(), leaves)?, leaves, mesh)?;
+    let plan = leaf_plan_from(skeleton, thin(&placed.leaves, leaves)?, leaves, mesh)?;
     baked(skeleton, mesh, &plan)
 }
 
-/// `all` (placed) thinned by `o.keep`.
-fn thin(all: Vec<(LeafInstance, u32)>, o: &LeafOptions) -> Result<Vec<(LeafInstance, u32, usize)>> {
+/// `all` (placed) thinned by `o.keep`: copies of the leaves that stay.
+fn thin(all: &[(LeafInstance, u32)], o: &LeafOptions) -> Result<Vec<(LeafInstance, u32, usize)>> {
     let middle = leaf_points(&o.shape())
         .last()
         .copied()
@@ -473,14 +473,14 @@ fn thin(all: Vec<(LeafInstance, u32)>, o: &LeafOptions) -> Result<Vec<(LeafInsta
     let n = all.len();
     if o.keep >= 1.0 || n == 0 {
         return Ok(all
-            .into_iter()
+            .iter()
             .enumerate()
-            .map(|(k, (l, b))| (l, b, k))
+            .map(|(k, &(l, b))| (l, b, k))
             .collect());
     }
     let m = ((o.keep as f64 * n as f64 + 1e-3).floor() as usize).clamp(1, n);
     let shell_count = ((SHELL_SHARE * m as f32).round() as usize).min(m);
-    let outer = outerness(&all, middle);
+    let outer = outerness(all, middle);
     // The shell: the outermost leaves, as they are.
     let mut by_outer: Vec<usize> = (0..n).collect();
     by_outer.sort_by(|&a, &b| outer[b].total_cmp(&outer[a]).then(a.cmp(&b)));
@@ -506,10 +506,10 @@ fn thin(all: Vec<(LeafInstance, u32)>, o: &LeafOptions) -> Result<Vec<(LeafInsta
         1.0
     };
     Ok(all
-        .into_iter()
+        .iter()
         .enumerate()
         .filter(|&(k, _)| kept[k])
-        .map(|(k, (mut l, b))| {
+        .map(|(k, &(mut l, b))| {
             let grow = if in_shell[k] { 1.0 } else { grow_inside };
             if grow != 1.0 {
                 // Enlarged about the leaf's middle, not its stem.
