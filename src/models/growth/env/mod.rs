@@ -373,7 +373,7 @@ impl Env {
         let layer = dims[0] * dims[2];
         let falloff = &self.falloff;
         #[cfg(feature = "parallel")]
-        if parallel && changes.len() > 1 << 14 {
+        if parallel && changes.len() > 1 << 11 {
             use rayon::prelude::*;
             // Work by target layer: layer t takes the squares of the changes q layers
             // above it, (2q + 1)² cells each. Bands cut where the work reaches each

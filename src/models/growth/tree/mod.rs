@@ -450,7 +450,7 @@ impl Tree {
         // max_shoot). An internode's vigour is set by its parent, before it is visited.
         let (lambda, alpha) = self.aged(cycle.saturating_sub(self.planted));
         s.vig.clear();
-        s.vig.resize(n, 0.0);
+        s.vig.resize(n + 1, 0.0);
         s.vig[0] = alpha * (s.split[0][0] + s.split[0][1]);
         s.dead.clear();
         s.dead.resize(n, false);
@@ -477,12 +477,11 @@ impl Tree {
             }
             // The split.
             let [qm, ql] = s.split[i];
-            let denom = lambda * qm + (1.0 - lambda) * ql;
-            let (vm, vl) = if denom > 0.0 {
-                (v * lambda * qm / denom, v * (1.0 - lambda) * ql / denom)
-            } else {
-                (0.0, 0.0)
-            };
+            let (wm, wl) = (lambda * qm, (1.0 - lambda) * ql);
+            let denom = wm + wl;
+            // One division a node (two cost a fifth of the pass).
+            let r = if denom > 0.0 { v / denom } else { 0.0 };
+            let (vm, vl) = (r * wm, r * wl);
             // The largest |v − vm − vl| / v, divided only where it grows.
             let miss = (v - vm - vl).abs();
             if denom > 0.0 && miss > residual * v.max(1e-30) {
@@ -490,13 +489,12 @@ impl Tree {
             }
             for (k, share) in [vm, vl].into_iter().enumerate() {
                 let slot = kids[k];
-                if is_child(slot) {
-                    s.vig[slot as usize] = share;
-                    continue;
-                }
+                // A child's vigour, written without a branch: a bud's or a gone
+                // branch's share goes to the spare slot at `n`.
+                s.vig[if is_child(slot) { slot as usize } else { n }] = share;
                 // Shoots, from the living buds of living internodes (made below, so
                 // this loop stays small).
-                if slot == BUD && !s.dead[i] && share >= 1.0 {
+                if slot == BUD && share >= 1.0 && !s.dead[i] {
                     s.shoots.push((i as u32, k as u32, share));
                 }
             }
