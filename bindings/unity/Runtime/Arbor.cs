@@ -224,7 +224,7 @@ namespace Arbor
         /// The first switch's screen coverage (0.5) and each further one's factor (0.5),
         /// before they are fitted to the silhouette.
         public float Coverage, CoverageStep;
-        /// The silhouette IoU each level keeps where it is first drawn (0.93; 0: not fitted).
+        /// The silhouette IoU each level keeps where it is first drawn (0.91; 0: not fitted).
         public float Silhouette;
         /// Threads (0: the mesh options' threads).
         public uint Threads;
