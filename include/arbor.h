@@ -1583,9 +1583,10 @@ typedef struct ArborLodOptions {
   /**
    * The intersection over union each level's silhouette keeps with the full tree's where it is
    * first drawn, 0..=1: a switch coverage is lowered (by 40% a time, down to MIN_COVERAGE) until
-   * the level's silhouette keeps it on average (candidates compared from four directions, the
-   * best then measured from sixteen others). 0: the switches as `coverage` and
-   * `coverage_step` put them. Default 0.91.
+   * the level's silhouette, drawn by raster, keeps it on average: the candidates are compared
+   * from four directions, the best then measured from sixteen others (eight where the level is
+   * first drawn 64 pixels or more across). 0: the switches as `coverage` and `coverage_step` put
+   * them. Default 0.91.
    */
   float silhouette;
   /**
