@@ -236,6 +236,71 @@ fn a_fan_of_equal_twigs_is_thinned_in_one_order() {
     }
 }
 
+/// A trunk with 32 long, thin twigs (4 long, radius 0.01) and 32 short, thicker ones (0.4
+/// long, radius 0.03) at its top, alternating around it.
+fn long_and_short() -> arbor::skeleton::Skeleton {
+    use arbor::skeleton::{Branch, NO_PARENT, SkeletonParts};
+    let top = [0.0, 10.0, 0.0];
+    let mut branches = vec![Branch {
+        start: [0.0; 3],
+        end: top,
+        start_radius: 0.3,
+        end_radius: 0.2,
+        parent: NO_PARENT,
+        birth: 0,
+        order: 0,
+        flags: 0,
+    }];
+    for k in 0..64 {
+        let a = k as f32 * 0.7;
+        let (length, radius) = if k % 2 == 0 { (4.0, 0.01) } else { (0.4, 0.03) };
+        let d = [a.cos() * 0.8, 0.6, a.sin() * 0.8];
+        branches.push(Branch {
+            start: top,
+            end: [
+                top[0] + length * d[0],
+                top[1] + length * d[1],
+                top[2] + length * d[2],
+            ],
+            start_radius: radius,
+            end_radius: radius,
+            parent: 0,
+            birth: 1,
+            order: 1,
+            flags: 0,
+        });
+    }
+    SkeletonParts {
+        branches,
+        ..SkeletonParts::default()
+    }
+    .build()
+    .unwrap()
+}
+
+/// A level's bark keeps the branches that draw the most outline for their triangles: the
+/// long, thin twigs (each as many triangles as a short one, ten times its length) outlast
+/// the short, thicker ones, though they are thinner (a level that took the thinnest first
+/// kept the short ones and lost a willow's hanging twigs).
+#[test]
+fn levels_keep_the_twigs_that_draw_the_most_outline() {
+    let lod = LodOptions::default().silhouette(0.0).levels(4);
+    let levels = chain(&long_and_short(), &MeshOptions::default(), None, None, &lod).unwrap();
+    let mut thinned = false;
+    for (k, level) in levels.iter().enumerate().skip(1) {
+        let kept = kept_twigs(level);
+        let long = (0..64).step_by(2).filter(|&t| kept[t]).count();
+        let short = (1..64).step_by(2).filter(|&t| kept[t]).count();
+        // Every short twig goes before any long one.
+        assert!(
+            short == 0 || long == 32,
+            "level {k} keeps {short} short and {long} long twigs"
+        );
+        thinned |= long < 32 || short < 32;
+    }
+    assert!(thinned, "no level removed a twig");
+}
+
 /// No level of a 1996 tree is empty: its branches are all thin where the thinner levels
 /// are drawn, but the trunk stays (tree i's levels 2 and 3 were empty).
 #[test]
