@@ -111,10 +111,9 @@ pub struct Level {
     /// The mean intersection over union of this level's [`silhouette`] with the full
     /// tree's where it is first drawn (the previous level's switch), from sixteen
     /// directions (eight from 64 pixels across) other than the four its candidates were
-    /// compared from (a figure that
-    /// did not pick it): at least [`LodOptions::silhouette`] unless
-    /// the level could not keep it even at [`MIN_COVERAGE`]. 1 for the full tree; 0 when
-    /// not measured (`silhouette` 0).
+    /// compared from (a figure that did not pick it): at least [`LodOptions::silhouette`]
+    /// unless the level could not keep it even at [`MIN_COVERAGE`]. 1 for the full tree;
+    /// 0 when not measured (`silhouette` 0).
     pub silhouette: f32,
     /// For each branch of the tree, the branch of the skeleton this level's bark was
     /// meshed from (one range of `bark` each; see [`collapse_merged`]) it was merged into;
@@ -200,16 +199,6 @@ fn fit(
             Some(frame) if lod.silhouette > 0.0 => loop {
                 let px = frame.pixels(c);
                 let full_level = &out[0];
-                let mut full_of = |dirs: &[Vec3], checking: bool| {
-                    full_masks
-                        .entry((px, checking))
-                        .or_insert_with(|| {
-                            on_threads(lod.threads, dirs, |&d| {
-                                silhouette(full_level, atlas, frame, d, px)
-                            })
-                        })
-                        .clone()
-                };
                 let mean = |m: &Level, dirs: &[Vec3], full: &[Vec<bool>]| {
                     let each =
                         on_threads(lod.threads, dirs, |&d| silhouette(m, atlas, frame, d, px));
@@ -221,11 +210,15 @@ fn fit(
                     sum / dirs.len() as f32
                 };
                 // Each candidate's mean IoU from the directions; the best is kept.
-                let full = full_of(&dirs, false);
+                let full = full_masks.entry((px, false)).or_insert_with(|| {
+                    on_threads(lod.threads, &dirs, |&d| {
+                        silhouette(full_level, atlas, frame, d, px)
+                    })
+                });
                 let (best, iou) = candidates
                     .iter()
                     .enumerate()
-                    .map(|(k, m)| (k, mean(m, &dirs, &full)))
+                    .map(|(k, m)| (k, mean(m, &dirs, full)))
                     .fold((0, -1.0f32), |b, x| if x.1 > b.1 { x } else { b });
                 // The best, picked on those directions, measured again from others: the
                 // figure it was picked by is the luckiest of the candidates' and flatters
@@ -234,8 +227,12 @@ fn fit(
                     // Sixteen where a level is small (its figure moves by a tenth between
                     // neighbouring directions), eight where it is large.
                     let check = if px < 64 { &check16 } else { &check8 };
-                    let full = full_of(check, true);
-                    mean(&candidates[best], check, &full)
+                    let full = full_masks.entry((px, true)).or_insert_with(|| {
+                        on_threads(lod.threads, check, |&d| {
+                            silhouette(full_level, atlas, frame, d, px)
+                        })
+                    });
+                    mean(&candidates[best], check, full)
                 } else {
                     iou
                 };
