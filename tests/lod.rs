@@ -153,8 +153,9 @@ fn figures_for_every_species_and_1996_tree() {
     }
 }
 
-/// A trunk with a fan of 64 twigs as thick as each other at its top.
-fn fan() -> arbor::skeleton::Skeleton {
+/// A trunk 10 tall with 64 straight twigs at its top: twig `k` as `twig(k)` gives it (its
+/// direction, length and radius).
+fn trunk_with_twigs(twig: impl Fn(usize) -> ([f32; 3], f32, f32)) -> arbor::skeleton::Skeleton {
     use arbor::skeleton::{Branch, NO_PARENT, SkeletonParts};
     let top = [0.0, 10.0, 0.0];
     let mut branches = vec![Branch {
@@ -168,17 +169,12 @@ fn fan() -> arbor::skeleton::Skeleton {
         flags: 0,
     }];
     for k in 0..64 {
-        let a = k as f32 * 0.7;
-        let up = 0.3 + 0.6 * (k % 5) as f32 / 4.0;
+        let (d, length, radius) = twig(k);
         branches.push(Branch {
             start: top,
-            end: [
-                top[0] + 3.0 * a.cos(),
-                top[1] + 3.0 * up,
-                top[2] + 3.0 * a.sin(),
-            ],
-            start_radius: 0.05,
-            end_radius: 0.05,
+            end: [0, 1, 2].map(|i| top[i] + length * d[i]),
+            start_radius: radius,
+            end_radius: radius,
             parent: 0,
             birth: 1,
             order: 1,
@@ -191,6 +187,15 @@ fn fan() -> arbor::skeleton::Skeleton {
     }
     .build()
     .unwrap()
+}
+
+/// A trunk with a fan of 64 twigs as thick as each other at its top.
+fn fan() -> arbor::skeleton::Skeleton {
+    trunk_with_twigs(|k| {
+        let a = k as f32 * 0.7;
+        let up = 0.3 + 0.6 * (k % 5) as f32 / 4.0;
+        ([a.cos(), up, a.sin()], 3.0, 0.05)
+    })
 }
 
 /// Which of the fan's twigs a level kept: those its skeleton did not merge into the
@@ -239,43 +244,11 @@ fn a_fan_of_equal_twigs_is_thinned_in_one_order() {
 /// A trunk with 32 long, thin twigs (4 long, radius 0.01) and 32 short, thicker ones (0.4
 /// long, radius 0.03) at its top, alternating around it.
 fn long_and_short() -> arbor::skeleton::Skeleton {
-    use arbor::skeleton::{Branch, NO_PARENT, SkeletonParts};
-    let top = [0.0, 10.0, 0.0];
-    let mut branches = vec![Branch {
-        start: [0.0; 3],
-        end: top,
-        start_radius: 0.3,
-        end_radius: 0.2,
-        parent: NO_PARENT,
-        birth: 0,
-        order: 0,
-        flags: 0,
-    }];
-    for k in 0..64 {
+    trunk_with_twigs(|k| {
         let a = k as f32 * 0.7;
         let (length, radius) = if k % 2 == 0 { (4.0, 0.01) } else { (0.4, 0.03) };
-        let d = [a.cos() * 0.8, 0.6, a.sin() * 0.8];
-        branches.push(Branch {
-            start: top,
-            end: [
-                top[0] + length * d[0],
-                top[1] + length * d[1],
-                top[2] + length * d[2],
-            ],
-            start_radius: radius,
-            end_radius: radius,
-            parent: 0,
-            birth: 1,
-            order: 1,
-            flags: 0,
-        });
-    }
-    SkeletonParts {
-        branches,
-        ..SkeletonParts::default()
-    }
-    .build()
-    .unwrap()
+        ([a.cos() * 0.8, 0.6, a.sin() * 0.8], length, radius)
+    })
 }
 
 /// A level's bark keeps the branches that draw the most outline for their triangles: the
