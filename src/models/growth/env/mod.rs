@@ -362,9 +362,9 @@ impl Env {
 
     /// Adds the pyramids of merged, sorted `changes` to the grid: with `parallel`, the
     /// `parallel` feature and enough changes to pay for waking a second thread (2,048:
-    /// tens of microseconds of work, about what waking a thread costs), in [`BANDS`] bands of layers of about equal work,
-    /// taken by the threads as they come free, each band adding what lands in it; else on
-    /// this thread.
+    /// tens of microseconds of work, about what waking a thread costs), in [`BANDS`] bands
+    /// of layers of about equal work, taken by the threads as they come free, each band
+    /// adding what lands in it; else on this thread.
     fn apply(&mut self, changes: &[(u32, i32)], parallel: bool) {
         if changes.is_empty() {
             return;

@@ -407,31 +407,6 @@ impl Tree {
         s.desc.resize(n, 1);
         let (stale, tip_rn) = (self.radii_stale, libm::powf(p.tip_radius, p.pipe_exponent));
         self.radii_stale = false;
-        if ahead && !stale {
-            // The same sums without a branch on what each slot holds (a child, a bud or
-            // nothing, in no order a predictor learns): a slot that is not a child reads
-            // the spare entry at `n` (no light, no internodes), a bud adds its light.
-            s.split.push([0.0; 2]);
-            s.desc.push(0);
-            for i in (0..n).rev() {
-                let kids = nodes.kids[i];
-                let mut pair = [0.0f32; 2];
-                let mut desc = 1u32;
-                for k in 0..2 {
-                    let c = kids[k];
-                    let at = if is_child(c) { c as usize } else { n };
-                    let [m, l] = s.split[at];
-                    let q = if c == BUD { s.q[i] } else { 0.0 };
-                    pair[k] = (m + l) + q;
-                    desc += s.desc[at];
-                }
-                s.split[i] = pair;
-                s.desc[i] = desc;
-            }
-            s.split.truncate(n);
-            s.desc.truncate(n);
-            return;
-        }
         for i in (0..n).rev() {
             if stale {
                 pipe(&nodes.kids, &mut nodes.rn, i, tip_rn);
@@ -485,19 +460,18 @@ impl Tree {
         for i in 0..n {
             let kids = nodes.kids[i];
             let v = s.vig[i];
-            // Shedding, decided without a branch on whether the internode is a lateral
-            // (half of them, in no order a predictor learns): only a shed one branches.
+            // Shedding.
             if i > 0 {
                 let parent = nodes.parent[i] as usize;
-                let lateral = nodes.kids[parent][1] == i as u32;
-                let old = cycle.saturating_sub(nodes.birth[i]) > p.shed_delay;
-                let starved = p.shed_light > 0.0
-                    && s.split[i][0] + s.split[i][1] < p.shed_light * s.desc[i] as f32;
-                let weak = p.shed_multiplier > 0.0 && v < s.cost(costs, &p, s.desc[i]);
-                let parent_dead = s.dead[parent];
-                let shed = !parent_dead & lateral & old & (starved | weak);
-                s.dead[i] = parent_dead | shed;
-                if shed {
+                if s.dead[parent] {
+                    s.dead[i] = true;
+                } else if nodes.kids[parent][1] == i as u32
+                    && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
+                    && ((p.shed_light > 0.0
+                        && s.split[i][0] + s.split[i][1] < p.shed_light * s.desc[i] as f32)
+                        || (p.shed_multiplier > 0.0 && v < s.cost(costs, &p, s.desc[i])))
+                {
+                    s.dead[i] = true;
                     plan.shed.push(i as u32);
                 }
             }
