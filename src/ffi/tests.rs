@@ -293,7 +293,27 @@ mod fuzz {
             // SAFETY: `tree` is live; the options and counts are locals.
             let status = unsafe { arbor_mesh_size(tree, &o, &mut nv, &mut ni) };
             let size_error = last_error();
-            prop_assert!(status == ArborStatus::Ok || status == ArborStatus::InvalidArgument);
+            prop_assert!(
+                status == ArborStatus::Ok
+                    || status == ArborStatus::InvalidArgument
+                    || status == ArborStatus::LimitExceeded,
+                "{status:?} {size_error}"
+            );
+            // Fields past `struct_size` are read as their defaults.
+            let reads = |end: usize| o.struct_size as usize >= end;
+            let reads_max = reads(std::mem::offset_of!(ArborMeshOptions, max_vertices) + 8);
+            if status == ArborStatus::LimitExceeded {
+                // Only the vertex limit the options set, and only when the mesh is
+                // larger: the same options without it size the mesh past it.
+                prop_assert!(reads_max && size_error.contains("`max_vertices`"), "{size_error}");
+                let unlimited = ArborMeshOptions { max_vertices: u64::MAX, ..o };
+                // SAFETY: as above.
+                let s = unsafe { arbor_mesh_size(tree, &unlimited, &mut nv, &mut ni) };
+                prop_assert_eq!(s, ArborStatus::Ok, "{}", last_error());
+                prop_assert!(nv as u64 > o.max_vertices);
+            }
+            let compact = reads(std::mem::offset_of!(ArborMeshOptions, vertex_format) + 4)
+                && o.vertex_format == VertexFormat::Compact as u32;
             // glTF writes lists, counter-clockwise, Y up, in arbor's axes: it succeeds
             // exactly when those options do and the given ones hold no error but the f32
             // range of positions in the given space (a contradiction or a bad field is
@@ -310,7 +330,26 @@ mod fuzz {
             let gltf_space = unsafe { arbor_mesh_size(tree, &as_gltf, &mut gv, &mut gi) };
             let gltf_expected = gltf_space == ArborStatus::Ok
                 && (status == ArborStatus::Ok || size_error.starts_with("invalid argument `scale`"));
-            if status == ArborStatus::Ok {
+            if status == ArborStatus::Ok && compact {
+                // Compact vertices go through the byte writer; the f32 writer refuses them.
+                let mut v = vec![VertexCompact::default(); nv];
+                let mut i = vec![0u32; ni];
+                let mut f = vec![Vertex::default(); nv];
+                // SAFETY: the buffers hold exactly the sizes asked for.
+                let w = unsafe { arbor_mesh_write(tree, &o, f.as_mut_ptr(), nv, i.as_mut_ptr(), ni) };
+                prop_assert_eq!(w, ArborStatus::InvalidArgument);
+                prop_assert!(last_error().contains("`vertex_format`"), "{}", last_error());
+                let bytes = std::mem::size_of_val(v.as_slice());
+                // SAFETY: `v` holds `bytes` bytes, 4-byte aligned; `i` holds `ni` indices.
+                let w = unsafe { arbor_mesh_write_bytes(tree, &o, v.as_mut_ptr().cast(), bytes, i.as_mut_ptr(), ni) };
+                prop_assert_eq!(w, ArborStatus::Ok, "{}", last_error());
+                let mut v_scale = 0.0f32;
+                // SAFETY: `tree` is live; the options and the scale are locals.
+                prop_assert_eq!(unsafe { arbor_mesh_v_scale(tree, &o, &mut v_scale) }, ArborStatus::Ok);
+                for x in v.iter().map(|x| x.decode(v_scale)) {
+                    prop_assert!(x.position.iter().chain(&x.normal).chain(&x.uv).all(|f| f.is_finite()));
+                }
+            } else if status == ArborStatus::Ok {
                 let mut v = vec![Vertex::default(); nv];
                 let mut i = vec![0u32; ni];
                 // SAFETY: the buffers hold exactly the sizes asked for.
