@@ -123,10 +123,27 @@ impl Grid {
     /// `lo ..= hi` (clipped below at the ground), with room to spare sideways and up;
     /// refused past `max_cells`, the grid unchanged.
     pub(crate) fn cover(&mut self, lo: [i64; 3], hi: [i64; 3], max_cells: usize) -> Result<()> {
+        if let Some(relay) = self.reserve(lo, hi, max_cells)? {
+            relay.run(self);
+        }
+        Ok(())
+    }
+
+    /// The fallible half of [`cover`](Self::cover): the new extent found, checked and
+    /// its memory reserved, the values not yet moved. With a [`Relay`] the grid is not
+    /// to be read or changed until the relay has [`run`](Relay::run) on it (cells
+    /// elsewhere may be worked out meanwhile: a cell's key does not depend on the
+    /// store); refused past `max_cells` or beyond the memory, the grid unchanged.
+    pub(crate) fn reserve(
+        &mut self,
+        lo: [i64; 3],
+        hi: [i64; 3],
+        max_cells: usize,
+    ) -> Result<Option<Relay>> {
         let ground = self.lo[1];
         let lo = [lo[0], lo[1].max(ground), lo[2]];
         if hi[1] < ground {
-            return Ok(());
+            return Ok(None);
         }
         if self.cells.is_empty() {
             // The first shade: what is asked, with room around it for a young tree.
@@ -136,11 +153,11 @@ impl Grid {
                 [hi[0] + m, hi[1] + m, hi[2] + m],
                 max_cells,
             )?;
-            return Ok(());
+            return Ok(None);
         }
         let old_hi = [0, 1, 2].map(|k| self.lo[k] + self.dims[k] as i64 - 1);
         if (0..3).all(|k| lo[k] >= self.lo[k] && hi[k] <= old_hi[k]) {
-            return Ok(());
+            return Ok(None);
         }
         // A quarter of the present extent to spare on each side that grows (and up), so a
         // crown that keeps widening re-lays the grid a logarithmic number of times.
@@ -173,12 +190,13 @@ impl Grid {
         let more = (cells - self.cells.len(), columns - self.columns.len());
         reserve(&mut self.cells, more.0, cells)?;
         reserve(&mut self.columns, more.1, cells)?;
-        let at = [0, 2].map(|k| (self.lo[k] - new_lo[k]) as usize);
-        relay(&mut self.cells, self.dims, dims, at);
-        let [nx, _, nz] = self.dims;
-        relay(&mut self.columns, [nx, 1, nz], [dims[0], 1, dims[2]], at);
+        let relay = Relay {
+            old: self.dims,
+            new: dims,
+            at: [0, 2].map(|k| (self.lo[k] - new_lo[k]) as usize),
+        };
         (self.lo, self.dims) = (new_lo, dims);
-        Ok(())
+        Ok(Some(relay))
     }
 
     /// Counts sorted `changes` (storage index, buds) into the columns.
@@ -259,6 +277,26 @@ impl Divisor {
     pub(crate) fn rem(self, a: u32) -> u32 {
         let low = self.m.wrapping_mul(a as u64);
         ((low as u128 * self.d as u128) >> 64) as u32
+    }
+}
+
+/// The values of a grid whose extent [`Grid::reserve`] grew, still where the old extent
+/// had them: [`run`](Self::run) moves them (it cannot fail: the memory is reserved).
+#[must_use = "the grid holds its old layout until the relay runs"]
+#[derive(Debug)]
+pub(crate) struct Relay {
+    old: [usize; 3],
+    new: [usize; 3],
+    at: [usize; 2],
+}
+
+impl Relay {
+    /// Moves the cells and columns of `grid` (the grid [`Grid::reserve`] gave this
+    /// relay for) to the new extent's places.
+    pub(crate) fn run(self, grid: &mut Grid) {
+        let ([nx, _, nz], new) = (self.old, self.new);
+        relay(&mut grid.cells, self.old, new, self.at);
+        relay(&mut grid.columns, [nx, 1, nz], [new[0], 1, new[2]], self.at);
     }
 }
 

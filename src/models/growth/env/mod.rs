@@ -292,8 +292,23 @@ impl Env {
     /// pyramids reach `q_max` cells sideways and down): refused with `LimitExceeded`
     /// naming `max_cells` past it, the grid unchanged. Nothing for markers.
     pub(crate) fn cover(&mut self, points: impl IntoIterator<Item = Vec3>) -> Result<()> {
+        self.cover_while(points, false, |_| ())
+    }
+
+    /// [`cover`](Self::cover), then `f` of the environment: with `parallel` (and the
+    /// `parallel` feature), while the grid's values move to the room it grew (if it
+    /// did) on another thread. `f` works out cells and changes (a cell's key does not
+    /// depend on the grid's store) and must not read the shadow: meanwhile the grid
+    /// holds no cell. Refused past `max_cells` or beyond the memory before `f` runs, the
+    /// grid unchanged.
+    pub(crate) fn cover_while<R: Send>(
+        &mut self,
+        points: impl IntoIterator<Item = Vec3>,
+        parallel: bool,
+        f: impl FnOnce(&Env) -> R + Send,
+    ) -> Result<R> {
         if self.kind != Environment::Shadow {
-            return Ok(());
+            return Ok(f(self));
         }
         let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for p in points {
@@ -301,7 +316,7 @@ impl Env {
             max = max.max(p);
         }
         if min.x > max.x {
-            return Ok(());
+            return Ok(f(self));
         }
         // The cells of the corners, as their keys have them (beyond the lattice's reach:
         // clamped).
@@ -310,11 +325,25 @@ impl Env {
             unkey(key(self.lattice(max)) & !DARK),
         );
         let q = self.falloff.len() as i64 - 1;
-        self.grid.cover(
+        let relay = self.grid.reserve(
             [lo[0] - q, lo[1] - q, lo[2] - q],
             [hi[0] + q, hi[1], hi[2] + q],
             self.max_cells,
-        )
+        )?;
+        let Some(relay) = relay else {
+            return Ok(f(self));
+        };
+        #[cfg(feature = "parallel")]
+        if parallel {
+            let mut grid = std::mem::take(&mut self.grid);
+            let env = &*self;
+            let ((), r) = rayon::join(|| relay.run(&mut grid), || f(env));
+            self.grid = grid;
+            return Ok(r);
+        }
+        let _ = parallel;
+        relay.run(&mut self.grid);
+        Ok(f(self))
     }
 
     /// Cells the shadow grid stores now (it grows with the trees).
