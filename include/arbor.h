@@ -1157,6 +1157,15 @@ typedef struct ArborLeafOptions {
    * leaf).
    */
   float keep;
+  /**
+   * How much a thinned crown's inside leaves are enlarged (see `keep`): each by the inside's
+   * leaves over those kept there, to this power, 0..=1. 0.5 (the default) keeps the inside's
+   * leaf area; less leaves the inside sparser, more makes it fuller. A chain of levels of detail
+   * also tries four fifths of it for each level and keeps whichever holds the silhouette better
+   * (a weeping or narrow crown seen small shows its inside through gaps that area-keeping leaves
+   * close).
+   */
+  float keep_enlarge;
 } ArborLeafOptions;
 
 /**

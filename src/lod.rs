@@ -38,6 +38,13 @@ pub const BARK_SHARE: f32 = 0.3;
 /// the one whose silhouette is nearest the full tree's.
 pub const BARK_SHARES: [f32; 4] = [0.1, 0.2, 0.35, 0.55];
 
+/// The powers a chain that fits its switches enlarges a level's inside leaves by, as
+/// fractions of [`LeafOptions::keep_enlarge`](crate::mesh::LeafOptions::keep_enlarge):
+/// the candidates are made with the first, and the one picked is tried with the others
+/// (a weeping or narrow crown seen small keeps its outline better with its inside leaves
+/// a little smaller: the willow's and the poplar's last levels).
+pub const ENLARGE_SHARES: [f32; 2] = [1.0, 0.8];
+
 /// Joints along an axis that move it by less than this many pixels where a level is
 /// first drawn are removed ([`collapse`]).
 pub const COLLAPSE_PIXELS: f32 = 0.5;
@@ -215,11 +222,25 @@ fn fit(
                         silhouette(full_level, atlas, frame, d, px)
                     })
                 });
-                let (best, iou) = candidates
+                let (best, mut iou) = candidates
                     .iter()
                     .enumerate()
                     .map(|(k, m)| (k, mean(m, &dirs, full)))
                     .fold((0, -1.0f32), |b, x| if x.1 > b.1 { x } else { b });
+                // The best with its inside leaves enlarged less, on the same bark: kept
+                // where its silhouette is nearer.
+                let mut variant: Option<Level> = None;
+                if lod.silhouette > 0.0 {
+                    for &e in &ENLARGE_SHARES[1..] {
+                        if let Some(v) = shape.variant(&candidates[best], e)? {
+                            let w = mean(&v, &dirs, full);
+                            if w > iou {
+                                (variant, iou) = (Some(v), w);
+                            }
+                        }
+                    }
+                }
+                let picked = variant.as_ref().unwrap_or(&candidates[best]);
                 // The best, picked on those directions, measured again from others: the
                 // figure it was picked by is the luckiest of the candidates' and flatters
                 // it (tree a's level 1: 0.964 from the four, 0.920 from 32 others).
@@ -232,12 +253,12 @@ fn fit(
                             silhouette(full_level, atlas, frame, d, px)
                         })
                     });
-                    mean(&candidates[best], check, full)
+                    mean(picked, check, full)
                 } else {
                     iou
                 };
                 if iou >= lod.silhouette || c <= MIN_COVERAGE {
-                    break (candidates[best].clone(), iou);
+                    break (variant.unwrap_or_else(|| candidates[best].clone()), iou);
                 }
                 c = (c * 0.6).max(MIN_COVERAGE);
                 // Drawn three times farther than it was made for: made again for there
@@ -369,13 +390,11 @@ struct Shape<'a> {
 }
 
 impl Shape<'_> {
-    /// Level `level` within `budget` triangles, first drawn at coverage `c`: half the
-    /// sides of `before`'s, axes straightened for that size, the branches that give the
-    /// outline least for their triangles removed until the bark is at most its share of
-    /// the budget when there are leaves, the leaves filling the rest.
-    /// The candidates for a level (see [`level`](Self::level)): the bark's share of the
-    /// budget each of [`BARK_SHARES`] when `several` (a chain that fits its switches picks
-    /// the one whose silhouette is nearest), else [`BARK_SHARE`].
+    /// The candidates for a level (see [`level`](Self::level)): the bark's
+    /// share of the budget each of [`BARK_SHARES`] when `several` (a chain that fits its
+    /// switches picks the one whose silhouette is nearest, then tries it with the other
+    /// [`ENLARGE_SHARES`]: [`variant`](Self::variant)), else [`BARK_SHARE`]; the leaves
+    /// enlarged by their own `keep_enlarge`.
     fn levels(
         &self,
         before: &MeshOptions,
@@ -394,6 +413,39 @@ impl Shape<'_> {
         }
     }
 
+    /// `level` (one of [`levels`](Self::levels)' candidates) with its inside leaves
+    /// enlarged by `enlarge` of the leaves' `keep_enlarge` instead, on the same bark; none
+    /// where it has no leaves or keeps them all.
+    fn variant(&self, level: &Level, enlarge: f32) -> Result<Option<Level>> {
+        let (Some(base), Some(placed), Some(l), Some(leaves)) = (
+            self.leaves,
+            &self.placed,
+            &level.leaf_options,
+            &level.leaves,
+        ) else {
+            return Ok(None);
+        };
+        if l.keep >= 1.0 {
+            return Ok(None);
+        }
+        let l = l.clone().keep_enlarge(base.keep_enlarge * enlarge);
+        let baked = mesh::leaf_mesh_placed(self.skeleton, placed, &l, self.mesh)?;
+        Ok(Some(Level {
+            bark: level.bark.clone(),
+            triangles: level.triangles - count(leaves) + count(&baked),
+            leaves: Some(baked),
+            leaf_options: Some(l),
+            mesh_options: level.mesh_options,
+            screen_coverage: level.screen_coverage,
+            silhouette: level.silhouette,
+            merged: level.merged.clone(),
+        }))
+    }
+
+    /// Level `level` within `budget` triangles, first drawn at coverage `c`: half the
+    /// sides of `before`'s, axes straightened for that size, the branches that give the
+    /// outline least for their triangles removed until the bark is at most `share` of
+    /// the budget when there are leaves, the leaves filling the rest.
     fn level(&self, before: &MeshOptions, budget: usize, c: f32, share: f32) -> Result<Level> {
         // The bark's share of the budget, or more where the leaves need less.
         let leaf_full = self.leaf_count * self.per_leaf + self.leaf_rest;

@@ -317,3 +317,57 @@ fn thinned_leaves_are_the_same_leaves_on_the_same_cells() {
     assert!(LeafOptions::default().keep(0.0).validate().is_err());
     assert!(LeafOptions::default().keep(1.5).validate().is_err());
 }
+
+/// `keep_enlarge` sets how much a thinned crown's inside leaves grow: the same leaves in
+/// the same places (their middles), the shell as it was, the inside by the inside's
+/// leaves over those kept to that power (0.5 keeps the inside's leaf area: the default).
+#[test]
+fn the_inside_leaves_grow_by_the_power_asked() {
+    let t = tree('b');
+    let options = MeshOptions::default();
+    let full = tips(3.0, 0, 7);
+    let all = mesh::leaf_instances(&t, &full, &options).unwrap();
+    let middle = |l: &LeafInstance| {
+        Vec3::from(l.position) + Quat::from_array(l.rotation) * (Vec3::new(0.0, 0.5, 0.0) * l.scale)
+    };
+    let thin = |e: f32| {
+        mesh::leaf_instances(&t, &full.clone().keep(0.25).keep_enlarge(e), &options).unwrap()
+    };
+    let (half, less, none) = (thin(0.5), thin(0.4), thin(0.0));
+    assert_eq!(
+        half,
+        mesh::leaf_instances(&t, &full.clone().keep(0.25), &options).unwrap()
+    );
+    assert_eq!((half.len(), less.len()), (none.len(), none.len()));
+    let (mut shell, mut inside) = (0, 0);
+    for ((h, l), z) in half.iter().zip(&less).zip(&none) {
+        assert!((middle(h) - middle(l)).length() < 1e-4 && (middle(h) - middle(z)).length() < 1e-4);
+        let k = all
+            .iter()
+            .position(|a| a.rotation == z.rotation && (middle(a) - middle(z)).length() < 1e-4)
+            .expect("a leaf of the full crown");
+        // Not enlarged at the power 0: every leaf as it was.
+        assert!((z.scale - all[k].scale).abs() <= 1e-6 * all[k].scale);
+        if h.scale > z.scale * 1.001 {
+            inside += 1;
+            // The growth at 0.4 is the growth at 0.5 to the power 0.8.
+            let (gh, gl) = (h.scale / z.scale, l.scale / z.scale);
+            assert!((gl - gh.powf(0.8)).abs() < 1e-4, "{gl} vs {gh}");
+            assert!(gl > 1.0 && gl < gh);
+        } else {
+            shell += 1;
+            assert_eq!(h.scale, l.scale);
+        }
+    }
+    assert!(
+        shell > 0 && inside > 0,
+        "{shell} in the shell, {inside} inside"
+    );
+    for bad in [-0.1, 1.5, f32::NAN] {
+        let err = LeafOptions::default()
+            .keep_enlarge(bad)
+            .validate()
+            .unwrap_err();
+        assert!(err.to_string().contains("keep_enlarge"), "{err}");
+    }
+}

@@ -116,7 +116,9 @@ fn levels_keep_their_silhouettes_where_they_are_first_drawn() {
         // Level 1 of the 1996 trees keeps its silhouette from half the screen down.
         assert!(levels[1].silhouette >= lod.silhouette, "tree {name}");
     }
-    for species_name in ["oak", "birch"] {
+    // The poplar's last level holds only with its inside leaves enlarged less
+    // (`lod::ENLARGE_SHARES`: 0.86 at 11 pixels without).
+    for species_name in ["oak", "birch", "poplar"] {
         let look = Look::all()
             .into_iter()
             .find(|l| l.species.name() == species_name)

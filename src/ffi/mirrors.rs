@@ -300,6 +300,13 @@ pub struct ArborLeafOptions {
     /// the same atlas cells (leaf_cells): the same leaves from level to level. Default 1 (every
     /// leaf).
     pub keep: f32,
+    /// How much a thinned crown's inside leaves are enlarged (see `keep`): each by the inside's
+    /// leaves over those kept there, to this power, 0..=1. 0.5 (the default) keeps the inside's
+    /// leaf area; less leaves the inside sparser, more makes it fuller. A chain of levels of detail
+    /// also tries four fifths of it for each level and keeps whichever holds the silhouette better
+    /// (a weeping or narrow crown seen small shows its inside through gaps that area-keeping leaves
+    /// close).
+    pub keep_enlarge: f32,
 }
 
 mirror!(ArborLeafOptions => LeafOptions {
@@ -320,6 +327,7 @@ mirror!(ArborLeafOptions => LeafOptions {
         fold,
         face_light,
         keep,
+        keep_enlarge,
     }
     renamed {
         min_depth = min_birth,

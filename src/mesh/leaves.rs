@@ -311,6 +311,13 @@ pub struct LeafOptions {
     /// those kept at a larger one, where they were (their middles), on the same atlas
     /// cells ([`leaf_cells`]): the same leaves from level to level. Default 1 (every leaf).
     pub keep: f32 = 1.0, checked AboveTo(0.0, 1.0), "0 < keep <= 1",
+    /// How much a thinned crown's inside leaves are enlarged (see `keep`): each by the
+    /// inside's leaves over those kept there, to this power, 0..=1. 0.5 (the default)
+    /// keeps the inside's leaf area; less leaves the inside sparser, more makes it
+    /// fuller. A chain of levels of detail also tries four fifths of it for each level
+    /// and keeps whichever holds the silhouette better (a weeping or narrow crown seen
+    /// small shows its inside through gaps that area-keeping leaves close).
+    pub keep_enlarge: f32 = 0.5, checked In(0.0, 1.0), "0..=1",
 }
 }
 
@@ -450,14 +457,20 @@ pub fn place_all(skeleton: &Skeleton, leaves: &LeafOptions, mesh: &MeshOptions) 
 }
 
 /// [`leaf_mesh`] from leaves placed once: the same mesh, thinned by `leaves.keep`. Placed
-/// with other options (besides `keep`) or another mesh's, they are placed again.
+/// with other options (besides `keep` and `keep_enlarge`) or another mesh's, they are placed
+/// again.
 pub fn leaf_mesh_placed(
     skeleton: &Skeleton,
     placed: &Placed,
     leaves: &LeafOptions,
     mesh: &MeshOptions,
 ) -> Result<Mesh> {
-    if placed.mesh != *mesh || placed.options != leaves.clone().keep(1.0) {
+    // Placing does not depend on how a thinned crown is kept (`keep`, `keep_enlarge`).
+    let placing = leaves
+        .clone()
+        .keep(1.0)
+        .keep_enlarge(placed.options.keep_enlarge);
+    if placed.mesh != *mesh || placed.options != placing {
         return leaf_mesh(skeleton, leaves, mesh);
     }
     let plan = leaf_plan_from(skeleton, thin(&placed.leaves, leaves)?, leaves, mesh)?;
@@ -501,7 +514,13 @@ fn thin(all: &[(LeafInstance, u32)], o: &LeafOptions) -> Result<Vec<(LeafInstanc
         kept[k] = true;
     }
     let grow_inside = if m > shell_count {
-        ((n - shell_count) as f32 / (m - shell_count) as f32).sqrt()
+        let r = (n - shell_count) as f32 / (m - shell_count) as f32;
+        // The square root exactly where the power is a half (its rounding, not powf's).
+        if o.keep_enlarge == 0.5 {
+            r.sqrt()
+        } else {
+            libm::powf(r, o.keep_enlarge)
+        }
     } else {
         1.0
     };

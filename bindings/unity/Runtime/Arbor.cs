@@ -201,6 +201,9 @@ namespace Arbor
         /// The fraction of leaves kept (0..1], each enlarged by 1/sqrt(Keep): levels of
         /// detail, the same leaves from level to level. Default 1.
         public float Keep;
+        /// How much the inside leaves a Keep below 1 leaves are enlarged: by the leaves
+        /// there over those kept, to this power (0..1; default 0.5 keeps their area).
+        public float KeepEnlarge;
 
         public static LeafOptions Default()
         {
