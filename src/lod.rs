@@ -502,15 +502,22 @@ fn level_bark(
     // first, in an order that never empties a level (its roots stay) nor takes every
     // branch of one kind at once. No twig goes for being thin alone: a willow's hanging
     // twigs are each far under a pixel, and together half its outline.
+    // Fewer sides draw a thinner branch (a polygon inside the circle): each branch is
+    // widened so it is as wide as the full tree draws it, on average over the directions
+    // it is seen from (a trunk one or two pixels wide otherwise breaks up at its switch).
+    let collapse = |tolerance: f32| -> Result<(Skeleton, Vec<u32>)> {
+        let (collapsed, merged) = collapse_merged(skeleton, tolerance)?;
+        Ok((widened(collapsed, mesh, &o)?, merged))
+    };
     let mut tolerance = COLLAPSE_PIXELS * pixel;
-    let (mut collapsed, mut merged) = collapse_merged(skeleton, tolerance)?;
+    let (mut collapsed, mut merged) = collapse(tolerance)?;
     let mut bark = mesh::tubes(&collapsed, &o)?;
     for _ in 0..2 {
         if count(&bark) <= share {
             break;
         }
         tolerance *= 2.0;
-        (collapsed, merged) = collapse_merged(skeleton, tolerance)?;
+        (collapsed, merged) = collapse(tolerance)?;
         bark = mesh::tubes(&collapsed, &o)?;
     }
     // Each pruning reckons a branch's triangles from this mesh; the next mesh may differ
@@ -830,6 +837,37 @@ pub fn collapse_merged(skeleton: &Skeleton, tolerance: f32) -> Result<(Skeleton,
     }
     .build()?;
     Ok((collapsed, seg_of))
+}
+
+/// The mean width of a regular polygon of `sides` sides inscribed in a circle, over all
+/// the directions it is seen from across its axis, as a fraction of the circle's: its
+/// perimeter over the circle's, `n sin(pi / n) / pi` (Cauchy: a convex shape's mean width
+/// is its perimeter over pi).
+pub fn polygon_width(sides: u32) -> f32 {
+    let n = sides.max(3) as f64;
+    (n * (std::f64::consts::PI / n).sin() / std::f64::consts::PI) as f32
+}
+
+/// `skeleton` with each branch's radii multiplied by the mean width of the polygon `full`
+/// meshes it with over that of the polygon `level` does ([`polygon_width`]); itself where
+/// no branch has fewer sides.
+fn widened(skeleton: Skeleton, full: &MeshOptions, level: &MeshOptions) -> Result<Skeleton> {
+    let (before, after) = (
+        mesh::branch_sides(&skeleton, full)?,
+        mesh::branch_sides(&skeleton, level)?,
+    );
+    if before.iter().zip(&after).all(|(b, a)| a >= b || *a == 0) {
+        return Ok(skeleton);
+    }
+    let mut parts = skeleton.into_parts();
+    for ((b, &n0), &n) in parts.branches.iter_mut().zip(&before).zip(&after) {
+        if n > 0 && n0 > n {
+            let f = polygon_width(n0 as u32) / polygon_width(n as u32);
+            b.start_radius *= f;
+            b.end_radius *= f;
+        }
+    }
+    parts.build()
 }
 
 /// The distance of `p` from the segment `a`..`b`.

@@ -318,3 +318,56 @@ fn leaves_placed_once_bake_as_leaves_placed_again() {
         leaf_mesh(&tree, &leaves, &thin).unwrap()
     );
 }
+
+/// A level meshed with fewer sides is widened to keep the trunk as wide as the full tree
+/// draws it on average over the directions it is seen from (an inscribed triangle is 16%
+/// narrower than an inscribed 12-gon): the mean width of each level's trunk across 64
+/// directions is the full tree's within 1%, and the polygon's mean width is its perimeter
+/// over pi.
+#[test]
+fn fewer_sides_keep_the_trunk_as_wide() {
+    use arbor::lod::polygon_width;
+    for (n, w) in [(3, 0.826_993), (4, 0.900_316), (12, 0.988_616)] {
+        assert!(
+            (polygon_width(n) - w).abs() < 1e-5,
+            "{n}: {}",
+            polygon_width(n)
+        );
+    }
+    // A trunk alone, so no level can prune it: only its sides change.
+    let tree = trunk_with_twigs(|_| ([0.0, 1.0, 0.0], 1e-4, 1e-5));
+    let mesh = MeshOptions::default().radial_segments(12);
+    let lod = LodOptions::default().silhouette(0.0);
+    let levels = chain(&tree, &mesh, None, None, &lod).unwrap();
+    // The width of the trunk's base ring across direction `a`.
+    let width = |level: &Level, a: f32| {
+        let (c, s) = (a.cos(), a.sin());
+        let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+        for v in &level.bark.vertices {
+            if v.position[1].abs() < 1e-4 {
+                let x = v.position[0] * c + v.position[2] * s;
+                (lo, hi) = (lo.min(x), hi.max(x));
+            }
+        }
+        hi - lo
+    };
+    let mean = |level: &Level| {
+        (0..64)
+            .map(|k| width(level, k as f32 * std::f32::consts::TAU / 64.0 + 0.01))
+            .sum::<f32>()
+            / 64.0
+    };
+    let full = mean(&levels[0]);
+    assert!(
+        (full / (2.0 * 0.3) - polygon_width(12)).abs() < 0.01,
+        "{full}"
+    );
+    for (k, level) in levels.iter().enumerate().skip(1) {
+        assert!(level.mesh_options.radial_segments < 12, "level {k}");
+        let w = mean(level);
+        assert!(
+            (w / full - 1.0).abs() < 0.01,
+            "level {k}: {w} against {full}"
+        );
+    }
+}

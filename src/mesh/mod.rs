@@ -44,6 +44,7 @@ pub use leaves::{
 pub use lod::{LodLevel, mesh_lods};
 pub use options::{Axes, Joints, MeshOptions, Tip, Topology, UpAxis, VertexFormat, Winding};
 pub(crate) use options::{check_fields, check_options};
+pub(crate) use plan::branch_sides;
 pub use plan::{BranchRange, MeshPlan};
 pub use records::{CurveGrowthRecord, CurveRecord, curve_growth_records, curve_records};
 pub(crate) use rings::Out;

@@ -23,6 +23,11 @@ mod layout;
 
 use counts::{check_size, sides_and_continuations};
 pub(crate) use layout::Layout;
+
+/// The sides each branch of `skeleton` gets with `o` (0: culled), as its tube is meshed.
+pub(crate) fn branch_sides(skeleton: &Skeleton, o: &MeshOptions) -> Result<Vec<u8>> {
+    sides_and_continuations(skeleton.branches(), o).map(|(sides, _)| sides)
+}
 use layout::{frames, set_v_end, start_frame, v_after, v_scale};
 
 /// The vertices and indices one branch owns: `first_vertex..first_vertex + vertex_count`
