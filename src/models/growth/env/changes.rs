@@ -8,6 +8,7 @@ use super::grid::Divisor;
 /// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) on two
 /// threads: each finds the cells of half of the changes and parts them by the half of the
 /// grid they fall in, then each sorts the changes of one half of the grid.
+#[cfg(test)]
 pub(super) fn sort_changes(
     sources: &[&[(u64, i32)]],
     index: impl Fn(u64) -> Option<u32> + Sync,
@@ -16,16 +17,35 @@ pub(super) fn sort_changes(
     cells: usize,
     parallel: bool,
 ) {
-    // Sorts `data` through `tmp`: true when the result ends in `tmp`.
+    sort_changes_merged(sources, index, sorted, scratch, cells, parallel, false);
+}
+
+/// [`sort_changes`], then with `merge` each cell's changes merged ([`merge_changes`]):
+/// on each half's own thread where the halves are sorted on two (no cell is in both).
+pub(super) fn sort_changes_merged(
+    sources: &[&[(u64, i32)]],
+    index: impl Fn(u64) -> Option<u32> + Sync,
+    sorted: &mut Vec<(u32, i32)>,
+    scratch: &mut [Vec<(u32, i32)>; 4],
+    cells: usize,
+    parallel: bool,
+    merge: bool,
+) {
+    // Sorts `data` through `tmp` (and merges it with `merge`): true when the result ends
+    // in `tmp`.
     let sort = |data: &mut Vec<(u32, i32)>, tmp: &mut Vec<(u32, i32)>| {
         // Buffers keep their length from flush to flush: every value is written below.
         tmp.resize(data.len(), (0, 0));
-        if data.len() < 256 {
+        let in_tmp = if data.len() < 256 {
             data.sort_by_key(|&(c, _)| c);
             false
         } else {
             radix_sort(data, tmp, cells)
+        };
+        if merge {
+            merge_changes(if in_tmp { tmp } else { data });
         }
+        in_tmp
     };
     // The changes of `run` with their cells, in order: those below `mid` into `low`, the
     // others into `high`.

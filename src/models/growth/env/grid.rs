@@ -199,18 +199,6 @@ impl Grid {
         Ok(Some(relay))
     }
 
-    /// Counts sorted `changes` (storage index, buds) into the columns.
-    pub(crate) fn count_columns(&mut self, changes: &[(u32, i32)]) {
-        if changes.is_empty() {
-            return;
-        }
-        let layer = Divisor::new((self.dims[0] * self.dims[2]) as u32);
-        for &(c, n) in changes {
-            let col = &mut self.columns[layer.rem(c) as usize];
-            *col = col.wrapping_add(n);
-        }
-    }
-
     /// Buds in the column of lattice cell `c` (0 where the grid does not reach).
     pub(crate) fn column(&self, c: [i64; 3]) -> i32 {
         let [nx, _, nz] = self.dims;
@@ -237,6 +225,19 @@ impl Grid {
             "a change at {c:?} outside the grid: cover it first"
         );
         i.map(|i| i as u32)
+    }
+}
+
+/// Counts `changes` (storage index, buds) into `columns`, the columns of a grid of `dims`
+/// (apart from its cells, so the two can be worked on at once).
+pub(crate) fn count_columns(columns: &mut [i32], dims: [usize; 3], changes: &[(u32, i32)]) {
+    if changes.is_empty() {
+        return;
+    }
+    let layer = Divisor::new((dims[0] * dims[2]) as u32);
+    for &(c, n) in changes {
+        let col = &mut columns[layer.rem(c) as usize];
+        *col = col.wrapping_add(n);
     }
 }
 

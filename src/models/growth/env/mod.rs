@@ -13,7 +13,9 @@ mod tests;
 
 #[cfg(test)]
 use changes::apply_changes;
-use changes::{apply_layers, merge_changes, sort_changes};
+use changes::{apply_layers, sort_changes_merged};
+#[cfg(test)]
+use changes::{merge_changes, sort_changes};
 pub(crate) use grid::{DARK, Key};
 use grid::{Grid, UNIT, key, unkey};
 pub use obstacles::Obstacle;
@@ -373,17 +375,32 @@ impl Env {
             std::mem::take(&mut self.scratch),
         );
         let grid = &self.grid;
-        sort_changes(
+        sort_changes_merged(
             &sources,
             |k| grid.change_index(k),
             &mut sorted,
             &mut scratch,
             grid.cells.len(),
             parallel,
+            true,
         );
-        merge_changes(&mut sorted);
-        self.apply(&sorted, parallel);
-        self.grid.count_columns(&sorted);
+        // The pyramids into the cells and the buds into the columns, at once where there
+        // are threads for both (they share nothing but the changes).
+        let mut columns = std::mem::take(&mut self.grid.columns);
+        let dims = self.grid.dims;
+        let count = |columns: &mut Vec<i32>| grid::count_columns(columns, dims, &sorted);
+        #[cfg(feature = "parallel")]
+        let together = parallel && sorted.len() > 1 << 11;
+        #[cfg(not(feature = "parallel"))]
+        let together = false;
+        if together {
+            #[cfg(feature = "parallel")]
+            rayon::join(|| self.apply(&sorted, parallel), || count(&mut columns));
+        } else {
+            self.apply(&sorted, parallel);
+            count(&mut columns);
+        }
+        self.grid.columns = columns;
         drop(sources);
         (self.sorted, self.scratch, self.pending) = (sorted, scratch, pending);
         self.pending.clear();
