@@ -230,13 +230,11 @@ fn fit(
                 // The best with its inside leaves enlarged less, on the same bark: kept
                 // where its silhouette is nearer.
                 let mut variant: Option<Level> = None;
-                if lod.silhouette > 0.0 {
-                    for &e in &ENLARGE_SHARES[1..] {
-                        if let Some(v) = shape.variant(&candidates[best], e)? {
-                            let w = mean(&v, &dirs, full);
-                            if w > iou {
-                                (variant, iou) = (Some(v), w);
-                            }
+                for &e in &ENLARGE_SHARES[1..] {
+                    if let Some(v) = shape.variant(&candidates[best], e)? {
+                        let w = mean(&v, &dirs, full);
+                        if w > iou {
+                            (variant, iou) = (Some(v), w);
                         }
                     }
                 }
@@ -632,10 +630,8 @@ fn prune(
 
 /// `n` directions, none of [`fit_directions`], that check the level a fit picked.
 fn check_directions(up: Vec3, n: usize) -> Vec<Vec3> {
-    let (a, b) = (
-        up.any_orthonormal_vector(),
-        up.cross(up.any_orthonormal_vector()),
-    );
+    let a = up.any_orthonormal_vector();
+    let b = up.cross(a);
     (0..n)
         .map(|k| {
             let t = std::f32::consts::TAU * (k as f32 + 0.62) / n as f32;

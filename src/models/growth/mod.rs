@@ -474,21 +474,13 @@ impl World {
         // shed on the others (in parallel with the `parallel` feature: growing reads no
         // shadow). The shadow changes they make go to the shared grid in tree order, so
         // the result does not depend on the thread count.
-        // (The new ends' box: its corners ask for the same room as all of them.)
-        let (lo, hi) = plans
-            .iter()
-            .flat_map(|p| p.ends())
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p), hi.max(p))
-            });
-        let corners = if lo.x <= hi.x { &[lo, hi][..] } else { &[] };
+        let ends = env::bounds(plans.iter().flat_map(|p| p.ends()));
         let mut work: Vec<(&mut Tree, tree::Plan)> = self.trees.iter_mut().zip(plans).collect();
-        self.env
-            .cover_while(corners.iter().copied(), parallel, |env| {
-                each(&mut work, parallel, |(t, plan)| {
-                    t.grow(std::mem::take(plan), env, cycle)
-                });
-            })?;
+        self.env.cover_while(ends, parallel, |env| {
+            each(&mut work, parallel, |(t, plan)| {
+                t.grow(std::mem::take(plan), env, cycle)
+            });
+        })?;
         drop(work);
         // 7: seeding.
         let mut seedlings = Vec::new();

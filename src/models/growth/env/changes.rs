@@ -7,22 +7,10 @@ use super::grid::Divisor;
 /// (each cell's changes keep the order they were made in), through `scratch`: a
 /// least-significant-digit radix sort. With `parallel` (and the `parallel` feature) on two
 /// threads: each finds the cells of half of the changes and parts them by the half of the
-/// grid they fall in, then each sorts the changes of one half of the grid.
-#[cfg(test)]
+/// grid they fall in, then each sorts the changes of one half of the grid. With `merge`,
+/// each cell's changes are then merged ([`merge_changes`]), each half on its own thread
+/// (no cell is in both).
 pub(super) fn sort_changes(
-    sources: &[&[(u64, i32)]],
-    index: impl Fn(u64) -> Option<u32> + Sync,
-    sorted: &mut Vec<(u32, i32)>,
-    scratch: &mut [Vec<(u32, i32)>; 4],
-    cells: usize,
-    parallel: bool,
-) {
-    sort_changes_merged(sources, index, sorted, scratch, cells, parallel, false);
-}
-
-/// [`sort_changes`], then with `merge` each cell's changes merged ([`merge_changes`]):
-/// on each half's own thread where the halves are sorted on two (no cell is in both).
-pub(super) fn sort_changes_merged(
     sources: &[&[(u64, i32)]],
     index: impl Fn(u64) -> Option<u32> + Sync,
     sorted: &mut Vec<(u32, i32)>,

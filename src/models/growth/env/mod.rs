@@ -13,15 +13,25 @@ mod tests;
 
 #[cfg(test)]
 use changes::apply_changes;
-use changes::{apply_layers, sort_changes_merged};
 #[cfg(test)]
-use changes::{merge_changes, sort_changes};
+use changes::merge_changes;
+use changes::{apply_layers, sort_changes};
 pub(crate) use grid::{DARK, Key};
 use grid::{Grid, UNIT, key, unkey};
 pub use obstacles::Obstacle;
 
 fn oom(what: String) -> Error {
     Error::OutOfMemory { what }
+}
+
+/// The box around `points` (none for no points).
+pub(crate) fn bounds(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = points
+        .into_iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p), hi.max(p))
+        });
+    (lo.x <= hi.x).then_some((lo, hi))
 }
 
 /// Most obstacles a world may hold.
@@ -39,6 +49,10 @@ pub(crate) struct Bud {
     pub(crate) position: Vec3,
     pub(crate) direction: Vec3,
 }
+
+/// Changes a flush applies on the calling thread alone (more pay for waking a second).
+#[cfg(feature = "parallel")]
+const APPLY_ALONE: usize = 1 << 11;
 
 /// Bands of layers a flush is applied in on several threads.
 const BANDS: usize = 4;
@@ -294,32 +308,24 @@ impl Env {
     /// pyramids reach `q_max` cells sideways and down): refused with `LimitExceeded`
     /// naming `max_cells` past it, the grid unchanged. Nothing for markers.
     pub(crate) fn cover(&mut self, points: impl IntoIterator<Item = Vec3>) -> Result<()> {
-        self.cover_while(points, false, |_| ())
+        self.cover_while(bounds(points), false, |_| ())
     }
 
-    /// [`cover`](Self::cover), then `f` of the environment: with `parallel` (and the
-    /// `parallel` feature), while the grid's values move to the room it grew (if it
-    /// did) on another thread. `f` works out cells and changes (a cell's key does not
-    /// depend on the grid's store) and must not read the shadow: meanwhile the grid
-    /// holds no cell. Refused past `max_cells` or beyond the memory before `f` runs, the
-    /// grid unchanged.
+    /// [`cover`](Self::cover) of the box `bounds` (its points' [`bounds`]), then `f` of
+    /// the environment: with `parallel` (and the `parallel` feature), while the grid's
+    /// values move to the room it grew (if it did) on another thread. `f` works out cells
+    /// and changes (a cell's key does not depend on the grid's store) and must not read
+    /// the shadow: meanwhile the grid holds no cell. Refused past `max_cells` or beyond
+    /// the memory before `f` runs, the grid unchanged.
     pub(crate) fn cover_while<R: Send>(
         &mut self,
-        points: impl IntoIterator<Item = Vec3>,
+        bounds: Option<(Vec3, Vec3)>,
         parallel: bool,
         f: impl FnOnce(&Env) -> R + Send,
     ) -> Result<R> {
-        if self.kind != Environment::Shadow {
+        let Some((min, max)) = bounds.filter(|_| self.kind == Environment::Shadow) else {
             return Ok(f(self));
-        }
-        let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-        for p in points {
-            min = min.min(p);
-            max = max.max(p);
-        }
-        if min.x > max.x {
-            return Ok(f(self));
-        }
+        };
         // The cells of the corners, as their keys have them (beyond the lattice's reach:
         // clamped).
         let (lo, hi) = (
@@ -375,7 +381,7 @@ impl Env {
             std::mem::take(&mut self.scratch),
         );
         let grid = &self.grid;
-        sort_changes_merged(
+        sort_changes(
             &sources,
             |k| grid.change_index(k),
             &mut sorted,
@@ -384,26 +390,30 @@ impl Env {
             parallel,
             true,
         );
-        // The pyramids into the cells and the buds into the columns, at once where there
-        // are threads for both (they share nothing but the changes).
-        let mut columns = std::mem::take(&mut self.grid.columns);
-        let dims = self.grid.dims;
-        let count = |columns: &mut Vec<i32>| grid::count_columns(columns, dims, &sorted);
-        #[cfg(feature = "parallel")]
-        let together = parallel && sorted.len() > 1 << 11;
-        #[cfg(not(feature = "parallel"))]
-        let together = false;
-        if together {
-            #[cfg(feature = "parallel")]
-            rayon::join(|| self.apply(&sorted, parallel), || count(&mut columns));
-        } else {
-            self.apply(&sorted, parallel);
-            count(&mut columns);
-        }
-        self.grid.columns = columns;
+        self.apply_and_count(&sorted, parallel);
         drop(sources);
         (self.sorted, self.scratch, self.pending) = (sorted, scratch, pending);
         self.pending.clear();
+    }
+
+    /// [`apply`](Self::apply) `changes` to the cells and count their buds into the
+    /// columns: at once, on two threads, where `apply` would wake a second one (the two
+    /// share nothing but the changes).
+    fn apply_and_count(&mut self, changes: &[(u32, i32)], parallel: bool) {
+        let mut columns = std::mem::take(&mut self.grid.columns);
+        let dims = self.grid.dims;
+        #[cfg(feature = "parallel")]
+        if parallel && changes.len() > APPLY_ALONE {
+            rayon::join(
+                || self.apply(changes, parallel),
+                || grid::count_columns(&mut columns, dims, changes),
+            );
+            self.grid.columns = columns;
+            return;
+        }
+        self.apply(changes, parallel);
+        grid::count_columns(&mut columns, dims, changes);
+        self.grid.columns = columns;
     }
 
     /// Adds the pyramids of merged, sorted `changes` to the grid: with `parallel`, the
@@ -419,7 +429,7 @@ impl Env {
         let layer = dims[0] * dims[2];
         let falloff = &self.falloff;
         #[cfg(feature = "parallel")]
-        if parallel && changes.len() > 1 << 11 {
+        if parallel && changes.len() > APPLY_ALONE {
             use rayon::prelude::*;
             // Work by target layer: layer t takes the squares of the changes q layers
             // above it, (2q + 1)² cells each. Bands cut where the work reaches each

@@ -120,7 +120,8 @@ fn obstacles_are_counted() {
 }
 
 /// The radix sort orders by cell and keeps each cell's changes in the order made, on
-/// one thread and (with the feature) on two, for grids needing one to three passes.
+/// one thread and (with the feature) on two, for grids needing one to three passes; asked
+/// to merge, it gives what merging the sorted changes gives.
 #[test]
 fn shadow_changes_sort_stably_by_cell() {
     let mut rng = crate::rng::Rng::new(7);
@@ -138,7 +139,14 @@ fn shadow_changes_sort_stably_by_cell() {
         // A third of the cells have no storage index (under the ground): left out.
         let index = |k: u64| (k % 3 != 0).then_some(k as u32);
         expected.retain(|&(c, _)| index(c).is_some());
-        for parallel in [false, true] {
+        let mut merged: Vec<(u32, i32)> = expected.iter().map(|&(c, n)| (c as u32, n)).collect();
+        merge_changes(&mut merged);
+        // Every grid but the largest (50,000 changes in 2^31 cells) has cells to merge.
+        assert!(
+            cells == 1 << 31 || merged.len() < expected.len(),
+            "{cells} cells: no cell to merge"
+        );
+        for (parallel, merge) in [(false, false), (true, false), (false, true), (true, true)] {
             // As a flush gathers them: from several places, in order.
             let (head, tail) = changes.split_at(len / 3);
             let (mut got, mut scratch) = (
@@ -157,14 +165,16 @@ fn shadow_changes_sort_stably_by_cell() {
                 &mut scratch,
                 cells,
                 parallel,
+                merge,
             );
-            let same = got
-                .iter()
-                .zip(&expected)
-                .all(|(a, b)| a.0 as u64 == b.0 && a.1 == b.1);
+            let want: Vec<(u32, i32)> = if merge {
+                merged.clone()
+            } else {
+                expected.iter().map(|&(c, n)| (c as u32, n)).collect()
+            };
             assert!(
-                same && got.len() == expected.len(),
-                "{cells} cells, {len} changes, parallel {parallel}"
+                got == want,
+                "{cells} cells, {len} changes, parallel {parallel}, merge {merge}"
             );
         }
     }
