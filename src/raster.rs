@@ -144,6 +144,17 @@ impl Target {
         }
     }
 
+    /// Every pixel of the box `x0..=x1` × `y0..=y1` (inside the target) is covered.
+    fn covered(&self, (x0, x1): (usize, usize), (y0, y1): (usize, usize)) -> bool {
+        (y0..=y1).all(|y| {
+            let row = &self.bits[y * self.words..][..self.words];
+            (x0 / 64..=x1 / 64).all(|wi| {
+                let want = span_bits(wi, x0, x1);
+                row[wi] & want == want
+            })
+        })
+    }
+
     fn draw_one(&mut self, view: &View, s: &Surface<'_>, screen: &mut Vec<[f32; 3]>) {
         let (w, h) = (self.width as f32, self.height as f32);
         let (sx, sy) = (0.5 * w / view.half, 0.5 * h / view.half);
@@ -183,6 +194,12 @@ impl Target {
             if x0 > x1 || y0 > y1 {
                 continue;
             }
+            // A silhouette's triangle over pixels all covered already adds nothing (the
+            // inside of a crown, once its outer leaves are drawn).
+            let (bx, by) = ((x0 as usize, x1 as usize), (y0 as usize, y1 as usize));
+            if self.coverage_only && self.covered(bx, by) {
+                continue;
+            }
             // The barycentric weights as planes over the image: l = ax * px + ay * py + k
             // at the pixel centre (px, py); the third is 1 - l0 - l1.
             let inv = 1.0 / area;
@@ -205,14 +222,14 @@ impl Target {
                 let (mut lo, mut hi) = (x0 as f32 + 0.5, x1 as f32 + 0.5);
                 let (k0, k1) = (e0.row(py), e1.row(py));
                 let mut empty = false;
+                // Without a branch: an edge rising along the row bounds the span from the
+                // left, a falling one from the right, a flat one empties the row where
+                // its weight is negative.
                 for (e, k) in [(&e0, k0), (&e1, k1), (&e2, e2.row(py))] {
-                    if e.ax > 0.0 {
-                        lo = lo.max(-k * e.inv_ax);
-                    } else if e.ax < 0.0 {
-                        hi = hi.min(-k * e.inv_ax);
-                    } else if k < 0.0 {
-                        empty = true;
-                    }
+                    let t = -k * e.inv_ax;
+                    lo = lo.max(if e.ax > 0.0 { t } else { f32::NEG_INFINITY });
+                    hi = hi.min(if e.ax < 0.0 { t } else { f32::INFINITY });
+                    empty |= e.flat & (k < 0.0);
                 }
                 if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                     continue;
@@ -298,18 +315,27 @@ impl Target {
 }
 
 /// One barycentric weight as a plane over the image (`ax * px + ay * py + k`), with the
-/// reciprocal of its slope along a row (0 where it is flat).
+/// reciprocal of its slope along a row (0 where it is flat), and whether it is flat
+/// (neither rising nor falling along a row: zero or not a number).
 struct Edge {
     ax: f32,
     ay: f32,
     k: f32,
     inv_ax: f32,
+    flat: bool,
 }
 
 impl Edge {
     fn new(ax: f32, ay: f32, k: f32) -> Edge {
         let inv_ax = if ax != 0.0 { 1.0 / ax } else { 0.0 };
-        Edge { ax, ay, k, inv_ax }
+        let flat = matches!(ax.partial_cmp(&0.0), Some(std::cmp::Ordering::Equal) | None);
+        Edge {
+            ax,
+            ay,
+            k,
+            inv_ax,
+            flat,
+        }
     }
 
     /// The weight's constant along the row whose centres are at `py`.
