@@ -75,8 +75,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         );
     }
-    // The impostor, baked from level 2 as the CLI bakes it, seen from the same side.
-    let source = &levels[2.min(levels.len() - 1)];
+    // The impostor, baked from the level the CLI bakes it from, seen from the same side.
+    let source = &levels[arbor::lod::impostor_source(&levels, 128)];
     let small = atlas.downsampled(arbor::lod::SILHOUETTE_ATLAS);
     let imp = octahedral(
         &surfaces(source, Some(&small)),

@@ -56,6 +56,12 @@ int main(void) {
     CHECK(sum == triangles, "level %zu: %zu indexed vs %zu", k, sum, triangles);
   }
   CHECK_STATUS(arbor_lods_level_info(lods, 4, NULL, NULL, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  /* The level to bake an impostor from: every level is first drawn at least 8 pixels
+   * across (the last is), none that many (the full tree), and 0 for NULL. */
+  CHECK(arbor_lods_impostor_level(lods, 8) == 3, "%zu", arbor_lods_impostor_level(lods, 8));
+  CHECK(arbor_lods_impostor_level(lods, UINT32_MAX) == 0, "%zu", arbor_lods_impostor_level(lods, UINT32_MAX));
+  CHECK(arbor_lods_impostor_level(lods, 128) < 4, "%zu", arbor_lods_impostor_level(lods, 128));
+  CHECK(arbor_lods_impostor_level(NULL, 128) == 0, "NULL");
   CHECK_STATUS(arbor_lods_mesh_write(lods, 0, 2, NULL, 0, NULL, 0, NULL, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
 
   /* The impostor of level 2: 4 x 4 views of 32 pixels. */

@@ -2742,6 +2742,17 @@ void arbor_lods_free(struct ArborLods *lods);
 size_t arbor_lods_count(const struct ArborLods *lods);
 
 /**
+ * The level an impostor of views `cell` pixels across is best baked from
+ * (arbor_lods_impostor_create()): the last first drawn with the tree's bounding square at
+ * least `cell` pixels across (a level made for a smaller size shows its straightened and
+ * pruned twigs in larger views), 0 (the full tree) when none is, and for NULL.
+ *
+ * # Safety
+ * `lods` is NULL or live.
+ */
+size_t arbor_lods_impostor_level(const struct ArborLods *lods, uint32_t cell);
+
+/**
  * Level `level`'s figures: `*screen_coverage` (drawn while the tree covers at least this
  * share of the screen's height), `*silhouette` (the IoU it keeps with the full tree where
  * it is first drawn), `*triangles`; each pointer may be NULL.

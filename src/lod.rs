@@ -704,6 +704,27 @@ impl Frame {
     }
 }
 
+/// The level of `levels` (a [`chain`]) an impostor of views `cell` pixels across is best
+/// baked from: the last that is first drawn with the tree's bounding square at least
+/// `cell` pixels across ([`Frame::pixels`] of the switch before it). Each level is made
+/// for where it is first drawn (its axes straightened by up to [`COLLAPSE_PIXELS`] there,
+/// the branches that give the outline least pruned, its leaves thinned), so a level made
+/// for a smaller size shows its straightened and missing twigs in views larger than that;
+/// one made for at least the views' size looks as the full tree does in them, with fewer
+/// triangles to draw. The full tree (0) when no level is first drawn that large.
+pub fn impostor_source(levels: &[Level], cell: u32) -> usize {
+    let Some(frame) = levels
+        .first()
+        .and_then(|l| Frame::of(l, l.mesh_options.up()))
+    else {
+        return 0;
+    };
+    (1..levels.len())
+        .take_while(|&k| frame.pixels(levels[k - 1].screen_coverage) >= cell)
+        .last()
+        .unwrap_or(0)
+}
+
 /// A level as the rasterizer draws it: the bark brown and opaque, the leaves green (or
 /// `atlas`, the leaf atlas they sample), alpha-tested at one half and two-sided.
 pub fn surfaces<'a>(level: &'a Level, atlas: Option<&'a Image>) -> Vec<Surface<'a>> {

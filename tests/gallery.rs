@@ -361,8 +361,9 @@ fn gallery_checks_the_levels_silhouettes_with_opengl() {
     assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 1024);
 }
 
-/// `gallery --species shrub --impostors`: the species' impostor (baked from its level 2)
-/// drawn by the reference shader on a field of 400 quads, where the species alone is one
+/// `gallery --species shrub --impostors`: the species' impostor (baked from the level
+/// `arbor_lods_impostor_level` names) drawn by the reference shader on a field of 400
+/// quads, where the species alone is one
 /// shrub: many more trunks and crowns, and the bake reported.
 #[test]
 fn gallery_draws_a_field_of_impostors() {

@@ -371,3 +371,41 @@ fn fewer_sides_keep_the_trunk_as_wide() {
         );
     }
 }
+
+/// The level an impostor is baked from is the coarsest made for views of its cells' size:
+/// at 128 pixels it keeps the full tree's silhouette, and the level after it (made for a
+/// few pixels: its axes straightened, its twigs pruned for that size) does not. Tree a's
+/// level 2, which the CLI baked from before, keeps 0.58 there, its level 1 0.92.
+#[test]
+fn the_impostor_is_baked_from_the_coarsest_level_made_for_its_views() {
+    let lod = LodOptions::default();
+    for name in ['a', 'e'] {
+        let levels = tree_1996(name, &lod);
+        let full = &levels[0];
+        let frame = Frame::of(full, full.mesh_options.up()).unwrap();
+        let mean = |level: &Level| {
+            let dirs = directions(8);
+            let sum: f32 = dirs
+                .iter()
+                .map(|&d| {
+                    iou(
+                        &silhouette(full, None, &frame, d, 128),
+                        &silhouette(level, None, &frame, d, 128),
+                    )
+                })
+                .sum();
+            sum / dirs.len() as f32
+        };
+        let source = arbor::lod::impostor_source(&levels, 128);
+        assert!(source >= 1, "tree {name}: a level is made for 128 pixels");
+        let kept = mean(&levels[source]);
+        assert!(kept >= 0.9, "tree {name}: level {source} keeps {kept}");
+        if let Some(next) = levels.get(source + 1) {
+            let lost = mean(next);
+            assert!(lost < 0.9, "tree {name}: level {} keeps {lost}", source + 1);
+        }
+        // Ends: every level is first drawn at least 8 pixels across, none at 4,097.
+        assert_eq!(arbor::lod::impostor_source(&levels, 8), levels.len() - 1);
+        assert_eq!(arbor::lod::impostor_source(&levels, 4097), 0);
+    }
+}

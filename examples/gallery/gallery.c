@@ -157,7 +157,8 @@ typedef struct {
   /* Headless screenshots: the wind's clock stands still at 1 s. */
   int fixed_time;
   /* With --species: the species' impostor on a field of 400 quads (the reference shader,
-     examples/common/impostor.glsl), baked from its level 2 when first shown. */
+     examples/common/impostor.glsl), baked when first shown from the level
+     arbor_lods_impostor_level() names. */
   int impostors;
   /* L-system mode: a cpfg file read as cpfg reads it (preprocessor, view file), drawn with
      its polygons, spheres, discs and leaves; Tab / Shift+Tab step through the .l files of
@@ -774,7 +775,7 @@ static void draw_tree(const Tree *t, Mat4 model) {
 }
 
 /* The species' impostor field (lodcheck.h), made when first drawn: its chain of levels,
- * level 2 baked into 12 x 12 views. */
+ * the level arbor_lods_impostor_level() names for 128-pixel views baked into 12 x 12. */
 static ImpostorField impostor_field;
 static int impostor_field_ready;
 
@@ -783,7 +784,7 @@ static void draw_impostor_field(const Mat4 *vp, const float eye[3]) {
     double t0 = now_ms();
     unsigned char *atlas = NULL;
     ArborLods *lods = species_lods((uint32_t)st.species, 256, &atlas);
-    size_t n = arbor_lods_count(lods), level = n > 2 ? 2 : n - 1;
+    size_t level = arbor_lods_impostor_level(lods, 128);
     impostor_field_build(&impostor_field, lods, level, atlas, 256);
     free(atlas);
     arbor_lods_free(lods);

@@ -524,9 +524,10 @@ static int lod_check(uint32_t species, const char *shot) {
            levels[0].triangles, (double)c, pixels, (double)(sum / 8.0f), (double)least);
   }
 
-  /* The baker: arbor's 144 views against OpenGL's, level 2 (or the last). */
-  size_t src = count > 2 ? 2 : count - 1;
+  /* The baker: arbor's 144 views against OpenGL's, of the level the impostor is baked
+   * from (the coarsest made for views of its cells' size). */
   const int frames = 12, cell = 128, side = 3 * cell;
+  size_t src = arbor_lods_impostor_level(lods, (uint32_t)cell);
   double best_arbor = 1e30, best_gl = 1e30;
   size_t bytes = (size_t)side * side * 4;
   unsigned char *albedo = malloc(bytes * (size_t)(frames * frames)), *normal = malloc(bytes * (size_t)(frames * frames));

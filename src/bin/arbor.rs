@@ -510,9 +510,9 @@ impl Game {
             skin_levels(&mut scene, &levels, skeleton, o, seed)?;
         }
         let last = levels.last().map_or(0.0, |l| l.screen_coverage);
-        // The impostor is drawn from level 2 (or the last below it): a tenth of the
-        // triangles, its silhouette kept where it is drawn.
-        let source = &levels[levels.len().min(3) - 1];
+        // The impostor is drawn from the coarsest level made for views at least as large
+        // as its cells (the full tree when none is).
+        let source = &levels[arbor::lod::impostor_source(&levels, IMPOSTOR_CELL)];
         let small = atlas.map(|a| a.downsampled(arbor::lod::SILHOUETTE_ATLAS));
         let mut surfaces = arbor::lod::surfaces(source, small.as_ref());
         for s in &mut surfaces {

@@ -173,6 +173,19 @@ pub unsafe extern "C" fn arbor_lods_count(lods: *const ArborLods) -> usize {
     unsafe { lods.as_ref() }.map_or(0, |l| l.levels.len())
 }
 
+/// The level an impostor of views `cell` pixels across is best baked from
+/// (arbor_lods_impostor_create()): the last first drawn with the tree's bounding square at
+/// least `cell` pixels across (a level made for a smaller size shows its straightened and
+/// pruned twigs in larger views), 0 (the full tree) when none is, and for NULL.
+///
+/// # Safety
+/// `lods` is NULL or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_lods_impostor_level(lods: *const ArborLods, cell: u32) -> usize {
+    // SAFETY: the caller promises NULL or live.
+    unsafe { lods.as_ref() }.map_or(0, |l| crate::lod::impostor_source(&l.levels, cell))
+}
+
 /// Level `level`'s figures: `*screen_coverage` (drawn while the tree covers at least this
 /// share of the screen's height), `*silhouette` (the IoU it keeps with the full tree where
 /// it is first drawn), `*triangles`; each pointer may be NULL.

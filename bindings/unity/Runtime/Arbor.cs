@@ -472,6 +472,8 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern UIntPtr arbor_lods_count(IntPtr lods);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern UIntPtr arbor_lods_impostor_level(IntPtr lods, uint cell);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_lods_level_info(IntPtr lods, UIntPtr level, out float screenCoverage, out float silhouette, out UIntPtr triangles);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_lods_mesh_write(IntPtr lods, UIntPtr level, uint part, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] uint[] indices, UIntPtr indexCapacity, out UIntPtr vertexCount, out UIntPtr indexCount);
@@ -1003,6 +1005,11 @@ namespace Arbor
             ArborException.Check(Native.arbor_lods_billboard_create(handle, (UIntPtr)level, planes, cell, atlasRgba, atlasWidth, atlasHeight, out b));
             return new Billboard(b);
         }
+
+        /// The level an impostor of `cell`-pixel views is best baked from
+        /// (arbor_lods_impostor_level): the coarsest made for views at least that large,
+        /// 0 (the full tree) when none is.
+        public int ImpostorLevel(uint cell) { return (int)Native.arbor_lods_impostor_level(handle, cell); }
 
         /// The octahedral impostor of a level (arbor_lods_impostor_create): `frames` x
         /// `frames` views (1..=32) of `cell` pixels (8..=1024), of the upper half of the

@@ -75,7 +75,10 @@ public static class UnityHelpersTest
                 }
                 // The octahedral impostor as a fifth level: one quad bounded by the
                 // impostor's sphere, the material given its albedo and frame.
-                using (var imp = lods.Impostor(lods.Count - 1, 8, 32, true, null, 0, 0))
+                // Baked from the level made for views of its cells' size: every level is
+                // first drawn at least 8 pixels across, none at a million.
+                expect(lods.ImpostorLevel(8) == lods.Count - 1 && lods.ImpostorLevel(1u << 20) == 0, "the impostor's level");
+                using (var imp = lods.Impostor(lods.ImpostorLevel(32), 8, 32, true, null, 0, 0))
                 {
                     var withImpostor = new UnityEngine.GameObject("tree");
                     var material = new UnityEngine.Material();
