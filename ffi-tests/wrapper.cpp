@@ -110,6 +110,122 @@ int main(int argc, char **argv) {
     }
   }
 
+  // Game assets: levels of detail with their leaves, an impostor and a billboard, the
+  // collision capsules, the wind skin and its clip, through the wrapper's RAII objects.
+  {
+    arbor::Tree t = arbor::Tree::honda('b');
+    ArborMeshOptions mo = arbor::mesh_options();
+    mo.threads = 1;  // on the calling thread (the test runs under valgrind)
+    ArborLeafOptions lo = arbor::leaf_options();
+    lo.sites = 0;
+    lo.tips = 1;
+    lo.density = 3.0f;
+    lo.size = 8.0f;
+    arbor::Lods lods = t.lods(mo, &lo);
+    EXPECT(lods.count() == 4, "%zu levels", lods.count());
+    const std::size_t full = lods.level(0).triangles;
+    float previous = 2.0f;
+    for (std::size_t k = 0; k < lods.count(); k++) {
+      arbor::Lods::Level l = lods.level(k);
+      EXPECT(l.screen_coverage <= previous && l.screen_coverage > 0.0f, "level %zu coverage", k);
+      previous = l.screen_coverage;
+      EXPECT(k == 0 || (double)l.triangles <= 0.4 * (double)full * 1.0001, "level %zu: %zu of %zu", k,
+             l.triangles, full);
+      std::size_t sum = 0;
+      for (uint32_t part = 0; part < 2; part++) {
+        arbor::MeshData m = lods.mesh(k, part);
+        EXPECT(lods.mesh_size(k, part) == std::make_pair(m.vertices.size(), m.indices.size()),
+               "level %zu part %u sizes", k, part);
+        EXPECT(std::all_of(m.indices.begin(), m.indices.end(),
+                           [&](uint32_t i) { return i < m.vertices.size(); }),
+               "level %zu part %u indices", k, part);
+        sum += m.indices.size() / 3;
+      }
+      EXPECT(sum == l.triangles, "level %zu: %zu indexed vs %zu", k, sum, l.triangles);
+    }
+    // The impostor's level: every level is first drawn at least 8 pixels across, none
+    // at UINT32_MAX.
+    EXPECT(lods.impostor_level(8) == lods.count() - 1, "%zu", lods.impostor_level(8));
+    EXPECT(lods.impostor_level(UINT32_MAX) == 0, "%zu", lods.impostor_level(UINT32_MAX));
+    arbor::Impostor imp = lods.impostor(lods.impostor_level(32), 4, 32);
+    EXPECT(imp.atlas_size() == 128, "atlas %u", imp.atlas_size());
+    float centre[3], up[3], radius = 0.0f;
+    imp.frame(centre, &radius, up);
+    EXPECT(radius > 0.0f && up[1] == 1.0f, "frame: radius %f", (double)radius);
+    arbor::Image albedo = imp.atlas(0);
+    EXPECT(albedo.width == 128 && albedo.rgba.size() == 128u * 128u * 4u, "albedo %zu bytes",
+           albedo.rgba.size());
+    for (uint32_t cell = 0; cell < 16; cell++) {
+      uint32_t covered = 0, x0 = (cell % 4) * 32, y0 = (cell / 4) * 32;
+      for (uint32_t y = 0; y < 32; y++)
+        for (uint32_t x = 0; x < 32; x++) covered += albedo.rgba[((y0 + y) * 128 + x0 + x) * 4 + 3] > 0;
+      EXPECT(covered > 20, "view %u: %u pixels", cell, covered);
+    }
+    std::vector<uint8_t> small(128 * 128 * 4 - 1, 7);
+    try {
+      imp.write_atlas(1, small);
+      EXPECT(false, "no exception for an atlas buffer one byte short");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_BUFFER_TOO_SMALL && small[0] == 7, "status %d", (int)e.status());
+    }
+    arbor::Billboard bb = lods.billboard(lods.count() - 1, 3, 32);
+    arbor::MeshData quads = bb.mesh(true);
+    EXPECT(quads.vertices.size() == 24 && quads.indices.size() == 36, "two-sided quads: %zu, %zu",
+           quads.vertices.size(), quads.indices.size());
+    arbor::Image card = bb.atlas(0);
+    EXPECT(card.width == 96 && card.height == 32 && card.rgba.size() == 96u * 32u * 4u, "card %u x %u",
+           card.width, card.height);
+    try {
+      lods.level(lods.count());
+      EXPECT(false, "no exception for a level past the chain");
+    } catch (const arbor::Error &e) {
+      EXPECT(e.status() == ARBOR_STATUS_INVALID_ARGUMENT, "status %d", (int)e.status());
+      EXPECT(std::string(e.what()).find("level") != std::string::npos, "%s", e.what());
+    }
+
+    // Collision: the trunk first, then the limbs, thickest first.
+    std::vector<ArborCapsule> caps = t.capsules(mo, 8);
+    EXPECT(!caps.empty() && caps.size() <= 8, "%zu capsules", caps.size());
+    bool thickest_first = true;
+    for (std::size_t k = 2; k < caps.size(); k++) thickest_first = thickest_first && caps[k].radius <= caps[k - 1].radius;
+    EXPECT(thickest_first && caps[0].radius > 0.0f, "capsule radii");
+
+    // Wind: bones parents first, every vertex's weights summing to one on them, and a
+    // clip whose last key is its first.
+    std::vector<float> inverse_bind;
+    std::vector<ArborBone> bones = t.bones(mo, 16, &inverse_bind);
+    EXPECT(!bones.empty() && bones.size() <= 16 && inverse_bind.size() == 16 * bones.size(), "%zu bones",
+           bones.size());
+    EXPECT(bones[0].parent == ARBOR_NO_PARENT, "the root");
+    for (std::size_t k = 1; k < bones.size(); k++) EXPECT(bones[k].parent < k, "bone %zu's parent", k);
+    arbor::Skin skin = t.skin(mo, 16);
+    const std::size_t vertices = t.mesh_size(mo).first;
+    EXPECT(skin.weights.size() == 4 * vertices && skin.joints.size() == 4 * vertices, "%zu weights",
+           skin.weights.size());
+    bool summed = true, joined = true;
+    for (std::size_t v = 0; v < vertices; v++) {
+      float w = skin.weights[4 * v] + skin.weights[4 * v + 1] + skin.weights[4 * v + 2] + skin.weights[4 * v + 3];
+      summed = summed && std::fabs(w - 1.0f) < 1e-4f;
+      for (int j = 0; j < 4; j++) joined = joined && skin.joints[4 * v + j] < bones.size();
+    }
+    EXPECT(summed && joined, "skin weights and joints");
+    arbor::WindClip clip = t.wind_clip(mo, 16);
+    const std::size_t keys = clip.times.size();
+    EXPECT(clip.bones == bones.size() && keys >= 2 && clip.rotations.size() == 4 * clip.bones * keys,
+           "%zu bones, %zu keys", clip.bones, keys);
+    EXPECT(clip.times[0] == 0.0f && std::fabs(clip.times[keys - 1] - 4.0f) < 1e-4f, "times");
+    bool loops = true, unit = true;
+    for (std::size_t b = 0; b < clip.bones; b++) {
+      const float *first = &clip.rotations[4 * (b * keys)], *last = &clip.rotations[4 * (b * keys + keys - 1)];
+      for (int c = 0; c < 4; c++) loops = loops && std::fabs(first[c] - last[c]) < 1e-5f;
+      for (std::size_t k = 0; k < keys; k++) {
+        const float *q = &clip.rotations[4 * (b * keys + k)];
+        unit = unit && std::fabs(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0f) < 1e-4f;
+      }
+    }
+    EXPECT(loops && unit, "the clip loops with unit rotations");
+  }
+
   // Errors are exceptions with the status and message.
   try {
     arbor::Tree::honda('z');

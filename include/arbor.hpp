@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -121,6 +122,202 @@ inline ArborGrowthParams species(ArborSpecies s) {
   detail::check(arbor_growth_params_preset(static_cast<uint32_t>(s), &p, sizeof p));
   return p;
 }
+
+inline ArborLodOptions lod_options() { return arbor_lod_options_default(); }
+
+/// An RGBA8 image arbor wrote into memory the host owns (rows from the top).
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
+/// A mesh copied into memory the host owns (a triangle list, or strips as its options say).
+struct MeshData {
+  std::vector<ArborVertex> vertices;
+  std::vector<uint32_t> indices;
+};
+
+/// An octahedral impostor's atlases and frame (arbor_lods_impostor_create(); the layout is
+/// docs/meshes.md's "Impostors"). Move-only.
+class Impostor {
+ public:
+  Impostor(Impostor &&other) noexcept : imp_(std::exchange(other.imp_, nullptr)) {}
+  Impostor &operator=(Impostor &&other) noexcept {
+    std::swap(imp_, other.imp_);
+    return *this;
+  }
+  Impostor(const Impostor &) = delete;
+  Impostor &operator=(const Impostor &) = delete;
+  ~Impostor() { arbor_impostor_free(imp_); }
+
+  /// Pixels a side of each atlas.
+  uint32_t atlas_size() const {
+    uint32_t n = 0;
+    detail::check(arbor_impostor_info(imp_, &n, nullptr, nullptr, nullptr));
+    return n;
+  }
+  /// The bounding sphere the views frame: its centre (3 floats) and radius; the up axis.
+  void frame(float centre[3], float *radius, float up[3]) const {
+    detail::check(arbor_impostor_info(imp_, nullptr, centre, radius, up));
+  }
+  /// Atlas `which` (0: albedo and coverage, 1: normal and depth) into host memory.
+  Image atlas(uint32_t which) const {
+    std::size_t n = 0;
+    detail::check(arbor_impostor_atlas_write(imp_, which, nullptr, 0, &n));
+    Image out;
+    out.width = out.height = atlas_size();
+    out.rgba.resize(n);
+    detail::check(arbor_impostor_atlas_write(imp_, which, out.rgba.data(), n, nullptr));
+    return out;
+  }
+  /// Atlas `which` into a span the host owns (a mapped texture upload buffer): at least
+  /// atlas_size()² × 4 bytes.
+  void write_atlas(uint32_t which, Span<uint8_t> out) const {
+    detail::check(arbor_impostor_atlas_write(imp_, which, out.data(), out.size(), nullptr));
+  }
+  const ArborImpostor *get() const noexcept { return imp_; }
+
+ private:
+  friend class Lods;
+  explicit Impostor(ArborImpostor *imp) noexcept : imp_(imp) {}
+  ArborImpostor *imp_;
+};
+
+/// Crossed quads with their atlas, for hosts without an impostor shader
+/// (arbor_lods_billboard_create()). Move-only.
+class Billboard {
+ public:
+  Billboard(Billboard &&other) noexcept : bb_(std::exchange(other.bb_, nullptr)) {}
+  Billboard &operator=(Billboard &&other) noexcept {
+    std::swap(bb_, other.bb_);
+    return *this;
+  }
+  Billboard(const Billboard &) = delete;
+  Billboard &operator=(const Billboard &) = delete;
+  ~Billboard() { arbor_billboard_free(bb_); }
+
+  /// The quads (a triangle list), each plane again the other way round with `two_sided`.
+  MeshData mesh(bool two_sided = false) const {
+    std::size_t nv = 0, ni = 0;
+    detail::check(arbor_billboard_mesh_write(bb_, two_sided, nullptr, 0, nullptr, 0, &nv, &ni));
+    MeshData out;
+    out.vertices.resize(nv);
+    out.indices.resize(ni);
+    detail::check(arbor_billboard_mesh_write(bb_, two_sided, out.vertices.data(), nv,
+                                             out.indices.data(), ni, nullptr, nullptr));
+    return out;
+  }
+  /// Atlas `which` (0: albedo and coverage, 1: normal and depth), `planes` cells wide.
+  Image atlas(uint32_t which) const {
+    Image out;
+    detail::check(arbor_billboard_atlas_write(bb_, which, nullptr, 0, &out.width, &out.height));
+    out.rgba.resize(std::size_t(out.width) * out.height * 4);
+    detail::check(arbor_billboard_atlas_write(bb_, which, out.rgba.data(), out.rgba.size(),
+                                              nullptr, nullptr));
+    return out;
+  }
+  const ArborBillboard *get() const noexcept { return bb_; }
+
+ private:
+  friend class Lods;
+  explicit Billboard(ArborBillboard *bb) noexcept : bb_(bb) {}
+  ArborBillboard *bb_;
+};
+
+/// A tree's levels of detail (Tree::lods(), arbor_tree_lods_create()): level 0 the full
+/// tree, each level its bark (part 0) and baked leaves (part 1). Const member functions
+/// may run on several threads at once. Move-only.
+class Lods {
+ public:
+  /// What arbor_lods_level_info() says of a level.
+  struct Level {
+    float screen_coverage;  ///< drawn while the tree covers at least this share of the screen's height
+    float silhouette;       ///< the IoU it keeps with the full tree where it is first drawn
+    std::size_t triangles;
+  };
+
+  Lods(Lods &&other) noexcept : lods_(std::exchange(other.lods_, nullptr)) {}
+  Lods &operator=(Lods &&other) noexcept {
+    std::swap(lods_, other.lods_);
+    return *this;
+  }
+  Lods(const Lods &) = delete;
+  Lods &operator=(const Lods &) = delete;
+  ~Lods() { arbor_lods_free(lods_); }
+
+  std::size_t count() const noexcept { return arbor_lods_count(lods_); }
+  Level level(std::size_t k) const {
+    Level l{};
+    detail::check(arbor_lods_level_info(lods_, k, &l.screen_coverage, &l.silhouette, &l.triangles));
+    return l;
+  }
+  /// Sizes of part `part` (0 bark, 1 leaves) of level `k`: {vertices, indices}.
+  std::pair<std::size_t, std::size_t> mesh_size(std::size_t k, uint32_t part) const {
+    std::size_t nv = 0, ni = 0;
+    detail::check(arbor_lods_mesh_write(lods_, k, part, nullptr, 0, nullptr, 0, &nv, &ni));
+    return {nv, ni};
+  }
+  /// Part `part` of level `k` into spans the host owns (a mapped buffer), at least mesh_size().
+  void write_mesh(std::size_t k, uint32_t part, Span<ArborVertex> vertices,
+                  Span<uint32_t> indices) const {
+    detail::check(arbor_lods_mesh_write(lods_, k, part, vertices.data(), vertices.size(),
+                                        indices.data(), indices.size(), nullptr, nullptr));
+  }
+  MeshData mesh(std::size_t k, uint32_t part) const {
+    auto size = mesh_size(k, part);
+    MeshData out;
+    out.vertices.resize(size.first);
+    out.indices.resize(size.second);
+    write_mesh(k, part, out.vertices, out.indices);
+    return out;
+  }
+  /// The level an impostor of `cell`-pixel views is best baked from (the coarsest made
+  /// for views at least that large; 0, the full tree, when none is).
+  std::size_t impostor_level(uint32_t cell) const noexcept {
+    return arbor_lods_impostor_level(lods_, cell);
+  }
+  /// The octahedral impostor of level `k`: `frames` × `frames` views of `cell` pixels,
+  /// of the upper half of the sphere with `hemi`; the leaves sample `atlas` (the leaf
+  /// atlas the levels were made with; empty: opaque cards).
+  Impostor impostor(std::size_t k, uint32_t frames, uint32_t cell, bool hemi = true,
+                    const Image *atlas = nullptr) const {
+    ArborImpostor *i = nullptr;
+    detail::check(arbor_lods_impostor_create(lods_, k, frames, cell, hemi,
+                                             atlas ? atlas->rgba.data() : nullptr,
+                                             atlas ? atlas->width : 0, atlas ? atlas->height : 0, &i));
+    return Impostor(i);
+  }
+  /// The billboard of level `k`: `planes` (2..4) crossed quads, each a cell of `cell` pixels.
+  Billboard billboard(std::size_t k, uint32_t planes, uint32_t cell,
+                      const Image *atlas = nullptr) const {
+    ArborBillboard *b = nullptr;
+    detail::check(arbor_lods_billboard_create(lods_, k, planes, cell,
+                                              atlas ? atlas->rgba.data() : nullptr,
+                                              atlas ? atlas->width : 0, atlas ? atlas->height : 0, &b));
+    return Billboard(b);
+  }
+  const ArborLods *get() const noexcept { return lods_; }
+
+ private:
+  friend class Tree;
+  explicit Lods(ArborLods *lods) noexcept : lods_(lods) {}
+  ArborLods *lods_;
+};
+
+/// A tree's wind skin: four joints and four weights (summing to one) a vertex of its
+/// bark mesh, on the bones of Tree::bones() (arbor_mesh_skin_write()).
+struct Skin {
+  std::vector<uint16_t> joints;
+  std::vector<float> weights;
+};
+
+/// A looping wind clip (arbor_tree_wind_clip_write()): `times` a key each, `rotations` a
+/// unit quaternion (x, y, z, w) per bone and key, bone `b`'s key `k` at 4 * (b * keys + k).
+struct WindClip {
+  std::size_t bones = 0;
+  std::vector<float> times;
+  std::vector<float> rotations;
+};
 
 class World;
 
@@ -267,6 +464,75 @@ class Tree {
   void export_obj(const std::string &path, const ArborMeshOptions &options = mesh_options(),
                   const ArborLeafOptions *leaves = nullptr) const {
     detail::check(arbor_export_obj(tree_, &options, leaves, path.c_str()));
+  }
+
+  /// Levels of detail of the bark and, with `leaves`, its baked leaves alpha-tested
+  /// against `atlas` (their leaf atlas; none: opaque cards) for the silhouettes the chain
+  /// is fitted by (arbor_tree_lods_create()).
+  Lods lods(const ArborMeshOptions &options = mesh_options(),
+            const ArborLeafOptions *leaves = nullptr, const Image *atlas = nullptr,
+            const ArborLodOptions &lod = lod_options()) const {
+    ArborLods *l = nullptr;
+    detail::check(arbor_tree_lods_create(tree_, &options, leaves, atlas ? atlas->rgba.data() : nullptr,
+                                         atlas ? atlas->width : 0, atlas ? atlas->height : 0, &lod, &l));
+    return Lods(l);
+  }
+
+  /// At most `max_capsules` collision capsules for the branches thicker than
+  /// `min_radius` (0: a tenth of the trunk's), the trunk first (arbor_tree_capsules_write()).
+  std::vector<ArborCapsule> capsules(const ArborMeshOptions &options = mesh_options(),
+                                     uint32_t max_capsules = 32, float min_radius = 0.0f) const {
+    std::size_t n = 0;
+    detail::check(arbor_tree_capsules_write(tree_, &options, max_capsules, min_radius, nullptr, 0, &n));
+    std::vector<ArborCapsule> out(n);
+    detail::check(arbor_tree_capsules_write(tree_, &options, max_capsules, min_radius, out.data(), n, nullptr));
+    return out;
+  }
+
+  /// The wind skin's bones (at most `max_bones`, parents first); with `inverse_bind`,
+  /// 16 floats a bone, column-major (arbor_tree_bones_write()).
+  std::vector<ArborBone> bones(const ArborMeshOptions &options = mesh_options(),
+                               uint32_t max_bones = 32,
+                               std::vector<float> *inverse_bind = nullptr) const {
+    std::size_t n = 0;
+    detail::check(arbor_tree_bones_write(tree_, &options, max_bones, nullptr, nullptr, 0, &n));
+    std::vector<ArborBone> out(n);
+    if (inverse_bind) inverse_bind->resize(16 * n);
+    detail::check(arbor_tree_bones_write(tree_, &options, max_bones, out.data(),
+                                         inverse_bind ? inverse_bind->data() : nullptr, n, nullptr));
+    return out;
+  }
+
+  /// The skin of the bark mesh write_mesh() writes with `options`, on bones(options, max_bones).
+  Skin skin(const ArborMeshOptions &options = mesh_options(), uint32_t max_bones = 32) const {
+    std::size_t n = 0;
+    detail::check(arbor_mesh_skin_write(tree_, &options, max_bones, nullptr, nullptr, 0, &n));
+    Skin out;
+    out.joints.resize(4 * n);
+    out.weights.resize(4 * n);
+    detail::check(arbor_mesh_skin_write(tree_, &options, max_bones, out.joints.data(),
+                                        out.weights.data(), n, nullptr));
+    return out;
+  }
+
+  /// The looping wind clip of bones(options, max_bones): `duration` seconds at
+  /// `keys_per_second`, the wind along `wind` (3 floats, level; nullptr: +X) at `strength`
+  /// (the defaults are the CLI's `--wind skin`).
+  WindClip wind_clip(const ArborMeshOptions &options = mesh_options(), uint32_t max_bones = 32,
+                     const float *wind = nullptr, float strength = 2.0f, float duration = 4.0f,
+                     uint32_t keys_per_second = 30, uint64_t seed = 1) const {
+    std::size_t keys = 0, bones = 0;
+    detail::check(arbor_tree_wind_clip_write(tree_, &options, max_bones, wind, strength, duration,
+                                             keys_per_second, seed, nullptr, 0, nullptr, 0, &keys,
+                                             &bones));
+    WindClip out;
+    out.bones = bones;
+    out.times.resize(keys);
+    out.rotations.resize(4 * bones * keys);
+    detail::check(arbor_tree_wind_clip_write(tree_, &options, max_bones, wind, strength, duration,
+                                             keys_per_second, seed, out.times.data(), keys,
+                                             out.rotations.data(), bones, nullptr, nullptr));
+    return out;
   }
 
   /// This grown tree shaped as named species `s` shapes its own (trunk cleared, bare limbs
