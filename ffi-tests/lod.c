@@ -56,6 +56,51 @@ int main(void) {
     CHECK(sum == triangles, "level %zu: %zu indexed vs %zu", k, sum, triangles);
   }
   CHECK_STATUS(arbor_lods_level_info(lods, 4, NULL, NULL, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  /* Every level's bark and leaves skinned on the tree's bones: a skin vertex a mesh
+   * vertex, four weights summing to one on bones the tree has; level 0's bark the skin of
+   * the tree's own mesh; a part past the leaves refused. */
+  size_t bone_count = 0;
+  CHECK_STATUS(arbor_tree_bones_write(tree, &mo, 16, NULL, NULL, 0, &bone_count), ARBOR_STATUS_OK);
+  CHECK(bone_count > 4 && bone_count <= 16, "%zu bones", bone_count);
+  for (size_t k = 0; k < 4; k++) {
+    for (uint32_t part = 0; part < 2; part++) {
+      size_t nv = 0, ni = 0, ns = 0;
+      CHECK_STATUS(arbor_lods_mesh_write(lods, k, part, NULL, 0, NULL, 0, &nv, &ni), ARBOR_STATUS_OK);
+      CHECK_STATUS(arbor_lods_skin_write(lods, k, part, 16, NULL, NULL, 0, &ns), ARBOR_STATUS_OK);
+      CHECK(ns == nv && ns > 0, "level %zu part %u: %zu skin vertices, %zu mesh vertices", k, part, ns, nv);
+      uint16_t *joints = malloc(4 * ns * sizeof *joints);
+      float *weights = malloc(4 * ns * sizeof *weights);
+      weights[0] = 7.0f;
+      CHECK_STATUS(arbor_lods_skin_write(lods, k, part, 16, joints, weights, ns - 1, NULL),
+                   ARBOR_STATUS_BUFFER_TOO_SMALL);
+      CHECK(weights[0] == 7.0f, "nothing written when too small");
+      CHECK_STATUS(arbor_lods_skin_write(lods, k, part, 16, joints, weights, ns, NULL), ARBOR_STATUS_OK);
+      int summed = 1, joined = 1;
+      for (size_t v = 0; v < ns; v++) {
+        float w = weights[4 * v] + weights[4 * v + 1] + weights[4 * v + 2] + weights[4 * v + 3];
+        summed = summed && w > 0.9999f && w < 1.0001f;
+        for (int j = 0; j < 4; j++) joined = joined && joints[4 * v + j] < bone_count;
+      }
+      CHECK(summed && joined, "level %zu part %u: weights and joints", k, part);
+      if (k == 0 && part == 0) {
+        size_t tn = 0;
+        CHECK_STATUS(arbor_mesh_skin_write(tree, &mo, 16, NULL, NULL, 0, &tn), ARBOR_STATUS_OK);
+        CHECK(tn == ns, "level 0's bark is the tree's mesh: %zu vs %zu", tn, ns);
+        uint16_t *tj = malloc(4 * tn * sizeof *tj);
+        float *tw = malloc(4 * tn * sizeof *tw);
+        CHECK_STATUS(arbor_mesh_skin_write(tree, &mo, 16, tj, tw, tn, NULL), ARBOR_STATUS_OK);
+        CHECK(memcmp(tj, joints, 4 * tn * sizeof *tj) == 0 && memcmp(tw, weights, 4 * tn * sizeof *tw) == 0,
+              "level 0's bark skin is the tree's");
+        free(tj);
+        free(tw);
+      }
+      free(joints);
+      free(weights);
+    }
+  }
+  CHECK_STATUS(arbor_lods_skin_write(lods, 0, 2, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_lods_skin_write(lods, 4, 0, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  CHECK_STATUS(arbor_lods_skin_write(lods, 0, 0, 0, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   /* The level to bake an impostor from: every level is first drawn at least 8 pixels
    * across (the last is), none that many (the full tree), and 0 for NULL. */
   CHECK(arbor_lods_impostor_level(lods, 8) == 3, "%zu", arbor_lods_impostor_level(lods, 8));

@@ -209,6 +209,17 @@ int main(int argc, char **argv) {
       for (int j = 0; j < 4; j++) joined = joined && skin.joints[4 * v + j] < bones.size();
     }
     EXPECT(summed && joined, "skin weights and joints");
+    // Every level's bark and leaves on the same bones, level 0's bark as the tree's own.
+    for (std::size_t k = 0; k < lods.count(); k++)
+      for (uint32_t part = 0; part < 2; part++) {
+        arbor::Skin s = lods.skin(k, part, 16);
+        EXPECT(s.weights.size() == 4 * lods.mesh_size(k, part).first && !s.weights.empty(),
+               "level %zu part %u skin", k, part);
+        EXPECT(std::all_of(s.joints.begin(), s.joints.end(), [&](uint16_t j) { return j < bones.size(); }),
+               "level %zu part %u joints", k, part);
+      }
+    EXPECT(lods.skin(0, 0, 16).weights == skin.weights && lods.skin(0, 0, 16).joints == skin.joints,
+           "level 0's bark skin is the tree's");
     arbor::WindClip clip = t.wind_clip(mo, 16);
     const std::size_t keys = clip.times.size();
     EXPECT(clip.bones == bones.size() && keys >= 2 && clip.rotations.size() == 4 * clip.bones * keys,

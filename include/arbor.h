@@ -3195,6 +3195,30 @@ enum ArborStatus arbor_mesh_skin_write(const struct ArborTree *tree,
                                        size_t *vertex_count);
 
 /**
+ * Writes the skin of part `part` (0: the bark, 1: the baked leaves) of level `level` of
+ * `lods`, on the bones arbor_tree_bones_write() writes for the tree and mesh options the
+ * chain was made from with `max_bones`: four joints (`joints`, unsigned shorts) and four
+ * weights (`weights`, floats summing to one) a vertex, in the order
+ * arbor_lods_mesh_write() writes the part's vertices. A level's bark rides the bones of
+ * the branches it was merged from (so every level bends as the full tree does), each
+ * leaf its branch's bone. `*vertex_count` (when not NULL) gets the part's vertices;
+ * `joints` and `weights` (NULL: count only) hold `vertex_capacity` vertices (4 elements
+ * each): at least that many, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+ *
+ * # Safety
+ * `lods` is NULL or live; `joints` and `weights` are NULL or writable for
+ * `4 * vertex_capacity` elements; `vertex_count` is NULL or writable.
+ */
+enum ArborStatus arbor_lods_skin_write(const struct ArborLods *lods,
+                                       size_t level,
+                                       uint32_t part,
+                                       uint32_t max_bones,
+                                       uint16_t *joints,
+                                       float *weights,
+                                       size_t vertex_capacity,
+                                       size_t *vertex_count);
+
+/**
  * Writes the looping wind clip of the bones arbor_tree_bones_write() writes for `tree`
  * with `mesh_options` and `max_bones`: `duration` seconds (0.5..=60) at
  * `keys_per_second` (1..=60), the wind blowing along `wind` (3 floats, level, in the

@@ -137,6 +137,8 @@ struct MeshData {
   std::vector<uint32_t> indices;
 };
 
+struct Skin;
+
 /// An octahedral impostor's atlases and frame (arbor_lods_impostor_create(); the layout is
 /// docs/meshes.md's "Impostors"). Move-only.
 class Impostor {
@@ -271,6 +273,9 @@ class Lods {
     write_mesh(k, part, out.vertices, out.indices);
     return out;
   }
+  /// The skin of part `part` of level `k` on the tree's bones(options, max_bones) for the
+  /// options the chain was made with: four joints and weights a vertex of mesh(k, part).
+  Skin skin(std::size_t k, uint32_t part, uint32_t max_bones = 32) const;
   /// The level an impostor of `cell`-pixel views is best baked from (the coarsest made
   /// for views at least that large; 0, the full tree, when none is).
   std::size_t impostor_level(uint32_t cell) const noexcept {
@@ -304,12 +309,23 @@ class Lods {
   ArborLods *lods_;
 };
 
-/// A tree's wind skin: four joints and four weights (summing to one) a vertex of its
-/// bark mesh, on the bones of Tree::bones() (arbor_mesh_skin_write()).
+/// A wind skin: four joints and four weights (summing to one) a vertex of a mesh, on the
+/// bones of Tree::bones() (Tree::skin(), Lods::skin()).
 struct Skin {
   std::vector<uint16_t> joints;
   std::vector<float> weights;
 };
+
+inline Skin Lods::skin(std::size_t k, uint32_t part, uint32_t max_bones) const {
+  std::size_t n = 0;
+  detail::check(arbor_lods_skin_write(lods_, k, part, max_bones, nullptr, nullptr, 0, &n));
+  Skin out;
+  out.joints.resize(4 * n);
+  out.weights.resize(4 * n);
+  detail::check(arbor_lods_skin_write(lods_, k, part, max_bones, out.joints.data(), out.weights.data(), n,
+                                      nullptr));
+  return out;
+}
 
 /// A looping wind clip (arbor_tree_wind_clip_write()): `times` a key each, `rotations` a
 /// unit quaternion (x, y, z, w) per bone and key, bone `b`'s key `k` at 4 * (b * keys + k).

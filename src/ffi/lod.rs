@@ -42,6 +42,9 @@ pub struct ArborLods {
     levels: Vec<Level>,
     /// The threads it was made on (0: the machine's cores), for its impostors too.
     threads: u32,
+    /// The tree's skeleton and the mesh options the chain was made from: its skin's rig.
+    pub(super) skeleton: crate::skeleton::Skeleton,
+    pub(super) mesh_options: crate::mesh::MeshOptions,
 }
 
 /// An octahedral impostor's atlases and frame (see arbor_lods_impostor_create()). Opaque;
@@ -146,6 +149,8 @@ pub unsafe extern "C" fn arbor_tree_lods_create(
         *out = Box::into_raw(Box::new(ArborLods {
             levels,
             threads: lod.threads,
+            skeleton: tree.skeleton().clone(),
+            mesh_options: mo,
         }));
         Ok(())
     })
@@ -218,7 +223,7 @@ pub unsafe extern "C" fn arbor_lods_level_info(
     })
 }
 
-fn level_of<'a>(lods: *const ArborLods, level: usize) -> Result<&'a Level, FfiError> {
+pub(super) fn level_of<'a>(lods: *const ArborLods, level: usize) -> Result<&'a Level, FfiError> {
     // SAFETY: every caller's caller promises `lods` is NULL or live.
     let lods = unsafe { arg_ref(lods, "lods") }?;
     lods.levels.get(level).ok_or_else(|| {

@@ -116,43 +116,140 @@ pub unsafe extern "C" fn arbor_mesh_skin_write(
         let (tree, mo, rig) = unsafe { rig_of(tree, options, max_bones) }?;
         let size = tree.plan_in(&mo, &on_threads(0))?.size();
         let n = size.vertices;
-        if !joints.is_null() || !weights.is_null() {
-            let cap = times(vertex_capacity, 4, "vertex_capacity")?;
-            let j = if joints.is_null() {
-                None
-            } else {
-                // SAFETY: the caller promises `joints` holds 4 * `vertex_capacity` shorts.
-                Some(unsafe { out_slice(joints, cap, 4 * n, "joints") }?)
-            };
-            let w = if weights.is_null() {
-                None
-            } else {
-                // SAFETY: the caller promises `weights` holds 4 * `vertex_capacity` floats.
-                Some(unsafe { out_slice(weights, cap, 4 * n, "weights") }?)
-            };
-            let bark = crate::mesh::tubes(tree.skeleton(), &mo)?;
-            let influences = crate::wind::weights(&rig, &bark)?;
-            if influences.len() != n {
-                return Err(FfiError::invalid(format!(
-                    "the skin has {} vertices; the mesh {n}",
-                    influences.len()
-                )));
-            }
-            if let Some(j) = j {
-                for (d, x) in j.chunks_exact_mut(4).zip(&influences) {
-                    for (s, v) in d.iter_mut().zip(x.0) {
-                        s.write(v);
-                    }
-                }
-            }
-            if let Some(w) = w {
-                for (d, x) in w.chunks_exact_mut(4).zip(&influences) {
-                    for (s, v) in d.iter_mut().zip(x.1) {
-                        s.write(v);
-                    }
-                }
+        // SAFETY: passed on from the caller.
+        unsafe {
+            write_skin(joints, weights, vertex_capacity, n, || {
+                let bark = crate::mesh::tubes(tree.skeleton(), &mo)?;
+                Ok(crate::wind::weights(&rig, &bark)?)
+            })
+        }?;
+        if !vertex_count.is_null() {
+            // SAFETY: the caller promises a non-NULL `vertex_count` is writable.
+            *unsafe { out_ref(vertex_count, "vertex_count") }? = n;
+        }
+        Ok(())
+    })
+}
+
+/// Writes `influences()` (four joints and four weights a vertex, `n` of them) into
+/// `joints` and `weights` where either is not NULL: each holds `4 * vertex_capacity`
+/// elements, at least `4 * n`, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written
+/// (the influences are not worked out).
+///
+/// # Safety
+/// `joints` and `weights` are NULL or writable for `4 * vertex_capacity` elements.
+unsafe fn write_skin(
+    joints: *mut u16,
+    weights: *mut f32,
+    vertex_capacity: usize,
+    n: usize,
+    influences: impl FnOnce() -> Result<Vec<crate::wind::Influence>, FfiError>,
+) -> Result<(), FfiError> {
+    if joints.is_null() && weights.is_null() {
+        return Ok(());
+    }
+    let cap = times(vertex_capacity, 4, "vertex_capacity")?;
+    let j = if joints.is_null() {
+        None
+    } else {
+        // SAFETY: the caller promises `joints` holds 4 * `vertex_capacity` shorts.
+        Some(unsafe { out_slice(joints, cap, 4 * n, "joints") }?)
+    };
+    let w = if weights.is_null() {
+        None
+    } else {
+        // SAFETY: the caller promises `weights` holds 4 * `vertex_capacity` floats.
+        Some(unsafe { out_slice(weights, cap, 4 * n, "weights") }?)
+    };
+    let influences = influences()?;
+    if influences.len() != n {
+        return Err(FfiError::invalid(format!(
+            "the skin has {} vertices; the mesh {n}",
+            influences.len()
+        )));
+    }
+    if let Some(j) = j {
+        for (d, x) in j.chunks_exact_mut(4).zip(&influences) {
+            for (s, v) in d.iter_mut().zip(x.0) {
+                s.write(v);
             }
         }
+    }
+    if let Some(w) = w {
+        for (d, x) in w.chunks_exact_mut(4).zip(&influences) {
+            for (s, v) in d.iter_mut().zip(x.1) {
+                s.write(v);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes the skin of part `part` (0: the bark, 1: the baked leaves) of level `level` of
+/// `lods`, on the bones arbor_tree_bones_write() writes for the tree and mesh options the
+/// chain was made from with `max_bones`: four joints (`joints`, unsigned shorts) and four
+/// weights (`weights`, floats summing to one) a vertex, in the order
+/// arbor_lods_mesh_write() writes the part's vertices. A level's bark rides the bones of
+/// the branches it was merged from (so every level bends as the full tree does), each
+/// leaf its branch's bone. `*vertex_count` (when not NULL) gets the part's vertices;
+/// `joints` and `weights` (NULL: count only) hold `vertex_capacity` vertices (4 elements
+/// each): at least that many, else ARBOR_STATUS_BUFFER_TOO_SMALL and nothing written.
+///
+/// # Safety
+/// `lods` is NULL or live; `joints` and `weights` are NULL or writable for
+/// `4 * vertex_capacity` elements; `vertex_count` is NULL or writable.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn arbor_lods_skin_write(
+    lods: *const ArborLods,
+    level: usize,
+    part: u32,
+    max_bones: u32,
+    joints: *mut u16,
+    weights: *mut f32,
+    vertex_capacity: usize,
+    vertex_count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        let l = super::lod::level_of(lods, level)?;
+        // SAFETY: the caller promises `lods` is live (level_of read it).
+        let lods = unsafe { arg_ref(lods, "lods") }?;
+        let (skeleton, mo) = (&lods.skeleton, &lods.mesh_options);
+        let rig = crate::wind::rig(skeleton, max_bones as usize, mo)?;
+        let n = match part {
+            0 => l.bark.vertices.len(),
+            1 => l.leaves.as_ref().map_or(0, |m| m.vertices.len()),
+            p => {
+                return Err(crate::Error::invalid(
+                    "part",
+                    format!("{p}; expected 0 (bark) or 1 (leaves)"),
+                )
+                .into());
+            }
+        };
+        // SAFETY: passed on from the caller.
+        unsafe {
+            write_skin(joints, weights, vertex_capacity, n, || {
+                match (part, &l.leaves) {
+                    (0, _) => Ok(crate::wind::level_weights(
+                        &rig,
+                        skeleton,
+                        &l.mesh_options,
+                        &l.bark,
+                        &l.merged,
+                    )?),
+                    (_, Some(baked)) => {
+                        let Some(leaf_options) = &l.leaf_options else {
+                            return Ok(Vec::new());
+                        };
+                        let branches = crate::mesh::leaf_branches(skeleton, leaf_options, mo)?;
+                        let per_leaf = leaf_options.shape().vertices.len();
+                        Ok(crate::wind::leaf_weights(&rig, baked, &branches, per_leaf))
+                    }
+                    _ => Ok(Vec::new()),
+                }
+            })
+        }?;
         if !vertex_count.is_null() {
             // SAFETY: the caller promises a non-NULL `vertex_count` is writable.
             *unsafe { out_ref(vertex_count, "vertex_count") }? = n;

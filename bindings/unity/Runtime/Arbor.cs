@@ -474,6 +474,8 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern UIntPtr arbor_lods_impostor_level(IntPtr lods, uint cell);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_lods_skin_write(IntPtr lods, UIntPtr level, uint part, uint maxBones, [Out] ushort[] joints, [Out] float[] weights, UIntPtr vertexCapacity, out UIntPtr vertexCount);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_lods_level_info(IntPtr lods, UIntPtr level, out float screenCoverage, out float silhouette, out UIntPtr triangles);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_lods_mesh_write(IntPtr lods, UIntPtr level, uint part, [Out] Vertex[] vertices, UIntPtr vertexCapacity, [Out] uint[] indices, UIntPtr indexCapacity, out UIntPtr vertexCount, out UIntPtr indexCount);
@@ -1004,6 +1006,18 @@ namespace Arbor
             IntPtr b;
             ArborException.Check(Native.arbor_lods_billboard_create(handle, (UIntPtr)level, planes, cell, atlasRgba, atlasWidth, atlasHeight, out b));
             return new Billboard(b);
+        }
+
+        /// The skin of part 0 (bark) or 1 (leaves) of a level (arbor_lods_skin_write): four
+        /// joints and four weights a vertex, in Mesh()'s vertex order, on the tree's
+        /// Bones(options, maxBones) for the options the levels were made with.
+        public void Skin(int level, uint part, uint maxBones, out ushort[] joints, out float[] weights)
+        {
+            UIntPtr n, again;
+            ArborException.Check(Native.arbor_lods_skin_write(handle, (UIntPtr)level, part, maxBones, null, null, UIntPtr.Zero, out n));
+            joints = new ushort[4 * (int)n];
+            weights = new float[4 * (int)n];
+            ArborException.Check(Native.arbor_lods_skin_write(handle, (UIntPtr)level, part, maxBones, joints, weights, n, out again));
         }
 
         /// The level an impostor of `cell`-pixel views is best baked from

@@ -57,6 +57,24 @@ public static class UnityHelpersTest
                     expect(group.lods[k].renderers.Length == 1, "a renderer a level");
                     expect(k == 0 || group.lods[k].screenRelativeTransitionHeight <= group.lods[k - 1].screenRelativeTransitionHeight, "coverage falls at " + k);
                 }
+                // Every level's bark and leaves skinned on the tree's bones, a skin vertex a
+                // mesh vertex, the weights summing to one.
+                float[] ib;
+                int boneCount = tree.Bones(mo, 16, out ib).Length;
+                for (int k = 0; k < lods.Count; k++)
+                {
+                    for (uint part = 0; part < 2; part++)
+                    {
+                        Vertex[] lv; uint[] li; ushort[] sj; float[] sw;
+                        lods.Mesh(k, part, out lv, out li);
+                        lods.Skin(k, part, 16, out sj, out sw);
+                        bool summed = sw.Length == 4 * lv.Length && sj.Length == sw.Length;
+                        for (int v = 0; summed && v < lv.Length; v++)
+                            summed = Math.Abs(sw[4 * v] + sw[4 * v + 1] + sw[4 * v + 2] + sw[4 * v + 3] - 1f) < 1e-4f
+                                && sj[4 * v] < boneCount;
+                        expect(summed && lv.Length > 0, "level " + k + " part " + part + "'s skin");
+                    }
+                }
                 // The billboard as a fifth level: both sides, its albedo the material's.
                 using (var bb = lods.Billboard(lods.Count - 1, 3, 32, null, 0, 0))
                 {
