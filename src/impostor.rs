@@ -263,13 +263,22 @@ fn draw_cells(
     }
     let per = count.div_ceil(threads);
     std::thread::scope(|s| {
-        for (t, chunk) in out.chunks_mut(per.max(1)).enumerate() {
-            let draw = &draw;
-            s.spawn(move || {
-                for (j, (a, n)) in chunk.iter_mut().enumerate() {
-                    draw(t * per + j, a, n);
-                }
-            });
+        let threads: Vec<_> = out
+            .chunks_mut(per.max(1))
+            .enumerate()
+            .map(|(t, chunk)| {
+                let draw = &draw;
+                s.spawn(move || {
+                    for (j, (a, n)) in chunk.iter_mut().enumerate() {
+                        draw(t * per + j, a, n);
+                    }
+                })
+            })
+            .collect();
+        // Joined, not left to the scope: each thread has ended, not only its work, when
+        // this returns (a host's leak checker then sees no thread still exiting).
+        for t in threads {
+            t.join().expect("a view's thread does not panic");
         }
     });
     out

@@ -308,6 +308,7 @@ impl MeshPlan {
             let (mut v_rest, mut i_rest) = (vertices, indices);
             let (mut v_at, mut i_at) = (v0, i0);
             let mut lo = range.start;
+            let mut threads = Vec::new();
             loop {
                 let hi = (lo + per).min(range.end);
                 let (v_to, i_to) = self.starts(hi);
@@ -315,11 +316,18 @@ impl MeshPlan {
                 let (ia, ib) = std::mem::take(&mut i_rest).split_at_mut(i_to - i_at);
                 let (chunk, v_base, first) = (lo..hi, v_at, i_at == 0);
                 if hi < range.end {
-                    scope.spawn(move || {
+                    threads.push(scope.spawn(move || {
                         self.write_branches(skeleton, chunk, va, v_base, ia, first, 0)
-                    });
+                    }));
                 } else {
-                    return self.write_branches(skeleton, chunk, va, v_base, ia, first, 0);
+                    let last = self.write_branches(skeleton, chunk, va, v_base, ia, first, 0);
+                    // Joined, not left to the scope: each thread has ended, not only its
+                    // work, when this returns (a host's leak checker sees none exiting).
+                    for t in threads {
+                        t.join()
+                            .expect("a part of the mesh's thread does not panic");
+                    }
+                    return last;
                 }
                 (v_rest, i_rest, v_at, i_at, lo) = (vb, ib, v_to, i_to, hi);
             }

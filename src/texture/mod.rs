@@ -153,18 +153,25 @@ fn grid_rows<T: Copy + Default + Send, S>(
     let rows_each = (height as usize).div_ceil(bands);
     let queue = std::sync::Mutex::new(out.chunks_mut(rows_each * w).enumerate());
     std::thread::scope(|s| {
-        for _ in 0..threads {
-            s.spawn(|| {
-                let mut scratch = init();
-                loop {
-                    let next = queue
-                        .lock()
-                        .unwrap_or_else(std::sync::PoisonError::into_inner)
-                        .next();
-                    let Some((k, chunk)) = next else { break };
-                    draw_rows(&mut scratch, k * rows_each, chunk);
-                }
-            });
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut scratch = init();
+                    loop {
+                        let next = queue
+                            .lock()
+                            .unwrap_or_else(std::sync::PoisonError::into_inner)
+                            .next();
+                        let Some((k, chunk)) = next else { break };
+                        draw_rows(&mut scratch, k * rows_each, chunk);
+                    }
+                })
+            })
+            .collect();
+        // Joined, not left to the scope: each thread has ended, not only its work, when
+        // this returns (a host's leak checker then sees no thread still exiting).
+        for w in workers {
+            w.join().expect("a texture band's thread does not panic");
         }
     });
     out
