@@ -4,6 +4,7 @@
 #include "arbor.h"
 #include "check.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,6 +102,30 @@ int main(void) {
   CHECK_STATUS(arbor_lods_skin_write(lods, 0, 2, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_lods_skin_write(lods, 4, 0, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_lods_skin_write(lods, 0, 0, 0, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  /* Each branch's pivot for a Pivot-Painter-style shader: a row a branch, its axis unit,
+   * its parent before it, and each branch starting where its parent ends. */
+  size_t pivot_count = 0;
+  CHECK_STATUS(arbor_tree_pivots_write(tree, &mo, NULL, 0, &pivot_count), ARBOR_STATUS_OK);
+  CHECK(pivot_count == arbor_tree_branch_count(tree), "%zu pivots", pivot_count);
+  float *pivots = malloc(8 * pivot_count * sizeof *pivots);
+  pivots[0] = 1234.0f;
+  CHECK_STATUS(arbor_tree_pivots_write(tree, &mo, pivots, pivot_count - 1, NULL), ARBOR_STATUS_BUFFER_TOO_SMALL);
+  CHECK(pivots[0] == 1234.0f, "nothing written when too small");
+  CHECK_STATUS(arbor_tree_pivots_write(tree, &mo, pivots, pivot_count, NULL), ARBOR_STATUS_OK);
+  CHECK(pivots[7] == -1.0f, "the trunk is a root: %f", (double)pivots[7]);
+  int pivots_hold = 1;
+  for (size_t k = 0; k < pivot_count; k++) {
+    const float *r = &pivots[8 * k];
+    float axis = r[4] * r[4] + r[5] * r[5] + r[6] * r[6];
+    pivots_hold = pivots_hold && r[3] > 0.0f && axis > 0.9999f && axis < 1.0001f && r[7] < (float)k;
+    if (r[7] >= 0.0f) {
+      const float *p = &pivots[8 * (size_t)r[7]];
+      for (int c = 0; c < 3; c++)
+        pivots_hold = pivots_hold && fabsf(p[c] + p[3] * p[4 + c] - r[c]) <= 1e-4f * (1.0f + p[3]);
+    }
+  }
+  CHECK(pivots_hold, "pivots: lengths, unit axes, parents first, joined ends");
+  free(pivots);
   /* The level to bake an impostor from: every level is first drawn at least 8 pixels
    * across (the last is), none that many (the full tree), and 0 for NULL. */
   CHECK(arbor_lods_impostor_level(lods, 8) == 3, "%zu", arbor_lods_impostor_level(lods, 8));

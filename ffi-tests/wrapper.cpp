@@ -220,6 +220,8 @@ int main(int argc, char **argv) {
       }
     EXPECT(lods.skin(0, 0, 16).weights == skin.weights && lods.skin(0, 0, 16).joints == skin.joints,
            "level 0's bark skin is the tree's");
+    std::vector<float> pivots = t.pivots(mo);
+    EXPECT(pivots.size() == 8 * t.branch_count() && pivots[7] == -1.0f, "%zu pivot floats", pivots.size());
     arbor::WindClip clip = t.wind_clip(mo, 16);
     const std::size_t keys = clip.times.size();
     EXPECT(clip.bones == bones.size() && keys >= 2 && clip.rotations.size() == 4 * clip.bones * keys,

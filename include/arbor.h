@@ -3174,6 +3174,26 @@ enum ArborStatus arbor_tree_bones_write(const struct ArborTree *tree,
                                         size_t *count);
 
 /**
+ * Writes each branch's pivot for a Pivot-Painter-style wind shader (the glTF file's
+ * `arbor_pivots`), 8 floats a branch in branch order, in the conventions of
+ * `mesh_options` (NULL: the defaults): where it turns (its start: x, y, z), its length,
+ * its axis (unit, start to end: x, y, z) and its parent's index (-1 for a root). A
+ * vertex's branch is the one whose range of arbor_mesh_branch_ranges() holds it.
+ * `*count` (when not NULL) gets the branches; `out` (NULL: count only) holds `capacity`
+ * branches (8 floats each): at least that many, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+ * nothing written.
+ *
+ * # Safety
+ * `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+ * for `8 * capacity` floats; `count` is NULL or writable.
+ */
+enum ArborStatus arbor_tree_pivots_write(const struct ArborTree *tree,
+                                         const struct ArborMeshOptions *mesh_options,
+                                         float *out,
+                                         size_t capacity,
+                                         size_t *count);
+
+/**
  * Writes the skin of the mesh arbor_mesh_write() writes for `tree` with `options`
  * (NULL: the defaults), on the bones arbor_tree_bones_write() writes with the same
  * options and `max_bones`: four joints (`joints`, unsigned shorts) and four weights

@@ -519,6 +519,17 @@ class Tree {
     return out;
   }
 
+  /// Each branch's pivot for a Pivot-Painter-style wind shader, 8 floats a branch: its
+  /// start (x, y, z), length, unit axis (x, y, z) and parent (-1 for a root)
+  /// (arbor_tree_pivots_write()).
+  std::vector<float> pivots(const ArborMeshOptions &options = mesh_options()) const {
+    std::size_t n = 0;
+    detail::check(arbor_tree_pivots_write(tree_, &options, nullptr, 0, &n));
+    std::vector<float> out(8 * n);
+    detail::check(arbor_tree_pivots_write(tree_, &options, out.data(), n, nullptr));
+    return out;
+  }
+
   /// The skin of the bark mesh write_mesh() writes with `options`, on bones(options, max_bones).
   Skin skin(const ArborMeshOptions &options = mesh_options(), uint32_t max_bones = 32) const {
     std::size_t n = 0;

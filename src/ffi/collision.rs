@@ -25,10 +25,8 @@ pub unsafe extern "C" fn arbor_tree_capsules_write(
     count: *mut usize,
 ) -> ArborStatus {
     guard(|| {
-        // SAFETY: the caller promises `tree` is NULL or live.
-        let tree = unsafe { arg_ref(tree, "tree") }?;
-        // SAFETY: the caller promises `mesh_options` is NULL or readable.
-        let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
+        // SAFETY: passed on from the caller.
+        let (tree, mo) = unsafe { super::wind::tree_in(tree, mesh_options) }?;
         let caps =
             crate::collision::capsules(tree.skeleton(), max_capsules as usize, min_radius, &mo)?;
         if !out.is_null() {

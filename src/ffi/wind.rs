@@ -12,6 +12,21 @@ fn times(units: usize, per: usize, name: &'static str) -> Result<usize, FfiError
         .ok_or_else(|| FfiError::invalid(format!("{name}: {units} x {per} overflows size_t")))
 }
 
+/// `tree` and the conventions of `mesh_options` (NULL: the defaults) it is drawn in.
+///
+/// # Safety
+/// `tree` is NULL or live; `mesh_options` is NULL or readable.
+pub(super) unsafe fn tree_in<'a>(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+) -> Result<(&'a ArborTree, MeshOptions), FfiError> {
+    // SAFETY: the caller promises `tree` is NULL or live.
+    let tree = unsafe { arg_ref(tree, "tree") }?;
+    // SAFETY: the caller promises `mesh_options` is NULL or readable.
+    let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
+    Ok((tree, mo))
+}
+
 /// The rig of `tree` drawn with `mesh_options`, at most `max_bones` bones.
 ///
 /// # Safety
@@ -21,10 +36,8 @@ unsafe fn rig_of<'a>(
     mesh_options: *const ArborMeshOptions,
     max_bones: u32,
 ) -> Result<(&'a ArborTree, MeshOptions, crate::wind::Rig), FfiError> {
-    // SAFETY: the caller promises `tree` is NULL or live.
-    let tree = unsafe { arg_ref(tree, "tree") }?;
-    // SAFETY: the caller promises `mesh_options` is NULL or readable.
-    let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
+    // SAFETY: passed on from the caller.
+    let (tree, mo) = unsafe { tree_in(tree, mesh_options) }?;
     let rig = crate::wind::rig(tree.skeleton(), max_bones as usize, &mo)?;
     Ok((tree, mo, rig))
 }
@@ -79,6 +92,49 @@ pub unsafe extern "C" fn arbor_tree_bones_write(
             for (d, b) in dst.chunks_exact_mut(16).zip(&rig.bones) {
                 for (x, v) in d.iter_mut().zip(b.inverse_bind()) {
                     x.write(v);
+                }
+            }
+        }
+        if !count.is_null() {
+            // SAFETY: the caller promises a non-NULL `count` is writable.
+            *unsafe { out_ref(count, "count") }? = n;
+        }
+        Ok(())
+    })
+}
+
+/// Writes each branch's pivot for a Pivot-Painter-style wind shader (the glTF file's
+/// `arbor_pivots`), 8 floats a branch in branch order, in the conventions of
+/// `mesh_options` (NULL: the defaults): where it turns (its start: x, y, z), its length,
+/// its axis (unit, start to end: x, y, z) and its parent's index (-1 for a root). A
+/// vertex's branch is the one whose range of arbor_mesh_branch_ranges() holds it.
+/// `*count` (when not NULL) gets the branches; `out` (NULL: count only) holds `capacity`
+/// branches (8 floats each): at least that many, else ARBOR_STATUS_BUFFER_TOO_SMALL and
+/// nothing written.
+///
+/// # Safety
+/// `tree` is NULL or live; `mesh_options` is NULL or readable; `out` is NULL or writable
+/// for `8 * capacity` floats; `count` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn arbor_tree_pivots_write(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+    out: *mut f32,
+    capacity: usize,
+    count: *mut usize,
+) -> ArborStatus {
+    guard(|| {
+        // SAFETY: passed on from the caller.
+        let (tree, mo) = unsafe { tree_in(tree, mesh_options) }?;
+        let n = tree.skeleton().branches().len();
+        if !out.is_null() {
+            let cap = times(capacity, 8, "capacity")?;
+            // SAFETY: the caller promises `out` holds 8 * `capacity` floats.
+            let dst = unsafe { out_slice(out, cap, 8 * n, "out") }?;
+            let pivots = crate::wind::pivots(tree.skeleton(), &mo);
+            for (d, p) in dst.chunks_exact_mut(8).zip(&pivots) {
+                for (x, v) in d.iter_mut().zip(p) {
+                    x.write(*v);
                 }
             }
         }

@@ -462,6 +462,8 @@ namespace Arbor
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_mesh_skin_write(IntPtr tree, ref MeshOptions options, uint maxBones, [Out] ushort[] joints, [Out] float[] weights, UIntPtr vertexCapacity, out UIntPtr vertexCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
+        public static extern Status arbor_tree_pivots_write(IntPtr tree, ref MeshOptions meshOptions, [Out] float[] output, UIntPtr capacity, out UIntPtr count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern Status arbor_tree_wind_clip_write(IntPtr tree, ref MeshOptions meshOptions, uint maxBones, float[] wind, float strength, float duration, uint keysPerSecond, ulong seed, [Out] float[] times, UIntPtr keyCapacity, [Out] float[] rotations, UIntPtr boneCapacity, out UIntPtr keyCount, out UIntPtr boneCount);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)]
         public static extern void arbor_lod_options_init(ref LodOptions options, UIntPtr structSize);
@@ -915,6 +917,18 @@ namespace Arbor
             UIntPtr again;
             ArborException.Check(Native.arbor_tree_bones_write(handle, ref options, maxBones, bones, inverseBind, n, out again));
             return bones;
+        }
+
+        /// Each branch's pivot for a Pivot-Painter-style wind shader (arbor_tree_pivots_write):
+        /// 8 floats a branch, its start (x, y, z), length, unit axis (x, y, z) and parent
+        /// (-1 for a root), in the conventions of `options`.
+        public float[] Pivots(MeshOptions options)
+        {
+            UIntPtr n, again;
+            ArborException.Check(Native.arbor_tree_pivots_write(handle, ref options, null, UIntPtr.Zero, out n));
+            var pivots = new float[8 * (int)n];
+            ArborException.Check(Native.arbor_tree_pivots_write(handle, ref options, pivots, n, out again));
+            return pivots;
         }
 
         /// Four joints and four weights (summing to one) a vertex of the mesh Mesh(options)

@@ -61,6 +61,8 @@ public static class UnityHelpersTest
                 // mesh vertex, the weights summing to one.
                 float[] ib;
                 int boneCount = tree.Bones(mo, 16, out ib).Length;
+                var pivots = tree.Pivots(mo);
+                expect(pivots.Length == 8 * tree.BranchCount && pivots[7] == -1f, "a pivot a branch, the trunk a root");
                 for (int k = 0; k < lods.Count; k++)
                 {
                     for (uint part = 0; part < 2; part++)
