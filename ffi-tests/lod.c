@@ -100,6 +100,10 @@ int main(void) {
     }
   }
   CHECK_STATUS(arbor_lods_skin_write(lods, 0, 2, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  {
+    uint16_t j[4];
+    CHECK_STATUS(arbor_lods_skin_write(lods, 0, 0, 16, j, NULL, SIZE_MAX, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
+  }
   CHECK_STATUS(arbor_lods_skin_write(lods, 4, 0, 16, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   CHECK_STATUS(arbor_lods_skin_write(lods, 0, 0, 0, NULL, NULL, 0, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   /* Each branch's pivot for a Pivot-Painter-style shader: a row a branch, its axis unit,
@@ -125,6 +129,8 @@ int main(void) {
     }
   }
   CHECK(pivots_hold, "pivots: lengths, unit axes, parents first, joined ends");
+  /* A capacity whose floats overflow size_t is refused, not trusted. */
+  CHECK_STATUS(arbor_tree_pivots_write(tree, &mo, pivots, SIZE_MAX, NULL), ARBOR_STATUS_INVALID_ARGUMENT);
   free(pivots);
   /* The level to bake an impostor from: every level is first drawn at least 8 pixels
    * across (the last is), none that many (the full tree), and 0 for NULL. */
