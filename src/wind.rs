@@ -361,6 +361,38 @@ pub fn leaf_weights(rig: &Rig, leaves: &Mesh, branches: &[u32], per_leaf: usize)
         .collect()
 }
 
+/// The influences of every vertex of a level of detail's bark (`leaves` false) or baked
+/// leaves (`leaves` true; none without them), on `rig` made from `skeleton` and `mesh`,
+/// the options of the chain's full tree: the bark as [`level_weights`], each leaf on its
+/// branch's bone as [`leaf_weights`]. Every level of a chain rides one skeleton.
+pub fn level_part_weights(
+    rig: &Rig,
+    skeleton: &Skeleton,
+    mesh: &MeshOptions,
+    level: &crate::lod::Level,
+    leaves: bool,
+) -> Result<Vec<Influence>> {
+    if !leaves {
+        return level_weights(
+            rig,
+            skeleton,
+            &level.mesh_options,
+            &level.bark,
+            &level.merged,
+        );
+    }
+    let (Some(options), Some(baked)) = (&level.leaf_options, &level.leaves) else {
+        return Ok(Vec::new());
+    };
+    let branches = crate::mesh::leaf_branches(skeleton, options, mesh)?;
+    Ok(leaf_weights(
+        rig,
+        baked,
+        &branches,
+        options.shape().vertices.len(),
+    ))
+}
+
 /// A looping clip: key times and each bone's rotation (a unit quaternion x, y, z, w,
 /// relative to its rest) at each key.
 #[derive(Clone, Debug, PartialEq)]

@@ -694,20 +694,16 @@ fn skin_levels(
     for (&node, level) in nodes.iter().zip(levels) {
         let mut influences = Vec::new();
         if !level.bark.indices.is_empty() {
-            influences.push(arbor::wind::level_weights(
-                &rig,
-                skeleton,
-                &level.mesh_options,
-                &level.bark,
-                &level.merged,
+            influences.push(arbor::wind::level_part_weights(
+                &rig, skeleton, o, level, false,
             )?);
         }
-        if let (Some(l), Some(baked)) = (&level.leaf_options, &level.leaves) {
-            if !baked.indices.is_empty() {
-                let branches = arbor::mesh::leaf_branches(skeleton, l, o)?;
-                let per_leaf = l.shape().vertices.len();
-                influences.push(arbor::wind::leaf_weights(&rig, baked, &branches, per_leaf));
-            }
+        if level.leaf_options.is_some()
+            && level.leaves.as_ref().is_some_and(|m| !m.indices.is_empty())
+        {
+            influences.push(arbor::wind::level_part_weights(
+                &rig, skeleton, o, level, true,
+            )?);
         }
         skins.push((node, influences));
     }

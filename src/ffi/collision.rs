@@ -26,7 +26,7 @@ pub unsafe extern "C" fn arbor_tree_capsules_write(
 ) -> ArborStatus {
     guard(|| {
         // SAFETY: passed on from the caller.
-        let (tree, mo) = unsafe { super::wind::tree_in(tree, mesh_options) }?;
+        let (tree, mo) = unsafe { tree_in(tree, mesh_options) }?;
         let caps =
             crate::collision::capsules(tree.skeleton(), max_capsules as usize, min_radius, &mo)?;
         if !out.is_null() {

@@ -223,16 +223,34 @@ pub unsafe extern "C" fn arbor_lods_level_info(
     })
 }
 
-pub(super) fn level_of<'a>(lods: *const ArborLods, level: usize) -> Result<&'a Level, FfiError> {
+impl ArborLods {
+    /// Level `level`, or the error naming the levels there are.
+    pub(super) fn level(&self, level: usize) -> Result<&Level, FfiError> {
+        self.levels.get(level).ok_or_else(|| {
+            crate::Error::invalid(
+                "level",
+                format!("{level}; expected 0..{}", self.levels.len()),
+            )
+            .into()
+        })
+    }
+}
+
+fn level_of<'a>(lods: *const ArborLods, level: usize) -> Result<&'a Level, FfiError> {
     // SAFETY: every caller's caller promises `lods` is NULL or live.
-    let lods = unsafe { arg_ref(lods, "lods") }?;
-    lods.levels.get(level).ok_or_else(|| {
-        crate::Error::invalid(
-            "level",
-            format!("{level}; expected 0..{}", lods.levels.len()),
-        )
-        .into()
-    })
+    unsafe { arg_ref(lods, "lods") }?.level(level)
+}
+
+/// Part `part` of `level` (0: the bark, 1: the baked leaves, none without leaves), or the
+/// error naming the parts there are.
+pub(super) fn part_of(level: &Level, part: u32) -> Result<Option<&crate::mesh::Mesh>, FfiError> {
+    match part {
+        0 => Ok(Some(&level.bark)),
+        1 => Ok(level.leaves.as_ref()),
+        p => Err(
+            crate::Error::invalid("part", format!("{p}; expected 0 (bark) or 1 (leaves)")).into(),
+        ),
+    }
 }
 
 /// Writes part `part` (0: the bark, 1: the baked leaves, empty without leaves) of level
@@ -265,17 +283,7 @@ pub unsafe extern "C" fn arbor_lods_mesh_write(
             topology: l.mesh_options.topology,
             ranges: Vec::new(),
         };
-        let m = match part {
-            0 => &l.bark,
-            1 => l.leaves.as_ref().unwrap_or(&empty),
-            p => {
-                return Err(crate::Error::invalid(
-                    "part",
-                    format!("{p}; expected 0 (bark) or 1 (leaves)"),
-                )
-                .into());
-            }
-        };
+        let m = part_of(l, part)?.unwrap_or(&empty);
         if !vertices.is_null() || !indices.is_null() {
             // SAFETY: the caller promises the capacities at non-NULL pointers.
             let v = unsafe { out_slice(vertices, vertex_capacity, m.vertices.len(), "vertices") }?;
@@ -327,9 +335,9 @@ pub unsafe extern "C" fn arbor_lods_impostor_create(
         // SAFETY: the caller promises `out` is writable.
         let out = unsafe { out_ref(out, "out") }?;
         *out = std::ptr::null_mut();
-        let l = level_of(lods, level)?;
-        // SAFETY: the caller promises `lods` is live (level_of read it).
-        let threads = unsafe { arg_ref(lods, "lods") }?.threads;
+        // SAFETY: the caller promises `lods` is NULL or live.
+        let lods = unsafe { arg_ref(lods, "lods") }?;
+        let (l, threads) = (lods.level(level)?, lods.threads);
         // SAFETY: the caller promises the atlas' bytes.
         let atlas = unsafe { host_atlas(atlas_rgba, atlas_width, atlas_height) }?
             .map(|a| a.downsampled(crate::lod::SILHOUETTE_ATLAS));

@@ -46,6 +46,21 @@ pub(crate) unsafe fn read_mesh_options(
     Ok((o, threads))
 }
 
+/// `tree` and the conventions of `mesh_options` (NULL: the defaults) it is drawn in.
+///
+/// # Safety
+/// `tree` is NULL or live; `mesh_options` is NULL or readable.
+pub(crate) unsafe fn tree_in<'a>(
+    tree: *const ArborTree,
+    mesh_options: *const ArborMeshOptions,
+) -> Result<(&'a ArborTree, MeshOptions), FfiError> {
+    // SAFETY: the caller promises `tree` is NULL or live.
+    let tree = unsafe { arg_ref(tree, "tree") }?;
+    // SAFETY: the caller promises `mesh_options` is NULL or readable.
+    let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
+    Ok((tree, mo))
+}
+
 /// The mesh options at `options` with the host's thread count and progress callback
 /// (NULL: none).
 ///

@@ -12,21 +12,6 @@ fn times(units: usize, per: usize, name: &'static str) -> Result<usize, FfiError
         .ok_or_else(|| FfiError::invalid(format!("{name}: {units} x {per} overflows size_t")))
 }
 
-/// `tree` and the conventions of `mesh_options` (NULL: the defaults) it is drawn in.
-///
-/// # Safety
-/// `tree` is NULL or live; `mesh_options` is NULL or readable.
-pub(super) unsafe fn tree_in<'a>(
-    tree: *const ArborTree,
-    mesh_options: *const ArborMeshOptions,
-) -> Result<(&'a ArborTree, MeshOptions), FfiError> {
-    // SAFETY: the caller promises `tree` is NULL or live.
-    let tree = unsafe { arg_ref(tree, "tree") }?;
-    // SAFETY: the caller promises `mesh_options` is NULL or readable.
-    let (mo, _) = unsafe { read_mesh_options(mesh_options) }?;
-    Ok((tree, mo))
-}
-
 /// The rig of `tree` drawn with `mesh_options`, at most `max_bones` bones.
 ///
 /// # Safety
@@ -267,43 +252,22 @@ pub unsafe extern "C" fn arbor_lods_skin_write(
     vertex_count: *mut usize,
 ) -> ArborStatus {
     guard(|| {
-        let l = super::lod::level_of(lods, level)?;
-        // SAFETY: the caller promises `lods` is live (level_of read it).
+        // SAFETY: the caller promises `lods` is NULL or live.
         let lods = unsafe { arg_ref(lods, "lods") }?;
+        let l = lods.level(level)?;
+        let n = super::lod::part_of(l, part)?.map_or(0, |m| m.vertices.len());
         let (skeleton, mo) = (&lods.skeleton, &lods.mesh_options);
         let rig = crate::wind::rig(skeleton, max_bones as usize, mo)?;
-        let n = match part {
-            0 => l.bark.vertices.len(),
-            1 => l.leaves.as_ref().map_or(0, |m| m.vertices.len()),
-            p => {
-                return Err(crate::Error::invalid(
-                    "part",
-                    format!("{p}; expected 0 (bark) or 1 (leaves)"),
-                )
-                .into());
-            }
-        };
         // SAFETY: passed on from the caller.
         unsafe {
             write_skin(joints, weights, vertex_capacity, n, || {
-                match (part, &l.leaves) {
-                    (0, _) => Ok(crate::wind::level_weights(
-                        &rig,
-                        skeleton,
-                        &l.mesh_options,
-                        &l.bark,
-                        &l.merged,
-                    )?),
-                    (_, Some(baked)) => {
-                        let Some(leaf_options) = &l.leaf_options else {
-                            return Ok(Vec::new());
-                        };
-                        let branches = crate::mesh::leaf_branches(skeleton, leaf_options, mo)?;
-                        let per_leaf = leaf_options.shape().vertices.len();
-                        Ok(crate::wind::leaf_weights(&rig, baked, &branches, per_leaf))
-                    }
-                    _ => Ok(Vec::new()),
-                }
+                Ok(crate::wind::level_part_weights(
+                    &rig,
+                    skeleton,
+                    mo,
+                    l,
+                    part == 1,
+                )?)
             })
         }?;
         if !vertex_count.is_null() {
