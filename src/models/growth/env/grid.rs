@@ -175,6 +175,26 @@ impl Grid {
         if hi[1] > old_hi[1] {
             new_hi[1] = hi[1] + spare(1);
         }
+        if new_lo[0] != self.lo[0]
+            || new_lo[2] != self.lo[2]
+            || new_hi[0] != old_hi[0]
+            || new_hi[2] != old_hi[2]
+        {
+            // A sideways growth moves every row anyway: the sides the crowns are within a
+            // spare of grow with it (and the top), so a forest widening every way re-lays
+            // the grid once where it would a side at a time.
+            for k in [0, 2] {
+                if lo[k] - spare(k) < self.lo[k] {
+                    new_lo[k] = new_lo[k].min(lo[k] - spare(k));
+                }
+                if hi[k] + spare(k) > old_hi[k] {
+                    new_hi[k] = new_hi[k].max(hi[k] + spare(k));
+                }
+            }
+            if hi[1] + spare(1) > old_hi[1] {
+                new_hi[1] = new_hi[1].max(hi[1] + spare(1));
+            }
+        }
         let dims_of = |l: [i64; 3], h: [i64; 3]| [0, 1, 2].map(|k| (h[k] - l[k] + 1) as usize);
         if Self::count(dims_of(new_lo, new_hi), max_cells).is_err() {
             // No room to spare within `max_cells`: just what is asked.

@@ -344,14 +344,38 @@ fn a_growing_grid_keeps_every_cell_where_it_was() {
     assert_eq!((g.lo, g.dims[0], g.dims[2]), (lo, dims[0], dims[2]));
     assert!(g.dims[1] > dims[1]);
     check(&g, &before);
-    // Sideways, toward -x and +z: rows move in the store, zeros around them.
+    // Sideways, toward -x and +z: rows move in the store, zeros around them. The sides
+    // more than a spare (16 cells here) from what is asked stay.
     fill(&mut g, &mut rng);
     let before = snapshot(&g);
+    let (lo, dims) = (g.lo, g.dims);
     let hi = [0, 2].map(|k| g.lo[k] + g.dims[k] as i64 - 1);
-    g.cover([lo[0] - 3, 0, hi[1]], [hi[0] - 2, 1, hi[1] + 1], 1 << 20)
+    let mid = [0, 2].map(|k| g.lo[k] + g.dims[k] as i64 / 2);
+    assert!(hi[0] - mid[0] > 16 && mid[1] - lo[2] > 16 && dims[1] > 16 + 2);
+    g.cover([lo[0] - 3, 0, mid[1]], [mid[0], 1, hi[1] + 1], 1 << 20)
         .unwrap();
     assert!(g.lo[0] < lo[0] - 3 && g.lo[0] + g.dims[0] as i64 - 1 == hi[0]);
     assert!(g.lo[2] == lo[2] && g.lo[2] + g.dims[2] as i64 - 1 > hi[1] + 1);
+    assert_eq!(g.dims[1], dims[1]);
+    check(&g, &before);
+    // A sideways growth takes the sides (and the top) within a spare of what is asked
+    // with it: the store is re-laid once, not a side at a time.
+    fill(&mut g, &mut rng);
+    let before = snapshot(&g);
+    let (lo, dims) = (g.lo, g.dims);
+    let hi = [0, 1, 2].map(|k| g.lo[k] + g.dims[k] as i64 - 1);
+    g.cover(
+        [lo[0] - 1, 0, lo[2] + 2],
+        [hi[0] - 2, hi[1] - 3, hi[2] - 2],
+        1 << 22,
+    )
+    .unwrap();
+    assert!(g.lo[0] < lo[0] - 1 && g.lo[2] < lo[2]);
+    assert!(
+        (0..3).all(|k| g.lo[k] + g.dims[k] as i64 - 1 > hi[k]),
+        "{dims:?} -> {:?}",
+        g.dims
+    );
     check(&g, &before);
     // Toward +x and -z, with layers above.
     fill(&mut g, &mut rng);

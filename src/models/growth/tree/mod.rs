@@ -85,7 +85,7 @@ pub(crate) trait Light {
 const PREFETCH_V: usize = 8;
 
 /// Buds ahead of the one read that a read-ahead pass prefetches.
-const PREFETCH: usize = 32;
+const PREFETCH: usize = 64;
 
 /// The passes' working arrays, one set per thread and reused from cycle to cycle and tree
 /// to tree, so a world's memory holds only the internodes themselves.
@@ -388,7 +388,9 @@ impl Tree {
                     .zip(cells)
                     .enumerate()
                     .map(|(i, (&kids, &word))| {
-                        if let Some(&ahead) = cells.get(i + PREFETCH) {
+                        if let Some(&ahead) = cells.get(i + PREFETCH)
+                            && buds(nodes.kids[i + PREFETCH]) > 0
+                        {
                             light.prefetch(ahead);
                         }
                         if buds(kids) > 0 {
@@ -407,6 +409,46 @@ impl Tree {
         s.desc.resize(n, 1);
         let (stale, tip_rn) = (self.radii_stale, libm::powf(p.tip_radius, p.pipe_exponent));
         self.radii_stale = false;
+        if !L::ORDERED {
+            // A bud's light depends only on its cell: one value an internode, and the
+            // slots read without a branch (a child's sums, or nothing), since which of
+            // bud, child and gone a slot holds is not predictable.
+            for i in (0..n).rev() {
+                let kids = nodes.kids[i];
+                let q = if ahead {
+                    s.q[i]
+                } else if buds(kids) > 0 {
+                    light.q(0, nodes.cell[i])
+                } else {
+                    0.0
+                };
+                let (mut pair, mut desc, mut rn, mut children) = ([0.0f32; 2], 1u32, 0.0f32, false);
+                for k in 0..2 {
+                    let c = kids[k];
+                    let child = is_child(c);
+                    // A slot that holds no child reads internode i's own (unused) entries.
+                    let j = if child { c as usize } else { i };
+                    let [m, l] = s.split[j];
+                    pair[k] = if c == BUD {
+                        q
+                    } else if child {
+                        m + l
+                    } else {
+                        0.0
+                    };
+                    desc += if child { s.desc[j] } else { 0 };
+                    rn += if child { nodes.rn[j] } else { 0.0 };
+                    children |= child;
+                }
+                if stale {
+                    // The pipe model: as `pipe`, the children's sum in slot order.
+                    nodes.rn[i] = nodes.rn[i].max(if children { rn } else { tip_rn });
+                }
+                s.split[i] = pair;
+                s.desc[i] = desc;
+            }
+            return;
+        }
         for i in (0..n).rev() {
             if stale {
                 pipe(&nodes.kids, &mut nodes.rn, i, tip_rn);
@@ -452,29 +494,17 @@ impl Tree {
         s.vig.clear();
         s.vig.resize(n + 1, 0.0);
         s.vig[0] = alpha * (s.split[0][0] + s.split[0][1]);
+        // A node's fate is set by its parent, before it is visited: dead with its parent,
+        // or shed as a lateral branch; a slot without a child writes the spare entry at n.
         s.dead.clear();
-        s.dead.resize(n, false);
+        s.dead.resize(n + 1, false);
         s.shoots.clear();
         let mut residual = 0.0f32;
         let costs = s.cost_table(&p);
         for i in 0..n {
             let kids = nodes.kids[i];
             let v = s.vig[i];
-            // Shedding.
-            if i > 0 {
-                let parent = nodes.parent[i] as usize;
-                if s.dead[parent] {
-                    s.dead[i] = true;
-                } else if nodes.kids[parent][1] == i as u32
-                    && cycle.saturating_sub(nodes.birth[i]) > p.shed_delay
-                    && ((p.shed_light > 0.0
-                        && s.split[i][0] + s.split[i][1] < p.shed_light * s.desc[i] as f32)
-                        || (p.shed_multiplier > 0.0 && v < s.cost(costs, &p, s.desc[i])))
-                {
-                    s.dead[i] = true;
-                    plan.shed.push(i as u32);
-                }
-            }
+            let dead = s.dead[i];
             // The split.
             let [qm, ql] = s.split[i];
             let (wm, wl) = (lambda * qm, (1.0 - lambda) * ql);
@@ -491,14 +521,31 @@ impl Tree {
                 let slot = kids[k];
                 // A child's vigour, written without a branch: a bud's or a gone
                 // branch's share goes to the spare slot at `n`.
-                s.vig[if is_child(slot) { slot as usize } else { n }] = share;
+                let to = if is_child(slot) { slot as usize } else { n };
+                s.vig[to] = share;
+                s.dead[to] = dead;
                 // Shoots, from the living buds of living internodes (made below, so
                 // this loop stays small).
-                if slot == BUD && share >= 1.0 && !s.dead[i] {
+                if slot == BUD && share >= 1.0 && !dead {
                     s.shoots.push((i as u32, k as u32, share));
                 }
             }
+            // Shedding: a lateral branch whose light or vigour no longer pays for its
+            // size goes, with everything above it.
+            let c = kids[1] as usize;
+            if !dead
+                && is_child(kids[1])
+                && cycle.saturating_sub(nodes.birth[c]) > p.shed_delay
+                && ((p.shed_light > 0.0
+                    && s.split[c][0] + s.split[c][1] < p.shed_light * s.desc[c] as f32)
+                    || (p.shed_multiplier > 0.0 && vl < s.cost(costs, &p, s.desc[c])))
+            {
+                s.dead[c] = true;
+                plan.shed.push(c as u32);
+            }
         }
+        // In internode order (found at their parents).
+        plan.shed.sort_unstable();
         residual
     }
 
