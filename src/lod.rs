@@ -772,6 +772,33 @@ pub fn silhouette(
     coverage_mask(&t.mask(), pixels, ss)
 }
 
+/// How far the silhouette measure itself moves at `pixels`: the intersection over union
+/// of `level`'s [`silhouette`] from `dir` with the same level drawn `shift` pixels off
+/// along the image's diagonal (right and up). A copy of the tree that differs from it only
+/// in where its pixel grid falls (an impostor's views are resampled, a level's vertices
+/// move) keeps no more than this: twigs a pixel wide flip in and out of the mask. A
+/// figure below 0.9 at a quarter pixel means that at this size the measure cannot tell a
+/// good level or impostor from a shifted copy of the tree.
+pub fn silhouette_floor(
+    level: &Level,
+    atlas: Option<&Image>,
+    frame: &Frame,
+    dir: Vec3,
+    pixels: u32,
+    shift: f32,
+) -> f32 {
+    let view = frame.view(dir);
+    let pixel = 2.0 * frame.radius / pixels.max(1) as f32;
+    let moved = Frame {
+        centre: frame.centre + (view.right + view.up) * (shift * pixel),
+        ..*frame
+    };
+    crate::raster::iou(
+        &silhouette(level, atlas, frame, dir, pixels),
+        &silhouette(level, atlas, &moved, dir, pixels),
+    )
+}
+
 /// Pixels of a `pixels`-square mask at least half covered by the samples of a
 /// `pixels * ss` square one.
 pub fn coverage_mask(samples: &[bool], pixels: u32, ss: u32) -> Vec<bool> {

@@ -1,7 +1,7 @@
 //! Levels of detail: every level within its budget, its silhouette the full tree's where
 //! it is first drawn (arbor's rasterizer), for every species and the 1996 trees.
 
-use arbor::lod::{Frame, Level, LodOptions, chain, silhouette};
+use arbor::lod::{Frame, Level, LodOptions, chain, silhouette, silhouette_floor};
 use arbor::mesh::{LeafOptions, MeshOptions};
 use arbor::raster::iou;
 use arbor::species::Look;
@@ -26,7 +26,17 @@ fn directions(n: usize) -> Vec<Vec3> {
 /// 32, not 8: a level first drawn at 14 pixels has an IoU that moves from 0.80 to 0.94
 /// between neighbouring directions (a few pixels of its edge flip), so the mean of 8 is
 /// off by a few hundredths (the oak's level 3: 0.889 from 8, 0.920 from 64).
-fn check(name: &str, levels: &[Level], lod: &LodOptions, atlas: Option<&Image>) -> Vec<f32> {
+///
+/// With `floor`, each line also gives the measure's own floor there: the full tree
+/// against itself moved a quarter of a pixel ([`silhouette_floor`]), from the same
+/// directions.
+fn check(
+    name: &str,
+    levels: &[Level],
+    lod: &LodOptions,
+    atlas: Option<&Image>,
+    floor: bool,
+) -> Vec<f32> {
     assert_eq!(levels.len(), lod.levels as usize);
     let full = &levels[0];
     let frame = Frame::of(full, full.mesh_options.up()).unwrap();
@@ -50,9 +60,21 @@ fn check(name: &str, levels: &[Level], lod: &LodOptions, atlas: Option<&Image>) 
             min = min.min(w);
         }
         let w = sum / dirs.len() as f32;
+        let floor = if floor {
+            let f: f32 = dirs
+                .iter()
+                .map(|&d| silhouette_floor(full, atlas, &frame, d, pixels, 0.25))
+                .sum();
+            format!(
+                "; the tree against itself a quarter pixel off: {:.3}",
+                f / dirs.len() as f32
+            )
+        } else {
+            String::new()
+        };
         println!(
             "{name} level {k}: {:.1}% of {} triangles, first drawn at coverage {coverage:.3} \
-             ({pixels} px), IoU {w:.3} (least {min:.3})",
+             ({pixels} px), IoU {w:.3} (least {min:.3}){floor}",
             100.0 * share,
             full.triangles
         );
@@ -111,7 +133,7 @@ fn levels_keep_their_silhouettes_where_they_are_first_drawn() {
     let lod = LodOptions::default();
     for name in ['a', 'e'] {
         let levels = tree_1996(name, &lod);
-        let means = check(&format!("tree {name}"), &levels, &lod, None);
+        let means = check(&format!("tree {name}"), &levels, &lod, None, false);
         holds(&format!("tree {name}"), &levels, &lod, &means);
         // Level 1 of the 1996 trees keeps its silhouette from half the screen down.
         assert!(levels[1].silhouette >= lod.silhouette, "tree {name}");
@@ -124,7 +146,7 @@ fn levels_keep_their_silhouettes_where_they_are_first_drawn() {
             .find(|l| l.species.name() == species_name)
             .unwrap();
         let (levels, atlas) = species(&look, &lod);
-        let means = check(species_name, &levels, &lod, Some(&atlas));
+        let means = check(species_name, &levels, &lod, Some(&atlas), false);
         holds(species_name, &levels, &lod, &means);
         // Every level of these keeps it.
         for l in &levels {
@@ -147,12 +169,41 @@ fn figures_for_every_species_and_1996_tree() {
     let lod = LodOptions::default();
     for name in ['a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i'] {
         let levels = tree_1996(name, &lod);
-        check(&format!("tree {name}"), &levels, &lod, None);
+        check(&format!("tree {name}"), &levels, &lod, None, true);
     }
     for look in Look::all() {
         let (levels, atlas) = species(&look, &lod);
-        check(look.species.name(), &levels, &lod, Some(&atlas));
+        check(look.species.name(), &levels, &lod, Some(&atlas), true);
     }
+}
+
+/// The measure's floor: the tree against itself unmoved is itself (1), moved a quarter of
+/// a pixel a crown at 128 pixels keeps nearly all of it, and twigs drawn at 15 pixels
+/// flip in and out: a 1996 tree's falls far below the 0.9 a level is asked to keep.
+#[test]
+fn the_measure_itself_moves_with_a_quarter_pixel_where_twigs_are_a_pixel_wide() {
+    let lod = LodOptions::default().levels(1);
+    let twigs = &tree_1996('g', &lod)[0];
+    let look = Look::all()
+        .into_iter()
+        .find(|l| l.species.name() == "oak")
+        .unwrap();
+    let (crown, atlas) = species(&look, &lod);
+    let crown = &crown[0];
+    let mean = |level: &Level, atlas: Option<&Image>, pixels: u32, shift: f32| {
+        let frame = Frame::of(level, level.mesh_options.up()).unwrap();
+        let dirs = directions(8);
+        dirs.iter()
+            .map(|&d| silhouette_floor(level, atlas, &frame, d, pixels, shift))
+            .sum::<f32>()
+            / dirs.len() as f32
+    };
+    assert_eq!(mean(twigs, None, 15, 0.0), 1.0);
+    let oak = mean(crown, Some(&atlas), 128, 0.25);
+    let g = mean(twigs, None, 15, 0.25);
+    println!("a quarter pixel off: the oak at 128 px {oak:.3}, tree g at 15 px {g:.3}");
+    assert!(oak >= 0.9, "{oak}");
+    assert!(g < 0.8, "{g}");
 }
 
 /// A trunk 10 tall with 64 straight twigs at its top: twig `k` as `twig(k)` gives it (its
