@@ -214,8 +214,39 @@ impl Target {
                 (c[0] * a[1] - c[1] * a[0]) * inv,
             );
             let e2 = Edge::new(-e0.ax - e1.ax, -e0.ay - e1.ay, 1.0 - e0.k - e1.k);
+            // An untextured silhouette's triangle taller than wide (a twig's side along
+            // the image's up) is walked a column at a time: a span a column and a bit a
+            // row, where a span a row would be worked out for a pixel or none.
+            if self.coverage_only && tex.is_none() && y1 - y0 > x1 - x0 {
+                self.columns([&e0, &e1, &e2], bx, by);
+                continue;
+            }
             let vs = &s.mesh.vertices;
-            let (va, vb, vc) = (&vs[i0], &vs[i1], &vs[i2]);
+            let tri = Tri {
+                z: [a[2], b[2], c[2]],
+                v: [&vs[i0], &vs[i1], &vs[i2]],
+                tex,
+                surface: s,
+                forward: view.forward,
+            };
+            // A full target's triangle taller than wide, a column at a time (as above);
+            // the weights at a pixel are those its row would give.
+            if !self.coverage_only && y1 - y0 > x1 - x0 {
+                let w = self.width as usize;
+                for x in bx.0..=bx.1 {
+                    let Some((ys, ye)) = column_span([&e0, &e1, &e2], x, by) else {
+                        continue;
+                    };
+                    let px = x as f32 + 0.5;
+                    for y in ys..=ye {
+                        let py = y as f32 + 0.5;
+                        let l0 = e0.ax * px + e0.row(py);
+                        let l1 = e1.ax * px + e1.row(py);
+                        self.shade(y * w + x, (l0, l1, 1.0 - l0 - l1), &tri);
+                    }
+                }
+                continue;
+            }
             for y in y0..=y1 {
                 let py = y as f32 + 0.5;
                 // The span of pixel centres where all three weights are non-negative.
@@ -245,16 +276,6 @@ impl Target {
                     let l1 = e1.ax * px + k1;
                     (l0, l1, 1.0 - l0 - l1)
                 };
-                // The texel under a pixel passes the alpha test.
-                let opaque = |l0: f32, l1: f32, l2: f32| match tex {
-                    Some(t) => {
-                        let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
-                        let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
-                        let p = t.pixel(wrap(u, t.width), wrap(v, t.height));
-                        (p[3] >= s.alpha_cutoff).then_some([p[0], p[1], p[2], 255])
-                    }
-                    None => Some([s.color[0], s.color[1], s.color[2], 255]),
-                };
                 if self.coverage_only {
                     let row = &mut self.bits[y as usize * self.words..][..self.words];
                     if tex.is_none() {
@@ -269,7 +290,11 @@ impl Target {
                             let bit = open.trailing_zeros() as usize;
                             open &= open - 1;
                             let (l0, l1, l2) = weights((wi * 64 + bit) as i64);
-                            if l0 >= 0.0 && l1 >= 0.0 && l2 >= 0.0 && opaque(l0, l1, l2).is_some() {
+                            if l0 >= 0.0
+                                && l1 >= 0.0
+                                && l2 >= 0.0
+                                && tri.opaque(l0, l1, l2).is_some()
+                            {
                                 *word |= 1 << bit;
                             }
                         }
@@ -278,38 +303,109 @@ impl Target {
                 }
                 let row = y as usize * self.width as usize;
                 for x in xs..=xe {
-                    let k = row + x as usize;
-                    let (l0, l1, l2) = weights(x);
-                    if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
-                        continue;
-                    }
-                    let z = a[2] * l0 + b[2] * l1 + c[2] * l2;
-                    if z >= self.depth[k] {
-                        continue;
-                    }
-                    let Some(color) = opaque(l0, l1, l2) else {
-                        continue;
-                    };
-                    self.depth[k] = z;
-                    let n = Vec3::from(va.normal) * l0
-                        + Vec3::from(vb.normal) * l1
-                        + Vec3::from(vc.normal) * l2;
-                    let n = n.normalize_or(-view.forward);
-                    // The side facing the viewer (a leaf seen from behind).
-                    let n = if n.dot(view.forward) > 0.0 && s.double_sided {
-                        -n
-                    } else {
-                        n
-                    };
-                    self.color[k] = color;
-                    self.normal[k] = [
-                        (n.x * 127.5 + 127.5) as u8,
-                        (n.y * 127.5 + 127.5) as u8,
-                        (n.z * 127.5 + 127.5) as u8,
-                        255,
-                    ];
+                    self.shade(row + x as usize, weights(x), &tri);
                 }
             }
+        }
+    }
+}
+
+impl Target {
+    /// Covers the pixel centres of columns `x0..=x1` and rows `y0..=y1` where all three
+    /// weights `e` are non-negative, a column at a time (a coverage-only target).
+    fn columns(&mut self, e: [&Edge; 3], (x0, x1): (usize, usize), (y0, y1): (usize, usize)) {
+        for x in x0..=x1 {
+            let Some((ys, ye)) = column_span(e, x, (y0, y1)) else {
+                continue;
+            };
+            let (word, bit) = (x / 64, 1u64 << (x % 64));
+            for y in ys..=ye {
+                self.bits[y * self.words + word] |= bit;
+            }
+        }
+    }
+
+    /// Draws pixel `k` at weights `l` of `tri` where it is nearer than what is there and
+    /// its texel passes the alpha test (a full target).
+    #[inline(always)]
+    fn shade(&mut self, k: usize, (l0, l1, l2): (f32, f32, f32), tri: &Tri<'_>) {
+        if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
+            return;
+        }
+        let z = tri.z[0] * l0 + tri.z[1] * l1 + tri.z[2] * l2;
+        if z >= self.depth[k] {
+            return;
+        }
+        let Some(color) = tri.opaque(l0, l1, l2) else {
+            return;
+        };
+        let [va, vb, vc] = tri.v;
+        self.depth[k] = z;
+        let n =
+            Vec3::from(va.normal) * l0 + Vec3::from(vb.normal) * l1 + Vec3::from(vc.normal) * l2;
+        let n = n.normalize_or(-tri.forward);
+        // The side facing the viewer (a leaf seen from behind).
+        let n = if n.dot(tri.forward) > 0.0 && tri.surface.double_sided {
+            -n
+        } else {
+            n
+        };
+        self.color[k] = color;
+        self.normal[k] = [
+            (n.x * 127.5 + 127.5) as u8,
+            (n.y * 127.5 + 127.5) as u8,
+            (n.z * 127.5 + 127.5) as u8,
+            255,
+        ];
+    }
+}
+
+/// The rows `ys..=ye` (within `y0..=y1`) of column `x` whose pixel centres all three
+/// weights `e` cover: a row's span (see `Target::draw_one`) with x and y swapped.
+#[inline]
+fn column_span(e: [&Edge; 3], x: usize, (y0, y1): (usize, usize)) -> Option<(usize, usize)> {
+    let px = x as f32 + 0.5;
+    let (mut lo, mut hi) = (y0 as f32 + 0.5, y1 as f32 + 0.5);
+    let mut empty = false;
+    for e in e {
+        let k = e.ax * px + e.k;
+        let t = -k * e.inv_ay;
+        lo = lo.max(if e.ay > 0.0 { t } else { f32::NEG_INFINITY });
+        hi = hi.min(if e.ay < 0.0 { t } else { f32::INFINITY });
+        empty |= e.flat_y & (k < 0.0);
+    }
+    if empty || lo.is_nan() || hi.is_nan() || lo > hi {
+        return None;
+    }
+    let ys = ceil_i(lo - 0.5).max(y0 as i64);
+    let ye = floor_i(hi - 0.5).min(y1 as i64);
+    (ys <= ye).then_some((ys as usize, ye as usize))
+}
+
+/// A triangle as a pixel is drawn from it: its vertices' depths and vertices, its
+/// surface's texture, and the view's direction.
+struct Tri<'a> {
+    z: [f32; 3],
+    v: [&'a crate::mesh::Vertex; 3],
+    tex: Option<&'a Image>,
+    surface: &'a Surface<'a>,
+    forward: Vec3,
+}
+
+impl Tri<'_> {
+    /// The colour at weights `l` where the texel there passes the alpha test.
+    #[inline(always)]
+    fn opaque(&self, l0: f32, l1: f32, l2: f32) -> Option<[u8; 4]> {
+        let s = self.surface;
+        match self.tex {
+            Some(t) => {
+                let [va, vb, vc] = self.v;
+                let u = va.uv[0] * l0 + vb.uv[0] * l1 + vc.uv[0] * l2;
+                let v = va.uv[1] * l0 + vb.uv[1] * l1 + vc.uv[1] * l2;
+                let p = t.pixel(wrap(u, t.width), wrap(v, t.height));
+                (p[3] >= s.alpha_cutoff).then_some([p[0], p[1], p[2], 255])
+            }
+            None => Some([s.color[0], s.color[1], s.color[2], 255]),
         }
     }
 }
@@ -323,18 +419,23 @@ struct Edge {
     k: f32,
     inv_ax: f32,
     flat: bool,
+    /// The same along a column.
+    inv_ay: f32,
+    flat_y: bool,
 }
 
 impl Edge {
     fn new(ax: f32, ay: f32, k: f32) -> Edge {
-        let inv_ax = if ax != 0.0 { 1.0 / ax } else { 0.0 };
-        let flat = matches!(ax.partial_cmp(&0.0), Some(std::cmp::Ordering::Equal) | None);
+        let inv = |a: f32| if a != 0.0 { 1.0 / a } else { 0.0 };
+        let flat = |a: f32| matches!(a.partial_cmp(&0.0), Some(std::cmp::Ordering::Equal) | None);
         Edge {
             ax,
             ay,
             k,
-            inv_ax,
-            flat,
+            inv_ax: inv(ax),
+            flat: flat(ax),
+            inv_ay: inv(ay),
+            flat_y: flat(ay),
         }
     }
 
@@ -452,6 +553,83 @@ mod tests {
             alpha_cutoff: 0,
             double_sided: false,
             clockwise: false,
+        }
+    }
+
+    /// Thin triangles, tall (walked a column at a time), wide and slanted (a row at a
+    /// time), cover exactly the pixel centres inside them, in a coverage target and a full
+    /// one: checked against the centres' barycentric weights worked out in f64.
+    #[test]
+    fn thin_triangles_cover_the_pixel_centres_inside_them() {
+        let tris: [[[f32; 2]; 3]; 4] = [
+            [[-0.031, -0.93], [0.012, -0.91], [0.043, 0.87]],
+            [[-0.95, 0.021], [0.91, 0.063], [0.88, -0.017]],
+            [[-0.71, -0.83], [-0.66, -0.86], [0.79, 0.74]],
+            [[0.203, 0.911], [0.227, -0.889], [0.161, -0.902]],
+        ];
+        let (w, h) = (101u32, 89u32);
+        let view = View::looking(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0);
+        for t in tris {
+            let mesh = Mesh {
+                vertices: t
+                    .iter()
+                    .map(|&[x, y]| Vertex {
+                        position: [x, y, 0.0],
+                        normal: [0.0, 0.0, 1.0],
+                        uv: [0.0, 0.0],
+                    })
+                    .collect(),
+                indices: vec![0, 1, 2],
+                topology: Topology::TriangleList,
+                ranges: Vec::new(),
+            };
+            let mut s = surface(&mesh, [1, 2, 3]);
+            s.double_sided = true;
+            // The pixel centres inside, in f64; those within a thousandth of a pixel of
+            // an edge are left out (f32 may round either way there).
+            let screen: Vec<[f64; 2]> = t
+                .iter()
+                .map(|&[x, y]| {
+                    [
+                        0.5 * w as f64 + x as f64 * 0.5 * w as f64,
+                        0.5 * h as f64 - y as f64 * 0.5 * h as f64,
+                    ]
+                })
+                .collect();
+            let edge = |a: [f64; 2], b: [f64; 2], p: [f64; 2]| {
+                (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+            };
+            let mut inside = Vec::new();
+            for y in 0..h {
+                for x in 0..w {
+                    let p = [x as f64 + 0.5, y as f64 + 0.5];
+                    let e = [
+                        edge(screen[0], screen[1], p),
+                        edge(screen[1], screen[2], p),
+                        edge(screen[2], screen[0], p),
+                    ];
+                    let lengths = [(0, 1), (1, 2), (2, 0)].map(|(i, j)| {
+                        (screen[j][0] - screen[i][0]).hypot(screen[j][1] - screen[i][1])
+                    });
+                    let near = e.iter().zip(lengths).any(|(v, l)| v.abs() / l < 1e-3);
+                    inside.push(
+                        (!near).then(|| e.iter().all(|&v| v > 0.0) || e.iter().all(|&v| v < 0.0)),
+                    );
+                }
+            }
+            let count = inside.iter().filter(|&&i| i == Some(true)).count();
+            assert!(count > 20, "{count} centres inside");
+            let mut full = Target::new(w, h);
+            full.draw(&view, &[s]);
+            let mut cover = Target::coverage_only(w, h);
+            cover.draw(&view, &[s]);
+            for mask in [full.mask(), cover.mask()] {
+                for (k, (&m, &i)) in mask.iter().zip(&inside).enumerate() {
+                    if let Some(i) = i {
+                        assert_eq!(m, i, "{t:?}: pixel {k}");
+                    }
+                }
+            }
         }
     }
 
