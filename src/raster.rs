@@ -202,22 +202,26 @@ impl Target {
             }
             // The barycentric weights as planes over the image: l = ax * px + ay * py + k
             // at the pixel centre (px, py); the third is 1 - l0 - l1.
+            // A triangle taller than wide (a twig's side along the image's up) is walked a
+            // column at a time: a span a column, then a bit or a pixel a row, where a
+            // span a row would be worked out for a pixel or none. (Not a silhouette's
+            // textured one: its rows find the pixels not yet covered a word at a time.)
+            let tall = y1 - y0 > x1 - x0 && !(self.coverage_only && tex.is_some());
             let inv = 1.0 / area;
             let e0 = Edge::new(
                 (b[1] - c[1]) * inv,
                 (c[0] - b[0]) * inv,
                 (b[0] * c[1] - b[1] * c[0]) * inv,
+                tall,
             );
             let e1 = Edge::new(
                 (c[1] - a[1]) * inv,
                 (a[0] - c[0]) * inv,
                 (c[0] * a[1] - c[1] * a[0]) * inv,
+                tall,
             );
-            let e2 = Edge::new(-e0.ax - e1.ax, -e0.ay - e1.ay, 1.0 - e0.k - e1.k);
-            // An untextured silhouette's triangle taller than wide (a twig's side along
-            // the image's up) is walked a column at a time: a span a column and a bit a
-            // row, where a span a row would be worked out for a pixel or none.
-            if self.coverage_only && tex.is_none() && y1 - y0 > x1 - x0 {
+            let e2 = Edge::new(-e0.ax - e1.ax, -e0.ay - e1.ay, 1.0 - e0.k - e1.k, tall);
+            if self.coverage_only && tall {
                 self.columns([&e0, &e1, &e2], bx, by);
                 continue;
             }
@@ -229,9 +233,9 @@ impl Target {
                 surface: s,
                 forward: view.forward,
             };
-            // A full target's triangle taller than wide, a column at a time (as above);
-            // the weights at a pixel are those its row would give.
-            if !self.coverage_only && y1 - y0 > x1 - x0 {
+            // A full target's tall triangle, a column at a time: the weights at a pixel
+            // are those its row would give.
+            if tall {
                 let w = self.width as usize;
                 for x in bx.0..=bx.1 {
                     let Some((ys, ye)) = column_span([&e0, &e1, &e2], x, by) else {
@@ -257,7 +261,7 @@ impl Target {
                 // left, a falling one from the right, a flat one empties the row where
                 // its weight is negative.
                 for (e, k) in [(&e0, k0), (&e1, k1), (&e2, e2.row(py))] {
-                    let t = -k * e.inv_ax;
+                    let t = -k * e.inv;
                     lo = lo.max(if e.ax > 0.0 { t } else { f32::NEG_INFINITY });
                     hi = hi.min(if e.ax < 0.0 { t } else { f32::INFINITY });
                     empty |= e.flat & (k < 0.0);
@@ -369,10 +373,10 @@ fn column_span(e: [&Edge; 3], x: usize, (y0, y1): (usize, usize)) -> Option<(usi
     let mut empty = false;
     for e in e {
         let k = e.ax * px + e.k;
-        let t = -k * e.inv_ay;
+        let t = -k * e.inv;
         lo = lo.max(if e.ay > 0.0 { t } else { f32::NEG_INFINITY });
         hi = hi.min(if e.ay < 0.0 { t } else { f32::INFINITY });
-        empty |= e.flat_y & (k < 0.0);
+        empty |= e.flat & (k < 0.0);
     }
     if empty || lo.is_nan() || hi.is_nan() || lo > hi {
         return None;
@@ -411,31 +415,29 @@ impl Tri<'_> {
 }
 
 /// One barycentric weight as a plane over the image (`ax * px + ay * py + k`), with the
-/// reciprocal of its slope along a row (0 where it is flat), and whether it is flat
-/// (neither rising nor falling along a row: zero or not a number).
+/// reciprocal of its slope along the way the triangle is walked (a row; a column for a
+/// tall one), 0 where it is flat, and whether it is flat (neither rising nor falling that
+/// way: zero or not a number).
 struct Edge {
     ax: f32,
     ay: f32,
     k: f32,
-    inv_ax: f32,
+    inv: f32,
     flat: bool,
-    /// The same along a column.
-    inv_ay: f32,
-    flat_y: bool,
 }
 
 impl Edge {
-    fn new(ax: f32, ay: f32, k: f32) -> Edge {
-        let inv = |a: f32| if a != 0.0 { 1.0 / a } else { 0.0 };
-        let flat = |a: f32| matches!(a.partial_cmp(&0.0), Some(std::cmp::Ordering::Equal) | None);
+    fn new(ax: f32, ay: f32, k: f32, columns: bool) -> Edge {
+        let slope = if columns { ay } else { ax };
         Edge {
             ax,
             ay,
             k,
-            inv_ax: inv(ax),
-            flat: flat(ax),
-            inv_ay: inv(ay),
-            flat_y: flat(ay),
+            inv: if slope != 0.0 { 1.0 / slope } else { 0.0 },
+            flat: matches!(
+                slope.partial_cmp(&0.0),
+                Some(std::cmp::Ordering::Equal) | None
+            ),
         }
     }
 
