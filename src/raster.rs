@@ -200,13 +200,13 @@ impl Target {
             if self.coverage_only && self.covered(bx, by) {
                 continue;
             }
-            // The barycentric weights as planes over the image: l = ax * px + ay * py + k
-            // at the pixel centre (px, py); the third is 1 - l0 - l1.
             // A triangle taller than wide (a twig's side along the image's up) is walked a
             // column at a time: a span a column, then a bit or a pixel a row, where a
             // span a row would be worked out for a pixel or none. (Not a silhouette's
             // textured one: its rows find the pixels not yet covered a word at a time.)
             let tall = y1 - y0 > x1 - x0 && !(self.coverage_only && tex.is_some());
+            // The barycentric weights as planes over the image: l = ax * px + ay * py + k
+            // at the pixel centre (px, py); the third is 1 - l0 - l1.
             let inv = 1.0 / area;
             let e0 = Edge::new(
                 (b[1] - c[1]) * inv,
