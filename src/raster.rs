@@ -366,7 +366,7 @@ impl Target {
 
 /// The rows `ys..=ye` (within `y0..=y1`) of column `x` whose pixel centres all three
 /// weights `e` cover: a row's span (see `Target::draw_one`) with x and y swapped.
-#[inline]
+#[inline(always)]
 fn column_span(e: [&Edge; 3], x: usize, (y0, y1): (usize, usize)) -> Option<(usize, usize)> {
     let px = x as f32 + 0.5;
     let (mut lo, mut hi) = (y0 as f32 + 0.5, y1 as f32 + 0.5);
