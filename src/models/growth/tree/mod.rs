@@ -97,9 +97,6 @@ struct Scratch {
     split: Vec<[f32; 2]>,
     /// Internodes at and above each internode; the new indices while shedding.
     desc: Vec<u32>,
-    /// The light at each internode's buds, read before the basipetal pass (a light that
-    /// depends only on the bud's cell).
-    q: Vec<f32>,
     vig: Vec<f32>,
     dead: Vec<bool>,
     /// The internodes of the subtrees being shed, with their living buds.
@@ -372,35 +369,10 @@ impl Tree {
                 ordinal += buds(kids);
             }
         }
+        // Where the grid is larger than the caches, the buds' cells are asked for a few
+        // dozen internodes ahead of the one whose light is read (a cache miss each in a
+        // forest), so more of them are under way at once.
         let ahead = !L::ORDERED && light.read_ahead();
-        if ahead {
-            // The buds' light first, in a loop of independent reads of the shadow grid
-            // (a cache miss each in a forest), so more of them are under way at once.
-            s.q.clear();
-            let cells = &nodes.cell;
-            for &word in &cells[..PREFETCH.min(n)] {
-                light.prefetch(word);
-            }
-            s.q.extend(
-                nodes
-                    .kids
-                    .iter()
-                    .zip(cells)
-                    .enumerate()
-                    .map(|(i, (&kids, &word))| {
-                        if let Some(&ahead) = cells.get(i + PREFETCH)
-                            && buds(nodes.kids[i + PREFETCH]) > 0
-                        {
-                            light.prefetch(ahead);
-                        }
-                        if buds(kids) > 0 {
-                            light.q(0, word)
-                        } else {
-                            0.0
-                        }
-                    }),
-            );
-        }
         // Basipetal, with the light of each bud: light above each internode, split into
         // main and lateral, and the number of internodes at and above each.
         s.split.clear();
@@ -413,11 +385,20 @@ impl Tree {
             // A bud's light depends only on its cell: one value an internode, and the
             // slots read without a branch (a child's sums, or nothing), since which of
             // bud, child and gone a slot holds is not predictable.
+            if ahead {
+                for i in (n.saturating_sub(PREFETCH)..n).rev() {
+                    light.prefetch(nodes.cell[i]);
+                }
+            }
             for i in (0..n).rev() {
                 let kids = nodes.kids[i];
-                let q = if ahead {
-                    s.q[i]
-                } else if buds(kids) > 0 {
+                if ahead
+                    && let Some(a) = i.checked_sub(PREFETCH)
+                    && buds(nodes.kids[a]) > 0
+                {
+                    light.prefetch(nodes.cell[a]);
+                }
+                let q = if buds(kids) > 0 {
                     light.q(0, nodes.cell[i])
                 } else {
                     0.0
@@ -461,7 +442,7 @@ impl Tree {
             for k in 0..2 {
                 pair[k] = match kids[k] {
                     BUD => {
-                        let q = if ahead { s.q[i] } else { light.q(bud, word) };
+                        let q = light.q(bud, word);
                         bud += 1;
                         q
                     }
