@@ -183,15 +183,16 @@ fn buds([m, l]: [u32; 2]) -> u32 {
 
 /// The pipe model at internode `i` (its children already done): r^n is the sum over its
 /// children (the tip radius at a tip), and never less than it has been.
+/// Without a branch on what a slot holds (not predictable): a slot without a child adds
+/// nothing, reading internode i's own entry.
 #[inline]
 fn pipe(kids: &[[u32; 2]], rn: &mut [f32], i: usize, tip_rn: f32) {
-    let mut sum = 0.0;
-    let mut children = false;
+    let (mut sum, mut children) = (0.0f32, false);
     for c in kids[i] {
-        if is_child(c) {
-            sum += rn[c as usize];
-            children = true;
-        }
+        let child = is_child(c);
+        let j = if child { c as usize } else { i };
+        sum += if child { rn[j] } else { 0.0 };
+        children |= child;
     }
     let sum = if children { sum } else { tip_rn };
     rn[i] = rn[i].max(sum);
@@ -381,78 +382,61 @@ impl Tree {
         s.desc.resize(n, 1);
         let (stale, tip_rn) = (self.radii_stale, libm::powf(p.tip_radius, p.pipe_exponent));
         self.radii_stale = false;
-        if !L::ORDERED {
-            // A bud's light depends only on its cell: one value an internode, and the
-            // slots read without a branch (a child's sums, or nothing), since which of
-            // bud, child and gone a slot holds is not predictable.
-            if ahead {
-                for i in (n.saturating_sub(PREFETCH)..n).rev() {
-                    light.prefetch(nodes.cell[i]);
-                }
+        if ahead {
+            for i in (n.saturating_sub(PREFETCH)..n).rev() {
+                light.prefetch(nodes.cell[i]);
             }
-            for i in (0..n).rev() {
-                let kids = nodes.kids[i];
-                if ahead
-                    && let Some(a) = i.checked_sub(PREFETCH)
-                    && buds(nodes.kids[a]) > 0
-                {
-                    light.prefetch(nodes.cell[a]);
-                }
-                let q = if buds(kids) > 0 {
-                    light.q(0, nodes.cell[i])
-                } else {
-                    0.0
-                };
-                let (mut pair, mut desc, mut rn, mut children) = ([0.0f32; 2], 1u32, 0.0f32, false);
-                for k in 0..2 {
-                    let c = kids[k];
-                    let child = is_child(c);
-                    // A slot that holds no child reads internode i's own (unused) entries.
-                    let j = if child { c as usize } else { i };
-                    let [m, l] = s.split[j];
-                    pair[k] = if c == BUD {
-                        q
-                    } else if child {
-                        m + l
-                    } else {
-                        0.0
-                    };
-                    desc += if child { s.desc[j] } else { 0 };
-                    rn += if child { nodes.rn[j] } else { 0.0 };
-                    children |= child;
-                }
-                if stale {
-                    // The pipe model: as `pipe`, the children's sum in slot order.
-                    nodes.rn[i] = nodes.rn[i].max(if children { rn } else { tip_rn });
-                }
-                s.split[i] = pair;
-                s.desc[i] = desc;
-            }
-            return;
         }
         for i in (0..n).rev() {
+            let kids = nodes.kids[i];
+            if ahead
+                && let Some(a) = i.checked_sub(PREFETCH)
+                && buds(nodes.kids[a]) > 0
+            {
+                light.prefetch(nodes.cell[a]);
+            }
             if stale {
                 pipe(&nodes.kids, &mut nodes.rn, i, tip_rn);
             }
-            let kids = nodes.kids[i];
+            // The light of each slot's bud: of its cell (one read an internode), or of
+            // its ordinal for an ordered light (the terminal bud before the lateral).
             let word = nodes.cell[i];
-            let mut bud = if L::ORDERED { s.ordinal[i] } else { 0 };
-            let mut pair = [0.0f32; 2];
-            let mut desc = 1u32;
-            for k in 0..2 {
-                pair[k] = match kids[k] {
-                    BUD => {
-                        let q = light.q(bud, word);
-                        bud += 1;
-                        q
-                    }
-                    GONE => 0.0,
-                    c => {
-                        let [m, l] = s.split[c as usize];
-                        desc += s.desc[c as usize];
-                        m + l
+            let q = if L::ORDERED {
+                let first = s.ordinal[i];
+                let at = |k: usize, bud: u32| {
+                    if kids[k] == BUD {
+                        light.q(bud, word)
+                    } else {
+                        0.0
                     }
                 };
+                [at(0, first), at(1, first + u32::from(kids[0] == BUD))]
+            } else {
+                let q = if buds(kids) > 0 {
+                    light.q(0, word)
+                } else {
+                    0.0
+                };
+                [q, q]
+            };
+            // The slots read without a branch (a bud's light, a child's sums, or
+            // nothing), since which of bud, child and gone a slot holds is not
+            // predictable; a slot that holds no child reads internode i's own (unused)
+            // entries.
+            let (mut pair, mut desc) = ([0.0f32; 2], 1u32);
+            for k in 0..2 {
+                let c = kids[k];
+                let child = is_child(c);
+                let j = if child { c as usize } else { i };
+                let [m, l] = s.split[j];
+                pair[k] = if c == BUD {
+                    q[k]
+                } else if child {
+                    m + l
+                } else {
+                    0.0
+                };
+                desc += if child { s.desc[j] } else { 0 };
             }
             s.split[i] = pair;
             s.desc[i] = desc;
